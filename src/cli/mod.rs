@@ -1,0 +1,33 @@
+//! The command line: each subcommand is a thin shell over engine calls. Errors go to stderr as one
+//! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+/// Exit code for bad input (malformed or unreadable file, bad option value).
+pub const EXIT_BAD_INPUT: i32 = 2;
+/// Exit code for an internal failure.
+pub const EXIT_INTERNAL: i32 = 1;
+
+/// Talas: a CAM workstation. With no subcommand, opens the workstation (on FILE, or on the
+/// embedded default part).
+#[derive(Debug, Parser)]
+#[command(name = "talas", version, about, long_about = None)]
+pub struct Args {
+    /// A part or project to open in the workstation.
+    pub file: Option<PathBuf>,
+    /// Subcommand (none: open the workstation).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {}
+
+/// Run a subcommand; returns the process exit code.
+#[must_use]
+pub fn run(command: Command) -> i32 {
+    match command {}
+}

@@ -1,0 +1,99 @@
+//! Boundary representation: faces (a surface trimmed by edge loops), edges (a curve between two
+//! vertices), shells. Built by the STEP importer; tessellated by [`super::tessellate`].
+
+use super::DVec3;
+use super::curve::CurveGeom;
+use super::surface::SurfaceGeom;
+use crate::diagnostics::Diagnostic;
+
+/// A vertex: a point in mm.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Vertex {
+    /// Position, mm.
+    pub point: DVec3,
+    /// Source entity id (e.g. STEP `#id`), 0 when none.
+    pub source_id: u64,
+}
+
+/// An edge: the part of `curve` between `t_start` and `t_end`, running from vertex `start` to
+/// vertex `end`. The edge's direction is the direction of increasing curve parameter when
+/// `same_sense`, else decreasing; `t_start`/`t_end` are the curve parameters at the start and end
+/// vertices, so the edge is always traversed from `t_start` to `t_end` (which may be decreasing).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Edge {
+    /// Index into [`Part::vertices`].
+    pub start: usize,
+    /// Index into [`Part::vertices`].
+    pub end: usize,
+    /// The underlying curve.
+    pub curve: CurveGeom,
+    /// Curve parameter at the start vertex.
+    pub t_start: f64,
+    /// Curve parameter at the end vertex.
+    pub t_end: f64,
+    /// Source entity id (`EDGE_CURVE` #id).
+    pub source_id: u64,
+}
+
+/// A use of an edge in a loop, in its own direction (`forward`) or reversed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct OrientedEdge {
+    /// Index into [`Part::edges`].
+    pub edge: usize,
+    /// True when the loop runs along the edge's direction.
+    pub forward: bool,
+}
+
+/// A closed boundary loop of a face.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Loop {
+    /// A chain of edges (already oriented as the loop runs: the loop's own orientation flag has
+    /// been applied by the importer).
+    Edges(Vec<OrientedEdge>),
+    /// A degenerate loop at a single vertex (`VERTEX_LOOP`, e.g. a cone apex or sphere pole).
+    Vertex(usize),
+}
+
+/// A face: a region of `surface` bounded by `loops`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Face {
+    /// The carrier surface.
+    pub surface: SurfaceGeom,
+    /// True when the face normal agrees with the surface normal `S_u × S_v` (STEP `same_sense`).
+    pub same_sense: bool,
+    /// Boundary loops. The first is the outer loop when the file marked one (`FACE_OUTER_BOUND`);
+    /// a face with no loops covers the whole (finite) surface domain.
+    pub loops: Vec<Loop>,
+    /// Index of the outer loop in `loops`, if the file said which.
+    pub outer: Option<usize>,
+    /// Source entity id (`ADVANCED_FACE` #id).
+    pub source_id: u64,
+}
+
+/// A connected set of faces (`CLOSED_SHELL` or `OPEN_SHELL`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Shell {
+    /// Indices into [`Part::faces`].
+    pub faces: Vec<usize>,
+    /// True for a closed shell (the boundary of a solid).
+    pub closed: bool,
+    /// Source entity id.
+    pub source_id: u64,
+}
+
+/// A part: everything the importer read, in mm.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Part {
+    /// Name from the file (product name), may be empty.
+    pub name: String,
+    /// Vertices.
+    pub vertices: Vec<Vertex>,
+    /// Edges.
+    pub edges: Vec<Edge>,
+    /// Faces, in file order of their shells.
+    pub faces: Vec<Face>,
+    /// Shells.
+    pub shells: Vec<Shell>,
+    /// What the importer skipped or repaired (e.g. faces of unsupported kinds, by entity id).
+    pub diagnostics: Vec<Diagnostic>,
+}

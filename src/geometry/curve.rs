@@ -1,0 +1,94 @@
+//! Parametric curves in 3D: the kinds STEP edge curves use, with one evaluation interface.
+
+use super::nurbs::BSplineCurve;
+use super::{DVec3, Interval, frame::Frame};
+
+/// Position and derivatives of a curve at a parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveDerivs {
+    /// C(t), mm.
+    pub p: DVec3,
+    /// C'(t).
+    pub d1: DVec3,
+    /// C''(t).
+    pub d2: DVec3,
+}
+
+/// Straight line `origin + t·dir` (dir is a unit vector, so t is arc length in mm).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Line {
+    /// A point on the line.
+    pub origin: DVec3,
+    /// Unit direction.
+    pub dir: DVec3,
+}
+
+/// Circle `origin + r(cos t·x + sin t·y)` in its frame, t in rad.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Circle {
+    /// Placement (centre and plane).
+    pub frame: Frame,
+    /// Radius in mm.
+    pub radius: f64,
+}
+
+/// Ellipse `origin + a cos t·x + b sin t·y`, t in rad.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Ellipse {
+    /// Placement (centre, major axis along x).
+    pub frame: Frame,
+    /// Semi-axis along x, mm.
+    pub semi_axis_1: f64,
+    /// Semi-axis along y, mm.
+    pub semi_axis_2: f64,
+}
+
+/// Any curve Talas can evaluate.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum CurveGeom {
+    /// Straight line.
+    Line(Line),
+    /// Circle.
+    Circle(Circle),
+    /// Ellipse.
+    Ellipse(Ellipse),
+    /// B-spline or NURBS curve.
+    BSpline(BSplineCurve),
+}
+
+impl CurveGeom {
+    /// Natural parameter domain (infinite for a line; `[0, 2π]` for conics).
+    #[must_use]
+    pub fn domain(&self) -> Interval {
+        todo!("geometry helper")
+    }
+
+    /// Period of a periodic curve (2π for circles and ellipses, the knot span of a periodic
+    /// B-spline), `None` otherwise.
+    #[must_use]
+    pub fn period(&self) -> Option<f64> {
+        todo!("geometry helper")
+    }
+
+    /// Point and first two derivatives at `t`.
+    #[must_use]
+    pub fn derivs(&self, t: f64) -> CurveDerivs {
+        let _ = t;
+        todo!("geometry helper")
+    }
+
+    /// Point at `t`.
+    #[must_use]
+    pub fn point(&self, t: f64) -> DVec3 {
+        self.derivs(t).p
+    }
+
+    /// Parameter of the point on the curve closest to `p`, searched within `range` (robust: several
+    /// seeds, bounded Newton, never NaN; for periodic curves the result is brought into `range`
+    /// where possible).
+    #[must_use]
+    pub fn closest_param(&self, p: DVec3, range: Interval) -> f64 {
+        let _ = (p, range);
+        todo!("geometry helper")
+    }
+}

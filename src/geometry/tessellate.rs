@@ -1,0 +1,1 @@
+//! Tessellation of surfaces and trimmed faces to a chord tolerance, with normals.

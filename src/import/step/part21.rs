@@ -1,0 +1,1 @@
+//! ISO 10303-21 (Part 21) exchange-structure reader.

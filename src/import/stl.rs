@@ -1,0 +1,1 @@
+//! STL reader (ASCII and binary, reliably told apart) and writer.

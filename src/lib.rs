@@ -1,0 +1,43 @@
+//! # Talas: the planning engine
+//!
+//! Talas is a desktop CAM workstation. This library is its engine; the binary adds the egui
+//! workstation (feature `gui`) and the command line (`cli`).
+//!
+//! ```text
+//! part ──import──▶ Part ──┐
+//! tool library ──▶ Tool ──┼─▶ strategy ─▶ Toolpath (CL poses) ─▶ checks (gouge, collision)
+//! machine file ─▶ Machine ┘                     │
+//!                                               ▼
+//!                           post (kinematics + dialect) ─▶ G-code text ─▶ gcode::interpret
+//!                                                                             │
+//!                                               MotionBlocks (joint space) ◀──┘
+//!                                                      │
+//!                                     feed planner (jerk-limited, look-ahead)
+//!                                                      │
+//!                                                TimedPath ─▶ simulation (stock) ─▶ deviation
+//!                                                      └────▶ force model ─▶ forces, form error
+//! ```
+//!
+//! Layers (a module may use only layers below it; `tests/architecture.rs` enforces this):
+//!
+//! | layer | modules |
+//! |---|---|
+//! | L0 | [`units`], [`diagnostics`], [`geometry`] |
+//! | L1 | [`import`] |
+//! | CLI | [`cli`] (thin shells over engine calls) |
+//! | GUI | `render`, `app` (feature `gui` only) |
+//!
+//! Internal units are mm, s and rad everywhere; mm/min, rpm and degrees appear only at the
+//! edges (UI, G-code, command line).
+
+pub mod diagnostics;
+pub mod geometry;
+pub mod import;
+pub mod units;
+
+pub mod cli;
+
+#[cfg(feature = "gui")]
+pub mod app;
+#[cfg(feature = "gui")]
+pub mod render;

@@ -1,0 +1,30 @@
+//! The `talas` binary: parse the command line, then run a subcommand or the workstation.
+
+use clap::Parser;
+use talas::cli::{self, Args};
+
+fn main() {
+    let args = Args::parse();
+    let code = match args.command {
+        Some(command) => cli::run(command),
+        None => open_workstation(args.file),
+    };
+    std::process::exit(code);
+}
+
+#[cfg(feature = "gui")]
+fn open_workstation(file: Option<std::path::PathBuf>) -> i32 {
+    match talas::app::run(file) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("talas: {e}");
+            cli::EXIT_INTERNAL
+        }
+    }
+}
+
+#[cfg(not(feature = "gui"))]
+fn open_workstation(_file: Option<std::path::PathBuf>) -> i32 {
+    eprintln!("talas: this build has no workstation (built without the `gui` feature); see `talas --help`");
+    cli::EXIT_BAD_INPUT
+}
