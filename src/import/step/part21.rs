@@ -1,1 +1,90 @@
-//! ISO 10303-21 (Part 21) exchange-structure reader.
+//! ISO 10303-21 (Part 21) exchange-structure reader: header, data sections, simple and complex
+//! entity instances, parameters. Tolerant of what real files contain; never panics or hangs on
+//! what malformed ones contain.
+
+use std::collections::BTreeMap;
+
+use crate::diagnostics::Diagnostic;
+
+/// One parameter value of an entity record.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Param {
+    /// `$`: no value.
+    Unset,
+    /// `*`: value derived (redeclared attribute).
+    Derived,
+    /// An integer.
+    Integer(i64),
+    /// A real number (always finite).
+    Real(f64),
+    /// A string, escapes decoded.
+    String(String),
+    /// An enumeration value without the dots, e.g. `T`, `F`, `UNSPECIFIED`.
+    Enum(String),
+    /// A reference `#id`.
+    Ref(u64),
+    /// A binary value (hex digits as written).
+    Binary(String),
+    /// An aggregate `( ... )`.
+    List(Vec<Param>),
+    /// A typed parameter `NAME(value)`, e.g. `LENGTH_MEASURE(1.)`.
+    Typed(String, Box<Param>),
+}
+
+/// One entity record: `NAME(params)`. A complex instance has several.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Entity type name, upper case.
+    pub name: String,
+    /// Parameters in order.
+    pub params: Vec<Param>,
+}
+
+/// An entity instance `#id = ...;`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// The instance id.
+    pub id: u64,
+    /// 1-based line where the instance starts.
+    pub line: usize,
+    /// The record (simple instance) or records (complex instance, in file order).
+    pub records: Vec<Record>,
+    /// True for a complex instance `( A(...) B(...) )`.
+    pub complex: bool,
+}
+
+/// The header section.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Header {
+    /// `FILE_DESCRIPTION` description strings.
+    pub description: Vec<String>,
+    /// `FILE_NAME` name.
+    pub name: String,
+    /// `FILE_NAME` originating system.
+    pub originating_system: String,
+    /// `FILE_SCHEMA` schema identifiers.
+    pub schema: Vec<String>,
+}
+
+/// A parsed exchange structure.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Exchange {
+    /// Header.
+    pub header: Header,
+    /// Instances by id.
+    pub instances: BTreeMap<u64, Instance>,
+    /// Problems tolerated while reading (with their line/#id).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// A Part 21 syntax or structure error.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("line {line}{}: {message}", id.map(|i| format!(", #{i}")).unwrap_or_default())]
+pub struct Part21Error {
+    /// 1-based line.
+    pub line: usize,
+    /// The instance being read, when known.
+    pub id: Option<u64>,
+    /// What is wrong.
+    pub message: String,
+}
