@@ -1,12 +1,69 @@
 //! The workstation (egui/eframe): the only module that sees both the engine and the GUI crates.
+//!
+//! - [`workstation`]: the [`eframe::App`]; lays out the panels and applies [`command::Command`]s
+//!   in one place.
+//! - [`panels`]: menu bar, project tree, properties, log, status bar (they return commands).
+//! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
+//! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
+
+pub mod command;
+pub mod document;
+pub mod document_loader;
+pub mod file_dialog;
+pub mod job;
+pub mod message_log;
+pub mod panels;
+pub mod recent_files;
+pub mod theme;
+pub mod viewport;
+pub mod workstation;
 
 use std::path::PathBuf;
 
-/// Open the workstation window on `file` (or on the embedded default part).
+pub use workstation::Workstation;
+
+/// The part opened when the workstation starts without a file.
+#[must_use]
+pub fn default_part_path() -> PathBuf {
+    let installed = PathBuf::from("assets").join("bicubic-hills.stp");
+    if installed.is_file() {
+        return installed;
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join("bicubic-hills.stp")
+}
+
+/// Open the workstation window on `file` (or on the default part).
 ///
 /// # Errors
 /// When the window cannot be created (no display, no graphics adapter).
 pub fn run(file: Option<PathBuf>) -> Result<(), String> {
-    let _ = file;
-    todo!("gui helper")
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("Talas")
+            .with_inner_size([1500.0, 920.0])
+            .with_min_inner_size([800.0, 500.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        // The viewport composites into egui's pass with one sample and no depth (see
+        // viewport::bridge::install); the 3D scene has its own MSAA and depth.
+        multisampling: 1,
+        depth_buffer: 0,
+        ..Default::default()
+    };
+    let file = file.unwrap_or_else(default_part_path);
+    eframe::run_native(
+        "Talas",
+        options,
+        Box::new(move |cc| {
+            Ok(Box::new(Workstation::new(
+                &cc.egui_ctx,
+                cc.wgpu_render_state.as_ref(),
+                Some(file),
+                recent_files::RecentFiles::load(),
+            )))
+        }),
+    )
+    .map_err(|e| e.to_string())
 }

@@ -1,0 +1,103 @@
+//! The Open dialog: the native dialog (rfd, through the XDG desktop portal) on a worker thread.
+//! Where no portal answers, rfd returns "no file" at once; then the workstation shows a path
+//! field instead.
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A dialog that returns within this time without a file most likely never opened.
+const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
+
+/// State of the Open dialog.
+#[derive(Debug, Default)]
+pub struct OpenDialog {
+    pending: Option<(Instant, mpsc::Receiver<Option<PathBuf>>)>,
+    /// Show the path field (no native dialog available, or the user asked for it).
+    pub path_field_open: bool,
+    /// Text of the path field.
+    pub path_text: String,
+    /// The native dialog failed to open before: go straight to the path field.
+    native_unavailable: bool,
+}
+
+/// What the dialog produced this frame.
+#[derive(Debug, PartialEq, Eq)]
+pub enum DialogOutcome {
+    /// Nothing yet.
+    Waiting,
+    /// The user picked this file.
+    Picked(PathBuf),
+    /// The user cancelled.
+    Cancelled,
+    /// No dialog could be shown; the path field is open instead.
+    Unavailable,
+}
+
+impl OpenDialog {
+    /// Open the native dialog (or the path field when it is known not to work). `wake` is called
+    /// from the dialog thread when it returns.
+    pub fn open(&mut self, start_dir: Option<PathBuf>, wake: impl FnOnce() + Send + 'static) {
+        if self.native_unavailable {
+            self.path_field_open = true;
+            return;
+        }
+        if self.pending.is_some() {
+            return;
+        }
+        let (sender, receiver) = mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("talas open dialog".into())
+            .spawn(move || {
+                let mut dialog = rfd::FileDialog::new()
+                    .set_title("Open part")
+                    .add_filter(
+                        "Parts (STEP, STL)",
+                        &["stp", "step", "STP", "STEP", "stl", "STL"],
+                    )
+                    .add_filter("All files", &["*"]);
+                if let Some(dir) = start_dir {
+                    dialog = dialog.set_directory(dir);
+                }
+                let _ = sender.send(dialog.pick_file());
+                wake();
+            });
+        if spawned.is_ok() {
+            self.pending = Some((Instant::now(), receiver));
+        } else {
+            self.native_unavailable = true;
+            self.path_field_open = true;
+        }
+    }
+
+    /// Is the native dialog open?
+    #[must_use]
+    pub fn is_waiting(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Check whether the dialog has returned.
+    pub fn poll(&mut self) -> DialogOutcome {
+        let Some((started, receiver)) = &self.pending else {
+            return DialogOutcome::Waiting;
+        };
+        match receiver.try_recv() {
+            Err(mpsc::TryRecvError::Empty) => DialogOutcome::Waiting,
+            Ok(Some(path)) => {
+                self.pending = None;
+                DialogOutcome::Picked(path)
+            }
+            Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
+                let instant = started.elapsed() < NO_DIALOG_WITHIN;
+                self.pending = None;
+                if instant {
+                    self.native_unavailable = true;
+                    self.path_field_open = true;
+                    DialogOutcome::Unavailable
+                } else {
+                    DialogOutcome::Cancelled
+                }
+            }
+        }
+    }
+}

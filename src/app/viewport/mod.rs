@@ -1,0 +1,234 @@
+//! The 3D viewport: turns the document into a [`Scene`], handles navigation and picking, and
+//! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]).
+
+pub mod bridge;
+pub mod navigation;
+pub mod picking;
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Vec3};
+
+use super::command::Command;
+use super::document::{Document, Selection};
+use crate::render::triad::{AXIS_COLOURS, label_positions};
+use crate::render::{
+    BoundingSphere, Camera, DataId, DisplayOptions, LineInstance, MeshData, MeshInstance,
+    Projection, Scene, StandardView,
+};
+
+/// Colour of the part (sRGB): a light steel grey-blue.
+const PART_COLOUR: [u8; 4] = [176, 186, 200, 255];
+/// Colour of the selected face.
+const SELECTED_COLOUR: [u8; 4] = [255, 160, 40, 255];
+
+/// The viewport's own state (view settings; not part of the document).
+#[derive(Debug)]
+pub struct ViewportState {
+    /// The camera.
+    pub camera: Camera,
+    /// Background, grid and triad settings.
+    pub options: DisplayOptions,
+    /// Draw the part's feature edges.
+    pub show_edges: bool,
+    /// The point of the part under the cursor (mm), if any.
+    pub hover_point: Option<DVec3>,
+    /// Fit the view at the next frame (the viewport's aspect is known only then).
+    pub fit_requested: bool,
+    /// Aspect of the last frame (width / height).
+    pub aspect: f32,
+    /// The selected face's triangles: ((document id, face), render id, mesh).
+    highlight: Option<((DataId, usize), DataId, Arc<MeshData>)>,
+    next_id: DataId,
+}
+
+impl Default for ViewportState {
+    fn default() -> Self {
+        Self {
+            camera: Camera::default(),
+            options: DisplayOptions::default(),
+            show_edges: true,
+            hover_point: None,
+            fit_requested: true,
+            aspect: 1.5,
+            highlight: None,
+            // Document ids count up from 1; highlight ids live far above them.
+            next_id: 1 << 40,
+        }
+    }
+}
+
+impl ViewportState {
+    /// Fit the camera to the document (or to a default box when there is none).
+    pub fn fit(&mut self, document: Option<&Document>) {
+        let sphere = document.filter(|d| !d.bounds.is_empty()).map_or(
+            BoundingSphere {
+                centre: Vec3::ZERO,
+                radius: 50.0,
+            },
+            |d| BoundingSphere::from_box(d.bounds.min.as_vec3(), d.bounds.max.as_vec3()),
+        );
+        self.camera.fit(sphere, self.aspect);
+        self.fit_requested = false;
+    }
+
+    /// Snap to a standard view and fit.
+    pub fn set_view(&mut self, view: StandardView, document: Option<&Document>) {
+        self.camera.set_view(view);
+        self.fit(document);
+    }
+
+    /// Switch projection.
+    pub fn set_projection(&mut self, projection: Projection) {
+        self.camera.projection = projection;
+    }
+
+    /// The scene for this frame.
+    #[must_use]
+    pub fn scene(&mut self, document: Option<&Document>) -> Scene {
+        let mut options = self.options;
+        let mut meshes = Vec::new();
+        let mut lines = Vec::new();
+        if let Some(doc) = document {
+            if !doc.bounds.is_empty() {
+                let size = (doc.bounds.max - doc.bounds.min).max_element() as f32;
+                options.grid_z = doc.bounds.min.z as f32;
+                options.grid_spacing = DisplayOptions::grid_spacing_for(size);
+                self.camera.scene =
+                    BoundingSphere::from_box(doc.bounds.min.as_vec3(), doc.bounds.max.as_vec3());
+            }
+            meshes.push(MeshInstance {
+                id: doc.ids[0],
+                data: Arc::clone(&doc.render_mesh),
+                world_from_mesh: Mat4::IDENTITY,
+                colour: PART_COLOUR,
+                scalar_map: None,
+            });
+            if let Selection::Face(face) = doc.selection {
+                let key = (doc.ids[0], face);
+                if self.highlight.as_ref().is_none_or(|(k, _, _)| *k != key) {
+                    self.next_id += 1;
+                    self.highlight = Some((key, self.next_id, Arc::new(doc.face_mesh(face))));
+                }
+                if let Some((_, id, data)) = &self.highlight {
+                    meshes.push(MeshInstance {
+                        id: *id,
+                        data: Arc::clone(data),
+                        world_from_mesh: Mat4::IDENTITY,
+                        colour: SELECTED_COLOUR,
+                        scalar_map: None,
+                    });
+                }
+            }
+            if self.show_edges {
+                lines.push(LineInstance {
+                    id: doc.ids[1],
+                    data: Arc::clone(&doc.render_edges),
+                    world_from_lines: Mat4::IDENTITY,
+                    draw_segments: None,
+                });
+            }
+        }
+        Scene {
+            camera: self.camera,
+            meshes,
+            lines,
+            options,
+        }
+    }
+}
+
+/// Draw the viewport into the rest of `ui`; navigation changes the camera, clicks on the part
+/// become selection commands.
+pub fn viewport_ui(
+    ui: &mut egui::Ui,
+    state: &mut ViewportState,
+    document: Option<&Document>,
+    commands: &mut Vec<Command>,
+) {
+    let rect = ui.available_rect_before_wrap();
+    let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+    state.aspect = rect.aspect_ratio().max(1e-3);
+    if state.fit_requested {
+        state.fit(document);
+    }
+    navigation::navigate(ui, &response, &mut state.camera);
+
+    // Hover and click picking.
+    let pointer = response.hover_pos();
+    let hit = pointer.zip(document).and_then(|(pos, doc)| {
+        if doc.part.mesh.triangles.len() > picking::MAX_HOVER_TRIANGLES && !response.clicked() {
+            return None;
+        }
+        let (origin, dir) = state.camera.ray(navigation::ndc(rect, pos), state.aspect);
+        picking::ray_cast(&doc.part.mesh, origin.as_dvec3(), dir.as_dvec3())
+    });
+    state.hover_point = hit.map(|h| h.point);
+    if response.clicked() {
+        let selection = match (hit, document) {
+            (Some(h), Some(doc)) if !doc.part.faces.is_empty() => doc
+                .part
+                .face_of_triangle
+                .get(h.triangle)
+                .map_or(Selection::Part, |&f| Selection::Face(f as usize)),
+            (Some(_), Some(_)) => Selection::Part,
+            _ => Selection::None,
+        };
+        commands.push(Command::Select(selection));
+    }
+    if response.double_clicked() {
+        commands.push(Command::FitAll);
+    }
+
+    let ppp = ui.ctx().pixels_per_point();
+    let size_px = [
+        (rect.width() * ppp).round().max(1.0) as u32,
+        (rect.height() * ppp).round().max(1.0) as u32,
+    ];
+    let scene = state.scene(document);
+    ui.painter().add(egui_wgpu::Callback::new_paint_callback(
+        rect,
+        bridge::ViewportCallback { scene, size_px },
+    ));
+
+    // Axis labels next to the triad's arrow tips.
+    if state.options.triad
+        && let Some(labels) = label_positions(size_px, state.camera.right(), state.camera.up())
+    {
+        for (k, (name, at)) in ["X", "Y", "Z"].iter().zip(labels).enumerate() {
+            let [r, g, b, _] = AXIS_COLOURS[k];
+            ui.painter().text(
+                rect.min + egui::vec2(at[0] / ppp, at[1] / ppp),
+                egui::Align2::CENTER_CENTER,
+                *name,
+                egui::FontId::proportional(12.0),
+                egui::Color32::from_rgb(r, g, b),
+            );
+        }
+    }
+    let projection = match state.camera.projection {
+        Projection::Perspective => "Perspective",
+        Projection::Orthographic => "Orthographic",
+    };
+    ui.painter().text(
+        rect.right_bottom() + egui::vec2(-10.0, -8.0),
+        egui::Align2::RIGHT_BOTTOM,
+        format!(
+            "{projection} · grid {} mm",
+            state.options_grid_label(document)
+        ),
+        egui::FontId::proportional(11.0),
+        egui::Color32::from_gray(150),
+    );
+}
+
+impl ViewportState {
+    fn options_grid_label(&self, document: Option<&Document>) -> String {
+        let spacing = document
+            .filter(|d| !d.bounds.is_empty())
+            .map_or(self.options.grid_spacing, |d| {
+                DisplayOptions::grid_spacing_for((d.bounds.max - d.bounds.min).max_element() as f32)
+            });
+        format!("{spacing}")
+    }
+}
