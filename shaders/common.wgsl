@@ -13,7 +13,7 @@ struct Frame {
     grid: vec4<f32>,
     grid_minor_colour: vec4<f32>,
     grid_major_colour: vec4<f32>,
-    // x: line depth offset (NDC), y: 1 when the frame shows lines over shaded meshes.
+    // x: line depth offset (NDC), yz: centre of the grid's fade (world xy).
     params: vec4<f32>,
 };
 

@@ -44,15 +44,15 @@ fn fs_main(in: GridOut) -> GridFragment {
     if abs(dir.z) > 1e-12 {
         t = (plane_z - near.z) / dir.z;
     }
-    let hit = near + dir * clamp(t, 0.0, 1.0);
+    let hit = near + dir * max(t, 0.0);
     let minor = line_coverage(hit.xy, frame.grid.y);
     let major = line_coverage(hit.xy, frame.grid.z);
     let clip = frame.view_proj * vec4<f32>(hit, 1.0);
-    let fade = 1.0 - smoothstep(0.35, 1.0, length(hit.xy - frame.eye.xy) / max(frame.grid.w, 1e-6));
+    let fade = 1.0 - smoothstep(0.45, 1.0, length(hit.xy - frame.params.yz) / max(frame.grid.w, 1e-6));
     var colour = frame.grid_minor_colour * minor;
     colour = mix(colour, frame.grid_major_colour, major);
     var alpha = colour.a * fade;
-    if t < 0.0 || t > 1.0 || frame.grid.w <= 0.0 {
+    if t < 0.0 || frame.grid.w <= 0.0 {
         alpha = 0.0;
     }
     // Grazing views: thin the grid out where lines would alias into a solid sheet.

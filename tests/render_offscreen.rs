@@ -81,6 +81,18 @@ fn scene_with(mesh: MeshData, scalar_map: Option<ScalarMapping>, aspect: f32) ->
     }
 }
 
+fn linear(p: [u8; 4]) -> Vec3 {
+    let f = |v: u8| {
+        let s = f32::from(v) / 255.0;
+        if s <= 0.04045 {
+            s / 12.92
+        } else {
+            ((s + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    Vec3::new(f(p[0]), f(p[1]), f(p[2]))
+}
+
 fn luminance(p: [u8; 4]) -> f32 {
     0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2])
 }
@@ -138,8 +150,7 @@ fn a_sphere_is_lit_in_the_middle_and_its_silhouette_is_where_projection_puts_it(
 fn scalars_use_the_colour_map_and_lines_draw_over_surfaces() {
     let Some(mut r) = renderer() else { return };
     let (w, h) = (200_u32, 200_u32);
-    // Scalar = n.z; map [-1, 1] through viridis: top of the sphere (front view: up on screen)
-    // is yellow, bottom purple.
+    // Scalar = n.z, mapped over [-1, 1] through viridis.
     let map = ScalarMapping {
         map: ColourMap::Viridis,
         min: -1.0,
@@ -156,14 +167,33 @@ fn scalars_use_the_colour_map_and_lines_draw_over_surfaces() {
         world_from_lines: Mat4::IDENTITY,
         draw_segments: None,
     });
+    // The clip planes must take in the line too.
+    scene.camera.scene = BoundingSphere {
+        centre: Vec3::ZERO,
+        radius: 25.0,
+    };
     let img = r.render(w, h, &scene).expect("render");
-    let top = px(&img, 100.0, 100.0 - 0.6 * 100.0 * 0.8);
-    let bottom = px(&img, 100.0, 100.0 + 0.6 * 100.0 * 0.8);
-    assert!(
-        top[0] > top[2] && top[1] > top[2],
-        "top should be yellowish: {top:?}"
-    );
-    assert!(bottom[2] > bottom[1], "bottom should be purple: {bottom:?}");
+    // At a pixel on the sphere, the scalar is n.z of the surface point the view ray hits; the
+    // colour must be the map's colour there, up to the lighting's brightness: compare the
+    // direction of the linear RGB vectors.
+    for y in [52.0_f32, 148.0] {
+        let ndc = glam::Vec2::new(0.0, 1.0 - 2.0 * y / h as f32);
+        let (origin, dir) = scene.camera.ray(ndc, 1.0);
+        // |origin + t dir| = 10, nearest root.
+        let b = origin.dot(dir);
+        let c = origin.length_squared() - 100.0;
+        let t = -b - (b * b - c).sqrt();
+        let n = (origin + dir * t) / 10.0;
+        let expected = ColourMap::Viridis.sample((n.z + 1.0) / 2.0);
+        let got = px(&img, 100.0, y);
+        let e = linear([expected[0], expected[1], expected[2], 255]).normalize();
+        let g = linear(got).normalize();
+        assert!(
+            e.dot(g) > 0.995,
+            "at row {y}: got {got:?}, map colour {expected:?} (n.z = {})",
+            n.z
+        );
+    }
     // The red line passes in front of the sphere (y = -12 is in front of its centre, the
     // camera looks along +Y) at mid-height.
     let line_row = (0..h).find(|&y| {

@@ -42,7 +42,7 @@ pub fn run(file: Option<PathBuf>) -> Result<(), String> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("Talas")
-            .with_inner_size([1500.0, 920.0])
+            .with_inner_size([1600.0, 1000.0])
             .with_min_inner_size([800.0, 500.0])
             .with_drag_and_drop(true),
         renderer: eframe::Renderer::Wgpu,

@@ -251,9 +251,7 @@ impl Renderer {
         let o = &scene.options;
         let grid_major = o.grid_spacing * 10.0;
         let fade = if o.grid {
-            (camera.scene.radius * 6.0)
-                .max(camera.distance * 3.0)
-                .max(grid_major * 4.0)
+            (camera.scene.radius * 2.5).max(grid_major * 1.5)
         } else {
             0.0
         };
@@ -274,7 +272,12 @@ impl Renderer {
             grid: [o.grid_z, o.grid_spacing, grid_major, fade],
             grid_minor_colour: [0.42, 0.46, 0.52, 0.16],
             grid_major_colour: [0.50, 0.55, 0.62, 0.42],
-            params: [LINE_DEPTH_OFFSET, 0.0, 0.0, 0.0],
+            params: [
+                LINE_DEPTH_OFFSET,
+                camera.scene.centre.x,
+                camera.scene.centre.y,
+                0.0,
+            ],
         };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
 

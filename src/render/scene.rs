@@ -191,7 +191,8 @@ pub struct DisplayOptions {
     pub grid: bool,
     /// Grid plane height (world z, mm).
     pub grid_z: f32,
-    /// Minor grid spacing (mm); major lines every ten.
+    /// Minor grid spacing (mm); major lines every ten. The grid fades out about 2.5 scene radii
+    /// from the centre of the camera's scene sphere.
     pub grid_spacing: f32,
     /// Draw the axis triad in the lower-left corner.
     pub triad: bool,
@@ -217,7 +218,7 @@ impl DisplayOptions {
         if !(size.is_finite() && size > 0.0) {
             return 10.0;
         }
-        10.0_f32.powf((size / 20.0).log10().floor()).max(1e-3)
+        10.0_f32.powf((size / 10.0).log10().floor()).max(1e-3)
     }
 }
 
@@ -301,8 +302,9 @@ mod tests {
 
     #[test]
     fn grid_spacing_is_a_power_of_ten() {
-        assert!((DisplayOptions::grid_spacing_for(100.0) - 1.0).abs() < 1e-6);
-        assert!((DisplayOptions::grid_spacing_for(1000.0) - 10.0).abs() < 1e-4);
+        assert!((DisplayOptions::grid_spacing_for(160.0) - 10.0).abs() < 1e-5);
+        assert!((DisplayOptions::grid_spacing_for(50.0) - 1.0).abs() < 1e-6);
+        assert!((DisplayOptions::grid_spacing_for(1000.0) - 100.0).abs() < 1e-3);
         assert!((DisplayOptions::grid_spacing_for(f32::NAN) - 10.0).abs() < 1e-6);
     }
 }

@@ -19,7 +19,7 @@ pub fn project_tree_ui(
     };
     let part = &doc.part;
     let part_selected = doc.selection == Selection::Part;
-    egui::CollapsingHeader::new(egui::RichText::new(format!("⬢  {}", part.name)).strong())
+    egui::CollapsingHeader::new(egui::RichText::new(part.name.as_str()).strong())
         .id_salt("part")
         .default_open(true)
         .show(ui, |ui| {

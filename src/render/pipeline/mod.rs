@@ -30,7 +30,7 @@ pub struct FrameUniform {
     pub grid_minor_colour: [f32; 4],
     /// Major grid line colour (linear, alpha).
     pub grid_major_colour: [f32; 4],
-    /// Line depth offset (NDC), unused.
+    /// Line depth offset (NDC), grid fade centre x and y.
     pub params: [f32; 4],
 }
 
