@@ -3,6 +3,7 @@
 //! in a corner.
 
 use std::collections::BTreeMap;
+use std::collections::btree_map::Entry;
 
 use glam::Mat4;
 use glam::camera::rh::proj::directx::orthographic;
@@ -178,7 +179,7 @@ impl Renderer {
         self.draws.clear();
         let mut slot = 0;
         for m in &scene.meshes {
-            if !self.meshes.contains_key(&m.id) {
+            if let Entry::Vacant(vacant) = self.meshes.entry(m.id) {
                 if let Some(p) = m.data.problem() {
                     problems.push(format!("mesh {}: {p}", m.id));
                     continue;
@@ -186,7 +187,7 @@ impl Renderer {
                 if m.data.indices.is_empty() {
                     continue;
                 }
-                self.meshes.insert(m.id, upload_mesh(device, &m.data));
+                vacant.insert(upload_mesh(device, &m.data));
             }
             let Some(index_count) = self.meshes.get(&m.id).map(|g| g.index_count) else {
                 continue;
@@ -215,7 +216,7 @@ impl Renderer {
             slot += 1;
         }
         for l in &scene.lines {
-            if !self.lines.contains_key(&l.id) {
+            if let Entry::Vacant(vacant) = self.lines.entry(l.id) {
                 if let Some(p) = l.data.problem() {
                     problems.push(format!("lines {}: {p}", l.id));
                     continue;
@@ -223,7 +224,7 @@ impl Renderer {
                 if l.data.indices.is_empty() {
                     continue;
                 }
-                self.lines.insert(l.id, upload_lines(device, &l.data));
+                vacant.insert(upload_lines(device, &l.data));
             }
             let Some(total) = self.lines.get(&l.id).map(|g| g.index_count) else {
                 continue;
@@ -284,35 +285,34 @@ impl Renderer {
         // Triad: the camera's rotation about the origin, orthographic, in a corner viewport.
         self.triad_draws.clear();
         self.triad_viewport = None;
-        if o.triad {
-            if let Some(rect) = triad::viewport_rect(size) {
-                self.triad_viewport = Some(rect);
-                let triad_view =
-                    look_to_mat4(camera.backward() * 3.0, -camera.backward(), camera.up());
-                let triad_proj = {
-                    let e = triad::VIEW_HALF_EXTENT;
-                    orthographic(-e, e, -e, e, 0.5, 6.0)
-                };
-                let triad_view_proj = triad_proj * triad_view;
-                let triad_frame = FrameUniform {
-                    view_proj: triad_view_proj.to_cols_array_2d(),
-                    inv_view_proj: triad_view_proj.inverse().to_cols_array_2d(),
-                    view: triad_view.to_cols_array_2d(),
-                    eye: [0.0; 4],
-                    grid: [0.0; 4],
-                    ..frame
-                };
-                queue.write_buffer(
-                    &self.triad_frame_buffer,
-                    0,
-                    bytemuck::bytes_of(&triad_frame),
-                );
-                for (axis, model) in triad::axis_transforms().into_iter().enumerate() {
-                    let uniform = object_uniform(model, triad::AXIS_COLOURS[axis], [0.0; 4]);
-                    self.write_object(device, queue, slot, &uniform);
-                    self.triad_draws.push(slot);
-                    slot += 1;
-                }
+        if o.triad
+            && let Some(rect) = triad::viewport_rect(size)
+        {
+            self.triad_viewport = Some(rect);
+            let triad_view = look_to_mat4(camera.backward() * 3.0, -camera.backward(), camera.up());
+            let triad_proj = {
+                let e = triad::VIEW_HALF_EXTENT;
+                orthographic(-e, e, -e, e, 0.5, 6.0)
+            };
+            let triad_view_proj = triad_proj * triad_view;
+            let triad_frame = FrameUniform {
+                view_proj: triad_view_proj.to_cols_array_2d(),
+                inv_view_proj: triad_view_proj.inverse().to_cols_array_2d(),
+                view: triad_view.to_cols_array_2d(),
+                eye: [0.0; 4],
+                grid: [0.0; 4],
+                ..frame
+            };
+            queue.write_buffer(
+                &self.triad_frame_buffer,
+                0,
+                bytemuck::bytes_of(&triad_frame),
+            );
+            for (axis, model) in triad::axis_transforms().into_iter().enumerate() {
+                let uniform = object_uniform(model, triad::AXIS_COLOURS[axis], [0.0; 4]);
+                self.write_object(device, queue, slot, &uniform);
+                self.triad_draws.push(slot);
+                slot += 1;
             }
         }
         problems

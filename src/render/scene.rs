@@ -47,7 +47,7 @@ impl MeshData {
         if !self.scalars.is_empty() && self.scalars.len() != n {
             return Some(format!("{} scalars for {n} vertices", self.scalars.len()));
         }
-        if self.indices.len() % 3 != 0 {
+        if !self.indices.len().is_multiple_of(3) {
             return Some(format!(
                 "{} indices is not a whole number of triangles",
                 self.indices.len()
@@ -116,7 +116,7 @@ impl LineData {
         if self.colours.len() != n {
             return Some(format!("{} colours for {n} vertices", self.colours.len()));
         }
-        if self.indices.len() % 2 != 0 {
+        if !self.indices.len().is_multiple_of(2) {
             return Some(format!(
                 "{} indices is not a whole number of segments",
                 self.indices.len()
