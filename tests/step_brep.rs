@@ -1,0 +1,346 @@
+//! STEP → B-rep against Open CASCADE: face counts and kinds on the reference parts and on the
+//! 52-file corpus (`tests/data/real/MANIFEST.csv`, OCCT 8.0.1 outcomes), units, assemblies, and
+//! clean errors on broken files.
+
+use std::path::{Path, PathBuf};
+
+use talas::geometry::brep::{Loop, Part};
+use talas::geometry::curve::CurveGeom;
+use talas::geometry::surface::SurfaceGeom;
+use talas::import::step::{ErrorKind, build_part, part21, read_step};
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
+}
+
+fn count_kinds(part: &Part) -> std::collections::BTreeMap<&'static str, usize> {
+    let mut m = std::collections::BTreeMap::new();
+    for f in &part.faces {
+        *m.entry(f.surface.kind()).or_insert(0) += 1;
+    }
+    m
+}
+
+/// Split one CSV line, honouring double-quoted fields.
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            _ => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+#[test]
+fn corpus_matches_open_cascade_face_counts() {
+    let manifest = std::fs::read_to_string(data("real/MANIFEST.csv")).unwrap();
+    let mut lines = manifest.lines();
+    let header = csv_fields(lines.next().unwrap());
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (c_path, c_status, c_faces) = (col("path"), col("occt_status"), col("occt_faces"));
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for line in lines.filter(|l| !l.trim().is_empty()) {
+        let f = csv_fields(line);
+        let path = data(&format!("real/{}", f[c_path]));
+        let result = read_step(&path);
+        checked += 1;
+        match f[c_status].as_str() {
+            "read_ok" => {
+                let want: usize = f[c_faces].parse().unwrap();
+                match &result {
+                    Ok(part) if part.faces.len() == want => {}
+                    Ok(part) => failures.push(format!(
+                        "{}: {} faces, OCCT {want}",
+                        f[c_path],
+                        part.faces.len()
+                    )),
+                    Err(e) => failures.push(format!("{}: error {e}, OCCT {want} faces", f[c_path])),
+                }
+            }
+            _ => {
+                if let Ok(part) = &result {
+                    failures.push(format!(
+                        "{}: {} faces, OCCT none",
+                        f[c_path],
+                        part.faces.len()
+                    ));
+                } else if let Err(e) = &result {
+                    // A clean error names the file.
+                    assert!(e.to_string().contains(".stp"), "{e}");
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 52);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn pocket_fillets_has_occt_faces_and_watertight_sharing() {
+    let part = read_step(&data("pocket-fillets.stp")).unwrap();
+    assert_eq!(part.faces.len(), 23);
+    let kinds = count_kinds(&part);
+    assert_eq!(kinds.get("plane"), Some(&11));
+    assert_eq!(kinds.get("cylinder"), Some(&8));
+    assert_eq!(kinds.get("sphere"), Some(&4));
+    // A closed solid: every edge is used by exactly two loop entries (once each way), so the
+    // shared edges tessellate watertight.
+    let mut uses = vec![(0, 0); part.edges.len()];
+    for face in &part.faces {
+        for lp in &face.loops {
+            if let Loop::Edges(es) = lp {
+                for oe in es {
+                    if oe.forward {
+                        uses[oe.edge].0 += 1
+                    } else {
+                        uses[oe.edge].1 += 1
+                    }
+                }
+            }
+        }
+    }
+    for (i, u) in uses.iter().enumerate() {
+        assert!(u.0 + u.1 == 2, "edge {i} used {u:?}");
+    }
+    assert_eq!(part.shells.len(), 1);
+    assert!(part.shells[0].closed);
+    // Every vertex lies at its edges' ends (t_start/t_end evaluated by closed forms for lines and
+    // circles; the bounding box is OCCT's (0,0,0)–(100,80,30)).
+    for v in &part.vertices {
+        assert!(v.point.x >= -1e-9 && v.point.x <= 100.0 + 1e-9);
+        assert!(v.point.y >= -1e-9 && v.point.y <= 80.0 + 1e-9);
+        assert!(v.point.z >= -1e-9 && v.point.z <= 30.0 + 1e-9);
+    }
+}
+
+#[test]
+fn single_bspline_faces() {
+    let hills = read_step(&data("bicubic-hills.stp")).unwrap();
+    assert_eq!(hills.faces.len(), 1);
+    let SurfaceGeom::BSpline(s) = &hills.faces[0].surface else {
+        panic!("not a B-spline")
+    };
+    assert_eq!((s.degree_u, s.degree_v), (3, 3));
+    assert_eq!(s.n_u * s.n_v, 72);
+    assert!(s.weights.is_none());
+    assert_eq!(s.knots_u.len(), s.n_u + 4);
+    assert_eq!(s.knots_v.len(), s.n_v + 4);
+
+    let trough = read_step(&data("rational-trough.stp")).unwrap();
+    assert_eq!(trough.faces.len(), 1);
+    let SurfaceGeom::BSpline(s) = &trough.faces[0].surface else {
+        panic!("not a B-spline")
+    };
+    assert_eq!((s.degree_u, s.degree_v), (2, 2));
+    let w = s.weights.as_ref().expect("rational");
+    assert_eq!(w.len(), s.n_u * s.n_v);
+    assert!(w.iter().any(|w| (w - 1.0).abs() > 1e-6));
+}
+
+#[test]
+fn real_catia_files() {
+    let schenkel = read_step(&data("real/freecad/Schenkel.stp")).unwrap();
+    assert_eq!(schenkel.faces.len(), 409);
+    let asm = read_step(&data("real/freecad/as1-ac-214_small.stp")).unwrap();
+    // L-bracket (16) + two nut-bolt sub-assemblies of bolt (9) and nut (14).
+    assert_eq!(asm.faces.len(), 62);
+    assert_eq!(asm.name, "AS1-AC-214");
+    // The two nut-bolt instances are placed apart: the same source face appears twice at
+    // different places.
+    let bolt_faces: Vec<_> = asm.faces.iter().filter(|f| f.source_id == 873).collect();
+    assert_eq!(bolt_faces.len(), 2);
+    assert_ne!(bolt_faces[0].surface, bolt_faces[1].surface);
+}
+
+fn parse(text: &str) -> part21::Exchange {
+    part21::parse(text.as_bytes()).unwrap()
+}
+
+/// A one-face part (unit square on z = 0, or a disc) in a context with the given unit entities.
+fn square_file(units: &str, extra_items: &str) -> String {
+    format!(
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('t','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n\
+#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=CARTESIAN_POINT('',(1.,0.,0.));\n#3=CARTESIAN_POINT('',(1.,1.,0.));\n#4=CARTESIAN_POINT('',(0.,1.,0.));\n\
+#5=VERTEX_POINT('',#1);\n#6=VERTEX_POINT('',#2);\n#7=VERTEX_POINT('',#3);\n#8=VERTEX_POINT('',#4);\n\
+#9=DIRECTION('',(1.,0.,0.));\n#10=VECTOR('',#9,1.);\n#11=LINE('',#1,#10);\n#12=EDGE_CURVE('',#5,#6,#11,.T.);\n\
+#13=DIRECTION('',(0.,1.,0.));\n#14=VECTOR('',#13,1.);\n#15=LINE('',#2,#14);\n#16=EDGE_CURVE('',#6,#7,#15,.T.);\n\
+#17=LINE('',#4,#10);\n#18=EDGE_CURVE('',#8,#7,#17,.T.);\n#19=LINE('',#1,#14);\n#20=EDGE_CURVE('',#5,#8,#19,.T.);\n\
+#21=ORIENTED_EDGE('',*,*,#12,.T.);\n#22=ORIENTED_EDGE('',*,*,#16,.T.);\n#23=ORIENTED_EDGE('',*,*,#18,.F.);\n#24=ORIENTED_EDGE('',*,*,#20,.F.);\n\
+#25=EDGE_LOOP('',(#21,#22,#23,#24));\n#26=FACE_OUTER_BOUND('',#25,.T.);\n#27=DIRECTION('',(0.,0.,1.));\n#28=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n#29=PLANE('',#28);\n\
+#30=ADVANCED_FACE('',(#26),#29,.T.);\n#31=OPEN_SHELL('',(#30{extra_items}));\n#32=SHELL_BASED_SURFACE_MODEL('',(#31));\n\
+{units}\n#90=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#91,#92))REPRESENTATION_CONTEXT('',''));\n\
+#93=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#90);\nENDSEC;\nEND-ISO-10303-21;\n"
+    )
+}
+
+const MM: &str = "#91=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n#92=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));";
+
+#[test]
+fn units_scale_lengths_to_mm() {
+    let cases = [
+        (MM.to_string(), 1.0),
+        (MM.replace(".MILLI.", ".CENTI."), 10.0),
+        (MM.replace(".MILLI.", "$"), 1000.0),
+        (
+            "#91=(CONVERSION_BASED_UNIT('INCH',#94)LENGTH_UNIT()NAMED_UNIT(#95));\n#95=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n\
+#94=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#96);\n#96=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+#92=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));"
+                .to_string(),
+            25.4,
+        ),
+    ];
+    for (units, scale) in cases {
+        let part = build_part(&parse(&square_file(&units, ""))).unwrap();
+        assert_eq!(part.faces.len(), 1);
+        let far = part
+            .vertices
+            .iter()
+            .map(|v| v.point.length())
+            .fold(0.0, f64::max);
+        assert!(
+            (far - scale * 2f64.sqrt()).abs() < 1e-9 * scale,
+            "{units}: {far}"
+        );
+        // Edge parameters are arc lengths in mm along unit-direction lines.
+        for e in &part.edges {
+            assert!(((e.t_end - e.t_start).abs() - scale).abs() < 1e-9 * scale);
+        }
+        assert!(
+            !part
+                .diagnostics
+                .iter()
+                .any(|d| d.message.contains("no length unit"))
+        );
+    }
+    // No length unit: mm with a warning.
+    let no_len = "#91=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n#92=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));";
+    let part = build_part(&parse(&square_file(no_len, ""))).unwrap();
+    assert!(
+        part.diagnostics
+            .iter()
+            .any(|d| d.message.contains("no length unit") && d.place.as_deref() == Some("#90"))
+    );
+}
+
+#[test]
+fn edges_shared_and_oriented() {
+    let part = build_part(&parse(&square_file(MM, ""))).unwrap();
+    assert_eq!(part.edges.len(), 4);
+    assert_eq!(part.vertices.len(), 4);
+    let Loop::Edges(es) = &part.faces[0].loops[0] else {
+        panic!("edge loop")
+    };
+    let fwd: Vec<bool> = es.iter().map(|e| e.forward).collect();
+    assert_eq!(fwd, [true, true, false, false]);
+    // Each loop entry ends where the next begins.
+    let ends = |i: usize| {
+        let oe = es[i];
+        let e = &part.edges[oe.edge];
+        if oe.forward {
+            (e.start, e.end)
+        } else {
+            (e.end, e.start)
+        }
+    };
+    for i in 0..4 {
+        assert_eq!(ends(i).1, ends((i + 1) % 4).0);
+    }
+    // Line parameters at the vertices: origin + t·dir reproduces the vertex.
+    for e in &part.edges {
+        let CurveGeom::Line(l) = e.curve else {
+            panic!("line")
+        };
+        assert!((l.origin + l.dir * e.t_start - part.vertices[e.start].point).length() < 1e-12);
+        assert!((l.origin + l.dir * e.t_end - part.vertices[e.end].point).length() < 1e-12);
+    }
+}
+
+#[test]
+fn unsupported_surface_skips_face_with_warning() {
+    let extra = ",#40";
+    let units =
+        format!("{MM}\n#40=ADVANCED_FACE('',(#26),#41,.T.);\n#41=OFFSET_SURFACE('',#29,2.,.F.);");
+    let part = build_part(&parse(&square_file(&units, extra))).unwrap();
+    assert_eq!(part.faces.len(), 1);
+    let w = part
+        .diagnostics
+        .iter()
+        .find(|d| d.place.as_deref() == Some("#40"))
+        .expect("warning for #40");
+    assert!(
+        w.message.contains("#41") && w.message.contains("OFFSET_SURFACE"),
+        "{}",
+        w.message
+    );
+    assert!(
+        part.diagnostics
+            .iter()
+            .any(|d| d.message.contains("1 of 2 faces skipped"))
+    );
+}
+
+#[test]
+fn broken_references_give_clean_errors() {
+    // Dangling surface reference: the only face fails, its error is returned with #id and line.
+    let text = square_file(MM, "").replace(
+        "#30=ADVANCED_FACE('',(#26),#29,.T.);",
+        "#30=ADVANCED_FACE('',(#26),#77,.T.);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!(err.kind, ErrorKind::Dangling);
+    assert_eq!(err.id, Some(30));
+    assert!(
+        err.line.is_some() && err.to_string().contains("#77"),
+        "{err}"
+    );
+    // A point where a direction is expected.
+    let text = square_file(MM, "").replace(
+        "#28=AXIS2_PLACEMENT_3D('',#1,#27,#9);",
+        "#28=AXIS2_PLACEMENT_3D('',#1,#1,#9);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!(err.kind, ErrorKind::WrongType);
+    assert_eq!(err.id, Some(1));
+    // Zero-length direction.
+    let text = square_file(MM, "").replace(
+        "#27=DIRECTION('',(0.,0.,1.));",
+        "#27=DIRECTION('',(0.,0.,0.));",
+    );
+    assert_eq!(
+        build_part(&parse(&text)).unwrap_err().kind,
+        ErrorKind::InvalidGeometry
+    );
+    // Empty loop.
+    let text = square_file(MM, "").replace(
+        "#25=EDGE_LOOP('',(#21,#22,#23,#24));",
+        "#25=EDGE_LOOP('',());",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::BadParameter, Some(25)));
+    // Too few parameters.
+    let text = square_file(MM, "").replace("#29=PLANE('',#28);", "#29=PLANE('');");
+    assert_eq!(
+        build_part(&parse(&text)).unwrap_err().kind,
+        ErrorKind::BadParameter
+    );
+    // Nothing at all.
+    let text = square_file(MM, "").replace(
+        "#93=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#90);",
+        "",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!(err.kind, ErrorKind::NoFaces);
+    assert_eq!(err.to_string(), "no faces found");
+}
