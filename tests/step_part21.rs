@@ -84,3 +84,182 @@ fn manifest_corpus_matches_open_cascade() {
     }
     assert_eq!(counts, [20, 1, 31]);
 }
+
+/// Every malformed file in `tests/data/bad/*.stp`: the 1-based line the error must name, the
+/// `#id` being read (if any), and a word the message must contain. Lines 1–9 of the DATA cases
+/// are a valid header and two instances; the defect is on line 10 unless noted.
+const BAD: &[(&str, usize, Option<u64>, &str)] = &[
+    ("bad-binary.stp", 10, Some(10), "binary literal must start"),
+    ("bad-enum.stp", 10, Some(10), "no closing '.'"),
+    (
+        "bad-instance-name.stp",
+        10,
+        None,
+        "bad instance name '#abc'",
+    ),
+    (
+        "binary-garbage-after-header.stp",
+        10,
+        None,
+        "unexpected byte 0xFF",
+    ),
+    ("binary-not-hex.stp", 10, Some(10), "not a hex digit"),
+    (
+        "complex-empty-part.stp",
+        10,
+        Some(10),
+        "expected an entity name",
+    ),
+    ("complex-empty.stp", 10, Some(10), "no records"),
+    (
+        "complex-without-names.stp",
+        10,
+        Some(10),
+        "expected an entity name",
+    ),
+    // The second #1 is on line 11; the message names the first one's line.
+    ("duplicate-id.stp", 11, Some(1), "first defined on line 8"),
+    (
+        "empty-parameter-slot.stp",
+        10,
+        Some(10),
+        "expected a parameter",
+    ),
+    ("empty.stp", 1, None, "empty file"),
+    ("end-marker-inside-data.stp", 11, None, "missing ENDSEC"),
+    (
+        "exponent-without-digits.stp",
+        10,
+        Some(10),
+        "exponent has no digits",
+    ),
+    (
+        "fortran-exponent.stp",
+        10,
+        Some(10),
+        "malformed number '1.0D0'",
+    ),
+    ("header-missing-endsec.stp", 6, None, "inside the HEADER"),
+    ("huge-id.stp", 10, None, "out of range"),
+    (
+        "huge-integer.stp",
+        10,
+        Some(10),
+        "integer '99999999999999999999' out of range",
+    ),
+    ("inf-token.stp", 10, Some(10), "malformed number '-inf'"),
+    (
+        "instance-name-with-letters.stp",
+        10,
+        None,
+        "bad instance name '#12a'",
+    ),
+    (
+        "keyword-instead-of-instance.stp",
+        10,
+        None,
+        "expected an instance",
+    ),
+    ("missing-data.stp", 7, None, "no DATA section"),
+    ("missing-equals.stp", 10, Some(10), "expected '='"),
+    ("missing-header.stp", 2, None, "missing HEADER"),
+    ("missing-iso-marker.stp", 1, None, "not a STEP file"),
+    ("missing-semicolon.stp", 10, Some(10), "missing ';'"),
+    ("nan-token.stp", 10, Some(10), "NAN"),
+    ("negative-id.stp", 10, None, "negative instance name '#-5'"),
+    (
+        "negative-reference.stp",
+        10,
+        Some(10),
+        "negative instance name '#-1'",
+    ),
+    ("no-record-name.stp", 10, Some(10), "no entity name"),
+    ("not-step.stp", 1, None, "not a STEP file"),
+    ("nul-bytes.stp", 11, None, "unexpected byte 0x00"),
+    (
+        "overflow-real.stp",
+        10,
+        Some(10),
+        "real '1.E999999' out of range",
+    ),
+    ("random-bytes.stp", 1, None, "unexpected byte"),
+    (
+        "record-without-params.stp",
+        10,
+        Some(10),
+        "expected '(' after entity name",
+    ),
+    (
+        "stray-character.stp",
+        10,
+        Some(10),
+        "unexpected character '@'",
+    ),
+    ("stray-dot.stp", 10, Some(10), "stray '.'"),
+    (
+        "string-too-long.stp",
+        10,
+        Some(10),
+        "longer than 32767 bytes",
+    ),
+    // The nesting is on line 11 (the record starts on line 10).
+    (
+        "too-deep-nesting.stp",
+        11,
+        Some(10),
+        "nested deeper than 64",
+    ),
+    (
+        "trailing-comma.stp",
+        10,
+        Some(10),
+        "expected a parameter, found ')'",
+    ),
+    ("truncated-after-instance.stp", 10, None, "end of file"),
+    ("truncated-mid-record.stp", 10, Some(10), "end of file"),
+    (
+        "truncated-mid-string.stp",
+        10,
+        Some(10),
+        "unterminated string",
+    ),
+    ("typed-two-values.stp", 10, Some(10), "exactly one value"),
+    ("unbalanced-close.stp", 10, Some(10), "missing ';'"),
+    ("unbalanced-open.stp", 10, Some(10), "expected ',' or ')'"),
+    (
+        "unterminated-binary.stp",
+        10,
+        Some(10),
+        "unterminated binary",
+    ),
+    // The comment opens on line 10 and runs to the end of the file.
+    ("unterminated-comment.stp", 10, None, "unterminated comment"),
+    ("whitespace-only.stp", 1, None, "empty file"),
+];
+
+#[test]
+fn malformed_files_give_errors_with_line_and_id() {
+    for &(file, line, id, word) in BAD {
+        let err = parse(&read(&format!("bad/{file}"))).expect_err(file);
+        assert_eq!((err.line, err.id), (line, id), "{file}: {err}");
+        assert!(err.message.contains(word), "{file}: '{err}' lacks '{word}'");
+        let shown = err.to_string();
+        assert!(
+            shown.starts_with(&format!("line {line}")),
+            "{file}: {shown}"
+        );
+    }
+}
+
+#[test]
+fn every_bad_step_file_is_in_the_table() {
+    let mut on_disk: Vec<String> = std::fs::read_dir(data("bad"))
+        .expect("tests/data/bad")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".stp"))
+        .collect();
+    on_disk.sort();
+    let listed: Vec<String> = BAD.iter().map(|b| b.0.to_owned()).collect();
+    assert_eq!(on_disk, listed);
+    assert!(listed.len() >= 30);
+}

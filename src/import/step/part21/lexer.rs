@@ -123,11 +123,6 @@ impl<'a> Lexer<'a> {
         }
     }
 
-    /// The current 1-based line (after the last token read).
-    pub fn line(&self) -> usize {
-        self.line
-    }
-
     fn peek_byte(&self, ahead: usize) -> Option<u8> {
         self.bytes.get(self.pos + ahead).copied()
     }
@@ -208,7 +203,7 @@ impl<'a> Lexer<'a> {
             }
             b'.' => match self.peek_byte(1) {
                 Some(c) if c.is_ascii_digit() => self.number(line)?,
-                Some(c) if is_keyword_start(c) => self.enumeration(),
+                Some(c) if is_keyword_start(c) => self.enumeration(line)?,
                 _ => self.single(Token::Dot),
             },
             b'+' | b'-' | b'0'..=b'9' => self.number(line)?,
@@ -238,8 +233,9 @@ impl<'a> Lexer<'a> {
         self.bytes.get(start..self.pos).unwrap_or_default()
     }
 
-    /// `.NAME.`, or a lone `.` when no closing dot follows the name (e.g. `.LENGTH_MEASURE(`).
-    fn enumeration(&mut self) -> Token<'a> {
+    /// `.NAME.`; or a lone `.` when the name is followed by `(` (`.LENGTH_MEASURE(1.E-7).`,
+    /// a typed parameter wrapped in dots, which the parser tolerates).
+    fn enumeration(&mut self, line: usize) -> Result<Token<'a>, LexError> {
         let start = self.pos + 1;
         let mut end = start;
         while self
@@ -249,12 +245,20 @@ impl<'a> Lexer<'a> {
         {
             end += 1;
         }
-        if self.bytes.get(end) == Some(&b'.') {
-            self.pos = end + 1;
-            Token::Enum(self.bytes.get(start..end).unwrap_or_default())
-        } else {
-            self.pos += 1;
-            Token::Dot
+        let name = self.bytes.get(start..end).unwrap_or_default();
+        match self.bytes.get(end) {
+            Some(b'.') => {
+                self.pos = end + 1;
+                Ok(Token::Enum(name))
+            }
+            Some(b'(') => {
+                self.pos += 1;
+                Ok(Token::Dot)
+            }
+            _ => Err(self.err(
+                line,
+                format!("enumeration '.{}' has no closing '.'", shown(name)),
+            )),
         }
     }
 
@@ -282,7 +286,12 @@ impl<'a> Lexer<'a> {
             });
         }
         if self.peek_byte(0).is_some_and(is_keyword_start) {
-            return Err(self.err(line, format!("bad instance name '#{}...'", shown(digits))));
+            let mut end = self.pos;
+            while self.bytes.get(end).is_some_and(|&c| is_keyword_byte(c)) {
+                end += 1;
+            }
+            let word = self.bytes.get(start..end).unwrap_or_default();
+            return Err(self.err(line, format!("bad instance name '#{}'", shown(word))));
         }
         let value = parse_u64(digits).ok_or_else(|| {
             self.err(
@@ -311,8 +320,7 @@ impl<'a> Lexer<'a> {
             frac_digits = self.pos - f;
         }
         if int_digits + frac_digits == 0 {
-            let text = self.bytes.get(start..self.pos + 1).unwrap_or_default();
-            return Err(self.err(line, format!("malformed number '{}'", shown(text))));
+            return Err(self.malformed_number(start, line));
         }
         if matches!(self.peek_byte(0), Some(b'E' | b'e')) {
             real = true;
@@ -331,16 +339,7 @@ impl<'a> Lexer<'a> {
             .peek_byte(0)
             .is_some_and(|c| is_keyword_byte(c) || c == b'.' || c == b'#')
         {
-            let mut end = self.pos;
-            while self
-                .bytes
-                .get(end)
-                .is_some_and(|&c| is_keyword_byte(c) || c == b'.')
-            {
-                end += 1;
-            }
-            let whole = self.bytes.get(start..end).unwrap_or_default();
-            return Err(self.err(line, format!("malformed number '{}'", shown(whole))));
+            return Err(self.malformed_number(start, line));
         }
         // The text is ASCII digits, signs, '.', 'E': always valid UTF-8.
         let s = std::str::from_utf8(text).unwrap_or_default();
@@ -354,6 +353,20 @@ impl<'a> Lexer<'a> {
                 .map(Token::Integer)
                 .map_err(|_| self.err(line, format!("integer '{}' out of range", shown(text))))
         }
+    }
+
+    /// The error for a number starting at `start`, showing the whole word it is part of.
+    fn malformed_number(&self, start: usize, line: usize) -> LexError {
+        let mut end = start + 1;
+        while self
+            .bytes
+            .get(end)
+            .is_some_and(|&c| is_keyword_byte(c) || c == b'.' || c == b'+')
+        {
+            end += 1;
+        }
+        let whole = self.bytes.get(start..end).unwrap_or_default();
+        self.err(line, format!("malformed number '{}'", shown(whole)))
     }
 
     fn skip_digits(&mut self) {

@@ -97,10 +97,7 @@ impl<'a> Parser<'a> {
                 self.after_semicolon = tok == Token::Semicolon;
                 Ok((tok, line))
             }
-            None => Err(self.error(
-                self.lexer.line(),
-                format!("unexpected end of file {context}"),
-            )),
+            None => Err(self.error(self.line, format!("unexpected end of file {context}"))),
         }
     }
 
@@ -117,7 +114,7 @@ impl<'a> Parser<'a> {
                 format!("missing ';' after {after} (found {})", t.describe()),
             )),
             None => Err(self.error(
-                self.lexer.line(),
+                self.line,
                 format!("unexpected end of file: missing ';' after {after}"),
             )),
         }
@@ -146,12 +143,9 @@ impl<'a> Parser<'a> {
         loop {
             let Some((t, line)) = self.peek()? else {
                 if data_sections == 0 {
-                    return Err(self.error(self.lexer.line(), "no DATA section"));
+                    return Err(self.error(self.line, "no DATA section"));
                 }
-                self.warn(
-                    self.lexer.line(),
-                    "missing 'END-ISO-10303-21;' at end of file",
-                );
+                self.warn(self.line, "missing 'END-ISO-10303-21;' at end of file");
                 break;
             };
             self.next("")?;
