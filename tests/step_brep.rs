@@ -344,3 +344,181 @@ fn broken_references_give_clean_errors() {
     assert_eq!(err.kind, ErrorKind::NoFaces);
     assert_eq!(err.to_string(), "no faces found");
 }
+
+/// Product structure placing the square part twice: rotated 90° about z and moved to (10, 0, 0),
+/// and moved to (0, 0, 5).
+const ASSEMBLY: &str = "#200=APPLICATION_CONTEXT('');\n#201=PRODUCT_CONTEXT('',#200,'mechanical');\n#202=PRODUCT_DEFINITION_CONTEXT('',#200,'design');\n\
+#210=PRODUCT('ASM','ASM','',(#201));\n#211=PRODUCT_DEFINITION_FORMATION('','',#210);\n#212=PRODUCT_DEFINITION('','',#211,#202);\n\
+#213=PRODUCT_DEFINITION_SHAPE('','',#212);\n#214=SHAPE_REPRESENTATION('',(#230,#231,#232),#90);\n#215=SHAPE_DEFINITION_REPRESENTATION(#213,#214);\n\
+#220=PRODUCT('P','P','',(#201));\n#221=PRODUCT_DEFINITION_FORMATION('','',#220);\n#222=PRODUCT_DEFINITION('','',#221,#202);\n\
+#223=PRODUCT_DEFINITION_SHAPE('','',#222);\n#224=SHAPE_DEFINITION_REPRESENTATION(#223,#93);\n\
+#230=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n#231=AXIS2_PLACEMENT_3D('',#240,#27,#13);\n#232=AXIS2_PLACEMENT_3D('',#241,#27,#9);\n\
+#233=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n#240=CARTESIAN_POINT('',(10.,0.,0.));\n#241=CARTESIAN_POINT('',(0.,0.,5.));\n\
+#250=NEXT_ASSEMBLY_USAGE_OCCURRENCE('1','','',#212,#222,$);\n#251=PRODUCT_DEFINITION_SHAPE('','',#250);\n\
+#252=(REPRESENTATION_RELATIONSHIP('','',#93,#214)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#253)SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+#253=ITEM_DEFINED_TRANSFORMATION('','',#233,#231);\n#254=CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#252,#251);\n\
+#260=NEXT_ASSEMBLY_USAGE_OCCURRENCE('2','','',#212,#222,$);\n#261=PRODUCT_DEFINITION_SHAPE('','',#260);\n\
+#262=(REPRESENTATION_RELATIONSHIP('','',#93,#214)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#263)SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+#263=ITEM_DEFINED_TRANSFORMATION('','',#233,#232);\n#264=CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#262,#261);";
+
+fn has_vertex(part: &Part, x: f64, y: f64, z: f64) -> bool {
+    part.vertices
+        .iter()
+        .any(|v| (v.point - glam::DVec3::new(x, y, z)).length() < 1e-12)
+}
+
+#[test]
+fn assembly_places_each_instance() {
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{ASSEMBLY}"), ""))).unwrap();
+    assert_eq!(part.name, "ASM");
+    assert_eq!(part.faces.len(), 2);
+    assert_eq!(part.vertices.len(), 8);
+    // Instance 1: (x, y) ↦ (10 − y, x).
+    for (x, y) in [(10.0, 0.0), (10.0, 1.0), (9.0, 1.0), (9.0, 0.0)] {
+        assert!(has_vertex(&part, x, y, 0.0), "({x}, {y}, 0)");
+    }
+    // Instance 2: lifted by 5.
+    for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+        assert!(has_vertex(&part, x, y, 5.0), "({x}, {y}, 5)");
+    }
+    let planes: Vec<_> = part
+        .faces
+        .iter()
+        .map(|f| match &f.surface {
+            SurfaceGeom::Plane(p) => p.frame,
+            _ => panic!("plane expected"),
+        })
+        .collect();
+    assert!((planes[0].x - glam::DVec3::Y).length() < 1e-12);
+    assert!((planes[1].origin - glam::DVec3::new(0.0, 0.0, 5.0)).length() < 1e-12);
+}
+
+#[test]
+fn mapped_items_place_copies() {
+    let mapped = "#300=SHAPE_REPRESENTATION('',(#301,#302),#90);\n#301=MAPPED_ITEM('',#303,#231);\n#302=MAPPED_ITEM('',#303,#232);\n\
+#303=REPRESENTATION_MAP(#233,#93);\n#231=AXIS2_PLACEMENT_3D('',#240,#27,#13);\n#232=AXIS2_PLACEMENT_3D('',#241,#27,#9);\n\
+#233=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n#240=CARTESIAN_POINT('',(10.,0.,0.));\n#241=CARTESIAN_POINT('',(0.,0.,5.));";
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{mapped}"), ""))).unwrap();
+    assert_eq!(part.faces.len(), 2);
+    assert!(has_vertex(&part, 9.0, 1.0, 0.0));
+    assert!(has_vertex(&part, 1.0, 1.0, 5.0));
+}
+
+#[test]
+fn cycles_are_cut_not_followed() {
+    // A representation mapping itself (reached from a root that maps it), beside the plain
+    // square part.
+    let selfmap = "#300=SHAPE_REPRESENTATION('',(#301),#90);\n#301=MAPPED_ITEM('',#303,#233);\n#303=REPRESENTATION_MAP(#233,#300);\n\
+#233=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n\
+#310=SHAPE_REPRESENTATION('',(#311),#90);\n#311=MAPPED_ITEM('',#312,#233);\n#312=REPRESENTATION_MAP(#233,#300);";
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{selfmap}"), ""))).unwrap();
+    assert_eq!(part.faces.len(), 1);
+    assert!(
+        part.diagnostics
+            .iter()
+            .any(|d| d.place.as_deref() == Some("#300"))
+    );
+    // Assembly cycle below a root: ASM uses P, P uses Q, Q uses P again.
+    let cycle = format!(
+        "{ASSEMBLY}\n#270=PRODUCT('Q','Q','',(#201));\n#271=PRODUCT_DEFINITION_FORMATION('','',#270);\n#272=PRODUCT_DEFINITION('','',#271,#202);\n\
+#273=PRODUCT_DEFINITION_SHAPE('','',#272);\n#274=SHAPE_DEFINITION_REPRESENTATION(#273,#93);\n\
+#275=NEXT_ASSEMBLY_USAGE_OCCURRENCE('3','','',#222,#272,$);\n#276=NEXT_ASSEMBLY_USAGE_OCCURRENCE('4','','',#272,#222,$);"
+    );
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{cycle}"), ""))).unwrap();
+    // Two instances of P, each holding one Q; the Q → P step is cut.
+    assert_eq!(part.faces.len(), 4);
+    assert!(
+        part.diagnostics
+            .iter()
+            .any(|d| d.message.contains("assembly cycle") && d.place.as_deref() == Some("#222"))
+    );
+}
+
+#[test]
+fn cone_semi_angle_in_degrees() {
+    let units = "#91=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+#92=(CONVERSION_BASED_UNIT('DEGREE',#94)NAMED_UNIT(#95)PLANE_ANGLE_UNIT());\n#95=DIMENSIONAL_EXPONENTS(0.,0.,0.,0.,0.,0.,0.);\n\
+#94=PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925199433),#96);\n#96=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));";
+    let text =
+        square_file(units, "").replace("#29=PLANE('',#28);", "#29=CONICAL_SURFACE('',#28,5.,30.);");
+    let part = build_part(&parse(&text)).unwrap();
+    let SurfaceGeom::Cone(c) = &part.faces[0].surface else {
+        panic!("cone expected")
+    };
+    assert!((c.semi_angle - std::f64::consts::FRAC_PI_6).abs() < 1e-12);
+    assert!((c.radius - 5.0).abs() < 1e-12);
+}
+
+/// Closed-form position on lines, circles and ellipses; the end pole of a clamped B-spline.
+fn curve_point(c: &CurveGeom, t: f64) -> Option<glam::DVec3> {
+    match c {
+        CurveGeom::Line(l) => Some(l.origin + l.dir * t),
+        CurveGeom::Circle(k) => Some(k.frame.to_world(glam::DVec3::new(
+            k.radius * t.cos(),
+            k.radius * t.sin(),
+            0.0,
+        ))),
+        CurveGeom::Ellipse(e) => Some(e.frame.to_world(glam::DVec3::new(
+            e.semi_axis_1 * t.cos(),
+            e.semi_axis_2 * t.sin(),
+            0.0,
+        ))),
+        CurveGeom::BSpline(b) => {
+            let k = &b.knots;
+            if t == k[b.degree] && k[..=b.degree].iter().all(|x| *x == k[0]) {
+                Some(b.poles[0])
+            } else if t == k[b.poles.len()]
+                && k[b.poles.len()..].iter().all(|x| *x == k[k.len() - 1])
+            {
+                Some(*b.poles.last().unwrap())
+            } else {
+                None
+            }
+        }
+    }
+}
+
+#[test]
+fn edge_parameters_land_on_the_vertices() {
+    for (file, tol) in [
+        ("pocket-fillets.stp", 1e-7),
+        ("bicubic-hills.stp", 1e-7),
+        ("rational-trough.stp", 1e-7),
+        ("real/freecad/Schenkel.stp", 0.01),
+        ("real/freecad/as1-ac-214_small.stp", 0.01),
+    ] {
+        let part = read_step(&data(file)).unwrap();
+        let mut checked = 0;
+        for e in &part.edges {
+            let (Some(a), Some(b)) = (
+                curve_point(&e.curve, e.t_start),
+                curve_point(&e.curve, e.t_end),
+            ) else {
+                continue;
+            };
+            let (va, vb) = (part.vertices[e.start].point, part.vertices[e.end].point);
+            assert!(
+                a.distance(va) < tol && b.distance(vb) < tol,
+                "{file}: edge #{} misses its vertices",
+                e.source_id
+            );
+            if matches!(e.curve, CurveGeom::Circle(_) | CurveGeom::Ellipse(_)) {
+                let span = (e.t_end - e.t_start).abs();
+                assert!(
+                    span > 0.0 && span <= std::f64::consts::TAU + 1e-12,
+                    "{file}: #{} spans {span}",
+                    e.source_id
+                );
+                if e.start == e.end {
+                    assert!((span - std::f64::consts::TAU).abs() < 1e-12);
+                }
+            }
+            checked += 1;
+        }
+        assert!(
+            checked * 10 >= part.edges.len() * 9,
+            "{file}: only {checked} of {} edges checked",
+            part.edges.len()
+        );
+    }
+}
