@@ -313,6 +313,11 @@ fn broken_references_give_clean_errors() {
     let err = build_part(&parse(&text)).unwrap_err();
     assert_eq!(err.kind, ErrorKind::WrongType);
     assert_eq!(err.id, Some(1));
+    assert!(
+        err.to_string()
+            .contains("expected DIRECTION, found CARTESIAN_POINT (referred to by #28)"),
+        "{err}"
+    );
     // Zero-length direction.
     let text = square_file(MM, "").replace(
         "#27=DIRECTION('',(0.,0.,1.));",
@@ -521,4 +526,35 @@ fn edge_parameters_land_on_the_vertices() {
             part.edges.len()
         );
     }
+}
+
+#[test]
+fn poly_loops_and_geometric_set_surfaces() {
+    let extra = "#400=POLY_LOOP('',(#1,#2,#3,#4));\n#401=FACE_OUTER_BOUND('',#400,.T.);\n#402=FACE_SURFACE('',(#401),#29,.T.);\n\
+#500=GEOMETRIC_SET('',(#1,#501));\n#502=GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION('',(#500),#90);\n\
+#501=B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#1,#2),(#4,#3)),.UNSPECIFIED.,.F.,.F.,.F.,(2,2),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.);";
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{extra}"), ",#402"))).unwrap();
+    assert_eq!(part.faces.len(), 3);
+    // The poly loop: four straight edges of length 1 between the square's corners.
+    let Loop::Edges(es) = &part.faces[1].loops[0] else {
+        panic!("edge loop")
+    };
+    assert_eq!(es.len(), 4);
+    for oe in es {
+        let e = &part.edges[oe.edge];
+        assert!((e.t_end - e.t_start - 1.0).abs() < 1e-12);
+        assert!(
+            curve_point(&e.curve, e.t_end)
+                .unwrap()
+                .distance(part.vertices[e.end].point)
+                < 1e-12
+        );
+    }
+    // The set's surface: an untrimmed bilinear patch over the unit square.
+    let f = &part.faces[2];
+    assert!(f.loops.is_empty() && f.outer.is_none());
+    let SurfaceGeom::BSpline(s) = &f.surface else {
+        panic!("B-spline expected")
+    };
+    assert_eq!((s.n_u, s.n_v, s.knots_u.len()), (2, 2, 4));
 }

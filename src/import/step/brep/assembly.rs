@@ -383,8 +383,14 @@ impl<'m, 'a> Transfer<'m, 'a> {
             let mut fresh = BTreeSet::new();
             self.representation(mapped, xf, &mut fresh, path);
             done.extend(fresh);
+        } else if let Ok(a) = e.args_any(&["GEOMETRIC_SET", "GEOMETRIC_CURVE_SET"]) {
+            // As Open CASCADE: a bounded surface in a geometric set becomes an untrimmed face;
+            // points and curves carry no faces.
+            for element in a.refs(1, "elements")? {
+                self.b.set_surface(pl, e, element);
+            }
         }
-        // Other items (placements, curve sets, styled items, ...) carry no faces.
+        // Other items (placements, styled items, ...) carry no faces.
         Ok(())
     }
 }

@@ -53,6 +53,16 @@ impl<'a> Model<'a> {
         })
     }
 
+    /// The `name` record of the instance `#id` referred to by `from`; a wrong type is an error
+    /// naming both instances.
+    pub fn typed(&self, from: Entity<'_>, id: u64, name: &str) -> Result<Args<'a>, BrepError> {
+        self.entity(from, id)?.args(name).map_err(|mut err| {
+            err.message
+                .push_str(&format!(" (referred to by #{})", from.id()));
+            err
+        })
+    }
+
     /// Ids of the instances that refer to `#id`.
     pub fn users(&self, id: u64) -> &[u64] {
         self.users.get(&id).map_or(&[], Vec::as_slice)

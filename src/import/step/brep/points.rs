@@ -30,8 +30,9 @@ impl<'a> Geo<'_, 'a> {
 
     /// `CARTESIAN_POINT` `#id` in mm (2D points get z = 0).
     pub fn point(&self, from: Entity<'_>, id: u64) -> Result<DVec3, BrepError> {
-        let e = self.entity(from, id)?;
-        let c = e.args("CARTESIAN_POINT")?.reals(1, "coordinates")?;
+        let a = self.model.typed(from, id, "CARTESIAN_POINT")?;
+        let e = a.ent;
+        let c = a.reals(1, "coordinates")?;
         let v = match c.as_slice() {
             [x, y, z] => DVec3::new(*x, *y, *z),
             [x, y] => DVec3::new(*x, *y, 0.0),
@@ -47,8 +48,9 @@ impl<'a> Geo<'_, 'a> {
 
     /// `DIRECTION` `#id`, normalised; a zero direction is an error.
     pub fn direction(&self, from: Entity<'_>, id: u64) -> Result<DVec3, BrepError> {
-        let e = self.entity(from, id)?;
-        let c = e.args("DIRECTION")?.reals(1, "direction ratios")?;
+        let a = self.model.typed(from, id, "DIRECTION")?;
+        let e = a.ent;
+        let c = a.reals(1, "direction ratios")?;
         let v = match c.as_slice() {
             [x, y, z] => DVec3::new(*x, *y, *z),
             [x, y] => DVec3::new(*x, *y, 0.0),
@@ -66,8 +68,8 @@ impl<'a> Geo<'_, 'a> {
 
     /// `VECTOR` `#id`: its unit direction (the magnitude only has to be finite and non-zero).
     pub fn vector_dir(&self, from: Entity<'_>, id: u64) -> Result<DVec3, BrepError> {
-        let e = self.entity(from, id)?;
-        let a = e.args("VECTOR")?;
+        let a = self.model.typed(from, id, "VECTOR")?;
+        let e = a.ent;
         let dir = self.direction(e, a.reference(1, "orientation")?)?;
         let magnitude = a.real(2, "magnitude")?;
         if magnitude == 0.0 {
@@ -78,8 +80,8 @@ impl<'a> Geo<'_, 'a> {
 
     /// `AXIS2_PLACEMENT_3D` `#id` as a frame (mm).
     pub fn placement(&self, from: Entity<'_>, id: u64) -> Result<Frame, BrepError> {
-        let e = self.entity(from, id)?;
-        let a = e.args("AXIS2_PLACEMENT_3D")?;
+        let a = self.model.typed(from, id, "AXIS2_PLACEMENT_3D")?;
+        let e = a.ent;
         let origin = self.point(e, a.reference(1, "location")?)?;
         let axis = if a.is_unset(2) {
             DVec3::Z
@@ -97,8 +99,8 @@ impl<'a> Geo<'_, 'a> {
 
     /// `AXIS1_PLACEMENT` `#id`: a point and a unit axis (default +Z).
     pub fn axis1(&self, from: Entity<'_>, id: u64) -> Result<(DVec3, DVec3), BrepError> {
-        let e = self.entity(from, id)?;
-        let a = e.args("AXIS1_PLACEMENT")?;
+        let a = self.model.typed(from, id, "AXIS1_PLACEMENT")?;
+        let e = a.ent;
         let origin = self.point(e, a.reference(1, "location")?)?;
         let axis = if a.is_unset(2) {
             DVec3::Z

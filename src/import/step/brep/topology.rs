@@ -130,6 +130,45 @@ impl<'m, 'a> Builder<'m, 'a> {
         }
     }
 
+    /// An element of a geometric set: a B-spline surface becomes a face over its whole domain;
+    /// anything else (points, curves, unbounded surfaces) is passed over.
+    pub fn set_surface(&mut self, pl: &mut Placed<'m, 'a>, from: Entity<'_>, id: u64) {
+        let Some(e) = self.model.get(id) else {
+            self.part.diagnostics.push(Diagnostic::warning(
+                Some(format!("#{}", from.id())),
+                format!("geometric set element #{id} is not in the file"),
+            ));
+            return;
+        };
+        let is_spline = [
+            "B_SPLINE_SURFACE",
+            "B_SPLINE_SURFACE_WITH_KNOTS",
+            "BEZIER_SURFACE",
+        ]
+        .iter()
+        .any(|n| e.has(n));
+        if !is_spline {
+            return;
+        }
+        match surface(&pl.geo, from, id, 0) {
+            Ok(s) => {
+                self.part.shells.push(Shell {
+                    faces: vec![self.part.faces.len()],
+                    closed: false,
+                    source_id: id,
+                });
+                self.part.faces.push(Face {
+                    surface: pl.xf.surface(&s),
+                    same_sense: true,
+                    loops: Vec::new(),
+                    outer: None,
+                    source_id: id,
+                });
+            }
+            Err(err) => self.skip_face(id, err),
+        }
+    }
+
     /// Build one face (`ADVANCED_FACE`, `FACE_SURFACE`, `ORIENTED_FACE`).
     fn face(
         &mut self,
