@@ -558,3 +558,120 @@ fn poly_loops_and_geometric_set_surfaces() {
     };
     assert_eq!((s.n_u, s.n_v, s.knots_u.len()), (2, 2, 4));
 }
+
+#[test]
+fn shared_components_cannot_multiply_without_end() {
+    // P0 uses P1 twice, P1 uses P2 twice, ... P30 holds the square: 2^30 instances unless the
+    // transfer stops itself.
+    let mut text = String::from(
+        "#200=APPLICATION_CONTEXT('');\n#202=PRODUCT_DEFINITION_CONTEXT('',#200,'design');\n",
+    );
+    for i in 0..=30 {
+        let b = 1000 + 10 * i;
+        text += &format!(
+            "#{b}=PRODUCT('P{i}','P{i}','',());\n#{}=PRODUCT_DEFINITION_FORMATION('','',#{b});\n",
+            b + 1
+        );
+        text += &format!("#{}=PRODUCT_DEFINITION('','',#{},#202);\n", b + 2, b + 1);
+        if i < 30 {
+            for k in 3..5 {
+                text += &format!(
+                    "#{}=NEXT_ASSEMBLY_USAGE_OCCURRENCE('','','',#{},#{},$);\n",
+                    b + k,
+                    b + 2,
+                    b + 12
+                );
+            }
+        } else {
+            text += &format!(
+                "#{}=PRODUCT_DEFINITION_SHAPE('','',#{});\n#{}=SHAPE_DEFINITION_REPRESENTATION(#{},#93);\n",
+                b + 3,
+                b + 2,
+                b + 4,
+                b + 3
+            );
+        }
+    }
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{text}"), ""))).unwrap();
+    assert!(!part.faces.is_empty());
+    assert!(
+        part.diagnostics
+            .iter()
+            .any(|d| d.message.starts_with("model too large"))
+    );
+}
+
+/// A small deterministic generator (64-bit LCG, Knuth's constants).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self, n: usize) -> usize {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 33) as usize) % n.max(1)
+    }
+}
+
+#[test]
+fn mutated_files_never_panic() {
+    use part21::Param;
+    // Files whose curves are all lines and circles (no B-spline edge needs point inversion).
+    let sources = [
+        std::fs::read_to_string(data(
+            "real/dodgy-step-files/step-controls/12-3a-shells/Ctl005.stp",
+        ))
+        .unwrap(),
+        square_file(&format!("{MM}\n{ASSEMBLY}"), ""),
+    ];
+    let mut rng = Lcg(20261122);
+    let mut outcomes = [0usize; 2];
+    for src in &sources {
+        let base = parse(src);
+        let ids: Vec<u64> = base.instances.keys().copied().collect();
+        for _ in 0..400 {
+            let mut ex = base.clone();
+            for _ in 0..1 + rng.next(3) {
+                let id = ids[rng.next(ids.len())];
+                let inst = ex.instances.get_mut(&id).unwrap();
+                let r = rng.next(inst.records.len());
+                let params = &mut inst.records[r].params;
+                if params.is_empty() {
+                    continue;
+                }
+                let k = rng.next(params.len());
+                params[k] = match rng.next(8) {
+                    0 => Param::Ref(ids[rng.next(ids.len())]),
+                    1 => Param::Ref(999_999),
+                    2 => Param::Unset,
+                    3 => Param::Real(0.0),
+                    4 => Param::Integer(-1),
+                    5 => Param::List(Vec::new()),
+                    6 => Param::Enum("F".into()),
+                    _ => {
+                        params.remove(k);
+                        continue;
+                    }
+                };
+            }
+            match build_part(&ex) {
+                Ok(part) => {
+                    outcomes[0] += 1;
+                    for v in &part.vertices {
+                        assert!(v.point.is_finite());
+                    }
+                    for e in &part.edges {
+                        assert!(e.t_start.is_finite() && e.t_end.is_finite());
+                    }
+                }
+                Err(e) => {
+                    outcomes[1] += 1;
+                    assert!(!e.message.is_empty());
+                }
+            }
+        }
+    }
+    // Both outcomes occur: the mutations reach the geometry.
+    assert!(outcomes[0] > 0 && outcomes[1] > 0, "{outcomes:?}");
+}

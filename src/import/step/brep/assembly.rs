@@ -19,6 +19,13 @@ use crate::geometry::frame::Frame;
 /// Deepest product or representation nesting followed.
 const MAX_DEPTH: usize = 32;
 
+/// Most product and representation instances transferred: a shared component used twice at
+/// every level of a deep assembly would otherwise multiply without end.
+const MAX_INSTANCES: usize = 100_000;
+
+/// Most faces built before the transfer stops.
+const MAX_FACES: usize = 5_000_000;
+
 /// Record names of product definitions.
 const PRODUCT_DEFINITIONS: [&str; 2] = [
     "PRODUCT_DEFINITION",
@@ -30,6 +37,10 @@ pub(super) struct Transfer<'m, 'a> {
     /// The part being built.
     pub b: Builder<'m, 'a>,
     units: BTreeMap<u64, Units>,
+    /// Product and representation instances transferred so far.
+    instances: usize,
+    /// Set once the instance or face budget is spent (warned once).
+    truncated: bool,
 }
 
 impl<'m, 'a> Transfer<'m, 'a> {
@@ -38,7 +49,29 @@ impl<'m, 'a> Transfer<'m, 'a> {
         Self {
             b: Builder::new(model),
             units: BTreeMap::new(),
+            instances: 0,
+            truncated: false,
         }
+    }
+
+    /// Count one more instance; false (with one warning) once the budget is spent.
+    fn within_budget(&mut self) -> bool {
+        self.instances += 1;
+        if self.instances > MAX_INSTANCES || self.b.part.faces.len() > MAX_FACES {
+            if !self.truncated {
+                self.truncated = true;
+                self.warn(
+                    None,
+                    format!(
+                        "model too large: transfer stopped after {} instances and {} faces",
+                        self.instances - 1,
+                        self.b.part.faces.len()
+                    ),
+                );
+            }
+            return false;
+        }
+        true
     }
 
     fn model(&self) -> &'m Model<'a> {
@@ -107,6 +140,9 @@ impl<'m, 'a> Transfer<'m, 'a> {
 
     /// Transfer a product definition and its components.
     fn product(&mut self, pd: Entity<'a>, xf: Rigid, stack: &mut Vec<u64>) {
+        if !self.within_budget() {
+            return;
+        }
         if stack.contains(&pd.id()) {
             self.warn(
                 Some(pd),
@@ -280,7 +316,7 @@ impl<'m, 'a> Transfer<'m, 'a> {
             self.warn(Some(rep), "representations nest too deeply; not followed");
             return;
         }
-        if !done.insert(rep.id()) {
+        if !done.insert(rep.id()) || !self.within_budget() {
             return;
         }
         let Some(args) = representation_record(rep) else {
