@@ -358,3 +358,32 @@ fn error_display_names_line_and_id() {
         "line 9, #2: expected ',' or ')' in a parameter list, found ';'"
     );
 }
+
+#[test]
+fn edition_3_signature_is_skipped_anchor_refused() {
+    let text = file("#1=A();\n").replace(
+        "END-ISO-10303-21;",
+        "ANCHOR;\n<urn:x> = #1;\nENDSEC;\nREFERENCE;\n#5 = <a.stp#7>;\nENDSEC;\nEND-ISO-10303-21;",
+    );
+    // `<` is not Part 21 text we read: the sections are skipped token by token only as far as
+    // the lexer allows, so a file using them is refused at the first `<`.
+    let e = parse(text.as_bytes()).expect_err("anchor");
+    assert_eq!(e.line, 11);
+    let text = file("#1=A();\n").replace(
+        "END-ISO-10303-21;",
+        "SIGNATURE;\nSIG('abc');\nENDSEC;\nEND-ISO-10303-21;",
+    );
+    let ex = parse(text.as_bytes()).expect("signature");
+    assert_eq!(ex.diagnostics.len(), 1);
+}
+
+#[test]
+fn warnings_are_capped() {
+    let body: String = (1..=1000).map(|i| format!("#{i}=X(.L(1.).);\n")).collect();
+    let ex = ok(&body);
+    assert_eq!(ex.instances.len(), 1000);
+    assert_eq!(
+        ex.diagnostics.len(),
+        talas::import::step::part21::MAX_WARNINGS + 1
+    );
+}

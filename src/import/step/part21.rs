@@ -23,7 +23,7 @@ use std::collections::BTreeMap;
 use crate::diagnostics::Diagnostic;
 
 pub use lexer::MAX_STRING_BYTES;
-pub use parser::MAX_DEPTH;
+pub use parser::{MAX_DEPTH, MAX_WARNINGS};
 
 /// Parses a Part 21 exchange structure from its bytes.
 ///

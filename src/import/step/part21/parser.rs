@@ -14,6 +14,10 @@ use crate::diagnostics::Diagnostic;
 /// Deepest nesting of aggregates and typed parameters accepted.
 pub const MAX_DEPTH: usize = 64;
 
+/// Most warnings listed for one file (a file with a problem on every line would otherwise
+/// produce a list as long as itself).
+pub const MAX_WARNINGS: usize = 200;
+
 /// The parser state: a lexer with one token of look-ahead.
 pub struct Parser<'a> {
     lexer: Lexer<'a>,
@@ -34,11 +38,10 @@ fn keyword_is(t: &Token<'_>, word: &str) -> bool {
 }
 
 fn upper(bytes: &[u8]) -> String {
-    // Keyword bytes are ASCII letters, digits, '_' and '-'.
-    bytes
-        .iter()
-        .map(|b| char::from(b.to_ascii_uppercase()))
-        .collect()
+    // Keyword bytes are ASCII letters, digits, '_' and '-', so this is always UTF-8.
+    let mut v = bytes.to_vec();
+    v.make_ascii_uppercase();
+    String::from_utf8(v).unwrap_or_default()
 }
 
 impl<'a> Parser<'a> {
@@ -68,6 +71,15 @@ impl<'a> Parser<'a> {
     }
 
     fn warn(&mut self, line: usize, message: impl Into<String>) {
+        if self.diagnostics.len() > MAX_WARNINGS {
+            return;
+        }
+        if self.diagnostics.len() == MAX_WARNINGS {
+            let note = format!("more than {MAX_WARNINGS} warnings; the rest are not listed");
+            self.diagnostics
+                .push(Diagnostic::warning(format!("line {line}"), note));
+            return;
+        }
         let place = match self.current {
             Some(id) => format!("line {line}, #{id}"),
             None => format!("line {line}"),
@@ -88,7 +100,7 @@ impl<'a> Parser<'a> {
     }
 
     /// The next token; the end of input is an error naming `context`.
-    fn next(&mut self, context: &str) -> Result<(Token<'a>, usize), Part21Error> {
+    fn next(&mut self, context: impl std::fmt::Display) -> Result<(Token<'a>, usize), Part21Error> {
         let t = self.peek()?;
         self.peeked = None;
         match t {
@@ -101,7 +113,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn expect_semicolon(&mut self, after: &str) -> Result<(), Part21Error> {
+    fn expect_semicolon(&mut self, after: impl std::fmt::Display) -> Result<(), Part21Error> {
         let last = self.line;
         match self.peek()? {
             Some((Token::Semicolon, _)) => {
@@ -270,7 +282,7 @@ impl<'a> Parser<'a> {
     fn header_entity(&mut self, name: &str) -> Result<Vec<Param>, Part21Error> {
         self.after_semicolon = false;
         let params = self.param_list(name)?;
-        self.expect_semicolon(&format!("header entity {name}"))?;
+        self.expect_semicolon(format_args!("header entity {name}"))?;
         Ok(params)
     }
 
@@ -373,7 +385,7 @@ impl<'a> Parser<'a> {
                 ));
             }
         };
-        self.expect_semicolon(&format!("instance #{id}"))?;
+        self.expect_semicolon(format_args!("instance #{id}"))?;
         Ok(Instance {
             id,
             line,
@@ -384,7 +396,7 @@ impl<'a> Parser<'a> {
 
     /// `( param, ... )` after an entity name.
     fn param_list(&mut self, name: &str) -> Result<Vec<Param>, Part21Error> {
-        let (t, line) = self.next(&format!("after entity name {name}"))?;
+        let (t, line) = self.next(format_args!("after entity name {name}"))?;
         if t != Token::Open {
             return Err(self.error(
                 line,
@@ -485,7 +497,7 @@ impl<'a> Parser<'a> {
                 format!("parameters nested deeper than {MAX_DEPTH} levels"),
             ));
         }
-        let (t, l) = self.next(&format!("after typed parameter {name}"))?;
+        let (t, l) = self.next(format_args!("after typed parameter {name}"))?;
         if t != Token::Open {
             return Err(self.error(
                 l,
