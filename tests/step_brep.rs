@@ -340,6 +340,41 @@ fn broken_references_give_clean_errors() {
         build_part(&parse(&text)).unwrap_err().kind,
         ErrorKind::BadParameter
     );
+    // Unsupported edge curve: the face fails, naming the curve.
+    let text = square_file(MM, "").replace(
+        "#11=LINE('',#1,#10);",
+        "#11=OFFSET_CURVE_3D('',#17,1.,.F.,#27);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::Unsupported, Some(11)));
+    // A point where a surface is expected.
+    let text = square_file(MM, "").replace(
+        "#30=ADVANCED_FACE('',(#26),#29,.T.);",
+        "#30=ADVANCED_FACE('',(#26),#1,.T.);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::WrongType, Some(1)));
+    assert!(
+        err.to_string()
+            .contains("expected a surface, found CARTESIAN_POINT"),
+        "{err}"
+    );
+    // Weights that do not match the poles (Ad059's defect, reachable here).
+    let text = square_file(MM, "").replace(
+        "#11=LINE('',#1,#10);",
+        "#11=(BOUNDED_CURVE()B_SPLINE_CURVE(1,(#1,#2),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((2,2),(0.,1.),.UNSPECIFIED.)\
+CURVE()GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_CURVE((1.,1.,1.))REPRESENTATION_ITEM(''));",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::InvalidGeometry, Some(11)));
+    assert!(err.message.contains("3 weights for 2 poles"), "{err}");
+    // Coordinates that overflow when scaled to mm.
+    let text =
+        square_file(&MM.replace(".MILLI.", ".KILO."), "").replace("(1.,1.,0.)", "(1.E306,1.,0.)");
+    assert_eq!(
+        build_part(&parse(&text)).unwrap_err().kind,
+        ErrorKind::InvalidGeometry
+    );
     // Nothing at all.
     let text = square_file(MM, "").replace(
         "#93=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#90);",

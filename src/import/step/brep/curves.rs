@@ -72,10 +72,21 @@ pub(super) fn curve(
     if let Some(spline) = bspline_curve(geo, e)? {
         return Ok(CurveGeom::BSpline(spline));
     }
-    Err(e.error(
-        ErrorKind::Unsupported,
-        format!("unsupported curve type {}", e.type_name()),
-    ))
+    let is_curve = e.inst.records.iter().any(|r| {
+        r.name.contains("CURVE")
+            || ["PARABOLA", "HYPERBOLA", "CLOTHOID", "CONIC"].contains(&r.name.as_str())
+    });
+    Err(if is_curve {
+        e.error(
+            ErrorKind::Unsupported,
+            format!("unsupported curve type {}", e.type_name()),
+        )
+    } else {
+        e.error(
+            ErrorKind::WrongType,
+            format!("expected a curve, found {}", e.type_name()),
+        )
+    })
 }
 
 /// A `POLYLINE` as a degree-1 B-spline with knots 0, 1, 2, ... at its points.

@@ -116,10 +116,22 @@ pub(super) fn surface(
     if let Some(s) = bspline_surface(geo, e)? {
         return Ok(SurfaceGeom::BSpline(s));
     }
-    Err(e.error(
-        ErrorKind::Unsupported,
-        format!("unsupported surface type {}", e.type_name()),
-    ))
+    let is_surface = e
+        .inst
+        .records
+        .iter()
+        .any(|r| r.name.contains("SURFACE") && !r.name.contains("CURVE"));
+    Err(if is_surface {
+        e.error(
+            ErrorKind::Unsupported,
+            format!("unsupported surface type {}", e.type_name()),
+        )
+    } else {
+        e.error(
+            ErrorKind::WrongType,
+            format!("expected a surface, found {}", e.type_name()),
+        )
+    })
 }
 
 /// Degrees, control-point grid and knot forms of a B-spline surface entity.
