@@ -1,11 +1,13 @@
 //! STEP entities → boundary representation ([`Part`]), as Open CASCADE transfers them.
 //!
-//! - [`assembly`]: roots (product definitions no assembly uses), shape representations,
-//!   component placements, mapped items; cycle guards.
+//! - `assembly`: roots (product definitions no assembly uses), component placements, cycle and
+//!   size guards.
+//! - `representation`: shape representations, their items (solids, shells, faces, mapped
+//!   items, geometric sets) and relationships.
 //! - [`units`]: length and plane angle units of each representation context (all lengths are
 //!   scaled to mm, cone angles to rad).
-//! - [`topology`]: shells, faces, loops, oriented edges, edges and vertices (shared by entity id).
-//! - [`curves`], [`surfaces`], [`splines`], [`points`]: geometry entities.
+//! - `topology`: shells, faces, loops, oriented edges, edges and vertices (shared by entity id).
+//! - `curves`, `surfaces`, `splines`, `points`: geometry entities.
 //! - [`placement`]: rigid motions applied to every geometry kind.
 //!
 //! A face that cannot be built (unsupported surface, dangling reference, bad parameters) is
@@ -17,6 +19,7 @@ mod curves;
 mod entities;
 pub mod placement;
 mod points;
+mod representation;
 mod splines;
 mod surfaces;
 mod topology;
