@@ -41,12 +41,14 @@ const DEGENERATE: f64 = 1e-12;
 
 impl SurfaceDerivs {
     /// Unit normal `S_u × S_v / |S_u × S_v|`, `None` where the parameterisation is degenerate
-    /// (a pole, a collapsed edge, non-finite derivatives).
+    /// (a pole, a collapsed edge, non-finite derivatives): `|S_u × S_v| ≤ 1e-12 (|S_u|² + |S_v|²)`.
     #[must_use]
     pub fn normal(&self) -> Option<DVec3> {
         let n = self.su.cross(self.sv);
         let len = n.length();
-        let scale = self.su.length() * self.sv.length();
+        // Scale-free test: |S_u × S_v| against |S_u|² + |S_v|² also catches a parameter direction
+        // that has (numerically) collapsed, as at the pole of a sphere, where cos(π/2) ≠ 0.
+        let scale = self.su.length_squared() + self.sv.length_squared();
         (len.is_finite() && len > DEGENERATE * scale && len > 0.0).then(|| n / len)
     }
 
