@@ -652,13 +652,15 @@ impl Lcg {
 #[test]
 fn mutated_files_never_panic() {
     use part21::Param;
-    // Files whose curves are all lines and circles (no B-spline edge needs point inversion).
+    // A clean cube, the two-instance assembly, and the filleted pocket (circles, lines and
+    // B-spline pcurves that mutations can turn into edge curves).
     let sources = [
         std::fs::read_to_string(data(
             "real/dodgy-step-files/step-controls/12-3a-shells/Ctl005.stp",
         ))
         .unwrap(),
         square_file(&format!("{MM}\n{ASSEMBLY}"), ""),
+        std::fs::read_to_string(data("pocket-fillets.stp")).unwrap(),
     ];
     let mut rng = Lcg(20261122);
     let mut outcomes = [0usize; 2];

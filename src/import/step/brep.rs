@@ -25,8 +25,6 @@ mod surfaces;
 mod topology;
 pub mod units;
 
-pub use splines::expand_knots;
-
 use super::part21::Exchange;
 use crate::diagnostics::Diagnostic;
 use crate::geometry::brep::Part;

@@ -248,14 +248,9 @@ fn bspline_surface(geo: &Geo<'_, '_>, e: Entity<'_>) -> Result<Option<BSplineSur
     } else {
         None
     };
-    Ok(Some(BSplineSurface {
-        degree_u,
-        degree_v,
-        knots_u,
-        knots_v,
-        n_u,
-        n_v,
-        poles,
-        weights,
-    }))
+    BSplineSurface::new(
+        degree_u, degree_v, knots_u, knots_v, n_u, n_v, poles, weights,
+    )
+    .map(Some)
+    .map_err(|err| bad(err.to_string()))
 }
