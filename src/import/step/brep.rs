@@ -6,7 +6,8 @@
 //!   items, geometric sets) and relationships.
 //! - [`units`]: length and plane angle units of each representation context (all lengths are
 //!   scaled to mm, cone angles to rad).
-//! - `topology`: shells, faces, loops, oriented edges, edges and vertices (shared by entity id).
+//! - `topology`: shells, faces, loops, oriented edges, edges and vertices (shared by entity id);
+//!   `chains`: loops listed out of order or with a reversed edge are repaired into chains.
 //! - `curves`, `surfaces`, `splines`, `points`: geometry entities.
 //! - [`placement`]: rigid motions applied to every geometry kind.
 //!
@@ -15,6 +16,7 @@
 //! is an error.
 
 mod assembly;
+mod chains;
 mod curves;
 mod entities;
 pub mod placement;
