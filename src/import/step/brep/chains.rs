@@ -103,14 +103,16 @@ mod tests {
     /// A unit square's corners 0..4 and its four edges i → i+1.
     fn square() -> Part {
         let pts = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
-        let mut part = Part::default();
-        part.vertices = pts
-            .iter()
-            .map(|&point| Vertex {
-                point,
-                source_id: 0,
-            })
-            .collect();
+        let mut part = Part {
+            vertices: pts
+                .iter()
+                .map(|&point| Vertex {
+                    point,
+                    source_id: 0,
+                })
+                .collect(),
+            ..Part::default()
+        };
         for i in 0..4 {
             let (a, b) = (pts[i], pts[(i + 1) % 4]);
             part.edges.push(Edge {
