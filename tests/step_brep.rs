@@ -112,7 +112,7 @@ fn pocket_fillets_has_occt_faces_and_watertight_sharing() {
         }
     }
     for (i, u) in uses.iter().enumerate() {
-        assert!(u.0 + u.1 == 2, "edge {i} used {u:?}");
+        assert_eq!(*u, (1, 1), "edge {i} used {u:?}");
     }
     assert_eq!(part.shells.len(), 1);
     assert!(part.shells[0].closed);
