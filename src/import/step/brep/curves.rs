@@ -3,6 +3,8 @@
 //! (`SURFACE_CURVE`, `SEAM_CURVE`, `INTERSECTION_CURVE`, `TRIMMED_CURVE`). Also the curve
 //! parameter of a vertex, for edge bounds.
 
+#[cfg(test)]
+use std::f64::consts::FRAC_PI_2;
 use std::f64::consts::TAU;
 
 use glam::DVec3;
@@ -189,22 +191,24 @@ pub(super) fn edge_params(
         ),
         CurveGeom::Circle(_) | CurveGeom::Ellipse(_) => {
             let ts = angle_param(curve, p_start);
-            let mut te = if closed {
+            let te = if closed {
                 ts
             } else {
                 angle_param(curve, p_end)
             };
-            if same_sense {
-                if te <= ts {
-                    te += TAU;
-                }
-            } else if te >= ts {
-                te -= TAU;
-            }
-            (ts, te)
+            wrap(ts, te, TAU, same_sense)
         }
         CurveGeom::BSpline(b) => {
             let (k0, k1) = spline_domain(b);
+            if let Some(period) = curve.period().filter(|t| *t > 0.0) {
+                let ts = spline_param(b, curve, p_start, (k0, k1));
+                let te = if closed {
+                    ts
+                } else {
+                    spline_param(b, curve, p_end, (k0, k1))
+                };
+                return wrap(ts, te, period, same_sense);
+            }
             if closed {
                 return if same_sense { (k0, k1) } else { (k1, k0) };
             }
@@ -214,6 +218,19 @@ pub(super) fn edge_params(
             )
         }
     }
+}
+
+/// On a periodic curve, move `te` by one period so that the edge runs from `ts` in the sense's
+/// direction, by less than one period (exactly one when `te == ts`: a closed edge).
+fn wrap(ts: f64, mut te: f64, period: f64, same_sense: bool) -> (f64, f64) {
+    if same_sense {
+        if te <= ts {
+            te += period;
+        }
+    } else if te >= ts {
+        te -= period;
+    }
+    (ts, te)
 }
 
 /// Parameter in [0, 2π) of a point on a circle or ellipse.
@@ -259,4 +276,56 @@ fn spline_param(b: &BSplineCurve, curve: &CurveGeom, p: DVec3, (k0, k1): (f64, f
         return k1;
     }
     curve.closest_param(p, Interval::new(k0, k1))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::FRAC_PI_2;
+
+    use super::*;
+    use crate::geometry::frame::Frame;
+
+    #[test]
+    fn circle_edges_run_with_their_sense() {
+        let c = CurveGeom::Circle(Circle {
+            frame: Frame::WORLD,
+            radius: 2.0,
+        });
+        let (a, b) = (DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 2.0, 0.0));
+        let (ts, te) = edge_params(&c, a, b, false, true);
+        assert!(ts.abs() < 1e-15 && (te - FRAC_PI_2).abs() < 1e-15);
+        // Against the sense: from a to b the long way round, decreasing.
+        let (ts, te) = edge_params(&c, a, b, false, false);
+        assert!(ts.abs() < 1e-15 && (te + 3.0 * FRAC_PI_2).abs() < 1e-12);
+        // Closed: one full turn either way, starting at the vertex.
+        let (ts, te) = edge_params(&c, b, b, true, false);
+        assert!((ts - FRAC_PI_2).abs() < 1e-15 && (te - (FRAC_PI_2 - TAU)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn periodic_spline_edges_span_one_period_from_the_vertex() {
+        // A closed degree-1 B-spline A → B → C → A in Open CASCADE's unperiodised form: the first
+        // pole repeats at the end and the knots repeat shifted by the period 3.
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let spline = BSplineCurve::new(
+            1,
+            vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+            vec![a, b, c, a],
+            None,
+        )
+        .unwrap();
+        let curve = CurveGeom::BSpline(spline);
+        assert_eq!(curve.period(), Some(3.0));
+        let (ts, te) = edge_params(&curve, b, b, true, true);
+        assert!(
+            (ts - 2.0).abs() < 1e-9 && (te - 5.0).abs() < 1e-9,
+            "{ts} {te}"
+        );
+        // From C back to B along the sense wraps through A.
+        let (ts, te) = edge_params(&curve, c, b, false, true);
+        assert!(
+            (ts - 3.0).abs() < 1e-9 && (te - 5.0).abs() < 1e-9,
+            "{ts} {te}"
+        );
+    }
 }
