@@ -78,7 +78,7 @@ fn every_file_open_cascade_reads_is_read_with_the_same_faces_and_area() {
             }
             let area = doc["area_mm2"].as_f64().unwrap_or(0.0);
             if let Some(ref_area) = row.area {
-                if (area - ref_area).abs() > 5e-3 * ref_area {
+                if (area - ref_area).abs() > 1e-3 * ref_area {
                     failures.push(format!("{}: area {area:.4} mm², OCCT {ref_area:.4} mm²", row.path));
                 }
             }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::diagnostics::{Diagnostic, Severity};
-use crate::geometry::brep::{Face, Part};
+use crate::geometry::brep::Face;
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::surface::SurfaceGeom;
 use crate::geometry::tessellate::{PartMesh, TessellationOptions, tessellate_part};
@@ -24,9 +24,10 @@ pub struct InspectArgs {
     /// Evaluate every B-spline face on an N×N grid of its parameter domain (N ≥ 2).
     #[arg(long, value_name = "N")]
     pub samples: Option<usize>,
-    /// Chord tolerance of the tessellation, mm.
-    #[arg(long, value_name = "MM", default_value_t = 0.01)]
-    pub tolerance: f64,
+    /// Chord tolerance of the tessellation, mm [default: 0.01, or 1e-4 of the part's size when
+    /// smaller].
+    #[arg(long, value_name = "MM")]
+    pub tolerance: Option<f64>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -42,8 +43,8 @@ pub fn inspect(args: &InspectArgs) -> Result<Value, ImportError> {
             return Err(ImportError::new(&args.file, None, format!("--samples must be between 2 and 1000, got {n}")));
         }
     }
-    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
-        return Err(ImportError::new(&args.file, None, format!("--tolerance must be a positive length in mm, got {}", args.tolerance)));
+    if let Some(t) = args.tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err(ImportError::new(&args.file, None, format!("--tolerance must be a positive length in mm, got {t}")));
     }
     if is_stl(&args.file) { inspect_stl(&args.file) } else { inspect_step(args) }
 }
@@ -54,7 +55,7 @@ fn is_stl(path: &Path) -> bool {
 
 fn inspect_step(args: &InspectArgs) -> Result<Value, ImportError> {
     let part = read_step(&args.file)?;
-    let opts = TessellationOptions::with_chord_tol(args.tolerance);
+    let opts = args.tolerance.map_or_else(|| TessellationOptions::for_size(part.rough_bbox().diagonal()), TessellationOptions::with_chord_tol);
     let pm = tessellate_part(&part, &opts);
     let faces: Vec<Value> = part.faces.iter().enumerate().map(|(i, f)| face_json(i, f, &pm, args.samples)).collect();
     let mut diagnostics: Vec<Diagnostic> = part.diagnostics.clone();
@@ -66,7 +67,7 @@ fn inspect_step(args: &InspectArgs) -> Result<Value, ImportError> {
     doc["faces"] = Value::Array(faces);
     doc["area_mm2"] = json!(pm.area_mm2());
     doc["shells"] = json!(part.shells.iter().map(|s| json!({"faces": s.faces.len(), "closed": s.closed, "id": s.source_id})).collect::<Vec<_>>());
-    doc["tolerance_mm"] = json!(args.tolerance);
+    doc["tolerance_mm"] = json!(opts.chord_tol_mm);
     doc["diagnostics"] = diagnostics_json(&diagnostics);
     Ok(doc)
 }

@@ -92,13 +92,17 @@ pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], 
         }
     }
 
+    let parity = if conflicts == 0 { Some(inside_by_parity(&cdt)) } else { None };
     for f in cdt.inner_faces() {
         let vs = f.vertices();
-        let c = {
-            let [a, b, c] = vs.map(|v| v.position());
-            Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0)
+        let keep = match &parity {
+            Some(p) => p.get(f.fix().index()).copied().flatten().unwrap_or(false),
+            None => {
+                let [a, b, c] = vs.map(|v| v.position());
+                inside(&polys, Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0))
+            }
         };
-        if !inside(&polys, c) {
+        if !keep {
             continue;
         }
         let idx = vs.map(|v| out_of_handle.get(v.fix().index()).copied().unwrap_or(u32::MAX));
@@ -117,6 +121,34 @@ fn push(out: &mut FaceMesh, surface: &SurfaceGeom, uv: DVec2, p: DVec3, same_sen
     out.normals.push(n);
     out.uv.push(uv);
     u32::try_from(out.positions.len() - 1).unwrap_or(u32::MAX)
+}
+
+/// Inside/outside of every triangle by crossing parity: start outside at the convex hull and
+/// flip at every constraint (boundary) edge crossed. Unlike a point-in-polygon test this is
+/// immune to slivers between nearly collinear boundary points.
+fn inside_by_parity(cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>) -> Vec<Option<bool>> {
+    let mut state: Vec<Option<bool>> = vec![None; cdt.num_all_faces()];
+    let mut stack = Vec::new();
+    for e in cdt.convex_hull() {
+        if let Some(f) = e.face().as_inner().or_else(|| e.rev().face().as_inner()) {
+            stack.push((f.fix(), e.is_constraint_edge()));
+        }
+    }
+    while let Some((f, inside)) = stack.pop() {
+        let Some(slot) = state.get_mut(f.index()) else { continue };
+        if slot.is_some() {
+            continue;
+        }
+        *slot = Some(inside);
+        for e in cdt.face(f).adjacent_edges() {
+            if let Some(nb) = e.rev().face().as_inner() {
+                if state.get(nb.fix().index()).is_some_and(Option::is_none) {
+                    stack.push((nb.fix(), inside ^ e.is_constraint_edge()));
+                }
+            }
+        }
+    }
+    state
 }
 
 /// Vertices where the surface normal is undefined (poles, apexes) take the mean of their
@@ -185,7 +217,9 @@ struct Grid {
 impl Grid {
     fn new(surface: &SurfaceGeom, lo: DVec2, hi: DVec2, opts: &TessellationOptions) -> Self {
         const SAMPLES: usize = 9;
-        let (mut su, mut sv, mut su_min, mut sv_min) = (0.0, 0.0, f64::INFINITY, f64::INFINITY);
+        let (mut su, mut sv) = (0.0, 0.0);
+        // Largest turn of the normal per unit parameter (|S_uu·n| / |S_u|), over the samples.
+        let (mut rate_u, mut rate_v) = (0.0f64, 0.0f64);
         let (mut a_uu, mut a_uv, mut a_vv) = (0.0f64, 0.0f64, 0.0f64);
         let mut count = 0.0;
         for i in 0..SAMPLES {
@@ -200,32 +234,33 @@ impl Grid {
                 su += lu;
                 sv += lv;
                 count += 1.0;
-                if lu > 0.0 {
-                    su_min = su_min.min(lu);
-                }
-                if lv > 0.0 {
-                    sv_min = sv_min.min(lv);
-                }
                 // Only the normal components bend the surface away from a flat triangle.
                 let n = d.normal().unwrap_or(DVec3::ZERO);
-                a_uu = a_uu.max(d.suu.dot(n).abs());
-                a_uv = a_uv.max(d.suv.dot(n).abs());
-                a_vv = a_vv.max(d.svv.dot(n).abs());
+                let (b_uu, b_uv, b_vv) = (d.suu.dot(n).abs(), d.suv.dot(n).abs(), d.svv.dot(n).abs());
+                a_uu = a_uu.max(b_uu);
+                a_uv = a_uv.max(b_uv);
+                a_vv = a_vv.max(b_vv);
+                if lu > 1e-9 * (lu + lv) {
+                    rate_u = rate_u.max(b_uu.max(b_uv) / lu);
+                }
+                if lv > 1e-9 * (lu + lv) {
+                    rate_v = rate_v.max(b_vv.max(b_uv) / lv);
+                }
             }
         }
         let scale = if count > 0.0 { DVec2::new((su / count).max(1e-12), (sv / count).max(1e-12)) } else { DVec2::ONE };
         let range = (hi - lo).max(DVec2::splat(1e-300));
         let tol = opts.chord_tol_mm;
-        let step_for = |a: f64, s_min: f64, full: f64| -> f64 {
+        let step_for = |a: f64, rate: f64, full: f64| -> f64 {
             if a <= 0.0 || !a.is_finite() {
                 return full;
             }
             let by_chord = (8.0 * tol / a).sqrt();
-            let by_angle = if s_min.is_finite() { opts.angle_tol_rad * s_min / a } else { full };
+            let by_angle = if rate > 0.0 && rate.is_finite() { opts.angle_tol_rad / rate } else { full };
             by_chord.min(by_angle).min(full)
         };
-        let mut hu = step_for(a_uu.max(a_uv), su_min, range.x);
-        let mut hv = step_for(a_vv.max(a_uv), sv_min, range.y);
+        let mut hu = step_for(a_uu.max(a_uv), rate_u, range.x);
+        let mut hv = step_for(a_vv.max(a_uv), rate_v, range.y);
         // Keep cells no more than 4:1 (in mm) when only one direction is curved, so rulings of
         // cylinders and cones are not left to long slivers.
         let (lu, lv) = (hu * scale.x, hv * scale.y);
