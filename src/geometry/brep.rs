@@ -107,7 +107,9 @@ impl Part {
         let mut b = super::Aabb::from_points(self.vertices.iter().map(|v| &v.point));
         for e in &self.edges {
             for k in 1..8 {
-                let p = e.curve.point(e.t_start + (e.t_end - e.t_start) * f64::from(k) / 8.0);
+                let p = e
+                    .curve
+                    .point(e.t_start + (e.t_end - e.t_start) * f64::from(k) / 8.0);
                 if p.is_finite() {
                     b.add(p);
                 }

@@ -70,7 +70,7 @@ impl SurfaceDerivs {
 
     /// Parametric components `(du, dv)` of a tangent vector `t` (least squares against
     /// `S_u`, `S_v`); `None` when the first form is singular.
-    fn to_parametric(&self, t: DVec3) -> Option<(f64, f64)> {
+    fn parametric_components(&self, t: DVec3) -> Option<(f64, f64)> {
         let (e, f, g) = self.first_form();
         let det = e * g - f * f;
         if !(det > DEGENERATE * DEGENERATE * e * g) || !(det > 0.0) {
@@ -92,8 +92,8 @@ impl SurfaceDerivs {
         let e1 = self.su.try_normalize()?;
         let e2 = n.cross(e1);
         let (l, m, nn) = self.second_form(n);
-        let (a1, b1) = self.to_parametric(e1)?;
-        let (a2, b2) = self.to_parametric(e2)?;
+        let (a1, b1) = self.parametric_components(e1)?;
+        let (a2, b2) = self.parametric_components(e2)?;
         let ii = |x: (f64, f64), y: (f64, f64)| {
             l * x.0 * y.0 + m * (x.0 * y.1 + x.1 * y.0) + nn * x.1 * y.1
         };
@@ -143,7 +143,7 @@ impl SurfaceDerivs {
         if !(tt.length() > DEGENERATE * t.length()) {
             return None;
         }
-        let (du, dv) = self.to_parametric(tt)?;
+        let (du, dv) = self.parametric_components(tt)?;
         self.normal_curvature(du, dv)
     }
 

@@ -27,7 +27,11 @@ struct Pt {
 }
 
 /// The face's loops in the parameter plane, ready to triangulate. `Err` explains why not.
-pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>]) -> Result<Vec<UvLoop>, String> {
+pub(super) fn face_uv_loops(
+    face: &Face,
+    part: &Part,
+    edge_polylines: &[Vec<DVec3>],
+) -> Result<Vec<UvLoop>, String> {
     let surface = &face.surface;
     let rect = surface.domain();
     let (pu, pv) = surface.periods();
@@ -45,7 +49,11 @@ pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec
                 loops.push(pts);
             }
             Loop::Vertex(vi) => {
-                let p = part.vertices.get(*vi).ok_or_else(|| format!("vertex loop refers to missing vertex {vi}"))?.point;
+                let p = part
+                    .vertices
+                    .get(*vi)
+                    .ok_or_else(|| format!("vertex loop refers to missing vertex {vi}"))?
+                    .point;
                 vertex_loop_points.push(surface.closest_point(p, rect, None).uv);
             }
         }
@@ -61,7 +69,10 @@ pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec
             }
         }
     }
-    let loops: Vec<Vec<Pt>> = loops.into_iter().map(|l| expand_singular(surface, l)).collect();
+    let loops: Vec<Vec<Pt>> = loops
+        .into_iter()
+        .map(|l| expand_singular(surface, l))
+        .collect();
     close_periodic(loops, pu, pv, face.same_sense, &vertex_loop_points, rect)
 }
 
@@ -75,8 +86,14 @@ fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Ve
     let polys: Vec<Vec<DVec3>> = oes
         .iter()
         .map(|oe| {
-            let poly = edge_polylines.get(oe.edge).ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
-            Ok(if oe.forward { poly.clone() } else { poly.iter().rev().copied().collect() })
+            let poly = edge_polylines
+                .get(oe.edge)
+                .ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
+            Ok(if oe.forward {
+                poly.clone()
+            } else {
+                poly.iter().rev().copied().collect()
+            })
         })
         .collect::<Result<_, String>>()?;
     let polys: Vec<Vec<DVec3>> = polys.into_iter().filter(|p| !p.is_empty()).collect();
@@ -94,23 +111,40 @@ fn chain(mut polys: Vec<Vec<DVec3>>) -> Vec<Vec<DVec3>> {
     if polys.len() < 2 {
         return polys;
     }
-    let size = polys.iter().flatten().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    let size = polys
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
     let tol = 1e-6 * size.max(1.0);
     let near = |a: DVec3, b: DVec3| (a - b).length() <= tol;
-    let (Some(f0), Some(l0)) = (polys[0].first().copied(), polys[0].last().copied()) else { return polys };
+    let (Some(f0), Some(l0)) = (polys[0].first().copied(), polys[0].last().copied()) else {
+        return polys;
+    };
     // Orient the first edge so that some other edge continues from its end.
-    let continues = |p: DVec3, others: &[Vec<DVec3>]| others.iter().any(|o| o.first().is_some_and(|&q| near(p, q)) || o.last().is_some_and(|&q| near(p, q)));
+    let continues = |p: DVec3, others: &[Vec<DVec3>]| {
+        others.iter().any(|o| {
+            o.first().is_some_and(|&q| near(p, q)) || o.last().is_some_and(|&q| near(p, q))
+        })
+    };
     if !continues(l0, &polys[1..]) && continues(f0, &polys[1..]) {
         polys[0].reverse();
     }
     let mut out = vec![polys.remove(0)];
     while !polys.is_empty() {
-        let end = out.last().and_then(|p| p.last().copied()).unwrap_or(DVec3::ZERO);
+        let end = out
+            .last()
+            .and_then(|p| p.last().copied())
+            .unwrap_or(DVec3::ZERO);
         let pick = polys
             .iter()
             .position(|p| p.first().is_some_and(|&q| near(q, end)))
             .map(|i| (i, false))
-            .or_else(|| polys.iter().position(|p| p.last().is_some_and(|&q| near(q, end))).map(|i| (i, true)));
+            .or_else(|| {
+                polys
+                    .iter()
+                    .position(|p| p.last().is_some_and(|&q| near(q, end)))
+                    .map(|i| (i, true))
+            });
         let (i, reverse) = pick.unwrap_or((0, false));
         let mut next = polys.remove(i);
         if reverse {
@@ -133,7 +167,12 @@ fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
         if !(singular_u || singular_v) {
             hint = Some(sp.uv);
         }
-        out.push(Pt { uv: sp.uv, p3: p, singular_u, singular_v });
+        out.push(Pt {
+            uv: sp.uv,
+            p3: p,
+            singular_u,
+            singular_v,
+        });
     }
     out
 }
@@ -178,7 +217,11 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
         return l;
     }
     let regular = |start: usize, step: isize| -> Option<DVec2> {
-        (1..n).map(|k| (start as isize + step * k as isize).rem_euclid(n as isize) as usize).map(|i| &l[i]).find(|p| !(p.singular_u || p.singular_v)).map(|p| p.uv)
+        (1..n)
+            .map(|k| (start as isize + step * k as isize).rem_euclid(n as isize) as usize)
+            .map(|i| &l[i])
+            .find(|p| !(p.singular_u || p.singular_v))
+            .map(|p| p.uv)
     };
     let _ = surface;
     let mut out = Vec::with_capacity(n + 4);
@@ -206,7 +249,14 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
 
 /// Close loops that run once around a periodic direction: two such loops bound a band, one such
 /// loop bounds a cap closed at the singular end (apex or pole) on the face's side.
-fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_sense: bool, vertex_loops: &[DVec2], rect: ParamRect) -> Result<Vec<UvLoop>, String> {
+fn close_periodic(
+    loops: Vec<Vec<Pt>>,
+    pu: Option<f64>,
+    pv: Option<f64>,
+    same_sense: bool,
+    vertex_loops: &[DVec2],
+    rect: ParamRect,
+) -> Result<Vec<UvLoop>, String> {
     // The shift that the closing segment (last → first) needs: non-zero when the loop runs once
     // around the periodic direction.
     let closing_shift = |l: &[Pt], per: Option<f64>, axis: usize| -> f64 {
@@ -222,7 +272,10 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
         if su != 0.0 {
             open_u.push((l, su));
         } else if closing_shift(&l, pv, 1) != 0.0 {
-            return Err("a loop runs around the periodic v direction without a seam (not supported yet)".into());
+            return Err(
+                "a loop runs around the periodic v direction without a seam (not supported yet)"
+                    .into(),
+            );
         } else {
             closed.push(to_uv_loop(&l));
         }
@@ -242,7 +295,9 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
             if !v_end.is_finite() {
                 return Err("a loop runs around the periodic u direction and the surface has no end to close it on".into());
             }
-            let Some(first) = l.first() else { return Ok(closed) };
+            let Some(first) = l.first() else {
+                return Ok(closed);
+            };
             let mut ul = to_uv_loop(l);
             let first_u_shifted = first.uv.x + shift;
             let end_p3 = first.p3;
@@ -256,8 +311,14 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
         }
         [(a, sa), (b, sb)] => {
             // A band: run a once around, cross to b, run b once around the other way, cross back.
-            let (b_pts, sb): (Vec<Pt>, f64) = if sa.signum() == sb.signum() { (b.iter().rev().copied().collect(), -sb) } else { (b.clone(), *sb) };
-            let (Some(a0), Some(b0)) = (a.first(), b_pts.first()) else { return Ok(closed) };
+            let (b_pts, sb): (Vec<Pt>, f64) = if sa.signum() == sb.signum() {
+                (b.iter().rev().copied().collect(), -sb)
+            } else {
+                (b.clone(), *sb)
+            };
+            let (Some(a0), Some(b0)) = (a.first(), b_pts.first()) else {
+                return Ok(closed);
+            };
             let a_end = DVec2::new(a0.uv.x + sa, a0.uv.y);
             let b_shift = period_shift(b0.uv.x, a_end.x, pu);
             let mut ul = to_uv_loop(a);
@@ -271,11 +332,19 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
             ul.p3.push(b0.p3);
             closed.push(ul);
         }
-        _ => return Err(format!("{} loops run around the periodic u direction (not supported)", open_u.len())),
+        _ => {
+            return Err(format!(
+                "{} loops run around the periodic u direction (not supported)",
+                open_u.len()
+            ));
+        }
     }
     Ok(closed)
 }
 
 fn to_uv_loop(l: &[Pt]) -> UvLoop {
-    UvLoop { uv: l.iter().map(|p| p.uv).collect(), p3: l.iter().map(|p| p.p3).collect() }
+    UvLoop {
+        uv: l.iter().map(|p| p.uv).collect(),
+        p3: l.iter().map(|p| p.p3).collect(),
+    }
 }
