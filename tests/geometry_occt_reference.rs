@@ -37,18 +37,26 @@ fn trough() -> BSplineSurface {
 #[test]
 fn rational_trough_matches_open_cascade_samples() {
     let s = trough();
-    let csv = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/rational-trough.samples.csv")).unwrap();
+    let csv = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/rational-trough.samples.csv"
+    ))
+    .unwrap();
     let mut rows = 0;
     let (mut worst_p, mut worst_n, mut worst_k) = (0.0_f64, 0.0_f64, 0.0_f64);
     for line in csv.lines().skip(1) {
         let f: Vec<f64> = line.split(',').map(|x| x.trim().parse().unwrap()).collect();
-        let [u, v, x, y, z, nx, ny, nz, kmin, kmax] = f[..] else { panic!("bad row {line}") };
+        let [u, v, x, y, z, nx, ny, nz, kmin, kmax] = f[..] else {
+            panic!("bad row {line}")
+        };
         let d = s.derivs(u, v);
         worst_p = worst_p.max(d.p.distance(DVec3::new(x, y, z)));
         let n = d.normal().unwrap();
         worst_n = worst_n.max(n.distance(DVec3::new(nx, ny, nz)));
         let pr = d.principal().unwrap();
-        worst_k = worst_k.max((pr.k_min - kmin).abs()).max((pr.k_max - kmax).abs());
+        worst_k = worst_k
+            .max((pr.k_min - kmin).abs())
+            .max((pr.k_max - kmax).abs());
         rows += 1;
     }
     assert_eq!(rows, 441);

@@ -105,7 +105,7 @@ fn numeric(curve: &CurveGeom, p: DVec3, range: Interval, dom: Interval) -> f64 {
             (lo, hi, true)
         }
     };
-    if !(hi > lo) || !lo.is_finite() || !hi.is_finite() {
+    if !lo.is_finite() || !hi.is_finite() || hi <= lo {
         return fallback(range, dom);
     }
     let n = match curve {

@@ -130,7 +130,7 @@ impl BSplineCurve {
 /// Quotient rule for `C = A / w` with homogeneous derivatives `(A, w)` (A4.2).
 pub(crate) fn rational_curve(a0: DVec4, a1: DVec4, a2: DVec4) -> CurveDerivs {
     let w = a0.w;
-    if !(w > 0.0) {
+    if w.is_nan() || w <= 0.0 {
         return CurveDerivs {
             p: a0.truncate(),
             d1: DVec3::ZERO,

@@ -244,7 +244,7 @@ impl BSplineSurface {
 fn rational_surface(a: &[DVec4; 6]) -> SurfaceDerivs {
     let [a00, a10, a01, a20, a11, a02] = *a;
     let w = a00.w;
-    if !(w > 0.0) {
+    if w.is_nan() || w <= 0.0 {
         let z = DVec3::ZERO;
         return SurfaceDerivs {
             p: a00.truncate(),
