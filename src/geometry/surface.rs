@@ -195,7 +195,10 @@ impl SurfaceGeom {
     /// Point at `(u, v)`.
     #[must_use]
     pub fn point(&self, u: f64, v: f64) -> DVec3 {
-        self.derivs(u, v).p
+        match self {
+            Self::BSpline(b) => b.point(u, v),
+            _ => self.derivs(u, v).p,
+        }
     }
 
     /// Closest point on the surface to `p` within `rect` (robust: several seeds, bounded Newton,

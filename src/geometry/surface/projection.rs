@@ -385,11 +385,10 @@ fn descend(
         }
         let Some((cand, fc)) = moved else { break };
         let delta = cand - uv;
+        let stalled = fc >= f;
         uv = cand;
         f = fc;
-        if delta.x.abs() <= 1e-15 * max_step.x.max(uv.x.abs())
-            && delta.y.abs() <= 1e-15 * max_step.y.max(uv.y.abs())
-        {
+        if stalled || (delta.x.abs() <= 1e-12 * max_step.x && delta.y.abs() <= 1e-12 * max_step.y) {
             break;
         }
     }
