@@ -604,3 +604,46 @@ fn periodic_rectangles_across_the_seam() {
     check_result(&sphere, p, rect, &r);
     assert!((r.distance - ((p - f.origin).length() - 9.0)).abs() < 1e-9);
 }
+
+#[test]
+fn revolution_with_meridian_on_the_axis() {
+    // A dome: quarter circle from the pole (on the axis) down to the equator, revolved about Z.
+    let mframe = Frame {
+        origin: DVec3::ZERO,
+        x: DVec3::Z,
+        y: DVec3::X,
+        z: -DVec3::Y,
+    };
+    let arc = CurveGeom::Circle(Circle {
+        frame: mframe,
+        radius: 8.0,
+    });
+    let dome = SurfaceGeom::Revolution(Revolution {
+        meridian: Box::new(arc),
+        axis_origin: DVec3::ZERO,
+        axis_dir: DVec3::Z,
+    });
+    let rect = ParamRect {
+        u: Interval::new(0.0, TAU),
+        v: Interval::new(0.0, FRAC_PI_2),
+    };
+    // The pole is a degenerate point: no normal, no curvature, no NaN.
+    let pole = dome.derivs(1.0, 0.0);
+    assert!(pole.p.distance(DVec3::new(0.0, 0.0, 8.0)) < 1e-12 && pole.normal().is_none());
+    for z in [20.0, 8.0, 3.0, 0.0, -5.0] {
+        let p = DVec3::new(0.0, 0.0, z);
+        let r = dome.closest_point(p, rect, None);
+        check_result(&dome, p, rect, &r);
+        // Above the centre the pole is closest; below, the equator circle (|p| to the rim).
+        let expect = if z > 0.0 {
+            (z - 8.0).abs()
+        } else {
+            8.0_f64.hypot(z)
+        };
+        assert!(
+            (r.distance - expect).abs() < 1e-9,
+            "dome axis point z = {z}: {} vs {expect}",
+            r.distance
+        );
+    }
+}

@@ -7,6 +7,7 @@ use glam::DVec4;
 use super::basis::with_basis;
 use super::{BSplineCurve, BSplineSurface, knots};
 use crate::geometry::diffgeom::SurfaceDerivs;
+use crate::geometry::surface::ParamRect;
 use crate::geometry::{Aabb, DVec3, Interval};
 
 impl BSplineSurface {
@@ -25,13 +26,13 @@ impl BSplineSurface {
                 .is_none_or(|w| w.len() == self.poles.len())
     }
 
-    /// Parameter domains `(u, v)`.
+    /// Parameter domain `[U_p, U_{n+1}]` in each direction.
     #[must_use]
-    pub fn domain(&self) -> (Interval, Interval) {
-        (
-            knots::domain(&self.knots_u, self.degree_u, self.n_u),
-            knots::domain(&self.knots_v, self.degree_v, self.n_v),
-        )
+    pub fn domain(&self) -> ParamRect {
+        ParamRect {
+            u: knots::domain(&self.knots_u, self.degree_u, self.n_u),
+            v: knots::domain(&self.knots_v, self.degree_v, self.n_v),
+        }
     }
 
     fn same_pole(&self, a: usize, b: usize, tol: f64) -> bool {
@@ -71,7 +72,7 @@ impl BSplineSurface {
     /// direction, clamped otherwise (NaN goes to the domain start).
     #[must_use]
     pub fn eval_params(&self, u: f64, v: f64) -> (f64, f64) {
-        let (du, dv) = self.domain();
+        let ParamRect { u: du, v: dv } = self.domain();
         let inside = |t: f64, d: Interval| t >= d.t0 && t <= d.t1;
         if inside(u, du) && inside(v, dv) {
             return (u, v);
@@ -198,7 +199,7 @@ impl BSplineSurface {
         if !self.is_well_formed() {
             return self.degenerate_iso(self.degree_v, &self.knots_v);
         }
-        let (u, _) = self.eval_params(u, self.domain().1.t0);
+        let (u, _) = self.eval_params(u, self.domain().v.t0);
         let (pu, nv) = (self.degree_u, self.n_v);
         let h: Vec<DVec4> = with_basis(&self.knots_u, pu, self.n_u, u, false, |bu| {
             (0..nv)
@@ -218,7 +219,7 @@ impl BSplineSurface {
         if !self.is_well_formed() {
             return self.degenerate_iso(self.degree_u, &self.knots_u);
         }
-        let (_, v) = self.eval_params(self.domain().0.t0, v);
+        let (_, v) = self.eval_params(self.domain().u.t0, v);
         let (pv, nv) = (self.degree_v, self.n_v);
         let h: Vec<DVec4> = with_basis(&self.knots_v, pv, nv, v, false, |bv| {
             (0..self.n_u)
