@@ -2,9 +2,37 @@
 //! entity instances, parameters. Tolerant of what real files contain; never panics or hangs on
 //! what malformed ones contain.
 
+//!
+//! Entry point: [`parse`]. The reader accepts what real writers produce (lower-case keywords,
+//! several DATA sections, a missing end marker, raw UTF-8 or even invalid bytes inside strings,
+//! typed parameters wrapped in dots) with a [`Diagnostic`] for each liberty taken, and refuses
+//! with a [`Part21Error`] naming the line and `#id` anything it cannot read unambiguously:
+//! truncation, unbalanced parentheses, duplicate ids, non-finite numbers, string literals longer
+//! than [`MAX_STRING_BYTES`], aggregates nested deeper than [`MAX_DEPTH`].
+//!
+//! Memory stays proportional to the file: every instance needs at least 7 bytes of text
+//! (`#1=A();`), and parsing is a single pass with bounded recursion.
+
+mod accessors;
+mod lexer;
+mod parser;
+mod text;
+
 use std::collections::BTreeMap;
 
 use crate::diagnostics::Diagnostic;
+
+pub use lexer::MAX_STRING_BYTES;
+pub use parser::{MAX_DEPTH, MAX_WARNINGS};
+
+/// Parses a Part 21 exchange structure from its bytes.
+///
+/// # Errors
+/// A [`Part21Error`] with the 1-based line (and the `#id` being read, inside DATA) when the
+/// bytes are not a readable exchange structure.
+pub fn parse(bytes: &[u8]) -> Result<Exchange, Part21Error> {
+    parser::Parser::new(bytes).exchange()
+}
 
 /// One parameter value of an entity record.
 #[derive(Clone, Debug, PartialEq)]
