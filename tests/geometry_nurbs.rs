@@ -455,3 +455,32 @@ fn high_degree_uses_heap_fallback_and_matches_definition() {
     }
     check_curve_fd(&CurveGeom::BSpline(c), 0.4, 1e-5, 1e-6);
 }
+
+#[test]
+fn periodic_surface_rows_detected_and_wrapped() {
+    // u: uniform periodic cubic (4 distinct rows + 3 repeated), v: clamped linear.
+    let ring = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.2)];
+    let mut poles = Vec::new();
+    for i in 0..7 {
+        let (x, y) = ring[i % 4];
+        for z in [0.0, 5.0] {
+            poles.push(DVec3::new(x * (1.0 + z * 0.1), y, z));
+        }
+    }
+    let knots_u: Vec<f64> = (0..11).map(|i| 0.5 * i as f64).collect();
+    let s =
+        BSplineSurface::new(3, 1, knots_u, vec![0.0, 0.0, 1.0, 1.0], 7, 2, poles, None).unwrap();
+    assert_eq!(s.periods(), (Some(2.0), None));
+    assert_eq!(s.domain().u, talas::geometry::Interval::new(1.5, 3.5));
+    for (u, v) in [(1.7, 0.2), (2.9, 0.8)] {
+        assert_vec_near(s.point(u + 2.0, v), s.point(u, v), 1e-13, "wrapped u");
+        assert_vec_near(
+            s.derivs(u - 4.0, v).suu,
+            s.derivs(u, v).suu,
+            1e-12,
+            "wrapped S_uu",
+        );
+    }
+    // v is not periodic: clamped instead.
+    assert_vec_near(s.point(2.0, 3.0), s.point(2.0, 1.0), 1e-15, "clamped v");
+}

@@ -556,3 +556,94 @@ fn curve_derivatives_and_projection() {
         );
     }
 }
+
+#[test]
+fn periodic_rectangles_across_the_seam() {
+    let f = frame();
+    let cyl = SurfaceGeom::Cylinder(Cylinder {
+        frame: f,
+        radius: 6.0,
+    });
+    let rect = ParamRect {
+        u: Interval::new(-0.5, 0.5),
+        v: Interval::new(-10.0, 10.0),
+    };
+    for ang in [-0.3_f64, 0.2, 0.45] {
+        let p = f.to_world(DVec3::new(9.0 * ang.cos(), 9.0 * ang.sin(), 2.0));
+        let r = cyl.closest_point(p, rect, None);
+        assert!(
+            (r.uv.x - ang).abs() < 1e-9 && (r.distance - 3.0).abs() < 1e-9,
+            "seam: {:?}",
+            r.uv
+        );
+    }
+    // Outside the patch's angular range: the nearer edge, u = 0.5.
+    let p = f.to_world(DVec3::new(9.0 * 1.0_f64.cos(), 9.0 * 1.0_f64.sin(), 2.0));
+    let r = cyl.closest_point(p, rect, None);
+    assert!((r.uv.x - 0.5).abs() < 1e-12, "edge: {:?}", r.uv);
+    // A rectangle longer than a period: answer inside it, distance exact.
+    let rect = ParamRect {
+        u: Interval::new(2.0, 2.0 + 3.0 * PI),
+        v: Interval::new(-10.0, 10.0),
+    };
+    let p = f.to_world(DVec3::new(-9.0, 0.5, 1.0));
+    let r = cyl.closest_point(p, rect, None);
+    check_result(&cyl, p, rect, &r);
+    assert!((r.distance - (9.0_f64.hypot(0.5) - 6.0)).abs() < 1e-9);
+    // The same through the local search started on the far side of the seam.
+    let sphere = SurfaceGeom::Sphere(Sphere {
+        frame: f,
+        radius: 9.0,
+    });
+    let rect = ParamRect {
+        u: Interval::new(PI - 0.4, PI + 0.4),
+        v: Interval::new(-1.0, 1.0),
+    };
+    let p = f.to_world(DVec3::new(-20.0, -1.0, 3.0));
+    let r = sphere.closest_point_near(p, rect, DVec2::new(-PI + 0.1, 0.0));
+    check_result(&sphere, p, rect, &r);
+    assert!((r.distance - ((p - f.origin).length() - 9.0)).abs() < 1e-9);
+}
+
+#[test]
+fn revolution_with_meridian_on_the_axis() {
+    // A dome: quarter circle from the pole (on the axis) down to the equator, revolved about Z.
+    let mframe = Frame {
+        origin: DVec3::ZERO,
+        x: DVec3::Z,
+        y: DVec3::X,
+        z: -DVec3::Y,
+    };
+    let arc = CurveGeom::Circle(Circle {
+        frame: mframe,
+        radius: 8.0,
+    });
+    let dome = SurfaceGeom::Revolution(Revolution {
+        meridian: Box::new(arc),
+        axis_origin: DVec3::ZERO,
+        axis_dir: DVec3::Z,
+    });
+    let rect = ParamRect {
+        u: Interval::new(0.0, TAU),
+        v: Interval::new(0.0, FRAC_PI_2),
+    };
+    // The pole is a degenerate point: no normal, no curvature, no NaN.
+    let pole = dome.derivs(1.0, 0.0);
+    assert!(pole.p.distance(DVec3::new(0.0, 0.0, 8.0)) < 1e-12 && pole.normal().is_none());
+    for z in [20.0, 8.0, 3.0, 0.0, -5.0] {
+        let p = DVec3::new(0.0, 0.0, z);
+        let r = dome.closest_point(p, rect, None);
+        check_result(&dome, p, rect, &r);
+        // Above the centre the pole is closest; below, the equator circle (|p| to the rim).
+        let expect = if z > 0.0 {
+            (z - 8.0).abs()
+        } else {
+            8.0_f64.hypot(z)
+        };
+        assert!(
+            (r.distance - expect).abs() < 1e-9,
+            "dome axis point z = {z}: {} vs {expect}",
+            r.distance
+        );
+    }
+}
