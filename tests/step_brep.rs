@@ -340,6 +340,41 @@ fn broken_references_give_clean_errors() {
         build_part(&parse(&text)).unwrap_err().kind,
         ErrorKind::BadParameter
     );
+    // Unsupported edge curve: the face fails, naming the curve.
+    let text = square_file(MM, "").replace(
+        "#11=LINE('',#1,#10);",
+        "#11=OFFSET_CURVE_3D('',#17,1.,.F.,#27);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::Unsupported, Some(11)));
+    // A point where a surface is expected.
+    let text = square_file(MM, "").replace(
+        "#30=ADVANCED_FACE('',(#26),#29,.T.);",
+        "#30=ADVANCED_FACE('',(#26),#1,.T.);",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::WrongType, Some(1)));
+    assert!(
+        err.to_string()
+            .contains("expected a surface, found CARTESIAN_POINT"),
+        "{err}"
+    );
+    // Weights that do not match the poles (Ad059's defect, reachable here).
+    let text = square_file(MM, "").replace(
+        "#11=LINE('',#1,#10);",
+        "#11=(BOUNDED_CURVE()B_SPLINE_CURVE(1,(#1,#2),.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS((2,2),(0.,1.),.UNSPECIFIED.)\
+CURVE()GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_CURVE((1.,1.,1.))REPRESENTATION_ITEM(''));",
+    );
+    let err = build_part(&parse(&text)).unwrap_err();
+    assert_eq!((err.kind, err.id), (ErrorKind::InvalidGeometry, Some(11)));
+    assert!(err.message.contains("3 weights for 2 poles"), "{err}");
+    // Coordinates that overflow when scaled to mm.
+    let text =
+        square_file(&MM.replace(".MILLI.", ".KILO."), "").replace("(1.,1.,0.)", "(1.E306,1.,0.)");
+    assert_eq!(
+        build_part(&parse(&text)).unwrap_err().kind,
+        ErrorKind::InvalidGeometry
+    );
     // Nothing at all.
     let text = square_file(MM, "").replace(
         "#93=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#32),#90);",
@@ -617,13 +652,15 @@ impl Lcg {
 #[test]
 fn mutated_files_never_panic() {
     use part21::Param;
-    // Files whose curves are all lines and circles (no B-spline edge needs point inversion).
+    // A clean cube, the two-instance assembly, and the filleted pocket (circles, lines and
+    // B-spline pcurves that mutations can turn into edge curves).
     let sources = [
         std::fs::read_to_string(data(
             "real/dodgy-step-files/step-controls/12-3a-shells/Ctl005.stp",
         ))
         .unwrap(),
         square_file(&format!("{MM}\n{ASSEMBLY}"), ""),
+        std::fs::read_to_string(data("pocket-fillets.stp")).unwrap(),
     ];
     let mut rng = Lcg(20261122);
     let mut outcomes = [0usize; 2];
@@ -725,4 +762,61 @@ fn imported_bspline_surfaces_reproduce_occt_samples() {
         }
         assert!(worst < 1e-8, "{name}: worst deviation from OCCT {worst} mm");
     }
+}
+
+#[test]
+fn every_loop_runs_as_a_closed_chain() {
+    let mut files: Vec<PathBuf> = [
+        "pocket-fillets.stp",
+        "bicubic-hills.stp",
+        "rational-trough.stp",
+    ]
+    .iter()
+    .map(|f| data(f))
+    .collect();
+    let manifest = std::fs::read_to_string(data("real/MANIFEST.csv")).unwrap();
+    for line in manifest.lines().skip(1) {
+        let f = csv_fields(line);
+        if f.get(6).map(String::as_str) == Some("read_ok") {
+            files.push(data(&format!("real/{}", f[0])));
+        }
+    }
+    let mut repaired = 0;
+    for file in &files {
+        let part = read_step(file).unwrap();
+        let at = |v: usize| part.vertices[v].point;
+        for face in &part.faces {
+            for lp in &face.loops {
+                let Loop::Edges(es) = lp else { continue };
+                let ends: Vec<(usize, usize)> = es
+                    .iter()
+                    .map(|oe| {
+                        let e = &part.edges[oe.edge];
+                        if oe.forward {
+                            (e.start, e.end)
+                        } else {
+                            (e.end, e.start)
+                        }
+                    })
+                    .collect();
+                for (i, (_, end)) in ends.iter().enumerate() {
+                    let next = ends[(i + 1) % ends.len()].0;
+                    assert!(
+                        at(*end).distance(at(next)) < 1e-4,
+                        "{}: face #{} loop breaks",
+                        file.display(),
+                        face.source_id
+                    );
+                }
+            }
+        }
+        repaired += part
+            .diagnostics
+            .iter()
+            .filter(|d| d.message.starts_with("loop edges reordered"))
+            .count();
+    }
+    // Ctl005 and Ctl012 (two loops each) and Tsh010 (one) list an edge the wrong way round;
+    // Open CASCADE repairs them too (its areas count all six unit faces).
+    assert_eq!(repaired, 5);
 }

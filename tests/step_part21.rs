@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use talas::import::step::part21::parse;
+use talas::import::step::part21::{Param, parse};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -15,17 +15,122 @@ fn read(rel: &str) -> Vec<u8> {
     std::fs::read(data(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
 }
 
+/// Instances counted independently of the reader: these writers (Open CASCADE, CATIA) start
+/// every instance on a new line with `#`.
+fn lines_starting_with_hash(bytes: &[u8]) -> usize {
+    bytes
+        .split(|&b| b == b'\n')
+        .filter(|l| l.first() == Some(&b'#'))
+        .count()
+}
+
 #[test]
-fn reference_parts_parse() {
-    for (file, count) in [
-        ("pocket-fillets.stp", 0),
-        ("bicubic-hills.stp", 0),
-        ("rational-trough.stp", 0),
+fn reference_and_real_parts_parse_completely() {
+    for file in [
+        "pocket-fillets.stp",
+        "bicubic-hills.stp",
+        "rational-trough.stp",
+        "real/freecad/Schenkel.stp",
+        "real/freecad/as1-ac-214_small.stp",
     ] {
-        let ex = parse(&read(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-        assert!(ex.instances.len() > count, "{file}");
+        let bytes = read(file);
+        let ex = parse(&bytes).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(
+            ex.instances.len(),
+            lines_starting_with_hash(&bytes),
+            "{file}"
+        );
         assert!(ex.dangling_refs().is_empty(), "{file}");
+        assert!(ex.diagnostics.is_empty(), "{file}: {:?}", ex.diagnostics);
     }
+    // Sizes quoted in the corpus manifest.
+    assert_eq!(
+        lines_starting_with_hash(&read("real/freecad/Schenkel.stp")),
+        11_770
+    );
+}
+
+#[test]
+fn open_cascade_header() {
+    let ex = parse(&read("pocket-fillets.stp")).expect("pocket-fillets");
+    assert_eq!(ex.header.description, ["Open CASCADE Model"]);
+    assert_eq!(ex.header.name, "Open CASCADE Shape Model");
+    assert_eq!(ex.header.originating_system, "Open CASCADE 8.0");
+    assert_eq!(
+        ex.header.schema,
+        ["AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }"]
+    );
+}
+
+/// tests/data/README.md: bicubic-hills is one bicubic B-spline face with 9×8 poles.
+#[test]
+fn bicubic_hills_surface_record() {
+    let ex = parse(&read("bicubic-hills.stp")).expect("bicubic-hills");
+    let surfaces: Vec<_> = ex.instances_of("B_SPLINE_SURFACE_WITH_KNOTS").collect();
+    assert_eq!(surfaces.len(), 1);
+    let rec = surfaces[0].simple().expect("simple instance");
+    assert_eq!(rec.param(1).and_then(Param::as_i64), Some(3));
+    assert_eq!(rec.param(2).and_then(Param::as_i64), Some(3));
+    let rows = rec.param(3).and_then(Param::as_list).expect("poles");
+    assert_eq!(rows.len(), 9);
+    for row in rows {
+        let row = row.as_list().expect("row");
+        assert_eq!(row.len(), 8);
+        for p in row {
+            let point = ex
+                .get(p.as_ref().expect("#ref"))
+                .and_then(|i| i.record("CARTESIAN_POINT"));
+            assert_eq!(
+                point
+                    .and_then(|r| r.param(1))
+                    .and_then(Param::as_list)
+                    .map(<[Param]>::len),
+                Some(3)
+            );
+        }
+    }
+}
+
+/// tests/data/README.md: rational-trough is one rational face, degree 2×2, weights ≠ 1: a
+/// complex instance in Open CASCADE's output.
+#[test]
+fn rational_trough_complex_record() {
+    let ex = parse(&read("rational-trough.stp")).expect("rational-trough");
+    let surface = ex
+        .instances_of("RATIONAL_B_SPLINE_SURFACE")
+        .next()
+        .expect("rational surface");
+    assert!(surface.complex);
+    let bs = surface
+        .record("B_SPLINE_SURFACE")
+        .expect("B_SPLINE_SURFACE part");
+    assert_eq!(bs.param(0).and_then(Param::as_i64), Some(2));
+    assert_eq!(bs.param(1).and_then(Param::as_i64), Some(2));
+    let poles = bs.param(2).and_then(Param::as_list).expect("poles");
+    let weights = surface
+        .record("RATIONAL_B_SPLINE_SURFACE")
+        .and_then(|r| r.param(0))
+        .and_then(Param::as_list);
+    let weights = weights.expect("weights");
+    assert_eq!(weights.len(), poles.len());
+    let all: Vec<f64> = weights
+        .iter()
+        .flat_map(|r| {
+            r.as_list()
+                .unwrap_or_default()
+                .iter()
+                .filter_map(Param::as_f64)
+        })
+        .collect();
+    assert_eq!(
+        all.len(),
+        poles
+            .iter()
+            .map(|r| r.as_list().map_or(0, <[Param]>::len))
+            .sum::<usize>()
+    );
+    assert!(all.iter().any(|&w| (w - 1.0).abs() > 1e-6));
+    assert!(all.iter().all(|&w| w > 0.0));
 }
 
 /// The adversarial files this reader refuses at parse level although Open CASCADE reads them

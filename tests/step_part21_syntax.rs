@@ -387,3 +387,18 @@ fn warnings_are_capped() {
         talas::import::step::part21::MAX_WARNINGS + 1
     );
 }
+
+#[test]
+fn unterminated_directives_are_kept_as_written() {
+    // Thousands of `\X2\` without `\X0\` in one literal: kept literally (and decoded in linear
+    // time: the reader never rescans the rest of the string for a terminator).
+    let raw = r"\X2\00E9".repeat(4000);
+    let ex = ok(&format!("#1=X('{raw}');\n"));
+    let s = ex
+        .get(1)
+        .and_then(|i| i.simple())
+        .and_then(|r| r.param(0))
+        .and_then(Param::as_str);
+    assert_eq!(s, Some(raw.as_str()));
+    assert_eq!(ex.diagnostics.len(), 1);
+}

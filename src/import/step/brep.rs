@@ -1,11 +1,14 @@
 //! STEP entities → boundary representation ([`Part`]), as Open CASCADE transfers them.
 //!
-//! - [`assembly`]: roots (product definitions no assembly uses), shape representations,
-//!   component placements, mapped items; cycle guards.
+//! - `assembly`: roots (product definitions no assembly uses), component placements, cycle and
+//!   size guards.
+//! - `representation`: shape representations, their items (solids, shells, faces, mapped
+//!   items, geometric sets) and relationships.
 //! - [`units`]: length and plane angle units of each representation context (all lengths are
 //!   scaled to mm, cone angles to rad).
-//! - [`topology`]: shells, faces, loops, oriented edges, edges and vertices (shared by entity id).
-//! - [`curves`], [`surfaces`], [`splines`], [`points`]: geometry entities.
+//! - `topology`: shells, faces, loops, oriented edges, edges and vertices (shared by entity id);
+//!   `chains`: loops listed out of order or with a reversed edge are repaired into chains.
+//! - `curves`, `surfaces`, `splines`, `points`: geometry entities.
 //! - [`placement`]: rigid motions applied to every geometry kind.
 //!
 //! A face that cannot be built (unsupported surface, dangling reference, bad parameters) is
@@ -13,16 +16,16 @@
 //! is an error.
 
 mod assembly;
+mod chains;
 mod curves;
 mod entities;
 pub mod placement;
 mod points;
+mod representation;
 mod splines;
 mod surfaces;
 mod topology;
 pub mod units;
-
-pub use splines::expand_knots;
 
 use super::part21::Exchange;
 use crate::diagnostics::Diagnostic;

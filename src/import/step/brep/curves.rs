@@ -72,10 +72,21 @@ pub(super) fn curve(
     if let Some(spline) = bspline_curve(geo, e)? {
         return Ok(CurveGeom::BSpline(spline));
     }
-    Err(e.error(
-        ErrorKind::Unsupported,
-        format!("unsupported curve type {}", e.type_name()),
-    ))
+    let is_curve = e.inst.records.iter().any(|r| {
+        r.name.contains("CURVE")
+            || ["PARABOLA", "HYPERBOLA", "CLOTHOID", "CONIC"].contains(&r.name.as_str())
+    });
+    Err(if is_curve {
+        e.error(
+            ErrorKind::Unsupported,
+            format!("unsupported curve type {}", e.type_name()),
+        )
+    } else {
+        e.error(
+            ErrorKind::WrongType,
+            format!("expected a curve, found {}", e.type_name()),
+        )
+    })
 }
 
 /// A `POLYLINE` as a degree-1 B-spline with knots 0, 1, 2, ... at its points.
@@ -96,12 +107,9 @@ fn polyline(geo: &Geo<'_, '_>, e: Entity<'_>) -> Result<CurveGeom, BrepError> {
     let (first, last) = (0.0, knots.last().copied().unwrap_or(0.0));
     knots.insert(0, first);
     knots.push(last);
-    Ok(CurveGeom::BSpline(BSplineCurve {
-        degree: 1,
-        knots,
-        poles,
-        weights: None,
-    }))
+    BSplineCurve::new(1, knots, poles, None)
+        .map(CurveGeom::BSpline)
+        .map_err(|err| e.error(ErrorKind::InvalidGeometry, err.to_string()))
 }
 
 /// A B-spline curve in any of its simple or complex forms; `None` when `e` is not one.
@@ -159,12 +167,9 @@ fn bspline_curve(geo: &Geo<'_, '_>, e: Entity<'_>) -> Result<Option<BSplineCurve
         }
         None => None,
     };
-    Ok(Some(BSplineCurve {
-        degree: p,
-        knots,
-        poles,
-        weights,
-    }))
+    BSplineCurve::new(p, knots, poles, weights)
+        .map(Some)
+        .map_err(|err| bad(err.to_string()))
 }
 
 /// Curve parameters `(t_start, t_end)` of an edge running from `p_start` to `p_end` along `curve`,

@@ -1,5 +1,8 @@
 //! B-spline data shared by curves and surfaces: degrees, knot vectors (explicit with
 //! multiplicities, or implied by the Bézier / uniform / quasi-uniform special forms) and weights.
+//! Knot expansion itself is [`crate::geometry::nurbs::expand_knots`].
+
+use crate::geometry::nurbs::expand_knots;
 
 /// Highest degree accepted (Open CASCADE's limit).
 pub(super) const MAX_DEGREE: usize = 25;
@@ -27,45 +30,6 @@ pub(super) fn degree(d: i64) -> Result<usize, String> {
         .ok_or_else(|| format!("degree {d} is outside 1..={MAX_DEGREE}"))
 }
 
-/// Expand distinct knots and their multiplicities to a full knot vector. Knots must be finite and
-/// strictly increasing, multiplicities positive.
-///
-/// # Errors
-/// A message when the lists differ in length, are empty, or hold invalid values.
-pub fn expand_knots(distinct: &[f64], mults: &[i64]) -> Result<Vec<f64>, String> {
-    if distinct.len() != mults.len() {
-        return Err(format!(
-            "{} knots but {} multiplicities",
-            distinct.len(),
-            mults.len()
-        ));
-    }
-    if distinct.is_empty() {
-        return Err("empty knot list".into());
-    }
-    let mut out = Vec::new();
-    for (i, (&k, &m)) in distinct.iter().zip(mults).enumerate() {
-        if !k.is_finite() {
-            return Err(format!("knot {} is not finite", i + 1));
-        }
-        if i > 0 && distinct.get(i - 1).is_some_and(|&prev| k <= prev) {
-            return Err(format!(
-                "knots are not strictly increasing at knot {}",
-                i + 1
-            ));
-        }
-        let m = usize::try_from(m)
-            .ok()
-            .filter(|&m| m >= 1)
-            .ok_or_else(|| format!("multiplicity {m} of knot {} is not positive", i + 1))?;
-        if out.len() + m > MAX_POLES {
-            return Err("knot vector too long".into());
-        }
-        out.extend(std::iter::repeat_n(k, m));
-    }
-    Ok(out)
-}
-
 /// The full knot vector for `n` poles of degree `p`, checked against `n + p + 1`.
 ///
 /// # Errors
@@ -80,13 +44,17 @@ pub(super) fn knot_vector(spec: &KnotSpec, n: usize, p: usize) -> Result<Vec<f64
     #[allow(clippy::cast_precision_loss)]
     let knots = match spec {
         KnotSpec::Explicit { mults, knots } => {
-            let full = expand_knots(knots, mults)?;
+            let counts = mults
+                .iter()
+                .map(|&m| usize::try_from(m).map_err(|_| format!("multiplicity {m} is negative")))
+                .collect::<Result<Vec<usize>, String>>()?;
+            let full = expand_knots(knots, &counts).map_err(|e| e.to_string())?;
             // As Open CASCADE: end knots at most degree + 1 times, interior knots at most
             // degree times (more would break the curve apart).
-            let last = mults.len().saturating_sub(1);
-            for (i, &m) in mults.iter().enumerate() {
+            let last = counts.len().saturating_sub(1);
+            for (i, &m) in counts.iter().enumerate() {
                 let limit = if i == 0 || i == last { p + 1 } else { p };
-                if usize::try_from(m).is_ok_and(|m| m > limit) {
+                if m > limit {
                     return Err(format!(
                         "knot {} has multiplicity {m}, more than {limit}",
                         i + 1
@@ -144,18 +112,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn expands_multiplicities() {
-        assert_eq!(
-            expand_knots(&[0.0, 0.5, 1.0], &[3, 1, 3]).unwrap(),
-            vec![0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0]
-        );
-        assert!(expand_knots(&[0.0, 1.0], &[2]).is_err());
-        assert!(expand_knots(&[1.0, 0.0], &[2, 2]).is_err());
-        assert!(expand_knots(&[0.0, 1.0], &[0, 2]).is_err());
-        assert!(expand_knots(&[], &[]).is_err());
-    }
-
-    #[test]
     fn special_forms_give_standard_knots() {
         assert_eq!(
             knot_vector(&KnotSpec::Bezier, 3, 2).unwrap(),
@@ -183,6 +139,11 @@ mod tests {
             knots: vec![0.0, 0.5, 1.0],
         };
         assert!(knot_vector(&broken, 6, 2).is_err());
+        let negative = KnotSpec::Explicit {
+            mults: vec![-3, 3],
+            knots: vec![0.0, 1.0],
+        };
+        assert!(knot_vector(&negative, 3, 2).is_err());
         assert!(
             degree(0).is_err() && degree(-3).is_err() && degree(26).is_err() && degree(3).is_ok()
         );

@@ -116,10 +116,22 @@ pub(super) fn surface(
     if let Some(s) = bspline_surface(geo, e)? {
         return Ok(SurfaceGeom::BSpline(s));
     }
-    Err(e.error(
-        ErrorKind::Unsupported,
-        format!("unsupported surface type {}", e.type_name()),
-    ))
+    let is_surface = e
+        .inst
+        .records
+        .iter()
+        .any(|r| r.name.contains("SURFACE") && !r.name.contains("CURVE"));
+    Err(if is_surface {
+        e.error(
+            ErrorKind::Unsupported,
+            format!("unsupported surface type {}", e.type_name()),
+        )
+    } else {
+        e.error(
+            ErrorKind::WrongType,
+            format!("expected a surface, found {}", e.type_name()),
+        )
+    })
 }
 
 /// Degrees, control-point grid and knot forms of a B-spline surface entity.
@@ -236,14 +248,9 @@ fn bspline_surface(geo: &Geo<'_, '_>, e: Entity<'_>) -> Result<Option<BSplineSur
     } else {
         None
     };
-    Ok(Some(BSplineSurface {
-        degree_u,
-        degree_v,
-        knots_u,
-        knots_v,
-        n_u,
-        n_v,
-        poles,
-        weights,
-    }))
+    BSplineSurface::new(
+        degree_u, degree_v, knots_u, knots_v, n_u, n_v, poles, weights,
+    )
+    .map(Some)
+    .map_err(|err| bad(err.to_string()))
 }

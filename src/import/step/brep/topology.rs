@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use super::chains;
 use super::curves::{curve, edge_params};
 use super::entities::{Entity, Model};
 use super::placement::Rigid;
@@ -256,6 +257,21 @@ impl<'m, 'a> Builder<'m, 'a> {
             edges.reverse();
             for oe in &mut edges {
                 oe.forward = !oe.forward;
+            }
+        }
+        if !chains::is_chain(&self.part, &edges) {
+            let place = Some(format!("#{}", l.id()));
+            if let Some(fixed) = chains::repair(&self.part, &edges) {
+                edges = fixed;
+                self.part.diagnostics.push(Diagnostic::warning(
+                    place,
+                    "loop edges reordered or reversed into a closed chain",
+                ));
+            } else {
+                self.part.diagnostics.push(Diagnostic::warning(
+                    place,
+                    "loop edges do not form a closed chain",
+                ));
             }
         }
         Ok((Loop::Edges(edges), is_outer))

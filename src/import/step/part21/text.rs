@@ -127,7 +127,15 @@ fn directive(raw: &[u8], i: usize) -> Option<(Vec<char>, usize)> {
         return None;
     };
     let body = rest.get(header..)?;
-    let end = body.windows(4).position(|w| w == b"\\X0\\")?;
+    // The hex digits, then the terminator right after them (scanning only the digits keeps the
+    // whole decoding linear, however many unterminated directives a string holds).
+    let end = body
+        .iter()
+        .position(|b| !b.is_ascii_hexdigit())
+        .unwrap_or(body.len());
+    if !body.get(end..).is_some_and(|t| t.starts_with(b"\\X0\\")) {
+        return None;
+    }
     let hex = body.get(..end)?;
     if hex.is_empty() || hex.len() % width != 0 {
         return None;
