@@ -182,7 +182,7 @@ fn binary_whose_header_starts_with_solid_is_read_as_binary() {
     let mut bytes = std::fs::read(data("pocket-fillets.stl")).unwrap();
     let count = header_count(&bytes);
     bytes[..80].copy_from_slice(
-        &*b"solid pocket exported by a careless tool                                        ",
+        b"solid pocket exported by a careless tool                                        ",
     );
     let stl = parse_stl(&bytes, Path::new("solid.stl"), &StlOptions::default()).unwrap();
     assert_eq!(stl.format, StlFormat::Binary);
