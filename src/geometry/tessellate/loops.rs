@@ -77,82 +77,24 @@ pub(super) fn face_uv_loops(
 }
 
 /// The 3D points of an edge loop in order (each edge's last point is the next edge's first).
-///
-/// The chain is rebuilt from the edges' end points rather than trusted blindly: files in the wild
-/// list loop edges out of order or with wrong orientation flags (Open CASCADE's ShapeFix repairs
-/// them the same way), so each next edge is the one that starts where the chain ends, reversed
-/// if it ends there instead.
+/// The importer has already chained the loop (`import::step` repairs loops listed out of order
+/// or with reversed edges, as Open CASCADE's wire fixing does).
 fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Vec<DVec3>, String> {
-    let polys: Vec<Vec<DVec3>> = oes
-        .iter()
-        .map(|oe| {
-            let poly = edge_polylines
-                .get(oe.edge)
-                .ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
-            Ok(if oe.forward {
-                poly.clone()
-            } else {
-                poly.iter().rev().copied().collect()
-            })
-        })
-        .collect::<Result<_, String>>()?;
-    let polys: Vec<Vec<DVec3>> = polys.into_iter().filter(|p| !p.is_empty()).collect();
-    let chained = chain(polys);
     let mut pts = Vec::new();
-    for poly in &chained {
-        pts.extend_from_slice(&poly[..poly.len() - 1]);
+    for oe in oes {
+        let poly = edge_polylines
+            .get(oe.edge)
+            .ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
+        if poly.is_empty() {
+            continue;
+        }
+        if oe.forward {
+            pts.extend_from_slice(&poly[..poly.len() - 1]);
+        } else {
+            pts.extend(poly[1..].iter().rev());
+        }
     }
     Ok(pts)
-}
-
-/// Order and orient polylines into one chain by matching end points (within a tolerance relative
-/// to the loop's size). Polylines that connect to nothing keep their place.
-fn chain(mut polys: Vec<Vec<DVec3>>) -> Vec<Vec<DVec3>> {
-    if polys.len() < 2 {
-        return polys;
-    }
-    let size = polys
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
-    let tol = 1e-6 * size.max(1.0);
-    let near = |a: DVec3, b: DVec3| (a - b).length() <= tol;
-    let (Some(f0), Some(l0)) = (polys[0].first().copied(), polys[0].last().copied()) else {
-        return polys;
-    };
-    // Orient the first edge so that some other edge continues from its end.
-    let continues = |p: DVec3, others: &[Vec<DVec3>]| {
-        others.iter().any(|o| {
-            o.first().is_some_and(|&q| near(p, q)) || o.last().is_some_and(|&q| near(p, q))
-        })
-    };
-    if !continues(l0, &polys[1..]) && continues(f0, &polys[1..]) {
-        polys[0].reverse();
-    }
-    let mut out = vec![polys.remove(0)];
-    while !polys.is_empty() {
-        let end = out
-            .last()
-            .and_then(|p| p.last().copied())
-            .unwrap_or(DVec3::ZERO);
-        let pick = polys
-            .iter()
-            .position(|p| p.first().is_some_and(|&q| near(q, end)))
-            .map(|i| (i, false))
-            .or_else(|| {
-                polys
-                    .iter()
-                    .position(|p| p.last().is_some_and(|&q| near(q, end)))
-                    .map(|i| (i, true))
-            });
-        let (i, reverse) = pick.unwrap_or((0, false));
-        let mut next = polys.remove(i);
-        if reverse {
-            next.reverse();
-        }
-        out.push(next);
-    }
-    out
 }
 
 fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
