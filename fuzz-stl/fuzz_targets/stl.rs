@@ -15,11 +15,19 @@ fuzz_target!(|data: &[u8]| {
         Some(b) if b % 3 == 1 => 1e-3,
         _ => 1e-5,
     };
-    let opts = StlOptions { weld_tol_mm, ..StlOptions::default() };
-    let Ok(stl) = parse_stl(data, name, &opts) else { return };
+    let opts = StlOptions {
+        weld_tol_mm,
+        ..StlOptions::default()
+    };
+    let Ok(stl) = parse_stl(data, name, &opts) else {
+        return;
+    };
     assert!(stl.mesh.validate().is_ok());
     assert!(stl.mesh.triangles.len() <= stl.facet_count);
-    let exact = StlOptions { weld_tol_mm: 0.0, ..StlOptions::default() };
+    let exact = StlOptions {
+        weld_tol_mm: 0.0,
+        ..StlOptions::default()
+    };
     let mut bin = Vec::new();
     if write_stl_binary(&stl.mesh, &mut bin).is_ok() {
         let back = parse_stl(&bin, name, &exact).expect("own binary output reads back");
