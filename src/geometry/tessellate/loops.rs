@@ -97,11 +97,27 @@ fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Ve
     Ok(pts)
 }
 
+/// A boundary point this close to the surface is taken as lying on it (CAD tolerances are
+/// 1e-7 to 1e-3 mm).
+const NEAR_ENOUGH_MM: f64 = 1e-4;
+
 fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
     let mut hint = None;
     let mut out = Vec::with_capacity(pts3.len());
     for &p in pts3 {
-        let sp = surface.closest_point(p, rect, hint);
+        // Walking along the loop, Newton from the previous point's parameters is enough; fall
+        // back to the global search when it does not land on the surface.
+        let near = hint.map(|h| surface.closest_point_near(p, rect, h));
+        let sp = match near {
+            Some(sp) if sp.distance <= NEAR_ENOUGH_MM => sp,
+            _ => {
+                let global = surface.closest_point(p, rect, hint);
+                match near {
+                    Some(n) if n.distance < global.distance => n,
+                    _ => global,
+                }
+            }
+        };
         let d = surface.derivs(sp.uv.x, sp.uv.y);
         let scale = d.su.length().max(d.sv.length()).max(1e-300);
         let singular_u = d.su.length() <= 1e-9 * scale.max(1.0);
