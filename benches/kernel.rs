@@ -13,7 +13,9 @@ use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
 use talas::import::step::read_step;
 
 fn data(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
 }
 
 fn first_surface(file: &str) -> SurfaceGeom {
@@ -25,7 +27,9 @@ fn import(c: &mut Criterion) {
     let file = data("pocket-fillets.stp");
     let mut g = c.benchmark_group("step_import");
     g.sample_size(20);
-    g.bench_function("pocket-fillets read_step", |b| b.iter(|| black_box(read_step(&file).expect("reads"))));
+    g.bench_function("pocket-fillets read_step", |b| {
+        b.iter(|| black_box(read_step(&file).expect("reads")))
+    });
     g.bench_function("pocket-fillets read_step + tessellate 0.01 mm", |b| {
         b.iter(|| {
             let part = read_step(&file).expect("reads");
@@ -47,7 +51,10 @@ fn evaluation(c: &mut Criterion) {
                 let mut acc = DVec3::ZERO;
                 for i in 0..n {
                     for j in 0..n {
-                        let der = s.derivs(d.u.lerp(i as f64 / (n - 1) as f64), d.v.lerp(j as f64 / (n - 1) as f64));
+                        let der = s.derivs(
+                            d.u.lerp(i as f64 / (n - 1) as f64),
+                            d.v.lerp(j as f64 / (n - 1) as f64),
+                        );
                         acc += der.p + der.suu;
                     }
                 }
@@ -68,7 +75,10 @@ fn closest_point(c: &mut Criterion) {
         let queries: Vec<DVec3> = (0..16)
             .flat_map(|i| (0..16).map(move |j| (i, j)))
             .map(|(i, j)| {
-                let der = s.derivs(d.u.lerp((i as f64 + 0.5) / 16.0), d.v.lerp((j as f64 + 0.5) / 16.0));
+                let der = s.derivs(
+                    d.u.lerp((i as f64 + 0.5) / 16.0),
+                    d.v.lerp((j as f64 + 0.5) / 16.0),
+                );
                 der.p + der.normal().unwrap_or(DVec3::Z) * 2.0
             })
             .collect();

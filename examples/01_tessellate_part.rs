@@ -11,7 +11,10 @@ use talas::import::step::read_step;
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let file = args.next().map_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bicubic-hills.stp"), PathBuf::from);
+    let file = args.next().map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/bicubic-hills.stp"),
+        PathBuf::from,
+    );
     let tol_mm: f64 = args.next().and_then(|t| t.parse().ok()).unwrap_or(0.01);
     let part = match read_step(&file) {
         Ok(p) => p,
@@ -26,7 +29,11 @@ fn main() {
         *kinds.entry(f.surface.kind()).or_default() += 1;
     }
     println!("{}: {} faces {:?}", file.display(), part.faces.len(), kinds);
-    println!("chord tolerance {tol_mm} mm: {} triangles, area {:.4} mm²", mesh.mesh.triangles.len(), mesh.area_mm2());
+    println!(
+        "chord tolerance {tol_mm} mm: {} triangles, area {:.4} mm²",
+        mesh.mesh.triangles.len(),
+        mesh.area_mm2()
+    );
     let mut welded = mesh.mesh.clone();
     welded.weld(1e-9 * mesh.bbox().diagonal().max(1.0));
     if welded.is_closed() {

@@ -5,7 +5,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// How serious a diagnostic is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Severity {
     /// Informational.
@@ -31,19 +33,31 @@ impl Diagnostic {
     /// A warning at a place.
     #[must_use]
     pub fn warning(place: impl Into<Option<String>>, message: impl Into<String>) -> Self {
-        Self { severity: Severity::Warning, place: place.into(), message: message.into() }
+        Self {
+            severity: Severity::Warning,
+            place: place.into(),
+            message: message.into(),
+        }
     }
 
     /// An informational note at a place.
     #[must_use]
     pub fn info(place: impl Into<Option<String>>, message: impl Into<String>) -> Self {
-        Self { severity: Severity::Info, place: place.into(), message: message.into() }
+        Self {
+            severity: Severity::Info,
+            place: place.into(),
+            message: message.into(),
+        }
     }
 
     /// An error at a place (the result is incomplete).
     #[must_use]
     pub fn error(place: impl Into<Option<String>>, message: impl Into<String>) -> Self {
-        Self { severity: Severity::Error, place: place.into(), message: message.into() }
+        Self {
+            severity: Severity::Error,
+            place: place.into(),
+            message: message.into(),
+        }
     }
 }
 
@@ -106,13 +120,23 @@ impl Progress {
     /// # Errors
     /// [`Cancelled`] when [`Progress::cancel`] was called.
     pub fn check(&self) -> Result<(), Cancelled> {
-        if self.is_cancelled() { Err(Cancelled) } else { Ok(()) }
+        if self.is_cancelled() {
+            Err(Cancelled)
+        } else {
+            Ok(())
+        }
     }
 
     /// Record the fraction done (clamped to [0, 1]; NaN counts as 0).
     pub fn set(&self, fraction: f64) {
-        let f = if fraction.is_nan() { 0.0 } else { fraction.clamp(0.0, 1.0) };
-        self.inner.fraction_bits.store(f.to_bits(), Ordering::Relaxed);
+        let f = if fraction.is_nan() {
+            0.0
+        } else {
+            fraction.clamp(0.0, 1.0)
+        };
+        self.inner
+            .fraction_bits
+            .store(f.to_bits(), Ordering::Relaxed);
     }
 
     /// The fraction done, in [0, 1].

@@ -25,6 +25,8 @@ fn open_workstation(file: Option<std::path::PathBuf>) -> i32 {
 
 #[cfg(not(feature = "gui"))]
 fn open_workstation(_file: Option<std::path::PathBuf>) -> i32 {
-    eprintln!("talas: this build has no workstation (built without the `gui` feature); see `talas --help`");
+    eprintln!(
+        "talas: this build has no workstation (built without the `gui` feature); see `talas --help`"
+    );
     cli::EXIT_BAD_INPUT
 }

@@ -30,16 +30,31 @@ const LAYERS: &[(&str, u32)] = &[
 ];
 
 /// Allowed uses inside one layer: (user, used).
-const SAME_LAYER: &[(&str, &str)] = &[("diagnostics", "units"), ("geometry", "units"), ("geometry", "diagnostics")];
+const SAME_LAYER: &[(&str, &str)] = &[
+    ("diagnostics", "units"),
+    ("geometry", "units"),
+    ("geometry", "diagnostics"),
+];
 
-const GUI_CRATES: &[&str] = &["egui", "eframe", "egui_wgpu", "wgpu", "winit", "rfd", "egui_kittest", "egui_plot"];
+const GUI_CRATES: &[&str] = &[
+    "egui",
+    "eframe",
+    "egui_wgpu",
+    "wgpu",
+    "winit",
+    "rfd",
+    "egui_kittest",
+    "egui_plot",
+];
 
 fn layer_of(module: &str) -> Option<u32> {
     LAYERS.iter().find(|(m, _)| *m == module).map(|(_, l)| *l)
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else { return };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
     let mut entries: Vec<_> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
     entries.sort();
     for p in entries {
@@ -64,7 +79,10 @@ fn module_of(src: &Path, file: &Path) -> Option<String> {
 
 /// Strip `//` comments so doc text does not count as a use.
 fn code_only(text: &str) -> String {
-    text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
+    text.lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// `crate::X` (and `talas::X`) module names used in `code`.
@@ -77,7 +95,10 @@ fn crate_uses(code: &str) -> BTreeSet<String> {
                 continue;
             }
             let rest = &code[i + prefix.len()..];
-            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
             if !name.is_empty() {
                 used.insert(name);
             }
@@ -87,7 +108,11 @@ fn crate_uses(code: &str) -> BTreeSet<String> {
             let rest = &code[i + prefix.len() + 1..];
             let group: String = rest.chars().take_while(|c| *c != '}').collect();
             for item in group.split(',') {
-                let name: String = item.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                let name: String = item
+                    .trim()
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
                 if !name.is_empty() {
                     used.insert(name);
                 }
@@ -117,29 +142,46 @@ fn violations() -> Vec<String> {
     assert!(files.len() > 5, "no sources found under {}", src.display());
     let mut bad = Vec::new();
     for file in files {
-        let Some(module) = module_of(&src, &file) else { continue };
+        let Some(module) = module_of(&src, &file) else {
+            continue;
+        };
         let Some(layer) = layer_of(&module) else {
-            bad.push(format!("{}: module `{module}` is not in the layer table", file.display()));
+            bad.push(format!(
+                "{}: module `{module}` is not in the layer table",
+                file.display()
+            ));
             continue;
         };
         let code = code_only(&fs::read_to_string(&file).unwrap_or_default());
         if module != "app" && module != "render" {
             for c in gui_crates_named(&code) {
-                bad.push(format!("{}: engine module `{module}` names GUI crate `{c}`", file.display()));
+                bad.push(format!(
+                    "{}: engine module `{module}` names GUI crate `{c}`",
+                    file.display()
+                ));
             }
         }
         for used in crate_uses(&code) {
             if used == module {
                 continue;
             }
-            let Some(used_layer) = layer_of(&used) else { continue };
+            let Some(used_layer) = layer_of(&used) else {
+                continue;
+            };
             let ok = match module.as_str() {
                 "app" => true,
                 "render" => false,
-                _ => used_layer < layer || (used_layer == layer && SAME_LAYER.contains(&(module.as_str(), used.as_str()))),
+                _ => {
+                    used_layer < layer
+                        || (used_layer == layer
+                            && SAME_LAYER.contains(&(module.as_str(), used.as_str())))
+                }
             };
             if !ok || (module != "app" && (used == "render" || used == "app")) {
-                bad.push(format!("{}: `{module}` (L{layer}) uses `{used}` (L{used_layer})", file.display()));
+                bad.push(format!(
+                    "{}: `{module}` (L{layer}) uses `{used}` (L{used_layer})",
+                    file.display()
+                ));
             }
         }
     }
@@ -158,15 +200,22 @@ fn the_checker_catches_violations() {
     assert!(crate_uses("use crate::app::x; fn f() { crate::geometry::y(); }").contains("app"));
     assert!(crate_uses("use crate::{import, geometry::mesh};").contains("import"));
     assert!(!crate_uses("// no use here\nlet s = mycrate::x;").contains("x"));
-    assert_eq!(gui_crates_named("let c = egui::Context::default();"), vec!["egui"]);
+    assert_eq!(
+        gui_crates_named("let c = egui::Context::default();"),
+        vec!["egui"]
+    );
     assert!(gui_crates_named("let c = my_egui::Context::default();").is_empty());
     assert!(layer_of("geometry") < layer_of("import"));
 }
 
 #[test]
 fn architecture_md_lists_every_engine_module() {
-    let text = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap_or_default();
+    let text = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
+        .unwrap_or_default();
     for (m, _) in LAYERS {
-        assert!(text.contains(&format!("`{m}`")), "ARCHITECTURE.md does not mention `{m}`");
+        assert!(
+            text.contains(&format!("`{m}`")),
+            "ARCHITECTURE.md does not mention `{m}`"
+        );
     }
 }

@@ -14,7 +14,12 @@ use talas::geometry::nurbs::BSplineSurface;
 use talas::geometry::surface::{Cylinder, Plane, Sphere, SurfaceGeom, Torus};
 
 fn frame() -> Frame {
-    Frame::from_axis_ref(DVec3::new(4.0, 1.0, -2.0), DVec3::new(-0.2, 0.5, 1.0), Some(DVec3::new(0.0, 1.0, 0.3))).unwrap()
+    Frame::from_axis_ref(
+        DVec3::new(4.0, 1.0, -2.0),
+        DVec3::new(-0.2, 0.5, 1.0),
+        Some(DVec3::new(0.0, 1.0, 0.3)),
+    )
+    .unwrap()
 }
 
 fn near(a: f64, b: f64, tol: f64) -> bool {
@@ -24,14 +29,22 @@ fn near(a: f64, b: f64, tol: f64) -> bool {
 #[test]
 fn sphere_cylinder_plane_closed_forms() {
     let f = frame();
-    let sphere = SurfaceGeom::Sphere(Sphere { frame: f, radius: 9.0 });
+    let sphere = SurfaceGeom::Sphere(Sphere {
+        frame: f,
+        radius: 9.0,
+    });
     for (u, v) in [(0.0, 0.0), (1.0, 0.7), (4.0, -1.2), (2.0, 1.5)] {
         let d = sphere.derivs(u, v);
         let pr = d.principal().unwrap();
-        assert!(near(pr.k_min, -1.0 / 9.0, 1e-12) && near(pr.k_max, -1.0 / 9.0, 1e-12), "sphere {pr:?}");
+        assert!(
+            near(pr.k_min, -1.0 / 9.0, 1e-12) && near(pr.k_max, -1.0 / 9.0, 1e-12),
+            "sphere {pr:?}"
+        );
         // Umbilic: directions still unit, orthogonal and tangent.
         let n = d.normal().unwrap();
-        assert!((pr.dir_min.length() - 1.0).abs() < 1e-12 && pr.dir_min.dot(pr.dir_max).abs() < 1e-12);
+        assert!(
+            (pr.dir_min.length() - 1.0).abs() < 1e-12 && pr.dir_min.dot(pr.dir_max).abs() < 1e-12
+        );
         assert!(pr.dir_min.dot(n).abs() < 1e-12 && pr.dir_max.dot(n).abs() < 1e-12);
         // Outward normal.
         assert!(n.dot(d.p - f.origin) > 0.0);
@@ -40,15 +53,31 @@ fn sphere_cylinder_plane_closed_forms() {
     }
     // Poles: degenerate parameterisation, no normal, no NaN.
     let pole = sphere.derivs(0.3, FRAC_PI_2);
-    assert!(pole.normal().is_none() && pole.principal().is_none() && pole.normal_curvature(1.0, 0.0).is_none());
+    assert!(
+        pole.normal().is_none()
+            && pole.principal().is_none()
+            && pole.normal_curvature(1.0, 0.0).is_none()
+    );
 
-    let cyl = SurfaceGeom::Cylinder(Cylinder { frame: f, radius: 6.0 });
+    let cyl = SurfaceGeom::Cylinder(Cylinder {
+        frame: f,
+        radius: 6.0,
+    });
     for (u, v) in [(0.0, 0.0), (2.5, -3.0)] {
         let d = cyl.derivs(u, v);
         let pr = d.principal().unwrap();
-        assert!(near(pr.k_min, -1.0 / 6.0, 1e-12) && pr.k_max.abs() < 1e-14, "cylinder {pr:?}");
-        assert!(pr.dir_max.dot(f.z).abs() > 1.0 - 1e-12, "k_max along the axis");
-        assert!(pr.dir_min.dot(d.su.normalize()).abs() > 1.0 - 1e-12, "k_min around");
+        assert!(
+            near(pr.k_min, -1.0 / 6.0, 1e-12) && pr.k_max.abs() < 1e-14,
+            "cylinder {pr:?}"
+        );
+        assert!(
+            pr.dir_max.dot(f.z).abs() > 1.0 - 1e-12,
+            "k_max along the axis"
+        );
+        assert!(
+            pr.dir_min.dot(d.su.normalize()).abs() > 1.0 - 1e-12,
+            "k_min around"
+        );
     }
     let plane = SurfaceGeom::Plane(Plane { frame: f });
     let d = plane.derivs(3.0, -1.0);
@@ -61,21 +90,41 @@ fn sphere_cylinder_plane_closed_forms() {
 fn torus_equators() {
     let f = frame();
     let (big, r) = (20.0, 5.0);
-    let t = SurfaceGeom::Torus(Torus { frame: f, major_radius: big, minor_radius: r });
+    let t = SurfaceGeom::Torus(Torus {
+        frame: f,
+        major_radius: big,
+        minor_radius: r,
+    });
     for u in [0.0, 1.3, 5.0] {
         let outer = t.derivs(u, 0.0);
         let pr = outer.principal().unwrap();
-        assert!(near(pr.k_min, -1.0 / r, 1e-12) && near(pr.k_max, -1.0 / (big + r), 1e-12), "outer {pr:?}");
-        assert!(pr.dir_min.dot(outer.sv.normalize()).abs() > 1.0 - 1e-12, "tube direction");
+        assert!(
+            near(pr.k_min, -1.0 / r, 1e-12) && near(pr.k_max, -1.0 / (big + r), 1e-12),
+            "outer {pr:?}"
+        );
+        assert!(
+            pr.dir_min.dot(outer.sv.normalize()).abs() > 1.0 - 1e-12,
+            "tube direction"
+        );
         let inner = t.derivs(u, PI);
         let pr = inner.principal().unwrap();
-        assert!(near(pr.k_min, -1.0 / r, 1e-12) && near(pr.k_max, 1.0 / (big - r), 1e-12), "inner {pr:?}");
+        assert!(
+            near(pr.k_min, -1.0 / r, 1e-12) && near(pr.k_max, 1.0 / (big - r), 1e-12),
+            "inner {pr:?}"
+        );
         // General v: k = −1/r and −cos v / (R + r cos v).
         for v in [0.6, 2.0, 4.0] {
             let pr = t.derivs(u, v).principal().unwrap();
             let k2 = -f64::cos(v) / (big + r * f64::cos(v));
-            let (lo, hi) = if k2 < -1.0 / r { (k2, -1.0 / r) } else { (-1.0 / r, k2) };
-            assert!(near(pr.k_min, lo, 1e-11) && near(pr.k_max, hi, 1e-11), "torus v = {v}");
+            let (lo, hi) = if k2 < -1.0 / r {
+                (k2, -1.0 / r)
+            } else {
+                (-1.0 / r, k2)
+            };
+            assert!(
+                near(pr.k_min, lo, 1e-11) && near(pr.k_max, hi, 1e-11),
+                "torus v = {v}"
+            );
         }
     }
 }
@@ -89,9 +138,15 @@ fn nurbs_cylinder_and_sphere_curvatures() {
         for j in 1..10 {
             let (u, v) = (i as f64 / 20.0 + 0.013, j as f64 / 10.0);
             let pr = cyl.derivs(u, v).principal().unwrap();
-            assert!(near(pr.k_min, -1.0 / 6.0, 1e-9) && pr.k_max.abs() < 1e-9, "NURBS cylinder {pr:?}");
+            assert!(
+                near(pr.k_min, -1.0 / 6.0, 1e-9) && pr.k_max.abs() < 1e-9,
+                "NURBS cylinder {pr:?}"
+            );
             let pr = sph.derivs(u, v).principal().unwrap();
-            assert!(near(pr.k_min, -1.0 / 9.0, 1e-9) && near(pr.k_max, -1.0 / 9.0, 1e-9), "NURBS sphere {pr:?}");
+            assert!(
+                near(pr.k_min, -1.0 / 9.0, 1e-9) && near(pr.k_max, -1.0 / 9.0, 1e-9),
+                "NURBS sphere {pr:?}"
+            );
         }
     }
     // Reversing u flips the normal: curvatures become +1/r.
@@ -121,19 +176,31 @@ fn textbook(d: &SurfaceDerivs) -> (f64, f64) {
     let (e, f, g) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
     let (l, m, nn) = (d.suu.dot(n), d.suv.dot(n), d.svv.dot(n));
     let den = e * g - f * f;
-    ((e * nn + g * l - 2.0 * f * m) / (2.0 * den), (l * nn - m * m) / den)
+    (
+        (e * nn + g * l - 2.0 * f * m) / (2.0 * den),
+        (l * nn - m * m) / den,
+    )
 }
 
 #[test]
 fn skewed_bspline_matches_fundamental_forms_and_euler() {
     let s: BSplineSurface = hills(true);
-    for (u, v) in [(0.3, 0.1), (1.2, 1.0), (2.5, 3.1), (1.85, -0.4), (0.05, 3.9)] {
+    for (u, v) in [
+        (0.3, 0.1),
+        (1.2, 1.0),
+        (2.5, 3.1),
+        (1.85, -0.4),
+        (0.05, 3.9),
+    ] {
         let d = s.derivs(u, v);
         let (h, k) = textbook(&d);
         let (hm, km) = d.mean_gaussian().unwrap();
         let pr = d.principal().unwrap();
         let scale = pr.k_min.abs().max(pr.k_max.abs());
-        assert!((hm - h).abs() <= 1e-10 * scale && (km - k).abs() <= 1e-10 * scale * scale, "H, K at ({u}, {v})");
+        assert!(
+            (hm - h).abs() <= 1e-10 * scale && (km - k).abs() <= 1e-10 * scale * scale,
+            "H, K at ({u}, {v})"
+        );
         assert!(pr.k_min <= pr.k_max);
         // Principal directions: normal curvature along them equals the principal curvatures.
         assert!((d.normal_curvature_along(pr.dir_min).unwrap() - pr.k_min).abs() <= 1e-10 * scale);

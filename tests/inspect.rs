@@ -7,12 +7,25 @@ use std::process::Command;
 use serde_json::Value;
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
 }
 
 fn inspect_json(file: &Path, extra: &[&str]) -> Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_talas")).arg("inspect").arg(file).args(extra).arg("--json").output().expect("run talas");
-    assert!(out.status.success(), "inspect {} failed: {}", file.display(), String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(env!("CARGO_BIN_EXE_talas"))
+        .arg("inspect")
+        .arg(file)
+        .args(extra)
+        .arg("--json")
+        .output()
+        .expect("run talas");
+    assert!(
+        out.status.success(),
+        "inspect {} failed: {}",
+        file.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("inspect prints one JSON document")
 }
 
@@ -22,7 +35,10 @@ fn reference_rows(name: &str) -> Vec<[f64; 10]> {
         .skip(1)
         .filter(|l| !l.trim().is_empty())
         .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.trim().parse().expect("number")).collect();
+            let v: Vec<f64> = l
+                .split(',')
+                .map(|x| x.trim().parse().expect("number"))
+                .collect();
             let mut row = [0.0; 10];
             row.copy_from_slice(&v[..10]);
             row
@@ -41,8 +57,16 @@ fn compare_samples(step: &str, csv: &str) -> (f64, f64, f64) {
     assert_eq!(samples.len(), reference.len());
     let (mut dp, mut dn, mut dk) = (0.0f64, 0.0f64, 0.0f64);
     for (s, r) in samples.iter().zip(&reference) {
-        let s: Vec<f64> = s.as_array().expect("row").iter().map(|x| x.as_f64().expect("finite sample")).collect();
-        assert!((s[0] - r[0]).abs() < 1e-9 && (s[1] - r[1]).abs() < 1e-9, "grid parameters differ: {s:?} vs {r:?}");
+        let s: Vec<f64> = s
+            .as_array()
+            .expect("row")
+            .iter()
+            .map(|x| x.as_f64().expect("finite sample"))
+            .collect();
+        assert!(
+            (s[0] - r[0]).abs() < 1e-9 && (s[1] - r[1]).abs() < 1e-9,
+            "grid parameters differ: {s:?} vs {r:?}"
+        );
         for k in 2..5 {
             dp = dp.max((s[k] - r[k]).abs());
         }
@@ -80,8 +104,20 @@ fn rel(a: f64, b: f64) -> f64 {
 #[test]
 fn single_face_parts_have_reference_area_and_box() {
     for (file, area, min, max, rational) in [
-        ("bicubic-hills.stp", 19710.4308, [0.0, 0.0, -11.6358], [160.0, 120.0, 11.6678], false),
-        ("rational-trough.stp", 12672.0, [-49.2347, -74.8618, 0.0], [43.0414, 74.8618, 18.1976], true),
+        (
+            "bicubic-hills.stp",
+            19710.4308,
+            [0.0, 0.0, -11.6358],
+            [160.0, 120.0, 11.6678],
+            false,
+        ),
+        (
+            "rational-trough.stp",
+            12672.0,
+            [-49.2347, -74.8618, 0.0],
+            [43.0414, 74.8618, 18.1976],
+            true,
+        ),
     ] {
         let doc = inspect_json(&data(file), &[]);
         let face = &doc["faces"][0];
@@ -89,8 +125,18 @@ fn single_face_parts_have_reference_area_and_box() {
         assert_eq!(face["rational"], rational, "{file}");
         let a = doc["area_mm2"].as_f64().expect("area");
         assert!(rel(a, area) < 1e-3, "{file}: area {a} vs {area}");
-        let bmin: Vec<f64> = doc["bbox"]["min"].as_array().expect("bbox").iter().filter_map(Value::as_f64).collect();
-        let bmax: Vec<f64> = doc["bbox"]["max"].as_array().expect("bbox").iter().filter_map(Value::as_f64).collect();
+        let bmin: Vec<f64> = doc["bbox"]["min"]
+            .as_array()
+            .expect("bbox")
+            .iter()
+            .filter_map(Value::as_f64)
+            .collect();
+        let bmax: Vec<f64> = doc["bbox"]["max"]
+            .as_array()
+            .expect("bbox")
+            .iter()
+            .filter_map(Value::as_f64)
+            .collect();
         for k in 0..3 {
             assert!((bmin[k] - min[k]).abs() < 0.02, "{file}: bbox min {bmin:?}");
             assert!((bmax[k] - max[k]).abs() < 0.02, "{file}: bbox max {bmax:?}");
@@ -107,9 +153,16 @@ fn pocket_fillets_is_a_closed_solid_of_the_right_area_and_volume() {
     let faces = doc["faces"].as_array().expect("faces");
     assert_eq!(faces.len(), 23);
     let count = |k: &str| faces.iter().filter(|f| f["kind"] == k).count();
-    assert_eq!((count("plane"), count("cylinder"), count("sphere")), (11, 8, 4));
+    assert_eq!(
+        (count("plane"), count("cylinder"), count("sphere")),
+        (11, 8, 4)
+    );
     for f in faces {
-        assert!(f["area_mm2"].as_f64().unwrap_or(0.0) > 0.0, "face {} has no triangles", f["id"]);
+        assert!(
+            f["area_mm2"].as_f64().unwrap_or(0.0) > 0.0,
+            "face {} has no triangles",
+            f["id"]
+        );
     }
     let area = doc["area_mm2"].as_f64().expect("area");
     assert!(rel(area, 29249.3361) < 1e-3, "area {area}");
@@ -120,9 +173,16 @@ fn pocket_fillets_is_a_closed_solid_of_the_right_area_and_volume() {
 
 #[test]
 fn human_summary_names_faces_and_units() {
-    let out = Command::new(env!("CARGO_BIN_EXE_talas")).args(["inspect"]).arg(data("pocket-fillets.stp")).output().expect("run talas");
+    let out = Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(["inspect"])
+        .arg(data("pocket-fillets.stp"))
+        .output()
+        .expect("run talas");
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("faces: 23"), "{text}");
-    assert!(text.contains("mm²") && text.contains("closed: true"), "{text}");
+    assert!(
+        text.contains("mm²") && text.contains("closed: true"),
+        "{text}"
+    );
 }

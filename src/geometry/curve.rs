@@ -101,7 +101,10 @@ impl CurveGeom {
     /// Point at `t`.
     #[must_use]
     pub fn point(&self, t: f64) -> DVec3 {
-        self.derivs(t).p
+        match self {
+            Self::BSpline(b) => b.point(t),
+            _ => self.derivs(t).p,
+        }
     }
 
     /// Parameter of the point on the curve closest to `p`, searched within `range` (robust: several

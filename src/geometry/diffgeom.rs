@@ -70,10 +70,11 @@ impl SurfaceDerivs {
 
     /// Parametric components `(du, dv)` of a tangent vector `t` (least squares against
     /// `S_u`, `S_v`); `None` when the first form is singular.
-    fn to_parametric(&self, t: DVec3) -> Option<(f64, f64)> {
+    fn tangent_components(&self, t: DVec3) -> Option<(f64, f64)> {
         let (e, f, g) = self.first_form();
         let det = e * g - f * f;
-        if !(det > DEGENERATE * DEGENERATE * e * g) || !(det > 0.0) {
+        let regular = det > DEGENERATE * DEGENERATE * e * g && det > 0.0;
+        if !regular {
             return None;
         }
         let (a, b) = (t.dot(self.su), t.dot(self.sv));
@@ -92,8 +93,8 @@ impl SurfaceDerivs {
         let e1 = self.su.try_normalize()?;
         let e2 = n.cross(e1);
         let (l, m, nn) = self.second_form(n);
-        let (a1, b1) = self.to_parametric(e1)?;
-        let (a2, b2) = self.to_parametric(e2)?;
+        let (a1, b1) = self.tangent_components(e1)?;
+        let (a2, b2) = self.tangent_components(e2)?;
         let ii = |x: (f64, f64), y: (f64, f64)| {
             l * x.0 * y.0 + m * (x.0 * y.1 + x.1 * y.0) + nn * x.1 * y.1
         };
@@ -127,7 +128,8 @@ impl SurfaceDerivs {
         let (l, m, nn) = self.second_form(n);
         let den = e * du * du + 2.0 * f * du * dv + g * dv * dv;
         let scale = (e + g) * (du * du + dv * dv);
-        if !(den > DEGENERATE * scale) || !(den > 0.0) {
+        let regular = den > DEGENERATE * scale && den > 0.0;
+        if !regular {
             return None;
         }
         let k = (l * du * du + 2.0 * m * du * dv + nn * dv * dv) / den;
@@ -140,10 +142,11 @@ impl SurfaceDerivs {
     pub fn normal_curvature_along(&self, t: DVec3) -> Option<f64> {
         let n = self.normal()?;
         let tt = t - n * t.dot(n);
-        if !(tt.length() > DEGENERATE * t.length()) {
+        let tangential = tt.length() > DEGENERATE * t.length();
+        if !tangential {
             return None;
         }
-        let (du, dv) = self.to_parametric(tt)?;
+        let (du, dv) = self.tangent_components(tt)?;
         self.normal_curvature(du, dv)
     }
 

@@ -17,7 +17,12 @@ pub struct Frame {
 
 impl Frame {
     /// The world frame.
-    pub const WORLD: Self = Self { origin: DVec3::ZERO, x: DVec3::X, y: DVec3::Y, z: DVec3::Z };
+    pub const WORLD: Self = Self {
+        origin: DVec3::ZERO,
+        x: DVec3::X,
+        y: DVec3::Y,
+        z: DVec3::Z,
+    };
 
     /// Build from an origin, a main axis and an optional reference direction, as STEP does: the
     /// reference direction is projected perpendicular to the axis; when absent or parallel to the
@@ -25,7 +30,11 @@ impl Frame {
     ///
     /// # Errors
     /// [`GeometryError::ZeroVector`] when the axis has zero length, `NonFinite` on NaN/inf input.
-    pub fn from_axis_ref(origin: DVec3, axis: DVec3, ref_dir: Option<DVec3>) -> Result<Self, GeometryError> {
+    pub fn from_axis_ref(
+        origin: DVec3,
+        axis: DVec3,
+        ref_dir: Option<DVec3>,
+    ) -> Result<Self, GeometryError> {
         if !origin.is_finite() || !axis.is_finite() || ref_dir.is_some_and(|r| !r.is_finite()) {
             return Err(GeometryError::NonFinite("placement".into()));
         }
@@ -65,9 +74,17 @@ pub fn default_perpendicular(n: DVec3) -> DVec3 {
     let (a, b, c) = (n.x, n.y, n.z);
     let (aa, ab, ac) = (a.abs(), b.abs(), c.abs());
     let v = if ab <= aa && ab <= ac {
-        if aa > ac { DVec3::new(-c, 0.0, a) } else { DVec3::new(c, 0.0, -a) }
+        if aa > ac {
+            DVec3::new(-c, 0.0, a)
+        } else {
+            DVec3::new(c, 0.0, -a)
+        }
     } else if aa <= ab && aa <= ac {
-        if ab > ac { DVec3::new(0.0, -c, b) } else { DVec3::new(0.0, c, -b) }
+        if ab > ac {
+            DVec3::new(0.0, -c, b)
+        } else {
+            DVec3::new(0.0, c, -b)
+        }
     } else if aa > ab {
         DVec3::new(-b, a, 0.0)
     } else {
@@ -82,8 +99,12 @@ mod tests {
 
     #[test]
     fn frame_is_orthonormal_and_inverts() {
-        let f = Frame::from_axis_ref(DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 0.0, 2.0), Some(DVec3::new(1.0, 1.0, 1.0)))
-            .unwrap();
+        let f = Frame::from_axis_ref(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(0.0, 0.0, 2.0),
+            Some(DVec3::new(1.0, 1.0, 1.0)),
+        )
+        .unwrap();
         assert!((f.x.dot(f.z)).abs() < 1e-15);
         assert!((f.x.cross(f.y) - f.z).length() < 1e-15);
         let p = DVec3::new(4.0, -5.0, 6.0);

@@ -75,7 +75,10 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box (adding any point makes it that point).
-    pub const EMPTY: Self = Self { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
+    pub const EMPTY: Self = Self {
+        min: DVec3::splat(f64::INFINITY),
+        max: DVec3::splat(f64::NEG_INFINITY),
+    };
 
     /// Grow to contain `p`.
     pub fn add(&mut self, p: DVec3) {
@@ -107,7 +110,11 @@ impl Aabb {
     /// Diagonal length (0 for an empty box).
     #[must_use]
     pub fn diagonal(&self) -> f64 {
-        if self.is_empty() { 0.0 } else { (self.max - self.min).length() }
+        if self.is_empty() {
+            0.0
+        } else {
+            (self.max - self.min).length()
+        }
     }
 }
 

@@ -151,7 +151,10 @@ impl SurfaceGeom {
         let all = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
         let turn = Interval::new(0.0, TAU);
         let (u, v) = match self {
-            Self::BSpline(b) => b.domain(),
+            Self::BSpline(b) => {
+                let d = b.domain();
+                (d.u, d.v)
+            }
             Self::Plane(_) => (all, all),
             Self::Cylinder(_) | Self::Cone(_) => (turn, all),
             Self::Sphere(_) => (turn, Interval::new(-FRAC_PI_2, FRAC_PI_2)),
@@ -195,7 +198,10 @@ impl SurfaceGeom {
     /// Point at `(u, v)`.
     #[must_use]
     pub fn point(&self, u: f64, v: f64) -> DVec3 {
-        self.derivs(u, v).p
+        match self {
+            Self::BSpline(b) => b.point(u, v),
+            _ => self.derivs(u, v).p,
+        }
     }
 
     /// Closest point on the surface to `p` within `rect` (robust: several seeds, bounded Newton,

@@ -21,6 +21,10 @@ pub struct ImportError {
 impl ImportError {
     /// An error in `file` at `place`.
     pub fn new(file: &Path, place: impl Into<Option<String>>, message: impl Into<String>) -> Self {
-        Self { file: file.to_path_buf(), place: place.into(), message: message.into() }
+        Self {
+            file: file.to_path_buf(),
+            place: place.into(),
+            message: message.into(),
+        }
     }
 }

@@ -2,11 +2,11 @@
 //! independent Cox–de Boor evaluator, exact rational quadratic conics).
 #![allow(dead_code)]
 
+use talas::geometry::DVec3;
 use talas::geometry::curve::{CurveDerivs, CurveGeom};
 use talas::geometry::diffgeom::SurfaceDerivs;
 use talas::geometry::nurbs::{BSplineCurve, BSplineSurface};
 use talas::geometry::surface::SurfaceGeom;
-use talas::geometry::DVec3;
 
 /// √2/2, the corner weight of a rational quadratic quarter circle.
 pub const W45: f64 = std::f64::consts::FRAC_1_SQRT_2;
@@ -16,7 +16,10 @@ pub struct Lcg(pub u64);
 
 impl Lcg {
     pub fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
@@ -28,13 +31,20 @@ impl Lcg {
 pub fn assert_vec_near(a: DVec3, b: DVec3, tol: f64, what: &str) {
     let err = (a - b).length();
     let scale = a.length().max(b.length()).max(1.0);
-    assert!(err <= tol * scale, "{what}: {a} vs {b} (error {err:e}, tol {tol:e} × {scale})");
+    assert!(
+        err <= tol * scale,
+        "{what}: {a} vs {b} (error {err:e}, tol {tol:e} × {scale})"
+    );
 }
 
 /// Cox–de Boor recursion N_{i,p}(u), half-open spans, 0/0 = 0 (textbook definition).
 pub fn cox_de_boor(knots: &[f64], i: usize, p: usize, u: f64) -> f64 {
     if p == 0 {
-        return if knots[i] <= u && u < knots[i + 1] { 1.0 } else { 0.0 };
+        return if knots[i] <= u && u < knots[i + 1] {
+            1.0
+        } else {
+            0.0
+        };
     }
     let mut v = 0.0;
     let d1 = knots[i + p] - knots[i];
@@ -102,8 +112,18 @@ pub fn check_surface_fd(s: &dyn Fn(f64, f64) -> SurfaceDerivs, u: f64, v: f64, h
     assert_vec_near(d.su, (up.p - um.p) * k, tol, &format!("S_u {at}"));
     assert_vec_near(d.sv, (vp.p - vm.p) * k, tol, &format!("S_v {at}"));
     assert_vec_near(d.suu, (up.su - um.su) * k, tol, &format!("S_uu {at}"));
-    assert_vec_near(d.suv, (vp.su - vm.su) * k, tol, &format!("S_uv (from S_u) {at}"));
-    assert_vec_near(d.suv, (up.sv - um.sv) * k, tol, &format!("S_uv (from S_v) {at}"));
+    assert_vec_near(
+        d.suv,
+        (vp.su - vm.su) * k,
+        tol,
+        &format!("S_uv (from S_u) {at}"),
+    );
+    assert_vec_near(
+        d.suv,
+        (up.sv - um.sv) * k,
+        tol,
+        &format!("S_uv (from S_v) {at}"),
+    );
     assert_vec_near(d.svv, (vp.sv - vm.sv) * k, tol, &format!("S_vv {at}"));
 }
 
@@ -125,13 +145,18 @@ pub fn unit_circle_net() -> [(f64, f64, f64); 9] {
 
 /// Full-circle knot vector for [`unit_circle_net`].
 pub fn circle_knots() -> Vec<f64> {
-    vec![0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0]
+    vec![
+        0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+    ]
 }
 
 /// Exact NURBS circle of radius r about `c` in the XY plane.
 pub fn nurbs_circle(c: DVec3, r: f64) -> BSplineCurve {
     let net = unit_circle_net();
-    let poles = net.iter().map(|&(x, y, _)| c + DVec3::new(x * r, y * r, 0.0)).collect();
+    let poles = net
+        .iter()
+        .map(|&(x, y, _)| c + DVec3::new(x * r, y * r, 0.0))
+        .collect();
     let weights = net.iter().map(|&(_, _, w)| w).collect();
     BSplineCurve::new(2, circle_knots(), poles, Some(weights)).unwrap()
 }
@@ -147,14 +172,30 @@ pub fn nurbs_cylinder(c: DVec3, r: f64, h: f64) -> BSplineSurface {
             weights.push(w);
         }
     }
-    BSplineSurface::new(2, 1, circle_knots(), vec![0.0, 0.0, 1.0, 1.0], 9, 2, poles, Some(weights)).unwrap()
+    BSplineSurface::new(
+        2,
+        1,
+        circle_knots(),
+        vec![0.0, 0.0, 1.0, 1.0],
+        9,
+        2,
+        poles,
+        Some(weights),
+    )
+    .unwrap()
 }
 
 /// Exact NURBS sphere of radius r about c: u = longitude circle, v = meridian from south to
 /// north pole (rational quadratic half circle, knots 0,0,0,½,½,1,1,1).
 pub fn nurbs_sphere(c: DVec3, r: f64) -> BSplineSurface {
     let net = unit_circle_net();
-    let meridian = [(0.0, -1.0, 1.0), (1.0, -1.0, W45), (1.0, 0.0, 1.0), (1.0, 1.0, W45), (0.0, 1.0, 1.0)];
+    let meridian = [
+        (0.0, -1.0, 1.0),
+        (1.0, -1.0, W45),
+        (1.0, 0.0, 1.0),
+        (1.0, 1.0, W45),
+        (0.0, 1.0, 1.0),
+    ];
     let mut poles = Vec::new();
     let mut weights = Vec::new();
     for &(x, y, wu) in &net {
@@ -163,8 +204,17 @@ pub fn nurbs_sphere(c: DVec3, r: f64) -> BSplineSurface {
             weights.push(wu * wv);
         }
     }
-    BSplineSurface::new(2, 2, circle_knots(), vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0], 9, 5, poles, Some(weights))
-        .unwrap()
+    BSplineSurface::new(
+        2,
+        2,
+        circle_knots(),
+        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0],
+        9,
+        5,
+        poles,
+        Some(weights),
+    )
+    .unwrap()
 }
 
 /// A non-uniform clamped bicubic-by-quadratic "hills" surface (7 × 6 poles), optionally rational.
@@ -176,13 +226,27 @@ pub fn hills(rational: bool) -> BSplineSurface {
     let mut weights = Vec::new();
     for i in 0..nu {
         for j in 0..nv {
-            let (x, y) = (i as f64 * 20.0 + (j as f64 * 1.3).sin() * 3.0, j as f64 * 15.0 + i as f64 * 2.0);
-            let z = 8.0 * ((i as f64) * 0.9).sin() * ((j as f64) * 1.1).cos() + (i * j) as f64 * 0.3;
+            let (x, y) = (
+                i as f64 * 20.0 + (j as f64 * 1.3).sin() * 3.0,
+                j as f64 * 15.0 + i as f64 * 2.0,
+            );
+            let z =
+                8.0 * ((i as f64) * 0.9).sin() * ((j as f64) * 1.1).cos() + (i * j) as f64 * 0.3;
             poles.push(DVec3::new(x, y, z));
             weights.push(1.0 + 0.6 * ((i * 7 + j * 3) % 5) as f64 / 4.0);
         }
     }
-    BSplineSurface::new(3, 2, knots_u, knots_v, nu, nv, poles, rational.then_some(weights)).unwrap()
+    BSplineSurface::new(
+        3,
+        2,
+        knots_u,
+        knots_v,
+        nu,
+        nv,
+        poles,
+        rational.then_some(weights),
+    )
+    .unwrap()
 }
 
 /// Wrap a surface's derivs as a closure for [`check_surface_fd`].

@@ -105,7 +105,7 @@ fn numeric(curve: &CurveGeom, p: DVec3, range: Interval, dom: Interval) -> f64 {
             (lo, hi, true)
         }
     };
-    if !(hi > lo) || !lo.is_finite() || !hi.is_finite() {
+    if !lo.is_finite() || !hi.is_finite() || hi <= lo {
         return fallback(range, dom);
     }
     let n = match curve {
@@ -192,14 +192,14 @@ fn newton(
             let tn = clamp(t + step);
             let dn = curve.point(tn).distance_squared(p);
             if dn <= d {
-                improved = tn != t;
+                improved = tn != t && dn < d;
                 t = tn;
                 d = dn;
                 break;
             }
             step *= 0.5;
         }
-        if !improved || step.abs() <= 1e-15 * (t.abs() + max_step) {
+        if !improved || step.abs() <= 1e-12 * max_step {
             break;
         }
     }

@@ -80,7 +80,7 @@ impl BSplineCurve {
         }
         let t = self.eval_param(t);
         let p = self.degree;
-        with_basis(&self.knots, p, self.poles.len(), t, |b| {
+        with_basis(&self.knots, p, self.poles.len(), t, true, |b| {
             let first = b.span - p;
             match &self.weights {
                 None => {
@@ -114,10 +114,28 @@ impl BSplineCurve {
         })
     }
 
-    /// Point at `t`.
+    /// Point at `t` (basis values only: cheaper than [`Self::derivs`]).
     #[must_use]
     pub fn point(&self, t: f64) -> DVec3 {
-        self.derivs(t).p
+        if !self.is_well_formed() {
+            return self.poles.first().copied().unwrap_or(DVec3::ZERO);
+        }
+        let t = self.eval_param(t);
+        let p = self.degree;
+        with_basis(&self.knots, p, self.poles.len(), t, false, |b| {
+            let first = b.span - p;
+            let mut a = DVec4::ZERO;
+            for (r, k) in (first..=b.span).enumerate() {
+                let pole = self.poles[k];
+                let w = self.weights.as_ref().map_or(1.0, |w| w[k]);
+                a += (pole * w).extend(w) * b.n0[r];
+            }
+            if a.w > 0.0 {
+                a.truncate() / a.w
+            } else {
+                a.truncate()
+            }
+        })
     }
 
     /// Box around the control polygon (contains the curve: weights are positive).
@@ -130,7 +148,7 @@ impl BSplineCurve {
 /// Quotient rule for `C = A / w` with homogeneous derivatives `(A, w)` (A4.2).
 pub(crate) fn rational_curve(a0: DVec4, a1: DVec4, a2: DVec4) -> CurveDerivs {
     let w = a0.w;
-    if !(w > 0.0) {
+    if w.is_nan() || w <= 0.0 {
         return CurveDerivs {
             p: a0.truncate(),
             d1: DVec3::ZERO,

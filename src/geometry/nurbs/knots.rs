@@ -159,7 +159,7 @@ pub(crate) fn period(
     }
     let dom = domain(knots, p, n_poles);
     let t = dom.len();
-    if !(t > 0.0) {
+    if t.is_nan() || t <= 0.0 {
         return None;
     }
     let tol = 1e-12 * (dom.t0.abs() + dom.t1.abs() + t);

@@ -7,6 +7,7 @@ use glam::DVec4;
 use super::basis::with_basis;
 use super::{BSplineCurve, BSplineSurface, knots};
 use crate::geometry::diffgeom::SurfaceDerivs;
+use crate::geometry::surface::ParamRect;
 use crate::geometry::{Aabb, DVec3, Interval};
 
 impl BSplineSurface {
@@ -25,13 +26,13 @@ impl BSplineSurface {
                 .is_none_or(|w| w.len() == self.poles.len())
     }
 
-    /// Parameter domains `(u, v)`.
+    /// Parameter domain `[U_p, U_{n+1}]` in each direction.
     #[must_use]
-    pub fn domain(&self) -> (Interval, Interval) {
-        (
-            knots::domain(&self.knots_u, self.degree_u, self.n_u),
-            knots::domain(&self.knots_v, self.degree_v, self.n_v),
-        )
+    pub fn domain(&self) -> ParamRect {
+        ParamRect {
+            u: knots::domain(&self.knots_u, self.degree_u, self.n_u),
+            v: knots::domain(&self.knots_v, self.degree_v, self.n_v),
+        }
     }
 
     fn same_pole(&self, a: usize, b: usize, tol: f64) -> bool {
@@ -71,7 +72,7 @@ impl BSplineSurface {
     /// direction, clamped otherwise (NaN goes to the domain start).
     #[must_use]
     pub fn eval_params(&self, u: f64, v: f64) -> (f64, f64) {
-        let (du, dv) = self.domain();
+        let ParamRect { u: du, v: dv } = self.domain();
         let inside = |t: f64, d: Interval| t >= d.t0 && t <= d.t1;
         if inside(u, du) && inside(v, dv) {
             return (u, v);
@@ -103,50 +104,92 @@ impl BSplineSurface {
         }
         let (u, v) = self.eval_params(u, v);
         let (pu, pv, nv) = (self.degree_u, self.degree_v, self.n_v);
-        with_basis(&self.knots_u, pu, self.n_u, u, |bu| {
-            with_basis(&self.knots_v, pv, nv, v, |bv| {
+        with_basis(&self.knots_u, pu, self.n_u, u, true, |bu| {
+            with_basis(&self.knots_v, pv, nv, v, true, |bv| {
                 let (iu0, jv0) = (bu.span - pu, bv.span - pv);
-                let mut acc = [DVec4::ZERO; 6]; // 00, 10, 01, 20, 11, 02
-                for r in 0..=pu {
-                    let row = (iu0 + r) * nv + jv0;
-                    let (mut r0, mut r1, mut r2) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
-                    let poles = &self.poles[row..=row + pv];
-                    match &self.weights {
-                        None => {
-                            for (s, pole) in poles.iter().enumerate() {
-                                let h = pole.extend(1.0);
-                                r0 += h * bv.n0[s];
-                                r1 += h * bv.n1[s];
-                                r2 += h * bv.n2[s];
+                match &self.weights {
+                    None => {
+                        let mut a = [DVec3::ZERO; 6]; // 00, 10, 01, 20, 11, 02
+                        for r in 0..=pu {
+                            let row = (iu0 + r) * nv + jv0;
+                            let (mut r0, mut r1, mut r2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+                            for (s, pole) in self.poles[row..=row + pv].iter().enumerate() {
+                                r0 += *pole * bv.n0[s];
+                                r1 += *pole * bv.n1[s];
+                                r2 += *pole * bv.n2[s];
                             }
+                            let (n0, n1, n2) = (bu.n0[r], bu.n1[r], bu.n2[r]);
+                            a[0] += r0 * n0;
+                            a[1] += r0 * n1;
+                            a[2] += r1 * n0;
+                            a[3] += r0 * n2;
+                            a[4] += r1 * n1;
+                            a[5] += r2 * n0;
                         }
-                        Some(w) => {
-                            for (s, (pole, &wi)) in poles.iter().zip(&w[row..=row + pv]).enumerate()
-                            {
+                        let [p, su, sv, suu, suv, svv] = a;
+                        SurfaceDerivs {
+                            p,
+                            su,
+                            sv,
+                            suu,
+                            suv,
+                            svv,
+                        }
+                    }
+                    Some(w) => {
+                        let mut a = [DVec4::ZERO; 6];
+                        for r in 0..=pu {
+                            let row = (iu0 + r) * nv + jv0;
+                            let (mut r0, mut r1, mut r2) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
+                            let poles = self.poles[row..=row + pv].iter().zip(&w[row..=row + pv]);
+                            for (s, (pole, &wi)) in poles.enumerate() {
                                 let h = (*pole * wi).extend(wi);
                                 r0 += h * bv.n0[s];
                                 r1 += h * bv.n1[s];
                                 r2 += h * bv.n2[s];
                             }
+                            let (n0, n1, n2) = (bu.n0[r], bu.n1[r], bu.n2[r]);
+                            a[0] += r0 * n0;
+                            a[1] += r0 * n1;
+                            a[2] += r1 * n0;
+                            a[3] += r0 * n2;
+                            a[4] += r1 * n1;
+                            a[5] += r2 * n0;
                         }
+                        rational_surface(&a)
                     }
-                    let (n0, n1, n2) = (bu.n0[r], bu.n1[r], bu.n2[r]);
-                    acc[0] += r0 * n0;
-                    acc[1] += r0 * n1;
-                    acc[2] += r1 * n0;
-                    acc[3] += r0 * n2;
-                    acc[4] += r1 * n1;
-                    acc[5] += r2 * n0;
                 }
-                rational_surface(&acc)
             })
         })
     }
 
-    /// Point at `(u, v)`.
+    /// Point at `(u, v)` (basis values only: cheaper than [`Self::derivs`]).
     #[must_use]
     pub fn point(&self, u: f64, v: f64) -> DVec3 {
-        self.derivs(u, v).p
+        if !self.is_well_formed() {
+            return self.poles.first().copied().unwrap_or(DVec3::ZERO);
+        }
+        let (u, v) = self.eval_params(u, v);
+        let (pu, pv, nv) = (self.degree_u, self.degree_v, self.n_v);
+        with_basis(&self.knots_u, pu, self.n_u, u, false, |bu| {
+            with_basis(&self.knots_v, pv, nv, v, false, |bv| {
+                let jv0 = bv.span - pv;
+                let mut a = DVec4::ZERO;
+                for r in 0..=pu {
+                    let row = (bu.span - pu + r) * nv + jv0;
+                    let mut r0 = DVec4::ZERO;
+                    for (s, k) in (row..=row + pv).enumerate() {
+                        r0 += self.homogeneous(k) * bv.n0[s];
+                    }
+                    a += r0 * bu.n0[r];
+                }
+                if a.w > 0.0 {
+                    a.truncate() / a.w
+                } else {
+                    a.truncate()
+                }
+            })
+        })
     }
 
     /// The iso-parametric curve `v ↦ S(u, v)` (exact: homogeneous poles combined with the u
@@ -156,9 +199,9 @@ impl BSplineSurface {
         if !self.is_well_formed() {
             return self.degenerate_iso(self.degree_v, &self.knots_v);
         }
-        let (u, _) = self.eval_params(u, self.domain().1.t0);
+        let (u, _) = self.eval_params(u, self.domain().v.t0);
         let (pu, nv) = (self.degree_u, self.n_v);
-        let h: Vec<DVec4> = with_basis(&self.knots_u, pu, self.n_u, u, |bu| {
+        let h: Vec<DVec4> = with_basis(&self.knots_u, pu, self.n_u, u, false, |bu| {
             (0..nv)
                 .map(|j| {
                     (0..=pu).fold(DVec4::ZERO, |acc, r| {
@@ -176,9 +219,9 @@ impl BSplineSurface {
         if !self.is_well_formed() {
             return self.degenerate_iso(self.degree_u, &self.knots_u);
         }
-        let (_, v) = self.eval_params(self.domain().0.t0, v);
+        let (_, v) = self.eval_params(self.domain().u.t0, v);
         let (pv, nv) = (self.degree_v, self.n_v);
-        let h: Vec<DVec4> = with_basis(&self.knots_v, pv, nv, v, |bv| {
+        let h: Vec<DVec4> = with_basis(&self.knots_v, pv, nv, v, false, |bv| {
             (0..self.n_u)
                 .map(|i| {
                     (0..=pv).fold(DVec4::ZERO, |acc, s| {
@@ -244,7 +287,7 @@ impl BSplineSurface {
 fn rational_surface(a: &[DVec4; 6]) -> SurfaceDerivs {
     let [a00, a10, a01, a20, a11, a02] = *a;
     let w = a00.w;
-    if !(w > 0.0) {
+    if w.is_nan() || w <= 0.0 {
         let z = DVec3::ZERO;
         return SurfaceDerivs {
             p: a00.truncate(),

@@ -21,6 +21,8 @@ struct Axis {
     free: Option<f64>,
     /// Finite window for seeding.
     win: Interval,
+    /// Period of the direction, if periodic.
+    period: Option<f64>,
 }
 
 impl Axis {
@@ -38,6 +40,21 @@ impl Axis {
 
     fn at_hi(&self, t: f64) -> bool {
         self.free.is_none() && t >= self.hi
+    }
+
+    /// A seed coordinate: periodic representatives moved next to the window, then clamped.
+    fn seed(&self, t: f64) -> f64 {
+        let Some(per) = self.period.filter(|_| t.is_finite()) else {
+            return self.clamp(t);
+        };
+        let a = self.win.t0 + (t - self.win.t0).rem_euclid(per);
+        // `a` or `a − T`, whichever is nearer the window.
+        let b = a - per;
+        if a <= self.win.t1 || (a - self.win.t1) <= (self.win.t0 - b) {
+            self.clamp(a)
+        } else {
+            self.clamp(b)
+        }
     }
 
     fn finish(&self, t: f64) -> f64 {
@@ -72,6 +89,7 @@ fn axis(r: Interval, dom: Interval, period: Option<f64>) -> Axis {
                 hi: a + per,
                 free: Some(per),
                 win: Interval::new(a, a + per),
+                period,
             }
         }
         Some(_) => Axis {
@@ -79,6 +97,7 @@ fn axis(r: Interval, dom: Interval, period: Option<f64>) -> Axis {
             hi: r.t1,
             free: None,
             win: r,
+            period,
         },
         None => {
             let (mut lo, mut hi) = (r.t0.max(dom.t0), r.t1.min(dom.t1));
@@ -92,6 +111,7 @@ fn axis(r: Interval, dom: Interval, period: Option<f64>) -> Axis {
                 hi,
                 free: None,
                 win: Interval::new(lo, hi),
+                period: None,
             }
         }
     }
@@ -296,7 +316,7 @@ pub(super) fn closest_point(
         an.into_iter()
             .flatten()
             .chain(hint)
-            .map(|uv| DVec2::new(au.clamp(uv.x), av.clamp(uv.y))),
+            .map(|uv| DVec2::new(au.seed(uv.x), av.seed(uv.y))),
     );
     let max_step = DVec2::new(au.win.len().max(1e-300), av.win.len().max(1e-300)) * 0.25;
     let mut best: Option<(f64, DVec2)> = None;
@@ -324,7 +344,7 @@ pub(super) fn closest_point_near(
     let (au, av) = setup(s, p, rect, start);
     let st = start.map_or_else(
         || anchor(&au, &av),
-        |st| DVec2::new(au.clamp(st.x), av.clamp(st.y)),
+        |st| DVec2::new(au.seed(st.x), av.seed(st.y)),
     );
     if !p.is_finite() || !st.is_finite() {
         return result(s, p, anchor(&au, &av));
@@ -385,11 +405,10 @@ fn descend(
         }
         let Some((cand, fc)) = moved else { break };
         let delta = cand - uv;
+        let stalled = fc >= f;
         uv = cand;
         f = fc;
-        if delta.x.abs() <= 1e-15 * max_step.x.max(uv.x.abs())
-            && delta.y.abs() <= 1e-15 * max_step.y.max(uv.y.abs())
-        {
+        if stalled || (delta.x.abs() <= 1e-12 * max_step.x && delta.y.abs() <= 1e-12 * max_step.y) {
             break;
         }
     }

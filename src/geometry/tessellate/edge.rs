@@ -13,8 +13,12 @@ const MAX_DEPTH: u32 = 12;
 /// points are the vertices' coordinates; interior points lie on the curve.
 #[must_use]
 pub fn discretize_edge(edge: &Edge, vertices: &[Vertex], opts: &TessellationOptions) -> Vec<DVec3> {
-    let start = vertices.get(edge.start).map_or_else(|| edge.curve.point(edge.t_start), |v| v.point);
-    let end = vertices.get(edge.end).map_or_else(|| edge.curve.point(edge.t_end), |v| v.point);
+    let start = vertices
+        .get(edge.start)
+        .map_or_else(|| edge.curve.point(edge.t_start), |v| v.point);
+    let end = vertices
+        .get(edge.end)
+        .map_or_else(|| edge.curve.point(edge.t_end), |v| v.point);
     let params = edge_params(&edge.curve, edge.t_start, edge.t_end, opts);
     let mut pts = Vec::with_capacity(params.len());
     pts.push(start);
@@ -57,22 +61,41 @@ fn initial_segments(curve: &CurveGeom, t0: f64, t1: f64, opts: &TessellationOpti
         CurveGeom::Ellipse(e) => span / angle_step(e.semi_axis_1.max(e.semi_axis_2), opts),
         CurveGeom::BSpline(b) => {
             let (lo, hi) = (t0.min(t1), t0.max(t1));
-            let spans = b.knots.windows(2).filter(|w| w[1] > w[0] && w[1] > lo && w[0] < hi).count();
+            let spans = b
+                .knots
+                .windows(2)
+                .filter(|w| w[1] > w[0] && w[1] > lo && w[0] < hi)
+                .count();
             (spans * b.degree.max(1)) as f64
         }
     };
-    if n.is_finite() { (n.ceil() as usize).clamp(1, 4096) } else { 1 }
+    if n.is_finite() {
+        (n.ceil() as usize).clamp(1, 4096)
+    } else {
+        1
+    }
 }
 
 /// Angle step of a circle of radius `r` within the chord and angle tolerances.
 fn angle_step(r: f64, opts: &TessellationOptions) -> f64 {
-    let by_chord = if r > opts.chord_tol_mm { 2.0 * (1.0 - opts.chord_tol_mm / r).acos() } else { std::f64::consts::PI };
+    let by_chord = if r > opts.chord_tol_mm {
+        2.0 * (1.0 - opts.chord_tol_mm / r).acos()
+    } else {
+        std::f64::consts::PI
+    };
     by_chord.min(opts.angle_tol_rad).max(1e-4)
 }
 
 /// Append the parameters after `a` up to and including `b`, splitting while the midpoint strays
 /// from the chord or the tangent turns too much.
-fn subdivide(curve: &CurveGeom, a: f64, b: f64, opts: &TessellationOptions, depth: u32, out: &mut Vec<f64>) {
+fn subdivide(
+    curve: &CurveGeom,
+    a: f64,
+    b: f64,
+    opts: &TessellationOptions,
+    depth: u32,
+    out: &mut Vec<f64>,
+) {
     if depth < MAX_DEPTH && needs_split(curve, a, b, opts) {
         let m = 0.5 * (a + b);
         subdivide(curve, a, m, opts, depth + 1, out);
@@ -92,7 +115,10 @@ fn needs_split(curve: &CurveGeom, a: f64, b: f64, opts: &TessellationOptions) ->
     // Chord error at the quarter points and the midpoint.
     for s in [0.25, 0.5, 0.75] {
         let p = curve.point(a + (b - a) * s);
-        let dev = chord.try_normalize().map_or_else(|| (p - da.p).length(), |dir| (p - da.p).reject_from_normalized(dir).length());
+        let dev = chord.try_normalize().map_or_else(
+            || (p - da.p).length(),
+            |dir| (p - da.p).reject_from_normalized(dir).length(),
+        );
         if dev > opts.chord_tol_mm {
             return true;
         }

@@ -32,7 +32,12 @@ pub struct FaceMesh {
 ///
 /// # Errors
 /// A message when the face's loops cannot be mapped to the parameter plane or triangulated.
-pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], opts: &TessellationOptions) -> Result<FaceMesh, String> {
+pub fn tessellate_face(
+    face: &Face,
+    part: &Part,
+    edge_polylines: &[Vec<DVec3>],
+    opts: &TessellationOptions,
+) -> Result<FaceMesh, String> {
     let surface = &face.surface;
     let mut loops = face_uv_loops(face, part, edge_polylines)?;
     if loops.is_empty() {
@@ -41,9 +46,13 @@ pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], 
     let (lo, hi) = uv_bounds(&loops).ok_or("face has no boundary points")?;
     let grid = Grid::new(surface, lo, hi, opts);
     let to_xy = |uv: DVec2| Point2::new((uv.x - lo.x) * grid.scale.x, (uv.y - lo.y) * grid.scale.y);
-    let polys: Vec<Vec<Point2<f64>>> = loops.iter().map(|l| l.uv.iter().map(|&uv| to_xy(uv)).collect()).collect();
+    let polys: Vec<Vec<Point2<f64>>> = loops
+        .iter()
+        .map(|l| l.uv.iter().map(|&uv| to_xy(uv)).collect())
+        .collect();
 
-    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> = ConstrainedDelaunayTriangulation::new();
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::new();
     let mut out = FaceMesh::default();
     // Output vertex of each CDT vertex (by handle index).
     let mut out_of_handle: Vec<u32> = Vec::new();
@@ -51,12 +60,15 @@ pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], 
     for (l, poly) in loops.iter().zip(&polys) {
         let mut handles = Vec::with_capacity(poly.len());
         for (k, &xy) in poly.iter().enumerate() {
-            let h = cdt.insert(xy).map_err(|e| format!("boundary point not triangulable: {e:?}"))?;
+            let h = cdt
+                .insert(xy)
+                .map_err(|e| format!("boundary point not triangulable: {e:?}"))?;
             if h.index() >= out_of_handle.len() {
                 out_of_handle.resize(h.index() + 1, u32::MAX);
             }
             if out_of_handle[h.index()] == u32::MAX {
-                out_of_handle[h.index()] = push(&mut out, surface, l.uv[k], l.p3[k], face.same_sense);
+                out_of_handle[h.index()] =
+                    push(&mut out, surface, l.uv[k], l.p3[k], face.same_sense);
             }
             handles.push(h);
         }
@@ -69,7 +81,10 @@ pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], 
     }
     out.boundary_vertex_count = out.positions.len();
     if conflicts > 0 {
-        out.diagnostics.push(Diagnostic::warning(Some(format!("#{}", face.source_id)), format!("{conflicts} boundary segments cross others in the parameter plane")));
+        out.diagnostics.push(Diagnostic::warning(
+            Some(format!("#{}", face.source_id)),
+            format!("{conflicts} boundary segments cross others in the parameter plane"),
+        ));
     }
 
     // Interior grid points, away from the boundary.
@@ -92,37 +107,90 @@ pub fn tessellate_face(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>], 
         }
     }
 
+    let parity = if conflicts == 0 {
+        Some(inside_by_parity(&cdt))
+    } else {
+        None
+    };
     for f in cdt.inner_faces() {
         let vs = f.vertices();
-        let c = {
-            let [a, b, c] = vs.map(|v| v.position());
-            Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0)
+        let keep = match &parity {
+            Some(p) => p.get(f.fix().index()).copied().flatten().unwrap_or(false),
+            None => {
+                let [a, b, c] = vs.map(|v| v.position());
+                inside(
+                    &polys,
+                    Point2::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0),
+                )
+            }
         };
-        if !inside(&polys, c) {
+        if !keep {
             continue;
         }
-        let idx = vs.map(|v| out_of_handle.get(v.fix().index()).copied().unwrap_or(u32::MAX));
+        let idx = vs.map(|v| {
+            out_of_handle
+                .get(v.fix().index())
+                .copied()
+                .unwrap_or(u32::MAX)
+        });
         if idx.contains(&u32::MAX) {
             continue;
         }
-        out.triangles.push(if face.same_sense { idx } else { [idx[0], idx[2], idx[1]] });
+        out.triangles.push(if face.same_sense {
+            idx
+        } else {
+            [idx[0], idx[2], idx[1]]
+        });
     }
     fill_missing_normals(&mut out);
     Ok(out)
 }
 
 fn push(out: &mut FaceMesh, surface: &SurfaceGeom, uv: DVec2, p: DVec3, same_sense: bool) -> u32 {
-    let n = surface.derivs(uv.x, uv.y).normal().map_or(DVec3::ZERO, |n| if same_sense { n } else { -n });
+    let n = surface
+        .derivs(uv.x, uv.y)
+        .normal()
+        .map_or(DVec3::ZERO, |n| if same_sense { n } else { -n });
     out.positions.push(p);
     out.normals.push(n);
     out.uv.push(uv);
     u32::try_from(out.positions.len() - 1).unwrap_or(u32::MAX)
 }
 
+/// Inside/outside of every triangle by crossing parity: start outside at the convex hull and
+/// flip at every constraint (boundary) edge crossed. Unlike a point-in-polygon test this is
+/// immune to slivers between nearly collinear boundary points.
+fn inside_by_parity(cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>) -> Vec<Option<bool>> {
+    let mut state: Vec<Option<bool>> = vec![None; cdt.num_all_faces()];
+    let mut stack = Vec::new();
+    for e in cdt.convex_hull() {
+        if let Some(f) = e.face().as_inner().or_else(|| e.rev().face().as_inner()) {
+            stack.push((f.fix(), e.is_constraint_edge()));
+        }
+    }
+    while let Some((f, inside)) = stack.pop() {
+        let Some(slot) = state.get_mut(f.index()) else {
+            continue;
+        };
+        if slot.is_some() {
+            continue;
+        }
+        *slot = Some(inside);
+        for e in cdt.face(f).adjacent_edges() {
+            if let Some(nb) = e.rev().face().as_inner()
+                && state.get(nb.fix().index()).is_some_and(Option::is_none)
+            {
+                stack.push((nb.fix(), inside ^ e.is_constraint_edge()));
+            }
+        }
+    }
+    state
+}
+
 /// Vertices where the surface normal is undefined (poles, apexes) take the mean of their
 /// triangles' normals.
 fn fill_missing_normals(out: &mut FaceMesh) {
-    if !out.normals.iter().any(|n| *n == DVec3::ZERO) {
+    if !out.normals.contains(&DVec3::ZERO) {
         return;
     }
     let mut acc = vec![DVec3::ZERO; out.positions.len()];
@@ -148,7 +216,12 @@ fn domain_loop(surface: &SurfaceGeom) -> Result<UvLoop, String> {
     }
     let n = 16;
     let mut l = UvLoop::default();
-    let corners = [DVec2::new(r.u.t0, r.v.t0), DVec2::new(r.u.t1, r.v.t0), DVec2::new(r.u.t1, r.v.t1), DVec2::new(r.u.t0, r.v.t1)];
+    let corners = [
+        DVec2::new(r.u.t0, r.v.t0),
+        DVec2::new(r.u.t1, r.v.t0),
+        DVec2::new(r.u.t1, r.v.t1),
+        DVec2::new(r.u.t0, r.v.t1),
+    ];
     for k in 0..4 {
         let (a, b) = (corners[k], corners[(k + 1) % 4]);
         for s in 0..n {
@@ -185,7 +258,9 @@ struct Grid {
 impl Grid {
     fn new(surface: &SurfaceGeom, lo: DVec2, hi: DVec2, opts: &TessellationOptions) -> Self {
         const SAMPLES: usize = 9;
-        let (mut su, mut sv, mut su_min, mut sv_min) = (0.0, 0.0, f64::INFINITY, f64::INFINITY);
+        let (mut su, mut sv) = (0.0, 0.0);
+        // Largest turn of the normal per unit parameter (|S_uu·n| / |S_u|), over the samples.
+        let (mut rate_u, mut rate_v) = (0.0f64, 0.0f64);
         let (mut a_uu, mut a_uv, mut a_vv) = (0.0f64, 0.0f64, 0.0f64);
         let mut count = 0.0;
         for i in 0..SAMPLES {
@@ -200,32 +275,42 @@ impl Grid {
                 su += lu;
                 sv += lv;
                 count += 1.0;
-                if lu > 0.0 {
-                    su_min = su_min.min(lu);
-                }
-                if lv > 0.0 {
-                    sv_min = sv_min.min(lv);
-                }
                 // Only the normal components bend the surface away from a flat triangle.
                 let n = d.normal().unwrap_or(DVec3::ZERO);
-                a_uu = a_uu.max(d.suu.dot(n).abs());
-                a_uv = a_uv.max(d.suv.dot(n).abs());
-                a_vv = a_vv.max(d.svv.dot(n).abs());
+                let (b_uu, b_uv, b_vv) =
+                    (d.suu.dot(n).abs(), d.suv.dot(n).abs(), d.svv.dot(n).abs());
+                a_uu = a_uu.max(b_uu);
+                a_uv = a_uv.max(b_uv);
+                a_vv = a_vv.max(b_vv);
+                if lu > 1e-9 * (lu + lv) {
+                    rate_u = rate_u.max(b_uu.max(b_uv) / lu);
+                }
+                if lv > 1e-9 * (lu + lv) {
+                    rate_v = rate_v.max(b_vv.max(b_uv) / lv);
+                }
             }
         }
-        let scale = if count > 0.0 { DVec2::new((su / count).max(1e-12), (sv / count).max(1e-12)) } else { DVec2::ONE };
+        let scale = if count > 0.0 {
+            DVec2::new((su / count).max(1e-12), (sv / count).max(1e-12))
+        } else {
+            DVec2::ONE
+        };
         let range = (hi - lo).max(DVec2::splat(1e-300));
         let tol = opts.chord_tol_mm;
-        let step_for = |a: f64, s_min: f64, full: f64| -> f64 {
+        let step_for = |a: f64, rate: f64, full: f64| -> f64 {
             if a <= 0.0 || !a.is_finite() {
                 return full;
             }
             let by_chord = (8.0 * tol / a).sqrt();
-            let by_angle = if s_min.is_finite() { opts.angle_tol_rad * s_min / a } else { full };
+            let by_angle = if rate > 0.0 && rate.is_finite() {
+                opts.angle_tol_rad / rate
+            } else {
+                full
+            };
             by_chord.min(by_angle).min(full)
         };
-        let mut hu = step_for(a_uu.max(a_uv), su_min, range.x);
-        let mut hv = step_for(a_vv.max(a_uv), sv_min, range.y);
+        let mut hu = step_for(a_uu.max(a_uv), rate_u, range.x);
+        let mut hv = step_for(a_vv.max(a_uv), rate_v, range.y);
         // Keep cells no more than 4:1 (in mm) when only one direction is curved, so rulings of
         // cylinders and cones are not left to long slivers.
         let (lu, lv) = (hu * scale.x, hv * scale.y);
@@ -243,7 +328,11 @@ impl Grid {
             nu = (nu * f).floor().max(1.0);
             nv = (nv * f).floor().max(1.0);
         }
-        Self { step: DVec2::new(range.x / nu, range.y / nv), n: (nu as usize, nv as usize), scale }
+        Self {
+            step: DVec2::new(range.x / nu, range.y / nv),
+            n: (nu as usize, nv as usize),
+            scale,
+        }
     }
 
     fn min_step_xy(&self) -> f64 {
@@ -261,7 +350,10 @@ struct SegmentIndex {
 impl SegmentIndex {
     fn new(polys: &[Vec<Point2<f64>>], grid: &Grid) -> Self {
         let n = (grid.n.0.max(1), grid.n.1.max(1));
-        let cell = ((grid.step.x * grid.scale.x).max(1e-300), (grid.step.y * grid.scale.y).max(1e-300));
+        let cell = (
+            (grid.step.x * grid.scale.x).max(1e-300),
+            (grid.step.y * grid.scale.y).max(1e-300),
+        );
         let mut cells = vec![Vec::new(); n.0 * n.1];
         for (li, poly) in polys.iter().enumerate() {
             for k in 0..poly.len() {
@@ -299,14 +391,22 @@ fn ordered(a: f64, b: f64) -> (f64, f64) {
 }
 
 fn clamp_idx(x: f64, n: usize) -> usize {
-    if x.is_nan() || x < 0.0 { 0 } else { (x as usize).min(n - 1) }
+    if x.is_nan() || x < 0.0 {
+        0
+    } else {
+        (x as usize).min(n - 1)
+    }
 }
 
 fn segment_distance(p: Point2<f64>, a: Point2<f64>, b: Point2<f64>) -> f64 {
     let (abx, aby) = (b.x - a.x, b.y - a.y);
     let (apx, apy) = (p.x - a.x, p.y - a.y);
     let len2 = abx * abx + aby * aby;
-    let t = if len2 > 0.0 { ((apx * abx + apy * aby) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if len2 > 0.0 {
+        ((apx * abx + apy * aby) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let (dx, dy) = (apx - t * abx, apy - t * aby);
     (dx * dx + dy * dy).sqrt()
 }
@@ -335,11 +435,26 @@ mod tests {
 
     #[test]
     fn even_odd_handles_holes() {
-        let sq = |s: f64| vec![Point2::new(-s, -s), Point2::new(s, -s), Point2::new(s, s), Point2::new(-s, s)];
+        let sq = |s: f64| {
+            vec![
+                Point2::new(-s, -s),
+                Point2::new(s, -s),
+                Point2::new(s, s),
+                Point2::new(-s, s),
+            ]
+        };
         let polys = vec![sq(2.0), sq(1.0)];
         assert!(inside(&polys, Point2::new(1.5, 0.0)));
         assert!(!inside(&polys, Point2::new(0.0, 0.0)));
         assert!(!inside(&polys, Point2::new(3.0, 0.0)));
-        assert!((segment_distance(Point2::new(0.0, 1.0), Point2::new(-1.0, 0.0), Point2::new(1.0, 0.0)) - 1.0).abs() < 1e-15);
+        assert!(
+            (segment_distance(
+                Point2::new(0.0, 1.0),
+                Point2::new(-1.0, 0.0),
+                Point2::new(1.0, 0.0)
+            ) - 1.0)
+                .abs()
+                < 1e-15
+        );
     }
 }

@@ -2,7 +2,7 @@
 //! polylines, unwrapping across periodic seams, expansion at singular points (poles, apexes), and
 //! closing of loops that run once around a periodic direction (bands and caps without seams).
 
-use crate::geometry::brep::{Face, Loop, Part};
+use crate::geometry::brep::{Face, Loop, OrientedEdge, Part};
 use crate::geometry::surface::{ParamRect, SurfaceGeom};
 use crate::geometry::{DVec2, DVec3};
 
@@ -27,7 +27,11 @@ struct Pt {
 }
 
 /// The face's loops in the parameter plane, ready to triangulate. `Err` explains why not.
-pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec3>]) -> Result<Vec<UvLoop>, String> {
+pub(super) fn face_uv_loops(
+    face: &Face,
+    part: &Part,
+    edge_polylines: &[Vec<DVec3>],
+) -> Result<Vec<UvLoop>, String> {
     let surface = &face.surface;
     let rect = surface.domain();
     let (pu, pv) = surface.periods();
@@ -45,7 +49,11 @@ pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec
                 loops.push(pts);
             }
             Loop::Vertex(vi) => {
-                let p = part.vertices.get(*vi).ok_or_else(|| format!("vertex loop refers to missing vertex {vi}"))?.point;
+                let p = part
+                    .vertices
+                    .get(*vi)
+                    .ok_or_else(|| format!("vertex loop refers to missing vertex {vi}"))?
+                    .point;
                 vertex_loop_points.push(surface.closest_point(p, rect, None).uv);
             }
         }
@@ -61,15 +69,22 @@ pub(super) fn face_uv_loops(face: &Face, part: &Part, edge_polylines: &[Vec<DVec
             }
         }
     }
-    let loops: Vec<Vec<Pt>> = loops.into_iter().map(|l| expand_singular(surface, l)).collect();
+    let loops: Vec<Vec<Pt>> = loops
+        .into_iter()
+        .map(|l| expand_singular(surface, l))
+        .collect();
     close_periodic(loops, pu, pv, face.same_sense, &vertex_loop_points, rect)
 }
 
 /// The 3D points of an edge loop in order (each edge's last point is the next edge's first).
-fn loop_points(oes: &[crate::geometry::brep::OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Vec<DVec3>, String> {
+/// The importer has already chained the loop (`import::step` repairs loops listed out of order
+/// or with reversed edges, as Open CASCADE's wire fixing does).
+fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Vec<DVec3>, String> {
     let mut pts = Vec::new();
     for oe in oes {
-        let poly = edge_polylines.get(oe.edge).ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
+        let poly = edge_polylines
+            .get(oe.edge)
+            .ok_or_else(|| format!("loop refers to missing edge {}", oe.edge))?;
         if poly.is_empty() {
             continue;
         }
@@ -82,11 +97,27 @@ fn loop_points(oes: &[crate::geometry::brep::OrientedEdge], edge_polylines: &[Ve
     Ok(pts)
 }
 
+/// A boundary point this close to the surface is taken as lying on it (CAD tolerances are
+/// 1e-7 to 1e-3 mm).
+const NEAR_ENOUGH_MM: f64 = 1e-4;
+
 fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
     let mut hint = None;
     let mut out = Vec::with_capacity(pts3.len());
     for &p in pts3 {
-        let sp = surface.closest_point(p, rect, hint);
+        // Walking along the loop, Newton from the previous point's parameters is enough; fall
+        // back to the global search when it does not land on the surface.
+        let near = hint.map(|h| surface.closest_point_near(p, rect, h));
+        let sp = match near {
+            Some(sp) if sp.distance <= NEAR_ENOUGH_MM => sp,
+            _ => {
+                let global = surface.closest_point(p, rect, hint);
+                match near {
+                    Some(n) if n.distance < global.distance => n,
+                    _ => global,
+                }
+            }
+        };
         let d = surface.derivs(sp.uv.x, sp.uv.y);
         let scale = d.su.length().max(d.sv.length()).max(1e-300);
         let singular_u = d.su.length() <= 1e-9 * scale.max(1.0);
@@ -94,7 +125,12 @@ fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
         if !(singular_u || singular_v) {
             hint = Some(sp.uv);
         }
-        out.push(Pt { uv: sp.uv, p3: p, singular_u, singular_v });
+        out.push(Pt {
+            uv: sp.uv,
+            p3: p,
+            singular_u,
+            singular_v,
+        });
     }
     out
 }
@@ -139,7 +175,11 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
         return l;
     }
     let regular = |start: usize, step: isize| -> Option<DVec2> {
-        (1..n).map(|k| (start as isize + step * k as isize).rem_euclid(n as isize) as usize).map(|i| &l[i]).find(|p| !(p.singular_u || p.singular_v)).map(|p| p.uv)
+        (1..n)
+            .map(|k| (start as isize + step * k as isize).rem_euclid(n as isize) as usize)
+            .map(|i| &l[i])
+            .find(|p| !(p.singular_u || p.singular_v))
+            .map(|p| p.uv)
     };
     let _ = surface;
     let mut out = Vec::with_capacity(n + 4);
@@ -167,7 +207,14 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
 
 /// Close loops that run once around a periodic direction: two such loops bound a band, one such
 /// loop bounds a cap closed at the singular end (apex or pole) on the face's side.
-fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_sense: bool, vertex_loops: &[DVec2], rect: ParamRect) -> Result<Vec<UvLoop>, String> {
+fn close_periodic(
+    loops: Vec<Vec<Pt>>,
+    pu: Option<f64>,
+    pv: Option<f64>,
+    same_sense: bool,
+    vertex_loops: &[DVec2],
+    rect: ParamRect,
+) -> Result<Vec<UvLoop>, String> {
     // The shift that the closing segment (last → first) needs: non-zero when the loop runs once
     // around the periodic direction.
     let closing_shift = |l: &[Pt], per: Option<f64>, axis: usize| -> f64 {
@@ -183,7 +230,10 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
         if su != 0.0 {
             open_u.push((l, su));
         } else if closing_shift(&l, pv, 1) != 0.0 {
-            return Err("a loop runs around the periodic v direction without a seam (not supported yet)".into());
+            return Err(
+                "a loop runs around the periodic v direction without a seam (not supported yet)"
+                    .into(),
+            );
         } else {
             closed.push(to_uv_loop(&l));
         }
@@ -203,7 +253,9 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
             if !v_end.is_finite() {
                 return Err("a loop runs around the periodic u direction and the surface has no end to close it on".into());
             }
-            let Some(first) = l.first() else { return Ok(closed) };
+            let Some(first) = l.first() else {
+                return Ok(closed);
+            };
             let mut ul = to_uv_loop(l);
             let first_u_shifted = first.uv.x + shift;
             let end_p3 = first.p3;
@@ -217,8 +269,14 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
         }
         [(a, sa), (b, sb)] => {
             // A band: run a once around, cross to b, run b once around the other way, cross back.
-            let (b_pts, sb): (Vec<Pt>, f64) = if sa.signum() == sb.signum() { (b.iter().rev().copied().collect(), -sb) } else { (b.clone(), *sb) };
-            let (Some(a0), Some(b0)) = (a.first(), b_pts.first()) else { return Ok(closed) };
+            let (b_pts, sb): (Vec<Pt>, f64) = if sa.signum() == sb.signum() {
+                (b.iter().rev().copied().collect(), -sb)
+            } else {
+                (b.clone(), *sb)
+            };
+            let (Some(a0), Some(b0)) = (a.first(), b_pts.first()) else {
+                return Ok(closed);
+            };
             let a_end = DVec2::new(a0.uv.x + sa, a0.uv.y);
             let b_shift = period_shift(b0.uv.x, a_end.x, pu);
             let mut ul = to_uv_loop(a);
@@ -232,11 +290,19 @@ fn close_periodic(loops: Vec<Vec<Pt>>, pu: Option<f64>, pv: Option<f64>, same_se
             ul.p3.push(b0.p3);
             closed.push(ul);
         }
-        _ => return Err(format!("{} loops run around the periodic u direction (not supported)", open_u.len())),
+        _ => {
+            return Err(format!(
+                "{} loops run around the periodic u direction (not supported)",
+                open_u.len()
+            ));
+        }
     }
     Ok(closed)
 }
 
 fn to_uv_loop(l: &[Pt]) -> UvLoop {
-    UvLoop { uv: l.iter().map(|p| p.uv).collect(), p3: l.iter().map(|p| p.p3).collect() }
+    UvLoop {
+        uv: l.iter().map(|p| p.uv).collect(),
+        p3: l.iter().map(|p| p.p3).collect(),
+    }
 }

@@ -148,7 +148,15 @@ fn decode(bytes: &[u8], file: &Path) -> Result<(RawFacets, StlFormat), ImportErr
         ));
     }
     if binary::expected_len(bytes) == Some(bytes.len() as u64) {
-        return Ok((binary::parse(bytes, file)?, StlFormat::Binary));
+        return match binary::parse(bytes, file) {
+            Ok(raw) => Ok((raw, StlFormat::Binary)),
+            // An ASCII file whose length happens to fit its "count" (a huge one): try the text.
+            Err(binary_err) if starts_with_solid(bytes) => match ascii::parse(bytes, file) {
+                Ok(raw) => Ok((raw, StlFormat::Ascii)),
+                Err(_) => Err(binary_err),
+            },
+            Err(binary_err) => Err(binary_err),
+        };
     }
     if starts_with_solid(bytes) {
         return match ascii::parse(bytes, file) {
