@@ -3,8 +3,6 @@
 //! (`SURFACE_CURVE`, `SEAM_CURVE`, `INTERSECTION_CURVE`, `TRIMMED_CURVE`). Also the curve
 //! parameter of a vertex, for edge bounds.
 
-#[cfg(test)]
-use std::f64::consts::FRAC_PI_2;
 use std::f64::consts::TAU;
 
 use glam::DVec3;
