@@ -820,3 +820,18 @@ fn every_loop_runs_as_a_closed_chain() {
     // Open CASCADE repairs them too (its areas count all six unit faces).
     assert_eq!(repaired, 5);
 }
+
+#[test]
+fn placed_representations_without_products_are_placed_once() {
+    // No product structure: the parent representation #214 places #93 through a relationship
+    // with a transformation (no CONTEXT_DEPENDENT_SHAPE_REPRESENTATION). #93 is reached only
+    // through its parent, moved, not also at the origin.
+    let placed = "#214=SHAPE_REPRESENTATION('',(#230,#231),#90);\n#230=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n\
+#231=AXIS2_PLACEMENT_3D('',#240,#27,#13);\n#233=AXIS2_PLACEMENT_3D('',#1,#27,#9);\n#240=CARTESIAN_POINT('',(10.,0.,0.));\n\
+#252=(REPRESENTATION_RELATIONSHIP('','',#93,#214)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#253)SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+#253=ITEM_DEFINED_TRANSFORMATION('','',#233,#231);";
+    let part = build_part(&parse(&square_file(&format!("{MM}\n{placed}"), ""))).unwrap();
+    assert_eq!(part.faces.len(), 1);
+    assert!(has_vertex(&part, 9.0, 1.0, 0.0));
+    assert!(!has_vertex(&part, 1.0, 1.0, 0.0));
+}

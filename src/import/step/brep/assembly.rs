@@ -115,7 +115,8 @@ impl<'m, 'a> Transfer<'m, 'a> {
         }
     }
 
-    /// Files without product structure: every shape representation no mapped item uses.
+    /// Files without product structure: every shape representation that no mapped item and no
+    /// placing relationship uses (those are reached, placed, from their parents).
     fn run_without_products(&mut self) {
         let model = self.model();
         let mut done = BTreeSet::new();
@@ -129,7 +130,7 @@ impl<'m, 'a> Transfer<'m, 'a> {
                 !model
                     .users(e.id())
                     .iter()
-                    .any(|u| model.get(*u).is_some_and(|u| u.has("REPRESENTATION_MAP")))
+                    .any(|u| model.get(*u).is_some_and(|u| places(u, e.id())))
             })
             .collect();
         for rep in reps {
@@ -221,6 +222,18 @@ impl<'m, 'a> Transfer<'m, 'a> {
             },
         )
     }
+}
+
+/// Does `user` place representation `#rep` inside another: a `REPRESENTATION_MAP` of it, or a
+/// relationship with a transformation whose `rep_1` (the placed one) it is?
+fn places(user: Entity<'_>, rep: u64) -> bool {
+    user.has("REPRESENTATION_MAP")
+        || (user.has("REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION")
+            && user
+                .args("REPRESENTATION_RELATIONSHIP")
+                .and_then(|a| a.reference(2, "rep_1"))
+                .ok()
+                == Some(rep))
 }
 
 /// Instances referring to `id` that have a record named `name`.
