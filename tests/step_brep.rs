@@ -835,3 +835,130 @@ fn placed_representations_without_products_are_placed_once() {
     assert!(has_vertex(&part, 9.0, 1.0, 0.0));
     assert!(!has_vertex(&part, 1.0, 1.0, 0.0));
 }
+
+/// The square file with one entity line replaced and extra entities added.
+fn variant(old: &str, new: &str, extra: &str) -> Part {
+    let text = square_file(&format!("{MM}\n{extra}"), "");
+    assert!(text.contains(old), "{old}");
+    build_part(&parse(&text.replace(old, new))).unwrap()
+}
+
+#[test]
+fn every_surface_kind_maps() {
+    let plane = "#29=PLANE('',#28);";
+    let s = |new: &str, extra: &str| variant(plane, new, extra).faces[0].surface.clone();
+    let SurfaceGeom::Torus(t) = s("#29=TOROIDAL_SURFACE('',#28,10.,2.);", "") else {
+        panic!("torus")
+    };
+    assert_eq!((t.major_radius, t.minor_radius), (10.0, 2.0));
+    let SurfaceGeom::Cylinder(c) = s("#29=CYLINDRICAL_SURFACE('',#28,4.);", "") else {
+        panic!("cylinder")
+    };
+    assert_eq!(c.radius, 4.0);
+    let SurfaceGeom::Sphere(c) = s("#29=SPHERICAL_SURFACE('',#28,3.);", "") else {
+        panic!("sphere")
+    };
+    assert_eq!(c.radius, 3.0);
+    let SurfaceGeom::Revolution(r) = s(
+        "#29=SURFACE_OF_REVOLUTION('',#11,#60);",
+        "#60=AXIS1_PLACEMENT('',#1,#13);",
+    ) else {
+        panic!("revolution")
+    };
+    assert!(matches!(*r.meridian, CurveGeom::Line(_)) && r.axis_dir == glam::DVec3::Y);
+    let SurfaceGeom::Extrusion(e) = s("#29=SURFACE_OF_LINEAR_EXTRUSION('',#11,#14);", "") else {
+        panic!("extrusion")
+    };
+    assert_eq!(e.dir, glam::DVec3::Y);
+    let SurfaceGeom::Plane(_) = s(
+        "#29=RECTANGULAR_TRIMMED_SURFACE('',#70,0.,1.,0.,1.,.T.,.T.);",
+        "#70=PLANE('',#28);",
+    ) else {
+        panic!("trimmed plane")
+    };
+    let SurfaceGeom::BSpline(b) = s(
+        "#29=BEZIER_SURFACE('',1,1,((#1,#2),(#4,#3)),.UNSPECIFIED.,.F.,.F.,.F.);",
+        "",
+    ) else {
+        panic!("bezier")
+    };
+    assert_eq!(
+        (b.knots_u.clone(), b.weights.clone()),
+        (vec![0.0, 0.0, 1.0, 1.0], None)
+    );
+    let rational = "#29=(BOUNDED_SURFACE()B_SPLINE_SURFACE(1,1,((#1,#2),(#4,#3)),.UNSPECIFIED.,.F.,.F.,.F.)QUASI_UNIFORM_SURFACE()\
+GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_SURFACE(((1.,2.),(1.,1.)))REPRESENTATION_ITEM('')SURFACE());";
+    let SurfaceGeom::BSpline(b) = s(rational, "") else {
+        panic!("rational")
+    };
+    assert_eq!(b.weights, Some(vec![1.0, 2.0, 1.0, 1.0]));
+    assert_eq!(b.poles[1], glam::DVec3::X);
+}
+
+#[test]
+fn every_curve_kind_maps_with_vertex_parameters() {
+    let line = "#11=LINE('',#1,#10);";
+    let edge = |new: &str, extra: &str| {
+        let part = variant(line, new, extra);
+        part.edges
+            .iter()
+            .find(|e| e.source_id == 12)
+            .unwrap()
+            .clone()
+    };
+    // Ellipse centred at (0.5, 0, 0), semi-axes 0.5 × 0.25: the edge runs from t = π to 2π.
+    let e = edge(
+        "#11=ELLIPSE('',#61,0.5,0.25);",
+        "#61=AXIS2_PLACEMENT_3D('',#62,#27,#9);\n#62=CARTESIAN_POINT('',(0.5,0.,0.));",
+    );
+    assert!(matches!(e.curve, CurveGeom::Ellipse(_)));
+    assert!(
+        (e.t_start - std::f64::consts::PI).abs() < 1e-12
+            && (e.t_end - std::f64::consts::TAU).abs() < 1e-12
+    );
+    // Polyline: degree 1 with knots at its points.
+    let e = edge(
+        "#11=POLYLINE('',(#1,#63,#2));",
+        "#63=CARTESIAN_POINT('',(0.5,-0.2,0.));",
+    );
+    let CurveGeom::BSpline(b) = &e.curve else {
+        panic!("polyline")
+    };
+    assert_eq!(
+        (b.degree, b.knots.clone(), e.t_start, e.t_end),
+        (1, vec![0.0, 0.0, 1.0, 2.0, 2.0], 0.0, 2.0)
+    );
+    // Bézier: one span on [0, 1].
+    let e = edge(
+        "#11=BEZIER_CURVE('',2,(#1,#63,#2),.UNSPECIFIED.,.F.,.F.);",
+        "#63=CARTESIAN_POINT('',(0.5,-0.2,0.));",
+    );
+    let CurveGeom::BSpline(b) = &e.curve else {
+        panic!("bezier")
+    };
+    assert_eq!(
+        (b.knots.clone(), e.t_start, e.t_end),
+        (vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], 0.0, 1.0)
+    );
+    // Trimmed curve: its basis.
+    let e = edge(
+        "#11=TRIMMED_CURVE('',#64,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.)),.T.,.PARAMETER.);",
+        "#64=LINE('',#1,#10);",
+    );
+    assert!(matches!(e.curve, CurveGeom::Line(_)) && (e.t_end - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn vertex_loops_are_kept() {
+    let part = variant(
+        "#30=ADVANCED_FACE('',(#26),#29,.T.);",
+        "#30=ADVANCED_FACE('',(#26,#81),#29,.T.);",
+        "#80=VERTEX_LOOP('',#7);\n#81=FACE_BOUND('',#80,.T.);",
+    );
+    let face = &part.faces[0];
+    assert_eq!(face.outer, Some(0));
+    let Loop::Vertex(v) = face.loops[1] else {
+        panic!("vertex loop")
+    };
+    assert_eq!(part.vertices[v].point, glam::DVec3::new(1.0, 1.0, 0.0));
+}
