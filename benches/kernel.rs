@@ -24,13 +24,14 @@ fn first_surface(file: &str) -> SurfaceGeom {
 }
 
 fn import(c: &mut Criterion) {
-    let file = data("pocket-fillets.stp");
+    let file = std::env::var_os("TALAS_BENCH_STEP")
+        .map_or_else(|| data("pocket-fillets.stp"), std::path::PathBuf::from);
     let mut g = c.benchmark_group("step_import");
     g.sample_size(20);
-    g.bench_function("pocket-fillets read_step", |b| {
+    g.bench_function("read_step", |b| {
         b.iter(|| black_box(read_step(&file).expect("reads")))
     });
-    g.bench_function("pocket-fillets read_step + tessellate 0.01 mm", |b| {
+    g.bench_function("read_step + tessellate 0.01 mm", |b| {
         b.iter(|| {
             let part = read_step(&file).expect("reads");
             black_box(tessellate_part(&part, &TessellationOptions::default()))
