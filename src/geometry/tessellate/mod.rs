@@ -1,15 +1,15 @@
 //! Tessellation of B-rep faces to a chord tolerance, with normals.
 //!
 //! The method, per part:
-//! 1. every edge is discretised once ([`edge`]): its polyline is shared by the faces on both
+//! 1. every edge is discretised once (`edge`): its polyline is shared by the faces on both
 //!    sides, and its end points are the vertices' own coordinates, so a model that is watertight
 //!    in the CAD system gives a closed mesh;
 //! 2. each face's loops are mapped to the surface's parameter plane by point inversion, unwrapped
-//!    across periodic seams and expanded at singular points such as sphere poles ([`loops`]);
+//!    across periodic seams and expanded at singular points such as sphere poles (`loops`);
 //! 3. the parameter plane (scaled to approximate arc length) gets a grid of interior points whose
 //!    spacing bounds the chord error from the surface's second derivatives, and a constrained
 //!    Delaunay triangulation (the `spade` crate) of boundary plus interior points keeps the
-//!    triangles inside the loops (even-odd rule) ([`face`]);
+//!    triangles inside the loops (crossing parity) (`face`);
 //! 4. boundary vertices keep their exact 3D edge points; interior ones are evaluated on the
 //!    surface; normals come from the surface, flipped where the face is reversed.
 
