@@ -30,6 +30,10 @@
 //! Internal units are mm, s and rad everywhere; mm/min, rpm and degrees appear only at the
 //! edges (UI, G-code, command line).
 
+// `!(x > 0.0)` is the NaN-safe way to reject bad numbers (it is true for NaN, unlike `x <= 0.0`);
+// the engine uses it on purpose wherever input may be non-finite.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod diagnostics;
 pub mod geometry;
 pub mod import;

@@ -1,6 +1,8 @@
 //! The command line: each subcommand is a thin shell over engine calls. Errors go to stderr as one
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
+pub mod inspect;
+
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
@@ -13,7 +15,7 @@ pub const EXIT_INTERNAL: i32 = 1;
 /// Talas: a CAM workstation. With no subcommand, opens the workstation (on FILE, or on the
 /// embedded default part).
 #[derive(Debug, Parser)]
-#[command(name = "talas", version, about, long_about = None)]
+#[command(name = "talas", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Args {
     /// A part or project to open in the workstation.
     pub file: Option<PathBuf>,
@@ -24,10 +26,29 @@ pub struct Args {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
+    /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
+    Inspect(inspect::InspectArgs),
+}
 
 /// Run a subcommand; returns the process exit code.
 #[must_use]
 pub fn run(command: Command) -> i32 {
-    match command {}
+    match command {
+        Command::Inspect(args) => match inspect::inspect(&args) {
+            Ok(doc) => {
+                if args.json {
+                    println!("{doc}");
+                } else {
+                    print!("{}", inspect::human(&doc));
+                }
+                0
+            }
+            Err(e) => {
+                eprintln!("talas: {e}");
+                EXIT_BAD_INPUT
+            }
+        },
+    }
 }

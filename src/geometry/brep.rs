@@ -97,3 +97,24 @@ pub struct Part {
     /// What the importer skipped or repaired (e.g. faces of unsupported kinds, by entity id).
     pub diagnostics: Vec<Diagnostic>,
 }
+
+impl Part {
+    /// Approximate bounding box from the vertices and points along the edges (empty when the
+    /// part has neither, e.g. untrimmed faces only). Cheap: for choosing tolerances, not for
+    /// reporting.
+    #[must_use]
+    pub fn rough_bbox(&self) -> super::Aabb {
+        let mut b = super::Aabb::from_points(self.vertices.iter().map(|v| &v.point));
+        for e in &self.edges {
+            for k in 1..8 {
+                let p = e
+                    .curve
+                    .point(e.t_start + (e.t_end - e.t_start) * f64::from(k) / 8.0);
+                if p.is_finite() {
+                    b.add(p);
+                }
+            }
+        }
+        b
+    }
+}

@@ -5,6 +5,7 @@
 //! All lengths in mm, angles in rad. Points and vectors are `glam::DVec3` (f64).
 
 pub mod brep;
+pub mod bvh;
 pub mod curve;
 pub mod diffgeom;
 pub mod frame;

@@ -10,6 +10,11 @@
 //! - revolution: the meridian curve `C(v)` rotated by angle `u` about the axis
 //! - extrusion: `C(u) + v·d` (d unit)
 
+mod analytic;
+mod projection;
+
+use std::f64::consts::{FRAC_PI_2, TAU};
+
 use super::curve::CurveGeom;
 use super::diffgeom::SurfaceDerivs;
 use super::nurbs::BSplineSurface;
@@ -143,33 +148,76 @@ impl SurfaceGeom {
     /// cones and extrusions).
     #[must_use]
     pub fn domain(&self) -> ParamRect {
-        todo!("geometry helper")
+        let all = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+        let turn = Interval::new(0.0, TAU);
+        let (u, v) = match self {
+            Self::BSpline(b) => {
+                let d = b.domain();
+                (d.u, d.v)
+            }
+            Self::Plane(_) => (all, all),
+            Self::Cylinder(_) | Self::Cone(_) => (turn, all),
+            Self::Sphere(_) => (turn, Interval::new(-FRAC_PI_2, FRAC_PI_2)),
+            Self::Torus(_) => (turn, turn),
+            Self::Revolution(r) => (turn, r.meridian.domain()),
+            Self::Extrusion(e) => (e.profile.domain(), all),
+        };
+        ParamRect { u, v }
     }
 
     /// Periods in u and v (`None` where not periodic).
     #[must_use]
     pub fn periods(&self) -> (Option<f64>, Option<f64>) {
-        todo!("geometry helper")
+        match self {
+            Self::BSpline(b) => b.periods(),
+            Self::Plane(_) => (None, None),
+            Self::Cylinder(_) | Self::Cone(_) | Self::Sphere(_) => (Some(TAU), None),
+            Self::Torus(_) => (Some(TAU), Some(TAU)),
+            Self::Revolution(r) => (Some(TAU), r.meridian.period()),
+            Self::Extrusion(e) => (e.profile.period(), None),
+        }
     }
 
-    /// Point and derivatives up to second order at `(u, v)`.
+    /// Point and derivatives up to second order at `(u, v)`. Analytic surfaces accept any finite
+    /// parameters; B-splines (and the curves inside revolutions and extrusions) clamp into their
+    /// domain or wrap when periodic.
     #[must_use]
     pub fn derivs(&self, u: f64, v: f64) -> SurfaceDerivs {
-        let _ = (u, v);
-        todo!("geometry helper")
+        match self {
+            Self::BSpline(b) => b.derivs(u, v),
+            Self::Plane(s) => analytic::plane(&s.frame, u, v),
+            Self::Cylinder(s) => analytic::cylinder(&s.frame, s.radius, u, v),
+            Self::Cone(s) => analytic::cone(&s.frame, s.radius, s.semi_angle, u, v),
+            Self::Sphere(s) => analytic::sphere(&s.frame, s.radius, u, v),
+            Self::Torus(s) => analytic::torus(&s.frame, s.major_radius, s.minor_radius, u, v),
+            Self::Revolution(s) => analytic::revolution(s, u, v),
+            Self::Extrusion(s) => analytic::extrusion(s, u, v),
+        }
     }
 
     /// Point at `(u, v)`.
     #[must_use]
     pub fn point(&self, u: f64, v: f64) -> DVec3 {
-        self.derivs(u, v).p
+        match self {
+            Self::BSpline(b) => b.point(u, v),
+            _ => self.derivs(u, v).p,
+        }
     }
 
     /// Closest point on the surface to `p` within `rect` (robust: several seeds, bounded Newton,
     /// never NaN). `hint` is a starting guess, e.g. the previous answer when walking along a curve.
+    /// Infinite ends of `rect` are allowed. For a cheaper local search from a good guess, see
+    /// [`Self::closest_point_near`].
     #[must_use]
     pub fn closest_point(&self, p: DVec3, rect: ParamRect, hint: Option<DVec2>) -> SurfacePoint {
-        let _ = (p, rect, hint);
-        todo!("geometry helper")
+        projection::closest_point(self, p, rect, hint)
+    }
+
+    /// Local closest point: bounded Newton from `start` only (no global seeding), for walking
+    /// along a curve where the previous answer is a good guess. Never NaN; may return a local
+    /// minimum of the distance.
+    #[must_use]
+    pub fn closest_point_near(&self, p: DVec3, rect: ParamRect, start: DVec2) -> SurfacePoint {
+        projection::closest_point_near(self, p, rect, start)
     }
 }

@@ -1,1 +1,0 @@
-//! Tessellation of surfaces and trimmed faces to a chord tolerance, with normals.

@@ -1,1 +1,0 @@
-//! STL reader (ASCII and binary, reliably told apart) and writer.
