@@ -246,6 +246,7 @@ mod tests {
         LoadedPart {
             path: "test.stl".into(),
             name: "t".into(),
+            product_name: String::new(),
             mesh: TriMesh {
                 positions,
                 normals: Vec::new(),

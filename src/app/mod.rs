@@ -7,6 +7,7 @@
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
 
 pub mod command;
+pub mod crease;
 pub mod document;
 pub mod document_loader;
 pub mod file_dialog;

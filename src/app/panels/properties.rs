@@ -52,6 +52,9 @@ fn part_ui(ui: &mut egui::Ui, doc: &Document) {
         ),
         ("Format", part.format.to_string()),
     ];
+    if !part.product_name.is_empty() {
+        rows.push(("Product", part.product_name.clone()));
+    }
     if !part.faces.is_empty() {
         rows.push(("Faces", grouped(part.faces.len())));
     }
