@@ -36,15 +36,22 @@ fn line_coverage(p: vec2<f32>, spacing: f32) -> f32 {
 @fragment
 fn fs_main(in: GridOut) -> GridFragment {
     var out: GridFragment;
-    let near = unproject(in.ndc, 0.0);
+    // The view ray: from the eye in perspective (so the plane shows in front of the near plane
+    // too), from the near plane in orthographic, where it may extend both ways.
+    var near = unproject(in.ndc, 0.0);
     let far = unproject(in.ndc, 1.0);
+    var t_min = -1e30;
+    if frame.eye.w > 0.5 {
+        near = frame.eye.xyz;
+        t_min = 0.0;
+    }
     let dir = far - near;
     let plane_z = frame.grid.x;
-    var t = -1.0;
+    var t = -2e30;
     if abs(dir.z) > 1e-12 {
         t = (plane_z - near.z) / dir.z;
     }
-    let hit = near + dir * max(t, 0.0);
+    let hit = near + dir * max(t, t_min);
     let minor = line_coverage(hit.xy, frame.grid.y);
     let major = line_coverage(hit.xy, frame.grid.z);
     let clip = frame.view_proj * vec4<f32>(hit, 1.0);
@@ -52,7 +59,7 @@ fn fs_main(in: GridOut) -> GridFragment {
     var colour = frame.grid_minor_colour * minor;
     colour = mix(colour, frame.grid_major_colour, major);
     var alpha = colour.a * fade;
-    if t < 0.0 || frame.grid.w <= 0.0 {
+    if t < t_min || frame.grid.w <= 0.0 {
         alpha = 0.0;
     }
     // Grazing views: thin the grid out where lines would alias into a solid sheet.

@@ -206,3 +206,34 @@ fn scalars_use_the_colour_map_and_lines_draw_over_surfaces() {
         "line at {line_row:?}"
     );
 }
+
+#[test]
+fn a_mesh_drawn_again_over_itself_shows_the_later_colour() {
+    // The viewport highlights a selected face by drawing its triangles again in another colour.
+    let Some(mut r) = renderer() else { return };
+    let quad = MeshData {
+        positions: vec![
+            [-5.0, 0.0, -5.0],
+            [5.0, 0.0, -5.0],
+            [5.0, 0.0, 5.0],
+            [-5.0, 0.0, 5.0],
+        ],
+        normals: vec![[0.0, -1.0, 0.0]; 4],
+        scalars: Vec::new(),
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    let mut scene = scene_with(quad.clone(), None, 1.0);
+    scene.meshes.push(MeshInstance {
+        id: 7,
+        data: Arc::new(quad),
+        world_from_mesh: Mat4::IDENTITY,
+        colour: [255, 160, 40, 255],
+        scalar_map: None,
+    });
+    let img = r.render(100, 100, &scene).expect("render");
+    let p = px(&img, 50.0, 50.0);
+    assert!(
+        p[0] > p[2] + 80,
+        "centre {p:?} should be the highlight's orange"
+    );
+}

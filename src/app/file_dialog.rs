@@ -8,6 +8,9 @@ use std::time::{Duration, Instant};
 
 /// A dialog that returns within this time without a file most likely never opened.
 const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
+/// A dialog that has not answered by now may never appear (a portal that hangs): the path field
+/// opens beside it.
+const OFFER_PATH_FIELD_AFTER: Duration = Duration::from_secs(2);
 
 /// State of the Open dialog.
 #[derive(Debug, Default)]
@@ -17,6 +20,8 @@ pub struct OpenDialog {
     pub path_field_open: bool,
     /// Text of the path field.
     pub path_text: String,
+    /// Give the path field keyboard focus at its next frame (it has just opened).
+    pub focus_path_field: bool,
     /// The native dialog failed to open before: go straight to the path field.
     native_unavailable: bool,
 }
@@ -40,6 +45,7 @@ impl OpenDialog {
     pub fn open(&mut self, start_dir: Option<PathBuf>, wake: impl FnOnce() + Send + 'static) {
         if self.native_unavailable {
             self.path_field_open = true;
+            self.focus_path_field = true;
             return;
         }
         if self.pending.is_some() {
@@ -67,6 +73,7 @@ impl OpenDialog {
         } else {
             self.native_unavailable = true;
             self.path_field_open = true;
+            self.focus_path_field = true;
         }
     }
 
@@ -81,18 +88,30 @@ impl OpenDialog {
         let Some((started, receiver)) = &self.pending else {
             return DialogOutcome::Waiting;
         };
+        let elapsed = started.elapsed();
         match receiver.try_recv() {
-            Err(mpsc::TryRecvError::Empty) => DialogOutcome::Waiting,
+            Err(mpsc::TryRecvError::Empty) => {
+                if elapsed > OFFER_PATH_FIELD_AFTER && !self.native_unavailable {
+                    // The dialog may never appear (a portal that hangs). Keep listening, so a late
+                    // answer is still used, and offer the path field now.
+                    self.native_unavailable = true;
+                    self.path_field_open = true;
+                    self.focus_path_field = true;
+                    return DialogOutcome::Unavailable;
+                }
+                DialogOutcome::Waiting
+            }
             Ok(Some(path)) => {
                 self.pending = None;
+                self.path_field_open = false;
                 DialogOutcome::Picked(path)
             }
             Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
-                let instant = started.elapsed() < NO_DIALOG_WITHIN;
                 self.pending = None;
-                if instant {
+                if elapsed < NO_DIALOG_WITHIN {
                     self.native_unavailable = true;
                     self.path_field_open = true;
+                    self.focus_path_field = true;
                     DialogOutcome::Unavailable
                 } else {
                     DialogOutcome::Cancelled

@@ -186,11 +186,14 @@ impl Workstation {
                 }
             }
         }
+        if self.dialog.is_waiting() {
+            self.ctx.request_repaint_after(Duration::from_millis(250));
+        }
         match self.dialog.poll() {
             DialogOutcome::Picked(path) => self.apply(Command::Open(path)),
             DialogOutcome::Unavailable => {
                 self.log_info(
-                    "No native file dialog available (no XDG desktop portal); type a path instead",
+                    "The system file dialog did not open (no XDG desktop portal?): type the path instead",
                 );
             }
             DialogOutcome::Waiting | DialogOutcome::Cancelled => {}
@@ -355,6 +358,9 @@ impl Workstation {
                         .desired_width(420.0)
                         .hint_text("/path/to/part.stp"),
                 );
+                if std::mem::take(&mut self.dialog.focus_path_field) {
+                    edit.request_focus();
+                }
                 if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
                     submit = true;
                 }
@@ -406,11 +412,14 @@ fn overlays_ui(ui: &mut egui::Ui, rect: egui::Rect, log: &MessageLog, files_hove
             egui::Frame::popup(ui.style())
                 .stroke(egui::Stroke::new(1.0, colour))
                 .show(ui, |ui| {
-                    ui.set_max_width(420.0);
-                    ui.horizontal(|ui| {
-                        ui.colored_label(colour, "●");
-                        ui.label(&toast.text);
-                    });
+                    ui.set_max_width(440.0);
+                    let title = match toast.severity {
+                        Severity::Error => "Error",
+                        Severity::Warning => "Warning",
+                        Severity::Info => "Note",
+                    };
+                    ui.label(egui::RichText::new(title).strong().color(colour));
+                    ui.add(egui::Label::new(&toast.text).wrap());
                 });
         });
         y += response.response.rect.height() + 8.0;

@@ -12,10 +12,10 @@ pub fn log_ui(ui: &mut egui::Ui, log: &MessageLog, commands: &mut Vec<Command>) 
         let errors = log.count_at_least(Severity::Error);
         let warnings = log.count_at_least(Severity::Warning) - errors;
         if errors > 0 {
-            ui.colored_label(theme::ERROR, format!("{errors} errors"));
+            ui.colored_label(theme::ERROR, plural(errors, "error"));
         }
         if warnings > 0 {
-            ui.colored_label(theme::WARNING, format!("{warnings} warnings"));
+            ui.colored_label(theme::WARNING, plural(warnings, "warning"));
         }
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             if ui.small_button("Clear").clicked() {
@@ -46,4 +46,13 @@ pub fn log_ui(ui: &mut egui::Ui, log: &MessageLog, commands: &mut Vec<Command>) 
                 });
             }
         });
+}
+
+/// `1 error`, `2 errors`.
+fn plural(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
 }
