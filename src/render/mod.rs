@@ -10,6 +10,7 @@
 pub mod camera;
 pub mod colour_map;
 pub mod gpu;
+pub mod gpu_geometry;
 pub mod offscreen;
 pub mod pipeline;
 pub mod renderer;
