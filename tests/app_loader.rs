@@ -60,3 +60,17 @@ fn a_malformed_step_file_is_an_error_naming_it() {
         other => panic!("expected an import error, got {other:?}"),
     }
 }
+
+#[test]
+fn the_embedded_default_part_is_the_asset_file() {
+    let embedded = talas::app::document_loader::load_default_part(&Progress::new())
+        .expect("default part loads");
+    let asset = load_part(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bicubic-hills.stp"),
+        &Progress::new(),
+    )
+    .expect("asset loads");
+    assert_eq!(embedded.mesh, asset.mesh);
+    assert_eq!(embedded.faces, asset.faces);
+    assert_eq!(embedded.name, "bicubic-hills");
+}

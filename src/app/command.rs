@@ -13,6 +13,8 @@ pub enum Command {
     OpenDialog,
     /// Open this file (replaces the document when it loads).
     Open(PathBuf),
+    /// Open the embedded default part.
+    OpenDefaultPart,
     /// Cancel the running job.
     CancelJob,
     /// Close the workstation.

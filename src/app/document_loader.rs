@@ -14,7 +14,7 @@ use crate::geometry::brep::Part;
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::tessellate::{PartMesh, TessellationOptions, tessellate_part};
 use crate::import::ImportError;
-use crate::import::step::read_step;
+use crate::import::step::{read_step, read_step_bytes};
 use crate::import::stl::{StlOptions, read_stl};
 
 /// Folds sharper than this are drawn as creases in meshes from STL files, rad (35°).
@@ -101,7 +101,7 @@ pub fn load_part(path: &Path, progress: &Progress) -> Result<LoadedPart, LoadErr
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("stp" | "step") => load_step(path, progress),
+        Some("stp" | "step") => load_step(path, None, progress),
         Some("stl") => load_stl(path, progress),
         _ => Err(ImportError::new(
             path,
@@ -112,11 +112,36 @@ pub fn load_part(path: &Path, progress: &Progress) -> Result<LoadedPart, LoadErr
     }
 }
 
-fn load_step(path: &Path, progress: &Progress) -> Result<LoadedPart, LoadError> {
+/// Where the embedded default part says it comes from (in messages and the properties panel).
+pub const DEFAULT_PART_PATH: &str = "assets/bicubic-hills.stp";
+/// The default part, compiled into the binary so the workstation opens on it anywhere.
+const DEFAULT_PART_STEP: &[u8] = include_bytes!("../../assets/bicubic-hills.stp");
+
+/// Read and tessellate the embedded default part (on a worker thread, like [`load_part`]).
+///
+/// # Errors
+/// As [`load_part`] (only [`LoadError::Cancelled`] in practice: the file is tested).
+pub fn load_default_part(progress: &Progress) -> Result<LoadedPart, LoadError> {
+    load_step(
+        Path::new(DEFAULT_PART_PATH),
+        Some(DEFAULT_PART_STEP),
+        progress,
+    )
+}
+
+/// STEP from `bytes` when given (`path` then only names the source), else from the file.
+fn load_step(
+    path: &Path,
+    bytes: Option<&[u8]>,
+    progress: &Progress,
+) -> Result<LoadedPart, LoadError> {
     let cancelled = |_| LoadError::Cancelled;
     progress.check().map_err(cancelled)?;
     progress.set(0.05);
-    let part = read_step(path)?;
+    let part = match bytes {
+        Some(bytes) => read_step_bytes(path, bytes)?,
+        None => read_step(path)?,
+    };
     progress.check().map_err(cancelled)?;
     progress.set(0.5);
     let tessellation = tessellate_part(&part, &TessellationOptions::default());

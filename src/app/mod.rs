@@ -23,19 +23,7 @@ use std::path::PathBuf;
 
 pub use workstation::Workstation;
 
-/// The part opened when the workstation starts without a file.
-#[must_use]
-pub fn default_part_path() -> PathBuf {
-    let installed = PathBuf::from("assets").join("bicubic-hills.stp");
-    if installed.is_file() {
-        return installed;
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join("bicubic-hills.stp")
-}
-
-/// Open the workstation window on `file` (or on the default part).
+/// Open the workstation window on `file` (or on the embedded default part).
 ///
 /// # Errors
 /// When the window cannot be created (no display, no graphics adapter).
@@ -53,7 +41,6 @@ pub fn run(file: Option<PathBuf>) -> Result<(), String> {
         depth_buffer: 0,
         ..Default::default()
     };
-    let file = file.unwrap_or_else(default_part_path);
     eframe::run_native(
         "Talas",
         options,
@@ -61,7 +48,7 @@ pub fn run(file: Option<PathBuf>) -> Result<(), String> {
             Ok(Box::new(Workstation::new(
                 &cc.egui_ctx,
                 cc.wgpu_render_state.as_ref(),
-                Some(file),
+                file,
                 recent_files::RecentFiles::load(),
             )))
         }),

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::command::Command;
 use super::document::{Document, Selection};
-use super::document_loader::{LoadError, LoadedPart, load_part};
+use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
 use super::file_dialog::{DialogOutcome, OpenDialog};
 use super::job::{Job, JobPoll};
 use super::message_log::MessageLog;
@@ -76,9 +76,7 @@ impl Workstation {
                 "No wgpu renderer: the 3D viewport is unavailable",
             ),
         }
-        if let Some(path) = file {
-            ws.apply(Command::Open(path));
-        }
+        ws.apply(file.map_or(Command::OpenDefaultPart, Command::Open));
         ws
     }
 
@@ -121,6 +119,7 @@ impl Workstation {
                 self.dialog.open(start, move || ctx.request_repaint());
             }
             Command::Open(path) => self.start_load(path),
+            Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
                 if let Some(job) = self.load_job.take() {
                     job.cancel();
@@ -161,6 +160,19 @@ impl Workstation {
         self.load_job = Some(Job::spawn(
             format!("Opening {name}"),
             move |progress| load_part(&worker_path, progress),
+            move || ctx.request_repaint(),
+        ));
+    }
+
+    fn start_default_load(&mut self) {
+        if let Some(old) = self.load_job.take() {
+            old.cancel();
+        }
+        self.log_info("Opening the default part (bicubic-hills, embedded)");
+        let ctx = self.ctx.clone();
+        self.load_job = Some(Job::spawn(
+            "Opening the default part",
+            load_default_part,
             move || ctx.request_repaint(),
         ));
     }
@@ -228,7 +240,10 @@ impl Workstation {
                     part.format,
                     grouped(part.mesh.triangles.len())
                 );
-                if let Some(e) = self.recent.add(&part.path) {
+                // The embedded default part has no file to reopen.
+                if part.path.is_file()
+                    && let Some(e) = self.recent.add(&part.path)
+                {
                     self.log.push(t, Severity::Warning, e);
                 }
                 let id = self.next_data_id;

@@ -46,6 +46,9 @@ pub fn menu_bar_ui(
             {
                 commands.push(Command::OpenDialog);
             }
+            if ui.button("Open Default Part").clicked() {
+                commands.push(Command::OpenDefaultPart);
+            }
             ui.add_enabled_ui(!recent.paths.is_empty(), |ui| {
                 ui.menu_button("Open Recent", |ui| {
                     for path in &recent.paths {
