@@ -1,0 +1,580 @@
+//! The virtual controller: modal state and the execution of one block after another.
+
+use glam::DVec3;
+
+use super::arc::{CentreSpec, Plane, arc_geometry};
+use super::block::{Joints, MotionBlock, MotionKind};
+use super::lexer::{Word, lex_line};
+use super::{GcodeError, InterpretOptions, Program};
+use crate::diagnostics::Diagnostic;
+
+/// Letters accepted besides G and M (which are collected separately).
+const LETTERS: &str = "ABCFHIJKNOPRSTXYZ";
+const MM_PER_INCH: f64 = 25.4;
+
+/// Motion modes (modal group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Linear,
+    Cw,
+    Ccw,
+}
+
+/// The modal state of the controller.
+struct State {
+    pos: Joints,
+    motion: Option<Motion>,
+    plane: Plane,
+    inch: bool,
+    absolute: bool,
+    arc_absolute: bool,
+    inverse_time: bool,
+    feed: Option<f64>,
+    work_offset: usize,
+    tool: u32,
+    tool_length_h: Option<u32>,
+    spindle_speed: f64,
+    spindle_dir: f64,
+    coolant: bool,
+    warned_no_feed: bool,
+}
+
+/// Words of one block, sorted by kind.
+struct Block {
+    line: usize,
+    g: Vec<(i32, usize)>,
+    m: Vec<(i32, usize)>,
+    /// Other letters A..Z: value and column.
+    words: [Option<(f64, usize)>; 26],
+}
+
+impl Block {
+    fn get(&self, letter: char) -> Option<(f64, usize)> {
+        let i = (letter as usize).checked_sub('A' as usize)?;
+        self.words.get(i).copied().flatten()
+    }
+    fn err(&self, column: usize, message: impl Into<String>) -> GcodeError {
+        GcodeError {
+            line: self.line,
+            column,
+            message: message.into(),
+        }
+    }
+    fn first_column(&self) -> usize {
+        self.g
+            .iter()
+            .chain(&self.m)
+            .map(|(_, c)| *c)
+            .chain(self.words.iter().flatten().map(|(_, c)| *c))
+            .min()
+            .unwrap_or(1)
+    }
+}
+
+/// Interpret a whole program.
+///
+/// # Errors
+/// The first [`GcodeError`] met (line and column of the offending word). Warnings go to
+/// [`Program::diagnostics`].
+pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeError> {
+    let mut state = State {
+        pos: opts.start,
+        motion: None,
+        plane: Plane::Xy,
+        inch: false,
+        absolute: true,
+        arc_absolute: false,
+        inverse_time: false,
+        feed: None,
+        work_offset: opts.initial_work_offset.min(5),
+        tool: 0,
+        tool_length_h: None,
+        spindle_speed: 0.0,
+        spindle_dir: 0.0,
+        coolant: false,
+        warned_no_feed: false,
+    };
+    if !opts.start.is_finite() {
+        return Err(GcodeError {
+            line: 0,
+            column: 0,
+            message: "the start position is not finite".into(),
+        });
+    }
+    let mut program = Program::default();
+    let mut ended_at: Option<usize> = None;
+    for (index, raw) in text.lines().enumerate() {
+        let line = index + 1;
+        let lexed = lex_line(raw, line)?;
+        if lexed.block_delete && opts.block_delete {
+            continue;
+        }
+        if lexed.words.is_empty() {
+            continue;
+        }
+        if let Some(end) = ended_at {
+            program.diagnostics.push(Diagnostic::warning(
+                format!("line {line}"),
+                format!("words after the program end (line {end}) are ignored"),
+            ));
+            break;
+        }
+        let block = sort_words(&lexed.words, line)?;
+        if execute(&block, &mut state, opts, &mut program)? {
+            ended_at = Some(line);
+        }
+    }
+    Ok(program)
+}
+
+fn sort_words(words: &[Word], line: usize) -> Result<Block, GcodeError> {
+    let mut block = Block {
+        line,
+        g: Vec::new(),
+        m: Vec::new(),
+        words: [None; 26],
+    };
+    for w in words {
+        let code = || {
+            let x10 = (w.value * 10.0).round();
+            ((w.value * 10.0 - x10).abs() < 1e-6 && x10.abs() < 1e6).then_some(x10 as i32)
+        };
+        match w.letter {
+            'G' | 'M' => {
+                let c = code().ok_or_else(|| {
+                    block.err(w.column, format!("bad code {}{}", w.letter, w.value))
+                })?;
+                if w.letter == 'G' {
+                    block.g.push((c, w.column));
+                } else {
+                    block.m.push((c, w.column));
+                }
+            }
+            l if LETTERS.contains(l) => {
+                let i = (l as usize).saturating_sub('A' as usize);
+                match block.words.get_mut(i) {
+                    Some(Some(_)) => {
+                        return Err(
+                            block.err(w.column, format!("word {l} appears twice in one block"))
+                        );
+                    }
+                    Some(slot) => *slot = Some((w.value, w.column)),
+                    None => return Err(block.err(w.column, format!("unsupported word {l}"))),
+                }
+            }
+            l => {
+                return Err(block.err(
+                    w.column,
+                    format!(
+                        "unsupported word {l}{} (not an axis or code this interpreter knows)",
+                        w.value
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(block)
+}
+
+/// Execute one block; returns true at a program end (M2/M30).
+fn execute(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+) -> Result<bool, GcodeError> {
+    // Classify G codes into groups, rejecting unknown ones and conflicts.
+    let mut motion: Option<(Motion, usize)> = None;
+    let mut non_modal: Option<(i32, usize)> = None;
+    let mut dwell = false;
+    let set_motion = |m: Motion, col: usize, motion: &mut Option<(Motion, usize)>| {
+        if motion.is_some() {
+            return Err(b.err(col, "two motion codes in one block"));
+        }
+        *motion = Some((m, col));
+        Ok(())
+    };
+    for &(g, col) in &b.g {
+        match g {
+            0 => set_motion(Motion::Rapid, col, &mut motion)?,
+            10 => set_motion(Motion::Linear, col, &mut motion)?,
+            20 => set_motion(Motion::Cw, col, &mut motion)?,
+            30 => set_motion(Motion::Ccw, col, &mut motion)?,
+            40 => dwell = true,
+            170 => s.plane = Plane::Xy,
+            180 => s.plane = Plane::Zx,
+            190 => s.plane = Plane::Yz,
+            200 => s.inch = true,
+            210 => s.inch = false,
+            280 | 530 => {
+                if non_modal.is_some() {
+                    return Err(b.err(col, "G28 and G53 cannot share a block"));
+                }
+                non_modal = Some((g, col));
+            }
+            400 | 610 | 611 | 640 => {}
+            410 | 420 => {
+                return Err(b.err(
+                    col,
+                    format!("cutter radius compensation G{} is not supported (program the tool centre path)", g / 10),
+                ));
+            }
+            430 => {
+                let h = match b.get('H') {
+                    Some((h, hc)) => {
+                        u32_word(h).ok_or_else(|| b.err(hc, "H must be a non-negative integer"))?
+                    }
+                    None => s.tool,
+                };
+                s.tool_length_h = Some(h);
+            }
+            490 => s.tool_length_h = None,
+            540..=590 if g % 10 == 0 => s.work_offset = ((g - 540) / 10) as usize,
+            800 => s.motion = None,
+            900 => s.absolute = true,
+            910 => s.absolute = false,
+            901 => s.arc_absolute = true,
+            911 => s.arc_absolute = false,
+            930 => s.inverse_time = true,
+            940 => s.inverse_time = false,
+            _ => {
+                let name = if g % 10 == 0 {
+                    format!("G{}", g / 10)
+                } else {
+                    format!("G{}.{}", g / 10, g % 10)
+                };
+                return Err(b.err(col, format!("unsupported G code {name}")));
+            }
+        }
+    }
+    if b.get('H').is_some() && !b.g.iter().any(|(g, _)| *g == 430) {
+        return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
+    }
+    let scale = if s.inch { MM_PER_INCH } else { 1.0 };
+    if let Some((f, col)) = b.get('F') {
+        if !(f >= 0.0) {
+            return Err(b.err(col, "F must not be negative"));
+        }
+        s.feed = Some(if s.inverse_time { f } else { f * scale });
+    }
+    if let Some((v, col)) = b.get('S') {
+        if !(v >= 0.0) {
+            return Err(b.err(col, "S must not be negative"));
+        }
+        s.spindle_speed = v;
+    }
+    if let Some((t, col)) = b.get('T') {
+        s.tool = u32_word(t).ok_or_else(|| b.err(col, "T must be a non-negative integer"))?;
+    }
+    let mut ends = false;
+    for &(m, col) in &b.m {
+        match m {
+            0 | 10 | 60 => {}
+            30 => s.spindle_dir = 1.0,
+            40 => s.spindle_dir = -1.0,
+            50 => s.spindle_dir = 0.0,
+            70 | 80 => s.coolant = true,
+            90 => s.coolant = false,
+            20 | 300 => ends = true,
+            _ => out.diagnostics.push(Diagnostic::warning(
+                format!("line {}, column {col}", b.line),
+                format!("unknown M code M{} ignored", f64::from(m) / 10.0),
+            )),
+        }
+    }
+    if let Some((m, _)) = motion {
+        s.motion = Some(m);
+    }
+    let has_axis = "XYZABC".chars().any(|l| b.get(l).is_some());
+    if dwell {
+        if has_axis || motion.is_some() {
+            return Err(b.err(
+                b.first_column(),
+                "G4 dwell cannot share a block with motion",
+            ));
+        }
+        if b.get('P').is_none() {
+            return Err(b.err(b.first_column(), "G4 needs a P word (seconds)"));
+        }
+        return Ok(ends);
+    }
+    match non_modal {
+        Some((280, _)) => g28(b, s, opts, out, scale)?,
+        Some((_, col)) => {
+            if s.absolute {
+                let m = s
+                    .motion
+                    .filter(|m| matches!(m, Motion::Rapid | Motion::Linear));
+                let m = m.ok_or_else(|| b.err(col, "G53 needs G0 or G1"))?;
+                let target = target(b, s, opts, scale, true);
+                emit_line(b, s, opts, out, m, target)?;
+            } else {
+                return Err(b.err(col, "G53 is not allowed in incremental mode (G91)"));
+            }
+        }
+        None if has_axis => {
+            let m = s.motion.ok_or_else(|| {
+                b.err(
+                    b.first_column(),
+                    "axis words without a motion mode (G0, G1, G2, G3)",
+                )
+            })?;
+            let t = target(b, s, opts, scale, false);
+            match m {
+                Motion::Rapid | Motion::Linear => emit_line(b, s, opts, out, m, t)?,
+                Motion::Cw | Motion::Ccw => emit_arc(b, s, opts, out, m == Motion::Ccw, t, scale)?,
+            }
+        }
+        None => {
+            if let Some((_, col)) = motion.filter(|(m, _)| matches!(m, Motion::Cw | Motion::Ccw)) {
+                return Err(b.err(col, "an arc needs end point words"));
+            }
+        }
+    }
+    let arc_words = s
+        .motion
+        .is_some_and(|m| matches!(m, Motion::Cw | Motion::Ccw))
+        && has_axis
+        && non_modal.is_none();
+    if !arc_words {
+        for l in ['I', 'J', 'K', 'R', 'P'] {
+            if let Some((_, col)) = b.get(l) {
+                return Err(b.err(col, format!("{l} word used outside an arc")));
+            }
+        }
+    }
+    Ok(ends)
+}
+
+fn u32_word(v: f64) -> Option<u32> {
+    (v >= 0.0 && v <= f64::from(u32::MAX) && v.fract() == 0.0).then_some(v as u32)
+}
+
+/// The end point of a block. `machine`: coordinates are machine coordinates (G53, G28 home).
+fn target(b: &Block, s: &State, opts: &InterpretOptions, scale: f64, machine: bool) -> Joints {
+    let offset = if machine {
+        DVec3::ZERO
+    } else {
+        opts.work_offsets
+            .get(s.work_offset)
+            .copied()
+            .unwrap_or(DVec3::ZERO)
+    };
+    let mut p = s.pos;
+    let mut xyz = p.xyz.to_array();
+    for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+        if let (Some((v, _)), Some(slot)) = (b.get(l), xyz.get_mut(i)) {
+            let off = offset.to_array().get(i).copied().unwrap_or(0.0);
+            *slot = if s.absolute {
+                v * scale + off
+            } else {
+                *slot + v * scale
+            };
+        }
+    }
+    p.xyz = DVec3::from_array(xyz);
+    for (l, slot) in [('A', &mut p.a), ('B', &mut p.b), ('C', &mut p.c)] {
+        if let Some((v, _)) = b.get(l) {
+            let v = v.to_radians();
+            *slot = Some(if s.absolute {
+                v
+            } else {
+                slot.unwrap_or(0.0) + v
+            });
+        }
+    }
+    p
+}
+
+/// Start of a block: an axis the block moves that was never set starts at 0.
+fn start_for(pos: Joints, end: Joints) -> Joints {
+    let fill = |s: Option<f64>, e: Option<f64>| s.or(e.map(|_| 0.0));
+    Joints {
+        xyz: pos.xyz,
+        a: fill(pos.a, end.a),
+        b: fill(pos.b, end.b),
+        c: fill(pos.c, end.c),
+    }
+}
+
+fn feed_for(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    rapid: bool,
+) -> Result<f64, GcodeError> {
+    if rapid {
+        return Ok(opts.rapid_mm_per_min);
+    }
+    if s.inverse_time {
+        return match b.get('F') {
+            Some((f, _)) if f > 0.0 => Ok(f),
+            Some((_, col)) => Err(b.err(col, "inverse-time F must be positive")),
+            None => Err(b.err(
+                b.first_column(),
+                "inverse-time feed (G93) needs an F word on every feed move",
+            )),
+        };
+    }
+    match s.feed {
+        Some(f) => Ok(f),
+        None => {
+            if !s.warned_no_feed {
+                s.warned_no_feed = true;
+                out.diagnostics.push(Diagnostic::warning(
+                    format!("line {}", b.line),
+                    "feed move before any F word: feed 0 recorded",
+                ));
+            }
+            Ok(0.0)
+        }
+    }
+}
+
+fn push(s: &mut State, out: &mut Program, b: &Block, kind: MotionKind, end: Joints, feed: f64) {
+    let start = start_for(s.pos, end);
+    out.blocks.push(MotionBlock {
+        kind,
+        start,
+        end,
+        feed_mm_per_min: feed,
+        inverse_time: s.inverse_time && kind != MotionKind::Rapid,
+        source_line: b.line,
+        tool: s.tool,
+        tool_length_h: s.tool_length_h,
+        spindle_rpm: s.spindle_speed * s.spindle_dir,
+        coolant: s.coolant,
+    });
+    s.pos = end;
+}
+
+fn emit_line(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    m: Motion,
+    end: Joints,
+) -> Result<(), GcodeError> {
+    let rapid = m == Motion::Rapid;
+    if start_for(s.pos, end) == end {
+        return Ok(()); // no movement
+    }
+    let feed = feed_for(b, s, opts, out, rapid)?;
+    let kind = if rapid {
+        MotionKind::Rapid
+    } else {
+        MotionKind::Linear
+    };
+    push(s, out, b, kind, end, feed);
+    Ok(())
+}
+
+fn emit_arc(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    ccw: bool,
+    end: Joints,
+    scale: f64,
+) -> Result<(), GcodeError> {
+    let (iu, iv, iw) = s.plane.axes();
+    let letters = ['I', 'J', 'K'];
+    let col = b.first_column();
+    let spec = if let Some((r, rc)) = b.get('R') {
+        if let Some((_, c)) = letters.iter().find_map(|l| b.get(*l)) {
+            return Err(b.err(c, "an arc takes either R or I/J/K, not both"));
+        }
+        if !(r.abs() > 0.0) {
+            return Err(b.err(rc, "arc radius R is zero"));
+        }
+        CentreSpec::Radius(r * scale)
+    } else {
+        let in_plane = [iu, iv]
+            .iter()
+            .any(|i| letters.get(*i).and_then(|l| b.get(*l)).is_some());
+        if !in_plane {
+            return Err(b.err(
+                col,
+                "an arc needs R or centre offsets I/J/K in the active plane",
+            ));
+        }
+        if let Some((v, c)) = letters.get(iw).and_then(|l| b.get(*l))
+            && v != 0.0
+        {
+            return Err(b.err(c, "centre offset along the plane normal is not allowed"));
+        }
+        let off = |i: usize| {
+            letters
+                .get(i)
+                .and_then(|l| b.get(*l))
+                .map_or(0.0, |(v, _)| v * scale)
+        };
+        let given = DVec3::new(off(0), off(1), off(2));
+        let centre = if s.arc_absolute {
+            given
+                + opts
+                    .work_offsets
+                    .get(s.work_offset)
+                    .copied()
+                    .unwrap_or(DVec3::ZERO)
+        } else {
+            s.pos.xyz + given
+        };
+        CentreSpec::Centre(centre)
+    };
+    let turns = match b.get('P') {
+        Some((p, pc)) => u32_word(p)
+            .filter(|p| (1..=10_000).contains(p))
+            .ok_or_else(|| b.err(pc, "P (turns) must be a positive integer"))?,
+        None => 1,
+    };
+    let arc =
+        arc_geometry(s.pos.xyz, end.xyz, s.plane, ccw, spec, turns).map_err(|m| b.err(col, m))?;
+    let feed = feed_for(b, s, opts, out, false)?;
+    let kind = if ccw {
+        MotionKind::ArcCcw(arc)
+    } else {
+        MotionKind::ArcCw(arc)
+    };
+    push(s, out, b, kind, end, feed);
+    Ok(())
+}
+
+/// G28: rapid through the optional intermediate point to the home position.
+fn g28(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    scale: f64,
+) -> Result<(), GcodeError> {
+    let has_axis = "XYZABC".chars().any(|l| b.get(l).is_some());
+    if !has_axis {
+        let mut home = s.pos;
+        home.xyz = opts.g28_position;
+        return emit_line(b, s, opts, out, Motion::Rapid, home);
+    }
+    let via = target(b, s, opts, scale, false);
+    emit_line(b, s, opts, out, Motion::Rapid, via)?;
+    let mut home = s.pos;
+    let mut xyz = home.xyz.to_array();
+    let g28 = opts.g28_position.to_array();
+    for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+        if b.get(l).is_some()
+            && let (Some(slot), Some(h)) = (xyz.get_mut(i), g28.get(i))
+        {
+            *slot = *h;
+        }
+    }
+    home.xyz = DVec3::from_array(xyz);
+    for (l, slot) in [('A', &mut home.a), ('B', &mut home.b), ('C', &mut home.c)] {
+        if b.get(l).is_some() {
+            *slot = Some(0.0);
+        }
+    }
+    emit_line(b, s, opts, out, Motion::Rapid, home)
+}
