@@ -7,6 +7,10 @@
 
 use super::GcodeError;
 
+/// Largest magnitude a number may have (1e12 mm is far beyond any machine; the bound keeps
+/// every later computation finite).
+const MAX_MAGNITUDE: f64 = 1e12;
+
 /// One word of a block: a letter and its number, with the 1-based column of the letter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Word {
@@ -75,7 +79,10 @@ pub fn lex_line(text: &str, line: usize) -> Result<LexedLine, GcodeError> {
                         }
                         Some(&ch) => body.push(ch),
                         None => {
-                            return Err(err(start, "comment '(' is not closed on this line".into()));
+                            return Err(err(
+                                start,
+                                "comment '(' is not closed on this line".into(),
+                            ));
                         }
                     }
                     j += 1;
@@ -163,7 +170,7 @@ fn number(chars: &[char], mut i: usize) -> Option<(f64, usize)> {
         return None;
     }
     let value: f64 = text.parse().ok()?;
-    value.is_finite().then_some((value, i))
+    (value.abs() <= MAX_MAGNITUDE).then_some((value, i))
 }
 
 #[cfg(test)]
