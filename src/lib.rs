@@ -38,6 +38,7 @@ pub mod diagnostics;
 pub mod gcode;
 pub mod geometry;
 pub mod import;
+pub mod machine;
 pub mod units;
 
 pub mod cli;
