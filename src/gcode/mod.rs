@@ -25,6 +25,7 @@ mod arc;
 mod block;
 mod interpreter;
 mod lexer;
+mod motion;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
