@@ -392,3 +392,68 @@ fn bc_forward_matches_the_chain() {
     let spindle = machine_from_table(pose.tip + pose.axis) - machine_from_table(pose.tip);
     assert!(spindle.distance(DVec3::Z) < 1e-12);
 }
+
+/// Linearisation: with joints interpolated linearly between the returned poses, the tip stays
+/// within the tolerance of the intended straight line (checked with 200 samples per sub-move,
+/// against the line itself); tighter tolerances need more poses; a pure translation needs none.
+#[test]
+fn linearised_moves_stay_within_tolerance() {
+    use talas::machine::lerp_joints;
+    let m = Machine::builtin("trt-ac").unwrap();
+    let from = ToolPose {
+        tip: DVec3::new(50.0, 0.0, 10.0),
+        axis: DVec3::Z,
+    };
+    let to = ToolPose {
+        tip: DVec3::new(50.0, 40.0, 10.0),
+        axis: dir(60f64.to_radians(), 0.5),
+    };
+    let line_distance = |p: DVec3| {
+        let d = (to.tip - from.tip).normalize();
+        let v = p - from.tip;
+        (v - d * v.dot(d)).length()
+    };
+    let mut counts = Vec::new();
+    for tol in [0.1, 0.01, 0.001] {
+        let joints = m
+            .linearise(&from, &to, &MachineJoints::default(), tol)
+            .unwrap();
+        assert!(m.forward(&joints[0]).tip.distance(from.tip) < 1e-9);
+        let end = m.forward(joints.last().unwrap());
+        assert!(end.tip.distance(to.tip) < 1e-9 && angle(end.axis, to.axis) < 1e-12);
+        let mut worst: f64 = 0.0;
+        for w in joints.windows(2) {
+            within_limits(&m, &w[1]);
+            for k in 0..=200 {
+                let tip = m.forward(&lerp_joints(&w[0], &w[1], k as f64 / 200.0)).tip;
+                worst = worst.max(line_distance(tip));
+            }
+        }
+        assert!(worst <= tol * 1.05, "tol {tol}: deviation {worst}");
+        counts.push(joints.len());
+    }
+    assert!(counts[0] < counts[1] && counts[1] < counts[2], "{counts:?}");
+    // Without linearisation the single move would leave the line by far more.
+    let one = m
+        .linearise(&from, &to, &MachineJoints::default(), 1e3)
+        .unwrap();
+    assert_eq!(one.len(), 2);
+    let mid = m.forward(&lerp_joints(&one[0], &one[1], 0.5)).tip;
+    assert!(line_distance(mid) > 1.0, "{}", line_distance(mid));
+    let mill = Machine::builtin("mill-3axis").unwrap();
+    let a = ToolPose {
+        tip: DVec3::ZERO,
+        axis: DVec3::Z,
+    };
+    let b = ToolPose {
+        tip: DVec3::new(100.0, 50.0, -20.0),
+        axis: DVec3::Z,
+    };
+    assert_eq!(
+        mill.linearise(&a, &b, &MachineJoints::default(), 1e-6)
+            .unwrap()
+            .len(),
+        2
+    );
+    assert!(m.linearise(&a, &b, &MachineJoints::default(), 0.0).is_err());
+}

@@ -179,6 +179,14 @@ impl Machine {
         Ok(out)
     }
 
+    /// Is this tool axis the singular pose (along the C axis, where C is free)? Always false
+    /// on a 3-axis machine.
+    #[must_use]
+    pub fn is_singular(&self, axis: DVec3) -> bool {
+        let n = axis.normalize_or_zero();
+        self.axes.len() > 3 && n != DVec3::ZERO && n.truncate().length() < SINGULAR
+    }
+
     fn linear_ok(&self, j: &MachineJoints) -> bool {
         j.xyz
             .to_array()

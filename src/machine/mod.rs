@@ -21,9 +21,11 @@
 
 mod definition;
 mod kinematics;
+mod linearise;
 
 pub use definition::{Axis, AxisFile, Drawing, MachineFile};
 pub use kinematics::{MachineJoints, ToolPose};
+pub use linearise::{intended_pose, lerp_joints};
 
 use glam::DVec3;
 
