@@ -460,3 +460,50 @@ fn mutated_programs_never_panic() {
         "the mutations should leave many programs valid: {accepted}"
     );
 }
+
+/// Random text (not only mutations of valid programs) never panics either.
+#[test]
+fn random_text_never_panics() {
+    let alphabet: Vec<char> = "GMXYZIJKRFP0123456789.-  \n()%/;#ABCNTSH".chars().collect();
+    let mut rng = Rng(42);
+    for _ in 0..3000 {
+        let n = rng.below(120);
+        let text: String = (0..n)
+            .map(|_| alphabet[rng.below(alphabet.len())])
+            .collect();
+        if let Ok(p) = interpret(&text, &InterpretOptions::default()) {
+            assert!(
+                p.blocks
+                    .iter()
+                    .all(|b| b.end.is_finite() && b.length_mm().is_finite()),
+                "{text}"
+            );
+        }
+    }
+}
+
+/// Every arc block ends where its words say, through the helix parametrisation.
+#[test]
+fn arcs_end_at_their_end_points() {
+    let text = "G91 G18 G2 X4 Z4 I2 K2 F10\nG19 G3 Y-3 Z3 R3\nG90 G17 G2 X4 Y-3 Z8 I0 J5 P3";
+    let p = run_at(text, 0.0, 0.0, 0.0);
+    assert_eq!(p.blocks.len(), 3);
+    for b in &p.blocks {
+        assert!(
+            b.point_at(1.0).xyz.distance(b.end.xyz) < 1e-9,
+            "line {}",
+            b.source_line
+        );
+        assert!(b.point_at(0.0).xyz.distance(b.start.xyz) < 1e-12);
+    }
+    // G18 G91: centre at start + (I, K) = (2, 0, 2), a half circle about +Y clockwise.
+    let a = arc_of(&p.blocks[0]);
+    assert!(a.centre.distance(DVec3::new(2.0, 0.0, 2.0)) < 1e-12);
+    near(a.sweep_rad, PI, 1e-12, "half");
+    // Three full turns plus the helix rise of 1 mm.
+    let a = arc_of(&p.blocks[2]);
+    near(a.sweep_rad, 3.0 * TAU, 1e-9, "P3");
+    // G43 without H takes the tool selected in the same block.
+    let p = run_at("T7 M6 G43\nG1 X1 F1", 0.0, 0.0, 0.0);
+    assert_eq!((p.blocks[0].tool, p.blocks[0].tool_length_h), (7, Some(7)));
+}
