@@ -177,18 +177,16 @@ fn sort_words(words: &[Word], line: usize) -> Result<Block, GcodeError> {
     Ok(block)
 }
 
-/// Execute one block; returns true at a program end (M2/M30).
-fn execute(
-    b: &Block,
-    s: &mut State,
-    opts: &InterpretOptions,
-    out: &mut Program,
-) -> Result<bool, GcodeError> {
-    // Classify G codes into groups, rejecting unknown ones and conflicts.
-    // The tool is selected before G43 reads its default H (RS274NGC order of execution).
-    if let Some((t, col)) = b.get('T') {
-        s.tool = u32_word(t).ok_or_else(|| b.err(col, "T must be a non-negative integer"))?;
-    }
+/// The G words of a block that act later (motion, G28/G53, G4).
+struct GWords {
+    motion: Option<(Motion, usize)>,
+    non_modal: Option<(i32, usize)>,
+    dwell: bool,
+}
+
+/// Apply the modal G codes of a block and classify the rest, rejecting unknown codes and
+/// conflicts within a modal group.
+fn g_words(b: &Block, s: &mut State) -> Result<GWords, GcodeError> {
     let mut motion: Option<(Motion, usize)> = None;
     let mut non_modal: Option<(i32, usize)> = None;
     let mut dwell = false;
@@ -252,6 +250,29 @@ fn execute(
             }
         }
     }
+    Ok(GWords {
+        motion,
+        non_modal,
+        dwell,
+    })
+}
+
+/// Execute one block; returns true at a program end (M2/M30).
+fn execute(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+) -> Result<bool, GcodeError> {
+    // The tool is selected before G43 reads its default H (RS274NGC order of execution).
+    if let Some((t, col)) = b.get('T') {
+        s.tool = u32_word(t).ok_or_else(|| b.err(col, "T must be a non-negative integer"))?;
+    }
+    let GWords {
+        motion,
+        non_modal,
+        dwell,
+    } = g_words(b, s)?;
     if b.get('H').is_some() && !b.g.iter().any(|(g, _)| *g == 430) {
         return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
     }
