@@ -507,3 +507,32 @@ fn arcs_end_at_their_end_points() {
     let p = run_at("T7 M6 G43\nG1 X1 F1", 0.0, 0.0, 0.0);
     assert_eq!((p.blocks[0].tool, p.blocks[0].tool_length_h), (7, Some(7)));
 }
+
+/// The Can (2010) thesis sample format (digest seed-000 §4.7, EK-D/EK-E): `%123`, `T1;`,
+/// `M3 S1250;`, `G1 X.. Y.. Z.. A.. C.. ;`, `M30;` with `;` as the ISO end of block. The first
+/// and last EK-E blocks are quoted; C runs from −164.463° to −310.74°.
+#[test]
+fn thesis_post_format_with_semicolon_end_of_block() {
+    let text = "%123\nT1; M3 S1250;\nG1 X166.195 Y110.138 Z-71.527 A40.277 C-164.463 F100;\nG1 X-245.379 Y112.129 Z-116.893 A48.547 C-310.74 ;  M30;";
+    let opts = InterpretOptions {
+        semicolon_ends_block: true,
+        ..InterpretOptions::default()
+    };
+    let p = interpret(text, &opts).unwrap();
+    assert_eq!(p.blocks.len(), 2);
+    let b = &p.blocks[1];
+    assert_eq!((b.tool, b.spindle_rpm), (1, 1250.0));
+    near(b.start.c.unwrap().to_degrees(), -164.463, 1e-9, "C0");
+    near(b.end.c.unwrap().to_degrees(), -310.74, 1e-9, "C1");
+    near(b.end.a.unwrap().to_degrees(), 48.547, 1e-9, "A1");
+    assert_eq!(b.end.xyz, DVec3::new(-245.379, 112.129, -116.893));
+    // Columns count from the start of the whole line.
+    let e = interpret("G1 X1 F1; G1 Q2", &opts).unwrap_err();
+    assert_eq!((e.line, e.column), (1, 14));
+    // With the RS274NGC default, `;` starts a comment: only T1 is read on that line.
+    let p = interpret(
+        text.replace(" F100", "").as_str(),
+        &InterpretOptions::default(),
+    );
+    assert!(p.is_ok());
+}

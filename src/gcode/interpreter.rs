@@ -3,7 +3,7 @@
 use super::block::Joints;
 
 use super::arc::Plane;
-use super::lexer::{Word, lex_line};
+use super::lexer::{LexedLine, Word, lex_line};
 use super::motion::{emit_arc, emit_line, g28, target};
 use super::{GcodeError, InterpretOptions, Program};
 use crate::diagnostics::Diagnostic;
@@ -106,26 +106,53 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
     let mut ended_at: Option<usize> = None;
     for (index, raw) in text.lines().enumerate() {
         let line = index + 1;
-        let lexed = lex_line(raw, line)?;
-        if lexed.block_delete && opts.block_delete {
-            continue;
-        }
-        if lexed.words.is_empty() {
-            continue;
-        }
-        if let Some(end) = ended_at {
-            program.diagnostics.push(Diagnostic::warning(
-                format!("line {line}"),
-                format!("words after the program end (line {end}) are ignored"),
-            ));
-            break;
-        }
-        let block = sort_words(&lexed.words, line)?;
-        if execute(&block, &mut state, opts, &mut program)? {
-            ended_at = Some(line);
+        for lexed in blocks_of_line(raw, line, opts.semicolon_ends_block)? {
+            if lexed.block_delete && opts.block_delete {
+                continue;
+            }
+            if lexed.words.is_empty() {
+                continue;
+            }
+            if let Some(end) = ended_at {
+                program.diagnostics.push(Diagnostic::warning(
+                    format!("line {line}"),
+                    format!("words after the program end (line {end}) are ignored"),
+                ));
+                return Ok(program);
+            }
+            let block = sort_words(&lexed.words, line)?;
+            if execute(&block, &mut state, opts, &mut program)? {
+                ended_at = Some(line);
+            }
         }
     }
     Ok(program)
+}
+
+/// The blocks of one line: one, or with `;` as end of block, one per `;`-separated piece
+/// (columns stay those of the whole line).
+fn blocks_of_line(
+    raw: &str,
+    line: usize,
+    semicolon_ends_block: bool,
+) -> Result<Vec<LexedLine>, GcodeError> {
+    if !semicolon_ends_block {
+        return Ok(vec![lex_line(raw, line)?]);
+    }
+    let mut out = Vec::new();
+    let mut offset = 0usize;
+    for piece in raw.split(';') {
+        let mut lexed = lex_line(piece, line).map_err(|mut e| {
+            e.column += offset;
+            e
+        })?;
+        for w in &mut lexed.words {
+            w.column += offset;
+        }
+        out.push(lexed);
+        offset += piece.chars().count() + 1;
+    }
+    Ok(out)
 }
 
 fn sort_words(words: &[Word], line: usize) -> Result<Block, GcodeError> {

@@ -27,7 +27,7 @@ pub struct Word {
 pub struct LexedLine {
     /// `/` block delete at the start of the line.
     pub block_delete: bool,
-    /// A `%` tape marker line.
+    /// A `%` tape marker line (the rest of the line is kept as a comment).
     pub percent: bool,
     /// The words in order.
     pub words: Vec<Word>,
@@ -59,8 +59,11 @@ pub fn lex_line(text: &str, line: usize) -> Result<LexedLine, GcodeError> {
             i += 1;
         }
         Some('%') => {
+            // Tape marker; some dialects put a program number or name after it (`%123`).
             out.percent = true;
-            i += 1;
+            out.comments
+                .push(chars.get(i + 1..).unwrap_or(&[]).iter().collect());
+            return Ok(out);
         }
         _ => {}
     }

@@ -63,6 +63,10 @@ pub struct InterpretOptions {
     pub rapid_mm_per_min: f64,
     /// Skip lines that start with `/` (the operator's block-delete switch).
     pub block_delete: bool,
+    /// Read `;` as the ISO end-of-block character, so one line may hold several blocks
+    /// (`T1; M3 S1250;`, as in the Can 2010 thesis samples), instead of as the start of a
+    /// comment (RS274NGC, the default).
+    pub semicolon_ends_block: bool,
 }
 
 impl Default for InterpretOptions {
@@ -74,6 +78,7 @@ impl Default for InterpretOptions {
             g28_position: DVec3::ZERO,
             rapid_mm_per_min: 10_000.0,
             block_delete: true,
+            semicolon_ends_block: false,
         }
     }
 }
