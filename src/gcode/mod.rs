@@ -11,7 +11,8 @@
 //! `G53` (one block in machine coordinates), `G54`–`G59` (from
 //! [`InterpretOptions::work_offsets`]), `G61 G61.1 G64` (accepted, no effect), `G80`,
 //! `G90 G91`, `G90.1 G91.1`, `G93 G94`; `F S T`; `M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30`;
-//! `N` numbers, `O` program numbers, `%` lines, `/` block delete, comments `( )` and `;`.
+//! `N` numbers, `O` program numbers, `%` lines, `/` block delete, comments `( )` and `;` (or
+//! `;` as the ISO end of block with [`InterpretOptions::semicolon_ends_block`]).
 //!
 //! Policy for what is not understood (never skipped silently):
 //! - errors: parameters `#`, expressions `[ ]`, cutter compensation `G41`/`G42`, canned
