@@ -23,7 +23,7 @@
 //! | layer | modules |
 //! |---|---|
 //! | L0 | [`units`], [`diagnostics`], [`geometry`] |
-//! | L1 | [`import`] |
+//! | L1 | [`import`], [`machine`], [`gcode`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -35,8 +35,10 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod diagnostics;
+pub mod gcode;
 pub mod geometry;
 pub mod import;
+pub mod machine;
 pub mod units;
 
 pub mod cli;

@@ -1,0 +1,113 @@
+//! G-code (RS274NGC / ISO 6983 subset) reading: lexer, modal state and an interpreter that
+//! turns a program into [`MotionBlock`]s in machine coordinates (mm, rad).
+//!
+//! ```text
+//! text ─lexer─▶ words per line ─interpreter (modal state)─▶ Program { blocks, diagnostics }
+//! ```
+//!
+//! What is understood: `G0 G1 G2 G3` (arcs with `I J K` or `R`, full circles, helices, `P`
+//! turns), `G4` dwell, `G17 G18 G19`, `G20 G21`, `G28` (through an optional intermediate point
+//! to [`InterpretOptions::g28_position`]), `G40`, `G43 Hn`/`G49` (recorded, not applied),
+//! `G53` (one block in machine coordinates), `G54`–`G59` (from
+//! [`InterpretOptions::work_offsets`]), `G61 G61.1 G64` (accepted, no effect), `G80`,
+//! `G90 G91`, `G90.1 G91.1`, `G93 G94`; `F S T`; `M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30`;
+//! `N` numbers, `O` program numbers, `%` lines, `/` block delete, comments `( )` and `;` (or
+//! `;` as the ISO end of block with [`InterpretOptions::semicolon_ends_block`]).
+//!
+//! Policy for what is not understood (never skipped silently):
+//! - errors: parameters `#`, expressions `[ ]`, cutter compensation `G41`/`G42`, canned
+//!   cycles, any other G code, any letter that is not listed above (`U`, `V`, `W`, `Q`, ...: it
+//!   might be an axis, and ignoring it would move the tool somewhere else), a word given twice
+//!   in one block, two motion codes in one block;
+//! - warnings (in [`Program::diagnostics`]): unknown M codes (they switch machine functions,
+//!   not geometry), feed moves before any F word, text after `M2`/`M30`.
+
+mod arc;
+mod block;
+mod interpreter;
+mod lexer;
+mod motion;
+
+pub use arc::{CentreSpec, Plane, arc_geometry};
+pub use block::{Arc, Joints, MotionBlock, MotionKind};
+pub use interpreter::interpret;
+pub use lexer::{LexedLine, Word, lex_line};
+
+use glam::DVec3;
+
+use crate::diagnostics::Diagnostic;
+
+/// The one error of the G-code reader: where (1-based line and column) and what.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("line {line}, column {column}: {message}")]
+pub struct GcodeError {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column (characters) of the offending word or character.
+    pub column: usize,
+    /// What is wrong, one sentence.
+    pub message: String,
+}
+
+/// Settings of the virtual controller.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InterpretOptions {
+    /// Machine position before the first block.
+    pub start: Joints,
+    /// Work offsets G54..G59 (index 0 = G54), in mm, added to program coordinates.
+    pub work_offsets: [DVec3; 6],
+    /// Work offset active at the start (0 = G54).
+    pub initial_work_offset: usize,
+    /// The G28 home position in machine coordinates (mm).
+    pub g28_position: DVec3,
+    /// Feed recorded on rapid (G0) blocks, mm/min.
+    pub rapid_mm_per_min: f64,
+    /// Skip lines that start with `/` (the operator's block-delete switch).
+    pub block_delete: bool,
+    /// Read `;` as the ISO end-of-block character, so one line may hold several blocks
+    /// (`T1; M3 S1250;`, as in the Can 2010 thesis samples), instead of as the start of a
+    /// comment (RS274NGC, the default).
+    pub semicolon_ends_block: bool,
+}
+
+impl Default for InterpretOptions {
+    fn default() -> Self {
+        Self {
+            start: Joints::default(),
+            work_offsets: [DVec3::ZERO; 6],
+            initial_work_offset: 0,
+            g28_position: DVec3::ZERO,
+            rapid_mm_per_min: 10_000.0,
+            block_delete: true,
+            semicolon_ends_block: false,
+        }
+    }
+}
+
+impl InterpretOptions {
+    /// Default options starting at a given position.
+    #[must_use]
+    pub fn starting_at(start: Joints) -> Self {
+        Self {
+            start,
+            ..Self::default()
+        }
+    }
+}
+
+/// An interpreted program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Program {
+    /// Motions in program order.
+    pub blocks: Vec<MotionBlock>,
+    /// Warnings and notes (place = `line N, column C`).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Program {
+    /// Sum of [`MotionBlock::length_mm`] over all blocks.
+    #[must_use]
+    pub fn length_mm(&self) -> f64 {
+        self.blocks.iter().map(MotionBlock::length_mm).sum()
+    }
+}
