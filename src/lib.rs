@@ -23,7 +23,8 @@
 //! | layer | modules |
 //! |---|---|
 //! | L0 | [`units`], [`diagnostics`], [`geometry`] |
-//! | L1 | [`import`] |
+//! | L1 | [`import`], [`tools`] |
+//! | L3 | [`reduce`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -37,6 +38,8 @@
 pub mod diagnostics;
 pub mod geometry;
 pub mod import;
+pub mod reduce;
+pub mod tools;
 pub mod units;
 
 pub mod cli;
