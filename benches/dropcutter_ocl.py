@@ -53,6 +53,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=320, help="grid points per side (n*n points)")
     ap.add_argument("--talas", default="target/release/talas")
+    ap.add_argument("--only", default="", help="run only the tools whose spec contains this text")
     args = ap.parse_args()
     threads = os.cpu_count() or 1
     print(f"# {args.n * args.n} points per run, {threads} threads, opencamlib {ocl.version()}")
@@ -67,10 +68,12 @@ def main():
         pts = [(x, y) for y in ys for x in xs]
         with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
             f.write("x,y\n")
-            f.writelines(f"{x!r},{y!r}\n" for x, y in pts)
+            f.writelines(f"{float(x)!r},{float(y)!r}\n" for x, y in pts)
             csv = f.name
         z0 = lo[2] - 100.0
         for spec, make in CUTTERS:
+            if args.only not in spec:
+                continue
             t = time.perf_counter()
             out = subprocess.run([args.talas, "dropcutter", mesh, "--tool", spec, "--points", csv, "--json"],
                                  check=True, capture_output=True, text=True).stdout
@@ -84,7 +87,8 @@ def main():
             bdc = ocl.BatchDropCutter()
             bdc.setThreads(threads)
             bdc.setSTL(surf)
-            bdc.setCutter(make())
+            cutter = make()  # keep a reference: OCL stores a raw pointer to it
+            bdc.setCutter(cutter)
             for x, y in pts:
                 bdc.appendPoint(ocl.CLPoint(float(x), float(y), z0))
             bdc.run()

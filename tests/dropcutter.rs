@@ -312,3 +312,24 @@ fn bicubic_hills_matches_brute_force() {
         }
     }
 }
+
+#[test]
+fn progress_reaches_one_and_cancel_stops() {
+    use talas::diagnostics::Progress;
+    use talas::tools::dropcutter::drop_cutter_progress;
+    let mesh = tilted_plane(0.1, 0.0);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let ball = Cutter::new(CutterKind::Ball, 6.0).unwrap();
+    let pts: Vec<DVec2> = (0..10_000)
+        .map(|i| DVec2::new(f64::from(i % 100) - 50.0, 0.0))
+        .collect();
+    let progress = Progress::new();
+    let cls = drop_cutter_progress(&bvh, &mesh, &ball, &pts, &progress).unwrap();
+    assert_eq!(cls.len(), pts.len());
+    assert!((progress.fraction() - 1.0).abs() < 1e-12);
+    // Same answers, same order as the plain call.
+    assert_eq!(cls, drop_cutter(&bvh, &mesh, &ball, &pts));
+    let cancelled = Progress::new();
+    cancelled.cancel();
+    assert!(drop_cutter_progress(&bvh, &mesh, &ball, &pts, &cancelled).is_err());
+}

@@ -60,7 +60,9 @@ pub fn dropcutter(args: &DropcutterArgs) -> Result<Value, ImportError> {
                 json!([p.x, p.y, c.z])
             }
             None => {
-                counts[3] += 1;
+                if let Some(n) = counts.get_mut(3) {
+                    *n += 1;
+                }
                 Value::Null
             }
         })

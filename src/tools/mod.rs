@@ -13,7 +13,7 @@ pub use spec::parse_tool_spec;
 
 /// The shape of a cutter's cutting end.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(tag = "type", rename_all = "snake_case")]
 pub enum CutterKind {
     /// Ball end mill: a hemisphere of radius d/2.
     Ball,

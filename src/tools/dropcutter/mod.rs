@@ -13,6 +13,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::Cutter;
+use crate::diagnostics::{Cancelled, Progress};
 use crate::geometry::Aabb;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
@@ -54,11 +55,36 @@ pub fn drop_cutter(
     cutter: &Cutter,
     points: &[DVec2],
 ) -> Vec<Option<ClPoint>> {
+    // A fresh handle is never cancelled, so the error branch cannot happen.
+    drop_cutter_progress(bvh, mesh, cutter, points, &Progress::new()).unwrap_or_default()
+}
+
+/// Points handled between two progress reports and cancel checks.
+const CHUNK: usize = 4096;
+
+/// [`drop_cutter`] reporting the fraction done to `progress` and stopping when it is cancelled.
+///
+/// # Errors
+/// [`Cancelled`] when `progress` was cancelled before the last chunk of points finished.
+pub fn drop_cutter_progress(
+    bvh: &MeshBvh,
+    mesh: &TriMesh,
+    cutter: &Cutter,
+    points: &[DVec2],
+    progress: &Progress,
+) -> Result<Vec<Option<ClPoint>>, Cancelled> {
     let bbox = bvh.bbox();
-    points
-        .par_iter()
-        .map(|p| drop_one(bvh, mesh, cutter, *p, &bbox))
-        .collect()
+    let mut out = Vec::with_capacity(points.len());
+    for chunk in points.chunks(CHUNK) {
+        progress.check()?;
+        out.par_extend(
+            chunk
+                .par_iter()
+                .map(|p| drop_one(bvh, mesh, cutter, *p, &bbox)),
+        );
+        progress.set(out.len() as f64 / points.len() as f64);
+    }
+    Ok(out)
 }
 
 /// Drop-cutter at a single point (see [`drop_cutter`]).
