@@ -32,6 +32,8 @@ CUTTERS = [
     ("ball:d=6", lambda: ocl.BallCutter(6.0, 30.0)),
     ("flat:d=10", lambda: ocl.CylCutter(10.0, 30.0)),
     ("bull:d=10,r=2", lambda: ocl.BullCutter(10.0, 2.0, 30.0)),
+    # OCL's ConeCutter takes the half-angle in radians, as Talas's `angle` (in degrees).
+    ("cone:d=10,angle=45", lambda: ocl.ConeCutter(10.0, 0.25 * 3.141592653589793, 30.0)),
 ]
 
 
