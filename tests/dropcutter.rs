@@ -291,9 +291,10 @@ fn bicubic_hills_matches_brute_force() {
         .collect();
     for c in cutters() {
         let cls = drop_cutter(&bvh, &stl.mesh, &c, &pts);
-        // Sampling resolution: radial step R/120 and arc step 2πR/720 at the rim, times a
-        // surface slope of at most ~2 on this part.
-        let tol = 2.0 * (2.0 * PI * c.radius() / 720.0);
+        // Sampling resolution: radial step R/120 and arc step 2πR/720 at the rim (≤ 0.044 mm).
+        // At a smooth (facet or edge) contact the lift error is second order in that step; the
+        // measured gaps are ≤ 2e-5 mm (ball, flat, cone) and 1.1e-4 mm (bull-nose).
+        let tol = 2e-3;
         for (p, cl) in pts.iter().zip(&cls) {
             let cl = cl.expect("inside the part");
             let bf = brute_force(&bvh, &c, *p, bb.max.z).unwrap();
