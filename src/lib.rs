@@ -23,7 +23,8 @@
 //! | layer | modules |
 //! |---|---|
 //! | L0 | [`units`], [`diagnostics`], [`geometry`] |
-//! | L1 | [`import`], [`machine`], [`gcode`] |
+//! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
+//! | L3 | [`reduce`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -39,6 +40,8 @@ pub mod gcode;
 pub mod geometry;
 pub mod import;
 pub mod machine;
+pub mod reduce;
+pub mod tools;
 pub mod units;
 
 pub mod cli;

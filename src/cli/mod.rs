@@ -1,7 +1,9 @@
 //! The command line: each subcommand is a thin shell over engine calls. Errors go to stderr as one
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
+pub mod dropcutter;
 pub mod inspect;
+pub mod reduce;
 
 use std::path::PathBuf;
 
@@ -30,6 +32,33 @@ pub enum Command {
     /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
     /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
     Inspect(inspect::InspectArgs),
+    /// Drop-cutter against an STL mesh: the tool-tip height at every XY point of a CSV.
+    Dropcutter(dropcutter::DropcutterArgs),
+    /// SVD data reduction of a Z-map (CSV of heights): singular values, rank, reduced sizes,
+    /// max and mean error.
+    Reduce(reduce::ReduceArgs),
+}
+
+/// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
+fn report(
+    result: Result<serde_json::Value, crate::import::ImportError>,
+    json: bool,
+    human: fn(&serde_json::Value) -> String,
+) -> i32 {
+    match result {
+        Ok(doc) => {
+            if json {
+                println!("{doc}");
+            } else {
+                print!("{}", human(&doc));
+            }
+            0
+        }
+        Err(e) => {
+            eprintln!("talas: {e}");
+            EXIT_BAD_INPUT
+        }
+    }
 }
 
 /// Run a subcommand; returns the process exit code.
@@ -50,5 +79,9 @@ pub fn run(command: Command) -> i32 {
                 EXIT_BAD_INPUT
             }
         },
+        Command::Dropcutter(args) => {
+            report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
+        }
+        Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
     }
 }

@@ -1,0 +1,108 @@
+//! `talas reduce ZMAP.csv --tolerance T [--rank-rule R] [--rank N] [--tool-radius MM --step MM]
+//! [--json]`: SVD data reduction of a Z-map (CSV of heights, one grid row a line, no header).
+
+use std::path::PathBuf;
+
+use serde_json::{Value, json};
+
+use crate::import::ImportError;
+use crate::reduce::{
+    Grid, RankRule, ReduceError, ReduceOptions, Resampling, point_spacing, reduce as run_reduce,
+};
+
+/// Options of `talas reduce`.
+#[derive(Debug, clap::Args)]
+pub struct ReduceArgs {
+    /// The Z-map: heights (mm), one grid row a line, comma-separated, no header.
+    pub file: PathBuf,
+    /// Tolerance t (mm): chooses the rank and, with --tool-radius, the resampling spacing.
+    #[arg(long, value_name = "MM")]
+    pub tolerance: f64,
+    /// Rank rule: `spectral` (smallest r with σ_(r+1) ≤ t, a guaranteed node-error bound) or
+    /// `term` (the thesis's loop: stop when a term changes the model by less than t).
+    #[arg(long, value_name = "RULE", default_value = "spectral")]
+    pub rank_rule: String,
+    /// Keep exactly this many singular values (overrides --rank-rule).
+    #[arg(long, value_name = "N")]
+    pub rank: Option<usize>,
+    /// Ball end-mill radius ρ (mm): resample the singular vectors at l = √(4ρt − t²).
+    #[arg(long, value_name = "MM")]
+    pub tool_radius: Option<f64>,
+    /// Grid step γ of the Z-map (mm), used with --tool-radius.
+    #[arg(long, value_name = "MM", default_value_t = 1.0)]
+    pub step: f64,
+    /// Print one JSON document instead of the human summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Run the reduction and build the contract's JSON document.
+///
+/// # Errors
+/// An [`ImportError`] naming the file (and line) for a bad Z-map, or the option for a bad value.
+pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
+    let file_err = |e: ReduceError| match e {
+        ReduceError::Parse { line, message } => {
+            ImportError::new(&args.file, Some(format!("line {line}")), message)
+        }
+        other => ImportError::new(&args.file, None, other.to_string()),
+    };
+    let rank_rule = match (args.rank, args.rank_rule.as_str()) {
+        (Some(r), _) => RankRule::Fixed(r),
+        (None, "spectral") => RankRule::SpectralBound,
+        (None, "term") => RankRule::TermChange,
+        (None, other) => {
+            return Err(ImportError::new(
+                &args.file,
+                None,
+                format!("--rank-rule must be 'spectral' or 'term', got '{other}'"),
+            ));
+        }
+    };
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| ImportError::new(&args.file, None, format!("cannot read file: {e}")))?;
+    let grid = Grid::parse_csv(&text).map_err(file_err)?;
+    let opts = ReduceOptions {
+        tolerance_mm: args.tolerance,
+        rank_rule,
+        resampling: args.tool_radius.map(|r| Resampling {
+            tool_radius_mm: r,
+            grid_step_mm: args.step,
+        }),
+    };
+    let r = run_reduce(&grid, &opts).map_err(file_err)?;
+    Ok(json!({
+        "rows": grid.rows(),
+        "cols": grid.cols(),
+        "tolerance_mm": args.tolerance,
+        "rank_rule": rank_rule,
+        "singular_values": r.singular_values,
+        "rank": r.rank,
+        "rank_error_bound": r.rank_error_bound,
+        "spacing_mm": r.spacing_mm.or_else(|| args.tool_radius.map(|t| point_spacing(t, args.tolerance))),
+        "reduced_rows": r.reduced.rows(),
+        "reduced_cols": r.reduced.cols(),
+        "original_numbers": grid.rows() * grid.cols(),
+        "stored_numbers": r.stored_numbers,
+        "reduced_points": r.reduced.rows() * r.reduced.cols(),
+        "max_error": r.max_error,
+        "mean_error": r.mean_error,
+    }))
+}
+
+/// A short human summary of the JSON document.
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    format!(
+        "{}×{} grid: rank {} (bound σ_r+1 = {}), reduced to {}×{} ({} numbers stored), max error {} mm, mean error {} mm\n",
+        doc["rows"],
+        doc["cols"],
+        doc["rank"],
+        doc["rank_error_bound"],
+        doc["reduced_rows"],
+        doc["reduced_cols"],
+        doc["stored_numbers"],
+        doc["max_error"],
+        doc["mean_error"]
+    )
+}

@@ -1,0 +1,123 @@
+//! `talas dropcutter` and `talas reduce` through the command line: the contract's JSON, and bad
+//! input giving exit code 2 with one line naming the file and the line.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn data(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(p)
+}
+
+fn talas(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn temp_file(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("talas-zmap-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn dropcutter_json_keeps_input_order_and_marks_misses() {
+    let stl = data("bicubic-hills.stl");
+    // The last point is far outside the part: null.
+    let pts = temp_file("pts.csv", "x,y\n40,30\n45.5,31\n\n-1000,-1000\n");
+    let out = talas(&[
+        "dropcutter",
+        stl.to_str().unwrap(),
+        "--tool",
+        "ball:d=6",
+        "--points",
+        pts.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cl = doc["cl"].as_array().unwrap();
+    assert_eq!(cl.len(), 3);
+    assert_eq!(cl[0][0], 40.0);
+    assert_eq!(cl[1][1], 31.0);
+    assert!(cl[0][2].as_f64().unwrap().is_finite());
+    assert!(cl[2].is_null());
+}
+
+#[test]
+fn dropcutter_bad_input_names_the_file_and_line() {
+    let stl = data("bicubic-hills.stl");
+    let bad = temp_file("bad.csv", "x,y\n1,2\n3,oops\n");
+    let out = talas(&[
+        "dropcutter",
+        stl.to_str().unwrap(),
+        "--tool",
+        "ball:d=6",
+        "--points",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.csv") && err.contains("line 3"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1);
+
+    let ok = temp_file("ok.csv", "x,y\n1,2\n");
+    let out = talas(&[
+        "dropcutter",
+        stl.to_str().unwrap(),
+        "--tool",
+        "bull:d=10,r=6",
+        "--points",
+        ok.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("corner radius"));
+}
+
+#[test]
+fn reduce_json_on_example_a() {
+    let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
+    let out = talas(&[
+        "reduce",
+        file.to_str().unwrap(),
+        "--tolerance",
+        "0.1",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let s: Vec<f64> = doc["singular_values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(s.len(), 20);
+    assert!((s[0] - 47.545).abs() < 1e-3);
+    assert_eq!(doc["rank"], 8);
+    assert!(doc["max_error"].as_f64().unwrap() <= 0.1);
+    assert!(doc["mean_error"].as_f64().unwrap() > 0.0);
+    assert_eq!(doc["reduced_rows"], 20);
+
+    let bad = temp_file("bad-zmap.csv", "1,2,3\n4,5\n");
+    let out = talas(&["reduce", bad.to_str().unwrap(), "--tolerance", "0.1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad-zmap.csv") && err.contains("line 2"),
+        "{err}"
+    );
+}
