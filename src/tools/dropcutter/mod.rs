@@ -3,7 +3,7 @@
 //!
 //! For every candidate triangle (those whose box meets the cutter's footprint, from
 //! [`MeshBvh::triangles_in_aabb`]) the classic trio runs, as in OpenCAMLib: vertex drop, facet
-//! drop and edge drop (see [`contact`]); the highest tip wins. Triangles are visited from the
+//! drop and edge drop (see `contact`); the highest tip wins. Triangles are visited from the
 //! highest down and skipped once their top lies below the best tip found, which is exact because
 //! the tip is the tool's lowest point. Points run in parallel (rayon); results keep input order.
 
