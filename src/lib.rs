@@ -40,7 +40,9 @@ pub mod gcode;
 pub mod geometry;
 pub mod import;
 pub mod machine;
+pub mod post;
 pub mod reduce;
+pub mod toolpath;
 pub mod tools;
 pub mod units;
 
