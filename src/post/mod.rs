@@ -143,9 +143,21 @@ pub fn post(
             prev = j;
             continue;
         }
-        let js = machine
-            .linearise(&from, &to, &prev, options.tolerance_mm)
-            .map_err(pose_err(k + 1))?;
+        let js = match machine.linearise(&from, &to, &prev, options.tolerance_mm) {
+            Ok(js) => js,
+            Err(MachineError::Unreachable(first_error)) => {
+                // The joints jump inside the move (a limit forces the other branch): flip over
+                // a safe move (retract, turn, re-enter at `from`), then cut on that branch.
+                let (j0, js) = flipped(machine, &from, &to, &prev, options.tolerance_mm)
+                    .ok_or_else(|| PostError::Pose {
+                        pose: k + 1,
+                        source: MachineError::Unreachable(first_error),
+                    })?;
+                w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min);
+                js
+            }
+            Err(e) => return Err(pose_err(k + 1)(e)),
+        };
         let mut last_tip = a.tip;
         for (i, j) in js.iter().enumerate() {
             if i == 0 && joints_equal(j, &prev) {
@@ -195,6 +207,31 @@ fn check(
     toolpath
         .validate("<tool path>")
         .map_err(|e| PostError::Options(e.to_string()))
+}
+
+/// The move on another solution branch at `from`: its first joints and the linearised joints.
+fn flipped(
+    machine: &Machine,
+    from: &ToolPose,
+    to: &ToolPose,
+    prev: &MachineJoints,
+    tolerance_mm: f64,
+) -> Option<(MachineJoints, Vec<MachineJoints>)> {
+    let mut candidates = machine.inverse_candidates(from, prev).ok()?;
+    let cost = |j: &MachineJoints| {
+        (j.tilt_rad - prev.tilt_rad).abs() + (j.rotary_rad - prev.rotary_rad).abs()
+    };
+    candidates.sort_by(|a, b| cost(a).total_cmp(&cost(b)));
+    candidates
+        .into_iter()
+        .filter(|c| {
+            (c.tilt_rad - prev.tilt_rad).abs() > 1e-9
+                || (c.rotary_rad - prev.rotary_rad).abs() > 1e-9
+        })
+        .find_map(|c| {
+            let js = machine.linearise(from, to, &c, tolerance_mm).ok()?;
+            Some((*js.first()?, js))
+        })
 }
 
 fn joints_equal(a: &MachineJoints, b: &MachineJoints) -> bool {

@@ -191,6 +191,17 @@ impl<'a> Writer<'a> {
         self.rapid_words(t, [true, true, false, false, false]);
     }
 
+    /// A safe move to `t`: retract to the clearance, turn the rotaries, position X Y, feed in.
+    pub(super) fn reposition(&mut self, t: &Target, feed: f64) {
+        let d = self.d;
+        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
+        let code = self.motion_code(&d.rapid);
+        self.block(&join(code, &[format!("Z{z}")]));
+        self.last[2] = Some(z);
+        self.approach(t);
+        self.motion(t, MoveKind::Plunge, feed, 0.0);
+    }
+
     /// The block reaching `t` by a move of `kind` (tip travel `tip_len` mm).
     pub(super) fn motion(&mut self, t: &Target, kind: MoveKind, feed: f64, tip_len: f64) {
         let values = self.values(t);
