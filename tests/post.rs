@@ -265,7 +265,6 @@ fn golden_files_per_dialect() {
                 (format!("small-{d}-tcp.ngc"), small(), &trt, tcp.clone()),
             ]
         })
-        .map(|(n, t, m, o)| (n, t, m, o))
         .collect();
     cases.push((
         "small-grbl.ngc".into(),
@@ -289,4 +288,66 @@ fn golden_files_per_dialect() {
             assert_eq!(text, golden, "{name} differs from its golden file");
         }
     }
+}
+
+#[test]
+fn cli_posts_and_lists_machines() {
+    let exe = env!("CARGO_BIN_EXE_talas");
+    let dir = std::env::temp_dir().join(format!("talas-post-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join("small.json");
+    small().save(&input).unwrap();
+    let out = dir.join("small.ngc");
+    let run = std::process::Command::new(exe)
+        .args([
+            "post",
+            input.to_str().unwrap(),
+            "--machine",
+            "trt-ac",
+            "--dialect",
+            "linuxcnc",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let golden = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/post/small-linuxcnc.ngc"),
+    )
+    .unwrap();
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), golden);
+    // A 5-axis machine in the 3-axis GRBL dialect: exit 2, one line naming the file.
+    let run = std::process::Command::new(exe)
+        .args([
+            "post",
+            input.to_str().unwrap(),
+            "--machine",
+            "trt-ac",
+            "--dialect",
+            "grbl",
+            "-o",
+        ])
+        .arg(dir.join("x.ngc"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains("small.json") && err.contains("3-axis") && err.lines().count() == 1,
+        "{err}"
+    );
+    let list = std::process::Command::new(exe)
+        .arg("machines")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&list.stdout);
+    for name in ["mill-3axis", "trt-ac", "trt-bc"] {
+        assert!(text.lines().any(|l| l.starts_with(name)), "{text}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

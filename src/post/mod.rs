@@ -197,8 +197,9 @@ fn check(
     if !(options.tolerance_mm > 0.0 && options.tolerance_mm.is_finite()) {
         return Err(PostError::Options("tolerance must be positive".into()));
     }
-    if !(options.spindle_rpm >= 0.0 && options.spindle_rpm.is_finite())
-        || !options.clearance_z_mm.is_finite()
+    if !(options.spindle_rpm >= 0.0
+        && options.spindle_rpm.is_finite()
+        && options.clearance_z_mm.is_finite())
     {
         return Err(PostError::Options(
             "spindle speed and clearance must be finite (speed >= 0)".into(),

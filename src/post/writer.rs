@@ -56,7 +56,7 @@ impl<'a> Writer<'a> {
             .replace("{dialect}", &self.d.name)
             .replace("{tool_spec}", &self.toolpath.tool.spec)
             .replace("{tool}", &self.options.tool_number.to_string())
-            .replace("{rpm}", &self.d.number(self.options.spindle_rpm, 0))
+            .replace("{rpm}", &format!("{:.0}", self.options.spindle_rpm))
     }
 
     /// One block (numbered, with the block end) or a raw `!` line.
@@ -131,11 +131,11 @@ impl<'a> Writer<'a> {
             if !on || (i >= 3 && !self.five_axis()) {
                 continue;
             }
-            if let Some(slot) = self.last.get_mut(i) {
-                if slot.as_deref() != Some(v.as_str()) {
-                    words.push(format!("{l}{v}"));
-                    *slot = Some(v.clone());
-                }
+            if let Some(slot) = self.last.get_mut(i)
+                && slot.as_deref() != Some(v.as_str())
+            {
+                words.push(format!("{l}{v}"));
+                *slot = Some(v.clone());
             }
         }
         words
