@@ -24,7 +24,9 @@
 //! |---|---|
 //! | L0 | [`units`], [`diagnostics`], [`geometry`] |
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
+//! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
+//! | L4 | [`post`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -40,7 +42,9 @@ pub mod gcode;
 pub mod geometry;
 pub mod import;
 pub mod machine;
+pub mod post;
 pub mod reduce;
+pub mod toolpath;
 pub mod tools;
 pub mod units;
 

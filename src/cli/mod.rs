@@ -3,6 +3,7 @@
 
 pub mod dropcutter;
 pub mod inspect;
+pub mod post;
 pub mod reduce;
 
 use std::path::PathBuf;
@@ -37,6 +38,10 @@ pub enum Command {
     /// SVD data reduction of a Z-map (CSV of heights): singular values, rank, reduced sizes,
     /// max and mean error.
     Reduce(reduce::ReduceArgs),
+    /// Post a tool path JSON into G-code for a machine and dialect.
+    Post(post::PostArgs),
+    /// List the built-in machines, one line each.
+    Machines,
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -83,5 +88,16 @@ pub fn run(command: Command) -> i32 {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
         }
         Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
+        Command::Post(args) => match post::post(&args) {
+            Ok(()) => 0,
+            Err(e) => {
+                eprintln!("talas: {e}");
+                EXIT_BAD_INPUT
+            }
+        },
+        Command::Machines => {
+            print!("{}", post::machines());
+            0
+        }
     }
 }

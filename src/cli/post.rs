@@ -1,0 +1,89 @@
+//! `talas post PATH.json --machine NAME_OR_FILE --dialect NAME_OR_FILE [--tcp] -o OUT.ngc` and
+//! `talas machines`.
+
+use std::path::PathBuf;
+
+use crate::machine::Machine;
+use crate::post::{Dialect, PostOptions, post as run_post};
+use crate::toolpath::Toolpath;
+
+/// Options of `talas post`.
+#[derive(Debug, clap::Args)]
+pub struct PostArgs {
+    /// The tool path (the contract's Tool path JSON).
+    pub file: PathBuf,
+    /// A built-in machine (`talas machines`) or a machine JSON file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: String,
+    /// Dialect: linuxcnc, fanuc, siemens, heidenhain, grbl, or a dialect JSON file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub dialect: String,
+    /// Tool-centre-point output (G43.4 / TRAORI / M128): tip coordinates and rotary angles.
+    #[arg(long)]
+    pub tcp: bool,
+    /// Largest tip deviation of a linearised 5-axis move, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// Tool and length-offset number.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub tool_number: u32,
+    /// Spindle speed, rpm.
+    #[arg(long, value_name = "RPM", default_value_t = 10_000.0)]
+    pub rpm: f64,
+    /// Safe retract height (program Z, mm) at start and end.
+    #[arg(long, value_name = "MM", default_value_t = 100.0)]
+    pub clearance: f64,
+    /// Number the blocks (default: as the dialect says).
+    #[arg(long)]
+    pub line_numbers: bool,
+    /// Program name in the header.
+    #[arg(long, value_name = "NAME", default_value = "TALAS")]
+    pub program: String,
+    /// Output file (written atomically).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: PathBuf,
+}
+
+/// Post the file; `Err` is the one line to print.
+///
+/// # Errors
+/// A line naming the file and the place.
+pub fn post(args: &PostArgs) -> Result<(), String> {
+    let tp = Toolpath::load(&args.file).map_err(|e| e.to_string())?;
+    let machine = Machine::resolve(&args.machine).map_err(|e| format!("{}: {e}", args.machine))?;
+    let dialect = Dialect::resolve(&args.dialect).map_err(|e| e.to_string())?;
+    let options = PostOptions {
+        tcp: args.tcp,
+        tolerance_mm: args.tolerance,
+        program_name: args.program.clone(),
+        tool_number: args.tool_number,
+        spindle_rpm: args.rpm,
+        clearance_z_mm: args.clearance,
+        line_numbers: args.line_numbers.then_some(true),
+        ..PostOptions::default()
+    };
+    let text = run_post(&tp, &machine, &dialect, &options)
+        .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    let out = args.output.display().to_string();
+    let mut tmp = args.output.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, text).map_err(|e| format!("{out}: {e}"))?;
+    std::fs::rename(&tmp, &args.output).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("{out}: {e}")
+    })
+}
+
+/// The lines of `talas machines`: name and description.
+#[must_use]
+pub fn machines() -> String {
+    let mut s = String::new();
+    for name in Machine::builtin_names() {
+        let description = Machine::builtin(name)
+            .map(|m| m.description)
+            .unwrap_or_else(|e| e.to_string());
+        s.push_str(&format!("{name}\t{description}\n"));
+    }
+    s
+}

@@ -1,0 +1,264 @@
+//! Posting: a [`Toolpath`] through a [`Machine`]'s kinematics into the text of a G-code
+//! dialect.
+//!
+//! Joint-space output (the default) runs the inverse kinematics with continuity (least rotary
+//! travel, C kept at the singular pose), linearises every fed move within
+//! [`PostOptions::tolerance_mm`] ([`Machine::linearise`]) and writes machine joints. The rotary
+//! angles are rounded to the dialect's resolution first and the linear axes computed for the
+//! rounded angles, so the tip lands on the pose to within the linear resolution. Fed moves
+//! that turn a rotary axis are written in inverse time (G93), the others in G94.
+//!
+//! Tool-centre-point output (`tcp`) writes the tip in part coordinates and the rotary angles,
+//! after the dialect's TCP code (G43.4, TRAORI, M128); the controller does the rest.
+//!
+//! The output holds no date or path: the same input gives the same bytes.
+
+mod dialect;
+mod writer;
+
+pub use dialect::Dialect;
+
+use crate::machine::{KinematicsKind, Machine, MachineError, MachineJoints, ToolPose};
+use crate::toolpath::{MoveKind, Toolpath};
+use writer::Writer;
+
+/// Errors of posting.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PostError {
+    /// A dialect file is malformed or unknown.
+    #[error("dialect: {0}")]
+    Dialect(String),
+    /// The machine and dialect (or options) do not go together.
+    #[error("{0}")]
+    Unsupported(String),
+    /// A pose cannot be posted (kinematics).
+    #[error("pose {pose}: {source}")]
+    Pose {
+        /// Index of the pose in the tool path.
+        pose: usize,
+        /// The kinematic failure.
+        source: MachineError,
+    },
+    /// Bad options.
+    #[error("options: {0}")]
+    Options(String),
+}
+
+/// Settings of one post run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PostOptions {
+    /// Tool-centre-point output instead of joint positions.
+    pub tcp: bool,
+    /// Largest tip deviation of a linearised move from its straight line, mm.
+    pub tolerance_mm: f64,
+    /// Program name for the header.
+    pub program_name: String,
+    /// Tool (and length offset) number.
+    pub tool_number: u32,
+    /// Spindle speed, rpm.
+    pub spindle_rpm: f64,
+    /// Coolant on during the program.
+    pub coolant: bool,
+    /// Z (program coordinates, mm) of the safe retract at start and end.
+    pub clearance_z_mm: f64,
+    /// Line numbers on or off (`None`: the dialect's default).
+    pub line_numbers: Option<bool>,
+}
+
+impl Default for PostOptions {
+    fn default() -> Self {
+        Self {
+            tcp: false,
+            tolerance_mm: 0.01,
+            program_name: "TALAS".into(),
+            tool_number: 1,
+            spindle_rpm: 10_000.0,
+            coolant: true,
+            clearance_z_mm: 100.0,
+            line_numbers: None,
+        }
+    }
+}
+
+/// The joints written for one block, with the tip they put in part coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Target {
+    joints: MachineJoints,
+    tip: glam::DVec3,
+}
+
+/// Post a tool path.
+///
+/// # Errors
+/// [`PostError::Unsupported`] for a 5-axis machine with a 3-axis dialect, TCP on a dialect or
+/// machine without it, or a tilted pose on a 3-axis machine; [`PostError::Pose`] for poses the
+/// kinematics cannot reach; [`PostError::Options`] for bad options.
+pub fn post(
+    toolpath: &Toolpath,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+) -> Result<String, PostError> {
+    check(toolpath, machine, dialect, options)?;
+    let mut w = Writer::new(dialect, machine, toolpath, options);
+    w.preamble();
+    let Some(first) = toolpath.poses.first() else {
+        w.postamble();
+        return Ok(w.finish());
+    };
+    let pose_err = |pose: usize| move |source| PostError::Pose { pose, source };
+    let start = ToolPose {
+        tip: first.tip,
+        axis: first.axis,
+    };
+    let mut prev = machine
+        .inverse(&start, &MachineJoints::default())
+        .map_err(pose_err(0))?;
+    w.approach(&target(dialect, machine, &prev, options.tcp));
+    w.motion(
+        &target(dialect, machine, &prev, options.tcp),
+        first.kind,
+        first.feed_mm_per_min,
+        0.0,
+    );
+    for (k, pair) in toolpath.poses.windows(2).enumerate() {
+        let [a, b] = pair else { continue };
+        let from = ToolPose {
+            tip: a.tip,
+            axis: a.axis,
+        };
+        let to = ToolPose {
+            tip: b.tip,
+            axis: b.axis,
+        };
+        if b.kind == MoveKind::Rapid || options.tcp {
+            let j = machine.inverse(&to, &prev).map_err(pose_err(k + 1))?;
+            let len = a.tip.distance(b.tip);
+            w.motion(
+                &target(dialect, machine, &j, options.tcp),
+                b.kind,
+                b.feed_mm_per_min,
+                len,
+            );
+            prev = j;
+            continue;
+        }
+        let js = match machine.linearise(&from, &to, &prev, options.tolerance_mm) {
+            Ok(js) => js,
+            Err(MachineError::Unreachable(first_error)) => {
+                // The joints jump inside the move (a limit forces the other branch): flip over
+                // a safe move (retract, turn, re-enter at `from`), then cut on that branch.
+                let (j0, js) = flipped(machine, &from, &to, &prev, options.tolerance_mm)
+                    .ok_or_else(|| PostError::Pose {
+                        pose: k + 1,
+                        source: MachineError::Unreachable(first_error),
+                    })?;
+                w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min);
+                js
+            }
+            Err(e) => return Err(pose_err(k + 1)(e)),
+        };
+        let mut last_tip = a.tip;
+        for (i, j) in js.iter().enumerate() {
+            if i == 0 && joints_equal(j, &prev) {
+                continue;
+            }
+            let t = target(dialect, machine, j, false);
+            w.motion(&t, b.kind, b.feed_mm_per_min, last_tip.distance(t.tip));
+            last_tip = t.tip;
+        }
+        if let Some(j) = js.last() {
+            prev = *j;
+        }
+    }
+    w.postamble();
+    Ok(w.finish())
+}
+
+fn check(
+    toolpath: &Toolpath,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+) -> Result<(), PostError> {
+    let five = machine.kinematics != KinematicsKind::ThreeAxis;
+    if five && !dialect.five_axis {
+        return Err(PostError::Unsupported(format!(
+            "dialect {} is for 3-axis machines; machine {} has rotary axes",
+            dialect.name, machine.name
+        )));
+    }
+    if options.tcp && !(five && dialect.supports_tcp()) {
+        return Err(PostError::Unsupported(format!(
+            "tool-centre-point output needs a 5-axis machine and dialect (machine {}, dialect {})",
+            machine.name, dialect.name
+        )));
+    }
+    if !(options.tolerance_mm > 0.0 && options.tolerance_mm.is_finite()) {
+        return Err(PostError::Options("tolerance must be positive".into()));
+    }
+    if !(options.spindle_rpm >= 0.0
+        && options.spindle_rpm.is_finite()
+        && options.clearance_z_mm.is_finite())
+    {
+        return Err(PostError::Options(
+            "spindle speed and clearance must be finite (speed >= 0)".into(),
+        ));
+    }
+    toolpath
+        .validate("<tool path>")
+        .map_err(|e| PostError::Options(e.to_string()))
+}
+
+/// The move on another solution branch at `from`: its first joints and the linearised joints.
+fn flipped(
+    machine: &Machine,
+    from: &ToolPose,
+    to: &ToolPose,
+    prev: &MachineJoints,
+    tolerance_mm: f64,
+) -> Option<(MachineJoints, Vec<MachineJoints>)> {
+    let mut candidates = machine.inverse_candidates(from, prev).ok()?;
+    let cost = |j: &MachineJoints| {
+        (j.tilt_rad - prev.tilt_rad).abs() + (j.rotary_rad - prev.rotary_rad).abs()
+    };
+    candidates.sort_by(|a, b| cost(a).total_cmp(&cost(b)));
+    candidates
+        .into_iter()
+        .filter(|c| {
+            (c.tilt_rad - prev.tilt_rad).abs() > 1e-9
+                || (c.rotary_rad - prev.rotary_rad).abs() > 1e-9
+        })
+        .find_map(|c| {
+            let js = machine.linearise(from, to, &c, tolerance_mm).ok()?;
+            Some((*js.first()?, js))
+        })
+}
+
+fn joints_equal(a: &MachineJoints, b: &MachineJoints) -> bool {
+    a.xyz.distance(b.xyz) < 1e-12
+        && (a.tilt_rad - b.tilt_rad).abs() < 1e-15
+        && (a.rotary_rad - b.rotary_rad).abs() < 1e-15
+}
+
+/// The block target for exact joints: rotary angles rounded to the dialect's resolution, the
+/// linear axes recomputed for them so the tip stays put (joint space), or the tip itself (TCP).
+fn target(dialect: &Dialect, machine: &Machine, j: &MachineJoints, tcp: bool) -> Target {
+    let tip = machine.forward(j).tip;
+    let round = |rad: f64| Dialect::rounded(rad.to_degrees(), dialect.decimals_angle).to_radians();
+    let mut q = MachineJoints {
+        xyz: j.xyz,
+        tilt_rad: round(j.tilt_rad),
+        rotary_rad: round(j.rotary_rad),
+    };
+    if tcp {
+        q.xyz = tip;
+    } else {
+        let (r, t) = machine.machine_from_table(&q);
+        q.xyz = r * tip + t;
+    }
+    Target { joints: q, tip }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,299 @@
+//! The program text: blocks with line numbers, modal words written only when they change.
+
+use super::{Dialect, PostOptions, Target};
+use crate::machine::{KinematicsKind, Machine};
+use crate::toolpath::{MoveKind, Toolpath};
+
+/// Feed modes (modal).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FeedMode {
+    PerMinute,
+    InverseTime,
+}
+
+/// Builds the program text.
+pub(super) struct Writer<'a> {
+    d: &'a Dialect,
+    machine: &'a Machine,
+    toolpath: &'a Toolpath,
+    options: &'a PostOptions,
+    numbered: bool,
+    next_number: u64,
+    lines: Vec<String>,
+    /// Last written X Y Z, tilt, rotary words (formatted values).
+    last: [Option<String>; 5],
+    last_motion: Option<String>,
+    feed_mode: FeedMode,
+    last_feed: Option<String>,
+}
+
+impl<'a> Writer<'a> {
+    pub(super) fn new(
+        d: &'a Dialect,
+        machine: &'a Machine,
+        toolpath: &'a Toolpath,
+        options: &'a PostOptions,
+    ) -> Self {
+        Self {
+            d,
+            machine,
+            toolpath,
+            options,
+            numbered: options.line_numbers.unwrap_or(d.line_numbers),
+            next_number: u64::from(d.line_number_start),
+            lines: Vec::new(),
+            last: Default::default(),
+            last_motion: None,
+            feed_mode: FeedMode::PerMinute,
+            last_feed: None,
+        }
+    }
+
+    fn fill(&self, template: &str) -> String {
+        template
+            .replace("{program}", &self.options.program_name)
+            .replace("{machine}", &self.machine.name)
+            .replace("{dialect}", &self.d.name)
+            .replace("{tool_spec}", &self.toolpath.tool.spec)
+            .replace("{tool}", &self.options.tool_number.to_string())
+            .replace("{rpm}", &format!("{:.0}", self.options.spindle_rpm))
+    }
+
+    /// One block (numbered, with the block end) or a raw `!` line.
+    fn block(&mut self, text: &str) {
+        if let Some(raw) = text.strip_prefix('!') {
+            self.lines.push(self.fill(raw));
+            return;
+        }
+        let body = self.fill(text);
+        let line = if self.numbered {
+            let n = self.next_number;
+            self.next_number += u64::from(self.d.line_number_step);
+            format!("N{n} {body}{}", self.d.block_end)
+        } else {
+            format!("{body}{}", self.d.block_end)
+        };
+        self.lines.push(line);
+    }
+
+    fn blocks(&mut self, templates: &[String]) {
+        for t in templates {
+            self.block(t);
+        }
+    }
+
+    fn comment(&mut self, text: &str) {
+        // Comment text may not hold the closing mark or a newline.
+        let clean: String = self
+            .fill(text)
+            .chars()
+            .map(|c| match c {
+                '(' | ')' | '\n' | '\r' | ';' => ' ',
+                c => c,
+            })
+            .collect();
+        self.lines.push(format!(
+            "{}{}{}",
+            self.d.comment_open, clean, self.d.comment_close
+        ));
+    }
+
+    fn five_axis(&self) -> bool {
+        self.machine.kinematics != KinematicsKind::ThreeAxis
+    }
+
+    fn letters(&self) -> [char; 5] {
+        let (t, c) = self.machine.rotary_names().unwrap_or(('A', 'C'));
+        ['X', 'Y', 'Z', t, c]
+    }
+
+    fn values(&self, t: &Target) -> [String; 5] {
+        let (dl, da) = (self.d.decimals_linear, self.d.decimals_angle);
+        [
+            self.d.number(t.joints.xyz.x, dl),
+            self.d.number(t.joints.xyz.y, dl),
+            self.d.number(t.joints.xyz.z, dl),
+            self.d.number(t.joints.tilt_rad.to_degrees(), da),
+            self.d.number(t.joints.rotary_rad.to_degrees(), da),
+        ]
+    }
+
+    /// Axis words of the selected axes that differ from the last written ones (and remember
+    /// them).
+    fn axis_words(&mut self, values: &[String; 5], select: [bool; 5]) -> Vec<String> {
+        let letters = self.letters();
+        let mut words = Vec::new();
+        for i in 0..5 {
+            let (Some(v), Some(&l), Some(&on)) = (values.get(i), letters.get(i), select.get(i))
+            else {
+                continue;
+            };
+            if !on || (i >= 3 && !self.five_axis()) {
+                continue;
+            }
+            if let Some(slot) = self.last.get_mut(i)
+                && slot.as_deref() != Some(v.as_str())
+            {
+                words.push(format!("{l}{v}"));
+                *slot = Some(v.clone());
+            }
+        }
+        words
+    }
+
+    fn rapid_words(&mut self, t: &Target, select: [bool; 5]) {
+        let values = self.values(t);
+        let words = self.axis_words(&values, select);
+        if !words.is_empty() {
+            let code = self.motion_code(&self.d.rapid.clone());
+            self.block(&join(code, &words));
+        }
+    }
+
+    fn motion_code(&mut self, code: &str) -> Option<String> {
+        if self.last_motion.as_deref() == Some(code) {
+            None
+        } else {
+            self.last_motion = Some(code.to_string());
+            Some(code.to_string())
+        }
+    }
+
+    /// Header, setup, tool change, TCP, spindle, coolant, safe retract.
+    pub(super) fn preamble(&mut self) {
+        let d = self.d;
+        self.blocks(&d.header);
+        for c in &d.header_comments {
+            self.comment(c);
+        }
+        self.blocks(&d.setup);
+        self.blocks(&d.tool_change);
+        if self.options.tcp {
+            self.blocks(&d.tcp_on);
+        }
+        if self.options.spindle_rpm > 0.0 {
+            self.blocks(&d.spindle_on);
+        }
+        if self.options.coolant {
+            self.blocks(&d.coolant_on);
+        }
+        let z = self
+            .d
+            .number(self.options.clearance_z_mm, d.decimals_linear);
+        let code = self.motion_code(&d.rapid);
+        self.block(&join(code, &[format!("Z{z}")]));
+        self.last[2] = Some(z);
+    }
+
+    /// At clearance: rotaries first, then X Y.
+    pub(super) fn approach(&mut self, t: &Target) {
+        self.rapid_words(t, [false, false, false, true, true]);
+        self.rapid_words(t, [true, true, false, false, false]);
+    }
+
+    /// A safe move to `t`: retract to the clearance, turn the rotaries, position X Y, feed in.
+    pub(super) fn reposition(&mut self, t: &Target, feed: f64) {
+        let d = self.d;
+        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
+        let code = self.motion_code(&d.rapid);
+        self.block(&join(code, &[format!("Z{z}")]));
+        self.last[2] = Some(z);
+        self.approach(t);
+        self.motion(t, MoveKind::Plunge, feed, 0.0);
+    }
+
+    /// The block reaching `t` by a move of `kind` (tip travel `tip_len` mm).
+    pub(super) fn motion(&mut self, t: &Target, kind: MoveKind, feed: f64, tip_len: f64) {
+        let values = self.values(t);
+        if kind == MoveKind::Rapid {
+            self.rapid_words(t, [true; 5]);
+            return;
+        }
+        let rotary_deg = [3usize, 4]
+            .iter()
+            .filter_map(|&i| {
+                let new: f64 = values.get(i)?.parse().ok()?;
+                let old: f64 = self.last.get(i)?.as_deref()?.parse().ok()?;
+                Some((new - old).abs())
+            })
+            .fold(0.0, f64::max);
+        let words = self.axis_words(&values, [true; 5]);
+        if words.is_empty() {
+            return;
+        }
+        let d = self.d;
+        let mut modal = Vec::new();
+        let inverse = rotary_deg > 0.0 && !self.options.tcp && self.five_axis();
+        let feed_word = if inverse {
+            // Minutes of the move: tip travel at the feed, or the rotary travel read as deg/min.
+            let minutes = (tip_len / feed).max(rotary_deg / feed).max(1e-9);
+            if self.feed_mode != FeedMode::InverseTime {
+                modal.push(d.inverse_time.clone());
+                self.feed_mode = FeedMode::InverseTime;
+            }
+            self.last_feed = None;
+            Some(format!(
+                "F{}",
+                d.number(1.0 / minutes, d.decimals_inverse_time)
+            ))
+        } else {
+            if self.feed_mode != FeedMode::PerMinute {
+                modal.push(d.feed_per_minute.clone());
+                self.feed_mode = FeedMode::PerMinute;
+                self.last_feed = None;
+            }
+            let f = d.number(feed, d.decimals_feed);
+            if self.last_feed.as_deref() == Some(f.as_str()) {
+                None
+            } else {
+                self.last_feed = Some(f.clone());
+                Some(format!("F{f}"))
+            }
+        };
+        if let Some(code) = self.motion_code(&d.linear) {
+            modal.push(code);
+        }
+        let mut all = modal;
+        all.extend(words);
+        all.extend(feed_word);
+        self.block(&all.join(" "));
+    }
+
+    /// Safe retract, rotaries home, footer, trailer.
+    pub(super) fn postamble(&mut self) {
+        let d = self.d;
+        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
+        if self.last[2].as_deref() != Some(z.as_str()) {
+            let code = self.motion_code(&d.rapid);
+            self.block(&join(code, &[format!("Z{z}")]));
+            self.last[2] = Some(z);
+        }
+        if self.options.tcp {
+            self.blocks(&d.tcp_off);
+        }
+        if self.five_axis() {
+            let (t, c) = self.machine.rotary_names().unwrap_or(('A', 'C'));
+            let code = self.motion_code(&d.rapid);
+            self.block(&join(code, &[format!("{t}0"), format!("{c}0")]));
+        }
+        if self.feed_mode == FeedMode::InverseTime {
+            self.block(&d.feed_per_minute);
+        }
+        self.blocks(&d.footer);
+        self.blocks(&d.trailer);
+    }
+
+    /// The text, one block per line, ending with a newline.
+    pub(super) fn finish(self) -> String {
+        let mut s = self.lines.join("\n");
+        s.push('\n');
+        s
+    }
+}
+
+fn join(code: Option<String>, words: &[String]) -> String {
+    code.into_iter()
+        .chain(words.iter().cloned())
+        .collect::<Vec<_>>()
+        .join(" ")
+}

@@ -1,0 +1,212 @@
+//! Tool paths: cutter-location poses in part coordinates, as the contract's "Tool path JSON"
+//! (written by `plan`, read by `post`, `simulate`, `render`).
+//!
+//! A pose is the tool tip (the tool's lowest point on its axis), the unit axis from the tip
+//! toward the spindle, the kind of move that reaches it, the contact point when known, and the
+//! feed. Lengths are mm, feeds mm/min.
+
+mod summary;
+
+pub use summary::Summary;
+
+use glam::DVec3;
+use std::path::Path;
+
+use crate::tools::Cutter;
+
+/// The kind of move that reaches a pose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MoveKind {
+    /// Cutting move at the pose's feed.
+    Cut,
+    /// Linking move between cuts (fed, clear of the part).
+    Link,
+    /// Rapid positioning.
+    Rapid,
+    /// Feed move into the material along the axis.
+    Plunge,
+}
+
+/// One cutter-location pose (part coordinates, mm).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Pose {
+    /// Tool tip, mm.
+    pub tip: DVec3,
+    /// Unit tool axis from the tip toward the spindle.
+    pub axis: DVec3,
+    /// The move that reaches this pose.
+    pub kind: MoveKind,
+    /// Cutter contact point on the part, when known.
+    pub cc: Option<DVec3>,
+    /// Feed of the move reaching this pose, mm/min (ignored for rapids).
+    pub feed_mm_per_min: f64,
+}
+
+/// The tool of a tool path: its SPEC string and the cutter it describes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ToolRecord {
+    /// The contract's tool SPEC (`ball:d=6`, ...).
+    pub spec: String,
+    /// Dimensions.
+    #[serde(flatten)]
+    pub cutter: Cutter,
+}
+
+/// A tool path (the contract's Tool path JSON).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Toolpath {
+    /// Always `"mm"`.
+    pub units: String,
+    /// The cutter.
+    pub tool: ToolRecord,
+    /// Poses in order.
+    pub poses: Vec<Pose>,
+    /// Lengths, counts, time and extent (recomputed by [`Toolpath::new`] and on load).
+    #[serde(default)]
+    pub summary: Summary,
+}
+
+/// A tool path file error: file, place (`line L, column C` or `pose K`) and what.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{file}: {place}: {message}")]
+pub struct ToolpathError {
+    /// The file (or `<memory>`).
+    pub file: String,
+    /// Where in it.
+    pub place: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl Toolpath {
+    /// A tool path in mm with its summary computed.
+    #[must_use]
+    pub fn new(tool: ToolRecord, poses: Vec<Pose>) -> Self {
+        let summary = Summary::of(&poses);
+        Self {
+            units: "mm".into(),
+            tool,
+            poses,
+            summary,
+        }
+    }
+
+    /// Checks of the contract: units mm, finite numbers, unit axes (within 1e-6), feeds
+    /// positive on fed moves.
+    ///
+    /// # Errors
+    /// A [`ToolpathError`] naming `file` and the pose.
+    pub fn validate(&self, file: &str) -> Result<(), ToolpathError> {
+        let err = |place: String, message: String| ToolpathError {
+            file: file.to_string(),
+            place,
+            message,
+        };
+        if self.units != "mm" {
+            return Err(err(
+                "units".into(),
+                format!("units must be \"mm\", not {:?}", self.units),
+            ));
+        }
+        for (k, p) in self.poses.iter().enumerate() {
+            let place = format!("pose {k}");
+            if !p.tip.is_finite() || !p.axis.is_finite() || p.cc.is_some_and(|c| !c.is_finite()) {
+                return Err(err(place, "non-finite coordinate".into()));
+            }
+            if (p.axis.length() - 1.0).abs() > 1e-6 {
+                return Err(err(
+                    place,
+                    format!("axis length {} is not 1", p.axis.length()),
+                ));
+            }
+            if p.kind != MoveKind::Rapid
+                && !(p.feed_mm_per_min > 0.0 && p.feed_mm_per_min.is_finite())
+            {
+                return Err(err(
+                    place,
+                    format!("feed {} mm/min must be positive", p.feed_mm_per_min),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Parse JSON text (`file` names it in errors); axes are renormalised, the summary
+    /// recomputed.
+    ///
+    /// # Errors
+    /// [`ToolpathError`] with `line L, column C` for malformed JSON, `pose K` for bad poses.
+    pub fn from_json(text: &str, file: &str) -> Result<Self, ToolpathError> {
+        let mut tp: Self = serde_json::from_str(text).map_err(|e| ToolpathError {
+            file: file.to_string(),
+            place: format!("line {}, column {}", e.line(), e.column()),
+            message: strip_position(&e.to_string()),
+        })?;
+        tp.validate(file)?;
+        for p in &mut tp.poses {
+            p.axis = p.axis.normalize();
+        }
+        tp.summary = Summary::of(&tp.poses);
+        Ok(tp)
+    }
+
+    /// Load a tool path file.
+    ///
+    /// # Errors
+    /// As [`Toolpath::from_json`]; unreadable files give place `file`.
+    pub fn load(path: &Path) -> Result<Self, ToolpathError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ToolpathError {
+            file: file.clone(),
+            place: "file".into(),
+            message: e.to_string(),
+        })?;
+        Self::from_json(&text, &file)
+    }
+
+    /// Pretty JSON text.
+    ///
+    /// # Errors
+    /// When serialisation fails (non-finite numbers).
+    pub fn to_json(&self) -> Result<String, ToolpathError> {
+        serde_json::to_string_pretty(self).map_err(|e| ToolpathError {
+            file: "<memory>".into(),
+            place: "json".into(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Save atomically: write a temporary file beside `path`, then rename it over `path`.
+    ///
+    /// # Errors
+    /// [`ToolpathError`] naming the file on I/O failure.
+    pub fn save(&self, path: &Path) -> Result<(), ToolpathError> {
+        let file = path.display().to_string();
+        let text = self.to_json()?;
+        let io = |e: std::io::Error| ToolpathError {
+            file: file.clone(),
+            place: "file".into(),
+            message: e.to_string(),
+        };
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        let tmp = std::path::PathBuf::from(tmp);
+        std::fs::write(&tmp, text).map_err(io)?;
+        std::fs::rename(&tmp, path).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            io(e)
+        })
+    }
+}
+
+/// serde_json appends " at line L column C"; the place already says it.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests;

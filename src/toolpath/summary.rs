@@ -1,0 +1,64 @@
+//! The summary of a tool path: lengths, counts, estimated time, extent.
+
+use glam::DVec3;
+
+use super::{MoveKind, Pose};
+
+/// Rapid rate assumed by the time estimate, mm/min.
+pub const ESTIMATE_RAPID_MM_PER_MIN: f64 = 10_000.0;
+
+/// Lengths, counts, time and extent of a tool path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Summary {
+    /// Number of poses.
+    pub pose_count: usize,
+    /// Tip path length of cut and plunge moves, mm.
+    pub cut_length_mm: f64,
+    /// Tip path length of link and rapid moves, mm.
+    pub other_length_mm: f64,
+    /// Length / feed summed over moves (rapids at 10 m/min), s; no acceleration.
+    pub estimated_time_s: f64,
+    /// Smallest tip coordinates (zero when empty).
+    pub bbox_min: DVec3,
+    /// Largest tip coordinates (zero when empty).
+    pub bbox_max: DVec3,
+}
+
+impl Summary {
+    /// The summary of these poses (the first pose is reached from nowhere: no length).
+    #[must_use]
+    pub fn of(poses: &[Pose]) -> Self {
+        let mut s = Self {
+            pose_count: poses.len(),
+            ..Self::default()
+        };
+        if let Some(first) = poses.first() {
+            s.bbox_min = first.tip;
+            s.bbox_max = first.tip;
+        }
+        for w in poses.windows(2) {
+            let [a, b] = w else { continue };
+            let len = a.tip.distance(b.tip);
+            s.bbox_min = s.bbox_min.min(b.tip);
+            s.bbox_max = s.bbox_max.max(b.tip);
+            let feed = match b.kind {
+                MoveKind::Cut | MoveKind::Plunge => {
+                    s.cut_length_mm += len;
+                    b.feed_mm_per_min
+                }
+                MoveKind::Link => {
+                    s.other_length_mm += len;
+                    b.feed_mm_per_min
+                }
+                MoveKind::Rapid => {
+                    s.other_length_mm += len;
+                    ESTIMATE_RAPID_MM_PER_MIN
+                }
+            };
+            if feed > 0.0 {
+                s.estimated_time_s += len / feed * 60.0;
+            }
+        }
+        s
+    }
+}
