@@ -27,6 +27,7 @@
 //! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
 //! | L4 | [`post`] |
+//! | L5 | [`project`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -42,6 +43,7 @@ pub mod gcode;
 pub mod geometry;
 pub mod import;
 pub mod machine;
+pub mod project;
 pub mod post;
 pub mod reduce;
 pub mod toolpath;

@@ -1,0 +1,142 @@
+//! The project document (L5): the part reference, stock, tool library, machine, operations and
+//! view, saved as TOML ([`file`]), changed only through [`Edit`]s so that every change can be
+//! undone ([`History`]).
+//!
+//! The document holds plain data: paths, numbers and validated [`Cutter`]s. It never holds the
+//! loaded mesh; the workstation loads the part the document references.
+
+mod edit;
+pub mod file;
+mod history;
+mod part;
+mod stock;
+
+pub use edit::{Edit, EditError};
+pub use file::ProjectError;
+pub use history::History;
+pub use part::{PartRef, PartStatus, content_hash};
+pub use stock::Stock;
+
+use crate::tools::Cutter;
+
+/// The document format version written by this build; [`Project::load`] refuses newer files and
+/// migrates older ones.
+pub const PROJECT_VERSION: u32 = 1;
+
+/// One tool of the library: a name the user chose and the validated cutter.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ToolEntry {
+    /// Name shown in the tree (free text).
+    pub name: String,
+    /// The cutter (sizes validated by [`Cutter::validate`] before an edit is applied).
+    pub cutter: Cutter,
+}
+
+/// A machining operation. Only kinds the engine can run are listed; more come with the
+/// strategies.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Operation {
+    /// Raster drop-cutter finishing over the part.
+    Raster {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`Project::tools`].
+        tool: usize,
+        /// Distance between raster lines, mm.
+        stepover_mm: f64,
+        /// Direction of the raster lines from +X, rad.
+        angle_rad: f64,
+    },
+}
+
+/// The camera as plain numbers (mm, rad), so a reopened project shows the same view.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ViewState {
+    /// The point the camera orbits, mm.
+    pub target_mm: [f64; 3],
+    /// Distance from the target to the eye, mm.
+    pub distance_mm: f64,
+    /// Azimuth of the eye about +Z, rad.
+    pub yaw_rad: f64,
+    /// Elevation of the eye, rad.
+    pub pitch_rad: f64,
+    /// Orthographic (true) or perspective projection.
+    pub orthographic: bool,
+}
+
+impl Default for ViewState {
+    fn default() -> Self {
+        Self {
+            target_mm: [0.0; 3],
+            distance_mm: 200.0,
+            yaw_rad: -std::f64::consts::FRAC_PI_4,
+            pitch_rad: 0.6,
+            orthographic: false,
+        }
+    }
+}
+
+/// The project document.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Project {
+    /// Format version ([`PROJECT_VERSION`] when written by this build).
+    pub version: u32,
+    /// Project name (shown in the title bar).
+    pub name: String,
+    /// The part; `None` is the embedded default part.
+    #[serde(default)]
+    pub part: Option<PartRef>,
+    /// Stock (raw material).
+    #[serde(default)]
+    pub stock: Stock,
+    /// The tool library.
+    #[serde(default)]
+    pub tools: Vec<ToolEntry>,
+    /// Index of the selected tool in [`Project::tools`].
+    #[serde(default)]
+    pub selected_tool: Option<usize>,
+    /// Machine name (one of [`crate::machine::Machine::builtin_names`]) or a machine file path.
+    pub machine: String,
+    /// Operations, in machining order.
+    #[serde(default)]
+    pub operations: Vec<Operation>,
+    /// The camera.
+    #[serde(default)]
+    pub view: ViewState,
+}
+
+impl Default for Project {
+    /// A new project: the embedded default part, no stock, a 6 mm ball end mill selected, the
+    /// 3-axis mill.
+    fn default() -> Self {
+        let tools = crate::tools::parse_tool_spec("ball:d=6")
+            .map(|cutter| ToolEntry {
+                name: "Ball end mill Ø6".into(),
+                cutter,
+            })
+            .into_iter()
+            .collect::<Vec<_>>();
+        Self {
+            version: PROJECT_VERSION,
+            name: "Untitled".into(),
+            part: None,
+            stock: Stock::None,
+            selected_tool: if tools.is_empty() { None } else { Some(0) },
+            tools,
+            machine: crate::machine::Machine::builtin_names()
+                .first()
+                .map_or_else(|| "mill-3axis".to_string(), |n| (*n).to_string()),
+            operations: Vec::new(),
+            view: ViewState::default(),
+        }
+    }
+}
+
+impl Project {
+    /// The selected tool, if any.
+    #[must_use]
+    pub fn selected_tool(&self) -> Option<&ToolEntry> {
+        self.selected_tool.and_then(|i| self.tools.get(i))
+    }
+}

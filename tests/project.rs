@@ -1,0 +1,367 @@
+//! The project document: TOML round trip, atomic save, clear errors with a place, and undo/redo
+//! that restores every earlier state exactly.
+
+use std::path::Path;
+
+use talas::geometry::Aabb;
+use talas::project::{
+    Edit, EditError, History, Operation, PartRef, PartStatus, Project, ProjectError, Stock,
+    ToolEntry, content_hash,
+};
+use talas::tools::parse_tool_spec;
+
+fn tool(spec: &str, name: &str) -> ToolEntry {
+    ToolEntry {
+        name: name.into(),
+        cutter: parse_tool_spec(spec).expect("valid spec"),
+    }
+}
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("talas-project-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+#[allow(clippy::field_reassign_with_default)]
+fn rich_project(dir: &Path) -> Project {
+    let part_path = dir.join("part.stl");
+    std::fs::write(&part_path, b"solid x\nendsolid x\n").expect("write part");
+    let mut p = Project::default();
+    p.name = "Bracket, op 10".into();
+    p.part = Some(PartRef::from_file(&part_path).expect("part"));
+    p.stock = Stock::box_around(
+        &Aabb {
+            min: glam::DVec3::new(-10.0, -5.0, 0.0),
+            max: glam::DVec3::new(10.0, 5.0, 7.5),
+        },
+        2.0,
+    );
+    p.tools.push(tool("bull:d=10,r=2,flute=25", "Bull 10 r2"));
+    p.tools.push(tool("cone:d=8,angle=30", "Chamfer"));
+    p.selected_tool = Some(2);
+    p.machine = "trt-ac".into();
+    p.operations.push(Operation::Raster {
+        name: "Finish".into(),
+        tool: 0,
+        stepover_mm: 0.3,
+        angle_rad: 0.25,
+    });
+    p.view.distance_mm = 123.456_789_012_345;
+    p.view.orthographic = true;
+    p
+}
+
+#[test]
+fn default_project_has_a_selected_ball_end_mill() {
+    let p = Project::default();
+    let t = p.selected_tool().expect("a tool is selected");
+    assert_eq!(t.cutter, parse_tool_spec("ball:d=6").expect("spec"));
+    assert!(talas::machine::Machine::builtin_names().contains(&p.machine.as_str()));
+}
+
+#[test]
+fn save_and_load_round_trip_exactly() {
+    let dir = temp_dir("roundtrip");
+    let p = rich_project(&dir);
+    let path = dir.join("a.talas");
+    p.save(&path).expect("save");
+    let back = Project::load(&path).expect("load");
+    assert_eq!(back, p, "every field, floats bit for bit");
+    // The stock is the bbox grown by 2 mm.
+    assert_eq!(
+        back.stock,
+        Stock::Box {
+            min_mm: [-12.0, -7.0, -2.0],
+            max_mm: [12.0, 7.0, 9.5]
+        }
+    );
+    // No temporary file is left behind.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(|e| e.ok().map(|e| e.file_name()))
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn cylinder_stock_encloses_the_box_corners() {
+    let b = Aabb {
+        min: glam::DVec3::new(0.0, 0.0, 0.0),
+        max: glam::DVec3::new(6.0, 8.0, 3.0),
+    };
+    // Half-diagonal of the 6 × 8 rectangle is 5 mm.
+    assert_eq!(
+        Stock::cylinder_around(&b, 1.0),
+        Stock::Cylinder {
+            base_mm: [3.0, 4.0, -1.0],
+            radius_mm: 6.0,
+            height_mm: 5.0
+        }
+    );
+}
+
+#[test]
+fn part_reference_notices_a_changed_or_moved_file() {
+    let dir = temp_dir("partref");
+    let path = dir.join("p.stl");
+    std::fs::write(&path, b"abc").expect("write");
+    let r = PartRef::from_file(&path).expect("ref");
+    // FNV-1a 64 of "abc" (published test vector).
+    assert_eq!(r.content_hash, "e71fa2190541574b");
+    assert_eq!(content_hash(b""), "cbf29ce484222325");
+    assert_eq!(r.status(), PartStatus::Unchanged);
+    std::fs::write(&path, b"abd").expect("write");
+    assert_eq!(r.status(), PartStatus::Changed);
+    std::fs::remove_file(&path).expect("rm");
+    assert!(matches!(r.status(), PartStatus::Missing(m) if m.contains("p.stl")));
+}
+
+#[test]
+fn a_failed_save_keeps_the_old_file() {
+    let dir = temp_dir("failsave");
+    let path = dir.join("keep.talas");
+    let old = rich_project(&dir);
+    old.save(&path).expect("first save");
+    let old_bytes = std::fs::read(&path).expect("read");
+
+    // The rename target is a non-empty directory: the rename fails.
+    let blocked = dir.join("blocked.talas");
+    std::fs::create_dir_all(blocked.join("inside")).expect("mkdir");
+    let err = Project::default()
+        .save(&blocked)
+        .expect_err("cannot replace a directory");
+    assert!(err.to_string().contains("blocked.talas"), "{err}");
+    assert!(blocked.join("inside").is_dir());
+
+    // A folder that does not exist: the temporary file cannot be created.
+    let nowhere = dir.join("no-such-dir").join("x.talas");
+    assert!(matches!(
+        Project::default().save(&nowhere),
+        Err(ProjectError::Io { .. })
+    ));
+
+    // The first file is untouched and no temporary files remain.
+    assert_eq!(std::fs::read(&path).expect("read"), old_bytes);
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+fn parse_err(text: &str) -> ProjectError {
+    Project::from_toml(text, Path::new("bad.talas")).expect_err("must fail")
+}
+
+#[test]
+fn malformed_files_give_one_error_with_a_place() {
+    let good = Project::default().to_toml().expect("toml");
+    // Syntax error on line 3.
+    let text = "version = 1\nname = \"x\"\nmachine = = \"mill\"\n";
+    match parse_err(text) {
+        ProjectError::Parse {
+            line,
+            column,
+            path,
+            message,
+        } => {
+            assert_eq!((line, column), (3, 11), "{message}");
+            assert_eq!(path, Path::new("bad.talas"));
+        }
+        e => panic!("{e:?}"),
+    }
+    // A mistyped field: the place of the value.
+    let text = good.replacen("name = \"Untitled\"", "name = 5", 1);
+    let line = text.lines().position(|l| l == "name = 5").expect("line") + 1;
+    match parse_err(&text) {
+        ProjectError::Parse {
+            line: l, column, ..
+        } => assert_eq!((l, column), (line, 8)),
+        e => panic!("{e:?}"),
+    }
+    // A missing required field.
+    let e = parse_err("version = 1\nname = \"x\"\n");
+    assert!(e.to_string().starts_with("bad.talas:"), "{e}");
+    assert!(e.to_string().contains("machine"), "{e}");
+    // Newer version.
+    let text = good.replacen("version = 1", "version = 99", 1);
+    assert!(matches!(
+        parse_err(&text),
+        ProjectError::Version { found: 99, .. }
+    ));
+    // A tool with a bad size.
+    let text = good.replacen("diameter = 6.0", "diameter = -6.0", 1);
+    let e = parse_err(&text);
+    assert!(matches!(e, ProjectError::Invalid { .. }), "{e:?}");
+    assert!(e.to_string().contains("diameter"), "{e}");
+    // Selection past the end.
+    let text = good.replacen("selected_tool = 0", "selected_tool = 4", 1);
+    assert!(matches!(parse_err(&text), ProjectError::Invalid { .. }));
+    // Missing file.
+    let e = Project::load(Path::new("/nonexistent/x.talas")).expect_err("missing");
+    assert!(e.to_string().contains("/nonexistent/x.talas"));
+}
+
+#[test]
+fn refused_edits_change_nothing() {
+    let mut p = Project::default();
+    let before = p.clone();
+    let mut bad = tool("ball:d=6", "bad");
+    bad.cutter.diameter = f64::NAN;
+    assert!(matches!(
+        p.apply(Edit::SetTool {
+            index: 0,
+            tool: bad
+        }),
+        Err(EditError::Invalid(_))
+    ));
+    assert!(matches!(
+        p.apply(Edit::RemoveTool { index: 7 }),
+        Err(EditError::NoSuchItem {
+            index: 7,
+            count: 1,
+            ..
+        })
+    ));
+    // A batch that fails half way is rolled back.
+    let r = p.apply(Edit::Batch(vec![
+        Edit::Rename("new".into()),
+        Edit::SelectTool(Some(9)),
+    ]));
+    assert!(r.is_err());
+    assert_eq!(p, before);
+}
+
+/// A small deterministic generator (64-bit LCG, Knuth's constants).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        self.0 >> 33
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % (n.max(1) as u64)) as usize
+    }
+}
+
+fn random_edit(rng: &mut Lcg, p: &Project) -> Edit {
+    let n = p.tools.len();
+    let specs = [
+        "ball:d=3",
+        "flat:d=10",
+        "bull:d=8,r=1.5",
+        "cone:d=6,angle=45",
+    ];
+    match rng.below(9) {
+        0 => Edit::Rename(format!("name {}", rng.next())),
+        1 => Edit::AddTool {
+            index: rng.below(n + 1),
+            tool: tool(specs[rng.below(4)], "t"),
+        },
+        2 if n > 0 => Edit::RemoveTool {
+            index: rng.below(n),
+        },
+        3 if n > 0 => {
+            let mut t = tool(specs[rng.below(4)], "edited");
+            let extra = rng.below(10) as f64;
+            t.cutter.flute_length += extra;
+            t.cutter.overall_length += extra;
+            Edit::SetTool {
+                index: rng.below(n),
+                tool: t,
+            }
+        }
+        4 => Edit::SelectTool(if n > 0 && rng.below(4) > 0 {
+            Some(rng.below(n))
+        } else {
+            None
+        }),
+        5 if n > 0 => Edit::duplicate_tool(p, rng.below(n)).expect("valid index"),
+        6 => Edit::SetMachine(["mill-3axis", "trt-ac", "trt-bc"][rng.below(3)].into()),
+        7 => Edit::SetStock(Stock::Box {
+            min_mm: [0.0; 3],
+            max_mm: [1.0 + rng.below(50) as f64, 2.0, 3.0],
+        }),
+        _ => Edit::AddOperation {
+            index: rng.below(p.operations.len() + 1),
+            operation: Operation::Raster {
+                name: "op".into(),
+                tool: 0,
+                stepover_mm: 0.5,
+                angle_rad: 0.0,
+            },
+        },
+    }
+}
+
+#[test]
+fn undo_and_redo_restore_every_state_exactly() {
+    let mut rng = Lcg(20_261_122);
+    for _run in 0..50 {
+        let mut p = Project::default();
+        let mut h = History::new();
+        // states[k] = the project after k steps.
+        let mut states = vec![p.clone()];
+        let mut at = 0usize;
+        for _ in 0..120 {
+            match rng.below(5) {
+                0 => {
+                    if h.undo(&mut p).is_some() {
+                        at -= 1;
+                    } else {
+                        assert_eq!(at, 0);
+                    }
+                }
+                1 => {
+                    if h.redo(&mut p).is_some() {
+                        at += 1;
+                    } else {
+                        assert_eq!(at + 1, states.len());
+                    }
+                }
+                _ => {
+                    let e = random_edit(&mut rng, &p);
+                    h.apply(&mut p, e).expect("generated edits are valid");
+                    states.truncate(at + 1);
+                    states.push(p.clone());
+                    at += 1;
+                }
+            }
+            assert_eq!(p, states[at], "state {at}");
+            let sel_ok = p.selected_tool.is_none_or(|s| s < p.tools.len());
+            assert!(sel_ok, "selection points at a tool");
+        }
+        // Undo everything: back to the start, and clean again.
+        while h.undo(&mut p).is_some() {}
+        assert_eq!(p, states[0]);
+        assert!(!h.is_dirty());
+    }
+}
+
+#[test]
+fn dirty_flag_follows_the_saved_state() {
+    let mut p = Project::default();
+    let mut h = History::new();
+    assert!(!h.is_dirty());
+    h.apply(&mut p, Edit::Rename("a".into())).expect("ok");
+    assert!(h.is_dirty());
+    h.mark_saved();
+    assert!(!h.is_dirty());
+    assert_eq!(h.undo(&mut p), Some("Rename project"));
+    assert!(h.is_dirty(), "undo past the save is a change");
+    h.redo(&mut p);
+    assert!(!h.is_dirty(), "redo back to the saved state is clean");
+    h.undo(&mut p);
+    h.apply(&mut p, Edit::Rename("b".into())).expect("ok");
+    assert!(!h.can_redo());
+    assert!(h.is_dirty());
+    h.mark_unsaved();
+    while h.undo(&mut p).is_some() {}
+    assert!(h.is_dirty(), "never saved");
+}
