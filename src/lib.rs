@@ -36,6 +36,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod diagnostics;
+pub mod feed;
 pub mod gcode;
 pub mod geometry;
 pub mod import;

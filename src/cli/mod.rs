@@ -2,6 +2,7 @@
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
 pub mod dropcutter;
+pub mod feed;
 pub mod inspect;
 pub mod reduce;
 
@@ -37,6 +38,8 @@ pub enum Command {
     /// SVD data reduction of a Z-map (CSV of heights): singular values, rank, reduced sizes,
     /// max and mean error.
     Reduce(reduce::ReduceArgs),
+    /// Jerk-limited motion plan of a G-code program: cycle time, limits and peaks per axis.
+    Feed(feed::FeedArgs),
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -83,5 +86,6 @@ pub fn run(command: Command) -> i32 {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
         }
         Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
+        Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
     }
 }
