@@ -16,11 +16,19 @@ fn program(blocks: usize) -> String {
     while n < blocks {
         let y = f64::from(row) * 0.5;
         for i in 0..1000 {
-            let x = if row % 2 == 0 { f64::from(i + 1) * 0.05 } else { 50.0 - f64::from(i + 1) * 0.05 };
+            let x = if row % 2 == 0 {
+                f64::from(i + 1) * 0.05
+            } else {
+                50.0 - f64::from(i + 1) * 0.05
+            };
             let z = 0.01 * (x * 0.3).sin();
             let _ = writeln!(text, "G1 X{x:.4} Y{y:.4} Z{z:.4}");
         }
-        let (x, dir, i) = if row % 2 == 0 { (50.0, 3, 0.0) } else { (0.0, 2, 0.0) };
+        let (x, dir, i) = if row % 2 == 0 {
+            (50.0, 3, 0.0)
+        } else {
+            (0.0, 2, 0.0)
+        };
         let _ = writeln!(text, "G{dir} X{x:.4} Y{:.4} I{i} J0.25", y + 0.5);
         n += 1001;
         row += 1;

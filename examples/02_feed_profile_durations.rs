@@ -7,7 +7,10 @@ use talas::feed::{Limits1, Profile};
 
 fn main() {
     for line in std::io::stdin().lock().lines().map_while(Result::ok) {
-        let v: Vec<f64> = line.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+        let v: Vec<f64> = line
+            .split(',')
+            .filter_map(|x| x.trim().parse().ok())
+            .collect();
         if let [s, vel, acc, jerk] = v.as_slice() {
             let lim = Limits1 {
                 velocity: *vel,

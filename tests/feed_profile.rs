@@ -18,7 +18,11 @@ fn near(a: f64, b: f64, rel: f64) {
 fn full_seven_phase_rest_to_rest() {
     // Cruise and constant-acceleration phases: T = s/v + v/a + a/j (v·j ≥ a², s long).
     let p = Profile::rest_to_rest(100.0, &lim(50.0, 500.0, 20_000.0)).unwrap();
-    near(p.duration_s(), 100.0 / 50.0 + 50.0 / 500.0 + 500.0 / 20_000.0, 1e-12);
+    near(
+        p.duration_s(),
+        100.0 / 50.0 + 50.0 / 500.0 + 500.0 / 20_000.0,
+        1e-12,
+    );
     let (s, v, a, _) = p.at_time(p.duration_s());
     near(s, 100.0, 1e-15);
     assert!(v.abs() < 1e-9 && a.abs() < 1e-9);
@@ -61,7 +65,11 @@ fn boundary_velocities_and_unreachable() {
         Profile::calculate(5.0, 10.0, 30.0, &l),
         Err(ProfileError::Unreachable { .. })
     ));
-    near(reachable_velocity(10.0, 6.0, 100.0, 100.0, 1000.0), 30.0, 1e-9);
+    near(
+        reachable_velocity(10.0, 6.0, 100.0, 100.0, 1000.0),
+        30.0,
+        1e-9,
+    );
     // Cruise only when v0 = v1 = vmax.
     let p = Profile::calculate(3.0, 30.0, 30.0, &l).unwrap();
     near(p.duration_s(), 0.1, 1e-12);
@@ -81,11 +89,17 @@ fn boundary_velocities_and_unreachable() {
 fn random_profiles_hold_limits_and_reach_target() {
     let mut seed = 12345u64;
     let mut rnd = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
     for _ in 0..5000 {
-        let l = lim(1.0 + 500.0 * rnd(), 10.0 + 5000.0 * rnd(), 100.0 + 1e5 * rnd());
+        let l = lim(
+            1.0 + 500.0 * rnd(),
+            10.0 + 5000.0 * rnd(),
+            100.0 + 1e5 * rnd(),
+        );
         let (v0, v1) = (l.velocity * rnd(), l.velocity * rnd());
         let s = 1e-4 + 200.0 * rnd() * rnd();
         match Profile::calculate(s, v0, v1, &l) {

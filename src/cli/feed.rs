@@ -41,7 +41,10 @@ fn parse_limit(text: &str) -> Option<(char, AxisLimit)> {
     if chars.next().is_some() {
         return None;
     }
-    let v: Vec<f64> = rest.split(',').map(|x| x.trim().parse().ok()).collect::<Option<_>>()?;
+    let v: Vec<f64> = rest
+        .split(',')
+        .map(|x| x.trim().parse().ok())
+        .collect::<Option<_>>()?;
     match v.as_slice() {
         [v, a, j] => Some((
             name,
@@ -61,7 +64,8 @@ fn parse_limit(text: &str) -> Option<(char, AxisLimit)> {
 /// An [`ImportError`] naming the file (and line) for bad input.
 pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
-    let machine = Machine::resolve(&args.machine).map_err(|e| bad(None, format!("--machine: {e}")))?;
+    let machine =
+        Machine::resolve(&args.machine).map_err(|e| bad(None, format!("--machine: {e}")))?;
     let mut axes = machine_limits(&machine);
     for l in &args.limits {
         let (name, lim) = parse_limit(l)
@@ -77,7 +81,12 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
         .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
     let corner = match args.corner_tolerance {
         Some(t) if t.is_finite() && t > 0.0 => CornerPolicy::JunctionDeviation { tolerance_mm: t },
-        Some(t) => return Err(bad(None, format!("--corner-tolerance must be positive, got {t}"))),
+        Some(t) => {
+            return Err(bad(
+                None,
+                format!("--corner-tolerance must be positive, got {t}"),
+            ));
+        }
         None => CornerPolicy::ExactStop,
     };
     let input = PlanInput {
@@ -109,7 +118,10 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     let mut limits = Map::new();
     let mut peaks = Map::new();
     for (n, l) in &axes {
-        limits.insert(n.to_string(), json!({"v": l.velocity, "a": l.acceleration, "j": l.jerk}));
+        limits.insert(
+            n.to_string(),
+            json!({"v": l.velocity, "a": l.acceleration, "j": l.jerk}),
+        );
     }
     for p in &tp.peaks() {
         peaks.insert(

@@ -30,7 +30,11 @@ fn junction(a: &Segment, b: &Segment) -> (f64, bool) {
 
 /// Junction speeds (one more than segments: start and end are 0) after both passes.
 #[must_use]
-pub fn junction_speeds(segments: &[Segment], axes: &[Option<AxisLimit>; SLOTS], corner: CornerPolicy) -> Vec<f64> {
+pub fn junction_speeds(
+    segments: &[Segment],
+    axes: &[Option<AxisLimit>; SLOTS],
+    corner: CornerPolicy,
+) -> Vec<f64> {
     let n = segments.len();
     let mut v = vec![0.0; n + 1];
     let a_min = axes
@@ -52,7 +56,9 @@ pub fn junction_speeds(segments: &[Segment], axes: &[Option<AxisLimit>; SLOTS], 
                     if half >= 1.0 - 1e-9 {
                         0.0
                     } else {
-                        (a_min * tolerance_mm * half / (1.0 - half)).sqrt().min(both)
+                        (a_min * tolerance_mm * half / (1.0 - half))
+                            .sqrt()
+                            .min(both)
                     }
                 }
             }
@@ -61,13 +67,25 @@ pub fn junction_speeds(segments: &[Segment], axes: &[Option<AxisLimit>; SLOTS], 
     // Backward pass.
     for k in (0..n).rev() {
         let s = &segments[k];
-        let cap = reachable_velocity(v[k + 1], s.length, s.limits.velocity, s.limits.acceleration, s.limits.jerk);
+        let cap = reachable_velocity(
+            v[k + 1],
+            s.length,
+            s.limits.velocity,
+            s.limits.acceleration,
+            s.limits.jerk,
+        );
         v[k] = v[k].min(cap);
     }
     // Forward pass.
     for k in 0..n {
         let s = &segments[k];
-        let cap = reachable_velocity(v[k], s.length, s.limits.velocity, s.limits.acceleration, s.limits.jerk);
+        let cap = reachable_velocity(
+            v[k],
+            s.length,
+            s.limits.velocity,
+            s.limits.acceleration,
+            s.limits.jerk,
+        );
         v[k + 1] = v[k + 1].min(cap);
     }
     v

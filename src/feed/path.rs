@@ -172,10 +172,16 @@ impl Segment {
                         lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
                     }
                     if d2[k] > 0.0 {
-                        lower((l.acceleration / (2.0 * d2[k])).sqrt(), VelocityCap::Centripetal(name));
+                        lower(
+                            (l.acceleration / (2.0 * d2[k])).sqrt(),
+                            VelocityCap::Centripetal(name),
+                        );
                     }
                     if d3[k] > 0.0 {
-                        lower((l.jerk / (3.0 * d3[k])).cbrt(), VelocityCap::CentripetalJerk(name));
+                        lower(
+                            (l.jerk / (3.0 * d3[k])).cbrt(),
+                            VelocityCap::CentripetalJerk(name),
+                        );
                     }
                 }
                 None => {
@@ -200,8 +206,7 @@ impl Segment {
         for (k, lim) in axes.iter().enumerate() {
             if let Some(l) = lim {
                 if d1[k] > 0.0 {
-                    j_b = j_b
-                        .min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
+                    j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
                 }
             }
         }

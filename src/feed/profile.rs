@@ -78,7 +78,13 @@ pub fn change_distance(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
 /// going up; by symmetry also the largest velocity from which `v_from` can be reached. Never
 /// less than `min(v_from, cap)`.
 #[must_use]
-pub fn reachable_velocity(v_from: f64, distance: f64, cap: f64, acceleration: f64, jerk: f64) -> f64 {
+pub fn reachable_velocity(
+    v_from: f64,
+    distance: f64,
+    cap: f64,
+    acceleration: f64,
+    jerk: f64,
+) -> f64 {
     if v_from >= cap {
         return cap;
     }
@@ -195,8 +201,7 @@ impl Profile {
     /// change that needs more distance than given (relative slack 1e-9 is accepted).
     pub fn calculate(distance: f64, v0: f64, v1: f64, lim: &Limits1) -> Result<Self, ProfileError> {
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
-        if !lim.is_valid() || !finite_nonneg(distance) || !finite_nonneg(v0) || !finite_nonneg(v1)
-        {
+        if !lim.is_valid() || !finite_nonneg(distance) || !finite_nonneg(v0) || !finite_nonneg(v1) {
             return Err(ProfileError::InvalidInput);
         }
         let tol = 1e-9 * lim.velocity;
@@ -279,6 +284,9 @@ impl Profile {
     #[must_use]
     pub fn at_time_with_kind(&self, t: f64) -> ((f64, f64, f64, f64), PhaseKind) {
         let mut rest = t.max(0.0);
+        if rest >= self.duration_s() {
+            rest = f64::INFINITY;
+        }
         for (i, p) in self.phases.iter().enumerate() {
             if rest <= p.duration_s && p.duration_s > 0.0 {
                 let (s, v, a) = p.state(rest);
@@ -292,6 +300,9 @@ impl Profile {
             rest -= p.duration_s;
         }
         let v_end = self.phases[6].state(self.phases[6].duration_s).1;
-        ((self.distance, v_end.max(0.0), 0.0, 0.0), PhaseKind::Velocity)
+        (
+            (self.distance, v_end.max(0.0), 0.0, 0.0),
+            PhaseKind::Velocity,
+        )
     }
 }

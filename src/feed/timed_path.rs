@@ -1,8 +1,8 @@
 //! Step 3: the planned motion in time: the state at any time, samples at the period, peaks.
 
+use super::AxisLimit;
 use super::path::{JointVector, SLOTS, Segment, VelocityCap, joint_vector};
 use super::profile::{PhaseKind, Profile};
-use super::AxisLimit;
 use crate::gcode::MotionBlock;
 
 /// Which limit shapes the motion at a sample.
@@ -142,13 +142,19 @@ impl TimedPath {
     #[must_use]
     pub fn state_at(&self, t: f64) -> Sample {
         let t = t.clamp(0.0, self.cycle_time_s);
-        let k = self.start_times.partition_point(|&t0| t0 <= t).saturating_sub(1);
+        let k = self
+            .start_times
+            .partition_point(|&t0| t0 <= t)
+            .saturating_sub(1);
         let (Some(seg), Some(prof), Some(block)) = (
             self.segments.get(k),
             self.profiles.get(k),
             self.blocks.get(self.segments.get(k).map_or(0, |s| s.block)),
         ) else {
-            let position = self.blocks.last().map_or([0.0; SLOTS], |b| joint_vector(&b.end));
+            let position = self
+                .blocks
+                .last()
+                .map_or([0.0; SLOTS], |b| joint_vector(&b.end));
             return Sample {
                 t,
                 block: 0,
@@ -168,7 +174,15 @@ impl TimedPath {
         let position = if at_end || s >= seg.length {
             joint_vector(&block.end)
         } else {
-            joint_vector(&block.point_at(s / seg.length))
+            // Spread the gap between the block's geometric end and its programmed end point
+            // over the block, so that positions are continuous and end exactly there.
+            let u = s / seg.length;
+            let mut p = joint_vector(&block.point_at(u));
+            let (end_geom, end) = (joint_vector(&block.point_at(1.0)), joint_vector(&block.end));
+            for i in 0..SLOTS {
+                p[i] += u * (end[i] - end_geom[i]);
+            }
+            p
         };
         let mut sample = Sample {
             t,
