@@ -26,7 +26,7 @@
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
 //! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
-//! | L4 | [`post`] |
+//! | L4 | [`post`], [`feed`] |
 //! | L5 | [`project`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
@@ -39,12 +39,13 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod diagnostics;
+pub mod feed;
 pub mod gcode;
 pub mod geometry;
 pub mod import;
 pub mod machine;
-pub mod project;
 pub mod post;
+pub mod project;
 pub mod reduce;
 pub mod toolpath;
 pub mod tools;

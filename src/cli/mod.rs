@@ -2,6 +2,7 @@
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
 pub mod dropcutter;
+pub mod feed;
 pub mod inspect;
 pub mod post;
 pub mod reduce;
@@ -42,6 +43,8 @@ pub enum Command {
     Post(post::PostArgs),
     /// List the built-in machines, one line each.
     Machines,
+    /// Jerk-limited motion plan of a G-code program: cycle time, limits and peaks per axis.
+    Feed(feed::FeedArgs),
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -99,5 +102,6 @@ pub fn run(command: Command) -> i32 {
             print!("{}", post::machines());
             0
         }
+        Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
     }
 }

@@ -1,0 +1,158 @@
+//! `talas feed PROGRAM.ngc --machine NAME_OR_FILE [--limit AXIS=V,A,J ...] [--corner-tolerance MM]
+//! --json [--samples OUT.csv]`: jerk-limited motion plan of a G-code program.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use serde_json::{Map, Value, json};
+
+use crate::feed::{AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, plan};
+use crate::gcode::{InterpretOptions, interpret};
+use crate::import::ImportError;
+use crate::machine::Machine;
+
+/// Options of `talas feed`.
+#[derive(Debug, clap::Args)]
+pub struct FeedArgs {
+    /// The G-code program.
+    pub file: PathBuf,
+    /// Machine name (`talas machines`) or machine JSON file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: String,
+    /// Override one axis's limits: `X=V,A,J` in mm/s, mm/s², mm/s³ (repeatable).
+    #[arg(long = "limit", value_name = "AXIS=V,A,J")]
+    pub limits: Vec<String>,
+    /// Pass corners at the junction-deviation speed for this tolerance (mm) instead of
+    /// stopping (axis velocities then step at corners).
+    #[arg(long, value_name = "MM")]
+    pub corner_tolerance: Option<f64>,
+    /// Write time samples (`t,X,Y,Z,...`, 1 ms) to this CSV file.
+    #[arg(long, value_name = "OUT.csv")]
+    pub samples: Option<PathBuf>,
+    /// Print one JSON document instead of the human summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_limit(text: &str) -> Option<(char, AxisLimit)> {
+    let (axis, rest) = text.split_once('=')?;
+    let mut chars = axis.trim().chars();
+    let name = chars.next()?.to_ascii_uppercase();
+    if chars.next().is_some() {
+        return None;
+    }
+    let v: Vec<f64> = rest
+        .split(',')
+        .map(|x| x.trim().parse().ok())
+        .collect::<Option<_>>()?;
+    match v.as_slice() {
+        [v, a, j] => Some((
+            name,
+            AxisLimit {
+                velocity: *v,
+                acceleration: *a,
+                jerk: *j,
+            },
+        )),
+        _ => None,
+    }
+}
+
+/// Plan the program and build the contract's JSON document.
+///
+/// # Errors
+/// An [`ImportError`] naming the file (and line) for bad input.
+pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
+    let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
+    let machine =
+        Machine::resolve(&args.machine).map_err(|e| bad(None, format!("--machine: {e}")))?;
+    let mut axes = machine_limits(&machine);
+    for l in &args.limits {
+        let (name, lim) = parse_limit(l)
+            .ok_or_else(|| bad(None, format!("--limit must be AXIS=V,A,J, got '{l}'")))?;
+        match axes.iter_mut().find(|(n, _)| *n == name) {
+            Some(slot) => slot.1 = lim,
+            None => return Err(bad(None, format!("--limit: machine has no axis {name}"))),
+        }
+    }
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let prog = interpret(&text, &InterpretOptions::default())
+        .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
+    let corner = match args.corner_tolerance {
+        Some(t) if t.is_finite() && t > 0.0 => CornerPolicy::JunctionDeviation { tolerance_mm: t },
+        Some(t) => {
+            return Err(bad(
+                None,
+                format!("--corner-tolerance must be positive, got {t}"),
+            ));
+        }
+        None => CornerPolicy::ExactStop,
+    };
+    let input = PlanInput {
+        blocks: &prog.blocks,
+        axes: axes.clone(),
+        options: PlanOptions {
+            corner,
+            ..PlanOptions::default()
+        },
+    };
+    let tp = plan(&input).map_err(|e| bad(None, e.to_string()))?;
+    if let Some(out) = &args.samples {
+        let mut csv = String::from("t");
+        for (n, _) in &axes {
+            let _ = write!(csv, ",{n}");
+        }
+        csv.push('\n');
+        for s in tp.samples() {
+            let _ = write!(csv, "{:.6}", s.t);
+            for (n, _) in &axes {
+                let k = crate::feed::path::slot_of(*n).unwrap_or(0);
+                let _ = write!(csv, ",{:.6}", s.position.get(k).copied().unwrap_or(0.0));
+            }
+            csv.push('\n');
+        }
+        std::fs::write(out, csv)
+            .map_err(|e| ImportError::new(out, None, format!("cannot write samples: {e}")))?;
+    }
+    let mut limits = Map::new();
+    let mut peaks = Map::new();
+    for (n, l) in &axes {
+        limits.insert(
+            n.to_string(),
+            json!({"v": l.velocity, "a": l.acceleration, "j": l.jerk}),
+        );
+    }
+    for p in &tp.peaks() {
+        peaks.insert(
+            p.axis.to_string(),
+            json!({"v": p.velocity, "a": p.acceleration, "j": p.jerk}),
+        );
+    }
+    let naive: f64 = prog
+        .blocks
+        .iter()
+        .filter(|b| b.feed_mm_per_min > 0.0)
+        .map(|b| b.length_mm() / (b.feed_mm_per_min / 60.0))
+        .sum();
+    Ok(json!({
+        "cycle_time_s": tp.cycle_time_s,
+        "naive_time_s": naive,
+        "blocks": prog.blocks.len(),
+        "limits": limits,
+        "peaks": peaks,
+        "sample_period_s": tp.sample_period_s,
+    }))
+}
+
+/// Human summary.
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    format!(
+        "cycle time {:.4} s (length/feed estimate {:.4} s), {} blocks\npeaks {}\n",
+        doc["cycle_time_s"].as_f64().unwrap_or(0.0),
+        doc["naive_time_s"].as_f64().unwrap_or(0.0),
+        doc["blocks"],
+        doc["peaks"]
+    )
+}

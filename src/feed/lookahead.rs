@@ -1,0 +1,92 @@
+//! Step 2b: junction speeds and the look-ahead over the whole program.
+//!
+//! Every junction gets a cap: 0 where the path is not smooth (exact stop), the segments' own
+//! velocity where it is (collinear lines, the same circle continued), or with
+//! [`CornerPolicy::JunctionDeviation`] the junction-deviation speed. Then a backward pass caps
+//! each junction by what can still decelerate to the next one within the block, and a forward
+//! pass by what can be reached from the previous one; both use the jerk-limited
+//! [`reachable_velocity`] with a = 0 at junctions, so every block's profile exists afterwards.
+
+use super::path::{JointVector, SLOTS, Segment};
+use super::profile::reachable_velocity;
+use super::{AxisLimit, CornerPolicy};
+
+/// Angle between two tangents (rad), and whether both segments continue each other smoothly
+/// (same direction and same curvature: collinear lines or the same circle).
+fn junction(a: &Segment, b: &Segment) -> (f64, bool) {
+    let (ta, tb): (JointVector, JointVector) = (a.tangent(true), b.tangent(false));
+    let dot: f64 = (0..SLOTS).map(|k| ta[k] * tb[k]).sum();
+    let na = ta.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let nb = tb.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let cos = (dot / (na * nb).max(1e-300)).clamp(-1.0, 1.0);
+    let angle = cos.acos();
+    let da = a.derivatives(a.length);
+    let db = b.derivatives(0.0);
+    let same_curvature = (0..SLOTS)
+        .all(|k| (da[2][k] - db[2][k]).abs() <= 1e-12 && (da[3][k] - db[3][k]).abs() <= 1e-12);
+    let same_direction = (0..SLOTS).all(|k| (ta[k] - tb[k]).abs() <= 1e-12);
+    (angle, same_direction && same_curvature)
+}
+
+/// Junction speeds (one more than segments: start and end are 0) after both passes.
+#[must_use]
+pub fn junction_speeds(
+    segments: &[Segment],
+    axes: &[Option<AxisLimit>; SLOTS],
+    corner: CornerPolicy,
+) -> Vec<f64> {
+    let n = segments.len();
+    let mut v = vec![0.0; n + 1];
+    let a_min = axes
+        .iter()
+        .flatten()
+        .map(|l| l.acceleration)
+        .fold(f64::INFINITY, f64::min);
+    for k in 1..n {
+        let (a, b) = (&segments[k - 1], &segments[k]);
+        let both = a.limits.velocity.min(b.limits.velocity);
+        let (angle, smooth) = junction(a, b);
+        v[k] = if smooth {
+            both
+        } else {
+            match corner {
+                CornerPolicy::ExactStop => 0.0,
+                CornerPolicy::JunctionDeviation { tolerance_mm } => {
+                    let half = (0.5 * angle).sin();
+                    if half >= 1.0 - 1e-9 {
+                        0.0
+                    } else {
+                        (a_min * tolerance_mm * half / (1.0 - half))
+                            .sqrt()
+                            .min(both)
+                    }
+                }
+            }
+        };
+    }
+    // Backward pass.
+    for k in (0..n).rev() {
+        let s = &segments[k];
+        let cap = reachable_velocity(
+            v[k + 1],
+            s.length,
+            s.limits.velocity,
+            s.limits.acceleration,
+            s.limits.jerk,
+        );
+        v[k] = v[k].min(cap);
+    }
+    // Forward pass.
+    for k in 0..n {
+        let s = &segments[k];
+        let cap = reachable_velocity(
+            v[k],
+            s.length,
+            s.limits.velocity,
+            s.limits.acceleration,
+            s.limits.jerk,
+        );
+        v[k + 1] = v[k + 1].min(cap);
+    }
+    v
+}

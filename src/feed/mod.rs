@@ -1,0 +1,193 @@
+//! Jerk-limited feed planning with look-ahead (layer L4), in the shape of ruckig:
+//! input ([`PlanInput`]: motion blocks, per-axis limits, options) → [`plan`] → result
+//! ([`TimedPath`]: duration, state at any time, samples, peaks; or a [`FeedError`]).
+//!
+//! ```text
+//! MotionBlocks ─path─▶ Segments (length, q', q'', q''' bounds, tangential v/a/j)
+//!              ─lookahead─▶ junction speeds (backward, forward pass)
+//!              ─profile─▶ one 7-phase S-curve per block ─timed_path─▶ samples, peaks
+//! ```
+//!
+//! Per-axis limits are enforced by projection (see [`path`]): inside a block the tangential
+//! limits bound every axis's velocity, acceleration and jerk. Junctions have a = 0; with
+//! [`CornerPolicy::ExactStop`] the motion stops wherever the path is not smooth (the only way to
+//! keep the axis jerk finite without blending corners); with
+//! [`CornerPolicy::JunctionDeviation`] it passes corners at the junction-deviation speed, which
+//! steps axis velocities at corners (as grbl and LinuxCNC do).
+
+pub mod lookahead;
+pub mod path;
+pub mod profile;
+pub mod timed_path;
+
+pub use profile::{Limits1, PhaseKind, Profile, ProfileError, reachable_velocity};
+pub use timed_path::{AxisPeak, Sample, TimedPath};
+
+use crate::gcode::MotionBlock;
+use crate::machine::Machine;
+
+/// Velocity, acceleration and jerk limit of one axis (mm/s, mm/s², mm/s³; rad for rotary).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct AxisLimit {
+    /// Velocity limit.
+    #[serde(rename = "v")]
+    pub velocity: f64,
+    /// Acceleration limit.
+    #[serde(rename = "a")]
+    pub acceleration: f64,
+    /// Jerk limit.
+    #[serde(rename = "j")]
+    pub jerk: f64,
+}
+
+/// How corners (non-smooth junctions) are passed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CornerPolicy {
+    /// Stop at every junction where the path is not smooth: all axis limits hold everywhere.
+    ExactStop,
+    /// Junction-deviation speed `sqrt(a·δ·sin(θ/2)/(1−sin(θ/2)))` with tolerance δ (mm):
+    /// faster, but axis velocities step at corners.
+    JunctionDeviation {
+        /// Path-deviation tolerance δ (mm), default 0.01.
+        tolerance_mm: f64,
+    },
+}
+
+/// Planner options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanOptions {
+    /// Corner handling (default exact stop).
+    pub corner: CornerPolicy,
+    /// Optional tangential (path) limits on top of the per-axis ones (the thesis's `V, A, J`).
+    pub path_limits: Option<Limits1>,
+    /// Sample period for [`TimedPath::samples`] and peaks (s), default 1 ms.
+    pub sample_period_s: f64,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            corner: CornerPolicy::ExactStop,
+            path_limits: None,
+            sample_period_s: 1e-3,
+        }
+    }
+}
+
+/// Why planning failed, grouped by cause.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FeedError {
+    /// A limit is not finite and positive.
+    #[error("axis {axis}: limits must be finite and positive")]
+    InvalidLimit {
+        /// The axis letter.
+        axis: char,
+    },
+    /// A block moves an axis the machine does not have.
+    #[error("line {line}: moves an axis the machine does not have, or cannot be planned")]
+    UnplannableBlock {
+        /// Source line of the block.
+        line: usize,
+    },
+    /// The sample period is not finite and positive.
+    #[error("sample period must be finite and positive")]
+    InvalidSamplePeriod,
+    /// A profile could not be built (internal: the look-ahead guarantees feasibility).
+    #[error("line {line}: {source}")]
+    Profile {
+        /// Source line of the block.
+        line: usize,
+        /// The 1-DoF error.
+        source: ProfileError,
+    },
+}
+
+/// The planner's input.
+#[derive(Clone, Debug)]
+pub struct PlanInput<'a> {
+    /// The interpreted program's motion blocks.
+    pub blocks: &'a [MotionBlock],
+    /// Axes with their limits, in the machine's order.
+    pub axes: Vec<(char, AxisLimit)>,
+    /// Options.
+    pub options: PlanOptions,
+}
+
+/// The per-axis limits of a machine, in its axis order.
+#[must_use]
+pub fn machine_limits(machine: &Machine) -> Vec<(char, AxisLimit)> {
+    machine
+        .axes
+        .iter()
+        .map(|a| {
+            (
+                a.name,
+                AxisLimit {
+                    velocity: a.velocity,
+                    acceleration: a.acceleration,
+                    jerk: a.jerk,
+                },
+            )
+        })
+        .collect()
+}
+
+/// Plan the whole program.
+///
+/// # Errors
+/// [`FeedError`] for invalid limits, a block on an axis the machine lacks, or a bad sample period.
+pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
+    let opts = &input.options;
+    if !(opts.sample_period_s.is_finite() && opts.sample_period_s > 0.0) {
+        return Err(FeedError::InvalidSamplePeriod);
+    }
+    let mut slots: path::AxisLimits = [None; path::SLOTS];
+    for (name, lim) in &input.axes {
+        let ok = [lim.velocity, lim.acceleration, lim.jerk]
+            .iter()
+            .all(|x| x.is_finite() && *x > 0.0);
+        if !ok {
+            return Err(FeedError::InvalidLimit { axis: *name });
+        }
+        if let Some(k) = path::slot_of(*name) {
+            slots[k] = Some(*lim);
+        }
+    }
+    let mut segments = Vec::with_capacity(input.blocks.len());
+    for (i, b) in input.blocks.iter().enumerate() {
+        let zero = joint_zero_length(b);
+        match path::Segment::new(i, b, &slots, opts.path_limits) {
+            Some(s) => segments.push(s),
+            None if zero => {}
+            None => {
+                return Err(FeedError::UnplannableBlock {
+                    line: b.source_line,
+                });
+            }
+        }
+    }
+    let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
+    let mut profiles = Vec::with_capacity(segments.len());
+    for (k, s) in segments.iter().enumerate() {
+        let p = Profile::calculate(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(|e| {
+            FeedError::Profile {
+                line: input.blocks.get(s.block).map_or(0, |b| b.source_line),
+                source: e,
+            }
+        })?;
+        profiles.push(p);
+    }
+    Ok(TimedPath::new(
+        input.blocks,
+        segments,
+        profiles,
+        &input.axes,
+        opts.sample_period_s,
+    ))
+}
+
+/// The block moves no joint at all.
+fn joint_zero_length(b: &MotionBlock) -> bool {
+    let (s, e) = (path::joint_vector(&b.start), path::joint_vector(&b.end));
+    b.length_mm() <= 1e-12 && s.iter().zip(e.iter()).all(|(a, b)| (a - b).abs() <= 1e-12)
+}

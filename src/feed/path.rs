@@ -1,0 +1,261 @@
+//! Step 2a: the program as a path in joint space, parameterised by length, with the bounds on
+//! the derivatives of every axis along the path and the tangential limits they imply.
+//!
+//! For an axis `q_i(s)` along a block, with path speed `v`, acceleration `a`, jerk `j`:
+//! `q̇ = q'·v`, `q̈ = q'·a + q''·v²`, `q⃛ = q'·j + 3·q''·v·a + q'''·v³`. With bounds
+//! `|q'| ≤ d1`, `|q''| ≤ d2`, `|q'''| ≤ d3` over the block, the tangential limits
+//! `(v_b, a_b, j_b)` chosen in [`Segment::new`] satisfy `d1·v_b ≤ V`, `d1·a_b + d2·v_b² ≤ A`,
+//! `d1·j_b + 3·d2·v_b·a_b + d3·v_b³ ≤ J` for every axis, so any motion with `v ≤ v_b`,
+//! `|a| ≤ a_b`, `|j| ≤ j_b` keeps every axis within its limits inside the block (triangle
+//! inequality). Junctions are handled by the look-ahead (stop, or a = 0 on smooth joins).
+
+use glam::DVec3;
+
+use crate::gcode::{Joints, MotionBlock, MotionKind};
+
+/// Number of joint slots: X Y Z A B C.
+pub const SLOTS: usize = 6;
+
+/// A joint-space vector indexed X Y Z A B C (mm, rad).
+pub type JointVector = [f64; SLOTS];
+
+/// Joint slot of an axis letter.
+#[must_use]
+pub fn slot_of(name: char) -> Option<usize> {
+    "XYZABC".find(name.to_ascii_uppercase())
+}
+
+/// Joints as a slot vector (missing rotary axes read 0).
+#[must_use]
+pub fn joint_vector(j: &Joints) -> JointVector {
+    [
+        j.xyz.x,
+        j.xyz.y,
+        j.xyz.z,
+        j.a.unwrap_or(0.0),
+        j.b.unwrap_or(0.0),
+        j.c.unwrap_or(0.0),
+    ]
+}
+
+/// Per-axis limits in slot order (`None`: the machine has no such axis; it must not move).
+pub type AxisLimits = [Option<super::AxisLimit>; SLOTS];
+
+/// What caps a block's velocity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind", content = "axis")]
+pub enum VelocityCap {
+    /// The programmed feed (or inverse-time duration).
+    Feed,
+    /// An axis's velocity limit projected on the tangent.
+    AxisVelocity(char),
+    /// Centripetal acceleration of an axis on a curved block.
+    Centripetal(char),
+    /// Centripetal jerk (v³·|q'''|) of an axis on a curved block.
+    CentripetalJerk(char),
+    /// The optional tangential path limit.
+    Path,
+}
+
+/// One block as a path segment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Segment {
+    /// Index of the block in the program.
+    pub block: usize,
+    /// Path length (mm; rad for rotary-only blocks).
+    pub length: f64,
+    /// Start joints.
+    pub start: JointVector,
+    /// Joint change over the block.
+    pub delta: JointVector,
+    /// Arc data `(centre, e1 = unit start radius, e2 = n × e1 signed, radius, ω rad/mm, n·helix/L)`.
+    pub arc: Option<ArcFrame>,
+    /// Tangential limits valid over the whole block.
+    pub limits: super::Limits1,
+    /// What caps the velocity.
+    pub cap: VelocityCap,
+}
+
+/// The frame of an arc segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcFrame {
+    /// Centre.
+    pub centre: DVec3,
+    /// Unit vector from the centre to the start (in the plane), times the radius.
+    pub r1: DVec3,
+    /// The in-plane vector 90° ahead in the direction of motion, times the radius.
+    pub r2: DVec3,
+    /// Angle per unit path length (rad/mm).
+    pub omega: f64,
+    /// Normal travel per unit path length.
+    pub rise: DVec3,
+}
+
+impl Segment {
+    /// Build the segment of `block` (index `index`) under `axes` and the optional path limit;
+    /// `None` for a block with no length.
+    #[must_use]
+    pub fn new(
+        index: usize,
+        block: &MotionBlock,
+        axes: &AxisLimits,
+        path: Option<super::Limits1>,
+    ) -> Option<Self> {
+        let start = joint_vector(&block.start);
+        let end = joint_vector(&block.end);
+        let mut delta = [0.0; SLOTS];
+        for k in 0..SLOTS {
+            delta[k] = end[k] - start[k];
+        }
+        let xyz_len = block.length_mm();
+        let rot_len = delta[3..].iter().map(|d| d * d).sum::<f64>().sqrt();
+        let length = if xyz_len > 1e-12 { xyz_len } else { rot_len };
+        if !(length > 1e-12) || !length.is_finite() {
+            return None;
+        }
+        let arc = block.kind.arc().map(|a| {
+            let sign = if matches!(block.kind, MotionKind::ArcCw(_)) {
+                -1.0
+            } else {
+                1.0
+            };
+            let r0 = block.start.xyz - a.centre;
+            let r1 = r0 - a.normal * r0.dot(a.normal);
+            ArcFrame {
+                centre: a.centre,
+                r1,
+                r2: a.normal.cross(r1) * sign,
+                omega: a.sweep_rad / length,
+                rise: a.normal * (a.helix_mm / length),
+            }
+        });
+        // Derivative bounds per slot.
+        let mut d1 = [0.0; SLOTS];
+        let mut d2 = [0.0; SLOTS];
+        let mut d3 = [0.0; SLOTS];
+        for k in 0..SLOTS {
+            d1[k] = (delta[k] / length).abs();
+        }
+        if let Some(f) = &arc {
+            let r = f.r1.length();
+            for k in 0..3 {
+                let inplane = f.r1[k].hypot(f.r2[k]) / r.max(1e-300);
+                d1[k] = (r * f.omega * inplane + f.rise[k].abs()).min(1.0);
+                d2[k] = r * f.omega * f.omega * inplane;
+                d3[k] = r * f.omega.powi(3) * inplane;
+            }
+        }
+        let mut v_b = f64::INFINITY;
+        let mut cap = VelocityCap::Feed;
+        let feed = if let Some(t) = block.inverse_time_duration_s() {
+            length / t
+        } else if matches!(block.kind, MotionKind::Rapid) || block.feed_mm_per_min <= 0.0 {
+            f64::INFINITY
+        } else {
+            block.feed_mm_per_min / 60.0
+        };
+        let mut lower = |value: f64, why: VelocityCap| {
+            if value < v_b {
+                v_b = value;
+                cap = why;
+            }
+        };
+        lower(feed, VelocityCap::Feed);
+        if let Some(p) = path {
+            lower(p.velocity, VelocityCap::Path);
+        }
+        for (k, lim) in axes.iter().enumerate() {
+            let name = "XYZABC".as_bytes()[k] as char;
+            match lim {
+                Some(l) => {
+                    if d1[k] > 0.0 {
+                        lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
+                    }
+                    if d2[k] > 0.0 {
+                        lower(
+                            (l.acceleration / (2.0 * d2[k])).sqrt(),
+                            VelocityCap::Centripetal(name),
+                        );
+                    }
+                    if d3[k] > 0.0 {
+                        lower(
+                            (l.jerk / (3.0 * d3[k])).cbrt(),
+                            VelocityCap::CentripetalJerk(name),
+                        );
+                    }
+                }
+                None => {
+                    if d1[k] > 0.0 {
+                        return None;
+                    }
+                }
+            }
+        }
+        let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
+        for (k, lim) in axes.iter().enumerate() {
+            if let Some(l) = lim {
+                if d1[k] > 0.0 {
+                    a_b = a_b.min((l.acceleration - d2[k] * v_b * v_b) / d1[k]);
+                }
+                if d2[k] > 0.0 {
+                    a_b = a_b.min(l.jerk / (9.0 * d2[k] * v_b));
+                }
+            }
+        }
+        let mut j_b = path.map_or(f64::INFINITY, |p| p.jerk);
+        for (k, lim) in axes.iter().enumerate() {
+            if let Some(l) = lim {
+                if d1[k] > 0.0 {
+                    j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
+                }
+            }
+        }
+        let limits = super::Limits1 {
+            velocity: v_b,
+            acceleration: a_b,
+            jerk: j_b,
+        };
+        limits.is_valid().then_some(Self {
+            block: index,
+            length,
+            start,
+            delta,
+            arc,
+            limits,
+            cap,
+        })
+    }
+
+    /// Joint position and its first three derivatives with respect to path length at `s`.
+    #[must_use]
+    pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
+        let u = (s / self.length).clamp(0.0, 1.0);
+        let mut out = [[0.0; SLOTS]; 4];
+        for k in 0..SLOTS {
+            out[0][k] = self.start[k] + self.delta[k] * u;
+            out[1][k] = self.delta[k] / self.length;
+        }
+        if let Some(f) = &self.arc {
+            let th = f.omega * s.clamp(0.0, self.length);
+            let (sn, cs) = th.sin_cos();
+            let w = f.omega;
+            let p = f.centre + f.r1 * cs + f.r2 * sn + f.rise * s.clamp(0.0, self.length);
+            let d1 = (f.r2 * cs - f.r1 * sn) * w + f.rise;
+            let d2 = -(f.r1 * cs + f.r2 * sn) * (w * w);
+            let d3 = (f.r1 * sn - f.r2 * cs) * (w * w * w);
+            for k in 0..3 {
+                out[0][k] = p[k];
+                out[1][k] = d1[k];
+                out[2][k] = d2[k];
+                out[3][k] = d3[k];
+            }
+        }
+        out
+    }
+
+    /// Unit-free tangent `q'` at the start (`at_end == false`) or the end.
+    #[must_use]
+    pub fn tangent(&self, at_end: bool) -> JointVector {
+        self.derivatives(if at_end { self.length } else { 0.0 })[1]
+    }
+}

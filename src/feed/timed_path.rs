@@ -1,0 +1,230 @@
+//! Step 3: the planned motion in time: the state at any time, samples at the period, peaks.
+
+use super::AxisLimit;
+use super::path::{JointVector, SLOTS, Segment, VelocityCap, joint_vector};
+use super::profile::{PhaseKind, Profile};
+use crate::gcode::MotionBlock;
+
+/// Which limit shapes the motion at a sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ActiveLimit {
+    /// Jerk at its tangential limit.
+    Jerk,
+    /// Acceleration at its tangential limit.
+    Acceleration,
+    /// Cruising at the block's velocity cap (see [`VelocityCap`]).
+    Velocity(VelocityCap),
+    /// Standing still (program end, or no motion).
+    None,
+}
+
+/// The state of the machine at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Time (s).
+    pub t: f64,
+    /// Index of the block (in the program) being run.
+    pub block: usize,
+    /// Path position from the program start (sum of block lengths, mm).
+    pub path_position: f64,
+    /// Path speed (mm/s).
+    pub feed: f64,
+    /// Axis positions, slots X Y Z A B C (mm, rad).
+    pub position: JointVector,
+    /// Axis velocities.
+    pub velocity: JointVector,
+    /// Axis accelerations.
+    pub acceleration: JointVector,
+    /// Axis jerks.
+    pub jerk: JointVector,
+    /// The active limit.
+    pub active: ActiveLimit,
+}
+
+/// Peak absolute velocity, acceleration and jerk of one axis over the samples.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct AxisPeak {
+    /// Axis letter.
+    pub axis: char,
+    /// Peak |velocity|.
+    pub velocity: f64,
+    /// Peak |acceleration|.
+    pub acceleration: f64,
+    /// Peak |jerk|.
+    pub jerk: f64,
+}
+
+/// A planned program: profiles per block laid end to end in time.
+#[derive(Clone, Debug)]
+pub struct TimedPath {
+    blocks: Vec<MotionBlock>,
+    segments: Vec<Segment>,
+    profiles: Vec<Profile>,
+    start_times: Vec<f64>,
+    path_starts: Vec<f64>,
+    /// Total duration (s).
+    pub cycle_time_s: f64,
+    /// Sample period (s).
+    pub sample_period_s: f64,
+    /// The axes and their limits, machine order.
+    pub axes: Vec<(char, AxisLimit)>,
+}
+
+impl TimedPath {
+    pub(super) fn new(
+        blocks: &[MotionBlock],
+        segments: Vec<Segment>,
+        profiles: Vec<Profile>,
+        axes: &[(char, AxisLimit)],
+        sample_period_s: f64,
+    ) -> Self {
+        let mut start_times = Vec::with_capacity(profiles.len());
+        let mut path_starts = Vec::with_capacity(profiles.len());
+        let (mut t, mut s) = (0.0, 0.0);
+        for (p, seg) in profiles.iter().zip(&segments) {
+            start_times.push(t);
+            path_starts.push(s);
+            t += p.duration_s();
+            s += seg.length;
+        }
+        Self {
+            blocks: blocks.to_vec(),
+            segments,
+            profiles,
+            start_times,
+            path_starts,
+            cycle_time_s: t,
+            sample_period_s,
+            axes: axes.to_vec(),
+        }
+    }
+
+    /// Peaks per axis (machine order) over the samples at the period.
+    #[must_use]
+    pub fn peaks(&self) -> Vec<AxisPeak> {
+        let mut peaks: Vec<AxisPeak> = self
+            .axes
+            .iter()
+            .map(|(c, _)| AxisPeak {
+                axis: *c,
+                velocity: 0.0,
+                acceleration: 0.0,
+                jerk: 0.0,
+            })
+            .collect();
+        for smp in self.samples() {
+            for p in &mut peaks {
+                if let Some(k) = super::path::slot_of(p.axis) {
+                    p.velocity = p.velocity.max(smp.velocity[k].abs());
+                    p.acceleration = p.acceleration.max(smp.acceleration[k].abs());
+                    p.jerk = p.jerk.max(smp.jerk[k].abs());
+                }
+            }
+        }
+        peaks
+    }
+
+    /// Number of planned (non-empty) blocks.
+    #[must_use]
+    pub fn block_count(&self) -> usize {
+        self.segments.len()
+    }
+
+    /// The 1-DoF profile of planned block `k` (along its path length).
+    #[must_use]
+    pub fn profile(&self, k: usize) -> Option<&Profile> {
+        self.profiles.get(k)
+    }
+
+    /// The state at time `t` (clamped to `[0, cycle_time_s]`; at the end, exactly the last
+    /// block's end point).
+    #[must_use]
+    pub fn state_at(&self, t: f64) -> Sample {
+        let t = t.clamp(0.0, self.cycle_time_s);
+        let k = self
+            .start_times
+            .partition_point(|&t0| t0 <= t)
+            .saturating_sub(1);
+        let (Some(seg), Some(prof), Some(block)) = (
+            self.segments.get(k),
+            self.profiles.get(k),
+            self.blocks.get(self.segments.get(k).map_or(0, |s| s.block)),
+        ) else {
+            let position = self
+                .blocks
+                .last()
+                .map_or([0.0; SLOTS], |b| joint_vector(&b.end));
+            return Sample {
+                t,
+                block: 0,
+                path_position: 0.0,
+                feed: 0.0,
+                position,
+                velocity: [0.0; SLOTS],
+                acceleration: [0.0; SLOTS],
+                jerk: [0.0; SLOTS],
+                active: ActiveLimit::None,
+            };
+        };
+        let local = t - self.start_times.get(k).copied().unwrap_or(0.0);
+        let at_end = t >= self.cycle_time_s && k + 1 == self.segments.len();
+        let ((s, v, a, j), kind) = prof.at_time_with_kind(local);
+        let d = seg.derivatives(s);
+        let position = if at_end || s >= seg.length {
+            joint_vector(&block.end)
+        } else {
+            // Spread the gap between the block's geometric end and its programmed end point
+            // over the block, so that positions are continuous and end exactly there.
+            let u = s / seg.length;
+            let mut p = joint_vector(&block.point_at(u));
+            let (end_geom, end) = (joint_vector(&block.point_at(1.0)), joint_vector(&block.end));
+            for i in 0..SLOTS {
+                p[i] += u * (end[i] - end_geom[i]);
+            }
+            p
+        };
+        let mut sample = Sample {
+            t,
+            block: seg.block,
+            path_position: self.path_starts.get(k).copied().unwrap_or(0.0) + s,
+            feed: v,
+            position,
+            velocity: [0.0; SLOTS],
+            acceleration: [0.0; SLOTS],
+            jerk: [0.0; SLOTS],
+            active: match kind {
+                _ if v <= 0.0 && a == 0.0 && j == 0.0 => ActiveLimit::None,
+                PhaseKind::Jerk => ActiveLimit::Jerk,
+                PhaseKind::Acceleration => ActiveLimit::Acceleration,
+                PhaseKind::Velocity => ActiveLimit::Velocity(seg.cap),
+            },
+        };
+        for i in 0..SLOTS {
+            sample.velocity[i] = d[1][i] * v;
+            sample.acceleration[i] = d[1][i] * a + d[2][i] * v * v;
+            sample.jerk[i] = d[1][i] * j + 3.0 * d[2][i] * v * a + d[3][i] * v * v * v;
+        }
+        sample
+    }
+
+    /// Samples at `t = 0, T, 2T, ...` and one at the cycle time.
+    pub fn samples(&self) -> impl Iterator<Item = Sample> + '_ {
+        self.samples_every(self.sample_period_s)
+    }
+
+    /// Samples every `period_s` (a non-positive or non-finite period gives only the end).
+    pub fn samples_every(&self, period_s: f64) -> impl Iterator<Item = Sample> + '_ {
+        let n = if period_s.is_finite() && period_s > 0.0 {
+            // The cycle time is finite, so this is bounded.
+            (self.cycle_time_s / period_s).floor() as usize
+        } else {
+            0
+        };
+        (0..=n)
+            .map(move |i| i as f64 * period_s)
+            .filter(move |t| *t < self.cycle_time_s)
+            .chain(std::iter::once(self.cycle_time_s))
+            .map(move |t| self.state_at(t))
+    }
+}

@@ -1,0 +1,199 @@
+//! Planner: randomised programs hold every axis limit (finite differences at 0.1 ms), end
+//! exactly at the program's end point; the thesis programs plan, V8/V9 durations.
+
+use talas::feed::{AxisLimit, Limits1, PlanInput, PlanOptions, machine_limits, plan};
+use talas::gcode::{InterpretOptions, Joints, interpret};
+use talas::machine::Machine;
+
+struct Rng(u64);
+impl Rng {
+    fn f(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn random_program(r: &mut Rng) -> String {
+    let mut text = String::from("G90 G17 F3000\n");
+    let (mut x, mut y, mut z) = (0.0f64, 0.0f64, 0.0f64);
+    let n = 2 + (r.f() * 8.0) as usize;
+    for _ in 0..n {
+        let kind = r.f();
+        if kind < 0.35 {
+            let scale = if r.f() < 0.4 { 0.05 } else { 15.0 };
+            x += (r.f() - 0.5) * scale;
+            y += (r.f() - 0.5) * scale;
+            z += (r.f() - 0.5) * scale * 0.3;
+            text += &format!(
+                "G1 X{x:.4} Y{y:.4} Z{z:.4} F{:.0}\n",
+                300.0 + r.f() * 20_000.0
+            );
+        } else if kind < 0.5 {
+            // A reversal: out and back.
+            let (dx, dy) = ((r.f() - 0.5) * 4.0, (r.f() - 0.5) * 4.0);
+            text += &format!("G1 X{:.4} Y{:.4}\nG1 X{x:.4} Y{y:.4}\n", x + dx, y + dy);
+        } else if kind < 0.65 {
+            // A run of collinear short segments.
+            let (dx, dy) = ((r.f() - 0.5) * 0.02, (r.f() - 0.5) * 0.02);
+            for _ in 0..20 {
+                x += dx;
+                y += dy;
+                text += &format!("G1 X{x:.6} Y{y:.6}\n");
+            }
+        } else {
+            let rad = 0.2 + r.f() * 10.0;
+            let ang = r.f() * std::f64::consts::TAU;
+            let (i, j) = (rad * ang.cos(), rad * ang.sin());
+            let sweep = (r.f() - 0.5) * 5.0;
+            let (cx, cy) = (x + i, y + j);
+            let a1 = ang + std::f64::consts::PI + sweep;
+            x = cx + rad * a1.cos();
+            y = cy + rad * a1.sin();
+            let g = if sweep < 0.0 { 2 } else { 3 };
+            let dz = if r.f() < 0.3 { r.f() - 0.5 } else { 0.0 };
+            z += dz;
+            text += &format!("G{g} X{x:.6} Y{y:.6} Z{z:.6} I{i:.6} J{j:.6}\n");
+        }
+    }
+    text
+}
+
+#[test]
+fn random_programs_hold_axis_limits() {
+    let machine = Machine::builtin("mill-3axis").unwrap();
+    let axes = machine_limits(&machine);
+    let mut rng = Rng(7);
+    let h = 1e-4;
+    let mut worst = [0.0f64; 3];
+    for case in 0..1000 {
+        let text = random_program(&mut rng);
+        let prog = interpret(&text, &InterpretOptions::default()).unwrap();
+        let input = PlanInput {
+            blocks: &prog.blocks,
+            axes: axes.clone(),
+            options: PlanOptions::default(),
+        };
+        let tp = plan(&input).unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        let end = tp.state_at(tp.cycle_time_s + 1.0).position;
+        let last = prog.blocks.last().unwrap().end;
+        assert_eq!(&end[..3], &last.xyz.to_array()[..], "case {case}");
+        let p = |t: f64| tp.state_at(t).position;
+        let steps = (tp.cycle_time_s / h).ceil() as usize;
+        for i in 0..=steps {
+            let t = i as f64 * h;
+            let (pm2, pm1, p0, p1, p2) = (p(t - 2.0 * h), p(t - h), p(t), p(t + h), p(t + 2.0 * h));
+            for (k, (_, l)) in axes.iter().enumerate() {
+                let v = (p1[k] - pm1[k]) / (2.0 * h);
+                let a = (p1[k] - 2.0 * p0[k] + pm1[k]) / (h * h);
+                let j = (p2[k] - 2.0 * p1[k] + 2.0 * pm1[k] - pm2[k]) / (2.0 * h * h * h);
+                let ratios = [
+                    v.abs() / l.velocity,
+                    a.abs() / l.acceleration,
+                    j.abs() / l.jerk,
+                ];
+                for (w, r) in worst.iter_mut().zip(ratios) {
+                    *w = w.max(r);
+                }
+                assert!(
+                    ratios.iter().all(|r| *r <= 1.001),
+                    "case {case} t {t} axis {k}: v {v} a {a} j {j}\n{text}"
+                );
+            }
+        }
+    }
+    eprintln!("worst v/a/j ratios over 1000 programs: {worst:?}");
+}
+
+fn thesis(name: &str, start: Joints) -> f64 {
+    let text = std::fs::read_to_string(format!("tests/data/gcode/{name}")).unwrap();
+    let opts = InterpretOptions {
+        start,
+        ..InterpretOptions::default()
+    };
+    let prog = interpret(&text, &opts).unwrap();
+    let big = AxisLimit {
+        velocity: 1e6,
+        acceleration: 1e9,
+        jerk: 1e12,
+    };
+    let input = PlanInput {
+        blocks: &prog.blocks,
+        axes: vec![('X', big), ('Y', big), ('Z', big)],
+        options: PlanOptions {
+            path_limits: Some(Limits1 {
+                velocity: 1e6,
+                acceleration: 1000.0,
+                jerk: 20_000.0,
+            }),
+            ..PlanOptions::default()
+        },
+    };
+    plan(&input).unwrap().cycle_time_s
+}
+
+#[test]
+fn thesis_single_line_and_arc() {
+    let t8 = thesis("seed-001-eq3-17-g01-single.nc", Joints::default());
+    let t9 = thesis(
+        "seed-001-eq3-25-g02-single.nc",
+        Joints::xyz(0.2407, 1.533, 0.0),
+    );
+    eprintln!("V8 line: {t8:.5} s (thesis 0.63852), V9 arc: {t9:.5} s (thesis 0.37853)");
+    assert!(t8 <= 0.63852 + 5e-6, "{t8}");
+    assert!(t9 <= 0.37853 + 5e-6, "{t9}");
+}
+
+#[test]
+fn thesis_programs_plan() {
+    let machine = Machine::builtin("mill-3axis").unwrap();
+    for entry in std::fs::read_dir("tests/data/gcode").unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        // The pocket fragment needs a start the thesis does not give (the interpreter rejects
+        // its first R arc from any header start), so it is left to the gcode tests.
+        if !name.starts_with("seed-001-") || name.contains("fig4-36") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let opts = InterpretOptions {
+            start: header_start(&text),
+            ..InterpretOptions::default()
+        };
+        let prog = interpret(&text, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let input = PlanInput {
+            blocks: &prog.blocks,
+            axes: machine_limits(&machine),
+            options: PlanOptions::default(),
+        };
+        let tp = plan(&input).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            tp.cycle_time_s.is_finite() && tp.cycle_time_s > 0.0,
+            "{name}"
+        );
+    }
+}
+
+/// The start position from a header comment `(Initial position X.. Y.. Z..` (0 otherwise).
+fn header_start(text: &str) -> Joints {
+    let mut p = [0.0; 3];
+    if let Some(i) = text.find("nitial position") {
+        let rest = &text[i + 15..];
+        let rest = &rest[..rest.find(')').unwrap_or(rest.len())];
+        for word in rest.split_whitespace() {
+            let w = word.trim_end_matches([',', '.']);
+            let k = match w.chars().next() {
+                Some('X') => 0,
+                Some('Y') => 1,
+                Some('Z') => 2,
+                _ => continue,
+            };
+            if let Ok(v) = w[1..].parse() {
+                p[k] = v;
+            }
+        }
+    }
+    Joints::xyz(p[0], p[1], p[2])
+}
