@@ -204,10 +204,10 @@ impl Segment {
         }
         let mut j_b = path.map_or(f64::INFINITY, |p| p.jerk);
         for (k, lim) in axes.iter().enumerate() {
-            if let Some(l) = lim {
-                if d1[k] > 0.0 {
-                    j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
-                }
+            if let Some(l) = lim
+                && d1[k] > 0.0
+            {
+                j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
             }
         }
         let limits = super::Limits1 {
@@ -228,6 +228,8 @@ impl Segment {
 
     /// Joint position and its first three derivatives with respect to path length at `s`.
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
         let u = (s / self.length).clamp(0.0, 1.0);
         let mut out = [[0.0; SLOTS]; 4];

@@ -200,6 +200,8 @@ impl TimedPath {
                 PhaseKind::Velocity => ActiveLimit::Velocity(seg.cap),
             },
         };
+        // One index walks several parallel arrays; an iterator chain would hide that.
+        #[allow(clippy::needless_range_loop)]
         for i in 0..SLOTS {
             sample.velocity[i] = d[1][i] * v;
             sample.acceleration[i] = d[1][i] * a + d[2][i] * v * v;
