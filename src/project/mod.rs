@@ -1,5 +1,5 @@
 //! The project document (L5): the part reference, stock, tool library, machine, operations and
-//! view, saved as TOML ([`file`]), changed only through [`Edit`]s so that every change can be
+//! view, saved as TOML ([`mod@file`]), changed only through [`Edit`]s so that every change can be
 //! undone ([`History`]).
 //!
 //! The document holds plain data: paths, numbers and validated [`Cutter`]s. It never holds the
