@@ -22,7 +22,7 @@
 //!
 //! | layer | modules |
 //! |---|---|
-//! | L0 | [`units`], [`diagnostics`], [`geometry`] |
+//! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] |
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
 //! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
@@ -47,6 +47,7 @@ pub mod machine;
 pub mod post;
 pub mod project;
 pub mod reduce;
+pub mod storage;
 pub mod toolpath;
 pub mod tools;
 pub mod units;

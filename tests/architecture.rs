@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[(&str, u32)] = &[
     ("units", 0),
     ("diagnostics", 0),
+    ("storage", 0),
     ("geometry", 0),
     ("import", 1),
     ("tools", 1),

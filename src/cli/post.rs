@@ -65,14 +65,7 @@ pub fn post(args: &PostArgs) -> Result<(), String> {
     let text = run_post(&tp, &machine, &dialect, &options)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;
     let out = args.output.display().to_string();
-    let mut tmp = args.output.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, text).map_err(|e| format!("{out}: {e}"))?;
-    std::fs::rename(&tmp, &args.output).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{out}: {e}")
-    })
+    crate::storage::write_atomic(&args.output, text.as_bytes()).map_err(|e| format!("{out}: {e}"))
 }
 
 /// The lines of `talas machines`: name and description.

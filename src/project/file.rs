@@ -2,7 +2,6 @@
 //! temporary file in the same folder, is flushed to disk, then renamed over the old file, so a
 //! failed save leaves the old file as it was.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{PROJECT_VERSION, Project};
@@ -143,38 +142,6 @@ impl Project {
             message: format!("{what}: {e}"),
         };
         let text = self.to_toml().map_err(|e| io("cannot encode", &e))?;
-        write_atomic(path, text.as_bytes()).map_err(|e| io("cannot save", &e))
+        crate::storage::write_atomic(path, text.as_bytes()).map_err(|e| io("cannot save", &e))
     }
-}
-
-/// Write `bytes` to `path` through a temporary file in the same folder, flushed before the
-/// rename; the temporary file is removed when anything fails.
-///
-/// # Errors
-/// The I/O error; `path` is then untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map_or_else(|| "project".into(), |n| n.to_string_lossy().into_owned());
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)?;
-        // Make the rename itself durable (best effort: not every platform can open a folder).
-        if let Ok(d) = std::fs::File::open(&dir) {
-            let _ = d.sync_all();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }

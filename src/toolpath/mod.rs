@@ -189,14 +189,7 @@ impl Toolpath {
             place: "file".into(),
             message: e.to_string(),
         };
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
-        let tmp = std::path::PathBuf::from(tmp);
-        std::fs::write(&tmp, text).map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            io(e)
-        })
+        crate::storage::write_atomic(path, text.as_bytes()).map_err(io)
     }
 }
 

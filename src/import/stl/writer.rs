@@ -4,7 +4,6 @@
 //! files store `f32`, so a mesh read from a binary STL is written back bit-exactly; ASCII files
 //! print each `f64` in the shortest form that reads back to the same value.
 
-use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
@@ -116,40 +115,17 @@ pub fn write_stl_ascii<W: Write>(mesh: &TriMesh, name: &str, w: W) -> io::Result
 /// [`ImportError`] naming `path` when the mesh cannot be written (see [`write_stl_binary`]) or
 /// the file system refuses; the temporary file is removed.
 pub fn save_stl(path: &Path, mesh: &TriMesh, format: StlFormat) -> Result<(), ImportError> {
-    let Some(file_name) = path.file_name() else {
-        return Err(ImportError::new(path, None, "not a file path"));
-    };
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let thread = format!("{:?}", std::thread::current().id());
-    let thread: String = thread.chars().filter(char::is_ascii_digit).collect();
-    let tmp = dir.join(format!(
-        ".{}.{}-{thread}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
-    let write = || -> io::Result<()> {
-        let file = fs::File::create(&tmp)?;
-        let mut out = BufWriter::new(file);
-        match format {
-            StlFormat::Binary => write_stl_binary(mesh, &mut out)?,
-            StlFormat::Ascii => {
-                let stem = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy())
-                    .unwrap_or_default();
-                write_stl_ascii(mesh, &stem, &mut out)?;
-            }
+    let mut bytes = Vec::new();
+    match format {
+        StlFormat::Binary => write_stl_binary(mesh, &mut bytes),
+        StlFormat::Ascii => {
+            let stem = path
+                .file_stem()
+                .map(|s| s.to_string_lossy())
+                .unwrap_or_default();
+            write_stl_ascii(mesh, &stem, &mut bytes)
         }
-        let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.sync_all()?;
-        fs::rename(&tmp, path)
-    };
-    write().map_err(|e| {
-        // Best effort: the temporary file may not exist; the original error is what matters.
-        let _ = fs::remove_file(&tmp);
-        ImportError::new(path, None, format!("cannot save STL: {e}"))
-    })
+    }
+    .and_then(|()| crate::storage::write_atomic(path, &bytes))
+    .map_err(|e| ImportError::new(path, None, format!("cannot save STL: {e}")))
 }
