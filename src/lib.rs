@@ -38,6 +38,7 @@
 // the engine uses it on purpose wherever input may be non-finite.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod checks;
 pub mod diagnostics;
 pub mod feed;
 pub mod gcode;
@@ -47,7 +48,9 @@ pub mod machine;
 pub mod post;
 pub mod project;
 pub mod reduce;
+pub mod simulation;
 pub mod storage;
+pub mod strategies;
 pub mod toolpath;
 pub mod tools;
 pub mod units;

@@ -35,6 +35,7 @@ const SAME_LAYER: &[(&str, &str)] = &[
     ("diagnostics", "units"),
     ("geometry", "units"),
     ("geometry", "diagnostics"),
+    ("strategies", "checks"),
 ];
 
 const GUI_CRATES: &[&str] = &[
