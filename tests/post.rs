@@ -20,13 +20,7 @@ fn tool() -> ToolRecord {
 }
 
 fn pose(tip: DVec3, axis: DVec3, kind: MoveKind) -> Pose {
-    Pose {
-        tip,
-        axis: axis.normalize(),
-        kind,
-        cc: None,
-        feed_mm_per_min: 800.0,
-    }
+    Pose::new(kind, tip, axis.normalize(), 800.0)
 }
 
 /// A helix of radius 30 rising 2 mm a turn, the axis swinging up to ~35° from +Z.

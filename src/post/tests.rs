@@ -7,16 +7,18 @@ fn path(axes: &[DVec3]) -> Toolpath {
     let poses = axes
         .iter()
         .enumerate()
-        .map(|(k, a)| Pose {
-            tip: DVec3::new(k as f64 * 5.0, 0.0, 0.0),
-            axis: a.normalize(),
-            kind: if k == 0 {
+        .map(|(k, a)| {
+            let kind = if k == 0 {
                 MoveKind::Rapid
             } else {
                 MoveKind::Cut
-            },
-            cc: None,
-            feed_mm_per_min: 500.0,
+            };
+            Pose::new(
+                kind,
+                DVec3::new(k as f64 * 5.0, 0.0, 0.0),
+                a.normalize(),
+                500.0,
+            )
         })
         .collect();
     Toolpath::new(

@@ -28,6 +28,26 @@ pub enum MoveKind {
     Plunge,
 }
 
+/// Where the cutter touches the part at a pose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactKind {
+    /// On the spherical end of a ball end mill.
+    Ball,
+    /// On the toroidal corner of a bull-nose cutter (or the rim of a flat end mill).
+    Corner,
+    /// On the flat bottom of a flat or bull-nose cutter.
+    Bottom,
+    /// On the cylindrical or conical flank.
+    Flank,
+    /// A mesh vertex touches the cutter (drop-cutter).
+    MeshVertex,
+    /// A mesh edge touches the cutter (drop-cutter).
+    MeshEdge,
+    /// A mesh facet's interior touches the cutter (drop-cutter).
+    MeshFacet,
+}
+
 /// One cutter-location pose (part coordinates, mm).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
@@ -41,6 +61,44 @@ pub struct Pose {
     pub cc: Option<DVec3>,
     /// Feed of the move reaching this pose, mm/min (ignored for rapids).
     pub feed_mm_per_min: f64,
+    /// Predicted scallop height toward the neighbouring pass at this pose, mm, when the
+    /// strategy predicts one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scallop_mm: Option<f64>,
+    /// Where the cutter touches the part, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactKind>,
+}
+
+impl Pose {
+    /// A pose with no contact information (cc, scallop and contact unset).
+    #[must_use]
+    pub fn new(kind: MoveKind, tip: DVec3, axis: DVec3, feed_mm_per_min: f64) -> Self {
+        Self {
+            tip,
+            axis,
+            kind,
+            cc: None,
+            feed_mm_per_min,
+            scallop_mm: None,
+            contact: None,
+        }
+    }
+
+    /// This pose with its cutter contact point and contact kind.
+    #[must_use]
+    pub fn with_contact(mut self, cc: DVec3, contact: ContactKind) -> Self {
+        self.cc = Some(cc);
+        self.contact = Some(contact);
+        self
+    }
+
+    /// This pose with its predicted scallop height, mm.
+    #[must_use]
+    pub fn with_scallop(mut self, scallop_mm: f64) -> Self {
+        self.scallop_mm = Some(scallop_mm);
+        self
+    }
 }
 
 /// The tool of a tool path: its SPEC string and the cutter it describes.

@@ -2,13 +2,7 @@ use super::*;
 use crate::tools::parse_tool_spec;
 
 fn sample() -> Toolpath {
-    let pose = |x: f64, kind| Pose {
-        tip: DVec3::new(x, 0.0, 0.0),
-        axis: DVec3::Z,
-        kind,
-        cc: None,
-        feed_mm_per_min: 600.0,
-    };
+    let pose = |x: f64, kind| Pose::new(kind, DVec3::new(x, 0.0, 0.0), DVec3::Z, 600.0);
     let cutter = parse_tool_spec("ball:d=6").unwrap();
     Toolpath::new(
         ToolRecord {
