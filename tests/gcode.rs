@@ -536,3 +536,38 @@ fn thesis_post_format_with_semicolon_end_of_block() {
     );
     assert!(p.is_ok());
 }
+
+#[test]
+fn dialect_syntaxes_and_tcp_modes() {
+    use talas::gcode::Syntax;
+    // Sinumerik: D tool edge, G71 metric, TRAORI / TRAFOOF around the fed blocks.
+    let siemens = "N10 G17 G71 G90 G94\nN20 T1 D1\nN30 M6\nN40 TRAORI\nN50 G1 X10 Y0 Z5 A10 C20 F500\nN60 TRAFOOF\nN70 G0 Z50\n";
+    let p = interpret(siemens, &InterpretOptions::for_syntax(Syntax::Siemens)).unwrap();
+    assert_eq!(p.blocks.len(), 2);
+    assert!(p.blocks[0].tcp && !p.blocks[1].tcp);
+    assert!((p.blocks[0].end.a.unwrap() - 10f64.to_radians()).abs() < 1e-12);
+    // Read as RS274, G71 is not a unit code, and a keyword is named with its column.
+    let e = interpret(siemens, &InterpretOptions::default()).unwrap_err();
+    assert_eq!((e.line, e.column), (1, 9));
+    let e = interpret("N10 G1 X1 F100\nN20 TRAORI\n", &InterpretOptions::default()).unwrap_err();
+    assert_eq!((e.line, e.column), (2, 5));
+    assert!(e.message.contains("TRAORI"), "{}", e.message);
+    // Heidenhain ISO: `*` block ends, the %-frame's G70 selects inch, M128 / M129.
+    let tnc = "%P G70 *\nN10 T1 G17 S1000 *\nN20 M128 *\nN30 G01 X1 Y0 Z0 F10 *\nN40 M129 *\nN50 G00 Z2 *\nN99999999 %P G70 *\n";
+    let p = interpret(tnc, &InterpretOptions::for_syntax(Syntax::HeidenhainIso)).unwrap();
+    assert_eq!(p.blocks.len(), 2);
+    assert!(
+        (p.blocks[0].end.xyz.x - 25.4).abs() < 1e-12,
+        "inch from the frame"
+    );
+    assert!((p.blocks[0].feed_mm_per_min - 254.0).abs() < 1e-9);
+    assert!(p.blocks[0].tcp && !p.blocks[1].tcp);
+    // RS274: G43.4 switches TCP on (with a tool length), G49 off.
+    let ngc = "G21 G90\nT1 M6\nG43.4 H1\nG1 X1 F100\nG49\nG0 Z5\n";
+    let p = interpret(ngc, &InterpretOptions::default()).unwrap();
+    assert!(p.blocks[0].tcp && p.blocks[0].tool_length_h == Some(1) && !p.blocks[1].tcp);
+    // Detection picks the right syntax for each.
+    assert_eq!(Syntax::detect(siemens), Syntax::Siemens);
+    assert_eq!(Syntax::detect(tnc), Syntax::HeidenhainIso);
+    assert_eq!(Syntax::detect(ngc), Syntax::Rs274);
+}

@@ -3,7 +3,7 @@
 //! compared with the poses; golden files; determinism.
 
 use glam::DVec3;
-use talas::gcode::{InterpretOptions, MotionBlock, interpret};
+use talas::gcode::{InterpretOptions, MotionBlock, Syntax, interpret};
 use talas::machine::{Machine, MachineJoints, ToolPose};
 use talas::post::{Dialect, PostOptions, post};
 use talas::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
@@ -69,21 +69,9 @@ fn hemisphere() -> Toolpath {
     Toolpath::new(tool(), poses)
 }
 
-/// The dialect-specific words the RS274 reader does not know, rewritten (the motion blocks are
-/// left as they are): Heidenhain's `*` block ends and `%` program frame, Siemens's `D` and metric `G71`.
-fn as_rs274(dialect: &str, text: &str) -> String {
-    text.lines()
-        .filter_map(|l| {
-            let l = l.trim_end_matches(" *");
-            match dialect {
-                "siemens" => Some(l.replace(" D1", "").replace(" G71", " G21")),
-                "heidenhain" if l.starts_with('%') || l.starts_with("N99999999") => None,
-                "heidenhain" => Some(l.replace(" G17 S", " S")),
-                _ => Some(l.to_string()),
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+/// The interpreter options for a dialect's program syntax (block ends, units, TCP codes).
+fn options_for(dialect: &str) -> InterpretOptions {
+    InterpretOptions::for_syntax(Syntax::from_name(dialect).unwrap())
 }
 
 fn joints(machine: &Machine, b: &MotionBlock) -> MachineJoints {
@@ -121,8 +109,12 @@ fn round_trip(tp: &Toolpath, machine: &Machine, dialect: &str) -> (f64, f64, f64
         ..PostOptions::default()
     };
     let text = post(tp, machine, &d, &options).unwrap();
-    let program = interpret(&as_rs274(dialect, &text), &InterpretOptions::default())
+    let program = interpret(&text, &options_for(dialect))
         .unwrap_or_else(|e| panic!("{dialect}/{}: {e}", machine.name));
+    assert!(
+        program.blocks.iter().all(|b| !b.tcp),
+        "{dialect}: joint-space program read as TCP"
+    );
     let blocks = &program.blocks;
     let (mut tip_err, mut axis_err, mut dev) = (0.0f64, 0.0f64, 0.0f64);
     let mut next = 0usize;
@@ -186,6 +178,62 @@ fn five_axis_round_trip_in_every_dialect() {
                 assert!(axis < 1e-6, "axis error {axis}");
                 // The tolerance, plus the rounding of the written coordinates.
                 assert!(dev < TOLERANCE_MM + 2e-4, "deviation {dev}");
+            }
+        }
+    }
+}
+
+/// Tool-centre-point output: the controller keeps the tip on the programmed line, so X Y Z are
+/// the tip itself and the rotary axes give the orientation. Largest (tip error mm, axis error
+/// rad) over the poses; every fed block must be read as TCP.
+fn tcp_round_trip(tp: &Toolpath, machine: &Machine, dialect: &str) -> (f64, f64) {
+    let options = PostOptions {
+        tcp: true,
+        ..PostOptions::default()
+    };
+    let text = post(tp, machine, &Dialect::builtin(dialect).unwrap(), &options).unwrap();
+    let program = interpret(&text, &options_for(dialect))
+        .unwrap_or_else(|e| panic!("{dialect}/{} TCP: {e}", machine.name));
+    let blocks = &program.blocks;
+    let fed: Vec<&MotionBlock> = blocks
+        .iter()
+        .filter(|b| b.kind != talas::gcode::MotionKind::Rapid)
+        .collect();
+    assert!(!fed.is_empty());
+    assert!(
+        fed.iter().all(|b| b.tcp),
+        "{dialect}: fed block outside TCP mode"
+    );
+    let (mut tip_err, mut axis_err) = (0.0f64, 0.0f64);
+    let mut next = 0usize;
+    for (k, p) in tp.poses.iter().enumerate() {
+        let axis_of = |b: &MotionBlock| machine.forward(&joints(machine, b)).axis;
+        let found = (next..blocks.len()).find(|&i| {
+            blocks[i].tcp
+                && blocks[i].end.xyz.distance(p.tip) < 1e-3
+                && angle(axis_of(&blocks[i]), p.axis) < 1e-5
+        });
+        let i =
+            found.unwrap_or_else(|| panic!("{dialect}/{} TCP: pose {k} not reached", machine.name));
+        tip_err = tip_err.max(blocks[i].end.xyz.distance(p.tip));
+        axis_err = axis_err.max(angle(axis_of(&blocks[i]), p.axis));
+        next = i + 1;
+    }
+    (tip_err, axis_err)
+}
+
+#[test]
+fn five_axis_tcp_round_trip_in_every_dialect() {
+    for machine_name in ["trt-ac", "trt-bc"] {
+        let machine = Machine::builtin(machine_name).unwrap();
+        for (path_name, tp) in [("helix", helix()), ("hemisphere", hemisphere())] {
+            for dialect in FIVE_AXIS_DIALECTS {
+                let (tip, axis) = tcp_round_trip(&tp, &machine, dialect);
+                println!(
+                    "{machine_name} {path_name} {dialect} TCP: tip {tip:.2e} mm, axis {axis:.2e} rad"
+                );
+                assert!(tip < 1e-3, "tip error {tip}");
+                assert!(axis < 1e-6, "axis error {axis}");
             }
         }
     }

@@ -112,6 +112,11 @@ pub struct MotionBlock {
     pub spindle_rpm: f64,
     /// Coolant on (M7/M8 until M9).
     pub coolant: bool,
+    /// Tool-centre-point mode (G43.4, TRAORI, M128) was active: X Y Z are the tool tip in
+    /// part coordinates and the controller keeps it there while the rotary axes move, instead
+    /// of being joint positions.
+    #[serde(default)]
+    pub tcp: bool,
 }
 
 impl MotionBlock {

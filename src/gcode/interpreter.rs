@@ -5,7 +5,7 @@ use super::block::Joints;
 use super::arc::Plane;
 use super::lexer::{LexedLine, Word, lex_line};
 use super::motion::{emit_arc, emit_line, g28, target};
-use super::{GcodeError, InterpretOptions, Program};
+use super::{GcodeError, InterpretOptions, Program, Syntax};
 use crate::diagnostics::Diagnostic;
 
 /// Letters accepted besides G and M (which are collected separately).
@@ -38,6 +38,8 @@ pub(super) struct State {
     pub(super) spindle_dir: f64,
     pub(super) coolant: bool,
     pub(super) warned_no_feed: bool,
+    /// Tool-centre-point mode (G43.4, TRAORI, M128).
+    pub(super) tcp: bool,
 }
 
 /// Words of one block, sorted by kind.
@@ -45,6 +47,8 @@ pub(super) struct Block {
     pub(super) line: usize,
     pub(super) g: Vec<(i32, usize)>,
     pub(super) m: Vec<(i32, usize)>,
+    /// Keywords (`TRAORI`), upper case, with their columns.
+    pub(super) keywords: Vec<(String, usize)>,
     /// Other letters A..Z: value and column.
     pub(super) words: [Option<(f64, usize)>; 26],
 }
@@ -94,6 +98,7 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
         spindle_dir: 0.0,
         coolant: false,
         warned_no_feed: false,
+        tcp: false,
     };
     if !opts.start.is_finite() {
         return Err(GcodeError {
@@ -106,7 +111,13 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
     let mut ended_at: Option<usize> = None;
     for (index, raw) in text.lines().enumerate() {
         let line = index + 1;
-        for lexed in blocks_of_line(raw, line, opts.semicolon_ends_block)? {
+        let raw = program_frame(raw, opts.syntax, &mut state);
+        let separator = if opts.semicolon_ends_block {
+            Some(';')
+        } else {
+            opts.syntax.block_end()
+        };
+        for lexed in blocks_of_line(raw, line, separator)? {
             if lexed.block_delete && opts.block_delete {
                 continue;
             }
@@ -120,7 +131,8 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
                 ));
                 return Ok(program);
             }
-            let block = sort_words(&lexed.words, line)?;
+            let mut block = sort_words(&lexed.words, line, opts.syntax)?;
+            block.keywords = lexed.keywords;
             if execute(&block, &mut state, opts, &mut program)? {
                 ended_at = Some(line);
             }
@@ -129,19 +141,41 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
     Ok(program)
 }
 
-/// The blocks of one line: one, or with `;` as end of block, one per `;`-separated piece
-/// (columns stay those of the whole line).
+/// Heidenhain's program frame `%NAME G71 *` (start) and `N99999999 %NAME G71 *` (end): the
+/// unit code in it is applied and the frame is removed from the line; other syntaxes keep the
+/// line as it is.
+fn program_frame<'a>(raw: &'a str, syntax: Syntax, state: &mut State) -> &'a str {
+    if syntax != Syntax::HeidenhainIso {
+        return raw;
+    }
+    let Some(at) = raw.find('%') else {
+        return raw;
+    };
+    let frame = raw.get(at..).unwrap_or("").to_ascii_uppercase();
+    let words: Vec<&str> = frame
+        .split(|c: char| c.is_whitespace() || c == '*')
+        .collect();
+    if words.contains(&"G70") {
+        state.inch = true;
+    } else if words.contains(&"G71") {
+        state.inch = false;
+    }
+    raw.get(..at).unwrap_or("")
+}
+
+/// The blocks of one line: one, or with a block-end character (`;` in the thesis's samples,
+/// Heidenhain's `*`), one per separated piece (columns stay those of the whole line).
 fn blocks_of_line(
     raw: &str,
     line: usize,
-    semicolon_ends_block: bool,
+    separator: Option<char>,
 ) -> Result<Vec<LexedLine>, GcodeError> {
-    if !semicolon_ends_block {
+    let Some(separator) = separator else {
         return Ok(vec![lex_line(raw, line)?]);
-    }
+    };
     let mut out = Vec::new();
     let mut offset = 0usize;
-    for piece in raw.split(';') {
+    for piece in raw.split(separator) {
         let mut lexed = lex_line(piece, line).map_err(|mut e| {
             e.column += offset;
             e
@@ -155,11 +189,12 @@ fn blocks_of_line(
     Ok(out)
 }
 
-fn sort_words(words: &[Word], line: usize) -> Result<Block, GcodeError> {
+fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<Block, GcodeError> {
     let mut block = Block {
         line,
         g: Vec::new(),
         m: Vec::new(),
+        keywords: Vec::new(),
         words: [None; 26],
     };
     for w in words {
@@ -178,7 +213,7 @@ fn sort_words(words: &[Word], line: usize) -> Result<Block, GcodeError> {
                     block.m.push((c, w.column));
                 }
             }
-            l if LETTERS.contains(l) => {
+            l if LETTERS.contains(l) || (l == 'D' && syntax == Syntax::Siemens) => {
                 let i = (l as usize).saturating_sub('A' as usize);
                 match block.words.get_mut(i) {
                     Some(Some(_)) => {
@@ -213,7 +248,7 @@ struct GWords {
 
 /// Apply the modal G codes of a block and classify the rest, rejecting unknown codes and
 /// conflicts within a modal group.
-fn g_words(b: &Block, s: &mut State) -> Result<GWords, GcodeError> {
+fn g_words(b: &Block, s: &mut State, syntax: Syntax) -> Result<GWords, GcodeError> {
     let mut motion: Option<(Motion, usize)> = None;
     let mut non_modal: Option<(i32, usize)> = None;
     let mut dwell = false;
@@ -249,7 +284,7 @@ fn g_words(b: &Block, s: &mut State) -> Result<GWords, GcodeError> {
                     format!("cutter radius compensation G{} is not supported (program the tool centre path)", g / 10),
                 ));
             }
-            430 => {
+            430 | 434 => {
                 let h = match b.get('H') {
                     Some((h, hc)) => {
                         u32_word(h).ok_or_else(|| b.err(hc, "H must be a non-negative integer"))?
@@ -257,8 +292,16 @@ fn g_words(b: &Block, s: &mut State) -> Result<GWords, GcodeError> {
                     None => s.tool,
                 };
                 s.tool_length_h = Some(h);
+                if g == 434 {
+                    s.tcp = true;
+                }
             }
-            490 => s.tool_length_h = None,
+            490 => {
+                s.tool_length_h = None;
+                s.tcp = false;
+            }
+            700 | 7000 if syntax.g70_g71_are_units() => s.inch = true,
+            710 | 7100 if syntax.g70_g71_are_units() => s.inch = false,
             540..=590 if g % 10 == 0 => s.work_offset = ((g - 540) / 10) as usize,
             800 => s.motion = None,
             900 => s.absolute = true,
@@ -299,8 +342,23 @@ fn execute(
         motion,
         non_modal,
         dwell,
-    } = g_words(b, s)?;
-    if b.get('H').is_some() && !b.g.iter().any(|(g, _)| *g == 430) {
+    } = g_words(b, s, opts.syntax)?;
+    for (keyword, col) in &b.keywords {
+        match (opts.syntax, keyword.as_str()) {
+            (Syntax::Siemens, "TRAORI") => s.tcp = true,
+            (Syntax::Siemens, "TRAFOOF") => s.tcp = false,
+            (syntax, _) => {
+                return Err(b.err(
+                    *col,
+                    format!(
+                        "unknown word {keyword} (not a {} keyword)",
+                        syntax_name(syntax)
+                    ),
+                ));
+            }
+        }
+    }
+    if b.get('H').is_some() && !b.g.iter().any(|(g, _)| *g == 430 || *g == 434) {
         return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
     }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
@@ -326,6 +384,8 @@ fn execute(
             70 | 80 => s.coolant = true,
             90 => s.coolant = false,
             20 | 300 => ends = true,
+            1280 if opts.syntax == Syntax::HeidenhainIso => s.tcp = true,
+            1290 if opts.syntax == Syntax::HeidenhainIso => s.tcp = false,
             _ => out.diagnostics.push(Diagnostic::warning(
                 format!("line {}, column {col}", b.line),
                 format!("unknown M code M{} ignored", f64::from(m) / 10.0),
@@ -394,6 +454,14 @@ fn execute(
         }
     }
     Ok(ends)
+}
+
+fn syntax_name(syntax: Syntax) -> &'static str {
+    match syntax {
+        Syntax::Rs274 => "RS274",
+        Syntax::Siemens => "Sinumerik",
+        Syntax::HeidenhainIso => "Heidenhain ISO",
+    }
 }
 
 pub(super) fn u32_word(v: f64) -> Option<u32> {

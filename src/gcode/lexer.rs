@@ -33,6 +33,9 @@ pub struct LexedLine {
     pub words: Vec<Word>,
     /// Comment texts (without delimiters).
     pub comments: Vec<String>,
+    /// Keywords (two or more letters, e.g. Sinumerik's `TRAORI`), upper case, with the
+    /// 1-based column of their first letter. The interpreter decides which it knows.
+    pub keywords: Vec<(String, usize)>,
 }
 
 /// Lex one line (`line` is 1-based, for error positions).
@@ -109,6 +112,19 @@ pub fn lex_line(text: &str, line: usize) -> Result<LexedLine, GcodeError> {
                     i,
                     "expressions ('[...]') are not supported by this interpreter".into(),
                 ));
+            }
+            c if c.is_ascii_alphabetic()
+                && chars.get(i + 1).is_some_and(char::is_ascii_alphabetic) =>
+            {
+                let column = i + 1;
+                let mut name = String::new();
+                while let Some(&k) = chars.get(i)
+                    && (k.is_ascii_alphanumeric() || k == '_')
+                {
+                    name.push(k.to_ascii_uppercase());
+                    i += 1;
+                }
+                out.keywords.push((name, column));
             }
             c if c.is_ascii_alphabetic() => {
                 let column = i + 1;
@@ -189,6 +205,13 @@ mod tests {
         assert_eq!(l.words[3].value, 95.0);
         assert_eq!(l.words[2].column, 8);
         assert_eq!(l.comments, vec!["corner".to_string(), " tail".to_string()]);
+    }
+
+    #[test]
+    fn keywords_are_collected_with_columns() {
+        let l = lex_line("N170 TRAFOOF", 1).unwrap();
+        assert_eq!(l.keywords, vec![("TRAFOOF".to_string(), 6)]);
+        assert_eq!(l.words.len(), 1);
     }
 
     #[test]

@@ -5,6 +5,11 @@
 //! text ─lexer─▶ words per line ─interpreter (modal state)─▶ Program { blocks, diagnostics }
 //! ```
 //!
+//! The syntax of LinuxCNC/Fanuc/GRBL (RS274), Siemens 840D and Heidenhain ISO programs is read
+//! ([`Syntax`], [`InterpretOptions::syntax`]), including their tool-centre-point modes
+//! (`G43.4`/`G49`, `TRAORI`/`TRAFOOF`, `M128`/`M129`): blocks programmed under TCP carry
+//! [`MotionBlock::tcp`], their X Y Z being the tool tip in part coordinates.
+//!
 //! What is understood: `G0 G1 G2 G3` (arcs with `I J K` or `R`, full circles, helices, `P`
 //! turns), `G4` dwell, `G17 G18 G19`, `G20 G21`, `G28` (through an optional intermediate point
 //! to [`InterpretOptions::g28_position`]), `G40`, `G43 Hn`/`G49` (recorded, not applied),
@@ -27,11 +32,13 @@ mod block;
 mod interpreter;
 mod lexer;
 mod motion;
+mod syntax;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
 pub use interpreter::interpret;
 pub use lexer::{LexedLine, Word, lex_line};
+pub use syntax::Syntax;
 
 use glam::DVec3;
 
@@ -68,6 +75,8 @@ pub struct InterpretOptions {
     /// (`T1; M3 S1250;`, as in the Can 2010 thesis samples), instead of as the start of a
     /// comment (RS274NGC, the default).
     pub semicolon_ends_block: bool,
+    /// The controller family whose syntax is read (block ends, units codes, TCP codes).
+    pub syntax: Syntax,
 }
 
 impl Default for InterpretOptions {
@@ -80,11 +89,21 @@ impl Default for InterpretOptions {
             rapid_mm_per_min: 10_000.0,
             block_delete: true,
             semicolon_ends_block: false,
+            syntax: Syntax::Rs274,
         }
     }
 }
 
 impl InterpretOptions {
+    /// Default options for a controller family's syntax.
+    #[must_use]
+    pub fn for_syntax(syntax: Syntax) -> Self {
+        Self {
+            syntax,
+            ..Self::default()
+        }
+    }
+
     /// Default options starting at a given position.
     #[must_use]
     pub fn starting_at(start: Joints) -> Self {

@@ -116,6 +116,7 @@ pub(super) fn push(
         tool_length_h: s.tool_length_h,
         spindle_rpm: s.spindle_speed * s.spindle_dir,
         coolant: s.coolant,
+        tcp: s.tcp,
     });
     s.pos = end;
 }
