@@ -223,16 +223,101 @@ fn project(patch: &FacePatch<'_>, p: DVec3, hint: Option<DVec2>) -> DVec2 {
     }
 }
 
-/// Deepest surface point inside the placed solid, over the footprint around the projection of
-/// the tip (searched from `hint`).
+/// The deepest penetration of the placed tool: the surface side (surface points inside the
+/// solid, by signed distance) and, for sharp edges, the tool side (the rim of a flat end mill or
+/// the apex of a cone below the surface, by distance to the surface): a sharp edge grazing a
+/// surface cuts a sliver too thin for the surface grid to hit.
 fn deepest(
     patch: &FacePatch<'_>,
+    cutter: &Cutter,
     solid: &ToolSolid,
     q: Placement,
     hint: DVec2,
     opts: &GougeOptions,
 ) -> Option<Deepest> {
     let uv0 = project(patch, q.tip, Some(hint));
+    let surface_side = deepest_surface_point(patch, solid, q, uv0, opts);
+    let edge = match cutter.kind {
+        CutterKind::Flat => deepest_rim(patch, q, cutter.radius(), uv0),
+        CutterKind::Cone { .. } => deepest_rim(patch, q, 0.0, uv0),
+        CutterKind::Ball | CutterKind::BullNose { .. } => None,
+    };
+    match (surface_side, edge) {
+        (Some(a), Some(b)) => Some(if b.depth > a.depth { b } else { a }),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Depth below the surface of the tool point `p`: its distance to the closest surface point,
+/// positive when it lies on the material side of the tool-side normal there.
+fn point_depth(patch: &FacePatch<'_>, p: DVec3, hint: DVec2) -> Option<(f64, DVec2, DVec3)> {
+    let sp = patch.surface.closest_point_near(p, patch.rect, hint);
+    let (_, n) = patch.point_normal(sp.uv)?;
+    Some((-(p - sp.point).dot(n), sp.uv, sp.point))
+}
+
+/// The deepest point of the circle of radius `radius` at the tip plane (the rim of a flat end
+/// mill; radius 0 = the apex): 96 points walked around the circle, the best refined by golden
+/// section on the angle.
+fn deepest_rim(patch: &FacePatch<'_>, q: Placement, radius: f64, uv0: DVec2) -> Option<Deepest> {
+    let e1 = q.axis.any_orthonormal_vector();
+    let e2 = q.axis.cross(e1);
+    let at = |phi: f64| q.tip + (e1 * phi.cos() + e2 * phi.sin()) * radius;
+    let m = if radius > 0.0 { 96 } else { 1 };
+    let mut hint = uv0;
+    let mut best: Option<(f64, f64, DVec2, DVec3)> = None;
+    for k in 0..m {
+        let phi = std::f64::consts::TAU * k as f64 / m as f64;
+        let Some((d, uv, p)) = point_depth(patch, at(phi), hint) else {
+            continue;
+        };
+        hint = uv;
+        if best.is_none_or(|b| d > b.0) {
+            best = Some((d, phi, uv, p));
+        }
+    }
+    let (mut d, phi, mut uv, mut point) = best?;
+    if m > 1 {
+        let g = 0.5 * (5.0_f64.sqrt() - 1.0);
+        let h = std::f64::consts::TAU / m as f64;
+        let (mut lo, mut hi) = (phi - h, phi + h);
+        for _ in 0..40 {
+            let x1 = hi - g * (hi - lo);
+            let x2 = lo + g * (hi - lo);
+            let f1 = point_depth(patch, at(x1), uv);
+            let f2 = point_depth(patch, at(x2), uv);
+            let (d1, d2) = (
+                f1.map_or(f64::NEG_INFINITY, |f| f.0),
+                f2.map_or(f64::NEG_INFINITY, |f| f.0),
+            );
+            if d1 >= d2 {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+            for f in [f1, f2].into_iter().flatten() {
+                if f.0 > d {
+                    (d, uv, point) = f;
+                }
+            }
+        }
+    }
+    (d > 0.0).then_some(Deepest {
+        depth: d,
+        uv,
+        point,
+        part: ToolPart::CuttingEnd,
+    })
+}
+
+/// Deepest surface point inside the placed solid, over the footprint around `uv0`.
+fn deepest_surface_point(
+    patch: &FacePatch<'_>,
+    solid: &ToolSolid,
+    q: Placement,
+    uv0: DVec2,
+    opts: &GougeOptions,
+) -> Option<Deepest> {
     let d0 = patch.derivs(uv0);
     let ext = opts.footprint_scale * solid.max_radius();
     let half = DVec2::new(
@@ -297,8 +382,19 @@ fn deepest(
     let z = dp.dot(q.axis);
     let rho = (dp - q.axis * z).length();
     let (_, part) = solid.signed_distance_part_rz(rho, z);
+    // Depth = how far the tool reaches below this point along the normal (≥ −v): march to the
+    // solid's exit along −n (the distance field is exact, so each step stays inside).
+    let n = patch.point_normal(uv).map_or(-q.axis, |(_, n)| n);
+    let mut t = -v;
+    for _ in 0..200 {
+        let d = solid.signed_distance_at(point - n * t, q.tip, q.axis);
+        if d >= -1e-12 {
+            break;
+        }
+        t -= d;
+    }
     Some(Deepest {
-        depth: -v,
+        depth: t,
         uv,
         point,
         part,
@@ -336,7 +432,7 @@ fn check_placement(
         Some(uv) => uv,
         None => project(patch, q.tip, None),
     };
-    let dp = deepest(patch, solid, q, uv0, opts)?;
+    let dp = deepest(patch, cutter, solid, q, uv0, opts)?;
     if dp.depth <= opts.tolerance_mm {
         return None;
     }
@@ -479,7 +575,7 @@ pub fn required_lead(
     let gouges = |lead: f64| -> Option<bool> {
         let (tip, axis) = pose_from_contact(cutter, cc, n, feed, lead, tilt_rad)?;
         let q = Placement { tip, axis };
-        let d = deepest(patch, &solid, q, cc_uv, opts);
+        let d = deepest(patch, cutter, &solid, q, cc_uv, opts);
         Some(d.is_some_and(|d| d.depth > opts.tolerance_mm))
     };
     let (mut lo, mut hi) = (min_lead_rad, opts.max_lead_rad);

@@ -344,21 +344,32 @@ impl SweptTool {
     }
 
     /// Deviation of a surface point `p` with unit tool-side normal `n`: negative = penetration
-    /// depth (the point lies inside the swept tool by that signed distance), positive = the
-    /// distance along `n` from `p` to the swept union (remaining height). `None` when the ray
+    /// (the swept tool reaches that far below `p` along −n: the distance from `p` to the union's
+    /// exit along −n), positive = the distance along `n` from `p` to the swept union (remaining
+    /// height). `None` when the ray
     /// meets no tool within the reach (uncovered). Sphere tracing on the exact distance field,
     /// to 1e-9 mm.
     #[must_use]
     pub fn deviation(&self, p: DVec3, n: DVec3) -> Option<SweptDistance> {
-        let cand = self.candidates(p, p + n * self.reach);
+        let cand = self.candidates(p - n * self.reach, p + n * self.reach);
         let mut scratch = Vec::new();
         let (d0, pose0) = self.union_distance(p, &cand, &mut scratch);
         if pose0 == usize::MAX {
             return None;
         }
         if d0 <= 0.0 {
+            // Inside: march along −n to the exit of the union (−d is a lower bound of the
+            // distance to the union's boundary, so each step stays inside).
+            let (mut t, mut d) = (0.0, d0);
+            for _ in 0..400 {
+                if d > -1e-10 || t > self.reach {
+                    break;
+                }
+                t -= d;
+                d = self.union_distance(p - n * t, &cand, &mut scratch).0;
+            }
             return Some(SweptDistance {
-                distance_mm: d0,
+                distance_mm: -t,
                 pose: pose0,
             });
         }

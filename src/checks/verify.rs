@@ -1,7 +1,7 @@
 //! Independent verification of a tool path against the exact surface: sample the surface on a
 //! uv grid and, for each sample, measure the remaining height (distance along the tool-side
 //! normal up to the union of the tool envelopes swept along the cutting moves) and the
-//! penetration (how deep the sample lies inside that union). See [`super::sweep`] for the move
+//! penetration (how far that union reaches below the sample along the normal). See [`super::sweep`] for the move
 //! model and the error bound of the sweep.
 //!
 //! Which samples count:
@@ -37,8 +37,8 @@ pub struct VerifyOptions {
     pub rect: Option<ParamRect>,
     /// Distance from the rectangle's edge within which samples are skipped, mm (≥ 0).
     pub margin_mm: f64,
-    /// Largest remaining height looked for, mm; a sample whose normal ray meets no tool within it
-    /// counts as uncovered. `None` = the cutter radius.
+    /// Largest remaining height looked for (and largest penetration measured), mm; a sample
+    /// whose normal ray meets no tool within it counts as uncovered. `None` = the cutter radius.
     pub max_height_mm: Option<f64>,
     /// Ball end mills: largest chord error of the swept ball centre, mm.
     pub ball_tolerance_mm: f64,
