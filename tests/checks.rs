@@ -9,7 +9,8 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use talas::checks::{
     FacePatch, GougeKind, GougeOptions, VerifyOptions, analyze, check_path, check_pose,
-    curvature_at, min_lead_for_radius, required_lead, verify,
+    curvature_at, curvature_margin, effective_radius, min_lead_for_radius, pose_from_contact,
+    required_lead, verify,
 };
 use talas::geometry::Interval;
 use talas::geometry::frame::Frame;
@@ -391,5 +392,114 @@ fn curvatures_agree_with_open_cascade() {
                 .max((c.k_max - row[9]).abs());
         }
         assert!(worst < 1e-6, "{stp}: {worst}");
+    }
+}
+
+#[test]
+fn leaning_flat_end_mill_rear_gouge_on_a_concave_cylinder() {
+    // Cylinder ρ = 20 around the y axis, tool inside; feed along x (around the circle), so the
+    // feed direction is concave and the cross-feed direction straight.
+    let s = SurfaceGeom::Cylinder(Cylinder {
+        frame: Frame::from_axis_ref(DVec3::ZERO, DVec3::Y, Some(-DVec3::Z)).expect("frame"),
+        radius: 20.0,
+    });
+    let (rho, r) = (20.0, 5.0);
+    // Here S_u × S_v points away from the axis: the tool side is the flipped one.
+    let patch = FacePatch::new(&s, rect(-1.0, 1.0, -20.0, 20.0), true).expect("patch");
+    let (cc, n) = patch.point_normal(DVec2::ZERO).expect("normal");
+    assert!(n.distance(DVec3::Z) < 1e-12);
+    let flat = Cutter::new(CutterKind::Flat, 2.0 * r).expect("tool");
+    let feed = DVec3::X;
+    let lead = 10f64.to_radians();
+    let (tip, axis) = pose_from_contact(&flat, cc, n, feed, lead, 0.0).expect("pose");
+    // Contact at the front edge: the lowest rim point in the feed direction is the contact.
+    assert!((tip + (feed * lead.cos() - n * lead.sin()) * r).distance(cc) < 1e-12);
+    let pose = cut(tip, axis).with_contact(cc, talas::toolpath::ContactKind::Corner);
+    let g = check_pose(&patch, &flat, &pose, 0, &GougeOptions::default()).expect("gouge");
+    assert_eq!(g.kind, GougeKind::Rear);
+    // The heel (rim point 2r behind the contact along the tilted bottom) lies
+    // √(4r² − 4ρr sin S + ρ²) − ρ outside the circle.
+    let want = (4.0 * r * r - 4.0 * rho * r * lead.sin() + rho * rho).sqrt() - rho;
+    assert!((g.depth_mm - want).abs() < 1e-7, "{} vs {want}", g.depth_mm);
+    assert!(g.point.x < -9.0, "at the heel: {}", g.point);
+    // The chord from the tangent point at angle S meets the circle at 2ρ sin S: clear once
+    // 2r ≤ 2ρ sin S, i.e. S = asin(r/ρ).
+    let fine = GougeOptions {
+        tolerance_mm: 1e-6,
+        ..GougeOptions::default()
+    };
+    let need = required_lead(&patch, &flat, DVec2::ZERO, feed, 0.0, 0.0, &fine).expect("lead");
+    let exact = (r / rho).asin();
+    assert!(
+        (need - exact).abs() < 0.01_f64.to_radians(),
+        "{} vs {}",
+        need.to_degrees(),
+        exact.to_degrees()
+    );
+    // A curvature check alone misses it: across the feed the surface is straight.
+    let m = curvature_margin(&patch, &flat, DVec2::ZERO, axis).expect("margin");
+    assert!(m >= 0.0, "{m}");
+}
+
+#[test]
+fn local_gouge_margin_matches_the_effective_radius() {
+    // Generator of the ρ = 20 cylinder along x, feed along it: across the feed the surface is
+    // concave with radius 20, so a bull-nose d = 10, r_c = 2 needs R_f/sin S + r_c ≤ 20.
+    let s = concave_cylinder();
+    let patch = FacePatch::new(&s, rect(-1.0, 1.0, -20.0, 20.0), true).expect("patch");
+    let (cc, n) = patch.point_normal(DVec2::ZERO).expect("normal");
+    let bull = Cutter::new(CutterKind::BullNose { corner_radius: 2.0 }, 10.0).expect("tool");
+    let exact = min_lead_for_radius(&bull, 20.0).expect("fits");
+    assert!((effective_radius(&bull, exact).expect("torus") - 20.0).abs() < 1e-12);
+    for (lead, sign) in [(exact - 0.01, -1.0), (exact + 0.01, 1.0)] {
+        let (_, axis) = pose_from_contact(&bull, cc, n, DVec3::X, lead, 0.0).expect("pose");
+        let m = curvature_margin(&patch, &bull, DVec2::ZERO, axis).expect("margin");
+        // Across the feed: sin S/(R_f + r_c sin S) − 1/20.
+        let want = lead.sin() / (3.0 + 2.0 * lead.sin()) - 0.05;
+        assert!((m - want).abs() < 1e-12 && m * sign > 0.0, "{m} vs {want}");
+    }
+    // And the tool solid agrees: the smallest lead without penetration is that lead.
+    let fine = GougeOptions {
+        tolerance_mm: 1e-7,
+        ..GougeOptions::default()
+    };
+    let need = required_lead(&patch, &bull, DVec2::ZERO, DVec3::X, 0.0, 0.0, &fine).expect("lead");
+    assert!(
+        (need - exact).abs() < 0.1_f64.to_radians(),
+        "{} vs {}",
+        need.to_degrees(),
+        exact.to_degrees()
+    );
+}
+
+#[test]
+#[ignore = "timing probe"]
+fn ball_verification_scale() {
+    let s = plane();
+    let ball = Cutter::new(CutterKind::Ball, 6.0).expect("tool");
+    for (omega, step) in [(1.0, 1.0), (0.25, 0.3)] {
+        let mut poses = plane_passes(omega, (20.0 / omega) as usize + 1, 0.0, step);
+        // The first case: 101 passes 1 mm apart over 100 × 100 mm (realistic density).
+        if omega >= 1.0 {
+            poses.clear();
+            for j in 0..=100 {
+                for i in 0..=100 {
+                    poses.push(cut(DVec3::new(f64::from(i), f64::from(j), 0.0), DVec3::Z));
+                }
+                poses.push(rapid(DVec3::new(100.0, f64::from(j), 10.0), DVec3::Z));
+            }
+        }
+        let side = if omega >= 1.0 { 100.0 } else { 20.0 };
+        let patch = FacePatch::new(&s, rect(0.0, side, 0.0, side), false).expect("patch");
+        let t = std::time::Instant::now();
+        let r = verify(&patch, &ball, &poses, &opts(317, 0.5)).expect("verify");
+        eprintln!(
+            "{} poses, {} samples: {:?} max {} pen {}",
+            poses.len(),
+            r.samples,
+            t.elapsed(),
+            r.max_remaining_mm,
+            r.max_penetration_mm
+        );
     }
 }
