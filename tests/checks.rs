@@ -116,10 +116,10 @@ fn one_lowered_pose_shows_its_penetration() {
         (CutterKind::Flat, 1e-7),
     ] {
         let c = Cutter::new(kind, 6.0).expect("tool");
-        // 41 × 41 samples on [5, 15]², every 0.25 mm: (10, 10) is one of them.
+        // 17 × 17 samples on [8, 12]², every 0.25 mm: (10, 10) is one of them.
         let o = VerifyOptions {
-            rect: Some(rect(5.0, 15.0, 5.0, 15.0)),
-            ..opts(41, 0.0)
+            rect: Some(rect(8.0, 12.0, 8.0, 12.0)),
+            ..opts(17, 0.0)
         };
         let r = verify(&patch, &c, &poses, &o).expect("verify");
         assert!(
@@ -244,21 +244,22 @@ fn flat_end_mill_gouging_a_concave_cylinder() {
         &flat,
         &poses,
         &VerifyOptions {
-            nu: 81,
-            nv: 81,
-            rect: Some(rect(-0.3, 0.3, -2.0, 2.0)),
+            nu: 41,
+            nv: 5,
+            rect: Some(rect(0.15, 0.35, -2.0, 2.0)),
             ..VerifyOptions::default()
         },
     )
     .expect("verify");
-    // Samples every 0.15 mm across the feed, and the depth is 1-Lipschitz: within 0.075 mm.
+    // Around the rim (y = 20 sin u ≈ 4.85 at u ≈ 0.245) samples every 0.1 mm across the feed;
+    // the depth falls off the rim at slope ≤ 1: within 0.05 mm.
     assert!(
         vr.max_penetration_mm <= want + 1e-7,
         "{}",
         vr.max_penetration_mm
     );
     assert!(
-        vr.max_penetration_mm > want - 0.075,
+        vr.max_penetration_mm > want - 0.05,
         "{}",
         vr.max_penetration_mm
     );

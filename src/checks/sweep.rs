@@ -27,6 +27,10 @@ use crate::toolpath::Pose;
 use crate::tools::solid::ToolSolid;
 use crate::tools::{Cutter, CutterKind};
 
+/// Smallest step of the ray marches, mm: a tool sliver thinner than this along the normal may
+/// be stepped over (then the next tool surface beyond it is reported).
+const MIN_STEP_MM: f64 = 1e-3;
+
 /// One piece of a swept move.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
@@ -375,13 +379,30 @@ impl SweptTool {
         if d0 <= 0.0 {
             // Inside: march along −n to the exit of the union (−d is a lower bound of the
             // distance to the union's boundary, so each step stays inside).
+            // Steps are at least MIN_STEP_MM (a grazing exit would otherwise take tiny steps);
+            // an overshoot is bisected back to the boundary.
+            let f = |t: f64| self.union_near(p - n * t, t, &sorted).0;
             let (mut t, mut d) = (0.0, d0);
-            for _ in 0..400 {
+            for _ in 0..2000 {
                 if d > -1e-10 || t > self.reach {
                     break;
                 }
-                t -= d;
-                d = self.union_near(p - n * t, t, &sorted).0;
+                let next = t + (-d).max(MIN_STEP_MM);
+                let dn = f(next);
+                if dn > 0.0 {
+                    let (mut lo, mut hi) = (t, next);
+                    for _ in 0..40 {
+                        let mid = 0.5 * (lo + hi);
+                        if f(mid) > 0.0 {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    t = lo;
+                    break;
+                }
+                (t, d) = (next, dn);
             }
             return Some(SweptDistance {
                 distance_mm: -t,
@@ -412,23 +433,39 @@ impl SweptTool {
                 pose: best.1,
             });
         }
+        // Sphere tracing with steps of at least MIN_STEP_MM; an overshoot into a tool is
+        // bisected back to its boundary.
+        let f = |t: f64| self.union_near(p + n * t, t, &sorted);
         let mut t = 0.0;
         let (mut d, mut pose) = (d0, pose0);
-        for _ in 0..400 {
+        for _ in 0..2000 {
             if d < 1e-9 {
-                return Some(SweptDistance {
-                    distance_mm: t,
-                    pose,
-                });
+                break;
             }
-            t += d.min(self.reach);
-            if t > self.reach {
+            let next = t + d.max(MIN_STEP_MM);
+            if next > self.reach {
                 return None;
             }
-            (d, pose) = self.union_near(p + n * t, t, &sorted);
-            if pose == usize::MAX {
+            let (dn, pn) = f(next);
+            if pn == usize::MAX {
                 return None;
             }
+            if dn < 0.0 {
+                let (mut lo, mut hi) = (t, next);
+                pose = pn;
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    let (dm, pm) = f(mid);
+                    if dm < 0.0 {
+                        (hi, pose) = (mid, pm);
+                    } else {
+                        lo = mid;
+                    }
+                }
+                t = hi;
+                break;
+            }
+            (t, d, pose) = (next, dn, pn);
         }
         Some(SweptDistance {
             distance_mm: t,
