@@ -474,33 +474,59 @@ fn local_gouge_margin_matches_the_effective_radius() {
 }
 
 #[test]
-#[ignore = "timing probe"]
-fn ball_verification_scale() {
+fn path_check_finds_only_the_lowered_pose() {
     let s = plane();
+    let patch = FacePatch::new(&s, rect(-10.0, 30.0, -10.0, 30.0), false).expect("patch");
     let ball = Cutter::new(CutterKind::Ball, 6.0).expect("tool");
-    for (omega, step) in [(1.0, 1.0), (0.25, 0.3)] {
-        let mut poses = plane_passes(omega, (20.0 / omega) as usize + 1, 0.0, step);
-        // The first case: 101 passes 1 mm apart over 100 × 100 mm (realistic density).
-        if omega >= 1.0 {
-            poses.clear();
-            for j in 0..=100 {
-                for i in 0..=100 {
-                    poses.push(cut(DVec3::new(f64::from(i), f64::from(j), 0.0), DVec3::Z));
-                }
-                poses.push(rapid(DVec3::new(100.0, f64::from(j), 10.0), DVec3::Z));
-            }
-        }
-        let side = if omega >= 1.0 { 100.0 } else { 20.0 };
-        let patch = FacePatch::new(&s, rect(0.0, side, 0.0, side), false).expect("patch");
-        let t = std::time::Instant::now();
-        let r = verify(&patch, &ball, &poses, &opts(317, 0.5)).expect("verify");
-        eprintln!(
-            "{} poses, {} samples: {:?} max {} pen {}",
-            poses.len(),
-            r.samples,
-            t.elapsed(),
-            r.max_remaining_mm,
-            r.max_penetration_mm
-        );
-    }
+    let mut poses = plane_passes(1.0, 3, 0.0, 1.0);
+    let o = GougeOptions::default();
+    let clean = check_path(&patch, &ball, &poses, &o).expect("report");
+    assert!(clean.gouges.is_empty(), "{:?}", clean.gouges.first());
+    assert!(clean.placements > 1000);
+    let k = poses
+        .iter()
+        .position(|p| p.tip.distance(DVec3::new(10.0, 1.0, 0.0)) < 1e-9)
+        .expect("pose");
+    poses[k].tip.z -= 0.01;
+    let rep = check_path(&patch, &ball, &poses, &o).expect("report");
+    // The moves into and out of the lowered pose gouge; the deepest is the pose itself.
+    assert!(
+        !rep.gouges.is_empty() && rep.gouges.len() <= 2,
+        "{:?}",
+        rep.gouges
+    );
+    assert!(
+        (rep.max_depth_mm - 0.01).abs() < 1e-9,
+        "{}",
+        rep.max_depth_mm
+    );
+    let g = rep
+        .gouges
+        .iter()
+        .find(|g| g.pose == k)
+        .expect("at the pose");
+    assert!((g.depth_mm - 0.01).abs() < 1e-9 && g.move_param == 1.0);
+    assert!(
+        g.point.distance(DVec3::new(10.0, 1.0, 0.0)) < 1e-4,
+        "{}",
+        g.point
+    );
+}
+
+#[test]
+fn rational_trough_has_the_tube_radius_across() {
+    // tests/data/README.md: the inside of a tube R = 60 mm around a 300 mm ring. Across the
+    // trough the radius is 60 everywhere: concave seen from inside the tube (the side opposite
+    // to S_u × S_v here, as Open CASCADE's k_min = −1/60 says), convex from the other side.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/rational-trough.stp");
+    let part = talas::import::step::read_step(&path).expect("read");
+    let face = part.faces.first().expect("one face");
+    let inside = FacePatch::whole(&face.surface, true).expect("patch");
+    let a = analyze(&inside, 25).expect("scan");
+    let c = a.min_concave_principal.expect("concave");
+    assert!((c.radius_mm - 60.0).abs() < 1e-6, "{}", c.radius_mm);
+    let outside = FacePatch::whole(&face.surface, false).expect("patch");
+    let a = analyze(&outside, 25).expect("scan");
+    let c = a.min_convex_principal.expect("convex");
+    assert!((c.radius_mm - 60.0).abs() < 1e-6, "{}", c.radius_mm);
 }
