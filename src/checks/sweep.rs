@@ -38,6 +38,8 @@ struct Piece {
     b: Placement,
     /// Bound of the motion of any tool point over the piece, mm.
     motion: f64,
+    /// The axis does not turn over the piece (a pure translation).
+    translation: bool,
     /// Index of the pose the move ends at.
     pose: usize,
     lo: DVec3,
@@ -187,6 +189,7 @@ impl SweptTool {
             a,
             b,
             motion,
+            translation: angle_between(a.axis, b.axis) < 1e-12,
             pose,
             lo: lo - DVec3::splat(pad),
             hi: hi + DVec3::splat(pad),
@@ -296,14 +299,23 @@ impl SweptTool {
         best
     }
 
-    /// Lower bound of the distance to a piece (the placement at the piece's middle, less half
-    /// its motion).
-    fn piece_lower_bound(&self, pc: &Piece, p: DVec3) -> f64 {
+    /// Lower bound of the distance to a piece: the placement at the piece's middle less half its
+    /// motion (Lipschitz), or with `tight` for a translation the convexity bound.
+    fn piece_lower_bound(&self, pc: &Piece, p: DVec3, tight: bool) -> f64 {
         if self.ball_radius.is_some() {
             return self.piece_distance(pc, p);
         }
         let q = interpolate(pc.a, pc.b, 0.5);
-        self.solid.signed_distance_at(p, q.tip, q.axis) - 0.5 * pc.motion
+        let fm = self.solid.signed_distance_at(p, q.tip, q.axis);
+        if tight && pc.translation {
+            // Convex in the piece's parameter (a convex solid translated along a line): on each
+            // half the function stays above the secant through the middle and the far end, so
+            // min ≥ f(½) − max(f(0) − f(½), f(1) − f(½), 0).
+            let fa = self.solid.signed_distance_at(p, pc.a.tip, pc.a.axis);
+            let fb = self.solid.signed_distance_at(p, pc.b.tip, pc.b.axis);
+            return fm - (fa - fm).max(fb - fm).max(0.0);
+        }
+        fm - 0.5 * pc.motion
     }
 
     /// Lower bounds of the distances from `p` to the candidate pieces, ascending (exact
@@ -314,7 +326,7 @@ impl SweptTool {
             .iter()
             .filter_map(|&i| {
                 let pc = self.pieces.get(i as usize)?;
-                let lb = self.piece_lower_bound(pc, p);
+                let lb = self.piece_lower_bound(pc, p, false);
                 (lb <= self.reach).then_some((lb, i))
             })
             .collect();
@@ -337,7 +349,7 @@ impl SweptTool {
             let d = if self.ball_radius.is_some() {
                 self.piece_distance(pc, x)
             } else {
-                let lbx = self.piece_lower_bound(pc, x);
+                let lbx = self.piece_lower_bound(pc, x, true);
                 if lbx >= best.0 {
                     continue;
                 }
