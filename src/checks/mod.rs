@@ -17,6 +17,8 @@
 
 pub mod analysis;
 pub mod choice;
+mod contact;
+mod footprint;
 pub mod gouge;
 mod motion;
 pub mod sweep;
