@@ -15,6 +15,7 @@
 //! [`CornerPolicy::JunctionDeviation`] it passes corners at the junction-deviation speed, which
 //! steps axis velocities at corners (as grbl and LinuxCNC do).
 
+pub mod blend;
 pub mod lookahead;
 pub mod path;
 pub mod profile;
@@ -49,6 +50,14 @@ pub enum CornerPolicy {
     /// faster, but axis velocities step at corners.
     JunctionDeviation {
         /// Path-deviation tolerance δ (mm), default 0.01.
+        tolerance_mm: f64,
+    },
+    /// Replace every sharp junction between two straight X/Y/Z moves by a clothoid-pair blend
+    /// ([`blend::ClothoidBlend`]) within `tolerance_mm` of the corner (taking at most half of
+    /// either move), planned under the axis limits along its curvature: all axis limits hold
+    /// everywhere. Other non-smooth junctions (reversals, arcs) stop exactly.
+    Blend {
+        /// Path-deviation tolerance δ (mm): the largest distance of the blend from the corner.
         tolerance_mm: f64,
     },
 }
@@ -89,6 +98,9 @@ pub enum FeedError {
         /// Source line of the block.
         line: usize,
     },
+    /// The corner tolerance is not finite and positive.
+    #[error("corner tolerance must be finite and positive")]
+    InvalidTolerance,
     /// The sample period is not finite and positive.
     #[error("sample period must be finite and positive")]
     InvalidSamplePeriod,
@@ -166,6 +178,12 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
             }
         }
     }
+    if let CornerPolicy::Blend { tolerance_mm } = opts.corner {
+        if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
+            return Err(FeedError::InvalidTolerance);
+        }
+        segments = blend_corners(&segments, &slots, opts.path_limits, tolerance_mm);
+    }
     let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
     let mut profiles = Vec::with_capacity(segments.len());
     for (k, s) in segments.iter().enumerate() {
@@ -184,6 +202,60 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
         &input.axes,
         opts.sample_period_s,
     ))
+}
+
+/// Replace the sharp junctions between straight X/Y/Z segments by clothoid blends (each taking at
+/// most half of either neighbour); other junctions are left as they are.
+fn blend_corners(
+    segments: &[path::Segment],
+    axes: &path::AxisLimits,
+    path_limits: Option<Limits1>,
+    tolerance: f64,
+) -> Vec<path::Segment> {
+    let n = segments.len();
+    // The blend at junction k (between segments k − 1 and k), if any.
+    let mut blends: Vec<Option<path::Segment>> = Vec::with_capacity(n + 1);
+    blends.push(None);
+    for k in 1..n {
+        let (a, b) = (&segments[k - 1], &segments[k]);
+        let seg = match (a.straight_xyz_direction(), b.straight_xyz_direction()) {
+            (Some(t0), Some(t1)) => {
+                let corner = glam::DVec3::new(
+                    a.start[0] + a.delta[0],
+                    a.start[1] + a.delta[1],
+                    a.start[2] + a.delta[2],
+                );
+                let max_setback = 0.5 * a.length.min(b.length);
+                blend::ClothoidBlend::new(corner, t0, t1, tolerance, max_setback).and_then(|c| {
+                    let feed = a.limits.velocity.min(b.limits.velocity);
+                    path::Segment::from_blend(a.block, c, feed, axes, path_limits)
+                })
+            }
+            _ => None,
+        };
+        blends.push(seg);
+    }
+    blends.push(None);
+    let setback = |s: &Option<path::Segment>| {
+        s.as_ref()
+            .and_then(|s| s.blend.as_ref())
+            .map_or(0.0, |b| b.setback)
+    };
+    let mut out = Vec::with_capacity(2 * n);
+    for (k, seg) in segments.iter().enumerate() {
+        let (before, after) = (&blends[k], &blends[k + 1]);
+        if before.is_none() && after.is_none() {
+            out.push(seg.clone());
+        } else if let Some(piece) =
+            seg.straight_piece(setback(before), seg.length - setback(after))
+        {
+            out.push(piece);
+        }
+        if let Some(b) = after {
+            out.push(b.clone());
+        }
+    }
+    out
 }
 
 /// The block moves no joint at all.
