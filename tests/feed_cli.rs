@@ -51,14 +51,13 @@ const MILL: [(&str, f64, f64, f64); 3] = [
 fn check_plan(file: &Path, start: [f64; 3], extra: &[&str], dir: &Path) -> f64 {
     let name = file.file_name().unwrap().to_string_lossy().to_string();
     let csv = dir.join(format!("{name}.csv"));
-    let start_arg = format!("{},{},{}", start[0], start[1], start[2]);
+    let start_arg = format!("--start={},{},{}", start[0], start[1], start[2]);
     let mut args = vec![
         "feed",
         file.to_str().unwrap(),
         "--machine",
         "mill-3axis",
         "--json",
-        "--start",
         &start_arg,
         "--samples",
         csv.to_str().unwrap(),
@@ -108,7 +107,10 @@ fn check_plan(file: &Path, start: [f64; 3], extra: &[&str], dir: &Path) -> f64 {
     let last = rows.last().unwrap();
     assert!((last[0] - t).abs() < 1e-6, "{name}");
     for k in 0..3 {
-        assert!((last[k + 1] - end[k]).abs() <= 1e-6, "{name}: end {last:?} vs {end}");
+        assert!(
+            (last[k + 1] - end[k]).abs() <= 1e-6,
+            "{name}: end {last:?} vs {end}"
+        );
     }
     t
 }

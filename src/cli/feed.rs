@@ -32,7 +32,7 @@ pub struct FeedArgs {
     #[arg(long, value_name = "MM", default_value_t = DEFAULT_DEVIATION_MM)]
     pub deviation: f64,
     /// Start position `X,Y,Z` (mm) before the first block (default the origin).
-    #[arg(long, value_name = "X,Y,Z")]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub start: Option<String>,
     /// Write time samples (`t,X,Y,Z,...`, 1 ms) to this CSV file.
     #[arg(long, value_name = "OUT.csv")]
@@ -115,8 +115,8 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
         options.start = parse_start(start)
             .ok_or_else(|| bad(None, format!("--start must be X,Y,Z, got '{start}'")))?;
     }
-    let prog = interpret(&text, &options)
-        .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
+    let prog =
+        interpret(&text, &options).map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
     let t = args.deviation;
     if !(t.is_finite() && t > 0.0) {
         return Err(bad(None, format!("--deviation must be positive, got {t}")));

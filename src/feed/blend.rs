@@ -164,10 +164,7 @@ impl ClothoidBlend {
         // Local derivatives with respect to r.
         let (x1, y1) = (cp, sp);
         let (x2, y2) = (-kappa * sp, kappa * cp);
-        let (x3, y3) = (
-            -c * sp - kappa * kappa * cp,
-            c * cp - kappa * kappa * sp,
-        );
+        let (x3, y3) = (-c * sp - kappa * kappa * cp, c * cp - kappa * kappa * sp);
         // Q(s) = origin + sign·t·X(r) + n·Y(r) with r = s (first half) or 2L − s (second):
         // each derivative with respect to s picks up a factor dr/ds = sign.
         let p = origin + t * (sign * x) + n * y;
@@ -219,12 +216,19 @@ mod tests {
         let d0 = b.derivatives(0.0);
         let d1 = b.derivatives(b.length());
         assert!(vec(d0[0]).distance(b.start) < 1e-14);
-        assert!(vec(d1[0]).distance(b.end) < 1e-12, "{}", vec(d1[0]).distance(b.end));
+        assert!(
+            vec(d1[0]).distance(b.end) < 1e-12,
+            "{}",
+            vec(d1[0]).distance(b.end)
+        );
         assert!(vec(d0[1]).distance(t0) < 1e-15 && vec(d1[1]).distance(t1) < 1e-12);
         assert!(vec(d0[2]).length() < 1e-15 && vec(d1[2]).length() < 1e-12);
         // Mid point at the tolerance from the corner, halves meet continuously.
         let l = b.half_length;
-        let (a, c) = (b.derivatives(l * (1.0 - 1e-12)), b.derivatives(l * (1.0 + 1e-12)));
+        let (a, c) = (
+            b.derivatives(l * (1.0 - 1e-12)),
+            b.derivatives(l * (1.0 + 1e-12)),
+        );
         for i in 0..3 {
             assert!(vec(a[i]).distance(vec(c[i])) < 1e-9 * (1.0 + vec(a[i]).length()));
         }

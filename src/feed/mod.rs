@@ -226,10 +226,17 @@ fn blend_corners(
                     a.start[2] + a.delta[2],
                 );
                 let max_setback = 0.5 * a.length.min(b.length);
-                blend::ClothoidBlend::new(corner, t0, t1, tolerance, max_setback).and_then(|c| {
-                    let feed = a.limits.velocity.min(b.limits.velocity);
-                    path::Segment::from_blend(a.block, c, feed, axes, path_limits)
-                })
+                best_blend(
+                    a,
+                    b,
+                    corner,
+                    t0,
+                    t1,
+                    tolerance,
+                    max_setback,
+                    axes,
+                    path_limits,
+                )
             }
             _ => None,
         };
@@ -246,8 +253,7 @@ fn blend_corners(
         let (before, after) = (&blends[k], &blends[k + 1]);
         if before.is_none() && after.is_none() {
             out.push(seg.clone());
-        } else if let Some(piece) =
-            seg.straight_piece(setback(before), seg.length - setback(after))
+        } else if let Some(piece) = seg.straight_piece(setback(before), seg.length - setback(after))
         {
             out.push(piece);
         }
@@ -256,6 +262,82 @@ fn blend_corners(
         }
     }
     out
+}
+
+/// The blend at one corner that costs the least time against cruising straight through, among
+/// the largest one the tolerance and the neighbours allow and up to five smaller ones (each a quarter
+/// of the previous deviation), or none (exact stop) when stopping is cheaper.
+///
+/// A blend is planned at one speed cap (its uniform bounds), so a large blend round a sharp
+/// corner can be slower than stopping: its curvature rate makes the centripetal-jerk speed low
+/// while its length grows. The estimate per corner, with the neighbours' speed `F` and
+/// tangential limits: slowing from `F` to `v` and back costs
+/// `change_time(v, F) − change_distance(v, F)/F` on each side, running half the blend's length
+/// `ℓ` at `v` instead of each neighbour's cap `F` costs `ℓ/2·(1/v − 1/F)`; exact stop is the
+/// case `v = 0`, `ℓ = 0`.
+#[allow(clippy::too_many_arguments)]
+fn best_blend(
+    a: &path::Segment,
+    b: &path::Segment,
+    corner: glam::DVec3,
+    t0: glam::DVec3,
+    t1: glam::DVec3,
+    tolerance: f64,
+    max_setback: f64,
+    axes: &path::AxisLimits,
+    path_limits: Option<Limits1>,
+) -> Option<path::Segment> {
+    let feed = a.limits.velocity.min(b.limits.velocity);
+    // The speed each neighbour can reach at the corner from a stop at its far end, and the cost
+    // of slowing to v at the corner on that side.
+    let side = |s: &path::Segment| {
+        let l = s.limits;
+        let f = reachable_velocity(0.0, s.length, l.velocity, l.acceleration, l.jerk);
+        move |v: f64| {
+            let v = v.min(f);
+            if f > 0.0 {
+                profile::change_time(v, f, l.acceleration, l.jerk)
+                    - profile::change_distance(v, f, l.acceleration, l.jerk) / f
+            } else {
+                0.0
+            }
+        }
+    };
+    let (cost_a, cost_b) = (side(a), side(b));
+    let slow_down = |v: f64| cost_a(v) + cost_b(v);
+    let mut best: Option<path::Segment> = None;
+    let mut best_cost = slow_down(0.0);
+    let first = blend::ClothoidBlend::new(corner, t0, t1, tolerance, max_setback)?;
+    let mut deviation = first.deviation;
+    let mut previous = f64::INFINITY;
+    for k in 0..6 {
+        let candidate = if k == 0 {
+            Some(first)
+        } else {
+            deviation *= 0.25;
+            blend::ClothoidBlend::new(corner, t0, t1, deviation, max_setback)
+        };
+        let Some(seg) =
+            candidate.and_then(|c| path::Segment::from_blend(a.block, c, feed, axes, path_limits))
+        else {
+            continue;
+        };
+        let v = seg.limits.velocity;
+        // Half the blend replaces each neighbour's line at that neighbour's speed.
+        let half = 0.5 * seg.length;
+        let cost = slow_down(v)
+            + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
+        if cost < best_cost {
+            best_cost = cost;
+            best = Some(seg);
+        }
+        if cost > previous {
+            // Past the best size (the cost is unimodal in the size in practice).
+            break;
+        }
+        previous = cost;
+    }
+    best
 }
 
 /// The block moves no joint at all.

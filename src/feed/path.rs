@@ -154,7 +154,7 @@ impl Segment {
         } else {
             block.feed_mm_per_min / 60.0
         };
-        let (limits, cap) = tangential_limits(&[d1, d2, d3], feed, axes, path)?;
+        let (limits, cap) = tangential_limits(&[d1, d2, d3], feed, axes, path, Share::BLOCK)?;
         Some(Self {
             block: index,
             length,
@@ -200,7 +200,7 @@ impl Segment {
         path: Option<super::Limits1>,
     ) -> Option<Self> {
         let bounds = blend.derivative_bounds();
-        let (limits, cap) = tangential_limits(&bounds, feed, axes, path)?;
+        let (limits, cap) = tangential_limits(&bounds, feed, axes, path, Share::BLEND)?;
         let start = [blend.start.x, blend.start.y, blend.start.z, 0.0, 0.0, 0.0];
         let end = [blend.end.x, blend.end.y, blend.end.z, 0.0, 0.0, 0.0];
         let mut delta = [0.0; SLOTS];
@@ -223,9 +223,8 @@ impl Segment {
     #[must_use]
     pub fn straight_xyz_direction(&self) -> Option<DVec3> {
         let rot = self.delta[3..].iter().any(|d| *d != 0.0);
-        (self.arc.is_none() && self.blend.is_none() && !rot).then(|| {
-            DVec3::new(self.delta[0], self.delta[1], self.delta[2]) / self.length
-        })
+        (self.arc.is_none() && self.blend.is_none() && !rot)
+            .then(|| DVec3::new(self.delta[0], self.delta[1], self.delta[2]) / self.length)
     }
 
     /// Joint position and its first three derivatives with respect to path length at `s`.
@@ -267,14 +266,41 @@ impl Segment {
     }
 }
 
+/// Shares of the axis acceleration and jerk limits given to the curvature terms.
+#[derive(Clone, Copy, Debug)]
+struct Share {
+    acceleration: f64,
+    jerk: f64,
+}
+
+impl Share {
+    /// Program blocks (arcs): half the acceleration, a third of the jerk.
+    const BLOCK: Self = Self {
+        acceleration: 0.5,
+        jerk: 1.0 / 3.0,
+    };
+    /// Corner blends: 80 % of both.
+    const BLEND: Self = Self {
+        acceleration: 0.8,
+        jerk: 0.8,
+    };
+}
+
 /// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds
 /// `[|q'|, |q''|, |q'''|]` over a segment (see the module docs); `None` when an axis the machine
 /// lacks would move or the limits degenerate.
+///
+/// `share` is the part of each axis's acceleration and jerk given to the path's curvature
+/// (`d2·v²` and `d3·v³`): 1/2 and 1/3 for program blocks, which must also change speed along
+/// their length; more for corner blends, which are short and passed near their cap (what is
+/// left still gives positive tangential limits: `a_b ≥ (1 − share)·A/d1`,
+/// `j_b ≥ (1 − share − (1 − share)/2)·J/d1`).
 fn tangential_limits(
     bounds: &[JointVector; 3],
     feed: f64,
     axes: &AxisLimits,
     path: Option<super::Limits1>,
+    share: Share,
 ) -> Option<(super::Limits1, VelocityCap)> {
     let [d1, d2, d3] = bounds;
     let mut v_b = f64::INFINITY;
@@ -298,13 +324,13 @@ fn tangential_limits(
                 }
                 if d2[k] > 0.0 {
                     lower(
-                        (l.acceleration / (2.0 * d2[k])).sqrt(),
+                        (share.acceleration * l.acceleration / d2[k]).sqrt(),
                         VelocityCap::Centripetal(name),
                     );
                 }
                 if d3[k] > 0.0 {
                     lower(
-                        (l.jerk / (3.0 * d3[k])).cbrt(),
+                        (share.jerk * l.jerk / d3[k]).cbrt(),
                         VelocityCap::CentripetalJerk(name),
                     );
                 }
@@ -323,7 +349,8 @@ fn tangential_limits(
                 a_b = a_b.min((l.acceleration - d2[k] * v_b * v_b) / d1[k]);
             }
             if d2[k] > 0.0 {
-                a_b = a_b.min(l.jerk / (9.0 * d2[k] * v_b));
+                // 3·d2·v·a ≤ (1 − share)·J/2 leaves the same again for the tangential jerk.
+                a_b = a_b.min((1.0 - share.jerk) * l.jerk / (6.0 * d2[k] * v_b));
             }
         }
     }
@@ -342,4 +369,3 @@ fn tangential_limits(
     };
     limits.is_valid().then_some((limits, cap))
 }
-

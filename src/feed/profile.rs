@@ -195,7 +195,10 @@ mod reachable_tests {
             let slow = reachable_velocity_bisection(v0, d, cap, a, j);
             let rel = (fast - slow).abs() / slow.max(1e-12);
             worst = worst.max(rel);
-            assert!(rel < 1e-9, "v0 {v0} d {d} cap {cap} a {a} j {j}: {fast} vs {slow}");
+            assert!(
+                rel < 1e-9,
+                "v0 {v0} d {d} cap {cap} a {a} j {j}: {fast} vs {slow}"
+            );
             // The result is feasible (the profile accepts 1e-9 relative slack).
             let need = change_distance(v0, fast, a, j);
             assert!(
@@ -223,7 +226,11 @@ mod reachable_tests {
                 acceleration: scale(rnd(), 10.0, 1e5),
                 jerk: scale(rnd(), 100.0, 1e7),
             };
-            let v0 = if rnd() < 0.2 { 0.0 } else { rnd() * lim.velocity };
+            let v0 = if rnd() < 0.2 {
+                0.0
+            } else {
+                rnd() * lim.velocity
+            };
             let v1 = match case % 3 {
                 0 => v0,
                 1 => 0.0,
