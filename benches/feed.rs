@@ -63,9 +63,45 @@ fn curve(blocks: usize) -> String {
     text
 }
 
+/// CPU seconds of this process so far (user + system, from /proc; 0 where unavailable). On a
+/// loaded shared machine wall time is noise; CPU time is what the planner costs.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which is in parentheses): utime is the 12th, stime 13th.
+    let rest = stat.rsplit(')').next().unwrap_or("");
+    let fields: Vec<f64> = rest
+        .split_whitespace()
+        .map(|f| f.parse().unwrap_or(0.0))
+        .collect();
+    let ticks = fields.get(11).copied().unwrap_or(0.0) + fields.get(12).copied().unwrap_or(0.0);
+    ticks / 100.0
+}
+
 fn bench_one(c: &mut Criterion, name: &str, blocks: &[MotionBlock], corner: CornerPolicy) {
     let machine = Machine::builtin("mill-3axis").expect("builtin machine");
     let axes = machine_limits(&machine);
+    let input = PlanInput {
+        blocks,
+        axes: axes.clone(),
+        options: PlanOptions {
+            corner,
+            ..PlanOptions::default()
+        },
+    };
+    let (t0, mut runs) = (cpu_seconds(), 0);
+    let mut segments = 0;
+    while cpu_seconds() - t0 < 3.0 && runs < 200 {
+        segments = plan(black_box(&input)).map_or(0, |tp| tp.block_count());
+        runs += 1;
+    }
+    let cpu = (cpu_seconds() - t0) / f64::from(runs);
+    eprintln!(
+        "feed/{name}: {} blocks ({segments} segments) in {:.1} ms CPU per plan: {:.0} blocks per \
+         CPU second",
+        blocks.len(),
+        cpu * 1e3,
+        blocks.len() as f64 / cpu
+    );
     let mut group = c.benchmark_group("feed");
     group.sample_size(10);
     group.throughput(Throughput::Elements(blocks.len() as u64));

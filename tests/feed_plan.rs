@@ -399,3 +399,77 @@ fn blending_beats_exact_stop_on_polygons() {
     }
     eprintln!("{report}");
 }
+
+/// A run of 3000 very short blocks (0.01–0.5 mm) along a free-form 3-D curve, as a posted
+/// 5-axis or raster program gives: it plans with blends and with exact stop, every block ends
+/// at the speed the next one starts with (the look-ahead's speeds are all reachable under the
+/// jerk limit), and every axis holds its limits (finite differences at 0.1 ms).
+#[test]
+fn short_block_runs_reach_their_planned_speeds() {
+    let machine = Machine::builtin("mill-3axis").unwrap();
+    let axes = machine_limits(&machine);
+    let mut rng = Rng(5);
+    let mut text = String::from("G90 G17 F3000\n");
+    let mut u = 0.0f64;
+    for _ in 0..3000 {
+        u += (0.01 + 0.49 * rng.f()) / 60.0;
+        let (x, y, z) = (
+            40.0 * (1.3 * u).sin(),
+            30.0 * (2.1 * u).sin(),
+            5.0 * (0.7 * u).cos(),
+        );
+        text += &format!("G1 X{x:.5} Y{y:.5} Z{z:.5}\n");
+    }
+    let prog = interpret(&text, &InterpretOptions::default()).unwrap();
+    let h = 1e-4;
+    for corner in [
+        CornerPolicy::Blend { tolerance_mm: 0.05 },
+        CornerPolicy::ExactStop,
+    ] {
+        let input = PlanInput {
+            blocks: &prog.blocks,
+            axes: axes.clone(),
+            options: PlanOptions {
+                corner,
+                ..PlanOptions::default()
+            },
+        };
+        let tp = plan(&input).unwrap();
+        let n = tp.block_count();
+        for k in 0..n {
+            let p = tp.profile(k).unwrap();
+            let (_, v_end, a_end, _) = p.at_time(p.duration_s());
+            let next_start = tp.profile(k + 1).map_or(0.0, |q| q.phases[0].v0);
+            assert!(
+                (v_end - next_start).abs() <= 1e-9 * (1.0 + v_end) && a_end.abs() < 1e-6,
+                "{corner:?} segment {k}: ends at {v_end}, next starts at {next_start}"
+            );
+        }
+        let steps = (tp.cycle_time_s / h).ceil() as usize;
+        let pos: Vec<_> = (0..steps + 5)
+            .map(|i| tp.state_at((i as f64 - 2.0) * h).position)
+            .collect();
+        let mut worst = [0.0f64; 3];
+        for i in 2..steps + 3 {
+            for (k, (_, l)) in axes.iter().enumerate() {
+                let q = |j: usize| pos[j][k];
+                let v = (q(i + 1) - q(i - 1)) / (2.0 * h);
+                let a = (q(i + 1) - 2.0 * q(i) + q(i - 1)) / (h * h);
+                let j = (q(i + 2) - 2.0 * q(i + 1) + 2.0 * q(i - 1) - q(i - 2)) / (2.0 * h * h * h);
+                let r = [
+                    v.abs() / l.velocity,
+                    a.abs() / l.acceleration,
+                    j.abs() / l.jerk,
+                ];
+                for (w, x) in worst.iter_mut().zip(r) {
+                    *w = w.max(x);
+                }
+            }
+        }
+        eprintln!(
+            "{corner:?}: {n} segments, cycle {:.3} s, worst v/a/j ratios {worst:?}",
+            tp.cycle_time_s
+        );
+        assert!(worst.iter().all(|r| *r <= 1.001), "{corner:?}: {worst:?}");
+    }
+}

@@ -55,6 +55,16 @@ pub struct ClothoidBlend {
     pub setback: f64,
     /// Distance from the corner to the blend's mid point (mm), ≤ the tolerance.
     pub deviation: f64,
+    /// The corner point.
+    pub corner: DVec3,
+    /// Per axis X Y Z: the largest `|q'|` over the swept heading.
+    pub tangent_max: [f64; 3],
+    /// Per axis X Y Z: the largest component of the unit normal over the swept heading.
+    pub normal_max: [f64; 3],
+    /// Set-back per unit half length, `x̂ + ŷ·tan(θ/2)`.
+    setback_unit: f64,
+    /// Deviation per unit half length, `ŷ/cos(θ/2)`.
+    deviation_unit: f64,
 }
 
 /// `X(s), Y(s)` of a clothoid with curvature rate `c` from curvature 0 (heading 0).
@@ -93,6 +103,8 @@ impl ClothoidBlend {
     /// `tolerance` (mm) and at most `max_setback` along either line; `None` when the corner is
     /// too shallow to need one, a reversal, or the input is degenerate.
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn new(
         corner: DVec3,
         t0: DVec3,
@@ -123,20 +135,54 @@ impl ClothoidBlend {
         if !(half_length.is_finite() && half_length > 0.0) {
             return None;
         }
-        let setback = half_length * setback_unit;
-        Some(Self {
-            start: corner - t0 * setback,
-            end: corner + t1 * setback,
+        let mut tangent_max = [0.0; 3];
+        let mut normal_max = [0.0; 3];
+        for k in 0..3 {
+            // Tangent: t0·cos ψ + n0·sin ψ; normal: −t0·sin ψ + n0·cos ψ, ψ ∈ [0, θ].
+            tangent_max[k] = max_abs_harmonic(t0[k], n0[k], turn);
+            normal_max[k] = max_abs_harmonic(n0[k], -t0[k], turn);
+        }
+        let unit = Self {
+            start: corner,
+            end: corner,
             t0,
             n0,
             t1,
             n1,
-            half_length,
-            sharpness: turn / (half_length * half_length),
+            half_length: 1.0,
+            sharpness: turn,
             turn_rad: turn,
+            setback: setback_unit,
+            deviation: deviation_unit,
+            corner,
+            tangent_max,
+            normal_max,
+            setback_unit,
+            deviation_unit,
+        };
+        Some(unit.with_half_length(half_length))
+    }
+
+    /// The same corner's blend with another half length.
+    fn with_half_length(&self, half_length: f64) -> Self {
+        let setback = half_length * self.setback_unit;
+        Self {
+            start: self.corner - self.t0 * setback,
+            end: self.corner + self.t1 * setback,
+            half_length,
+            sharpness: self.turn_rad / (half_length * half_length),
             setback,
-            deviation: half_length * deviation_unit,
-        })
+            deviation: half_length * self.deviation_unit,
+            ..*self
+        }
+    }
+
+    /// The same corner's blend shrunk to `deviation` (mm), if that is smaller (no new
+    /// series evaluation: everything scales with the half length).
+    #[must_use]
+    pub fn shrunk_to(&self, deviation: f64) -> Option<Self> {
+        (deviation > 0.0 && deviation < self.deviation)
+            .then(|| self.with_half_length(deviation / self.deviation_unit))
     }
 
     /// Arc length of the blend (mm).
@@ -148,6 +194,8 @@ impl ClothoidBlend {
     /// Position and its first three derivatives with respect to arc length at `s`, in the
     /// X Y Z slots.
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
         let l = self.half_length;
         let c = self.sharpness;
@@ -184,13 +232,13 @@ impl ClothoidBlend {
     /// Per-axis bounds `(|q'|, |q''|, |q'''|)` over the blend in the X Y Z slots (exact over
     /// the swept heading for `q'` and the normal direction).
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn derivative_bounds(&self) -> [JointVector; 3] {
         let kappa_max = self.sharpness * self.half_length;
         let mut out = [[0.0; SLOTS]; 3];
         for k in 0..3 {
-            // Tangent: t0·cos ψ + n0·sin ψ; normal: −t0·sin ψ + n0·cos ψ, ψ ∈ [0, θ].
-            let tan_max = max_abs_harmonic(self.t0[k], self.n0[k], self.turn_rad);
-            let nor_max = max_abs_harmonic(self.n0[k], -self.t0[k], self.turn_rad);
+            let (tan_max, nor_max) = (self.tangent_max[k], self.normal_max[k]);
             out[0][k] = tan_max;
             out[1][k] = kappa_max * nor_max;
             out[2][k] = self.sharpness * nor_max + kappa_max * kappa_max * tan_max;

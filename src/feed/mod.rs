@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! MotionBlocks ─path─▶ Segments (length, q', q'', q''' bounds, tangential v/a/j)
+//!              ─blend─▶ corner blends between straight segments (CornerPolicy::Blend)
 //!              ─lookahead─▶ junction speeds (backward, forward pass)
 //!              ─profile─▶ one 7-phase S-curve per block ─timed_path─▶ samples, peaks
 //! ```
@@ -13,7 +14,9 @@
 //! [`CornerPolicy::ExactStop`] the motion stops wherever the path is not smooth (the only way to
 //! keep the axis jerk finite without blending corners); with
 //! [`CornerPolicy::JunctionDeviation`] it passes corners at the junction-deviation speed, which
-//! steps axis velocities at corners (as grbl and LinuxCNC do).
+//! steps axis velocities at corners (as grbl and LinuxCNC do); with [`CornerPolicy::Blend`] the
+//! corners between straight moves are replaced by curvature-continuous clothoid blends within
+//! the tolerance ([`blend`]), so the path stays smooth and every axis limit holds.
 
 pub mod blend;
 pub mod lookahead;
@@ -315,7 +318,7 @@ fn best_blend(
             Some(first)
         } else {
             deviation *= 0.25;
-            blend::ClothoidBlend::new(corner, t0, t1, deviation, max_setback)
+            first.shrunk_to(deviation)
         };
         let Some(seg) =
             candidate.and_then(|c| path::Segment::from_blend(a.block, c, feed, axes, path_limits))

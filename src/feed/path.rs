@@ -170,6 +170,8 @@ impl Segment {
     /// The straight piece `[from, to]` (path lengths) of a straight segment: the part a corner
     /// blend leaves; `None` if it is empty or the segment is not straight.
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn straight_piece(&self, from: f64, to: f64) -> Option<Self> {
         if self.arc.is_some() || self.blend.is_some() || !(to - from > 1e-12) {
             return None;
@@ -192,6 +194,8 @@ impl Segment {
     /// The segment of a corner blend, attributed to program block `block`, with the velocity
     /// capped by `feed` (the lower of the adjacent blocks' speeds).
     #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
     pub fn from_blend(
         block: usize,
         blend: super::blend::ClothoidBlend,

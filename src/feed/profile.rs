@@ -277,6 +277,9 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
     let lo = v0.max(v1);
     let threshold = a * a / j;
     let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    if !(distance > total(lo)) {
+        return lo;
+    }
     // Quadratic region: vp²/A + vp·A/J + c0 = distance.
     let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
     let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
