@@ -341,9 +341,16 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
         if xb - xa <= 1e-15 * xb.max(1e-300) || gx == 0.0 {
             break;
         }
+        if gx.abs() <= 1e-14 * distance {
+            // Converged to round-off: settle on the feasible side of the bracket.
+            if gx > 0.0 {
+                x = (x - gx / dg(x)).max(xa);
+            }
+            break;
+        }
         let step = gx / dg(x);
         let next = x - step;
-        if step.is_finite() && step.abs() <= 1e-15 * x {
+        if step.is_finite() && step.abs() <= 1e-13 * x {
             // Converged: settle on the feasible side of the bracket.
             if gx > 0.0 {
                 x = xa.max(next.min(x));
