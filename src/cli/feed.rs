@@ -1,5 +1,6 @@
-//! `talas feed PROGRAM.ngc --machine NAME_OR_FILE [--limit AXIS=V,A,J ...] [--corner-tolerance MM]
-//! --json [--samples OUT.csv]`: jerk-limited motion plan of a G-code program.
+//! `talas feed PROGRAM.ngc --machine NAME_OR_FILE [--limit AXIS=V,A,J ...]
+//! [--corners blend|exact|junction] [--deviation MM] [--start X,Y,Z] --json [--samples OUT.csv]`:
+//! jerk-limited motion plan of a G-code program.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -22,16 +23,48 @@ pub struct FeedArgs {
     /// Override one axis's limits: `X=V,A,J` in mm/s, mm/s², mm/s³ (repeatable).
     #[arg(long = "limit", value_name = "AXIS=V,A,J")]
     pub limits: Vec<String>,
-    /// Pass corners at the junction-deviation speed for this tolerance (mm) instead of
-    /// stopping (axis velocities then step at corners).
-    #[arg(long, value_name = "MM")]
-    pub corner_tolerance: Option<f64>,
+    /// How sharp corners are passed: `blend` (clothoid blend within `--deviation` of the
+    /// corner; all axis limits hold), `exact` (stop at every corner), `junction`
+    /// (junction-deviation speed; axis velocities step at corners).
+    #[arg(long, value_enum, default_value_t = Corners::Blend)]
+    pub corners: Corners,
+    /// Path-deviation tolerance at corners (mm) for `blend` and `junction`.
+    #[arg(long, value_name = "MM", default_value_t = DEFAULT_DEVIATION_MM)]
+    pub deviation: f64,
+    /// Start position `X,Y,Z` (mm) before the first block (default the origin).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub start: Option<String>,
     /// Write time samples (`t,X,Y,Z,...`, 1 ms) to this CSV file.
     #[arg(long, value_name = "OUT.csv")]
     pub samples: Option<PathBuf>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Default corner tolerance of `talas feed` (mm).
+pub const DEFAULT_DEVIATION_MM: f64 = 0.05;
+
+/// Corner handling on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Corners {
+    /// Clothoid blends within the deviation (default).
+    Blend,
+    /// Exact stop at every sharp corner.
+    Exact,
+    /// Junction-deviation speed (velocity steps at corners).
+    Junction,
+}
+
+fn parse_start(text: &str) -> Option<crate::gcode::Joints> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse().ok().filter(|x: &f64| x.is_finite()))
+        .collect::<Option<_>>()?;
+    match v.as_slice() {
+        [x, y, z] => Some(crate::gcode::Joints::xyz(*x, *y, *z)),
+        _ => None,
+    }
 }
 
 fn parse_limit(text: &str) -> Option<(char, AxisLimit)> {
@@ -77,17 +110,21 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     }
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let prog = interpret(&text, &InterpretOptions::default())
-        .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
-    let corner = match args.corner_tolerance {
-        Some(t) if t.is_finite() && t > 0.0 => CornerPolicy::JunctionDeviation { tolerance_mm: t },
-        Some(t) => {
-            return Err(bad(
-                None,
-                format!("--corner-tolerance must be positive, got {t}"),
-            ));
-        }
-        None => CornerPolicy::ExactStop,
+    let mut options = InterpretOptions::default();
+    if let Some(start) = &args.start {
+        options.start = parse_start(start)
+            .ok_or_else(|| bad(None, format!("--start must be X,Y,Z, got '{start}'")))?;
+    }
+    let prog =
+        interpret(&text, &options).map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
+    let t = args.deviation;
+    if !(t.is_finite() && t > 0.0) {
+        return Err(bad(None, format!("--deviation must be positive, got {t}")));
+    }
+    let corner = match args.corners {
+        Corners::Blend => CornerPolicy::Blend { tolerance_mm: t },
+        Corners::Exact => CornerPolicy::ExactStop,
+        Corners::Junction => CornerPolicy::JunctionDeviation { tolerance_mm: t },
     };
     let input = PlanInput {
         blocks: &prog.blocks,
@@ -142,6 +179,12 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
         "limits": limits,
         "peaks": peaks,
         "sample_period_s": tp.sample_period_s,
+        "corners": match args.corners {
+            Corners::Blend => "blend",
+            Corners::Exact => "exact",
+            Corners::Junction => "junction",
+        },
+        "deviation_mm": t,
     }))
 }
 

@@ -45,12 +45,17 @@ pub fn junction_speeds(
     for k in 1..n {
         let (a, b) = (&segments[k - 1], &segments[k]);
         let both = a.limits.velocity.min(b.limits.velocity);
-        let (angle, smooth) = junction(a, b);
+        // Blends meet their neighbours tangent and curvature continuous by construction.
+        let (angle, smooth) = if a.blend.is_some() || b.blend.is_some() {
+            (0.0, true)
+        } else {
+            junction(a, b)
+        };
         v[k] = if smooth {
             both
         } else {
             match corner {
-                CornerPolicy::ExactStop => 0.0,
+                CornerPolicy::ExactStop | CornerPolicy::Blend { .. } => 0.0,
                 CornerPolicy::JunctionDeviation { tolerance_mm } => {
                     let half = (0.5 * angle).sin();
                     if half >= 1.0 - 1e-9 {

@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! MotionBlocks ─path─▶ Segments (length, q', q'', q''' bounds, tangential v/a/j)
+//!              ─blend─▶ corner blends between straight segments (CornerPolicy::Blend)
 //!              ─lookahead─▶ junction speeds (backward, forward pass)
 //!              ─profile─▶ one 7-phase S-curve per block ─timed_path─▶ samples, peaks
 //! ```
@@ -13,8 +14,11 @@
 //! [`CornerPolicy::ExactStop`] the motion stops wherever the path is not smooth (the only way to
 //! keep the axis jerk finite without blending corners); with
 //! [`CornerPolicy::JunctionDeviation`] it passes corners at the junction-deviation speed, which
-//! steps axis velocities at corners (as grbl and LinuxCNC do).
+//! steps axis velocities at corners (as grbl and LinuxCNC do); with [`CornerPolicy::Blend`] the
+//! corners between straight moves are replaced by curvature-continuous clothoid blends within
+//! the tolerance ([`blend`]), so the path stays smooth and every axis limit holds.
 
+pub mod blend;
 pub mod lookahead;
 pub mod path;
 pub mod profile;
@@ -49,6 +53,14 @@ pub enum CornerPolicy {
     /// faster, but axis velocities step at corners.
     JunctionDeviation {
         /// Path-deviation tolerance δ (mm), default 0.01.
+        tolerance_mm: f64,
+    },
+    /// Replace every sharp junction between two straight X/Y/Z moves by a clothoid-pair blend
+    /// ([`blend::ClothoidBlend`]) within `tolerance_mm` of the corner (taking at most half of
+    /// either move), planned under the axis limits along its curvature: all axis limits hold
+    /// everywhere. Other non-smooth junctions (reversals, arcs) stop exactly.
+    Blend {
+        /// Path-deviation tolerance δ (mm): the largest distance of the blend from the corner.
         tolerance_mm: f64,
     },
 }
@@ -89,6 +101,9 @@ pub enum FeedError {
         /// Source line of the block.
         line: usize,
     },
+    /// The corner tolerance is not finite and positive.
+    #[error("corner tolerance must be finite and positive")]
+    InvalidTolerance,
     /// The sample period is not finite and positive.
     #[error("sample period must be finite and positive")]
     InvalidSamplePeriod,
@@ -166,6 +181,12 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
             }
         }
     }
+    if let CornerPolicy::Blend { tolerance_mm } = opts.corner {
+        if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
+            return Err(FeedError::InvalidTolerance);
+        }
+        segments = blend_corners(&segments, &slots, opts.path_limits, tolerance_mm);
+    }
     let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
     let mut profiles = Vec::with_capacity(segments.len());
     for (k, s) in segments.iter().enumerate() {
@@ -184,6 +205,142 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
         &input.axes,
         opts.sample_period_s,
     ))
+}
+
+/// Replace the sharp junctions between straight X/Y/Z segments by clothoid blends (each taking at
+/// most half of either neighbour); other junctions are left as they are.
+fn blend_corners(
+    segments: &[path::Segment],
+    axes: &path::AxisLimits,
+    path_limits: Option<Limits1>,
+    tolerance: f64,
+) -> Vec<path::Segment> {
+    let n = segments.len();
+    // The blend at junction k (between segments k − 1 and k), if any.
+    let mut blends: Vec<Option<path::Segment>> = Vec::with_capacity(n + 1);
+    blends.push(None);
+    for k in 1..n {
+        let (a, b) = (&segments[k - 1], &segments[k]);
+        let seg = match (a.straight_xyz_direction(), b.straight_xyz_direction()) {
+            (Some(t0), Some(t1)) => {
+                let corner = glam::DVec3::new(
+                    a.start[0] + a.delta[0],
+                    a.start[1] + a.delta[1],
+                    a.start[2] + a.delta[2],
+                );
+                let max_setback = 0.5 * a.length.min(b.length);
+                best_blend(
+                    a,
+                    b,
+                    corner,
+                    t0,
+                    t1,
+                    tolerance,
+                    max_setback,
+                    axes,
+                    path_limits,
+                )
+            }
+            _ => None,
+        };
+        blends.push(seg);
+    }
+    blends.push(None);
+    let setback = |s: &Option<path::Segment>| {
+        s.as_ref()
+            .and_then(|s| s.blend.as_ref())
+            .map_or(0.0, |b| b.setback)
+    };
+    let mut out = Vec::with_capacity(2 * n);
+    for (k, seg) in segments.iter().enumerate() {
+        let (before, after) = (&blends[k], &blends[k + 1]);
+        if before.is_none() && after.is_none() {
+            out.push(seg.clone());
+        } else if let Some(piece) = seg.straight_piece(setback(before), seg.length - setback(after))
+        {
+            out.push(piece);
+        }
+        if let Some(b) = after {
+            out.push(b.clone());
+        }
+    }
+    out
+}
+
+/// The blend at one corner that costs the least time against cruising straight through, among
+/// the largest one the tolerance and the neighbours allow and up to five smaller ones (each a quarter
+/// of the previous deviation), or none (exact stop) when stopping is cheaper.
+///
+/// A blend is planned at one speed cap (its uniform bounds), so a large blend round a sharp
+/// corner can be slower than stopping: its curvature rate makes the centripetal-jerk speed low
+/// while its length grows. The estimate per corner, with the neighbours' speed `F` and
+/// tangential limits: slowing from `F` to `v` and back costs
+/// `change_time(v, F) − change_distance(v, F)/F` on each side, running half the blend's length
+/// `ℓ` at `v` instead of each neighbour's cap `F` costs `ℓ/2·(1/v − 1/F)`; exact stop is the
+/// case `v = 0`, `ℓ = 0`.
+#[allow(clippy::too_many_arguments)]
+fn best_blend(
+    a: &path::Segment,
+    b: &path::Segment,
+    corner: glam::DVec3,
+    t0: glam::DVec3,
+    t1: glam::DVec3,
+    tolerance: f64,
+    max_setback: f64,
+    axes: &path::AxisLimits,
+    path_limits: Option<Limits1>,
+) -> Option<path::Segment> {
+    let feed = a.limits.velocity.min(b.limits.velocity);
+    // The speed each neighbour can reach at the corner from a stop at its far end, and the cost
+    // of slowing to v at the corner on that side.
+    let side = |s: &path::Segment| {
+        let l = s.limits;
+        let f = reachable_velocity(0.0, s.length, l.velocity, l.acceleration, l.jerk);
+        move |v: f64| {
+            let v = v.min(f);
+            if f > 0.0 {
+                profile::change_time(v, f, l.acceleration, l.jerk)
+                    - profile::change_distance(v, f, l.acceleration, l.jerk) / f
+            } else {
+                0.0
+            }
+        }
+    };
+    let (cost_a, cost_b) = (side(a), side(b));
+    let slow_down = |v: f64| cost_a(v) + cost_b(v);
+    let mut best: Option<path::Segment> = None;
+    let mut best_cost = slow_down(0.0);
+    let first = blend::ClothoidBlend::new(corner, t0, t1, tolerance, max_setback)?;
+    let mut deviation = first.deviation;
+    let mut previous = f64::INFINITY;
+    for k in 0..6 {
+        let candidate = if k == 0 {
+            Some(first)
+        } else {
+            deviation *= 0.25;
+            first.shrunk_to(deviation)
+        };
+        let Some(seg) =
+            candidate.and_then(|c| path::Segment::from_blend(a.block, c, feed, axes, path_limits))
+        else {
+            continue;
+        };
+        let v = seg.limits.velocity;
+        // Half the blend replaces each neighbour's line at that neighbour's speed.
+        let half = 0.5 * seg.length;
+        let cost = slow_down(v)
+            + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
+        if cost < best_cost {
+            best_cost = cost;
+            best = Some(seg);
+        }
+        if cost > previous {
+            // Past the best size (the cost is unimodal in the size in practice).
+            break;
+        }
+        previous = cost;
+    }
+    best
 }
 
 /// The block moves no joint at all.

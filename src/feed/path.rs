@@ -70,6 +70,8 @@ pub struct Segment {
     pub delta: JointVector,
     /// Arc data `(centre, e1 = unit start radius, e2 = n × e1 signed, radius, ω rad/mm, n·helix/L)`.
     pub arc: Option<ArcFrame>,
+    /// The corner blend this segment is (then `start`/`delta` are unused and `arc` is `None`).
+    pub blend: Option<super::blend::ClothoidBlend>,
     /// Tangential limits valid over the whole block.
     pub limits: super::Limits1,
     /// What caps the velocity.
@@ -145,8 +147,6 @@ impl Segment {
                 d3[k] = r * f.omega.powi(3) * inplane;
             }
         }
-        let mut v_b = f64::INFINITY;
-        let mut cap = VelocityCap::Feed;
         let feed = if let Some(t) = block.inverse_time_duration_s() {
             length / t
         } else if matches!(block.kind, MotionKind::Rapid) || block.feed_mm_per_min <= 0.0 {
@@ -154,76 +154,81 @@ impl Segment {
         } else {
             block.feed_mm_per_min / 60.0
         };
-        let mut lower = |value: f64, why: VelocityCap| {
-            if value < v_b {
-                v_b = value;
-                cap = why;
-            }
-        };
-        lower(feed, VelocityCap::Feed);
-        if let Some(p) = path {
-            lower(p.velocity, VelocityCap::Path);
-        }
-        for (k, lim) in axes.iter().enumerate() {
-            let name = "XYZABC".as_bytes()[k] as char;
-            match lim {
-                Some(l) => {
-                    if d1[k] > 0.0 {
-                        lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
-                    }
-                    if d2[k] > 0.0 {
-                        lower(
-                            (l.acceleration / (2.0 * d2[k])).sqrt(),
-                            VelocityCap::Centripetal(name),
-                        );
-                    }
-                    if d3[k] > 0.0 {
-                        lower(
-                            (l.jerk / (3.0 * d3[k])).cbrt(),
-                            VelocityCap::CentripetalJerk(name),
-                        );
-                    }
-                }
-                None => {
-                    if d1[k] > 0.0 {
-                        return None;
-                    }
-                }
-            }
-        }
-        let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
-        for (k, lim) in axes.iter().enumerate() {
-            if let Some(l) = lim {
-                if d1[k] > 0.0 {
-                    a_b = a_b.min((l.acceleration - d2[k] * v_b * v_b) / d1[k]);
-                }
-                if d2[k] > 0.0 {
-                    a_b = a_b.min(l.jerk / (9.0 * d2[k] * v_b));
-                }
-            }
-        }
-        let mut j_b = path.map_or(f64::INFINITY, |p| p.jerk);
-        for (k, lim) in axes.iter().enumerate() {
-            if let Some(l) = lim
-                && d1[k] > 0.0
-            {
-                j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
-            }
-        }
-        let limits = super::Limits1 {
-            velocity: v_b,
-            acceleration: a_b,
-            jerk: j_b,
-        };
-        limits.is_valid().then_some(Self {
+        let (limits, cap) = tangential_limits(&[d1, d2, d3], feed, axes, path, Share::BLOCK)?;
+        Some(Self {
             block: index,
             length,
             start,
             delta,
             arc,
+            blend: None,
             limits,
             cap,
         })
+    }
+
+    /// The straight piece `[from, to]` (path lengths) of a straight segment: the part a corner
+    /// blend leaves; `None` if it is empty or the segment is not straight.
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn straight_piece(&self, from: f64, to: f64) -> Option<Self> {
+        if self.arc.is_some() || self.blend.is_some() || !(to - from > 1e-12) {
+            return None;
+        }
+        let mut start = self.start;
+        let mut delta = self.delta;
+        for k in 0..SLOTS {
+            let dir = self.delta[k] / self.length;
+            start[k] = self.start[k] + dir * from;
+            delta[k] = dir * (to - from);
+        }
+        Some(Self {
+            start,
+            delta,
+            length: to - from,
+            ..self.clone()
+        })
+    }
+
+    /// The segment of a corner blend, attributed to program block `block`, with the velocity
+    /// capped by `feed` (the lower of the adjacent blocks' speeds).
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn from_blend(
+        block: usize,
+        blend: super::blend::ClothoidBlend,
+        feed: f64,
+        axes: &AxisLimits,
+        path: Option<super::Limits1>,
+    ) -> Option<Self> {
+        let bounds = blend.derivative_bounds();
+        let (limits, cap) = tangential_limits(&bounds, feed, axes, path, Share::BLEND)?;
+        let start = [blend.start.x, blend.start.y, blend.start.z, 0.0, 0.0, 0.0];
+        let end = [blend.end.x, blend.end.y, blend.end.z, 0.0, 0.0, 0.0];
+        let mut delta = [0.0; SLOTS];
+        for k in 0..SLOTS {
+            delta[k] = end[k] - start[k];
+        }
+        Some(Self {
+            block,
+            length: blend.length(),
+            start,
+            delta,
+            arc: None,
+            blend: Some(blend),
+            limits,
+            cap,
+        })
+    }
+
+    /// A straight segment moving only X, Y, Z: its unit direction.
+    #[must_use]
+    pub fn straight_xyz_direction(&self) -> Option<DVec3> {
+        let rot = self.delta[3..].iter().any(|d| *d != 0.0);
+        (self.arc.is_none() && self.blend.is_none() && !rot)
+            .then(|| DVec3::new(self.delta[0], self.delta[1], self.delta[2]) / self.length)
     }
 
     /// Joint position and its first three derivatives with respect to path length at `s`.
@@ -231,6 +236,9 @@ impl Segment {
     // One index walks several parallel arrays; an iterator chain would hide that.
     #[allow(clippy::needless_range_loop)]
     pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
+        if let Some(b) = &self.blend {
+            return b.derivatives(s);
+        }
         let u = (s / self.length).clamp(0.0, 1.0);
         let mut out = [[0.0; SLOTS]; 4];
         for k in 0..SLOTS {
@@ -260,4 +268,108 @@ impl Segment {
     pub fn tangent(&self, at_end: bool) -> JointVector {
         self.derivatives(if at_end { self.length } else { 0.0 })[1]
     }
+}
+
+/// Shares of the axis acceleration and jerk limits given to the curvature terms.
+#[derive(Clone, Copy, Debug)]
+struct Share {
+    acceleration: f64,
+    jerk: f64,
+}
+
+impl Share {
+    /// Program blocks (arcs): half the acceleration, a third of the jerk.
+    const BLOCK: Self = Self {
+        acceleration: 0.5,
+        jerk: 1.0 / 3.0,
+    };
+    /// Corner blends: 80 % of both.
+    const BLEND: Self = Self {
+        acceleration: 0.8,
+        jerk: 0.8,
+    };
+}
+
+/// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds
+/// `[|q'|, |q''|, |q'''|]` over a segment (see the module docs); `None` when an axis the machine
+/// lacks would move or the limits degenerate.
+///
+/// `share` is the part of each axis's acceleration and jerk given to the path's curvature
+/// (`d2·v²` and `d3·v³`): 1/2 and 1/3 for program blocks, which must also change speed along
+/// their length; more for corner blends, which are short and passed near their cap (what is
+/// left still gives positive tangential limits: `a_b ≥ (1 − share)·A/d1`,
+/// `j_b ≥ (1 − share − (1 − share)/2)·J/d1`).
+fn tangential_limits(
+    bounds: &[JointVector; 3],
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+    share: Share,
+) -> Option<(super::Limits1, VelocityCap)> {
+    let [d1, d2, d3] = bounds;
+    let mut v_b = f64::INFINITY;
+    let mut cap = VelocityCap::Feed;
+    let mut lower = |value: f64, why: VelocityCap| {
+        if value < v_b {
+            v_b = value;
+            cap = why;
+        }
+    };
+    lower(feed, VelocityCap::Feed);
+    if let Some(p) = path {
+        lower(p.velocity, VelocityCap::Path);
+    }
+    for (k, lim) in axes.iter().enumerate() {
+        let name = "XYZABC".as_bytes()[k] as char;
+        match lim {
+            Some(l) => {
+                if d1[k] > 0.0 {
+                    lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
+                }
+                if d2[k] > 0.0 {
+                    lower(
+                        (share.acceleration * l.acceleration / d2[k]).sqrt(),
+                        VelocityCap::Centripetal(name),
+                    );
+                }
+                if d3[k] > 0.0 {
+                    lower(
+                        (share.jerk * l.jerk / d3[k]).cbrt(),
+                        VelocityCap::CentripetalJerk(name),
+                    );
+                }
+            }
+            None => {
+                if d1[k] > 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
+    for (k, lim) in axes.iter().enumerate() {
+        if let Some(l) = lim {
+            if d1[k] > 0.0 {
+                a_b = a_b.min((l.acceleration - d2[k] * v_b * v_b) / d1[k]);
+            }
+            if d2[k] > 0.0 {
+                // 3·d2·v·a ≤ (1 − share)·J/2 leaves the same again for the tangential jerk.
+                a_b = a_b.min((1.0 - share.jerk) * l.jerk / (6.0 * d2[k] * v_b));
+            }
+        }
+    }
+    let mut j_b = path.map_or(f64::INFINITY, |p| p.jerk);
+    for (k, lim) in axes.iter().enumerate() {
+        if let Some(l) = lim
+            && d1[k] > 0.0
+        {
+            j_b = j_b.min((l.jerk - 3.0 * d2[k] * v_b * a_b - d3[k] * v_b.powi(3)) / d1[k]);
+        }
+    }
+    let limits = super::Limits1 {
+        velocity: v_b,
+        acceleration: a_b,
+        jerk: j_b,
+    };
+    limits.is_valid().then_some((limits, cap))
 }

@@ -77,8 +77,73 @@ pub fn change_distance(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
 /// The largest velocity ≤ `cap` that can be reached from `v_from` (a = 0) within `distance`,
 /// going up; by symmetry also the largest velocity from which `v_from` can be reached. Never
 /// less than `min(v_from, cap)`.
+///
+/// Closed form (the look-ahead's hot path, no iteration): with `Δv = v − v_from`,
+/// - below the threshold `Δv < A²/J` (no constant-acceleration phase) the distance is
+///   `(2·v_from + Δv)·sqrt(Δv/J)`; with `x = sqrt(Δv/J)` this is the cubic
+///   `x³ + p·x = q`, `p = 2·v_from/J`, `q = distance/J`, whose one real root is Cardano's
+///   `x = u + w`, `u = cbrt(q/2 + sqrt(q²/4 + p³/27))`, `w = −p/(3u)`, evaluated as
+///   `q/(u² − u·w + w²)` to avoid cancellation, then one Newton step;
+/// - above it the distance is `(2·v_from + Δv)/2·(Δv/A + A/J)`, a quadratic in `Δv` whose
+///   positive root is taken in the cancellation-free form `2|c|/(b + sqrt(b² + 4|c|))`.
 #[must_use]
 pub fn reachable_velocity(
+    v_from: f64,
+    distance: f64,
+    cap: f64,
+    acceleration: f64,
+    jerk: f64,
+) -> f64 {
+    if v_from >= cap {
+        return cap;
+    }
+    if !(distance > 0.0) {
+        return v_from;
+    }
+    if change_distance(v_from, cap, acceleration, jerk) <= distance {
+        return cap;
+    }
+    let (a, j) = (acceleration, jerk);
+    let threshold = a * a / j;
+    // Distance of the change by exactly the threshold: (2·v_from + A²/J)·A/J.
+    let d_threshold = (2.0 * v_from + threshold) * a / j;
+    let dv = if distance <= d_threshold {
+        let p = 2.0 * v_from / j;
+        let q = distance / j;
+        let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+        let w = p / (3.0 * u);
+        let mut x = q / (u * u + p / 3.0 + w * w);
+        // One Newton step on x³ + p·x − q polishes the round-off.
+        let f = x * (x * x + p) - q;
+        let df = 3.0 * x * x + p;
+        if df > 0.0 {
+            x -= f / df;
+        }
+        j * x * x
+    } else {
+        let b = 2.0 * v_from + threshold;
+        let c_abs = 2.0 * distance * a - 2.0 * v_from * threshold;
+        2.0 * c_abs / (b + (b * b + 4.0 * c_abs).sqrt())
+    };
+    let mut v = (v_from + dv).min(cap);
+    if v.is_finite() {
+        // v is a rounded sum: step down to the feasible side (a few ulps at most).
+        for _ in 0..16 {
+            if v <= v_from || change_distance(v_from, v, acceleration, jerk) <= distance {
+                break;
+            }
+            v = v.next_down();
+        }
+        v.max(v_from)
+    } else {
+        reachable_velocity_bisection(v_from, distance, cap, acceleration, jerk)
+    }
+}
+
+/// [`reachable_velocity`] by bisection on the monotone distance (the reference the closed form
+/// is tested against, and its fallback for non-finite intermediate values).
+#[must_use]
+pub fn reachable_velocity_bisection(
     v_from: f64,
     distance: f64,
     cap: f64,
@@ -92,18 +157,213 @@ pub fn reachable_velocity(
         return cap;
     }
     let (mut lo, mut hi) = (v_from, cap);
-    for _ in 0..64 {
+    for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
         if change_distance(v_from, mid, acceleration, jerk) <= distance {
             lo = mid;
         } else {
             hi = mid;
         }
-        if hi - lo <= 1e-13 * hi {
+        if hi - lo <= 1e-15 * hi {
             break;
         }
     }
     lo
+}
+
+#[cfg(test)]
+mod reachable_tests {
+    use super::*;
+
+    #[test]
+    fn closed_form_matches_bisection() {
+        let mut state = 3u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut worst = 0.0f64;
+        for _ in 0..20_000 {
+            let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
+            let (a, j) = (scale(rnd(), 10.0, 1e5), scale(rnd(), 100.0, 1e7));
+            let cap = scale(rnd(), 0.1, 2000.0);
+            let v0 = if rnd() < 0.2 { 0.0 } else { rnd() * cap };
+            let d = scale(rnd(), 1e-5, 100.0);
+            let fast = reachable_velocity(v0, d, cap, a, j);
+            let slow = reachable_velocity_bisection(v0, d, cap, a, j);
+            let rel = (fast - slow).abs() / slow.max(1e-12);
+            worst = worst.max(rel);
+            assert!(
+                rel < 1e-9,
+                "v0 {v0} d {d} cap {cap} a {a} j {j}: {fast} vs {slow}"
+            );
+            // The result is feasible (the profile accepts 1e-9 relative slack).
+            let need = change_distance(v0, fast, a, j);
+            assert!(
+                need <= d * (1.0 + 1e-10) + 1e-15,
+                "v0 {v0} d {d} cap {cap} a {a} j {j}: needs {need}"
+            );
+        }
+        assert!(worst < 1e-9, "{worst}");
+    }
+
+    #[test]
+    fn peak_velocity_matches_bisection() {
+        let mut state = 5u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut n = 0;
+        for case in 0..20_000 {
+            let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
+            let lim = Limits1 {
+                velocity: scale(rnd(), 0.1, 2000.0),
+                acceleration: scale(rnd(), 10.0, 1e5),
+                jerk: scale(rnd(), 100.0, 1e7),
+            };
+            let v0 = if rnd() < 0.2 {
+                0.0
+            } else {
+                rnd() * lim.velocity
+            };
+            let v1 = match case % 3 {
+                0 => v0,
+                1 => 0.0,
+                _ => rnd() * lim.velocity,
+            };
+            let (a, j) = (lim.acceleration, lim.jerk);
+            let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+            let lo = v0.max(v1);
+            // A distance between the lower and the upper end.
+            let d = total(lo) + rnd() * (total(lim.velocity) - total(lo));
+            if !(d > total(lo) && d < total(lim.velocity)) {
+                continue;
+            }
+            let (mut bl, mut bh) = (lo, lim.velocity);
+            for _ in 0..200 {
+                let mid = 0.5 * (bl + bh);
+                if total(mid) <= d {
+                    bl = mid;
+                } else {
+                    bh = mid;
+                }
+            }
+            let vp = peak_velocity(v0, v1, d, &lim);
+            assert!(
+                (vp - bl).abs() <= 1e-9 * bl.max(1e-9),
+                "v0 {v0} v1 {v1} d {d} {lim:?}: {vp} vs {bl}"
+            );
+            n += 1;
+        }
+        assert!(n > 10_000, "{n}");
+    }
+}
+
+/// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
+/// change_distance(vp, v1) = distance`, given that the distance is too short to cruise at `V`
+/// and long enough for `v0 → v1`. Closed forms where they exist, else a bracketed Newton
+/// iteration in `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
+/// - both changes with a constant-acceleration phase (`vp − v0`, `vp − v1` ≥ A²/J): the distance
+///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
+/// - `v0 = v1 = w` and no constant-acceleration phase: `2·(2w + J·x²)·x = distance` with
+///   `x = sqrt((vp − w)/J)`, the cubic of [`reachable_velocity`].
+fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
+    let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
+    let lo = v0.max(v1);
+    let threshold = a * a / j;
+    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    if !(distance > total(lo)) {
+        return lo;
+    }
+    // Quadratic region: vp²/A + vp·A/J + c0 = distance.
+    let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
+    let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc >= 0.0 && qc < 0.0 {
+        // Positive root, cancellation-free.
+        let r = -2.0 * qc / (qb + disc.sqrt());
+        if r >= lo + threshold && r <= vmax {
+            return r;
+        }
+    }
+    if v0 == v1 {
+        // 2·(2w + J·x²)·x = d  ⇔  x³ + p·x = q with p = 2w/J, q = d/(2J).
+        let (p, q) = (2.0 * v0 / j, distance / (2.0 * j));
+        let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+        let w = p / (3.0 * u);
+        let mut x = q / (u * u + p / 3.0 + w * w);
+        let f = x * (x * x + p) - q;
+        let df = 3.0 * x * x + p;
+        if df > 0.0 {
+            x -= f / df;
+        }
+        let vp = v0 + j * x * x;
+        if vp.is_finite() && vp - v0 <= threshold && vp >= lo && vp <= vmax {
+            return vp;
+        }
+    }
+    // Bracketed Newton in x = sqrt(vp − lo); g(x) = total(lo + x²) − distance is increasing.
+    let g = |x: f64| total(lo + x * x) - distance;
+    // dg/dx = 2x·d(total)/d(vp); each change (va → vp, Δ = vp − va) contributes
+    // T(Δ)/2 + (va + vp)/2·T'(Δ), with T' = 1/A above the threshold and 1/sqrt(J·Δ) below, so
+    // 2x·T' below is 2x/sqrt(J·Δ) (= 2/sqrt(J) for the change from `lo`, where Δ = x²).
+    let dg = |x: f64| {
+        let vp = lo + x * x;
+        let mut d = 0.0;
+        for va in [v0, v1] {
+            let dv = vp - va;
+            let t = change_time(va, vp, a, j);
+            let two_x_tprime = if dv >= threshold {
+                2.0 * x / a
+            } else if va == lo {
+                2.0 / j.sqrt()
+            } else {
+                2.0 * x / (j * dv).sqrt()
+            };
+            d += x * t + 0.5 * (va + vp) * two_x_tprime;
+        }
+        d
+    };
+    let (mut xa, mut xb) = (0.0, (vmax - lo).max(0.0).sqrt());
+    let mut x = 0.5 * (xa + xb);
+    for _ in 0..100 {
+        let gx = g(x);
+        if gx <= 0.0 {
+            xa = x;
+        } else {
+            xb = x;
+        }
+        if xb - xa <= 1e-15 * xb.max(1e-300) || gx == 0.0 {
+            break;
+        }
+        if gx.abs() <= 1e-14 * distance {
+            // Converged to round-off: settle on the feasible side of the bracket.
+            if gx > 0.0 {
+                x = (x - gx / dg(x)).max(xa);
+            }
+            break;
+        }
+        let step = gx / dg(x);
+        let next = x - step;
+        if step.is_finite() && step.abs() <= 1e-13 * x {
+            // Converged: settle on the feasible side of the bracket.
+            if gx > 0.0 {
+                x = xa.max(next.min(x));
+            }
+            break;
+        }
+        x = if step.is_finite() && next > xa && next < xb {
+            next
+        } else {
+            0.5 * (xa + xb)
+        };
+    }
+    lo + x * x
 }
 
 /// One phase of constant jerk.
@@ -223,19 +483,7 @@ impl Profile {
         let vp = if total(lim.velocity) <= distance {
             lim.velocity
         } else {
-            let (mut lo, mut hi) = (v0.max(v1), lim.velocity);
-            for _ in 0..100 {
-                let mid = 0.5 * (lo + hi);
-                if total(mid) <= distance {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-                if hi - lo <= 1e-14 * hi.max(1e-300) {
-                    break;
-                }
-            }
-            lo
+            peak_velocity(v0, v1, distance, lim)
         };
         let cruise = if vp > 0.0 {
             ((distance - total(vp)) / vp).max(0.0)

@@ -125,10 +125,17 @@ impl TimedPath {
         peaks
     }
 
-    /// Number of planned (non-empty) blocks.
+    /// Number of planned segments (non-empty blocks, plus corner blends).
     #[must_use]
     pub fn block_count(&self) -> usize {
         self.segments.len()
+    }
+
+    /// The planned segments in order (program blocks, shortened where corners are blended, and
+    /// the corner blends between them).
+    #[must_use]
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
     }
 
     /// The 1-DoF profile of planned block `k` (along its path length).
@@ -171,10 +178,15 @@ impl TimedPath {
         let at_end = t >= self.cycle_time_s && k + 1 == self.segments.len();
         let ((s, v, a, j), kind) = prof.at_time_with_kind(local);
         let d = seg.derivatives(s);
-        let position = if at_end || s >= seg.length {
+        let position = if at_end {
+            joint_vector(&block.end)
+        } else if seg.arc.is_none() {
+            // Lines (possibly shortened by corner blends) and blends: the segment's own point.
+            d[0]
+        } else if s >= seg.length {
             joint_vector(&block.end)
         } else {
-            // Spread the gap between the block's geometric end and its programmed end point
+            // Spread the gap between the arc's geometric end and its programmed end point
             // over the block, so that positions are continuous and end exactly there.
             let u = s / seg.length;
             let mut p = joint_vector(&block.point_at(u));
