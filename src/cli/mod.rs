@@ -5,6 +5,7 @@ pub mod dropcutter;
 pub mod feed;
 pub mod inspect;
 pub mod post;
+pub mod plan_mesh;
 pub mod reduce;
 
 use std::path::PathBuf;
