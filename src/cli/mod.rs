@@ -4,8 +4,8 @@
 pub mod dropcutter;
 pub mod feed;
 pub mod inspect;
-pub mod post;
 pub mod plan_mesh;
+pub mod post;
 pub mod reduce;
 
 use std::path::PathBuf;

@@ -143,7 +143,7 @@ pub fn plan_mesh(
         clearance_mm: opts.clearance_mm,
         ..ZlevelOptions::default()
     };
-    let plan = zlevel_rough(&mesh, &bvh, &tool, &zopts)
-        .map_err(|e| bad("zlevel-rough", e.to_string()))?;
+    let plan =
+        zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
     Ok(plan.toolpath)
 }

@@ -9,7 +9,8 @@
 //!   of the two tools' envelope in the vertical section across the passes, as its distance to
 //!   the mesh) and the step is shrunk until every cusp is ≤ h. That second step catches concave
 //!   curvature across the passes, which the planar rule underestimates (by R_s/(R_s − R) on a
-//!   fillet of radius R_s). Areas steeper than `max_slope_rad` are not held to h (a raster pass
+//!   fillet of radius R_s). Grid points whose cusp does not shrink with the step (a valley
+//!   narrower than the tool) stop counting: that material is not a scallop. Areas steeper than `max_slope_rad` are not held to h (a raster pass
 //!   cannot control the scallop on walls; a Z-level finish does).
 //! - **Sampling along a pass**: drop-cutter on a grid of step `sample_step_mm`, then chords are
 //!   bisected until the CL polyline follows the true CL curve within the chord tolerance, lifted
@@ -34,8 +35,8 @@ use rayon::prelude::*;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
-use crate::tools::dropcutter::{ClPoint, Contact, drop_cutter};
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
+use crate::tools::dropcutter::{ClPoint, Contact, drop_cutter};
 use follow::{ClSample, Follower};
 use passes::{CoarsePass, Region, coarse_pass, contact_normal, cusps};
 use stepover::StepoverTable;
@@ -173,7 +174,9 @@ fn check_options(opts: &RasterOptions) -> Result<(), RasterError> {
     ];
     for (what, v) in positive {
         if !(v > 0.0 && v.is_finite()) {
-            return Err(RasterError::Option(format!("{what} must be positive, got {v}")));
+            return Err(RasterError::Option(format!(
+                "{what} must be positive, got {v}"
+            )));
         }
     }
     if !opts.angle_rad.is_finite() {
@@ -196,7 +199,9 @@ fn check_options(opts: &RasterOptions) -> Result<(), RasterError> {
     if let Some(s) = opts.sample_step_mm
         && !(s > 0.0 && s.is_finite())
     {
-        return Err(RasterError::Option(format!("sample step must be positive, got {s}")));
+        return Err(RasterError::Option(format!(
+            "sample step must be positive, got {s}"
+        )));
     }
     if let Boundary::Polygon(p) = &opts.boundary
         && (p.len() < 3 || p.iter().any(|v| !v.is_finite()))
@@ -301,11 +306,30 @@ pub fn raster_progress(
             .fold(0.0_f64, f64::max);
         let mut s = table.step(steepest).max(s_min);
         let mut tries = 0;
+        // Grid points whose cusp does not shrink with the step hold material the cutter cannot
+        // reach (a valley narrower than the tool), not a scallop: they stop counting.
+        let mut stuck = vec![false; grid.len()];
+        let mut last: Option<Vec<Option<f64>>> = None;
         let (next, cusp) = loop {
             let w = (cur.w + s).min(w_last);
             let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
-            let cusp = cusps(&frame, &grid, &cur, &next, cutter, bvh, mesh, cos_max);
-            let worst = cusp.iter().flatten().fold(0.0_f64, |a, b| a.max(*b));
+            let cusp = cusps(&frame, &grid, &cur, &next, cutter, bvh, cos_max);
+            if let Some(prev) = &last {
+                for ((st, new), old) in stuck.iter_mut().zip(&cusp).zip(prev) {
+                    if let (Some(n), Some(o)) = (new, old)
+                        && *n > h
+                        && *n >= 0.8 * o
+                    {
+                        *st = true;
+                    }
+                }
+            }
+            let worst = cusp
+                .iter()
+                .zip(&stuck)
+                .filter(|(_, st)| !**st)
+                .filter_map(|(c, _)| *c)
+                .fold(0.0_f64, f64::max);
             tries += 1;
             if worst <= h || s <= s_min || tries >= 8 {
                 if worst > h {
@@ -313,6 +337,7 @@ pub fn raster_progress(
                 }
                 break (next, cusp);
             }
+            last = Some(cusp);
             let f = (0.95 * (h / worst).sqrt()).clamp(0.3, 0.9);
             s = (s * f).max(s_min);
         };
@@ -366,7 +391,9 @@ pub fn raster_progress(
                 run.iter()
                     .map(|s| {
                         let j = ((s.t - tmin) / dt).round().max(0.0) as usize;
-                        let pick = |v: Option<&Vec<Option<f64>>>| v.and_then(|v| v.get(j)).copied().flatten();
+                        let pick = |v: Option<&Vec<Option<f64>>>| {
+                            v.and_then(|v| v.get(j)).copied().flatten()
+                        };
                         let sc = match (pick(prev), pick(next)) {
                             (Some(a), Some(b)) => Some(a.max(b)),
                             (a, b) => a.or(b),
@@ -471,8 +498,11 @@ fn stay_down(
     let ts: Vec<f64> = (0..=n).map(|i| len * i as f64 / n as f64).collect();
     let xy: Vec<DVec2> = ts.iter().map(|t| a + dir * *t).collect();
     let cls = drop_cutter(follower.bvh, follower.mesh, follower.cutter, &xy);
-    let samples: Option<Vec<(f64, ClPoint)>> =
-        ts.iter().zip(cls).map(|(t, c)| c.map(|c| (*t, c))).collect();
+    let samples: Option<Vec<(f64, ClPoint)>> = ts
+        .iter()
+        .zip(cls)
+        .map(|(t, c)| c.map(|c| (*t, c)))
+        .collect();
     let path = follower.follow(a, dir, &samples?);
     // The ends may sit at another height than the runs' own ends (each is lifted on its own):
     // the vertical moves between them stay above the CL at that XY.

@@ -9,7 +9,7 @@
 //! t* = t_q − m·S/√(1 + m²), clamped to the move.
 //!
 //! The mesh is sampled densely (Metro's "similar triangles": each triangle split into k² similar
-//! ones, one sample at each centroid). Samples are kept where the surface faces up at most
+//! ones of area ≤ spacing²/2, one sample at each centroid). Samples are kept where the surface faces up at most
 //! `max_slope_rad` from vertical and is the first surface a vertical ray from above meets there.
 //! For each sample p with upward unit normal n:
 //! - **gouge**: p_z − L(p_xy) where positive (vertical depth of the surface inside the swept
@@ -63,6 +63,8 @@ pub struct RemainingReport {
     pub max_gouge_mm: f64,
     /// Where the largest gouge is.
     pub max_gouge_at: Option<DVec3>,
+    /// The 20 samples with the largest remaining height (uncovered ones as +∞), largest first.
+    pub worst: Vec<(DVec3, f64)>,
 }
 
 impl RemainingReport {
@@ -169,10 +171,11 @@ impl Envelope {
                 for ii in i0..=i1 {
                     // Long moves (rapids) are filtered by their distance to the cell.
                     let c = origin + DVec2::new((ii as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
-                    if seg_dist(c, m.a.truncate(), m.b.truncate()) <= radius + cell {
-                        if let (Some(bk), Ok(idx)) = (buckets.get_mut(j * nx + ii), u32::try_from(i)) {
-                            bk.push(idx);
-                        }
+                    if seg_dist(c, m.a.truncate(), m.b.truncate()) <= radius + cell
+                        && let (Some(bk), Ok(idx)) =
+                            (buckets.get_mut(j * nx + ii), u32::try_from(i))
+                    {
+                        bk.push(idx);
                     }
                 }
             }
@@ -190,8 +193,16 @@ impl Envelope {
 
     fn index(origin: DVec2, cell: f64, nx: usize, ny: usize, p: DVec2) -> (usize, usize) {
         let f = (p - origin) / cell;
-        let i = if f.x.is_finite() { f.x.floor().clamp(0.0, (nx - 1) as f64) as usize } else { 0 };
-        let j = if f.y.is_finite() { f.y.floor().clamp(0.0, (ny - 1) as f64) as usize } else { 0 };
+        let i = if f.x.is_finite() {
+            f.x.floor().clamp(0.0, (nx - 1) as f64) as usize
+        } else {
+            0
+        };
+        let j = if f.y.is_finite() {
+            f.y.floor().clamp(0.0, (ny - 1) as f64) as usize
+        } else {
+            0
+        };
         (i, j)
     }
 
@@ -216,7 +227,11 @@ impl Envelope {
 fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let e = b - a;
     let l2 = e.length_squared();
-    let s = if l2 > 0.0 { ((p - a).dot(e) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let s = if l2 > 0.0 {
+        ((p - a).dot(e) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     p.distance(a + e * s)
 }
 
@@ -253,11 +268,7 @@ fn move_lower(m: &Move, q: DVec2, r: f64) -> f64 {
 
 /// Sample points (with upward unit normals) of the triangles facing up within the slope limit
 /// and visible from above.
-fn samples(
-    mesh: &TriMesh,
-    bvh: &MeshBvh,
-    opts: &RemainingOptions,
-) -> Vec<(DVec3, DVec3)> {
+fn samples(mesh: &TriMesh, bvh: &MeshBvh, opts: &RemainingOptions) -> Vec<(DVec3, DVec3)> {
     let cos_max = opts.max_slope_rad.cos();
     let top = bvh.bbox().max.z + 1.0;
     let mut out = Vec::new();
@@ -274,8 +285,11 @@ fn samples(
         if n.z < cos_max {
             continue;
         }
-        let longest = p0.distance(p1).max(p1.distance(p2)).max(p2.distance(p0));
-        let k = (longest / opts.sample_spacing_mm).ceil().clamp(1.0, 1000.0) as usize;
+        // k² similar sub-triangles of area ≤ spacing²/2 each (by area, so slivers are not
+        // oversampled).
+        let area = 0.5 * (p1 - p0).cross(p2 - p0).length();
+        let sp = opts.sample_spacing_mm;
+        let k = (area / (0.5 * sp * sp)).sqrt().ceil().clamp(1.0, 1000.0) as usize;
         let kf = k as f64;
         let mut push = |u: f64, v: f64| {
             let p = p0 + (p1 - p0) * u + (p2 - p0) * v;
@@ -323,7 +337,9 @@ pub fn ball_remaining_height(
         ("march step", opts.march_step_mm),
     ] {
         if !(v > 0.0 && v.is_finite()) {
-            return Err(RemainingError::Option(format!("{what} must be positive, got {v}")));
+            return Err(RemainingError::Option(format!(
+                "{what} must be positive, got {v}"
+            )));
         }
     }
     let bvh = MeshBvh::new(mesh).map_err(|e| RemainingError::Mesh(e.to_string()))?;
@@ -373,11 +389,19 @@ pub fn ball_remaining_height(
         }
     }
     heights.sort_by(f64::total_cmp);
+    let mut worst: Vec<(DVec3, f64)> = results
+        .iter()
+        .zip(&pts)
+        .map(|((h, _), (p, _))| (*p, h.unwrap_or(f64::INFINITY)))
+        .collect();
+    worst.sort_by(|a, b| b.1.total_cmp(&a.1));
+    worst.truncate(20);
     Ok(RemainingReport {
         heights_mm: heights,
         uncovered,
         max_gouge_mm: max_gouge,
         max_gouge_at,
+        worst,
     })
 }
 
@@ -402,13 +426,19 @@ mod tests {
         );
         let cutter = Cutter::new(CutterKind::Ball, 6.0).unwrap();
         let s = 2.0;
-        let pose = |x: f64, y: f64| Pose::new(MoveKind::Cut, DVec3::new(x, y, 0.0), DVec3::Z, 100.0);
+        let pose =
+            |x: f64, y: f64| Pose::new(MoveKind::Cut, DVec3::new(x, y, 0.0), DVec3::Z, 100.0);
         let path = Toolpath::new(
             ToolRecord {
                 spec: "ball:d=6".into(),
                 cutter,
             },
-            vec![pose(-12.0, 0.0), pose(12.0, 0.0), pose(12.0, s), pose(-12.0, s)],
+            vec![
+                pose(-12.0, 0.0),
+                pose(12.0, 0.0),
+                pose(12.0, s),
+                pose(-12.0, s),
+            ],
         );
         let opts = RemainingOptions {
             sample_spacing_mm: 0.05,
@@ -427,6 +457,10 @@ mod tests {
             p.tip.z -= 0.05;
         }
         let rep = ball_remaining_height(&mesh, &low, &opts).unwrap();
-        assert!((rep.max_gouge_mm - 0.05).abs() < 1e-9, "{}", rep.max_gouge_mm);
+        assert!(
+            (rep.max_gouge_mm - 0.05).abs() < 1e-9,
+            "{}",
+            rep.max_gouge_mm
+        );
     }
 }

@@ -31,9 +31,9 @@ use crate::diagnostics::Diagnostic;
 use crate::geometry::Aabb;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
+use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 use crate::tools::dropcutter::drop_cutter;
 use crate::tools::{Cutter, CutterKind};
-use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 use field::{Field, thin_loop};
 
 /// The raw material.
@@ -110,7 +110,12 @@ impl Stock {
             }
         };
         let ok = match stock {
-            Self::Box { min, max } => min.is_finite() && max.is_finite() && (max - min).truncate().min_element() > 0.0 && max.z > min.z,
+            Self::Box { min, max } => {
+                min.is_finite()
+                    && max.is_finite()
+                    && (max - min).truncate().min_element() > 0.0
+                    && max.z > min.z
+            }
             Self::Cylinder { radius, z0, z1, .. } => radius > 0.0 && z1 > z0,
         };
         if ok {
@@ -138,7 +143,10 @@ impl Stock {
     fn xy_box(&self) -> (DVec2, DVec2) {
         match self {
             Self::Box { min, max } => (min.truncate(), max.truncate()),
-            Self::Cylinder { centre, radius, .. } => (*centre - DVec2::splat(*radius), *centre + DVec2::splat(*radius)),
+            Self::Cylinder { centre, radius, .. } => (
+                *centre - DVec2::splat(*radius),
+                *centre + DVec2::splat(*radius),
+            ),
         }
     }
 
@@ -248,7 +256,9 @@ fn check(opts: &ZlevelOptions, cutter: &Cutter) -> Result<(), ZlevelError> {
         ("feed", opts.feed_mm_per_min),
     ] {
         if !(v > 0.0 && v.is_finite()) {
-            return Err(ZlevelError::Option(format!("{what} must be positive, got {v}")));
+            return Err(ZlevelError::Option(format!(
+                "{what} must be positive, got {v}"
+            )));
         }
     }
     for (what, v) in [
@@ -267,7 +277,9 @@ fn check(opts: &ZlevelOptions, cutter: &Cutter) -> Result<(), ZlevelError> {
         )));
     }
     if opts.ramp_angle_rad >= std::f64::consts::FRAC_PI_2 {
-        return Err(ZlevelError::Option("ramp angle must be below 90 degrees".into()));
+        return Err(ZlevelError::Option(
+            "ramp angle must be below 90 degrees".into(),
+        ));
     }
     Ok(())
 }
@@ -295,7 +307,7 @@ pub fn zlevel_rough(
     let size = hi - lo + DVec2::splat(2.0 * (reach + 2.0 * g));
     let nx = (size.x / g).ceil() as usize + 1;
     let ny = (size.y / g).ceil() as usize + 1;
-    if !(nx.saturating_mul(ny) <= 4_000_000) {
+    if nx.saturating_mul(ny) > 4_000_000 {
         return Err(ZlevelError::Option(format!(
             "grid of {nx}×{ny} nodes at {g} mm is too fine for this stock"
         )));
@@ -356,20 +368,37 @@ pub fn zlevel_rough(
             let Some(&start) = lp.first() else { continue };
             let here = poses.last().map(|p| p.tip);
             let joined = here.is_some_and(|h| {
-                (h.z - z).abs() < 1e-9 && h.truncate().distance(start) <= 1.5 * s && segment_free(&field, h.truncate(), start, d0)
+                (h.z - z).abs() < 1e-9
+                    && h.truncate().distance(start) <= 1.5 * s
+                    && segment_free(&field, h.truncate(), start, d0)
             });
-            let cut = |p: DVec2, zz: f64| Pose::new(MoveKind::Cut, p.extend(zz), DVec3::Z, opts.feed_mm_per_min);
+            let cut = |p: DVec2, zz: f64| {
+                Pose::new(MoveKind::Cut, p.extend(zz), DVec3::Z, opts.feed_mm_per_min)
+            };
             if joined {
                 poses.push(cut(start, z));
             } else {
-                let rapid = |p: DVec3| Pose::new(MoveKind::Rapid, p, DVec3::Z, opts.feed_mm_per_min);
+                let rapid =
+                    |p: DVec3| Pose::new(MoveKind::Rapid, p, DVec3::Z, opts.feed_mm_per_min);
                 if let Some(h) = here {
                     poses.push(rapid(h.truncate().extend(clear_z)));
                 }
                 poses.push(rapid(start.extend(clear_z)));
                 poses.push(rapid(start.extend((above + 1.0).min(clear_z))));
-                poses.push(Pose::new(MoveKind::Plunge, start.extend(above), DVec3::Z, 0.5 * opts.feed_mm_per_min));
-                ramp(lp, above, z, opts.ramp_angle_rad.tan(), &mut poses, opts.feed_mm_per_min);
+                poses.push(Pose::new(
+                    MoveKind::Plunge,
+                    start.extend(above),
+                    DVec3::Z,
+                    0.5 * opts.feed_mm_per_min,
+                ));
+                ramp(
+                    lp,
+                    above,
+                    z,
+                    opts.ramp_angle_rad.tan(),
+                    &mut poses,
+                    opts.feed_mm_per_min,
+                );
             }
             for p in lp.iter().skip(1) {
                 poses.push(cut(*p, z));
@@ -378,11 +407,19 @@ pub fn zlevel_rough(
         above = z;
     }
     if let Some(p) = poses.last().copied() {
-        poses.push(Pose::new(MoveKind::Rapid, p.tip.truncate().extend(clear_z), DVec3::Z, opts.feed_mm_per_min));
+        poses.push(Pose::new(
+            MoveKind::Rapid,
+            p.tip.truncate().extend(clear_z),
+            DVec3::Z,
+            opts.feed_mm_per_min,
+        ));
     }
     let mut diagnostics = Vec::new();
     if contours == 0 {
-        diagnostics.push(Diagnostic::warning(None, "no material to rough: every level is blocked by the part"));
+        diagnostics.push(Diagnostic::warning(
+            None,
+            "no material to rough: every level is blocked by the part",
+        ));
     }
     Ok(ZlevelPlan {
         toolpath: Toolpath::new(tool.clone(), poses),
@@ -393,10 +430,12 @@ pub fn zlevel_rough(
 }
 
 fn perimeter(lp: &[DVec2]) -> f64 {
-    lp.windows(2).map(|w| match w {
-        [a, b] => a.distance(*b),
-        _ => 0.0,
-    }).sum()
+    lp.windows(2)
+        .map(|w| match w {
+            [a, b] => a.distance(*b),
+            _ => 0.0,
+        })
+        .sum()
 }
 
 /// Does the straight XY move stay where the distance field is at least `d0` (sampled at a
@@ -411,9 +450,19 @@ fn segment_free(field: &Field, a: DVec2, b: DVec2, d0: f64) -> bool {
             return false;
         }
         let (i0, j0) = (i0 as usize, j0 as usize);
-        let at = |i: usize, j: usize| if i < field.nx && j < field.ny { field.values.get(j * field.nx + i).copied().unwrap_or(0.0) } else { 0.0 };
+        let at = |i: usize, j: usize| {
+            if i < field.nx && j < field.ny {
+                field.values.get(j * field.nx + i).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            }
+        };
         // The smallest of the four corners: conservative.
-        at(i0, j0).min(at(i0 + 1, j0)).min(at(i0, j0 + 1)).min(at(i0 + 1, j0 + 1)) >= d0 - 0.5 * field.step
+        at(i0, j0)
+            .min(at(i0 + 1, j0))
+            .min(at(i0, j0 + 1))
+            .min(at(i0 + 1, j0 + 1))
+            >= d0 - 0.5 * field.step
     })
 }
 
@@ -438,7 +487,12 @@ fn ramp(lp: &[DVec2], z_from: f64, z_to: f64, k: f64, out: &mut Vec<Pose>, feed:
             let nz = z - k * len;
             if nz <= z_to {
                 let f = (z - z_to) / (k * len).max(1e-300);
-                out.push(Pose::new(MoveKind::Cut, (*a + (*b - *a) * f.clamp(0.0, 1.0)).extend(z_to), DVec3::Z, feed));
+                out.push(Pose::new(
+                    MoveKind::Cut,
+                    (*a + (*b - *a) * f.clamp(0.0, 1.0)).extend(z_to),
+                    DVec3::Z,
+                    feed,
+                ));
                 z = z_to;
                 // Finish this lap at the level so the loop then starts from its first point.
                 out.push(Pose::new(MoveKind::Cut, b.extend(z_to), DVec3::Z, feed));

@@ -70,7 +70,16 @@ impl Follower<'_> {
             if pts.is_empty() {
                 pts.push((*ta, *a));
             }
-            self.refine(origin, dir, (*ta, *a), (*tb, *b), None, 0, &mut pts, &mut gouge);
+            self.refine(
+                origin,
+                dir,
+                (*ta, *a),
+                (*tb, *b),
+                None,
+                0,
+                &mut pts,
+                &mut gouge,
+            );
         }
         if pts.is_empty()
             && let Some(&(t, cl)) = samples.first()
@@ -119,7 +128,10 @@ impl Follower<'_> {
             n.cl.map(|c| c.z - (a.1.z + (b.1.z - a.1.z) * f))
         };
         let devs = [chord(&q1), chord(&m), chord(&q3)];
-        let worst = devs.iter().flatten().fold(0.0_f64, |acc, d| acc.max(d.abs()));
+        let worst = devs
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |acc, d| acc.max(d.abs()));
         let can_split = depth < 30 && tb - ta > 2.0 * MIN_CHORD;
         if worst > 0.5 * self.chord_tol
             && can_split

@@ -8,6 +8,7 @@ use super::stepover::profile;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::tools::dropcutter::{ClPoint, drop_cutter};
+
 use crate::tools::{Cutter, CutterKind};
 
 /// Where passes may run.
@@ -21,9 +22,9 @@ pub(crate) enum Region<'a> {
 impl Region<'_> {
     pub(crate) fn contains(&self, p: DVec2) -> bool {
         match self {
-            Region::Silhouette(bvh, top) => {
-                bvh.ray_cast(p.extend(*top), DVec3::NEG_Z, f64::INFINITY).is_some()
-            }
+            Region::Silhouette(bvh, top) => bvh
+                .ray_cast(p.extend(*top), DVec3::NEG_Z, f64::INFINITY)
+                .is_some(),
             Region::Polygon(poly) => {
                 let mut inside = false;
                 let n = poly.len();
@@ -141,9 +142,11 @@ fn boundary(frame: &Frame, w: f64, t_a: f64, t_b: f64, region: &Region) -> f64 {
 }
 
 /// Cusp heights between two neighbouring passes per grid point: the highest point of the two
-/// tools' envelope in the vertical section across the passes, measured as its distance to the
-/// mesh (the remaining material thickness). None where either pass has no CL point or the mesh
-/// under the cusp is steeper than `max_slope`.
+/// tools' envelope in the vertical section across the passes (the instantaneous profiles, an
+/// upper bound of the swept envelope), measured as its distance to the mesh, i.e. the remaining
+/// material thickness there (exact on a plane, and it sees curvature across the passes). None
+/// where either pass has no CL point or the CL rises across the passes more steeply than
+/// `max_slope`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cusps(
     frame: &Frame,
@@ -152,19 +155,23 @@ pub(crate) fn cusps(
     b: &CoarsePass,
     cutter: &Cutter,
     bvh: &MeshBvh,
-    mesh: &TriMesh,
     cos_max_slope: f64,
 ) -> Vec<Option<f64>> {
     use rayon::prelude::*;
-    let n = grid.len();
-    (0..n)
+    let (wa, wb) = (a.w, b.w);
+    (0..grid.len())
         .into_par_iter()
         .map(|j| {
-            let (Some(Some(ca)), Some(Some(cb)), Some(&t)) = (a.cl.get(j), b.cl.get(j), grid.get(j))
+            let (Some(Some(ca)), Some(Some(cb)), Some(&t)) =
+                (a.cl.get(j), b.cl.get(j), grid.get(j))
             else {
                 return None;
             };
-            let (wa, wb) = (a.w, b.w);
+            let rise = (cb.z - ca.z).abs();
+            let run = (wb - wa).abs();
+            if rise * cos_max_slope > run * (1.0 - cos_max_slope * cos_max_slope).sqrt() {
+                return None; // steeper than the limit across the passes
+            }
             let pa = |x: f64| ca.z + profile(cutter, x - wa);
             let pb = |x: f64| cb.z + profile(cutter, x - wb);
             // pa − pb increases from wa to wb: bisection for the crossing.
@@ -180,13 +187,7 @@ pub(crate) fn cusps(
             }
             let x = 0.5 * (lo + hi);
             let z = pa(x).min(pb(x));
-            let p = frame.at(t, x).extend(z);
-            let hit = bvh.closest_point(p)?;
-            let [p0, p1, p2] = mesh.triangle_corners(hit.triangle)?;
-            let nrm = (p1 - p0).cross(p2 - p0).try_normalize()?;
-            if nrm.z.abs() < cos_max_slope {
-                return None;
-            }
+            let hit = bvh.closest_point(frame.at(t, x).extend(z))?;
             Some(hit.distance)
         })
         .collect()

@@ -103,7 +103,11 @@ impl StepoverTable {
     /// The XY step-over for a cross slope `phi` (rad); slopes past the table use its last entry.
     pub(crate) fn step(&self, phi: f64) -> f64 {
         let deg = phi.abs().to_degrees();
-        let i = if deg.is_finite() { deg.floor() as usize } else { usize::MAX };
+        let i = if deg.is_finite() {
+            deg.floor() as usize
+        } else {
+            usize::MAX
+        };
         self.steps
             .get(i)
             .or_else(|| self.steps.last())

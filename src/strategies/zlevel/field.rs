@@ -109,12 +109,26 @@ impl Field {
         let point = |e: usize| {
             let k = e / 2;
             let (i, j) = (k % nx, k / nx);
-            let (a, b, pa, pb) = if e % 2 == 0 {
-                (self.at(i, j), self.at(i + 1, j), self.node(i, j), self.node(i + 1, j))
+            let (a, b, pa, pb) = if e.is_multiple_of(2) {
+                (
+                    self.at(i, j),
+                    self.at(i + 1, j),
+                    self.node(i, j),
+                    self.node(i + 1, j),
+                )
             } else {
-                (self.at(i, j), self.at(i, j + 1), self.node(i, j), self.node(i, j + 1))
+                (
+                    self.at(i, j),
+                    self.at(i, j + 1),
+                    self.node(i, j),
+                    self.node(i, j + 1),
+                )
             };
-            let f = if (b - a).abs() > 0.0 { ((c - a) / (b - a)).clamp(0.0, 1.0) } else { 0.5 };
+            let f = if (b - a).abs() > 0.0 {
+                ((c - a) / (b - a)).clamp(0.0, 1.0)
+            } else {
+                0.5
+            };
             pa + (pb - pa) * f
         };
         let mut segs: Vec<(usize, usize)> = Vec::new();
@@ -125,8 +139,16 @@ impl Field {
                 let s2 = self.at(i + 1, j + 1) >= c;
                 let s3 = self.at(i, j + 1) >= c;
                 let (eb, er, et, el) = (h(i, j), v(i + 1, j), h(i, j + 1), v(i, j));
-                let case = usize::from(s0) | usize::from(s1) << 1 | usize::from(s2) << 2 | usize::from(s3) << 3;
-                let centre = 0.25 * (self.at(i, j) + self.at(i + 1, j) + self.at(i + 1, j + 1) + self.at(i, j + 1)) >= c;
+                let case = usize::from(s0)
+                    | usize::from(s1) << 1
+                    | usize::from(s2) << 2
+                    | usize::from(s3) << 3;
+                let centre = 0.25
+                    * (self.at(i, j)
+                        + self.at(i + 1, j)
+                        + self.at(i + 1, j + 1)
+                        + self.at(i, j + 1))
+                    >= c;
                 match case {
                     1 | 14 => segs.push((el, eb)),
                     2 | 13 => segs.push((eb, er)),
@@ -168,15 +190,19 @@ impl Field {
             if used.get(start).copied().unwrap_or(true) {
                 continue;
             }
-            let Some(&(e0, mut e)) = segs.get(start) else { continue };
+            let Some(&(e0, mut e)) = segs.get(start) else {
+                continue;
+            };
             if let Some(u) = used.get_mut(start) {
                 *u = true;
             }
             let mut pts = vec![point(e0), point(e)];
             while e != e0 {
-                let next = at_edge
-                    .get(&e)
-                    .and_then(|ks| ks.iter().copied().find(|k| !used.get(*k).copied().unwrap_or(true)));
+                let next = at_edge.get(&e).and_then(|ks| {
+                    ks.iter()
+                        .copied()
+                        .find(|k| !used.get(*k).copied().unwrap_or(true))
+                });
                 let Some(k) = next else { break };
                 if let Some(u) = used.get_mut(k) {
                     *u = true;
@@ -220,7 +246,10 @@ pub(crate) fn thin_loop(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
         if b <= a + 1 {
             continue;
         }
-        let (pa, pb) = (pts.get(a).copied().unwrap_or_default(), pts.get(b).copied().unwrap_or_default());
+        let (pa, pb) = (
+            pts.get(a).copied().unwrap_or_default(),
+            pts.get(b).copied().unwrap_or_default(),
+        );
         let mut worst = (0.0, a);
         for (k, p) in pts.iter().enumerate().take(b).skip(a + 1) {
             let d = seg_dist(*p, pa, pb);
@@ -236,13 +265,21 @@ pub(crate) fn thin_loop(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
             stack.push((worst.1, b));
         }
     }
-    pts.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+    pts.iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
 }
 
 fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let e = b - a;
     let l2 = e.length_squared();
-    let s = if l2 > 0.0 { ((p - a).dot(e) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let s = if l2 > 0.0 {
+        ((p - a).dot(e) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     p.distance(a + e * s)
 }
 
@@ -256,12 +293,15 @@ mod tests {
         let (nx, ny) = (13, 9);
         let mut free = vec![true; nx * ny];
         free[4 * nx + 3] = false;
-        free[1 * nx + 10] = false;
+        free[nx + 10] = false;
         let f = Field::distance(DVec2::ZERO, 0.5, nx, ny, &free);
         for j in 0..ny {
             for i in 0..nx {
                 let p = DVec2::new(i as f64, j as f64);
-                let want = p.distance(DVec2::new(3.0, 4.0)).min(p.distance(DVec2::new(10.0, 1.0))) * 0.5;
+                let want = p
+                    .distance(DVec2::new(3.0, 4.0))
+                    .min(p.distance(DVec2::new(10.0, 1.0)))
+                    * 0.5;
                 assert!((f.at(i, j) - want).abs() < 1e-12, "{i},{j}");
             }
         }
@@ -271,7 +311,12 @@ mod tests {
     #[test]
     fn contour_of_a_square() {
         let n = 21;
-        let free: Vec<bool> = (0..n * n).map(|k| { let (i, j) = (k % n, k / n); i > 0 && j > 0 && i < n - 1 && j < n - 1 }).collect();
+        let free: Vec<bool> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                i > 0 && j > 0 && i < n - 1 && j < n - 1
+            })
+            .collect();
         let f = Field::distance(DVec2::ZERO, 1.0, n, n, &free);
         let loops = f.contours(3.5);
         assert_eq!(loops.len(), 1);
