@@ -130,3 +130,81 @@ fn raster_ball_on_pocket_fillets_holds_the_scallop_without_gouge() {
     assert!(within >= 0.99, "only {within} of samples within h + tol");
     assert!(gouge <= 1e-3, "gouge {gouge} mm");
 }
+
+/// Z-level roughing of pocket-fillets from a box stock with a flat end mill: no cut pose (nor
+/// any point of a cut move) brings the tool closer to the part than the stock to leave, judged
+/// by the drop-cutter with the real tool; on the flat top and pocket floor the deepest level
+/// lies within one step-down above the stock to leave (the staircase).
+#[test]
+fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
+    use talas::geometry::DVec3;
+    use talas::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+    use talas::tools::dropcutter::drop_cutter;
+    let (mesh, bvh) = load("pocket-fillets.stl");
+    let t = tool("flat:d=10");
+    let (sd, dr, da) = (3.0, 0.5, 0.3);
+    let opts = ZlevelOptions {
+        stock: Stock::Box {
+            min: DVec3::new(-5.0, -5.0, 0.0),
+            max: DVec3::new(105.0, 85.0, 35.0),
+        },
+        step_down_mm: sd,
+        step_over_mm: 4.0,
+        stock_to_leave_radial_mm: dr,
+        stock_to_leave_axial_mm: da,
+        tolerance_mm: 0.5,
+        ..ZlevelOptions::default()
+    };
+    let plan = zlevel_rough(&mesh, &bvh, &t, &opts).unwrap();
+    let tp = &plan.toolpath;
+    tp.validate("<zlevel>").unwrap();
+    assert!(plan.contours > 10, "{} contours", plan.contours);
+    // Every point of every fed move, every 0.5 mm.
+    let mut pts: Vec<DVec3> = Vec::new();
+    for w in tp.poses.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if b.kind == MoveKind::Rapid {
+            continue;
+        }
+        let n = (a.tip.distance(b.tip) / 0.5).ceil().max(1.0) as usize;
+        for i in 0..=n {
+            pts.push(a.tip.lerp(b.tip, i as f64 / n as f64));
+        }
+    }
+    let xy: Vec<DVec2> = pts.iter().map(|p| p.truncate()).collect();
+    let cl = drop_cutter(&bvh, &mesh, &t.cutter, &xy);
+    let mut worst = f64::INFINITY;
+    for (p, c) in pts.iter().zip(&cl) {
+        if let Some(c) = c {
+            worst = worst.min(p.z - (c.z + da));
+        }
+    }
+    eprintln!(
+        "levels {:?}, contours {}, poses {}, closest approach (tip − CL − δa) {worst:.4} mm",
+        plan.levels,
+        plan.contours,
+        tp.poses.len()
+    );
+    let tol = 0.05;
+    assert!(
+        worst >= -tol,
+        "a cut comes {worst} mm inside the stock to leave"
+    );
+    // Staircase on the flat top (z = 30) and the pocket floor (z = 15).
+    let lowest_in = |lo: DVec2, hi: DVec2| {
+        tp.poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .filter(|p| p.tip.x >= lo.x && p.tip.y >= lo.y && p.tip.x <= hi.x && p.tip.y <= hi.y)
+            .map(|p| p.tip.z)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let top = lowest_in(DVec2::new(10.0, 3.0), DVec2::new(90.0, 12.0));
+    let floor = lowest_in(DVec2::new(35.0, 30.0), DVec2::new(65.0, 50.0));
+    eprintln!("lowest cut over the top {top:.3} mm, over the pocket floor {floor:.3} mm");
+    assert!(top >= 30.0 + da - tol && top <= 30.0 + da + sd, "top {top}");
+    assert!(
+        floor >= 15.0 + da - tol && floor <= 15.0 + da + sd,
+        "floor {floor}"
+    );
+}
