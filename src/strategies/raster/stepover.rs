@@ -69,12 +69,27 @@ pub(crate) fn planar_cusp(cutter: &Cutter, phi: f64, s: f64) -> f64 {
             - k * x
     };
     let n = 120;
-    let mut best = 0.0_f64;
+    let (mut best, mut at) = (f64::NEG_INFINITY, 0.0);
     for i in 0..=n {
         let x = s * f64::from(i) / f64::from(n);
-        best = best.max(env(x));
+        let e = env(x);
+        if e > best {
+            (best, at) = (e, x);
+        }
     }
-    best * phi.cos()
+    // Refine around the best sample (the envelope is unimodal near its cusp).
+    let dx = s / f64::from(n);
+    let (mut lo, mut hi) = ((at - dx).max(0.0), (at + dx).min(s));
+    for _ in 0..60 {
+        let a = lo + (hi - lo) / 3.0;
+        let b = hi - (hi - lo) / 3.0;
+        if env(a) < env(b) {
+            lo = a;
+        } else {
+            hi = b;
+        }
+    }
+    best.max(env(0.5 * (lo + hi))).max(0.0) * phi.cos()
 }
 
 impl StepoverTable {
