@@ -208,3 +208,42 @@ fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
         "floor {floor}"
     );
 }
+
+/// The CLI entry point: both mesh strategies from an STL, and clear errors for bad names.
+#[test]
+fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
+    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+    let file = Path::new("tests/data/pocket-fillets.stl");
+    let opts = MeshPlanOptions {
+        scallop_mm: 0.3,
+        tolerance_mm: 0.05,
+        stock: "box:-2,-2,0,102,82,32".into(),
+        step_down_mm: 5.0,
+        ..MeshPlanOptions::default()
+    };
+    let raster = plan_mesh(file, "raster", "ball:d=10", &opts).unwrap();
+    assert!(raster.summary.cut_length_mm > 1000.0);
+    // The raster never goes below the pocket floor's ball-tip height (15 mm).
+    assert!(
+        raster.summary.bbox_min.z >= 15.0 - 1e-6,
+        "{}",
+        raster.summary.bbox_min.z
+    );
+    let opts = MeshPlanOptions {
+        tolerance_mm: 0.5,
+        ..opts
+    };
+    let rough = plan_mesh(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
+    assert!(rough.summary.cut_length_mm > 500.0);
+    assert!(rough.poses.iter().any(|p| p.kind == MoveKind::Plunge));
+    let e = plan_mesh(file, "spiral", "ball:d=6", &opts).unwrap_err();
+    assert!(e.to_string().contains("--strategy"), "{e}");
+    let e = plan_mesh(file, "raster", "ball:d=-1", &opts).unwrap_err();
+    assert!(e.to_string().contains("--tool"), "{e}");
+    let bad_stock = MeshPlanOptions {
+        stock: "sphere".into(),
+        ..opts
+    };
+    let e = plan_mesh(file, "zlevel-rough", "flat:d=10", &bad_stock).unwrap_err();
+    assert!(e.to_string().contains("--stock"), "{e}");
+}
