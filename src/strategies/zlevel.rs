@@ -503,3 +503,27 @@ fn ramp(lp: &[DVec2], z_from: f64, z_to: f64, k: f64, out: &mut Vec<Pose>, feed:
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stock_specs_parse_and_measure() {
+        let part = Aabb {
+            min: DVec3::new(0.0, 0.0, 0.0),
+            max: DVec3::new(30.0, 40.0, 10.0),
+        };
+        let b = Stock::parse("box", &part).unwrap();
+        assert!((b.outside_by(DVec2::new(33.0, 44.0)) - 5.0).abs() < 1e-12);
+        assert!((b.outside_by(DVec2::new(10.0, 20.0)) + 10.0).abs() < 1e-12);
+        let c = Stock::parse("cylinder", &part).unwrap();
+        assert!((c.outside_by(DVec2::new(15.0, 20.0)) + 25.0).abs() < 1e-12);
+        let c = Stock::parse("cylinder:0,0,10,-1,5", &part).unwrap();
+        assert_eq!((c.bottom(), c.top()), (-1.0, 5.0));
+        assert!(Stock::parse("box:1,2,3", &part).is_err());
+        assert!(Stock::parse("cylinder:0,0,-1,0,5", &part).is_err());
+        assert!(Stock::parse("box:0,0,0,1,1,nan", &part).is_err());
+        assert!(Stock::parse("cone", &part).is_err());
+    }
+}
