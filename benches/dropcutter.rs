@@ -1,5 +1,5 @@
 //! Drop-cutter throughput (points per second) on `bicubic-hills.stl` for ball, flat, bull-nose and
-//! cone cutters over a 100×100 grid. `benches/dropcutter_ocl.py` compares heights and times with
+//! cone cutters over a 100×100 grid, and raster finishing planning time on the same part. `benches/dropcutter_ocl.py` compares heights and times with
 //! OpenCAMLib's BatchDropCutter on the same machine.
 
 use std::hint::black_box;
@@ -9,6 +9,8 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use talas::geometry::DVec2;
 use talas::geometry::bvh::MeshBvh;
 use talas::import::stl::{StlOptions, read_stl};
+use talas::strategies::raster::{RasterOptions, raster};
+use talas::toolpath::ToolRecord;
 use talas::tools::dropcutter::drop_cutter;
 use talas::tools::parse_tool_spec;
 
@@ -44,5 +46,28 @@ fn dropcutter(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, dropcutter);
+/// Raster finishing of the whole of bicubic-hills with a Ø6 ball (scallop 0.02 mm, chord
+/// 0.01 mm): planning time, drop-cutter included.
+fn raster_planning(c: &mut Criterion) {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl");
+    let stl = read_stl(&file, &StlOptions::default()).expect("test mesh reads");
+    let bvh = MeshBvh::new(&stl.mesh).expect("test mesh has triangles");
+    let tool = ToolRecord {
+        spec: "ball:d=6".into(),
+        cutter: parse_tool_spec("ball:d=6").expect("valid spec"),
+    };
+    let opts = RasterOptions {
+        scallop_mm: 0.02,
+        chord_tol_mm: 0.01,
+        ..RasterOptions::default()
+    };
+    let mut g = c.benchmark_group("raster");
+    g.sample_size(10);
+    g.bench_function("bicubic-hills ball:d=6 h=0.02", |b| {
+        b.iter(|| black_box(raster(&stl.mesh, &bvh, &tool, &opts)));
+    });
+    g.finish();
+}
+
+criterion_group!(benches, dropcutter, raster_planning);
 criterion_main!(benches);

@@ -4,6 +4,7 @@
 pub mod dropcutter;
 pub mod feed;
 pub mod inspect;
+pub mod plan_mesh;
 pub mod post;
 pub mod reduce;
 

@@ -1,13 +1,15 @@
 //! `talas reduce ZMAP.csv --tolerance T [--rank-rule R] [--rank N] [--tool-radius MM --step MM]
-//! [--json]`: SVD data reduction of a Z-map (CSV of heights, one grid row a line, no header).
+//! [--stl OUT.stl] [--json]`: SVD data reduction of a Z-map (CSV of heights, one grid row a line, no header).
 
 use std::path::PathBuf;
 
 use serde_json::{Value, json};
 
 use crate::import::ImportError;
+use crate::import::stl::{StlFormat, save_stl};
 use crate::reduce::{
-    Grid, RankRule, ReduceError, ReduceOptions, Resampling, point_spacing, reduce as run_reduce,
+    Grid, RankRule, ReduceError, ReduceOptions, Resampling, grid_mesh, point_spacing,
+    reduce as run_reduce,
 };
 
 /// Options of `talas reduce`.
@@ -31,6 +33,10 @@ pub struct ReduceArgs {
     /// Grid step γ of the Z-map (mm), used with --tool-radius.
     #[arg(long, value_name = "MM", default_value_t = 1.0)]
     pub step: f64,
+    /// Write the reduced Z-map as a binary STL (grid step --step, origin 0, the original
+    /// extent kept).
+    #[arg(long, value_name = "OUT.stl")]
+    pub stl: Option<PathBuf>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -71,6 +77,19 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         }),
     };
     let r = run_reduce(&grid, &opts).map_err(file_err)?;
+    if let Some(out) = &args.stl {
+        if !(args.step > 0.0 && args.step.is_finite()) {
+            return Err(ImportError::new(
+                &args.file,
+                None,
+                format!("--step must be a positive length in mm, got {}", args.step),
+            ));
+        }
+        let width = (grid.cols().saturating_sub(1)) as f64 * args.step;
+        let height = (grid.rows().saturating_sub(1)) as f64 * args.step;
+        let mesh = grid_mesh(&r.reduced, glam::DVec2::ZERO, width, height);
+        save_stl(out, &mesh, StlFormat::Binary)?;
+    }
     Ok(json!({
         "rows": grid.rows(),
         "cols": grid.cols(),
@@ -87,6 +106,7 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         "reduced_points": r.reduced.rows() * r.reduced.cols(),
         "max_error": r.max_error,
         "mean_error": r.mean_error,
+        "stl": args.stl.as_ref().map(|p| p.display().to_string()),
     }))
 }
 

@@ -16,9 +16,11 @@
 
 mod grid;
 mod svd;
+mod zmap;
 
 pub use grid::Grid;
 pub use svd::{SvdFactors, svd};
+pub use zmap::{grid_mesh, zmap_from_mesh};
 
 /// Why a Z-map could not be reduced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -2,3 +2,7 @@
 //! surfaces, raster finishing and Z-level roughing on meshes and Z-maps. Each strategy takes a
 //! part (or face), a cutter and its parameters, and returns a [`crate::toolpath::Toolpath`] plus
 //! diagnostics.
+
+pub mod raster;
+pub mod raster_check;
+pub mod zlevel;

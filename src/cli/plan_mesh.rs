@@ -1,0 +1,149 @@
+//! Planning on meshes for `talas plan`: raster finishing and Z-level roughing of an STL file or
+//! of a STEP part tessellated at the chord tolerance. The `plan` subcommand calls [`plan_mesh`].
+
+use std::path::Path;
+
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
+use crate::import::ImportError;
+use crate::import::step::read_step;
+use crate::import::stl::{StlOptions, read_stl};
+use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
+use crate::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+use crate::toolpath::{ToolRecord, Toolpath};
+use crate::tools::parse_tool_spec;
+
+/// Options of [`plan_mesh`] (each strategy reads the ones it needs).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MeshPlanOptions {
+    /// Raster: scallop height, mm.
+    pub scallop_mm: f64,
+    /// Chord tolerance (raster polyline, STEP tessellation, roughing contours), mm.
+    pub tolerance_mm: f64,
+    /// Raster: pass direction, degrees from +X.
+    pub angle_deg: f64,
+    /// Raster: `zigzag` or `oneway`.
+    pub pattern: String,
+    /// Roughing stock: `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1` or
+    /// `cylinder:CX,CY,R,Z0,Z1` (mm); raster ignores it.
+    pub stock: String,
+    /// Roughing step-down, mm.
+    pub step_down_mm: f64,
+    /// Roughing step-over as a fraction of the tool diameter.
+    pub step_over_fraction: f64,
+    /// Roughing stock to leave: radial (XY), mm.
+    pub stock_to_leave_radial_mm: f64,
+    /// Roughing stock to leave: axial (Z), mm.
+    pub stock_to_leave_axial_mm: f64,
+    /// Cutting feed, mm/min.
+    pub feed_mm_per_min: f64,
+    /// Clearance above the part (raster) or the stock (roughing), mm.
+    pub clearance_mm: f64,
+}
+
+impl Default for MeshPlanOptions {
+    fn default() -> Self {
+        Self {
+            scallop_mm: 0.01,
+            tolerance_mm: 0.01,
+            angle_deg: 0.0,
+            pattern: "zigzag".into(),
+            stock: "box".into(),
+            step_down_mm: 2.0,
+            step_over_fraction: 0.4,
+            stock_to_leave_radial_mm: 0.3,
+            stock_to_leave_axial_mm: 0.3,
+            feed_mm_per_min: 1000.0,
+            clearance_mm: 5.0,
+        }
+    }
+}
+
+/// Read an STL or STEP file as a mesh (STEP tessellated at `tol` mm).
+///
+/// # Errors
+/// The reader's [`ImportError`], or one for a part that tessellates to nothing.
+pub fn read_mesh(file: &Path, tol: f64) -> Result<TriMesh, ImportError> {
+    let is_stl = file
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("stl"));
+    if is_stl {
+        return Ok(read_stl(file, &StlOptions::default())?.mesh);
+    }
+    let part = read_step(file)?;
+    let opts = if tol > 0.0 && tol.is_finite() {
+        TessellationOptions::with_chord_tol(tol)
+    } else {
+        TessellationOptions::for_size(part.rough_bbox().diagonal())
+    };
+    Ok(tessellate_part(&part, &opts).mesh)
+}
+
+/// Plan `strategy` (`raster` or `zlevel-rough`) on the part in `file` with the tool `tool_spec`.
+///
+/// # Errors
+/// An [`ImportError`] naming the file for unreadable input, and naming the option for a bad
+/// tool spec, strategy, pattern, stock or value.
+pub fn plan_mesh(
+    file: &Path,
+    strategy: &str,
+    tool_spec: &str,
+    opts: &MeshPlanOptions,
+) -> Result<Toolpath, ImportError> {
+    let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
+    let cutter = parse_tool_spec(tool_spec).map_err(|e| bad("--tool", e.to_string()))?;
+    let tool = ToolRecord {
+        spec: tool_spec.to_string(),
+        cutter,
+    };
+    if strategy != "raster" && strategy != "zlevel-rough" {
+        return Err(bad(
+            "--strategy",
+            format!("mesh strategies are 'raster' and 'zlevel-rough', got '{strategy}'"),
+        ));
+    }
+    let mesh = read_mesh(file, opts.tolerance_mm)?;
+    let bvh = MeshBvh::new(&mesh).map_err(|e| ImportError::new(file, None, e.to_string()))?;
+    if strategy == "raster" {
+        let pattern = match opts.pattern.as_str() {
+            "zigzag" | "zig-zag" => RasterPattern::ZigZag,
+            "oneway" | "one-way" => RasterPattern::OneWay,
+            other => {
+                return Err(bad(
+                    "--pattern",
+                    format!("pattern must be 'zigzag' or 'oneway', got '{other}'"),
+                ));
+            }
+        };
+        let ropts = RasterOptions {
+            angle_rad: opts.angle_deg.to_radians(),
+            pattern,
+            scallop_mm: opts.scallop_mm,
+            chord_tol_mm: opts.tolerance_mm,
+            boundary: Boundary::Silhouette,
+            clearance_mm: opts.clearance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
+            ..RasterOptions::default()
+        };
+        let plan = raster(&mesh, &bvh, &tool, &ropts).map_err(|e| bad("raster", e.to_string()))?;
+        return Ok(plan.toolpath);
+    }
+    let stock = Stock::parse(&opts.stock, &mesh.bbox()).map_err(|e| bad("--stock", e))?;
+    let zopts = ZlevelOptions {
+        stock,
+        step_down_mm: opts.step_down_mm,
+        step_over_mm: opts.step_over_fraction * tool.cutter.diameter,
+        stock_to_leave_radial_mm: opts.stock_to_leave_radial_mm,
+        stock_to_leave_axial_mm: opts.stock_to_leave_axial_mm,
+        tolerance_mm: opts.tolerance_mm.max(1e-3),
+        feed_mm_per_min: opts.feed_mm_per_min,
+        clearance_mm: opts.clearance_mm,
+        ..ZlevelOptions::default()
+    };
+    let plan =
+        zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
+    Ok(plan.toolpath)
+}

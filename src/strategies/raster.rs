@@ -1,0 +1,517 @@
+//! Raster (parallel) finishing on a triangle mesh with the drop-cutter, for ball, flat and
+//! bull-nose cutters (any profile the drop-cutter handles).
+//!
+//! - **Passes** are parallel lines at `angle_rad` from +X, machined zig-zag or one-way.
+//! - **Step-over** comes from the scallop height h with the local slope taken into account: the
+//!   next pass is first placed at the step a plane inclined at the steepest cross slope met on
+//!   the current pass allows (`stepover` explains the table; for a ball s = 2√(2Rh − h²)·cos φ),
+//!   then the cusp between the two actual passes is measured every grid point (the highest point
+//!   of the two tools' envelope in the vertical section across the passes, as its distance to
+//!   the mesh) and the step is shrunk until every cusp is ≤ h. That second step catches concave
+//!   curvature across the passes, which the planar rule underestimates (by R_s/(R_s − R) on a
+//!   fillet of radius R_s). Grid points whose cusp does not shrink with the step (a valley
+//!   narrower than the tool) stop counting: that material is not a scallop. Areas steeper than `max_slope_rad` are not held to h (a raster pass
+//!   cannot control the scallop on walls; a Z-level finish does).
+//! - **Sampling along a pass**: drop-cutter on a grid of step `sample_step_mm`, then chords are
+//!   bisected until the CL polyline follows the true CL curve within the chord tolerance, lifted
+//!   where a chord would dip under the true CL, and collinear points are dropped (`follow`).
+//! - **Boundary**: the part's silhouette (the tool axis stays over the mesh's XY outline) or a
+//!   user polygon; ends of runs are found by bisection.
+//! - **Links**: between runs closer than `max_link_mm` the tool stays down, following the CL
+//!   surface along the straight XY link (a fed `Link`, gouge-free by construction); otherwise it
+//!   retracts: rapid up to the clearance plane, rapid across, rapid down to 1 mm above the
+//!   next start and plunge.
+//!
+//! Every pose carries its drop-cutter contact point and kind, and the predicted scallop toward
+//! its neighbouring passes.
+
+mod follow;
+mod passes;
+mod stepover;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use crate::diagnostics::{Diagnostic, Progress};
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
+use crate::tools::dropcutter::{ClPoint, Contact, drop_cutter};
+use follow::{ClSample, Follower};
+use passes::{CoarsePass, Region, coarse_pass, contact_normal, cusps};
+use stepover::StepoverTable;
+
+/// The order of passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RasterPattern {
+    /// Alternate directions: every other pass is machined backwards.
+    ZigZag,
+    /// Every pass in the same direction (climb or conventional throughout); retract between.
+    OneWay,
+}
+
+/// Where the passes run.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Boundary {
+    /// The part's XY outline: the tool axis stays over the mesh.
+    Silhouette,
+    /// A closed XY polygon (mm, even-odd rule, at least 3 vertices).
+    Polygon(Vec<DVec2>),
+}
+
+/// Options of [`raster`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RasterOptions {
+    /// Pass direction, rad from +X.
+    pub angle_rad: f64,
+    /// Zig-zag or one-way.
+    pub pattern: RasterPattern,
+    /// Scallop height h, mm (> 0).
+    pub scallop_mm: f64,
+    /// Chord tolerance of the CL polyline against the true CL curve, mm (> 0).
+    pub chord_tol_mm: f64,
+    /// Where passes run.
+    pub boundary: Boundary,
+    /// Clearance plane height above the part's top, mm (≥ 0).
+    pub clearance_mm: f64,
+    /// Cutting (and link) feed, mm/min.
+    pub feed_mm_per_min: f64,
+    /// Plunge feed, mm/min.
+    pub plunge_feed_mm_per_min: f64,
+    /// Steepest cross slope held to the scallop, rad (0 < slope < 90°).
+    pub max_slope_rad: f64,
+    /// Longest XY link on which the tool stays down, mm.
+    pub max_link_mm: f64,
+    /// Grid step of the first drop-cutter samples along a pass, mm (None: R/2, within
+    /// 0.05–2 mm).
+    pub sample_step_mm: Option<f64>,
+}
+
+impl Default for RasterOptions {
+    fn default() -> Self {
+        Self {
+            angle_rad: 0.0,
+            pattern: RasterPattern::ZigZag,
+            scallop_mm: 0.01,
+            chord_tol_mm: 0.01,
+            boundary: Boundary::Silhouette,
+            clearance_mm: 5.0,
+            feed_mm_per_min: 1000.0,
+            plunge_feed_mm_per_min: 300.0,
+            max_slope_rad: 70f64.to_radians(),
+            max_link_mm: 10.0,
+            sample_step_mm: None,
+        }
+    }
+}
+
+/// Why a raster path could not be planned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RasterError {
+    /// An option is out of range.
+    #[error("invalid raster option: {0}")]
+    Option(String),
+    /// The region holds no pass (the boundary misses the part).
+    #[error("no pass lies inside the boundary over the part")]
+    Empty,
+    /// Cancelled through the progress handle.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// A planned raster path and what the planner found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RasterPlan {
+    /// The tool path.
+    pub toolpath: Toolpath,
+    /// Number of passes.
+    pub passes: usize,
+    /// Largest predicted cusp between neighbouring passes on slopes up to the limit, mm.
+    pub max_predicted_scallop_mm: f64,
+    /// Notes (passes at the smallest step that still exceed h, ...).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The pass frame: t along the passes, w across.
+pub(crate) struct Frame {
+    u: DVec2,
+    c: DVec2,
+}
+
+impl Frame {
+    fn new(angle: f64) -> Self {
+        let u = DVec2::new(angle.cos(), angle.sin());
+        Self { u, c: u.perp() }
+    }
+
+    pub(crate) fn at(&self, t: f64, w: f64) -> DVec2 {
+        self.u * t + self.c * w
+    }
+}
+
+/// Plan raster finishing of `mesh` (with its hierarchy `bvh`) with `tool`.
+///
+/// # Errors
+/// [`RasterError::Option`] for a bad option, [`RasterError::Empty`] when no pass lies over the
+/// part inside the boundary.
+pub fn raster(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    tool: &ToolRecord,
+    opts: &RasterOptions,
+) -> Result<RasterPlan, RasterError> {
+    raster_progress(mesh, bvh, tool, opts, &Progress::new())
+}
+
+fn check_options(opts: &RasterOptions) -> Result<(), RasterError> {
+    let positive = [
+        ("scallop height", opts.scallop_mm),
+        ("chord tolerance", opts.chord_tol_mm),
+        ("feed", opts.feed_mm_per_min),
+        ("plunge feed", opts.plunge_feed_mm_per_min),
+    ];
+    for (what, v) in positive {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(RasterError::Option(format!(
+                "{what} must be positive, got {v}"
+            )));
+        }
+    }
+    if !opts.angle_rad.is_finite() {
+        return Err(RasterError::Option("angle must be finite".into()));
+    }
+    if !(opts.clearance_mm >= 0.0 && opts.clearance_mm.is_finite()) {
+        return Err(RasterError::Option(format!(
+            "clearance must be ≥ 0 mm, got {}",
+            opts.clearance_mm
+        )));
+    }
+    if !(opts.max_link_mm >= 0.0 && opts.max_link_mm.is_finite()) {
+        return Err(RasterError::Option("max link length must be ≥ 0 mm".into()));
+    }
+    if !(opts.max_slope_rad > 0.0 && opts.max_slope_rad < 89.5f64.to_radians()) {
+        return Err(RasterError::Option(
+            "steepest slope must be between 0 and 89 degrees".into(),
+        ));
+    }
+    if let Some(s) = opts.sample_step_mm
+        && !(s > 0.0 && s.is_finite())
+    {
+        return Err(RasterError::Option(format!(
+            "sample step must be positive, got {s}"
+        )));
+    }
+    if let Boundary::Polygon(p) = &opts.boundary
+        && (p.len() < 3 || p.iter().any(|v| !v.is_finite()))
+    {
+        return Err(RasterError::Option(
+            "boundary polygon needs at least 3 finite vertices".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// [`raster`] reporting progress and stopping when cancelled.
+///
+/// # Errors
+/// As [`raster`], plus [`RasterError::Cancelled`].
+pub fn raster_progress(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    tool: &ToolRecord,
+    opts: &RasterOptions,
+    progress: &Progress,
+) -> Result<RasterPlan, RasterError> {
+    check_options(opts)?;
+    let cutter = &tool.cutter;
+    cutter
+        .validate()
+        .map_err(|e| RasterError::Option(e.to_string()))?;
+    let big = cutter.radius();
+    let h = opts.scallop_mm;
+    let frame = Frame::new(opts.angle_rad);
+    let bbox = bvh.bbox();
+    let top = bbox.max.z;
+    let outline: Vec<DVec2> = match &opts.boundary {
+        Boundary::Silhouette => vec![
+            bbox.min.truncate(),
+            DVec2::new(bbox.max.x, bbox.min.y),
+            bbox.max.truncate(),
+            DVec2::new(bbox.min.x, bbox.max.y),
+        ],
+        Boundary::Polygon(p) => p.clone(),
+    };
+    let region = match &opts.boundary {
+        Boundary::Silhouette => Region::Silhouette(bvh, top + 1.0),
+        Boundary::Polygon(p) => Region::Polygon(p),
+    };
+    let (mut tmin, mut tmax, mut wmin, mut wmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in &outline {
+        let (t, w) = (p.dot(frame.u), p.dot(frame.c));
+        tmin = tmin.min(t);
+        tmax = tmax.max(t);
+        wmin = wmin.min(w);
+        wmax = wmax.max(w);
+    }
+    let dt_wanted = opts.sample_step_mm.unwrap_or((0.5 * big).clamp(0.05, 2.0));
+    let count = ((tmax - tmin) / dt_wanted).ceil();
+    if !(count.is_finite() && count <= 1.0e6) {
+        return Err(RasterError::Option(format!(
+            "sample step {dt_wanted} mm gives too many samples over {} mm",
+            tmax - tmin
+        )));
+    }
+    let count = (count as usize).max(1);
+    let dt = (tmax - tmin) / count as f64;
+    let grid: Vec<f64> = (0..=count).map(|j| tmin + dt * j as f64).collect();
+
+    let table = StepoverTable::new(cutter, h, opts.max_slope_rad);
+    let s0 = table.step(0.0);
+    if !(s0 > 0.0) {
+        return Err(RasterError::Option(format!(
+            "scallop {h} mm gives no step-over for this cutter"
+        )));
+    }
+    let s_min = (0.05 * s0).max(1.0e-3);
+    let cos_max = opts.max_slope_rad.cos();
+    let eps = 1.0e-3_f64.min(0.25 * (wmax - wmin));
+    let (w_first, w_last) = (wmin + eps, wmax - eps);
+    let mut diagnostics = Vec::new();
+
+    // Passes, one after the other, each at the largest step that keeps its cusps ≤ h.
+    let mut passes: Vec<CoarsePass> = Vec::new();
+    let mut between: Vec<Vec<Option<f64>>> = Vec::new();
+    let mut cur = coarse_pass(&frame, w_first, &grid, &region, bvh, mesh, cutter);
+    let mut over = 0usize;
+    loop {
+        progress.check().map_err(|_| RasterError::Cancelled)?;
+        progress.set(0.5 * (cur.w - wmin) / (wmax - wmin).max(1e-12));
+        if cur.w >= w_last - 1e-9 {
+            passes.push(cur);
+            break;
+        }
+        let steepest = cur
+            .cl
+            .iter()
+            .zip(&grid)
+            .filter_map(|(cl, t)| cl.as_ref().map(|cl| (cl, *t)))
+            .map(|(cl, t)| {
+                let tip = frame.at(t, cur.w).extend(cl.z);
+                let n = contact_normal(cutter, mesh, tip, cl);
+                let across = n.truncate().dot(frame.c).abs();
+                across.atan2(n.z.max(0.0)).min(opts.max_slope_rad)
+            })
+            .fold(0.0_f64, f64::max);
+        let mut s = table.step(steepest).max(s_min);
+        let mut tries = 0;
+        // Grid points whose cusp does not shrink with the step hold material the cutter cannot
+        // reach (a valley narrower than the tool), not a scallop: they stop counting.
+        let mut stuck = vec![false; grid.len()];
+        let mut last: Option<Vec<Option<f64>>> = None;
+        let (next, cusp) = loop {
+            let w = (cur.w + s).min(w_last);
+            let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
+            let cusp = cusps(&frame, &grid, &cur, &next, cutter, bvh, cos_max);
+            if let Some(prev) = &last {
+                for ((st, new), old) in stuck.iter_mut().zip(&cusp).zip(prev) {
+                    if let (Some(n), Some(o)) = (new, old)
+                        && *n > h
+                        && *n >= 0.8 * o
+                    {
+                        *st = true;
+                    }
+                }
+            }
+            let worst = cusp
+                .iter()
+                .zip(&stuck)
+                .filter(|(_, st)| !**st)
+                .filter_map(|(c, _)| *c)
+                .fold(0.0_f64, f64::max);
+            tries += 1;
+            if worst <= h || s <= s_min || tries >= 8 {
+                if worst > h {
+                    over += 1;
+                }
+                break (next, cusp);
+            }
+            last = Some(cusp);
+            let f = (0.95 * (h / worst).sqrt()).clamp(0.3, 0.9);
+            s = (s * f).max(s_min);
+        };
+        passes.push(std::mem::replace(&mut cur, next));
+        between.push(cusp);
+    }
+    if over > 0 {
+        diagnostics.push(Diagnostic::warning(
+            None,
+            format!(
+                "{over} pass gaps keep a cusp above the scallop height {h} mm at the smallest step {s_min:.4} mm"
+            ),
+        ));
+    }
+    let max_pred = between
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(0.0_f64, |a, b| a.max(*b));
+
+    // Follow every run of every pass (in parallel, results in order).
+    let follower = Follower {
+        bvh,
+        mesh,
+        cutter,
+        chord_tol: opts.chord_tol_mm,
+    };
+    let followed: Vec<Vec<Vec<ClSample>>> = passes
+        .par_iter()
+        .map(|p| {
+            p.runs
+                .iter()
+                .map(|run| follower.follow(frame.at(0.0, p.w), frame.u, run))
+                .filter(|r| !r.is_empty())
+                .collect()
+        })
+        .collect();
+    progress.check().map_err(|_| RasterError::Cancelled)?;
+    if followed.iter().all(Vec::is_empty) {
+        return Err(RasterError::Empty);
+    }
+
+    // Order the runs, attach the predicted scallop, and link them.
+    let mut runs: Vec<Vec<Pose>> = Vec::new();
+    for (k, pass_runs) in followed.iter().enumerate() {
+        let prev = k.checked_sub(1).and_then(|i| between.get(i));
+        let next = between.get(k);
+        let mut rs: Vec<Vec<Pose>> = pass_runs
+            .iter()
+            .map(|run| {
+                run.iter()
+                    .map(|s| {
+                        let j = ((s.t - tmin) / dt).round().max(0.0) as usize;
+                        let pick = |v: Option<&Vec<Option<f64>>>| {
+                            v.and_then(|v| v.get(j)).copied().flatten()
+                        };
+                        let sc = match (pick(prev), pick(next)) {
+                            (Some(a), Some(b)) => Some(a.max(b)),
+                            (a, b) => a.or(b),
+                        };
+                        let pose = Pose::new(MoveKind::Cut, s.tip, DVec3::Z, opts.feed_mm_per_min)
+                            .with_contact(s.cl.cc, contact_kind(s.cl.contact));
+                        match sc {
+                            Some(v) => pose.with_scallop(v),
+                            None => pose,
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        if opts.pattern == RasterPattern::ZigZag && k % 2 == 1 {
+            rs.reverse();
+            for r in &mut rs {
+                r.reverse();
+            }
+        }
+        runs.extend(rs);
+    }
+    let clear_z = top + opts.clearance_mm;
+    let poses = link_runs(&runs, &follower, opts, clear_z, dt);
+    progress.set(1.0);
+    Ok(RasterPlan {
+        toolpath: Toolpath::new(tool.clone(), poses),
+        passes: passes.len(),
+        max_predicted_scallop_mm: max_pred,
+        diagnostics,
+    })
+}
+
+fn contact_kind(c: Contact) -> ContactKind {
+    match c {
+        Contact::Vertex => ContactKind::MeshVertex,
+        Contact::Edge => ContactKind::MeshEdge,
+        Contact::Facet => ContactKind::MeshFacet,
+    }
+}
+
+/// Join the runs: stay down along the CL surface over short links, retract otherwise.
+fn link_runs(
+    runs: &[Vec<Pose>],
+    follower: &Follower,
+    opts: &RasterOptions,
+    clear_z: f64,
+    dt: f64,
+) -> Vec<Pose> {
+    let mut out: Vec<Pose> = Vec::new();
+    let rapid = |p: DVec3| Pose::new(MoveKind::Rapid, p, DVec3::Z, opts.feed_mm_per_min);
+    for run in runs {
+        let (Some(first), Some(_)) = (run.first(), run.last()) else {
+            continue;
+        };
+        let stay = out
+            .last()
+            .and_then(|p| stay_down(p, first, follower, opts, dt));
+        let stayed = stay.is_some();
+        match stay {
+            Some(link) => out.extend(link),
+            None => {
+                if let Some(p) = out.last().copied() {
+                    out.push(rapid(p.tip.truncate().extend(clear_z)));
+                }
+                out.push(rapid(first.tip.truncate().extend(clear_z)));
+                let approach = (first.tip.z + 1.0).min(clear_z);
+                out.push(rapid(first.tip.truncate().extend(approach)));
+                let mut plunge = *first;
+                plunge.kind = MoveKind::Plunge;
+                plunge.feed_mm_per_min = opts.plunge_feed_mm_per_min;
+                out.push(plunge);
+            }
+        }
+        let skip = usize::from(!stayed);
+        out.extend(run.iter().skip(skip).copied());
+    }
+    if let Some(p) = out.last().copied() {
+        out.push(rapid(p.tip.truncate().extend(clear_z)));
+    }
+    out
+}
+
+/// The fed link from `from` to `to` along the CL surface, when short and over the part.
+fn stay_down(
+    from: &Pose,
+    to: &Pose,
+    follower: &Follower,
+    opts: &RasterOptions,
+    dt: f64,
+) -> Option<Vec<Pose>> {
+    let (a, b) = (from.tip.truncate(), to.tip.truncate());
+    let len = a.distance(b);
+    if len > opts.max_link_mm {
+        return None;
+    }
+    if len < 1e-9 {
+        return Some(Vec::new());
+    }
+    let dir = (b - a) / len;
+    let n = (len / dt).ceil().max(1.0) as usize;
+    let ts: Vec<f64> = (0..=n).map(|i| len * i as f64 / n as f64).collect();
+    let xy: Vec<DVec2> = ts.iter().map(|t| a + dir * *t).collect();
+    let cls = drop_cutter(follower.bvh, follower.mesh, follower.cutter, &xy);
+    let samples: Option<Vec<(f64, ClPoint)>> = ts
+        .iter()
+        .zip(cls)
+        .map(|(t, c)| c.map(|c| (*t, c)))
+        .collect();
+    let path = follower.follow(a, dir, &samples?);
+    // The ends may sit at another height than the runs' own ends (each is lifted on its own):
+    // the vertical moves between them stay above the CL at that XY.
+    Some(
+        path.iter()
+            .map(|s| {
+                Pose::new(MoveKind::Link, s.tip, DVec3::Z, opts.feed_mm_per_min)
+                    .with_contact(s.cl.cc, contact_kind(s.cl.contact))
+            })
+            .collect(),
+    )
+}

@@ -1,0 +1,529 @@
+//! Z-level (waterline) roughing of a mesh from a box or cylinder stock.
+//!
+//! **Slicing.** The part is sliced through the drop-cutter CL surface on a regular grid (a CL
+//! Z-map): with radial stock δr the drop-cutter runs with the cutter offset by δr (ball R + δr;
+//! flat → bull-nose with corner δr; bull-nose r → r + δr), whose tip lies δr below the real
+//! tip, so the real tool keeps δr from the part in every direction where
+//! tip ≥ CL_offset + δr; the axial stock δa raises this to tip ≥ CL_offset + max(δr, δa). At a
+//! level z the tool centre is free where that holds and where the centre lies within the stock
+//! grown by 0.9·R (so the outermost pass trims the stock's skin).
+//!
+//! **Clearing.** Each level's free region is cleared by offset contours of its boundary: the
+//! level sets φ = d₀ + k·s of the Euclidean distance φ to the nearest blocked grid node
+//! (`field`: exact distance transform, marching squares, Douglas–Peucker), d₀ = one grid step
+//! (the grid's own uncertainty), s = the step-over. Contours run from the inside out (largest
+//! φ first), so each level starts in the middle of its region.
+//!
+//! **Entry and links.** A contour is entered by a ramp along itself from the level above (a
+//! region cleared at the level above, and the free region only grows upward, so the ramp is
+//! clear of the part and cuts at most one step-down), at `ramp_angle_rad`: no full-width
+//! plunge into material. Neighbouring contours closer than 1.5 step-overs are joined by a fed
+//! move at the level when the straight link stays in the free region; otherwise the tool
+//! retracts straight up from where it has just cut (over cleared area), rapids at the clearance
+//! plane, rapids down to 1 mm above the level above (cleared), plunges through cleared air to
+//! that level and ramps down.
+
+mod field;
+
+use glam::{DVec2, DVec3};
+
+use crate::diagnostics::Diagnostic;
+use crate::geometry::Aabb;
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
+use crate::tools::dropcutter::drop_cutter;
+use crate::tools::{Cutter, CutterKind};
+use field::{Field, thin_loop};
+
+/// The raw material.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stock {
+    /// An axis-aligned box, mm.
+    Box {
+        /// Lowest corner.
+        min: DVec3,
+        /// Highest corner.
+        max: DVec3,
+    },
+    /// A vertical cylinder, mm.
+    Cylinder {
+        /// Axis position in XY.
+        centre: DVec2,
+        /// Radius.
+        radius: f64,
+        /// Bottom height.
+        z0: f64,
+        /// Top height.
+        z1: f64,
+    },
+}
+
+impl Stock {
+    /// Parse `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1`, `cylinder` (the smallest vertical
+    /// cylinder around the part's box) or `cylinder:CX,CY,R,Z0,Z1` (mm).
+    ///
+    /// # Errors
+    /// A message naming what is wrong.
+    pub fn parse(spec: &str, part: &Aabb) -> Result<Self, String> {
+        let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
+        let nums: Result<Vec<f64>, String> = if rest.is_empty() {
+            Ok(Vec::new())
+        } else {
+            rest.split(',')
+                .map(|v| {
+                    v.trim()
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
+                        .ok_or_else(|| format!("'{v}' is not a number in stock '{spec}'"))
+                })
+                .collect()
+        };
+        let nums = nums?;
+        let stock = match (kind, nums.as_slice()) {
+            ("box", []) => Self::Box {
+                min: part.min,
+                max: part.max,
+            },
+            ("box", [x0, y0, z0, x1, y1, z1]) => Self::Box {
+                min: DVec3::new(x0.min(*x1), y0.min(*y1), z0.min(*z1)),
+                max: DVec3::new(x0.max(*x1), y0.max(*y1), z0.max(*z1)),
+            },
+            ("cylinder", []) => Self::Cylinder {
+                centre: 0.5 * (part.min + part.max).truncate(),
+                radius: 0.5 * (part.max - part.min).truncate().length(),
+                z0: part.min.z,
+                z1: part.max.z,
+            },
+            ("cylinder", [cx, cy, r, z0, z1]) => Self::Cylinder {
+                centre: DVec2::new(*cx, *cy),
+                radius: *r,
+                z0: z0.min(*z1),
+                z1: z0.max(*z1),
+            },
+            _ => {
+                return Err(format!(
+                    "stock must be 'box', 'box:X0,Y0,Z0,X1,Y1,Z1', 'cylinder' or 'cylinder:CX,CY,R,Z0,Z1', got '{spec}'"
+                ));
+            }
+        };
+        let ok = match stock {
+            Self::Box { min, max } => {
+                min.is_finite()
+                    && max.is_finite()
+                    && (max - min).truncate().min_element() > 0.0
+                    && max.z > min.z
+            }
+            Self::Cylinder { radius, z0, z1, .. } => radius > 0.0 && z1 > z0,
+        };
+        if ok {
+            Ok(stock)
+        } else {
+            Err(format!("stock '{spec}' is empty"))
+        }
+    }
+
+    fn top(&self) -> f64 {
+        match self {
+            Self::Box { max, .. } => max.z,
+            Self::Cylinder { z1, .. } => *z1,
+        }
+    }
+
+    fn bottom(&self) -> f64 {
+        match self {
+            Self::Box { min, .. } => min.z,
+            Self::Cylinder { z0, .. } => *z0,
+        }
+    }
+
+    /// XY box of the stock.
+    fn xy_box(&self) -> (DVec2, DVec2) {
+        match self {
+            Self::Box { min, max } => (min.truncate(), max.truncate()),
+            Self::Cylinder { centre, radius, .. } => (
+                *centre - DVec2::splat(*radius),
+                *centre + DVec2::splat(*radius),
+            ),
+        }
+    }
+
+    /// Distance in XY from the stock's outline (≤ 0 inside).
+    fn outside_by(&self, p: DVec2) -> f64 {
+        match self {
+            Self::Box { min, max } => {
+                let d = (min.truncate() - p).max(p - max.truncate());
+                if d.x > 0.0 || d.y > 0.0 {
+                    d.max(DVec2::ZERO).length()
+                } else {
+                    d.x.max(d.y)
+                }
+            }
+            Self::Cylinder { centre, radius, .. } => p.distance(*centre) - radius,
+        }
+    }
+}
+
+/// Options of [`zlevel_rough`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ZlevelOptions {
+    /// The raw material.
+    pub stock: Stock,
+    /// Distance between levels, mm.
+    pub step_down_mm: f64,
+    /// Distance between neighbouring contours, mm (at most the tool diameter).
+    pub step_over_mm: f64,
+    /// Material left on the part in XY, mm.
+    pub stock_to_leave_radial_mm: f64,
+    /// Material left on the part in Z, mm.
+    pub stock_to_leave_axial_mm: f64,
+    /// Grid step of the CL Z-map (and so the contours' accuracy), mm.
+    pub tolerance_mm: f64,
+    /// Ramp angle of the entry, rad from horizontal.
+    pub ramp_angle_rad: f64,
+    /// Cutting feed, mm/min.
+    pub feed_mm_per_min: f64,
+    /// Clearance plane above the stock top, mm.
+    pub clearance_mm: f64,
+}
+
+impl Default for ZlevelOptions {
+    fn default() -> Self {
+        Self {
+            stock: Stock::Box {
+                min: DVec3::ZERO,
+                max: DVec3::ONE,
+            },
+            step_down_mm: 2.0,
+            step_over_mm: 4.0,
+            stock_to_leave_radial_mm: 0.3,
+            stock_to_leave_axial_mm: 0.3,
+            tolerance_mm: 0.25,
+            ramp_angle_rad: 5f64.to_radians(),
+            feed_mm_per_min: 1000.0,
+            clearance_mm: 5.0,
+        }
+    }
+}
+
+/// Why roughing could not be planned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ZlevelError {
+    /// An option is out of range.
+    #[error("invalid roughing option: {0}")]
+    Option(String),
+    /// The cutter kind is not supported (cones).
+    #[error("Z-level roughing supports ball, flat and bull-nose cutters")]
+    Cutter,
+}
+
+/// A planned roughing path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ZlevelPlan {
+    /// The tool path.
+    pub toolpath: Toolpath,
+    /// The levels (tool tip heights), from the top down, mm.
+    pub levels: Vec<f64>,
+    /// Number of contours cut.
+    pub contours: usize,
+    /// Notes.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+fn offset_cutter(c: &Cutter, d: f64) -> Result<Cutter, ZlevelError> {
+    if d <= 0.0 {
+        return Ok(c.clone());
+    }
+    let kind = match c.kind {
+        CutterKind::Ball => CutterKind::Ball,
+        CutterKind::Flat => CutterKind::BullNose { corner_radius: d },
+        CutterKind::BullNose { corner_radius } => CutterKind::BullNose {
+            corner_radius: corner_radius + d,
+        },
+        CutterKind::Cone { .. } => return Err(ZlevelError::Cutter),
+    };
+    Cutter::new(kind, c.diameter + 2.0 * d).map_err(|e| ZlevelError::Option(e.to_string()))
+}
+
+fn check(opts: &ZlevelOptions, cutter: &Cutter) -> Result<(), ZlevelError> {
+    for (what, v) in [
+        ("step-down", opts.step_down_mm),
+        ("step-over", opts.step_over_mm),
+        ("tolerance", opts.tolerance_mm),
+        ("ramp angle", opts.ramp_angle_rad),
+        ("feed", opts.feed_mm_per_min),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(ZlevelError::Option(format!(
+                "{what} must be positive, got {v}"
+            )));
+        }
+    }
+    for (what, v) in [
+        ("radial stock to leave", opts.stock_to_leave_radial_mm),
+        ("axial stock to leave", opts.stock_to_leave_axial_mm),
+        ("clearance", opts.clearance_mm),
+    ] {
+        if !(v >= 0.0 && v.is_finite()) {
+            return Err(ZlevelError::Option(format!("{what} must be ≥ 0, got {v}")));
+        }
+    }
+    if opts.step_over_mm > cutter.diameter {
+        return Err(ZlevelError::Option(format!(
+            "step-over {} mm exceeds the tool diameter {} mm",
+            opts.step_over_mm, cutter.diameter
+        )));
+    }
+    if opts.ramp_angle_rad >= std::f64::consts::FRAC_PI_2 {
+        return Err(ZlevelError::Option(
+            "ramp angle must be below 90 degrees".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Plan Z-level roughing of `mesh` (with hierarchy `bvh`) with `tool` (see the module docs).
+///
+/// # Errors
+/// [`ZlevelError::Option`] for a bad option or a grid past 4 million nodes,
+/// [`ZlevelError::Cutter`] for a cone.
+pub fn zlevel_rough(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    tool: &ToolRecord,
+    opts: &ZlevelOptions,
+) -> Result<ZlevelPlan, ZlevelError> {
+    let cutter = &tool.cutter;
+    check(opts, cutter)?;
+    let (dr, da) = (opts.stock_to_leave_radial_mm, opts.stock_to_leave_axial_mm);
+    let off = offset_cutter(cutter, dr)?;
+    let big = cutter.radius();
+    let g = opts.tolerance_mm;
+    let reach = 0.9 * big;
+    let (lo, hi) = opts.stock.xy_box();
+    let origin = lo - DVec2::splat(reach + 2.0 * g);
+    let size = hi - lo + DVec2::splat(2.0 * (reach + 2.0 * g));
+    let nx = (size.x / g).ceil() as usize + 1;
+    let ny = (size.y / g).ceil() as usize + 1;
+    if nx.saturating_mul(ny) > 4_000_000 {
+        return Err(ZlevelError::Option(format!(
+            "grid of {nx}×{ny} nodes at {g} mm is too fine for this stock"
+        )));
+    }
+    let nodes: Vec<DVec2> = (0..nx * ny)
+        .map(|k| origin + DVec2::new((k % nx) as f64, (k / nx) as f64) * g)
+        .collect();
+    let lift = dr.max(da);
+    let need: Vec<f64> = drop_cutter(bvh, mesh, &off, &nodes)
+        .into_iter()
+        .map(|c| c.map_or(f64::NEG_INFINITY, |c| c.z + lift))
+        .collect();
+    let in_reach: Vec<bool> = nodes
+        .iter()
+        .map(|p| opts.stock.outside_by(*p) <= reach)
+        .collect();
+
+    // Levels from the top down to the stock bottom or the part's lowest allowed height.
+    let top = opts.stock.top();
+    let floor = opts.stock.bottom().max(bvh.bbox().min.z + da);
+    let mut levels = Vec::new();
+    let mut z = top - opts.step_down_mm;
+    while z > floor + 1e-9 {
+        levels.push(z);
+        z -= opts.step_down_mm;
+    }
+    if levels.last().is_none_or(|l| *l > floor + 1e-6) && floor < top {
+        levels.push(floor);
+    }
+
+    let clear_z = top.max(bvh.bbox().max.z) + opts.clearance_mm;
+    let mut poses: Vec<Pose> = Vec::new();
+    let mut contours = 0;
+    let s = opts.step_over_mm;
+    let d0 = g;
+    let mut above = top;
+    for &z in &levels {
+        let free: Vec<bool> = need
+            .iter()
+            .zip(&in_reach)
+            .map(|(n, r)| *r && z >= *n)
+            .collect();
+        let field = Field::distance(origin, g, nx, ny, &free);
+        let mut loops: Vec<Vec<DVec2>> = Vec::new();
+        let kmax = ((field.max() - d0) / s).floor();
+        if kmax >= 0.0 {
+            for k in (0..=kmax as usize).rev() {
+                for lp in field.contours(d0 + k as f64 * s) {
+                    let lp = thin_loop(&lp, 0.1 * g);
+                    if perimeter(&lp) >= 2.0 * g {
+                        loops.push(lp);
+                    }
+                }
+            }
+        }
+        for lp in &loops {
+            contours += 1;
+            let Some(&start) = lp.first() else { continue };
+            let here = poses.last().map(|p| p.tip);
+            let joined = here.is_some_and(|h| {
+                (h.z - z).abs() < 1e-9
+                    && h.truncate().distance(start) <= 1.5 * s
+                    && segment_free(&field, h.truncate(), start, d0)
+            });
+            let cut = |p: DVec2, zz: f64| {
+                Pose::new(MoveKind::Cut, p.extend(zz), DVec3::Z, opts.feed_mm_per_min)
+            };
+            if joined {
+                poses.push(cut(start, z));
+            } else {
+                let rapid =
+                    |p: DVec3| Pose::new(MoveKind::Rapid, p, DVec3::Z, opts.feed_mm_per_min);
+                if let Some(h) = here {
+                    poses.push(rapid(h.truncate().extend(clear_z)));
+                }
+                poses.push(rapid(start.extend(clear_z)));
+                poses.push(rapid(start.extend((above + 1.0).min(clear_z))));
+                poses.push(Pose::new(
+                    MoveKind::Plunge,
+                    start.extend(above),
+                    DVec3::Z,
+                    0.5 * opts.feed_mm_per_min,
+                ));
+                ramp(
+                    lp,
+                    above,
+                    z,
+                    opts.ramp_angle_rad.tan(),
+                    &mut poses,
+                    opts.feed_mm_per_min,
+                );
+            }
+            for p in lp.iter().skip(1) {
+                poses.push(cut(*p, z));
+            }
+        }
+        above = z;
+    }
+    if let Some(p) = poses.last().copied() {
+        poses.push(Pose::new(
+            MoveKind::Rapid,
+            p.tip.truncate().extend(clear_z),
+            DVec3::Z,
+            opts.feed_mm_per_min,
+        ));
+    }
+    let mut diagnostics = Vec::new();
+    if contours == 0 {
+        diagnostics.push(Diagnostic::warning(
+            None,
+            "no material to rough: every level is blocked by the part",
+        ));
+    }
+    Ok(ZlevelPlan {
+        toolpath: Toolpath::new(tool.clone(), poses),
+        levels,
+        contours,
+        diagnostics,
+    })
+}
+
+fn perimeter(lp: &[DVec2]) -> f64 {
+    lp.windows(2)
+        .map(|w| match w {
+            [a, b] => a.distance(*b),
+            _ => 0.0,
+        })
+        .sum()
+}
+
+/// Does the straight XY move stay where the distance field is at least `d0` (sampled at a
+/// quarter grid step)?
+fn segment_free(field: &Field, a: DVec2, b: DVec2, d0: f64) -> bool {
+    let n = (a.distance(b) / (0.25 * field.step)).ceil().max(1.0) as usize;
+    (0..=n).all(|i| {
+        let p = a + (b - a) * (i as f64 / n as f64);
+        let f = (p - field.origin) / field.step;
+        let (i0, j0) = (f.x.floor(), f.y.floor());
+        if !(i0 >= 0.0 && j0 >= 0.0) {
+            return false;
+        }
+        let (i0, j0) = (i0 as usize, j0 as usize);
+        let at = |i: usize, j: usize| {
+            if i < field.nx && j < field.ny {
+                field.values.get(j * field.nx + i).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            }
+        };
+        // The smallest of the four corners: conservative.
+        at(i0, j0)
+            .min(at(i0 + 1, j0))
+            .min(at(i0, j0 + 1))
+            .min(at(i0 + 1, j0 + 1))
+            >= d0 - 0.5 * field.step
+    })
+}
+
+/// Ramp along the closed loop `lp` from `z_from` down to `z_to` at slope `k`, going round as
+/// often as needed; ends back at the loop's start at `z_to`.
+fn ramp(lp: &[DVec2], z_from: f64, z_to: f64, k: f64, out: &mut Vec<Pose>, feed: f64) {
+    let per = perimeter(lp);
+    if !(per > 0.0) || !(k > 0.0) || z_from <= z_to {
+        return;
+    }
+    let mut z = z_from;
+    let mut laps = 0;
+    while z > z_to + 1e-9 && laps < 1000 {
+        laps += 1;
+        for w in lp.windows(2) {
+            let [a, b] = w else { continue };
+            if z <= z_to + 1e-12 {
+                out.push(Pose::new(MoveKind::Cut, b.extend(z_to), DVec3::Z, feed));
+                continue;
+            }
+            let len = a.distance(*b);
+            let nz = z - k * len;
+            if nz <= z_to {
+                let f = (z - z_to) / (k * len).max(1e-300);
+                out.push(Pose::new(
+                    MoveKind::Cut,
+                    (*a + (*b - *a) * f.clamp(0.0, 1.0)).extend(z_to),
+                    DVec3::Z,
+                    feed,
+                ));
+                z = z_to;
+                // Finish this lap at the level so the loop then starts from its first point.
+                out.push(Pose::new(MoveKind::Cut, b.extend(z_to), DVec3::Z, feed));
+                continue;
+            }
+            z = nz;
+            out.push(Pose::new(MoveKind::Cut, b.extend(z), DVec3::Z, feed));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stock_specs_parse_and_measure() {
+        let part = Aabb {
+            min: DVec3::new(0.0, 0.0, 0.0),
+            max: DVec3::new(30.0, 40.0, 10.0),
+        };
+        let b = Stock::parse("box", &part).unwrap();
+        assert!((b.outside_by(DVec2::new(33.0, 44.0)) - 5.0).abs() < 1e-12);
+        assert!((b.outside_by(DVec2::new(10.0, 20.0)) + 10.0).abs() < 1e-12);
+        let c = Stock::parse("cylinder", &part).unwrap();
+        assert!((c.outside_by(DVec2::new(15.0, 20.0)) + 25.0).abs() < 1e-12);
+        let c = Stock::parse("cylinder:0,0,10,-1,5", &part).unwrap();
+        assert_eq!((c.bottom(), c.top()), (-1.0, 5.0));
+        assert!(Stock::parse("box:1,2,3", &part).is_err());
+        assert!(Stock::parse("cylinder:0,0,-1,0,5", &part).is_err());
+        assert!(Stock::parse("box:0,0,0,1,1,nan", &part).is_err());
+        assert!(Stock::parse("cone", &part).is_err());
+    }
+}

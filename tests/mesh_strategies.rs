@@ -1,0 +1,249 @@
+//! Raster finishing (and Z-level roughing) on meshes, checked by an independent computation:
+//! the remaining height along the surface normal to the swept ball envelope and the gouge, on
+//! dense samples of the mesh (`strategies::raster_check`, which does not use the drop-cutter).
+
+use std::path::Path;
+
+use talas::geometry::DVec2;
+use talas::geometry::bvh::MeshBvh;
+use talas::geometry::mesh::TriMesh;
+use talas::import::stl::{StlOptions, read_stl};
+use talas::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
+use talas::strategies::raster_check::{RemainingOptions, ball_remaining_height};
+use talas::toolpath::{MoveKind, ToolRecord};
+use talas::tools::parse_tool_spec;
+
+fn load(name: &str) -> (TriMesh, MeshBvh) {
+    let stl = read_stl(
+        Path::new(&format!("tests/data/{name}")),
+        &StlOptions::default(),
+    )
+    .unwrap();
+    let bvh = MeshBvh::new(&stl.mesh).unwrap();
+    (stl.mesh, bvh)
+}
+
+fn tool(spec: &str) -> ToolRecord {
+    ToolRecord {
+        spec: spec.into(),
+        cutter: parse_tool_spec(spec).unwrap(),
+    }
+}
+
+/// Plan, check, and return (p50, p99, fraction ≤ h + tol, max gouge).
+fn plan_and_check(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    opts: &RasterOptions,
+    region: Option<(DVec2, DVec2)>,
+    check_slope: f64,
+) -> (f64, f64, f64, f64) {
+    let t0 = std::time::Instant::now();
+    let plan = raster(mesh, bvh, &tool("ball:d=6"), opts).unwrap();
+    eprintln!("raster planned in {:?}", t0.elapsed());
+    for d in &plan.diagnostics {
+        eprintln!("{}", d.message);
+    }
+    let tp = &plan.toolpath;
+    tp.validate("<raster>").unwrap();
+    assert!(tp.poses.iter().any(|p| p.kind == MoveKind::Cut));
+    assert!(
+        tp.poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .all(|p| p.cc.is_some())
+    );
+    let check = RemainingOptions {
+        sample_spacing_mm: 0.6,
+        max_slope_rad: check_slope,
+        max_height_mm: 0.5,
+        march_step_mm: 0.004,
+        region,
+    };
+    let t0 = std::time::Instant::now();
+    let rep = ball_remaining_height(mesh, tp, &check).unwrap();
+    eprintln!("checked in {:?}", t0.elapsed());
+    let h = opts.scallop_mm + opts.chord_tol_mm;
+    let within = rep.fraction_within(h);
+    eprintln!(
+        "passes {}, poses {}, samples {}, remaining p50 {:.4} p90 {:.4} p99 {:.4} max {:.4} mm, ≤ h+tol {:.4}, uncovered {}, max gouge {:.2e} mm at {:?}, predicted max {:.4}",
+        plan.passes,
+        tp.poses.len(),
+        rep.samples(),
+        rep.quantile(0.5),
+        rep.quantile(0.9),
+        rep.quantile(0.99),
+        rep.quantile(1.0),
+        within,
+        rep.uncovered,
+        rep.max_gouge_mm,
+        rep.max_gouge_at,
+        plan.max_predicted_scallop_mm
+    );
+    for (p, v) in rep.worst.iter().take(12) {
+        eprintln!("  worst {v:.4} at {p:.3}");
+    }
+    assert!(rep.samples() > 5000, "{} samples", rep.samples());
+    (
+        rep.quantile(0.5),
+        rep.quantile(0.99),
+        within,
+        rep.max_gouge_mm,
+    )
+}
+
+#[test]
+fn raster_ball_on_bicubic_hills_holds_the_scallop_without_gouge() {
+    let (mesh, bvh) = load("bicubic-hills.stl");
+    let poly = vec![
+        DVec2::new(30.0, 20.0),
+        DVec2::new(110.0, 20.0),
+        DVec2::new(110.0, 80.0),
+        DVec2::new(30.0, 80.0),
+    ];
+    let opts = RasterOptions {
+        angle_rad: 30f64.to_radians(),
+        pattern: RasterPattern::ZigZag,
+        scallop_mm: 0.05,
+        chord_tol_mm: 0.01,
+        boundary: Boundary::Polygon(poly),
+        ..RasterOptions::default()
+    };
+    let region = Some((DVec2::new(31.0, 21.0), DVec2::new(109.0, 79.0)));
+    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, region, opts.max_slope_rad);
+    assert!(within >= 0.99, "only {within} of samples within h + tol");
+    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+}
+
+#[test]
+fn raster_ball_on_pocket_fillets_holds_the_scallop_without_gouge() {
+    let (mesh, bvh) = load("pocket-fillets.stl");
+    let opts = RasterOptions {
+        angle_rad: 0.0,
+        pattern: RasterPattern::ZigZag,
+        scallop_mm: 0.05,
+        chord_tol_mm: 0.01,
+        boundary: Boundary::Silhouette,
+        ..RasterOptions::default()
+    };
+    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, None, 45f64.to_radians());
+    assert!(within >= 0.99, "only {within} of samples within h + tol");
+    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+}
+
+/// Z-level roughing of pocket-fillets from a box stock with a flat end mill: no cut pose (nor
+/// any point of a cut move) brings the tool closer to the part than the stock to leave, judged
+/// by the drop-cutter with the real tool; on the flat top and pocket floor the deepest level
+/// lies within one step-down above the stock to leave (the staircase).
+#[test]
+fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
+    use talas::geometry::DVec3;
+    use talas::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+    use talas::tools::dropcutter::drop_cutter;
+    let (mesh, bvh) = load("pocket-fillets.stl");
+    let t = tool("flat:d=10");
+    let (sd, dr, da) = (3.0, 0.5, 0.3);
+    let opts = ZlevelOptions {
+        stock: Stock::Box {
+            min: DVec3::new(-5.0, -5.0, 0.0),
+            max: DVec3::new(105.0, 85.0, 35.0),
+        },
+        step_down_mm: sd,
+        step_over_mm: 4.0,
+        stock_to_leave_radial_mm: dr,
+        stock_to_leave_axial_mm: da,
+        tolerance_mm: 0.5,
+        ..ZlevelOptions::default()
+    };
+    let plan = zlevel_rough(&mesh, &bvh, &t, &opts).unwrap();
+    let tp = &plan.toolpath;
+    tp.validate("<zlevel>").unwrap();
+    assert!(plan.contours > 10, "{} contours", plan.contours);
+    // Every point of every fed move, every 0.5 mm.
+    let mut pts: Vec<DVec3> = Vec::new();
+    for w in tp.poses.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if b.kind == MoveKind::Rapid {
+            continue;
+        }
+        let n = (a.tip.distance(b.tip) / 0.5).ceil().max(1.0) as usize;
+        for i in 0..=n {
+            pts.push(a.tip.lerp(b.tip, i as f64 / n as f64));
+        }
+    }
+    let xy: Vec<DVec2> = pts.iter().map(|p| p.truncate()).collect();
+    let cl = drop_cutter(&bvh, &mesh, &t.cutter, &xy);
+    let mut worst = f64::INFINITY;
+    for (p, c) in pts.iter().zip(&cl) {
+        if let Some(c) = c {
+            worst = worst.min(p.z - (c.z + da));
+        }
+    }
+    eprintln!(
+        "levels {:?}, contours {}, poses {}, closest approach (tip − CL − δa) {worst:.4} mm",
+        plan.levels,
+        plan.contours,
+        tp.poses.len()
+    );
+    let tol = 0.05;
+    assert!(
+        worst >= -tol,
+        "a cut comes {worst} mm inside the stock to leave"
+    );
+    // Staircase on the flat top (z = 30) and the pocket floor (z = 15).
+    let lowest_in = |lo: DVec2, hi: DVec2| {
+        tp.poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .filter(|p| p.tip.x >= lo.x && p.tip.y >= lo.y && p.tip.x <= hi.x && p.tip.y <= hi.y)
+            .map(|p| p.tip.z)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let top = lowest_in(DVec2::new(10.0, 3.0), DVec2::new(90.0, 12.0));
+    let floor = lowest_in(DVec2::new(35.0, 30.0), DVec2::new(65.0, 50.0));
+    eprintln!("lowest cut over the top {top:.3} mm, over the pocket floor {floor:.3} mm");
+    assert!(top >= 30.0 + da - tol && top <= 30.0 + da + sd, "top {top}");
+    assert!(
+        floor >= 15.0 + da - tol && floor <= 15.0 + da + sd,
+        "floor {floor}"
+    );
+}
+
+/// The CLI entry point: both mesh strategies from an STL, and clear errors for bad names.
+#[test]
+fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
+    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+    let file = Path::new("tests/data/pocket-fillets.stl");
+    let opts = MeshPlanOptions {
+        scallop_mm: 0.3,
+        tolerance_mm: 0.05,
+        stock: "box:-2,-2,0,102,82,32".into(),
+        step_down_mm: 5.0,
+        ..MeshPlanOptions::default()
+    };
+    let raster = plan_mesh(file, "raster", "ball:d=10", &opts).unwrap();
+    assert!(raster.summary.cut_length_mm > 1000.0);
+    // The raster never goes below the pocket floor's ball-tip height (15 mm).
+    assert!(
+        raster.summary.bbox_min.z >= 15.0 - 1e-6,
+        "{}",
+        raster.summary.bbox_min.z
+    );
+    let opts = MeshPlanOptions {
+        tolerance_mm: 0.5,
+        ..opts
+    };
+    let rough = plan_mesh(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
+    assert!(rough.summary.cut_length_mm > 500.0);
+    assert!(rough.poses.iter().any(|p| p.kind == MoveKind::Plunge));
+    let e = plan_mesh(file, "spiral", "ball:d=6", &opts).unwrap_err();
+    assert!(e.to_string().contains("--strategy"), "{e}");
+    let e = plan_mesh(file, "raster", "ball:d=-1", &opts).unwrap_err();
+    assert!(e.to_string().contains("--tool"), "{e}");
+    let bad_stock = MeshPlanOptions {
+        stock: "sphere".into(),
+        ..opts
+    };
+    let e = plan_mesh(file, "zlevel-rough", "flat:d=10", &bad_stock).unwrap_err();
+    assert!(e.to_string().contains("--stock"), "{e}");
+}
