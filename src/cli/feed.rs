@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use serde_json::{Map, Value, json};
 
 use crate::feed::{AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, plan};
-use crate::gcode::{InterpretOptions, interpret};
+use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
 
@@ -34,6 +34,10 @@ pub struct FeedArgs {
     /// Start position `X,Y,Z` (mm) before the first block (default the origin).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub start: Option<String>,
+    /// Program syntax: `rs274` (LinuxCNC, Fanuc, GRBL), `siemens` or `heidenhain` (ISO);
+    /// default: detected from the text.
+    #[arg(long, value_name = "NAME")]
+    pub syntax: Option<String>,
     /// Write time samples (`t,X,Y,Z,...`, 1 ms) to this CSV file.
     #[arg(long, value_name = "OUT.csv")]
     pub samples: Option<PathBuf>,
@@ -110,7 +114,16 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     }
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let mut options = InterpretOptions::default();
+    let syntax = match &args.syntax {
+        Some(name) => Syntax::from_name(name).ok_or_else(|| {
+            bad(
+                None,
+                format!("--syntax must be rs274, siemens or heidenhain, got '{name}'"),
+            )
+        })?,
+        None => Syntax::detect(&text),
+    };
+    let mut options = InterpretOptions::for_syntax(syntax);
     if let Some(start) = &args.start {
         options.start = parse_start(start)
             .ok_or_else(|| bad(None, format!("--start must be X,Y,Z, got '{start}'")))?;
