@@ -41,13 +41,22 @@ fn raster(moves: usize) -> Toolpath {
         for k in 0..per_line {
             #[allow(clippy::cast_precision_loss)]
             let t = k as f64 / (per_line - 1) as f64;
-            let x = if j % 2 == 0 { 60.0 * t } else { 60.0 * (1.0 - t) };
+            let x = if j % 2 == 0 {
+                60.0 * t
+            } else {
+                60.0 * (1.0 - t)
+            };
             let kind = if j == 0 && k == 0 {
                 MoveKind::Plunge
             } else {
                 MoveKind::Cut
             };
-            poses.push(Pose::new(kind, DVec3::new(x, y, surface(x, y)), DVec3::Z, 3000.0));
+            poses.push(Pose::new(
+                kind,
+                DVec3::new(x, y, surface(x, y)),
+                DVec3::Z,
+                3000.0,
+            ));
         }
     }
     let cutter = Cutter::new(CutterKind::Ball, 6.0).unwrap_or_else(|e| panic!("{e}"));

@@ -38,7 +38,14 @@ fn gcode_plan(text: &str, cutter: &Cutter) -> MovePlan {
 }
 
 fn run(stock: &mut DexelStock, cutter: &Cutter, plan: &MovePlan) -> talas::simulation::SimReport {
-    simulate(stock, cutter, plan, &SimOptions::default(), &Progress::new()).expect("simulate")
+    simulate(
+        stock,
+        cutter,
+        plan,
+        &SimOptions::default(),
+        &Progress::new(),
+    )
+    .expect("simulate")
 }
 
 fn rel(got: f64, want: f64) -> f64 {
@@ -97,7 +104,10 @@ fn slots_match_closed_forms() {
         let cutter = cutter.expect("cutter");
         let got = slot_volume(&cutter, h);
         let e = rel(got, want);
-        eprintln!("slot {name}: {got:.4} mm³ vs {want:.4} mm³ ({:.4} %)", 100.0 * e);
+        eprintln!(
+            "slot {name}: {got:.4} mm³ vs {want:.4} mm³ ({:.4} %)",
+            100.0 * e
+        );
         assert!(e < 0.005, "{name}: {got} vs {want}");
     }
 }
@@ -128,7 +138,8 @@ fn helix_depth(r: f64, theta: f64, rh: f64, rt: f64, phi_end: f64, depth: f64) -
 fn helical_entry_matches_quadrature_of_the_exact_depth() {
     let cutter = Cutter::new(CutterKind::Flat, 6.0).expect("cutter");
     let (rh, rt, depth, turns) = (4.0, 3.0, 2.0, 2.0);
-    let text = "G21 G90 G94 G17\nG0 X4 Y0 Z5\nG1 Z0 F300\nG3 X4 Y0 Z-2 I-4 J0 P2 F300\nG0 Z5\nM30\n";
+    let text =
+        "G21 G90 G94 G17\nG0 X4 Y0 Z5\nG1 Z0 F300\nG3 X4 Y0 Z-2 I-4 J0 P2 F300\nG0 Z5\nM30\n";
     let plan = gcode_plan(text, &cutter);
     let mut stock = DexelStock::new(
         vec![boxed([-9.0, -9.0, -5.0], [9.0, 9.0, 0.0])],
@@ -211,8 +222,18 @@ fn tilted_flat_pass_matches_the_projected_cylinder() {
     let (r, l) = (cutter.radius(), cutter.flute_length);
     let n = (beta.cos(), -beta.sin());
     let a = (beta.sin(), beta.cos());
-    let corner = |s: f64, t: f64| (y0 + s * r * n.0 + t * l * a.0, z0 + s * r * n.1 + t * l * a.1);
-    let rect = [corner(-1.0, 0.0), corner(1.0, 0.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
+    let corner = |s: f64, t: f64| {
+        (
+            y0 + s * r * n.0 + t * l * a.0,
+            z0 + s * r * n.1 + t * l * a.1,
+        )
+    };
+    let rect = [
+        corner(-1.0, 0.0),
+        corner(1.0, 0.0),
+        corner(1.0, 1.0),
+        corner(-1.0, 1.0),
+    ];
     let want = 30.0 * clipped_area(&rect);
     let got = report.removed_volume_mm3;
     let e = rel(got, want);
@@ -262,9 +283,18 @@ fn a_gouging_slot_is_found_where_it_is() {
         1 << 30,
     )
     .expect("stock");
-    run(&mut stock, &cutter, &gcode_plan(&slot_program(2.0), &cutter));
-    let d = deviation(&stock, &part, &DeviationOptions::default(), &Progress::new())
-        .expect("deviation");
+    run(
+        &mut stock,
+        &cutter,
+        &gcode_plan(&slot_program(2.0), &cutter),
+    );
+    let d = deviation(
+        &stock,
+        &part,
+        &DeviationOptions::default(),
+        &Progress::new(),
+    )
+    .expect("deviation");
     eprintln!(
         "gouge {:.4} at {:?}, remaining {:.4}",
         d.max_gouge_mm, d.max_gouge_at, d.max_remaining_mm
@@ -273,7 +303,11 @@ fn a_gouging_slot_is_found_where_it_is() {
     let at = d.max_gouge_at.expect("located");
     assert!(at[0] > 4.9 && at[0] < 25.1 && at[1].abs() < 0.1, "{at:?}");
     // The uncut top layer is 1 mm of remaining material.
-    assert!((d.max_remaining_mm - 1.0).abs() < 1e-6, "{}", d.max_remaining_mm);
+    assert!(
+        (d.max_remaining_mm - 1.0).abs() < 1e-6,
+        "{}",
+        d.max_remaining_mm
+    );
     // A slot that stops at the part's top leaves no gouge (grazing within float rounding).
     let mut clean = DexelStock::new(
         vec![boxed([0.0, -8.0, -6.0], [30.0, 8.0, 0.0])],
@@ -282,9 +316,18 @@ fn a_gouging_slot_is_found_where_it_is() {
         1 << 30,
     )
     .expect("stock");
-    run(&mut clean, &cutter, &gcode_plan(&slot_program(1.0), &cutter));
-    let d = deviation(&clean, &part, &DeviationOptions::default(), &Progress::new())
-        .expect("deviation");
+    run(
+        &mut clean,
+        &cutter,
+        &gcode_plan(&slot_program(1.0), &cutter),
+    );
+    let d = deviation(
+        &clean,
+        &part,
+        &DeviationOptions::default(),
+        &Progress::new(),
+    )
+    .expect("deviation");
     assert!(d.max_gouge_mm < 1e-4, "{}", d.max_gouge_mm);
 }
 
@@ -303,12 +346,16 @@ fn holder_crash_and_rapid_through_material_name_their_lines() {
     .expect("stock");
     let report = run(&mut stock, &cutter, &plan);
     eprintln!("{:#?}", report.collisions);
+    // The first holder contact is the plunge (line 3); the retract (line 4) starts buried.
     let holder = report
         .collisions
         .iter()
         .find(|c| c.kind == CollisionKind::Holder)
         .expect("holder crash found");
     assert_eq!(holder.block, 3);
+    // In the holder's footprint (radius 20 around X25 Y25), outside the cut hole (radius 3).
+    let r = (holder.position.truncate() - glam::DVec2::new(25.0, 25.0)).length();
+    assert!(r > 2.9 && r < 20.1, "{r}");
     assert!((holder.depth_mm - 5.0).abs() < 0.01, "{}", holder.depth_mm);
     assert!(holder.position.z < 0.0 && holder.position.z > -5.0);
     let rapid = report
@@ -319,7 +366,10 @@ fn holder_crash_and_rapid_through_material_name_their_lines() {
     assert_eq!(rapid.block, 6);
     assert!((rapid.position.x - 10.0).abs() < 3.1 && (rapid.position.y - 10.0).abs() < 3.1);
     assert!(
-        report.collisions.iter().all(|c| c.block == 3 || c.block == 6),
+        report
+            .collisions
+            .iter()
+            .all(|c| [3, 4, 6].contains(&c.block)),
         "{:?}",
         report.collisions
     );
@@ -328,7 +378,8 @@ fn holder_crash_and_rapid_through_material_name_their_lines() {
 #[test]
 fn same_input_same_stock_bit_for_bit() {
     let cutter = Cutter::new(CutterKind::BullNose { corner_radius: 1.0 }, 6.0).expect("cutter");
-    let text = "G21 G90\nG0 X2 Y2 Z5\nG1 Z-1 F300\nG1 X12 Y9 Z-2.5\nG2 X14 Y3 R4\nG1 X3 Y4 Z-0.5\nM30\n";
+    let text =
+        "G21 G90\nG0 X2 Y2 Z5\nG1 Z-1 F300\nG1 X12 Y9 Z-2.5\nG2 X14 Y3 R4\nG1 X3 Y4 Z-0.5\nM30\n";
     let plan = gcode_plan(text, &cutter);
     let fresh = || {
         DexelStock::new(
@@ -341,7 +392,14 @@ fn same_input_same_stock_bit_for_bit() {
     };
     let mut a = fresh();
     let mut b = fresh();
-    simulate(&mut a, &cutter, &plan, &SimOptions::default(), &Progress::new()).expect("a");
+    simulate(
+        &mut a,
+        &cutter,
+        &plan,
+        &SimOptions::default(),
+        &Progress::new(),
+    )
+    .expect("a");
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -416,7 +474,11 @@ fn command_line_reports_volume_collisions_and_errors() {
         .arg(&stl)
         .output()
         .expect("run");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     let v = doc["removed_volume_mm3"].as_f64().expect("volume");
     let want = 2.0 * 3.0 * 2.0 * 20.0 + PI * 9.0 * 2.0;
@@ -430,7 +492,14 @@ fn command_line_reports_volume_collisions_and_errors() {
     let out = Command::new(env!("CARGO_BIN_EXE_talas"))
         .args(["simulate"])
         .arg(&bad)
-        .args(["--tool", "flat:d=6", "--stock", "box:0,0,0,1,1,1", "--resolution", "0.1"])
+        .args([
+            "--tool",
+            "flat:d=6",
+            "--stock",
+            "box:0,0,0,1,1,1",
+            "--resolution",
+            "0.1",
+        ])
         .output()
         .expect("run");
     assert_eq!(out.status.code(), Some(2));

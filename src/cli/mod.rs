@@ -107,6 +107,8 @@ pub fn run(command: Command) -> i32 {
             0
         }
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
-        Command::Simulate(args) => report(simulate::simulate_cmd(&args), args.json, simulate::human),
+        Command::Simulate(args) => {
+            report(simulate::simulate_cmd(&args), args.json, simulate::human)
+        }
     }
 }

@@ -77,10 +77,7 @@ fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
         "box" => {
             let v = parse_numbers(rest, 6)
                 .ok_or_else(|| bad(format!("'{spec}': box needs X0,Y0,Z0,X1,Y1,Z1 in mm")))?;
-            let (a, b) = (
-                DVec3::new(v[0], v[1], v[2]),
-                DVec3::new(v[3], v[4], v[5]),
-            );
+            let (a, b) = (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
             Ok(StockShape::Box {
                 min: a.min(b),
                 max: a.max(b),
@@ -151,8 +148,12 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
         (Some(tp), None)
     } else {
-        let prog = interpret(&text, &InterpretOptions::default())
-            .map_err(|e| bad(Some(format!("line {}, column {}", e.line, e.column)), e.message))?;
+        let prog = interpret(&text, &InterpretOptions::default()).map_err(|e| {
+            bad(
+                Some(format!("line {}, column {}", e.line, e.column)),
+                e.message,
+            )
+        })?;
         (None, Some(prog))
     };
     let cutter = match (&args.tool, &toolpath) {
@@ -169,8 +170,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
     };
     let machine = match &args.machine {
         Some(m) => Some(
-            Machine::resolve(m)
-                .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
+            Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
         ),
         None => None,
     };
@@ -205,8 +205,14 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
     .map_err(|e| ImportError::new(Path::new("--stock"), None, e.to_string()))?;
     let progress = Progress::new();
     let started = std::time::Instant::now();
-    let report = simulate(&mut stock, &cutter, &plan, &SimOptions::default(), &progress)
-        .map_err(|e| sim_err(file, &e))?;
+    let report = simulate(
+        &mut stock,
+        &cutter,
+        &plan,
+        &SimOptions::default(),
+        &progress,
+    )
+    .map_err(|e| sim_err(file, &e))?;
     let wall_s = started.elapsed().as_secs_f64();
     let dev = match &args.part {
         Some(p) => {
@@ -291,7 +297,9 @@ pub fn human(doc: &Value) -> String {
             c.get("kind").and_then(Value::as_str).unwrap_or("?"),
             c.get("line").and_then(Value::as_u64).unwrap_or(0),
             c.get("position").map_or(String::new(), ToString::to_string),
-            c.get("depth_mm").and_then(Value::as_f64).unwrap_or(f64::NAN),
+            c.get("depth_mm")
+                .and_then(Value::as_f64)
+                .unwrap_or(f64::NAN),
         ));
     }
     s

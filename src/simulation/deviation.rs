@@ -26,7 +26,7 @@ pub struct DeviationOptions {
 impl Default for DeviationOptions {
     fn default() -> Self {
         Self {
-            skip_uncut: true,
+            skip_uncut: false,
             uncut_tolerance_mm: 1e-4,
             histogram_bins: 20,
         }
@@ -219,7 +219,11 @@ fn statistics(
 
 /// Signed distance of one point to a part (positive outside); `None` for a non-finite point.
 #[must_use]
-pub fn signed_distance(bvh: &MeshBvh, part_bounds: &crate::geometry::Aabb, p: DVec3) -> Option<f64> {
+pub fn signed_distance(
+    bvh: &MeshBvh,
+    part_bounds: &crate::geometry::Aabb,
+    p: DVec3,
+) -> Option<f64> {
     let hit = bvh.closest_point(p)?;
     let inside = mesh_intervals(bvh, part_bounds, p, super::dexel::RayAxis::Z)
         .iter()

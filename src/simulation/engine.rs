@@ -248,7 +248,12 @@ pub fn simulate_moves(
     })
 }
 
-fn prepare(s: &Step, plan: &MovePlan, cutting: &Body, guards: &[(Body, CollisionKind)]) -> Prepared {
+fn prepare(
+    s: &Step,
+    plan: &MovePlan,
+    cutting: &Body,
+    guards: &[(Body, CollisionKind)],
+) -> Prepared {
     let step = SweepStep {
         p0: s.from,
         p1: s.to,
@@ -317,8 +322,13 @@ fn apply_batch(fam: &mut DexelFamily, f: usize, batch: &[Prepared], tol: f64) ->
                             }
                             let ray = geometry.ray_origin(i, j);
                             let interval = if z_family && p.vertical {
-                                vertical_interval(body, p.step.p0, p.step.p1, DVec2::new(ray.x, ray.y))
-                                    .map(|(a, b)| (a - o[w], b - o[w]))
+                                vertical_interval(
+                                    body,
+                                    p.step.p0,
+                                    p.step.p1,
+                                    DVec2::new(ray.x, ray.y),
+                                )
+                                .map(|(a, b)| (a - o[w], b - o[w]))
                             } else {
                                 general_interval(body, &p.step, ray, dir, s_lo, s_hi)
                             };

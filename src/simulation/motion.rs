@@ -244,7 +244,11 @@ pub fn plan_program(
                 KinematicsKind::TableBc => 'A',
                 _ => 'B',
             };
-            let other = if letter == 'A' { [b.start.a, b.end.a] } else { [b.start.b, b.end.b] };
+            let other = if letter == 'A' {
+                [b.start.a, b.end.a]
+            } else {
+                [b.start.b, b.end.b]
+            };
             if other.iter().flatten().any(|v| *v != 0.0) {
                 return Err(SimError::Program {
                     block: b.source_line,

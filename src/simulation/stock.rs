@@ -164,7 +164,12 @@ impl StockShape {
 
 /// Inside intervals of a closed mesh along a ray, by successive hits (entering and leaving
 /// alternate; an odd count drops the last hit).
-pub(super) fn mesh_intervals(bvh: &MeshBvh, bounds: &Aabb, p: DVec3, axis: RayAxis) -> Vec<[f64; 2]> {
+pub(super) fn mesh_intervals(
+    bvh: &MeshBvh,
+    bounds: &Aabb,
+    p: DVec3,
+    axis: RayAxis,
+) -> Vec<[f64; 2]> {
     let (_, _, w) = axis.axes();
     let dir = axis.direction();
     let lo = bounds.min.to_array()[w] - 1.0;

@@ -51,6 +51,9 @@ pub(super) enum Body {
     },
 }
 
+/// Smallest rounding of a ring in the GJK support map, mm.
+const ROUND: f64 = 1e-3;
+
 /// A ring: circle of radius `r` at height `z` around the axis, thickened by a ball `round`.
 #[derive(Clone, Copy, Debug)]
 struct Ring {
@@ -161,7 +164,19 @@ impl Body {
         let mut best = DVec3::ZERO;
         let mut best_v = f64::NEG_INFINITY;
         for ring in rings.iter().take(n) {
-            let p = a * ring.z + perp * ring.r + unit * ring.round;
+            // A ring without rounding gets a tiny one (shrunk by the same amount), so the
+            // support point moves continuously with the direction and GJK does not stall on
+            // flat faces; the shape changes by at most ROUND·(1 − 1/√2) at sharp edges.
+            let (r, round, z) = if ring.round < ROUND {
+                (
+                    ring.r - ROUND + ring.round,
+                    ROUND,
+                    ring.z + ROUND - ring.round,
+                )
+            } else {
+                (ring.r, ring.round, ring.z)
+            };
+            let p = a * z + perp * r.max(0.0) + unit * round;
             let v = p.dot(dir);
             if v > best_v {
                 best_v = v;
