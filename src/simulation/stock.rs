@@ -75,10 +75,12 @@ impl StockShape {
                 radius,
                 height,
             } => {
-                if !(base.is_finite() && *radius > 0.0 && *height > 0.0)
-                    || !radius.is_finite()
-                    || !height.is_finite()
-                {
+                let ok = base.is_finite()
+                    && radius.is_finite()
+                    && height.is_finite()
+                    && *radius > 0.0
+                    && *height > 0.0;
+                if !ok {
                     return Err(SimError::Stock(format!(
                         "cylinder needs a finite base and positive radius and height, got \
                          radius {radius} mm, height {height} mm"
