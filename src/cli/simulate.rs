@@ -121,10 +121,11 @@ fn read_part(path: &Path) -> Result<TriMesh, ImportError> {
     }
 }
 
-fn sim_err(file: &Path, e: &SimError) -> ImportError {
+fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
     match e {
         SimError::Program { block, message } => {
-            ImportError::new(file, Some(format!("line {block}")), message.clone())
+            let place = if json { "pose" } else { "line" };
+            ImportError::new(file, Some(format!("{place} {block}")), message.clone())
         }
         other => ImportError::new(file, None, other.to_string()),
     }
@@ -185,7 +186,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         (None, Some(p)) => plan_program(p, machine.as_ref(), &step_opts),
         (None, None) => Ok(MovePlan::default()),
     }
-    .map_err(|e| sim_err(file, &e))?;
+    .map_err(|e| sim_err(file, &e, is_json))?;
     let shapes = args
         .stock
         .iter()
@@ -212,7 +213,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         &SimOptions::default(),
         &progress,
     )
-    .map_err(|e| sim_err(file, &e))?;
+    .map_err(|e| sim_err(file, &e, is_json))?;
     let wall_s = started.elapsed().as_secs_f64();
     let dev = match &args.part {
         Some(p) => {
