@@ -163,15 +163,21 @@ impl Body {
         let unit = dir.try_normalize().unwrap_or(DVec3::ZERO);
         let mut best = DVec3::ZERO;
         let mut best_v = f64::NEG_INFINITY;
-        for ring in rings.iter().take(n) {
-            // A ring without rounding gets a tiny one (shrunk by the same amount), so the
-            // support point moves continuously with the direction and GJK does not stall on
-            // flat faces; the shape changes by at most ROUND·(1 − 1/√2) at sharp edges.
+        let used = rings.get(..n).unwrap_or(&[]);
+        let zmid = 0.5
+            * (used.iter().map(|r| r.z).fold(f64::INFINITY, f64::min)
+                + used.iter().map(|r| r.z).fold(f64::NEG_INFINITY, f64::max));
+        for ring in used {
+            // A ring without rounding gets a tiny one (shrunk and moved inward by the same
+            // amount), so the support point moves continuously with the direction and GJK
+            // does not stall on flat faces; the shape changes by at most ROUND·(1 − 1/√2) at
+            // sharp edges.
             let (r, round, z) = if ring.round < ROUND {
+                let inward = if ring.z > zmid { -1.0 } else { 1.0 };
                 (
                     ring.r - ROUND + ring.round,
                     ROUND,
-                    ring.z + ROUND - ring.round,
+                    ring.z + inward * (ROUND - ring.round),
                 )
             } else {
                 (ring.r, ring.round, ring.z)
@@ -485,13 +491,16 @@ mod tests {
                     let fast = vertical_interval(&body, p0, p1, q);
                     let want = brute(&c, p0, p1, q);
                     let o = DVec3::new(q.x, q.y, 0.0);
+                    // GJK runs on rings rounded by ROUND: sharp edges move by ≤ 3e-4 mm along
+                    // their normal, more along a ray that meets them at a grazing angle.
                     let general = general_interval(&body, &step, o, DVec3::Z, -50.0, 50.0);
                     match (fast, want, general) {
                         (Some(f), Some(w), Some(g)) => {
                             assert!((f.0 - w.0).abs() < 2e-3, "{c:?} {p0} {p1} {q} {f:?} {w:?}");
                             assert!((f.1 - w.1).abs() < 2e-3, "{f:?} {w:?}");
-                            assert!((g.0 - f.0).abs() < 1e-5, "{c:?} {q} gjk {g:?} fast {f:?}");
-                            assert!((g.1 - f.1).abs() < 1e-5, "gjk {g:?} fast {f:?}");
+                            assert!((g.0 - f.0).abs() < 2e-3, "{c:?} {q} gjk {g:?} fast {f:?}");
+                            // The exit through the top rim (flute length) may be met at a grazing angle.
+                            assert!((g.1 - f.1).abs() < 2e-3, "gjk {g:?} fast {f:?}");
                         }
                         (None, None, None) => {}
                         other => panic!("{c:?} {p0} {p1} {q}: {other:?}"),
