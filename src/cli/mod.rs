@@ -7,6 +7,7 @@ pub mod inspect;
 pub mod plan_mesh;
 pub mod post;
 pub mod reduce;
+pub mod simulate;
 
 use std::path::PathBuf;
 
@@ -46,6 +47,9 @@ pub enum Command {
     Machines,
     /// Jerk-limited motion plan of a G-code program: cycle time, limits and peaks per axis.
     Feed(feed::FeedArgs),
+    /// Material removal on a dexel stock: removed volume, deviation from the part,
+    /// collisions, time.
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -104,5 +108,8 @@ pub fn run(command: Command) -> i32 {
             0
         }
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
+        Command::Simulate(args) => {
+            report(simulate::simulate_cmd(&args), args.json, simulate::human)
+        }
     }
 }

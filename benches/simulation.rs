@@ -1,0 +1,150 @@
+//! Stock simulation speed and memory on a finishing program: a zig-zag raster of a 6 mm ball
+//! end mill over a bumpy surface, 60 × 60 mm, at least 100 000 moves.
+//!
+//! First one full run per resolution (0.1 mm and 0.05 mm) printing moves per second, stock
+//! memory and the equivalent voxel count (to set beside CAMotics' 10 M-cell ceiling and
+//! cutrail's "a few milliseconds per segment"); then criterion on the first 2 000 moves.
+//! `TALAS_SIM_BENCH_MOVES=N` changes the program size. The peer comparison on the same
+//! program is `benches/simulation_peer.sh` (cutrail from crates.io).
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{BatchSize, Criterion};
+use glam::DVec3;
+use talas::diagnostics::Progress;
+use talas::simulation::{
+    DexelMode, DexelStock, MovePlan, SimOptions, StepOptions, StockShape, estimate_bytes,
+    plan_toolpath, simulate,
+};
+use talas::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
+use talas::tools::{Cutter, CutterKind};
+
+/// The bumpy surface the raster follows (tip height), mm.
+fn surface(x: f64, y: f64) -> f64 {
+    1.5 * (x / 6.0).sin() * (y / 8.0).cos() + 0.5 * (x * y / 150.0).sin()
+}
+
+/// A zig-zag raster of about `moves` moves over [0, 60]².
+fn raster(moves: usize) -> Toolpath {
+    let lines = 200usize;
+    let per_line = moves.div_ceil(lines).max(2);
+    let mut poses = vec![Pose::new(
+        MoveKind::Rapid,
+        DVec3::new(0.0, 0.0, 10.0),
+        DVec3::Z,
+        0.0,
+    )];
+    for j in 0..lines {
+        #[allow(clippy::cast_precision_loss)]
+        let y = 60.0 * j as f64 / (lines - 1) as f64;
+        for k in 0..per_line {
+            #[allow(clippy::cast_precision_loss)]
+            let t = k as f64 / (per_line - 1) as f64;
+            let x = if j % 2 == 0 {
+                60.0 * t
+            } else {
+                60.0 * (1.0 - t)
+            };
+            let kind = if j == 0 && k == 0 {
+                MoveKind::Plunge
+            } else {
+                MoveKind::Cut
+            };
+            poses.push(Pose::new(
+                kind,
+                DVec3::new(x, y, surface(x, y)),
+                DVec3::Z,
+                3000.0,
+            ));
+        }
+    }
+    let cutter = Cutter::new(CutterKind::Ball, 6.0).unwrap_or_else(|e| panic!("{e}"));
+    Toolpath::new(
+        ToolRecord {
+            spec: "ball:d=6".into(),
+            cutter,
+        },
+        poses,
+    )
+}
+
+fn stock(res: f64) -> DexelStock {
+    DexelStock::new(
+        vec![StockShape::Box {
+            min: DVec3::new(-4.0, -4.0, -5.0),
+            max: DVec3::new(64.0, 64.0, 3.0),
+        }],
+        res,
+        DexelMode::Z,
+        8 << 30,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn full_run(tp: &Toolpath, plan: &MovePlan, res: f64) {
+    let mut s = stock(res);
+    let started = Instant::now();
+    let report = simulate(
+        &mut s,
+        &tp.tool.cutter,
+        plan,
+        &SimOptions::default(),
+        &Progress::new(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let secs = started.elapsed().as_secs_f64();
+    #[allow(clippy::cast_precision_loss)]
+    let moves = plan.moves.len() as f64;
+    let voxels = (68.0 / res) * (68.0 / res) * (8.0 / res);
+    let estimate = estimate_bytes(&s.bounds, res, DexelMode::Z).unwrap_or(0);
+    println!(
+        "simulation {res} mm: {} moves in {secs:.2} s = {:.0} moves/s ({:.3} ms/move), \
+         removed {:.1} mm³, stock {:.1} MiB (estimate {:.1} MiB), {} rays = {:.0} M voxels at \
+         this resolution, {} threads",
+        plan.moves.len(),
+        moves / secs,
+        1000.0 * secs / moves,
+        report.removed_volume_mm3,
+        report.memory_bytes as f64 / f64::from(1 << 20),
+        estimate as f64 / f64::from(1 << 20),
+        s.ray_count(),
+        voxels / 1e6,
+        rayon::current_num_threads(),
+    );
+}
+
+fn main() {
+    let moves = std::env::var("TALAS_SIM_BENCH_MOVES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(100_000usize);
+    let tp = raster(moves);
+    let plan = plan_toolpath(&tp, &StepOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    for res in [0.1, 0.05] {
+        full_run(&tp, &plan, res);
+    }
+    let mut c = Criterion::default().configure_from_args().sample_size(10);
+    let short = raster(2_000);
+    let short_plan =
+        plan_toolpath(&short, &StepOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    for res in [0.1, 0.05] {
+        let fresh = stock(res);
+        c.bench_function(&format!("simulate 2000 raster moves at {res} mm"), |b| {
+            b.iter_batched(
+                || fresh.clone(),
+                |mut s| {
+                    black_box(simulate(
+                        &mut s,
+                        &short.tool.cutter,
+                        &short_plan,
+                        &SimOptions::default(),
+                        &Progress::new(),
+                    ))
+                },
+                BatchSize::LargeInput,
+            );
+        });
+    }
+    c.final_summary();
+}

@@ -1,0 +1,307 @@
+//! `talas simulate PROGRAM.ngc|PATH.json --tool SPEC --stock box:X0,Y0,Z0,X1,Y1,Z1
+//! [--stock cyl:X,Y,Z,R,H] [--stock mesh:FILE.stl] [--part FILE] [--machine NAME_OR_FILE]
+//! --resolution R [--json] [--stl OUT.stl]`: material removal on a dexel stock, deviation from
+//! the part, collisions, time and memory.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use serde_json::{Value, json};
+
+use crate::diagnostics::Progress;
+use crate::gcode::{InterpretOptions, interpret};
+use crate::geometry::mesh::TriMesh;
+use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
+use crate::import::ImportError;
+use crate::import::step::read_step;
+use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
+use crate::machine::Machine;
+use crate::simulation::{
+    DEFAULT_MEMORY_LIMIT_BYTES, DeviationOptions, DexelMode, DexelStock, MovePlan, SimError,
+    SimOptions, StepOptions, StockShape, deviation, plan_program, plan_toolpath, simulate,
+};
+use crate::toolpath::Toolpath;
+use crate::tools::parse_tool_spec;
+
+/// Options of `talas simulate`.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// The program: G-code (any extension) or a tool path JSON (`.json`).
+    pub file: PathBuf,
+    /// The tool: `ball:d=6`, `flat:d=10`, `bull:d=10,r=2`, `cone:d=10,angle=45`, optionally
+    /// `,flute=20,shank=8,length=60,holder=DxL+DxL`. A tool path JSON brings its own tool
+    /// when this is left out.
+    #[arg(long, value_name = "SPEC")]
+    pub tool: Option<String>,
+    /// Stock (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cyl:X,Y,Z,R,H` (upright, base
+    /// centre, radius, height) or `mesh:FILE.stl` (closed), mm.
+    #[arg(long, value_name = "SHAPE", required = true)]
+    pub stock: Vec<String>,
+    /// The design part (STL or STEP) for the deviation statistics.
+    #[arg(long, value_name = "FILE")]
+    pub part: Option<PathBuf>,
+    /// Machine for rotary programs (`talas machines`) or a machine JSON file.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: Option<String>,
+    /// Dexel spacing, mm.
+    #[arg(long, value_name = "MM")]
+    pub resolution: f64,
+    /// Keep X, Y and Z rays even for a 3-axis program.
+    #[arg(long)]
+    pub tri_dexel: bool,
+    /// Largest stock memory, MiB (the estimate is checked before allocating).
+    #[arg(long, value_name = "MIB", default_value_t = DEFAULT_MEMORY_LIMIT_BYTES >> 20)]
+    pub memory_limit_mib: u64,
+    /// Write the simulated stock as binary STL (closed column mesh of the Z rays).
+    #[arg(long, value_name = "OUT.stl")]
+    pub stl: Option<PathBuf>,
+    /// Print one JSON document instead of the human summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_numbers(text: &str, n: usize) -> Option<Vec<f64>> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().ok())
+        .collect::<Option<_>>()?;
+    (v.len() == n).then_some(v)
+}
+
+fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
+    let bad = |msg: String| ImportError::new(Path::new("--stock"), None, msg);
+    let (kind, rest) = spec
+        .split_once(':')
+        .ok_or_else(|| bad(format!("'{spec}': expected box:..., cyl:... or mesh:FILE")))?;
+    match kind.trim() {
+        "box" => {
+            let v = parse_numbers(rest, 6)
+                .ok_or_else(|| bad(format!("'{spec}': box needs X0,Y0,Z0,X1,Y1,Z1 in mm")))?;
+            let (a, b) = (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
+            Ok(StockShape::Box {
+                min: a.min(b),
+                max: a.max(b),
+            })
+        }
+        "cyl" => {
+            let v = parse_numbers(rest, 5)
+                .ok_or_else(|| bad(format!("'{spec}': cyl needs X,Y,Z,R,H in mm")))?;
+            Ok(StockShape::Cylinder {
+                base: DVec3::new(v[0], v[1], v[2]),
+                radius: v[3],
+                height: v[4],
+            })
+        }
+        "mesh" => {
+            let path = Path::new(rest.trim());
+            let stl = read_stl(path, &StlOptions::default())?;
+            StockShape::mesh(stl.mesh).map_err(|e| ImportError::new(path, None, e.to_string()))
+        }
+        other => Err(bad(format!(
+            "unknown stock kind '{other}' (box, cyl, mesh)"
+        ))),
+    }
+}
+
+/// The part as a mesh: STL directly, STEP tessellated.
+fn read_part(path: &Path) -> Result<TriMesh, ImportError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("stp" | "step")) {
+        let part = read_step(path)?;
+        let opts = TessellationOptions {
+            chord_tol_mm: 0.001,
+            ..TessellationOptions::default()
+        };
+        Ok(tessellate_part(&part, &opts).mesh)
+    } else {
+        Ok(read_stl(path, &StlOptions::default())?.mesh)
+    }
+}
+
+fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
+    match e {
+        SimError::Program { block, message } => {
+            let place = if json { "pose" } else { "line" };
+            ImportError::new(file, Some(format!("{place} {block}")), message.clone())
+        }
+        other => ImportError::new(file, None, other.to_string()),
+    }
+}
+
+/// Run the simulation and build the JSON document.
+///
+/// # Errors
+/// An [`ImportError`] naming the file and place for bad input.
+pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
+    let file = &args.file;
+    let bad = |place: Option<String>, msg: String| ImportError::new(file, place, msg);
+    let is_json = file
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let text =
+        std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let (toolpath, program) = if is_json {
+        let tp = Toolpath::from_json(&text, &file.display().to_string())
+            .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
+        (Some(tp), None)
+    } else {
+        let prog = interpret(&text, &InterpretOptions::default()).map_err(|e| {
+            bad(
+                Some(format!("line {}, column {}", e.line, e.column)),
+                e.message,
+            )
+        })?;
+        (None, Some(prog))
+    };
+    let cutter = match (&args.tool, &toolpath) {
+        (Some(spec), _) => parse_tool_spec(spec)
+            .map_err(|e| ImportError::new(Path::new("--tool"), None, e.to_string()))?,
+        (None, Some(tp)) => tp.tool.cutter.clone(),
+        (None, None) => {
+            return Err(ImportError::new(
+                Path::new("--tool"),
+                None,
+                "a G-code program needs --tool SPEC",
+            ));
+        }
+    };
+    let machine = match &args.machine {
+        Some(m) => Some(
+            Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
+        ),
+        None => None,
+    };
+    let step_opts = StepOptions {
+        reach_mm: cutter.flute_length,
+        chord_tolerance_mm: (0.05 * args.resolution).clamp(1e-4, 0.01),
+        axis_tolerance_mm: (0.1 * args.resolution).clamp(1e-4, 0.02),
+        ..StepOptions::default()
+    };
+    let plan: MovePlan = match (&toolpath, &program) {
+        (Some(tp), _) => plan_toolpath(tp, &step_opts),
+        (None, Some(p)) => plan_program(p, machine.as_ref(), &step_opts),
+        (None, None) => Ok(MovePlan::default()),
+    }
+    .map_err(|e| sim_err(file, &e, is_json))?;
+    let shapes = args
+        .stock
+        .iter()
+        .map(|s| parse_stock(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mode = if args.tri_dexel || plan.tilted() {
+        DexelMode::Tri
+    } else {
+        DexelMode::Z
+    };
+    let mut stock = DexelStock::new(
+        shapes,
+        args.resolution,
+        mode,
+        args.memory_limit_mib.saturating_mul(1 << 20),
+    )
+    .map_err(|e| ImportError::new(Path::new("--stock"), None, e.to_string()))?;
+    let progress = Progress::new();
+    let started = std::time::Instant::now();
+    let report = simulate(
+        &mut stock,
+        &cutter,
+        &plan,
+        &SimOptions::default(),
+        &progress,
+    )
+    .map_err(|e| sim_err(file, &e, is_json))?;
+    let wall_s = started.elapsed().as_secs_f64();
+    let dev = match &args.part {
+        Some(p) => {
+            let mesh = read_part(p)?;
+            let d = deviation(&stock, &mesh, &DeviationOptions::default(), &progress)
+                .map_err(|e| ImportError::new(p, None, e.to_string()))?;
+            Some(d)
+        }
+        None => None,
+    };
+    if let Some(out) = &args.stl {
+        save_stl(out, &stock.closed_mesh(), StlFormat::Binary)?;
+    }
+    let collisions: Vec<Value> = report
+        .collisions
+        .iter()
+        .map(|c| {
+            json!({
+                "kind": c.kind,
+                "line": c.block,
+                "move": c.move_index,
+                "position": c.position.to_array(),
+                "depth_mm": c.depth_mm,
+            })
+        })
+        .collect();
+    let diagnostics: Vec<String> = plan.diagnostics.iter().map(ToString::to_string).collect();
+    Ok(json!({
+        "units": "mm",
+        "input": if is_json { "toolpath" } else { "gcode" },
+        "tool": cutter,
+        "resolution_mm": args.resolution,
+        "dexels": match stock.mode() { DexelMode::Z => "z", DexelMode::Tri => "tri" },
+        "rays": stock.ray_count(),
+        "moves": report.moves,
+        "steps": report.steps,
+        "initial_volume_mm3": report.initial_volume_mm3,
+        "final_volume_mm3": report.final_volume_mm3,
+        "removed_volume_mm3": report.removed_volume_mm3,
+        "time_s": report.time_s,
+        "memory_bytes": report.memory_bytes,
+        "wall_s": wall_s,
+        "collisions": collisions,
+        "deviation": dev,
+        "diagnostics": diagnostics,
+    }))
+}
+
+/// Human summary.
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    let num = |k: &str| doc.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+    let mut s = format!(
+        "removed {:.3} mm³ of {:.3} mm³ in {} moves ({} steps), {:.1} s at programmed feeds\n\
+         stock: {} rays ({}), {:.1} MiB\n",
+        num("removed_volume_mm3"),
+        num("initial_volume_mm3"),
+        doc.get("moves").and_then(Value::as_u64).unwrap_or(0),
+        doc.get("steps").and_then(Value::as_u64).unwrap_or(0),
+        num("time_s"),
+        doc.get("rays").and_then(Value::as_u64).unwrap_or(0),
+        doc.get("dexels").and_then(Value::as_str).unwrap_or("?"),
+        num("memory_bytes") / f64::from(1 << 20),
+    );
+    if let Some(d) = doc.get("deviation").filter(|d| !d.is_null()) {
+        let g = |k: &str| d.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        s.push_str(&format!(
+            "deviation: max gouge {:.4} mm, max remaining {:.4} mm, mean remaining {:.4} mm\n",
+            g("max_gouge_mm"),
+            g("max_remaining_mm"),
+            g("mean_remaining_mm")
+        ));
+    }
+    let cols = doc
+        .get("collisions")
+        .and_then(Value::as_array)
+        .map_or(&[][..], Vec::as_slice);
+    s.push_str(&format!("collisions: {}\n", cols.len()));
+    for c in cols.iter().take(20) {
+        s.push_str(&format!(
+            "  {} at line {}: {} (depth {:.3} mm)\n",
+            c.get("kind").and_then(Value::as_str).unwrap_or("?"),
+            c.get("line").and_then(Value::as_u64).unwrap_or(0),
+            c.get("position").map_or(String::new(), ToString::to_string),
+            c.get("depth_mm")
+                .and_then(Value::as_f64)
+                .unwrap_or(f64::NAN),
+        ));
+    }
+    s
+}

@@ -1,0 +1,386 @@
+//! The stock as dexels: its initial shape (box, upright cylinder, closed mesh), the grid, the
+//! memory estimate made before anything is allocated.
+
+use glam::DVec3;
+
+use super::SimError;
+use super::dexel::{Dexel, DexelFamily, RayAxis};
+use crate::geometry::Aabb;
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+
+/// The raw material's initial shape (mm).
+#[derive(Clone, Debug)]
+pub enum StockShape {
+    /// An axis-aligned box.
+    Box {
+        /// Minimum corner.
+        min: DVec3,
+        /// Maximum corner.
+        max: DVec3,
+    },
+    /// An upright cylinder (axis +Z).
+    Cylinder {
+        /// Centre of the bottom face.
+        base: DVec3,
+        /// Radius.
+        radius: f64,
+        /// Height.
+        height: f64,
+    },
+    /// A closed triangle mesh (the material is its inside).
+    Mesh(Box<MeshStock>),
+}
+
+/// A closed mesh and its hierarchy, for [`StockShape::Mesh`].
+#[derive(Clone, Debug)]
+pub struct MeshStock {
+    /// The mesh.
+    pub mesh: TriMesh,
+    bvh: MeshBvh,
+}
+
+impl StockShape {
+    /// A mesh stock.
+    ///
+    /// # Errors
+    /// [`SimError::Stock`] when the mesh is not closed or has no usable triangle.
+    pub fn mesh(mesh: TriMesh) -> Result<Self, SimError> {
+        if !mesh.is_closed() {
+            return Err(SimError::Stock(
+                "a mesh stock must be closed (every edge shared by two triangles)".into(),
+            ));
+        }
+        let bvh = MeshBvh::new(&mesh).map_err(|e| SimError::Stock(e.to_string()))?;
+        Ok(Self::Mesh(Box::new(MeshStock { mesh, bvh })))
+    }
+
+    /// Check the sizes: finite, positive.
+    ///
+    /// # Errors
+    /// [`SimError::Stock`] naming what is wrong.
+    pub fn validate(&self) -> Result<(), SimError> {
+        match self {
+            Self::Box { min, max } => {
+                if !(min.is_finite() && max.is_finite() && min.cmplt(*max).all()) {
+                    return Err(SimError::Stock(format!(
+                        "box minimum {:?} mm must be below maximum {:?} mm on every axis",
+                        min.to_array(),
+                        max.to_array()
+                    )));
+                }
+            }
+            Self::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let ok = base.is_finite()
+                    && radius.is_finite()
+                    && height.is_finite()
+                    && *radius > 0.0
+                    && *height > 0.0;
+                if !ok {
+                    return Err(SimError::Stock(format!(
+                        "cylinder needs a finite base and positive radius and height, got \
+                         radius {radius} mm, height {height} mm"
+                    )));
+                }
+            }
+            Self::Mesh(_) => {}
+        }
+        Ok(())
+    }
+
+    /// Bounding box.
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Self::Box { min, max } => Aabb {
+                min: *min,
+                max: *max,
+            },
+            Self::Cylinder {
+                base,
+                radius,
+                height,
+            } => Aabb {
+                min: *base - DVec3::new(*radius, *radius, 0.0),
+                max: *base + DVec3::new(*radius, *radius, *height),
+            },
+            Self::Mesh(m) => m.mesh.bbox(),
+        }
+    }
+
+    /// Material intervals (absolute coordinate along the ray axis) of the ray through `p`
+    /// along `axis`, sorted and disjoint.
+    #[must_use]
+    pub fn ray_intervals(&self, p: DVec3, axis: RayAxis) -> Vec<[f64; 2]> {
+        let (u, v, w) = axis.axes();
+        let a = p.to_array();
+        let (pu, pv) = (a[u], a[v]);
+        match self {
+            Self::Box { min, max } => {
+                let (lo, hi) = (min.to_array(), max.to_array());
+                if pu < lo[u] || pu > hi[u] || pv < lo[v] || pv > hi[v] {
+                    return Vec::new();
+                }
+                vec![[lo[w], hi[w]]]
+            }
+            Self::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let (dx, dy) = (p.x - base.x, p.y - base.y);
+                match axis {
+                    RayAxis::Z => {
+                        if dx * dx + dy * dy > radius * radius {
+                            Vec::new()
+                        } else {
+                            vec![[base.z, base.z + height]]
+                        }
+                    }
+                    RayAxis::X | RayAxis::Y => {
+                        if p.z < base.z || p.z > base.z + height {
+                            return Vec::new();
+                        }
+                        let (off, centre) = if axis == RayAxis::X {
+                            (dy, base.x)
+                        } else {
+                            (dx, base.y)
+                        };
+                        let h2 = radius * radius - off * off;
+                        if h2 <= 0.0 {
+                            return Vec::new();
+                        }
+                        let h = h2.sqrt();
+                        vec![[centre - h, centre + h]]
+                    }
+                }
+            }
+            Self::Mesh(m) => mesh_intervals(&m.bvh, &m.mesh.bbox(), p, axis),
+        }
+    }
+}
+
+/// Inside intervals of a closed mesh along a ray, by successive hits (entering and leaving
+/// alternate; an odd count drops the last hit).
+pub(super) fn mesh_intervals(
+    bvh: &MeshBvh,
+    bounds: &Aabb,
+    p: DVec3,
+    axis: RayAxis,
+) -> Vec<[f64; 2]> {
+    let (_, _, w) = axis.axes();
+    let dir = axis.direction();
+    let lo = bounds.min.to_array()[w] - 1.0;
+    let hi = bounds.max.to_array()[w] + 1.0;
+    let mut start = p;
+    let mut a = start.to_array();
+    a[w] = lo;
+    start = DVec3::from_array(a);
+    let mut hits = Vec::new();
+    let mut t0 = 0.0;
+    let span = hi - lo;
+    // Step just past each hit; a hit on a shared edge may come twice at the same place.
+    while hits.len() < 10_000 {
+        let Some(h) = bvh.ray_cast(start + dir * t0, dir, span - t0) else {
+            break;
+        };
+        let t = t0 + h.t;
+        hits.push(lo + t);
+        t0 = t + 1e-7;
+    }
+    hits.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    hits.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+}
+
+/// How many ray families the stock keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum DexelMode {
+    /// Z rays only: exact for 3-axis removal seen from above.
+    Z,
+    /// X, Y and Z rays: for tilted tools (walls and undercuts keep their resolution).
+    Tri,
+}
+
+/// The stock: its initial shape and one or three dexel families.
+#[derive(Clone, Debug)]
+pub struct DexelStock {
+    /// The shapes whose union is the initial stock.
+    pub shapes: Vec<StockShape>,
+    /// Cell size, mm.
+    pub resolution_mm: f64,
+    /// Families in order Z (always first), then X and Y for [`DexelMode::Tri`].
+    pub families: Vec<DexelFamily>,
+    /// Bounding box of the initial stock.
+    pub bounds: Aabb,
+}
+
+/// Bytes a stock of `bounds` at `resolution_mm` needs, before any ray holds more than one
+/// interval: `size_of::<Dexel>()` per ray per family. `None` when the grid is not finite.
+#[must_use]
+pub fn estimate_bytes(bounds: &Aabb, resolution_mm: f64, mode: DexelMode) -> Option<u64> {
+    let size = bounds.max - bounds.min;
+    if !(resolution_mm > 0.0) || !size.is_finite() {
+        return None;
+    }
+    let cells = |x: f64| -> Option<u64> {
+        let n = (x / resolution_mm).ceil().max(1.0);
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        (n < 1e12).then_some(n as u64)
+    };
+    let (nx, ny, nz) = (cells(size.x)?, cells(size.y)?, cells(size.z)?);
+    let rays = match mode {
+        DexelMode::Z => nx.checked_mul(ny)?,
+        DexelMode::Tri => nx
+            .checked_mul(ny)?
+            .checked_add(ny.checked_mul(nz)?)?
+            .checked_add(nz.checked_mul(nx)?)?,
+    };
+    rays.checked_mul(std::mem::size_of::<Dexel>() as u64)
+}
+
+/// Default memory ceiling of a stock: 4 GiB.
+pub const DEFAULT_MEMORY_LIMIT_BYTES: u64 = 4 << 30;
+
+impl DexelStock {
+    /// The stock of the union of `shapes`, at `resolution_mm`, with one (Z) or three families.
+    ///
+    /// # Errors
+    /// [`SimError::Stock`] for no shape or a bad one, [`SimError::Resolution`] for a
+    /// non-positive resolution, [`SimError::Memory`] when the estimate exceeds
+    /// `memory_limit_bytes` (nothing is allocated then).
+    pub fn new(
+        shapes: Vec<StockShape>,
+        resolution_mm: f64,
+        mode: DexelMode,
+        memory_limit_bytes: u64,
+    ) -> Result<Self, SimError> {
+        if !(resolution_mm > 0.0 && resolution_mm.is_finite()) {
+            return Err(SimError::Resolution(resolution_mm));
+        }
+        let mut bounds = Aabb::EMPTY;
+        let mut first = true;
+        for s in &shapes {
+            s.validate()?;
+            if first {
+                bounds = s.bounds();
+                first = false;
+            } else {
+                bounds.union(&s.bounds());
+            }
+        }
+        if first {
+            return Err(SimError::Stock("no stock shape given".into()));
+        }
+        let need = estimate_bytes(&bounds, resolution_mm, mode).unwrap_or(u64::MAX);
+        if need > memory_limit_bytes {
+            return Err(SimError::Memory {
+                need_bytes: need,
+                limit_bytes: memory_limit_bytes,
+                resolution_mm,
+            });
+        }
+        let axes: &[RayAxis] = match mode {
+            DexelMode::Z => &[RayAxis::Z],
+            DexelMode::Tri => &[RayAxis::Z, RayAxis::X, RayAxis::Y],
+        };
+        let families = axes
+            .iter()
+            .map(|a| Self::family(&shapes, &bounds, resolution_mm, *a))
+            .collect();
+        Ok(Self {
+            shapes,
+            resolution_mm,
+            families,
+            bounds,
+        })
+    }
+
+    fn family(shapes: &[StockShape], bounds: &Aabb, res: f64, axis: RayAxis) -> DexelFamily {
+        use rayon::prelude::*;
+        let (u, v, w) = axis.axes();
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let n = |k: usize| ((hi[k] - lo[k]) / res).ceil().max(1.0) as usize;
+        let (nu, nv) = (n(u), n(v));
+        let mut fam = DexelFamily {
+            axis,
+            origin: bounds.min,
+            spacing: res,
+            nu,
+            nv,
+            dexels: Vec::new(),
+        };
+        let base = lo[w];
+        let dexels: Vec<Dexel> = (0..nu * nv)
+            .into_par_iter()
+            .map(|k| {
+                let p = fam.ray_origin(k % nu, k / nu);
+                let mut d = Dexel::Empty;
+                for s in shapes {
+                    for [a, b] in s.ray_intervals(p, axis) {
+                        #[allow(clippy::cast_possible_truncation)]
+                        d.add((a - base) as f32, (b - base) as f32);
+                    }
+                }
+                d
+            })
+            .collect();
+        fam.dexels = dexels;
+        fam
+    }
+
+    /// Which families the stock keeps.
+    #[must_use]
+    pub fn mode(&self) -> DexelMode {
+        if self.families.len() > 1 {
+            DexelMode::Tri
+        } else {
+            DexelMode::Z
+        }
+    }
+
+    /// Material volume, mm³: the Z family's (a tri-dexel stock averages its three families).
+    #[must_use]
+    pub fn volume_mm3(&self) -> f64 {
+        #[allow(clippy::cast_precision_loss)]
+        let n = self.families.len().max(1) as f64;
+        self.families.iter().map(DexelFamily::volume).sum::<f64>() / n
+    }
+
+    /// Bytes held now: the ray arrays plus intervals stored on the heap.
+    #[must_use]
+    pub fn memory_bytes(&self) -> u64 {
+        let b: usize = self
+            .families
+            .iter()
+            .map(|f| {
+                f.dexels.capacity() * std::mem::size_of::<Dexel>()
+                    + f.dexels.iter().map(Dexel::heap_bytes).sum::<usize>()
+            })
+            .sum();
+        b as u64
+    }
+
+    /// Number of rays over all families.
+    #[must_use]
+    pub fn ray_count(&self) -> usize {
+        self.families.iter().map(|f| f.dexels.len()).sum()
+    }
+
+    /// Whether a stock-surface point lies on the initial stock's boundary (never cut), within
+    /// `tol` along the ray.
+    #[must_use]
+    pub fn on_initial_boundary(&self, p: DVec3, axis: RayAxis, tol: f64) -> bool {
+        let (_, _, w) = axis.axes();
+        let x = p.to_array()[w];
+        self.shapes.iter().any(|s| {
+            s.ray_intervals(p, axis)
+                .iter()
+                .any(|[a, b]| (x - a).abs() <= tol || (x - b).abs() <= tol)
+        })
+    }
+}

@@ -1,0 +1,512 @@
+//! The interval of one ray inside the volume swept by a tool body along a straight step with a
+//! fixed axis.
+//!
+//! Every body (the cutting end up to the flute length, the shank, a holder section) is convex
+//! and rotationally symmetric, so its sweep along a segment is convex and meets a ray in one
+//! interval. Two ways to find it:
+//! - vertical tool, vertical ray (3-axis Z dexels): closed forms on the tool's height profile
+//!   h(ρ). With the tip at c(t) = p₀ + t·(p₁ − p₀), the ray at horizontal distance ρ(t) from
+//!   the axis meets the body from z(t) + h(ρ(t)) up to z(t) + top, for t in the set where
+//!   ρ(t) ≤ R (a quadratic inequality). The top is then the larger end value; the bottom is
+//!   exact for flat (end value) and ball (ray against the capsule of sphere centres) and, for
+//!   bull-nose and cone, the minimum of the convex function z(t) + h(ρ(t)) by golden section
+//!   to 10⁻¹² of the step.
+//! - any other direction: the body is the convex hull of a few "rings" (a circle of radius r
+//!   at height z around the axis, thickened by a ball of radius ρ), so its support function is
+//!   cheap; the sweep's support adds the step vector when it points along the query direction,
+//!   and parry's GJK ray cast (from both ends of the ray) gives the entry and exit.
+
+use glam::{DVec2, DVec3};
+use parry3d_f64::query::Ray;
+use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
+use parry3d_f64::shape::SupportMap;
+
+use crate::geometry::Aabb;
+use crate::tools::{Cutter, CutterKind};
+
+/// A convex tool body in the tool frame (tip at the origin, axis +z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Body {
+    /// The cutting end up to the flute length.
+    Cutting {
+        /// Cutter radius R.
+        radius: f64,
+        /// Radius of the flat bottom (R − r for bull-nose, R for flat, 0 for ball and cone).
+        flat: f64,
+        /// Corner radius r (ball: R; flat: 0).
+        corner: f64,
+        /// Cone: tan of the half-angle (0 for the others).
+        cone_tan: f64,
+        /// Top of the body (flute length).
+        top: f64,
+    },
+    /// A cylinder (shank or holder section) from `z0` to `z1`.
+    Cylinder {
+        /// Radius.
+        radius: f64,
+        /// Bottom height above the tip.
+        z0: f64,
+        /// Top height above the tip.
+        z1: f64,
+    },
+}
+
+/// Smallest rounding of a ring in the GJK support map, mm.
+const ROUND: f64 = 1e-3;
+
+/// A ring: circle of radius `r` at height `z` around the axis, thickened by a ball `round`.
+#[derive(Clone, Copy, Debug)]
+struct Ring {
+    z: f64,
+    r: f64,
+    round: f64,
+}
+
+impl Body {
+    /// The cutting end of a cutter.
+    pub(super) fn cutting(c: &Cutter) -> Self {
+        let radius = c.radius();
+        let (corner, cone_tan) = match c.kind {
+            CutterKind::Ball => (radius, 0.0),
+            CutterKind::Flat => (0.0, 0.0),
+            CutterKind::BullNose { corner_radius } => (corner_radius, 0.0),
+            CutterKind::Cone { half_angle } => (0.0, half_angle.tan()),
+        };
+        Self::Cutting {
+            radius,
+            flat: c.flat_radius(),
+            corner,
+            cone_tan,
+            top: c.flute_length,
+        }
+    }
+
+    fn rings(&self) -> ([Ring; 3], usize) {
+        let zero = Ring {
+            z: 0.0,
+            r: 0.0,
+            round: 0.0,
+        };
+        match *self {
+            Self::Cylinder { radius, z0, z1 } => (
+                [
+                    Ring {
+                        z: z0,
+                        r: radius,
+                        round: 0.0,
+                    },
+                    Ring {
+                        z: z1,
+                        r: radius,
+                        round: 0.0,
+                    },
+                    zero,
+                ],
+                2,
+            ),
+            Self::Cutting {
+                radius,
+                flat,
+                corner,
+                cone_tan,
+                top,
+            } => {
+                let top_ring = Ring {
+                    z: top,
+                    r: radius,
+                    round: 0.0,
+                };
+                if cone_tan > 0.0 {
+                    let ph = radius / cone_tan;
+                    (
+                        [
+                            zero,
+                            Ring {
+                                z: ph.min(top),
+                                r: radius,
+                                round: 0.0,
+                            },
+                            top_ring,
+                        ],
+                        3,
+                    )
+                } else {
+                    (
+                        [
+                            Ring {
+                                z: corner,
+                                r: flat,
+                                round: corner,
+                            },
+                            top_ring,
+                            zero,
+                        ],
+                        2,
+                    )
+                }
+            }
+        }
+    }
+
+    /// Largest radius.
+    pub(super) fn radius(&self) -> f64 {
+        match *self {
+            Self::Cutting { radius, .. } | Self::Cylinder { radius, .. } => radius,
+        }
+    }
+
+    /// Support point (tool frame rotated to world: axis `a`, tip at the origin).
+    fn support(&self, a: DVec3, dir: DVec3) -> DVec3 {
+        let (rings, n) = self.rings();
+        let da = dir.dot(a);
+        let perp = (dir - a * da).try_normalize().unwrap_or(DVec3::ZERO);
+        let unit = dir.try_normalize().unwrap_or(DVec3::ZERO);
+        let mut best = DVec3::ZERO;
+        let mut best_v = f64::NEG_INFINITY;
+        let used = rings.get(..n).unwrap_or(&[]);
+        let zmid = 0.5
+            * (used.iter().map(|r| r.z).fold(f64::INFINITY, f64::min)
+                + used.iter().map(|r| r.z).fold(f64::NEG_INFINITY, f64::max));
+        for ring in used {
+            // A ring without rounding gets a tiny one (shrunk and moved inward by the same
+            // amount), so the support point moves continuously with the direction and GJK
+            // does not stall on flat faces; the shape changes by at most ROUND·(1 − 1/√2) at
+            // sharp edges.
+            let (r, round, z) = if ring.round < ROUND {
+                let inward = if ring.z > zmid { -1.0 } else { 1.0 };
+                (
+                    ring.r - ROUND + ring.round,
+                    ROUND,
+                    ring.z + inward * (ROUND - ring.round),
+                )
+            } else {
+                (ring.r, ring.round, ring.z)
+            };
+            let p = a * z + perp * r.max(0.0) + unit * round;
+            let v = p.dot(dir);
+            if v > best_v {
+                best_v = v;
+                best = p;
+            }
+        }
+        best
+    }
+
+    /// Bounding box of the body at tip `p` with axis `a`.
+    fn bbox_at(&self, p: DVec3, a: DVec3, out: &mut Aabb) {
+        let (rings, n) = self.rings();
+        for ring in rings.iter().take(n) {
+            let c = p + a * ring.z;
+            let ext = DVec3::new(
+                (1.0 - a.x * a.x).max(0.0).sqrt(),
+                (1.0 - a.y * a.y).max(0.0).sqrt(),
+                (1.0 - a.z * a.z).max(0.0).sqrt(),
+            ) * ring.r
+                + DVec3::splat(ring.round);
+            out.add(c - ext);
+            out.add(c + ext);
+        }
+    }
+
+    /// Height of the lower surface at distance `rho` ≤ R from the axis.
+    fn height(&self, rho: f64) -> f64 {
+        match *self {
+            Self::Cylinder { z0, .. } => z0,
+            Self::Cutting {
+                flat,
+                corner,
+                cone_tan,
+                ..
+            } => {
+                if cone_tan > 0.0 {
+                    rho / cone_tan
+                } else if rho <= flat {
+                    0.0
+                } else {
+                    let q = (rho - flat).min(corner);
+                    corner - (corner * corner - q * q).max(0.0).sqrt()
+                }
+            }
+        }
+    }
+
+    fn top(&self) -> f64 {
+        match *self {
+            Self::Cutting { top, .. } => top,
+            Self::Cylinder { z1, .. } => z1,
+        }
+    }
+}
+
+/// One straight step of the tool: tip from `p0` to `p1`, fixed unit axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SweepStep {
+    pub p0: DVec3,
+    pub p1: DVec3,
+    pub axis: DVec3,
+}
+
+impl SweepStep {
+    /// Whether the axis is +Z (to 1e-12), so the closed forms apply to Z rays.
+    pub(super) fn is_vertical(&self) -> bool {
+        (self.axis - DVec3::Z).length_squared() < 1e-24
+    }
+
+    /// Bounding box of `body` swept along the step.
+    pub(super) fn bbox(&self, body: &Body) -> Aabb {
+        let mut b = Aabb {
+            min: self.p0,
+            max: self.p0,
+        };
+        body.bbox_at(self.p0, self.axis, &mut b);
+        body.bbox_at(self.p1, self.axis, &mut b);
+        b
+    }
+}
+
+/// The t-interval of [0, 1] where |w − t·d| ≤ r.
+fn disc_interval(w: DVec2, d: DVec2, r: f64) -> Option<(f64, f64)> {
+    let a = d.length_squared();
+    let c = w.length_squared() - r * r;
+    if a < 1e-24 {
+        return (c <= 0.0).then_some((0.0, 1.0));
+    }
+    let b = w.dot(d);
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let (t0, t1) = (((b - sq) / a).max(0.0), ((b + sq) / a).min(1.0));
+    (t0 <= t1).then_some((t0, t1))
+}
+
+/// Entry of the line `o + s·e` (unit e) into the ball of radius r at c.
+fn sphere_entry(o: DVec3, e: DVec3, c: DVec3, r: f64) -> Option<f64> {
+    let oc = o - c;
+    let b = e.dot(oc);
+    let h = b * b - (oc.length_squared() - r * r);
+    (h >= 0.0).then(|| -b - h.sqrt())
+}
+
+/// Entry of the line `o + s·e` (unit e) into the capsule of radius r around segment [a, b].
+fn capsule_entry(o: DVec3, e: DVec3, pa: DVec3, pb: DVec3, r: f64) -> Option<f64> {
+    let ba = pb - pa;
+    let oa = o - pa;
+    let baba = ba.length_squared();
+    let bard = ba.dot(e);
+    let baoa = ba.dot(oa);
+    let rdoa = e.dot(oa);
+    let oaoa = oa.length_squared();
+    let a = baba - bard * bard;
+    let mut best: Option<f64> = None;
+    let mut keep = |s: f64| best = Some(best.map_or(s, |b: f64| b.min(s)));
+    if a > 1e-12 * baba.max(1e-300) {
+        let b = baba * rdoa - baoa * bard;
+        let c = baba * oaoa - baoa * baoa - r * r * baba;
+        let h = b * b - a * c;
+        if h >= 0.0 {
+            let s = (-b - h.sqrt()) / a;
+            let y = baoa + s * bard;
+            if y > 0.0 && y < baba {
+                keep(s);
+            }
+        }
+    }
+    if let Some(s) = sphere_entry(o, e, pa, r) {
+        keep(s);
+    }
+    if let Some(s) = sphere_entry(o, e, pb, r) {
+        keep(s);
+    }
+    best
+}
+
+/// Minimum of a convex function on [a, b] by golden section (to 1e-12 of the interval).
+fn golden_min(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
+    const G: f64 = 0.618_033_988_749_894_8;
+    let mut x1 = b - G * (b - a);
+    let mut x2 = a + G * (b - a);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..60 {
+        if f1 <= f2 {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - G * (b - a);
+            f1 = f(x1);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + G * (b - a);
+            f2 = f(x2);
+        }
+    }
+    f(a).min(f(b)).min(f1).min(f2)
+}
+
+/// The z-interval of the vertical line through `q` inside `body` (axis +Z) swept from `p0` to
+/// `p1`.
+pub(super) fn vertical_interval(body: &Body, p0: DVec3, p1: DVec3, q: DVec2) -> Option<(f64, f64)> {
+    let d = (p1 - p0).truncate();
+    let w = q - p0.truncate();
+    let dz = p1.z - p0.z;
+    let r = body.radius();
+    let (ta, tb) = disc_interval(w, d, r)?;
+    let z = |t: f64| p0.z + t * dz;
+    let (za, zb) = (z(ta), z(tb));
+    let hi = za.max(zb) + body.top();
+    let lo = match *body {
+        Body::Cylinder { z0, .. } => za.min(zb) + z0,
+        Body::Cutting {
+            flat,
+            corner,
+            cone_tan,
+            radius,
+            ..
+        } => {
+            if cone_tan == 0.0 && corner == 0.0 {
+                za.min(zb)
+            } else if cone_tan == 0.0 && flat == 0.0 {
+                // Ball: the lowest point of the line in the capsule of sphere centres.
+                let lift = DVec3::new(0.0, 0.0, radius);
+                let o = DVec3::new(q.x, q.y, za.min(zb) - 2.0 * radius - 1.0);
+                capsule_entry(o, DVec3::Z, p0 + lift, p1 + lift, radius)
+                    .map_or(za.min(zb) + radius, |s| o.z + s)
+            } else {
+                let f = |t: f64| z(t) + body.height((w - d * t).length().min(radius));
+                if dz.abs() < 1e-15 {
+                    let a = d.length_squared();
+                    let t = if a > 0.0 {
+                        (w.dot(d) / a).clamp(ta, tb)
+                    } else {
+                        ta
+                    };
+                    f(t)
+                } else {
+                    golden_min(ta, tb, f)
+                }
+            }
+        }
+    };
+    Some((lo, hi))
+}
+
+/// A body swept along a step, as a support map for GJK (origin = the step's start tip).
+struct Swept<'a> {
+    body: &'a Body,
+    axis: DVec3,
+    d: DVec3,
+}
+
+impl SupportMap for Swept<'_> {
+    fn local_support_point(&self, dir: DVec3) -> DVec3 {
+        let p = self.body.support(self.axis, dir);
+        if dir.dot(self.d) > 0.0 { p + self.d } else { p }
+    }
+}
+
+/// The interval (offsets `s` along the line `origin + s·e`, unit `e`) inside `body` swept
+/// along `step`, searched for within `[s_lo, s_hi]` (both ends outside the sweep).
+pub(super) fn general_interval(
+    body: &Body,
+    step: &SweepStep,
+    origin: DVec3,
+    e: DVec3,
+    s_lo: f64,
+    s_hi: f64,
+) -> Option<(f64, f64)> {
+    let shape = Swept {
+        body,
+        axis: step.axis,
+        d: step.p1 - step.p0,
+    };
+    let span = s_hi - s_lo;
+    let mut simplex = VoronoiSimplex::new();
+    let start = origin + e * s_lo - step.p0;
+    let (t_in, _) = cast_local_ray(&shape, &mut simplex, &Ray::new(start, e), span)?;
+    let end = origin + e * s_hi - step.p0;
+    let (t_out, _) = cast_local_ray(&shape, &mut simplex, &Ray::new(end, -e), span)?;
+    let (a, b) = (s_lo + t_in, s_hi - t_out);
+    (a <= b).then_some((a, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cutters() -> Vec<Cutter> {
+        [
+            Cutter::new(CutterKind::Ball, 6.0),
+            Cutter::new(CutterKind::Flat, 6.0),
+            Cutter::new(CutterKind::BullNose { corner_radius: 1.0 }, 6.0),
+            Cutter::new(CutterKind::Cone { half_angle: 0.6 }, 6.0),
+        ]
+        .into_iter()
+        .filter_map(Result::ok)
+        .collect()
+    }
+
+    /// Brute force: the lowest and highest z of the vertical line over 20001 tool positions.
+    fn brute(c: &Cutter, p0: DVec3, p1: DVec3, q: DVec2) -> Option<(f64, f64)> {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for k in 0..=20_000 {
+            let t = f64::from(k) / 20_000.0;
+            let c0 = p0.lerp(p1, t);
+            let rho = (q - c0.truncate()).length();
+            if let Some(h) = c.height_at_radius(rho) {
+                lo = lo.min(c0.z + h);
+                hi = hi.max(c0.z + c.flute_length);
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    #[test]
+    fn vertical_and_general_match_brute_force() {
+        let moves = [
+            (DVec3::new(0.0, 0.0, 0.0), DVec3::new(10.0, 0.0, 0.0)),
+            (DVec3::new(0.0, 0.0, 0.0), DVec3::new(7.0, 3.0, -2.0)),
+            (DVec3::new(1.0, 1.0, 2.0), DVec3::new(1.0, 1.0, -1.0)),
+            (DVec3::new(0.0, 0.0, 0.0), DVec3::new(2.0, -1.0, 4.0)),
+        ];
+        let qs = [
+            DVec2::new(2.0, 1.0),
+            DVec2::new(5.0, -2.9),
+            DVec2::new(1.2, 0.4),
+            DVec2::new(-1.5, 0.5),
+            DVec2::new(3.0, 2.5),
+        ];
+        for c in cutters() {
+            let body = Body::cutting(&c);
+            for (p0, p1) in moves {
+                let step = SweepStep {
+                    p0,
+                    p1,
+                    axis: DVec3::Z,
+                };
+                for q in qs {
+                    let fast = vertical_interval(&body, p0, p1, q);
+                    let want = brute(&c, p0, p1, q);
+                    let o = DVec3::new(q.x, q.y, 0.0);
+                    // GJK runs on rings rounded by ROUND: sharp edges move by ≤ 3e-4 mm along
+                    // their normal, more along a ray that meets them at a grazing angle.
+                    let general = general_interval(&body, &step, o, DVec3::Z, -50.0, 50.0);
+                    match (fast, want, general) {
+                        (Some(f), Some(w), Some(g)) => {
+                            assert!((f.0 - w.0).abs() < 2e-3, "{c:?} {p0} {p1} {q} {f:?} {w:?}");
+                            assert!((f.1 - w.1).abs() < 2e-3, "{f:?} {w:?}");
+                            assert!((g.0 - f.0).abs() < 2e-3, "{c:?} {q} gjk {g:?} fast {f:?}");
+                            // The exit through the top rim (flute length) may be met at a grazing angle.
+                            assert!((g.1 - f.1).abs() < 2e-3, "gjk {g:?} fast {f:?}");
+                        }
+                        (None, None, None) => {}
+                        other => panic!("{c:?} {p0} {p1} {q}: {other:?}"),
+                    }
+                }
+            }
+        }
+    }
+}
