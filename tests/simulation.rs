@@ -534,51 +534,60 @@ fn posted_five_axis_program_goes_through_the_machine_kinematics() {
     );
     let machine = Machine::builtin("trt-ac").expect("machine");
     let dialect = Dialect::resolve("linuxcnc").expect("dialect");
-    let text = post(&tp, &machine, &dialect, &PostOptions::default()).expect("post");
-    assert!(text.contains('A'), "{text}");
-    let prog = interpret(&text, &InterpretOptions::default()).expect("interpret");
-    // Coarser steps for the rotations of the rapids (they only need to miss the stock).
-    let opts = StepOptions {
-        reach_mm: cutter.flute_length,
-        axis_tolerance_mm: 0.05,
-        chord_tolerance_mm: 0.01,
-        ..StepOptions::default()
-    };
-    assert!(
-        plan_program(&prog, None, &opts).is_err(),
-        "rotary needs a machine"
-    );
-    let plan = plan_program(&prog, Some(&machine), &opts).expect("plan");
-    assert!(plan.tilted());
-    let mut stock = DexelStock::new(
-        vec![boxed([0.0, -10.0, -6.0], [30.0, 10.0, 0.0])],
-        0.1,
-        DexelMode::Tri,
-        1 << 30,
-    )
-    .expect("stock");
-    let report = run(&mut stock, &cutter, &plan);
-    assert!(report.collisions.is_empty(), "{:?}", report.collisions);
-    let (r, l) = (cutter.radius(), cutter.flute_length);
-    let n = (beta.cos(), -beta.sin());
-    let a = (beta.sin(), beta.cos());
-    let corner = |s: f64, t: f64| {
-        (
-            y0 + s * r * n.0 + t * l * a.0,
-            z0 + s * r * n.1 + t * l * a.1,
+    // Joint space (Talas does the kinematics) and tool-centre-point output (the controller
+    // does): the same volume.
+    for tcp in [false, true] {
+        let options = PostOptions {
+            tcp,
+            ..PostOptions::default()
+        };
+        let text = post(&tp, &machine, &dialect, &options).expect("post");
+        assert!(text.contains('A'), "{text}");
+        let prog = interpret(&text, &InterpretOptions::default()).expect("interpret");
+        // Coarser steps for the rotations of the rapids (they only need to miss the stock).
+        let opts = StepOptions {
+            reach_mm: cutter.flute_length,
+            axis_tolerance_mm: 0.05,
+            chord_tolerance_mm: 0.01,
+            ..StepOptions::default()
+        };
+        assert!(
+            plan_program(&prog, None, &opts).is_err(),
+            "rotary needs a machine"
+        );
+        assert_eq!(prog.blocks.iter().any(|b| b.tcp), tcp);
+        let plan = plan_program(&prog, Some(&machine), &opts).expect("plan");
+        assert!(plan.tilted());
+        let mut stock = DexelStock::new(
+            vec![boxed([0.0, -10.0, -6.0], [30.0, 10.0, 0.0])],
+            0.1,
+            DexelMode::Tri,
+            1 << 30,
         )
-    };
-    let rect = [
-        corner(-1.0, 0.0),
-        corner(1.0, 0.0),
-        corner(1.0, 1.0),
-        corner(-1.0, 1.0),
-    ];
-    let want = 30.0 * clipped_area(&rect);
-    let got = report.removed_volume_mm3;
-    eprintln!(
-        "posted tilted: {got:.4} mm³ vs {want:.4} mm³ ({:.4} %)",
-        100.0 * rel(got, want)
-    );
-    assert!(rel(got, want) < 0.005, "{got} vs {want}");
+        .expect("stock");
+        let report = run(&mut stock, &cutter, &plan);
+        assert!(report.collisions.is_empty(), "{:?}", report.collisions);
+        let (r, l) = (cutter.radius(), cutter.flute_length);
+        let n = (beta.cos(), -beta.sin());
+        let a = (beta.sin(), beta.cos());
+        let corner = |s: f64, t: f64| {
+            (
+                y0 + s * r * n.0 + t * l * a.0,
+                z0 + s * r * n.1 + t * l * a.1,
+            )
+        };
+        let rect = [
+            corner(-1.0, 0.0),
+            corner(1.0, 0.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        let want = 30.0 * clipped_area(&rect);
+        let got = report.removed_volume_mm3;
+        eprintln!(
+            "posted tilted (tcp {tcp}): {got:.4} mm³ vs {want:.4} mm³ ({:.4} %)",
+            100.0 * rel(got, want)
+        );
+        assert!(rel(got, want) < 0.005, "{got} vs {want}");
+    }
 }

@@ -200,7 +200,8 @@ fn machine_joints(j: &crate::gcode::Joints, kind: KinematicsKind) -> MachineJoin
 /// Moves of an interpreted program. Without a machine (or with a 3-axis one) the tool axis is
 /// +Z and coordinates are taken as part coordinates; with a table-tilting machine every
 /// position goes through its forward kinematics (joint-linear interpolation, as the
-/// controller moves).
+/// controller moves), except blocks programmed in tool-centre-point mode
+/// ([`crate::gcode::MotionBlock::tcp`]), whose X Y Z are the tip itself.
 ///
 /// # Errors
 /// [`SimError::Program`] naming the line of a block that moves a rotary axis the machine does
@@ -225,6 +226,12 @@ pub fn plan_program(
         let pose_at = |t: f64| -> ToolPose {
             let j = b.point_at(t);
             match five {
+                // Tool-centre-point mode: the controller keeps the tip on the programmed
+                // X Y Z (part coordinates); the rotary axes give only the orientation.
+                Some(m) if b.tcp => ToolPose {
+                    tip: j.xyz,
+                    axis: m.forward(&machine_joints(&j, m.kinematics)).axis,
+                },
                 Some(m) => m.forward(&machine_joints(&j, m.kinematics)),
                 None => ToolPose {
                     tip: j.xyz,
