@@ -457,7 +457,7 @@ fn cli_plan_writes_contract_json_and_rejects_bad_input() {
         vec!["--strategy", "raster"],
         vec!["--strategy", "nonsense"],
         vec!["--strategy", "iso-scallop", "--face", "7"],
-        vec!["--strategy", "iso-scallop", "--lead", "-5"],
+        vec!["--strategy", "iso-scallop", "--lead=-5"],
     ] {
         let o = run(&bad);
         assert_eq!(o.status.code(), Some(2), "{bad:?}");
