@@ -135,6 +135,35 @@ fn verify(
                 ok += 1;
             }
             worst = worst.max(d);
+            if -d > pen && -d > 1e-3 {
+                eprintln!("penetration {} at uv {uv:?} point {q:?}", -d);
+                for (k, w) in tp.poses.windows(2).enumerate() {
+                    let ab = w[1].tip - w[0].tip;
+                    let t =
+                        ((q - w[0].tip).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
+                    if (w[0].tip + ab * t).distance(q) < 3.5 {
+                        eprintln!(
+                            "  from {:?} {:?} cc {:?} len {:.3} to {:?} axis {:?}->{:?}",
+                            w[0].kind,
+                            w[0].tip,
+                            w[0].cc,
+                            ab.length(),
+                            w[1].kind,
+                            w[0].axis,
+                            w[1].axis
+                        );
+                        let dd = tool_distance(c, w[1].tip, w[1].axis, q);
+                        eprintln!(
+                            "  pose {k}->{} {:?} tip {:?} axis {:?} d_end {dd:.4} d_start {:.4}",
+                            k + 1,
+                            w[1].kind,
+                            w[1].tip,
+                            w[1].axis,
+                            tool_distance(c, w[0].tip, w[0].axis, q)
+                        );
+                    }
+                }
+            }
             pen = pen.max(-d);
         }
     }
@@ -144,26 +173,6 @@ fn verify(
 fn face_domain(p: &Part) -> (SurfaceGeom, ParamRect) {
     let f = p.faces.first().expect("face");
     (f.surface.clone(), f.surface.domain())
-}
-
-#[test]
-fn bicubic_hills_ball_isoscallop_verified() {
-    let p = part("bicubic-hills.stp");
-    let r = plan_face(&p, "ball:d=6", Strategy::IsoScallop, &opts(0.0));
-    let (s, d) = face_domain(&p);
-    let (frac, worst, pen) = verify(&r.toolpath, &s, d, 90, H + EPS);
-    eprintln!(
-        "ball iso-scallop: {frac} ≤ h+ε, worst {worst}, penetration {pen}, {:?}",
-        r.toolpath.summary
-    );
-    assert!(frac >= 0.99, "only {frac} within h + ε (worst {worst})");
-    assert!(pen <= 1e-3, "penetration {pen} mm");
-    let hp = r
-        .toolpath
-        .summary
-        .predicted_max_scallop_mm
-        .expect("predicted");
-    assert!(hp <= H + 1e-9 && hp > 0.5 * H, "predicted max {hp}");
 }
 
 #[test]
@@ -205,11 +214,18 @@ fn rational_trough_ball_isoparametric_verified() {
     assert!(pen <= 1e-3, "penetration {pen} mm");
 }
 
+/// Ball iso-scallop on bicubic-hills verified, and compared with two-way iso-parametric at the
+/// same maximum scallop (the thesis reports 12–55 % shorter; the issue asks ≥ 30 %).
 #[test]
-fn isoscallop_is_shorter_than_isoparametric_on_bicubic_hills() {
+fn bicubic_hills_ball_isoscallop_verified_and_shorter() {
     let p = part("bicubic-hills.stp");
     let o = opts(0.0);
     let isc = plan_face(&p, "ball:d=6", Strategy::IsoScallop, &o);
+    let (s, d) = face_domain(&p);
+    let (frac, worst, pen) = verify(&isc.toolpath, &s, d, 90, H + EPS);
+    eprintln!("ball iso-scallop: {frac} ≤ h+ε, worst {worst}, penetration {pen}");
+    assert!(frac >= 0.99, "only {frac} within h + ε (worst {worst})");
+    assert!(pen <= 1e-3, "penetration {pen} mm");
     let zz = plan_face(
         &p,
         "ball:d=6",
@@ -227,6 +243,7 @@ fn isoscallop_is_shorter_than_isoparametric_on_bicubic_hills() {
         "ISC {} mm ({} poses, max h {ha}); zig-zag {} mm ({} poses, max h {hb})",
         a.cut_length_mm, a.pose_count, b.cut_length_mm, b.pose_count
     );
+    assert!(ha <= H + 1e-9 && ha > 0.9 * H, "predicted max {ha}");
     assert!(
         (ha - hb).abs() <= 0.1 * H,
         "max scallops differ: {ha} vs {hb}"

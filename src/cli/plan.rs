@@ -34,10 +34,20 @@ pub struct PlanArgs {
     pub tolerance: f64,
     /// Lead (the thesis's Sturz): tilt of the axis from the normal toward the feed, degrees.
     /// Raised automatically where a flat or bull-nose cutter would gouge locally.
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
     pub lead: f64,
     /// Sideways tilt of the axis (toward n × feed), degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
     pub tilt: f64,
     /// Tool axis mode instead of the normal with lead/tilt: `fixed:I,J,K` (3-axis: `fixed:0,0,1`),
     /// `toward:X,Y,Z`, `away:X,Y,Z` (a point), `toward-line:X,Y,Z,I,J,K`, `away-line:...`.
@@ -56,7 +66,12 @@ pub struct PlanArgs {
     #[arg(long, value_name = "PATTERN", default_value = "zigzag")]
     pub pattern: String,
     /// Iso-planar: angle of the planes' normal from +x about +z, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
     pub angle: f64,
     /// Clearance plane height z, mm (default: 5 mm above the path and the face).
     #[arg(long, value_name = "MM", allow_hyphen_values = true)]

@@ -180,8 +180,8 @@ impl<'a> FacePatch<'a> {
             let mid = p + dp1 * (0.5 * h);
             let mut dir2 = dir;
             let mut dp = self.unit_param_dir(mid, &mut dir2).unwrap_or(dp1);
-            if !self.contains(p + dp * h) {
-                if let Some(k) = slide {
+            if let Some(k) = slide.filter(|_| !self.contains(p + dp * h)) {
+                {
                     let d = self.frame(p).map(|f| f.d);
                     let mut q = dp;
                     if k == 0 {

@@ -50,6 +50,7 @@ pub struct SectionAt {
     b: CrossProfile,
     kappa: f64,
     h: f64,
+    symmetric: bool,
 }
 
 impl SectionAt {
@@ -58,6 +59,7 @@ impl SectionAt {
             a: &self.a,
             b: &self.b,
             kappa: self.kappa,
+            symmetric: self.symmetric,
         }
     }
 
@@ -147,13 +149,21 @@ impl Setup<'_> {
         let fb = if next_reversed { -g.f } else { g.f };
         let aa = self.axis(&g.frame, fa);
         let ab = self.axis(&g.frame, fb);
+        let symmetric = matches!(self.opts.axis, AxisMode::Normal { tilt, .. } if tilt == 0.0);
         let a = CrossProfile::new(self.cutter, aa, g.frame.n, fa, g.tau)?;
-        let b = CrossProfile::new(self.cutter, ab, g.frame.n, fb, g.tau)?;
+        let b = if symmetric {
+            a.clone()
+        } else {
+            CrossProfile::new(self.cutter, ab, g.frame.n, fb, g.tau)?
+        };
         Some(SectionAt {
             a,
             b,
             kappa: self.patch.curvature_along(&g.frame, g.tau),
             h: self.opts.scallop,
+            // Normal-relative axes without sideways tilt give a mirror-symmetric outline, the
+            // same for both feed senses (reflecting f → −f leaves the projection along f).
+            symmetric,
         })
     }
 }

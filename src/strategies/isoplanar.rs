@@ -148,19 +148,17 @@ fn trace_level(patch: &FacePatch<'_>, m: DVec3, c: f64, spacing: f64) -> Vec<Vec
         }
         let Some(&start) = seeds.get(s) else { continue };
         let curve = trace_from(patch, m, c, start, spacing);
+        // Mark the seed the contour ended on.
         if let Some(end) = curve.last() {
-            // Mark the seed the contour ended on.
-            if let Some((k, _)) = seeds
+            let hit = seeds
                 .iter()
                 .enumerate()
                 .filter(|(k, _)| !used.get(*k).copied().unwrap_or(true))
                 .map(|(k, q)| (k, q.distance(*end)))
                 .min_by(|a, b| a.1.total_cmp(&b.1))
-                .filter(|(_, d)| *d < 1e-3 * scale)
-            {
-                if let Some(u) = used.get_mut(k) {
-                    *u = true;
-                }
+                .filter(|(_, d)| *d < 1e-3 * scale);
+            if let Some(u) = hit.and_then(|(k, _)| used.get_mut(k)) {
+                *u = true;
             }
         }
         if curve.len() >= 2 {

@@ -4,12 +4,12 @@
 //! retract along the axis to the clearance plane, rapid across, and plunge; depart to the
 //! clearance plane at the end. Rapids are marked `rapid`.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
+use super::axis::axis_angle;
 use super::finish::Setup;
-use super::pass::Pass;
-use super::stepping::pass_poses;
-use crate::toolpath::{MoveKind, Pose};
+use crate::toolpath::{ContactKind, MoveKind, Pose};
+use crate::tools::effective::contact_to_tip;
 
 /// Height above the highest tip of the path and the face used when no clearance is given, mm.
 pub const DEFAULT_CLEARANCE_ABOVE: f64 = 5.0;
@@ -63,7 +63,12 @@ pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool
             }
             continue;
         };
-        let near = last_prev.tip.distance(first.tip) <= stay_down;
+        // Stay down only with a ball and when no axis turn beyond the allowed step is needed
+        // (turning a tilted flat or bull-nose cutter about its contact can gouge): else retract.
+        let turn = axis_angle(last_prev.axis, first.axis);
+        let near = last_prev.tip.distance(first.tip) <= stay_down
+            && turn <= setup.opts.max_axis_step + 1e-6
+            && setup.cutter.kind == crate::tools::CutterKind::Ball;
         let link_run = if near && !one_way {
             surface_link(setup, &last_prev, first)
         } else {
@@ -111,31 +116,50 @@ fn approach(first: &Pose, clearance: f64, feed: f64) -> Vec<Pose> {
 }
 
 /// A stay-down link over the surface from the contact of `a` to that of `b` (both must carry
-/// a contact point): the parameter-space segment between them, stepped like a pass; moves
-/// marked `link`. `None` when a contact cannot be inverted onto the face.
+/// a contact point): contacts along the parameter-space segment between them every half
+/// millimetre (lifted by ε/2 like the passes), the axis of `a` carried along by the rotation
+/// of the normal; then, at `b`'s contact, the axis turned to `b`'s in steps no larger than the
+/// allowed axis step, the tool kept touching. Moves are marked `link`. `None` when a contact
+/// cannot be inverted onto the face.
 fn surface_link(setup: &Setup<'_>, a: &Pose, b: &Pose) -> Option<Vec<Pose>> {
     let (ca, cb) = (a.cc?, b.cc?);
-    let pa = setup
-        .patch
-        .surface
-        .closest_point(ca, setup.patch.domain, None);
-    let pb = setup
-        .patch
-        .surface
-        .closest_point(cb, setup.patch.domain, Some(pa.uv));
+    let dom = setup.patch.domain;
+    let pa = setup.patch.surface.closest_point(ca, dom, None);
+    let pb = setup.patch.surface.closest_point(cb, dom, Some(pa.uv));
     if pa.distance > 1e-3 || pb.distance > 1e-3 {
         return None;
     }
-    let pass = Pass::new(vec![pa.uv, pb.uv]).resampled(&setup.patch, setup.guide_spacing);
-    let mut poses = pass_poses(setup, &pass);
-    if poses.len() < 2 {
-        return None;
+    let na = setup.patch.frame(pa.uv)?.n;
+    let lift = 0.5 * setup.opts.tolerance;
+    let dir = (cb - ca).try_normalize().unwrap_or(DVec3::X);
+    let place = |uv: glam::DVec2, axis_of: &dyn Fn(DVec3) -> DVec3| -> Option<Pose> {
+        let f = setup.patch.frame(uv)?;
+        let axis = axis_of(f.n);
+        let feed = (dir - f.n * dir.dot(f.n)).try_normalize().unwrap_or(dir);
+        let tip = contact_to_tip(setup.cutter, f.p + f.n * lift, f.n, axis, feed)?;
+        let pose = Pose::new(MoveKind::Link, tip, axis, setup.opts.feed)
+            .with_contact(f.p, a.contact.unwrap_or(ContactKind::Ball));
+        Some(pose)
+    };
+    let steps = ((ca.distance(cb) / 0.5).ceil() as usize).clamp(1, 1000);
+    let mut out = Vec::with_capacity(steps + 8);
+    let mut last_axis = a.axis;
+    for k in 1..=steps {
+        let uv = pa.uv.lerp(pb.uv, k as f64 / steps as f64);
+        let carry = |n: DVec3| DQuat::from_rotation_arc(na, n) * a.axis;
+        let pose = place(uv, &carry)?;
+        last_axis = pose.axis;
+        out.push(pose);
     }
-    poses.remove(0);
-    poses.pop();
-    for p in &mut poses {
-        p.kind = MoveKind::Link;
-        p.scallop_mm = None;
+    // Turn the axis at b's contact.
+    let turn = axis_angle(last_axis, b.axis);
+    let k = ((turn / setup.opts.max_axis_step).ceil() as usize).clamp(1, 360);
+    let q = DQuat::from_rotation_arc(last_axis, b.axis);
+    for j in 1..k {
+        let t = j as f64 / k as f64;
+        let axis_at = |_: DVec3| (DQuat::IDENTITY.slerp(q, t) * last_axis).normalize();
+        let pose = place(pb.uv, &axis_at)?;
+        out.push(pose);
     }
-    Some(poses)
+    Some(out)
 }

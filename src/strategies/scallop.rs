@@ -25,6 +25,8 @@ pub struct Section<'a> {
     pub b: &'a CrossProfile,
     /// Surface normal curvature across the feed (positive: concave toward the tool), 1/mm.
     pub kappa: f64,
+    /// Both profiles are the same and mirror-symmetric (no sideways tilt): the cusp is midway.
+    pub symmetric: bool,
 }
 
 /// Large stand-in for "the cutter does not reach", mm.
@@ -56,9 +58,12 @@ impl Section<'_> {
         if !(w > 0.0) {
             return 0.0;
         }
+        if self.symmetric {
+            return self.ga(0.5 * w).max(0.0);
+        }
         // F(x) = g_A(x) − g_B(x − w) rises from ≤ 0 at x = 0 to ≥ 0 at x = w.
         let (mut lo, mut hi) = (0.0, w);
-        for _ in 0..48 {
+        for _ in 0..34 {
             let m = 0.5 * (lo + hi);
             if self.ga(m) < self.gb(m - w) {
                 lo = m;
@@ -86,7 +91,7 @@ impl Section<'_> {
             return (cap, at_cap);
         }
         let (mut lo, mut hi) = (0.0, cap);
-        for _ in 0..44 {
+        for _ in 0..34 {
             let m = 0.5 * (lo + hi);
             if self.height(m) <= h {
                 lo = m;
@@ -129,6 +134,7 @@ mod tests {
             a: &p,
             b: &p,
             kappa: 0.0,
+            symmetric: false,
         };
         for h in [0.001, 0.01, 0.05, 0.2] {
             let (w, hp) = s.step_for(h);
@@ -146,6 +152,7 @@ mod tests {
             a: &big,
             b: &big,
             kappa: 0.0,
+            symmetric: false,
         };
         assert!((s.height(4.0) - (20.0 - 396f64.sqrt())).abs() < 1e-9);
         let p = ball(3.0);
@@ -155,6 +162,7 @@ mod tests {
                 a: &p,
                 b: &p,
                 kappa: -1.0 / rho,
+                symmetric: false,
             };
             let h = 0.01;
             let (w, _) = s.step_for(h);
@@ -170,6 +178,7 @@ mod tests {
             a: &p,
             b: &p,
             kappa: 1.0 / 3.0,
+            symmetric: false,
         };
         assert!(thesis_side_step(0.01, 3.0, -3.0).is_none());
         let (w, _) = s.step_for(0.01);

@@ -22,6 +22,7 @@ use crate::tools::effective::contact_to_tip;
 #[derive(Clone, Copy, Debug)]
 struct CurvePoint {
     cc: DVec3,
+    lifted: DVec3,
     tip: DVec3,
     axis: DVec3,
     n: DVec3,
@@ -66,6 +67,7 @@ pub fn pass_poses(setup: &Setup<'_>, pass: &Pass) -> Vec<Pose> {
         let h1 = pass.scallop.get(i + 1).copied().unwrap_or(0.0);
         Some(CurvePoint {
             cc: frame.p,
+            lifted,
             tip,
             axis,
             n: frame.n,
@@ -92,7 +94,7 @@ pub fn pass_poses(setup: &Setup<'_>, pass: &Pass) -> Vec<Pose> {
                 sigma = s1;
                 break;
             };
-            let dev = chord_deviation(&eval, sigma, s1, cur.tip, next.tip);
+            let dev = chord_deviation(setup, &eval, sigma, s1, &cur, &next);
             let turn = axis_angle(cur.axis, next.axis);
             let ok = dev <= eps && turn <= setup.opts.max_axis_step;
             if ok || step <= min_step || tries > 60 {
@@ -115,26 +117,39 @@ pub fn pass_poses(setup: &Setup<'_>, pass: &Pass) -> Vec<Pose> {
     poses
 }
 
-/// Largest distance of the true tip curve between σ0 and σ1 from the chord `a`–`b`.
+/// Largest distance between the straight move from `a` to `b` (tip linear, axis normalised
+/// linear) and the true curve between σ0 and σ1, at interior samples: both the tip and the
+/// cutter point that should touch the (lifted) contact are compared, so a turning axis that
+/// swings the cutter's rim into the surface is caught too.
 fn chord_deviation(
+    setup: &Setup<'_>,
     eval: &impl Fn(f64) -> Option<CurvePoint>,
     s0: f64,
     s1: f64,
-    a: DVec3,
-    b: DVec3,
+    a: &CurvePoint,
+    b: &CurvePoint,
 ) -> f64 {
-    let ab = b - a;
+    let ab = b.tip - a.tip;
     let len2 = ab.length_squared();
     let mut worst: f64 = 0.0;
     for k in 1..=CHECKS {
-        let s = s0 + (s1 - s0) * k as f64 / (CHECKS + 1) as f64;
+        let frac = k as f64 / (CHECKS + 1) as f64;
+        let s = s0 + (s1 - s0) * frac;
         let Some(p) = eval(s) else { continue };
         let t = if len2 > 0.0 {
-            ((p.tip - a).dot(ab) / len2).clamp(0.0, 1.0)
+            ((p.tip - a.tip).dot(ab) / len2).clamp(0.0, 1.0)
         } else {
-            0.0
+            frac
         };
-        worst = worst.max(p.tip.distance(a + ab * t));
+        let tip = a.tip + ab * t;
+        worst = worst.max(p.tip.distance(tip));
+        // The cutter at the interpolated pose: where is its point for this contact?
+        let axis = a.axis.lerp(b.axis, t).normalize_or(p.axis);
+        let offset = |ax: DVec3| {
+            contact_to_tip(setup.cutter, DVec3::ZERO, p.n, ax, DVec3::ZERO).unwrap_or(DVec3::ZERO)
+        };
+        let touch = tip - offset(axis);
+        worst = worst.max(touch.distance(p.lifted));
     }
     worst
 }

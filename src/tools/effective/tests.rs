@@ -6,6 +6,10 @@ use crate::tools::{Cutter, CutterKind};
 
 /// Brute-force lower outline of the cutter projected along `f`: (x, y) bins of width `bin`
 /// over [−span, span], relative to the projection of `cc`.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a test helper naming every input"
+)]
 fn brute_outline(
     cutter: &Cutter,
     tip: DVec3,
