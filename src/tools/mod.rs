@@ -8,6 +8,7 @@
 
 pub mod dropcutter;
 pub mod effective;
+pub mod solid;
 mod spec;
 
 pub use spec::parse_tool_spec;
