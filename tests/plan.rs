@@ -6,7 +6,8 @@
 
 use std::path::Path;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
+use talas::checks::VerifyOptions;
 use talas::geometry::Interval;
 use talas::geometry::brep::Part;
 use talas::geometry::frame::Frame;
@@ -17,8 +18,7 @@ use talas::strategies::face::FacePatch;
 use talas::strategies::finish::{FinishResult, plan_finish};
 use talas::strategies::{Direction, FinishOptions, Pattern, Strategy};
 use talas::toolpath::{MoveKind, Toolpath};
-use talas::tools::effective::torus_radii;
-use talas::tools::{Cutter, parse_tool_spec};
+use talas::tools::parse_tool_spec;
 
 const H: f64 = 0.05;
 const EPS: f64 = 0.01;
@@ -65,114 +65,50 @@ fn plan_face(p: &Part, tool: &str, s: Strategy, o: &FinishOptions) -> FinishResu
     plan_finish(patch, &cutter, tool, s, o).expect("plan")
 }
 
-/// Signed distance from `q` to the cutter at `tip` with `axis` (negative inside).
-fn tool_distance(c: &Cutter, tip: DVec3, axis: DVec3, q: DVec3) -> f64 {
-    let (rf, rc) = torus_radii(c).expect("torus");
-    let v = q - tip;
-    let z = v.dot(axis);
-    let rho = (v - axis * z).length();
-    if z >= rc {
-        return rho - c.radius();
-    }
-    let dr = (rho - rf).max(0.0);
-    dr.hypot(z - rc) - rc
-}
-
-/// Independent verification (to be replaced by the checks module's when it lands): samples
-/// on an N×N grid of the face; the tool is placed along every fed move (tip linear, axis
-/// normalised-linear) at ≤ 0.1 mm steps; per sample the smallest signed distance to a tool.
-/// Returns (fraction of samples with remaining ≤ limit, max remaining, max penetration).
+/// The checks module's independent verification: samples on an N×N grid of the face against
+/// the union of the tool envelopes swept along the cutting moves; the remaining height along
+/// the normal and the penetration. Returns (fraction of counted samples with remaining ≤
+/// limit, max remaining, max penetration).
 fn verify(
     tp: &Toolpath,
     surface: &SurfaceGeom,
     domain: ParamRect,
+    side: f64,
     n: usize,
     limit: f64,
 ) -> (f64, f64, f64) {
-    let c = &tp.tool.cutter;
-    let mut tools: Vec<(DVec3, DVec3)> = Vec::new();
-    for w in tp.poses.windows(2) {
-        let (a, b) = (&w[0], &w[1]);
-        if b.kind == MoveKind::Rapid {
-            continue;
-        }
-        let k = (a.tip.distance(b.tip) / 0.1).ceil().max(1.0) as usize;
-        for i in 0..=k {
-            let t = i as f64 / k as f64;
-            tools.push((a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize()));
-        }
-    }
-    // Bin the tools by tip xy.
-    let cell = 2.0;
-    let mut bins: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
-    for (i, (tip, _)) in tools.iter().enumerate() {
-        let key = ((tip.x / cell).floor() as i64, (tip.y / cell).floor() as i64);
-        bins.entry(key).or_default().push(i);
-    }
-    let reach = (c.radius() / cell).ceil() as i64 + 2;
-    let (mut ok, mut total, mut worst, mut pen) = (0usize, 0usize, 0.0_f64, 0.0_f64);
-    for i in 0..n {
-        for j in 0..n {
-            let uv = DVec2::new(
-                domain.u.lerp(i as f64 / (n - 1) as f64),
-                domain.v.lerp(j as f64 / (n - 1) as f64),
-            );
-            let q = surface.point(uv.x, uv.y);
-            let key = ((q.x / cell).floor() as i64, (q.y / cell).floor() as i64);
-            let mut d = f64::INFINITY;
-            for dx in -reach..=reach {
-                for dy in -reach..=reach {
-                    if let Some(list) = bins.get(&(key.0 + dx, key.1 + dy)) {
-                        for &t in list {
-                            let (tip, axis) = tools[t];
-                            d = d.min(tool_distance(c, tip, axis, q));
-                        }
-                    }
-                }
-            }
-            total += 1;
-            if d <= limit {
-                ok += 1;
-            }
-            worst = worst.max(d);
-            if -d > pen && -d > 1e-3 {
-                eprintln!("penetration {} at uv {uv:?} point {q:?}", -d);
-                for (k, w) in tp.poses.windows(2).enumerate() {
-                    let ab = w[1].tip - w[0].tip;
-                    let t =
-                        ((q - w[0].tip).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
-                    if (w[0].tip + ab * t).distance(q) < 3.5 {
-                        eprintln!(
-                            "  from {:?} {:?} cc {:?} len {:.3} to {:?} axis {:?}->{:?}",
-                            w[0].kind,
-                            w[0].tip,
-                            w[0].cc,
-                            ab.length(),
-                            w[1].kind,
-                            w[0].axis,
-                            w[1].axis
-                        );
-                        let dd = tool_distance(c, w[1].tip, w[1].axis, q);
-                        eprintln!(
-                            "  pose {k}->{} {:?} tip {:?} axis {:?} d_end {dd:.4} d_start {:.4}",
-                            k + 1,
-                            w[1].kind,
-                            w[1].tip,
-                            w[1].axis,
-                            tool_distance(c, w[0].tip, w[0].axis, q)
-                        );
-                    }
-                }
-            }
-            pen = pen.max(-d);
-        }
-    }
-    (ok as f64 / total as f64, worst, pen.max(0.0))
+    let patch = talas::checks::FacePatch::new(surface, domain, side < 0.0).expect("patch");
+    let o = VerifyOptions {
+        nu: n,
+        nv: n,
+        threshold_mm: limit,
+        ..VerifyOptions::default()
+    };
+    let r = talas::checks::verify(&patch, &tp.tool.cutter, &tp.poses, &o).expect("verify");
+    eprintln!(
+        "verify: {} counted of {}, {} uncovered, remaining p50/90/99/99.9 {:?}, max {} at {:?}, penetration {} at {:?}",
+        r.counted,
+        r.samples,
+        r.uncovered,
+        r.remaining_percentiles_mm,
+        r.max_remaining_mm,
+        r.max_remaining_at,
+        r.max_penetration_mm,
+        r.max_penetration_at
+    );
+    assert!(
+        r.uncovered * 100 <= r.samples,
+        "{} of {} samples not reached",
+        r.uncovered,
+        r.samples
+    );
+    (r.within_threshold, r.max_remaining_mm, r.max_penetration_mm)
 }
 
-fn face_domain(p: &Part) -> (SurfaceGeom, ParamRect) {
+fn face_domain(p: &Part) -> (SurfaceGeom, ParamRect, f64) {
     let f = p.faces.first().expect("face");
-    (f.surface.clone(), f.surface.domain())
+    let side = FacePatch::from_face(f).expect("patch").side;
+    (f.surface.clone(), f.surface.domain(), side)
 }
 
 #[test]
@@ -183,8 +119,8 @@ fn flat_and_bull_with_lead_verified() {
     ] {
         let p = part(file);
         let r = plan_face(&p, tool, Strategy::IsoScallop, &opts(lead));
-        let (s, d) = face_domain(&p);
-        let (frac, worst, pen) = verify(&r.toolpath, &s, d, 70, H + EPS);
+        let (s, d, side) = face_domain(&p);
+        let (frac, worst, pen) = verify(&r.toolpath, &s, d, side, 50, H + EPS);
         eprintln!(
             "{file} {tool}: {frac} ≤ h+ε, worst {worst}, pen {pen}; {:?}",
             r.toolpath.summary
@@ -208,8 +144,8 @@ fn rational_trough_ball_isoparametric_verified() {
         },
         &opts(0.0),
     );
-    let (s, d) = face_domain(&p);
-    let (frac, worst, pen) = verify(&r.toolpath, &s, d, 70, H + EPS);
+    let (s, d, side) = face_domain(&p);
+    let (frac, worst, pen) = verify(&r.toolpath, &s, d, side, 50, H + EPS);
     assert!(frac >= 0.99, "only {frac} within h + ε (worst {worst})");
     assert!(pen <= 1e-3, "penetration {pen} mm");
 }
@@ -221,8 +157,8 @@ fn bicubic_hills_ball_isoscallop_verified_and_shorter() {
     let p = part("bicubic-hills.stp");
     let o = opts(0.0);
     let isc = plan_face(&p, "ball:d=6", Strategy::IsoScallop, &o);
-    let (s, d) = face_domain(&p);
-    let (frac, worst, pen) = verify(&isc.toolpath, &s, d, 90, H + EPS);
+    let (s, d, side) = face_domain(&p);
+    let (frac, worst, pen) = verify(&isc.toolpath, &s, d, side, 50, H + EPS);
     eprintln!("ball iso-scallop: {frac} ≤ h+ε, worst {worst}, penetration {pen}");
     assert!(frac >= 0.99, "only {frac} within h + ε (worst {worst})");
     assert!(pen <= 1e-3, "penetration {pen} mm");
