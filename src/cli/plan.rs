@@ -79,6 +79,10 @@ pub struct PlanArgs {
     /// Largest change of the tool axis between poses, degrees.
     #[arg(long, value_name = "DEG", default_value_t = 5.0)]
     pub max_axis_step: f64,
+    /// Check every pose and cutting move for gouges against the exact surface and put the
+    /// result in the summary's gouge report (slower).
+    #[arg(long)]
+    pub check: bool,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -210,6 +214,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         direction,
         clearance: args.clearance,
         max_axis_step: args.max_axis_step.to_radians(),
+        exact_check: args.check,
     };
     let part = read_step(&args.file)?;
     let face = part.faces.get(args.face).ok_or_else(|| {

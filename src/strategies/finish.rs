@@ -321,6 +321,9 @@ pub fn plan_finish(
     };
     let mut toolpath = Toolpath::new(record, poses);
     report.checked_poses = toolpath.poses.len();
+    if opts.exact_check {
+        exact_check(&setup, &toolpath, &mut report, &mut diags);
+    }
     toolpath.summary.gouge = Some(report);
     Ok(FinishResult {
         toolpath,
@@ -328,6 +331,56 @@ pub fn plan_finish(
         used,
         diagnostics: diags,
     })
+}
+
+/// Gouge check of every pose and cutting move against the exact surface (the checks module),
+/// into the report; gouges are reported with their place and depth, never dropped.
+fn exact_check(
+    setup: &Setup<'_>,
+    toolpath: &Toolpath,
+    report: &mut GougeReport,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let p = &setup.patch;
+    let Ok(patch) = crate::checks::FacePatch::new(p.surface, p.domain, p.side < 0.0) else {
+        return;
+    };
+    let o = crate::checks::GougeOptions {
+        step_mm: 0.25,
+        footprint_n: 11,
+        fix_leads: false,
+        tolerance_mm: 1e-3,
+        ..crate::checks::GougeOptions::default()
+    };
+    match crate::checks::check_path(&patch, setup.cutter, &toolpath.poses, &o) {
+        Ok(r) => {
+            report.exact_check = true;
+            report.gouging_poses = r.gouges.len();
+            report.max_depth_mm = r.max_depth_mm;
+            let worst = r
+                .gouges
+                .iter()
+                .max_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm));
+            report.worst_at = worst.map(|g| g.point);
+            if let Some(g) = worst {
+                diags.push(Diagnostic::warning(
+                    Some(format!("pose {}", g.pose)),
+                    format!(
+                        "{} gouging poses, deepest {:.4} mm at ({:.3}, {:.3}, {:.3})",
+                        r.gouges.len(),
+                        g.depth_mm,
+                        g.point.x,
+                        g.point.y,
+                        g.point.z
+                    ),
+                ));
+            }
+        }
+        Err(e) => diags.push(Diagnostic::warning(
+            None,
+            format!("gouge check failed: {e}"),
+        )),
+    }
 }
 
 /// Largest concave curvature over a 41×41 grid of the face, 1/mm (≥ 0).

@@ -77,6 +77,9 @@ pub struct FinishOptions {
     pub clearance: Option<f64>,
     /// Largest change of the tool axis between consecutive poses, rad (poses are inserted).
     pub max_axis_step: f64,
+    /// Check every pose and cutting move for gouges against the exact surface
+    /// ([`crate::checks::check_path`]) and report them in the summary (slower).
+    pub exact_check: bool,
 }
 
 impl Default for FinishOptions {
@@ -89,6 +92,7 @@ impl Default for FinishOptions {
             direction: Direction::V,
             clearance: None,
             max_axis_step: 5f64.to_radians(),
+            exact_check: false,
         }
     }
 }
