@@ -419,3 +419,52 @@ fn cli_plan_writes_contract_json_and_rejects_bad_input() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Iso-planar at 30°, the rectangular spiral and a 3-axis (fixed +z axis) iso-scallop path:
+/// each verified independently at h = 0.1 mm.
+#[test]
+fn isoplanar_spiral_and_three_axis_verified() {
+    let p = part("bicubic-hills.stp");
+    let (s, d, side) = face_domain(&p);
+    let h = 0.1;
+    let base = FinishOptions {
+        scallop: h,
+        ..opts(0.0)
+    };
+    let fixed = FinishOptions {
+        axis: AxisMode::Fixed(DVec3::Z),
+        ..base
+    };
+    for (name, st, o) in [
+        (
+            "iso-planar 30°",
+            Strategy::IsoPlanar {
+                angle: 30f64.to_radians(),
+            },
+            base,
+        ),
+        (
+            "spiral",
+            Strategy::IsoParametric {
+                pattern: Pattern::Spiral,
+            },
+            base,
+        ),
+        ("3-axis iso-scallop", Strategy::IsoScallop, fixed),
+    ] {
+        let r = plan_face(&p, "ball:d=6", st, &o);
+        let (frac, worst, pen) = verify(&r.toolpath, &s, d, side, 40, h + EPS);
+        eprintln!(
+            "{name}: {frac} within, worst {worst}, pen {pen}, {} mm",
+            r.toolpath.summary.cut_length_mm
+        );
+        assert!(
+            frac >= 0.99,
+            "{name}: only {frac} within h + ε (worst {worst})"
+        );
+        assert!(pen <= 1e-3, "{name}: penetration {pen} mm");
+        if o.axis == AxisMode::Fixed(DVec3::Z) {
+            assert!(r.toolpath.poses.iter().all(|q| q.axis == DVec3::Z));
+        }
+    }
+}

@@ -58,11 +58,15 @@ pub fn passes(
     let count = (((cmax - cmin) / dc).ceil() as usize).clamp(1, 100_000);
     let step = (cmax - cmin) / count as f64;
     let mut out = Vec::new();
-    for k in 0..=count {
-        let c = cmin + step * k as f64;
+    // Levels at half-steps from the extremes: the corners where c is extreme are then within
+    // half a step of the nearest contour.
+    for k in 0..count {
+        let c = cmin + step * (k as f64 + 0.5);
         for uv in trace_level(patch, m, c, setup.guide_spacing) {
             let mut p = Pass::new(uv).resampled(patch, setup.guide_spacing);
-            if p.length(patch) < setup.min_pass_length {
+            // Short contours cut the domain's corners: keep them (dropping them leaves the
+            // corner uncut); only collapsed ones go.
+            if p.length(patch) < 0.05 * setup.min_pass_length {
                 continue;
             }
             predict(setup, &mut p, m, step);
@@ -187,7 +191,14 @@ fn trace_from(patch: &FacePatch<'_>, m: DVec3, c: f64, start: DVec2, spacing: f6
         }
         dp /= speed;
         if sense == 0.0 {
-            sense = if dp.dot(centre - p) >= 0.0 { 1.0 } else { -1.0 };
+            // Into the domain: the side where a step stays inside (toward the centre if both).
+            let ins = |s: f64| patch.contains(p + dp * (spacing * s));
+            sense = match (ins(1.0), ins(-1.0)) {
+                (true, false) => 1.0,
+                (false, true) => -1.0,
+                _ if dp.dot(centre - p) >= 0.0 => 1.0,
+                _ => -1.0,
+            };
         }
         let mut q = p + dp * (spacing * sense);
         // Newton back onto the plane along the parametric gradient.

@@ -6,7 +6,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::axis::axis_angle;
+use super::axis::{AxisMode, axis_angle};
 use super::finish::Setup;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
 use crate::tools::effective::contact_to_tip;
@@ -146,7 +146,16 @@ fn surface_link(setup: &Setup<'_>, a: &Pose, b: &Pose) -> Option<Vec<Pose>> {
     let mut last_axis = a.axis;
     for k in 1..=steps {
         let uv = pa.uv.lerp(pb.uv, k as f64 / steps as f64);
-        let carry = |n: DVec3| DQuat::from_rotation_arc(na, n) * a.axis;
+        // Normal-relative axes follow the normal; other modes keep their own axis.
+        let normal_mode = matches!(setup.opts.axis, AxisMode::Normal { .. });
+        let cc = setup.patch.surface.point(uv.x, uv.y);
+        let carry = |n: DVec3| {
+            if normal_mode {
+                DQuat::from_rotation_arc(na, n) * a.axis
+            } else {
+                setup.opts.axis.axis(cc, n, dir)
+            }
+        };
         let pose = place(uv, &carry)?;
         last_axis = pose.axis;
         out.push(pose);
