@@ -27,6 +27,10 @@ use crate::toolpath::Pose;
 use crate::tools::solid::ToolSolid;
 use crate::tools::{Cutter, CutterKind};
 
+/// Smallest step of the ray marches, mm: a tool sliver thinner than this along the normal may
+/// be stepped over (then the next tool surface beyond it is reported).
+const MIN_STEP_MM: f64 = 1e-3;
+
 /// One piece of a swept move.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
@@ -34,6 +38,8 @@ struct Piece {
     b: Placement,
     /// Bound of the motion of any tool point over the piece, mm.
     motion: f64,
+    /// The axis does not turn over the piece (a pure translation).
+    translation: bool,
     /// Index of the pose the move ends at.
     pose: usize,
     lo: DVec3,
@@ -183,6 +189,7 @@ impl SweptTool {
             a,
             b,
             motion,
+            translation: angle_between(a.axis, b.axis) < 1e-12,
             pose,
             lo: lo - DVec3::splat(pad),
             hi: hi + DVec3::splat(pad),
@@ -232,7 +239,14 @@ impl SweptTool {
             for y in k0.1..=k1.1 {
                 for z in k0.2..=k1.2 {
                     if let Some(v) = self.grid.get(&(x, y, z)) {
-                        out.extend_from_slice(v);
+                        // Only pieces whose box, grown by the reach, meets the query box.
+                        let (lo, hi) = (p.min(q), p.max(q));
+                        out.extend(v.iter().copied().filter(|&i| {
+                            self.pieces.get(i as usize).is_some_and(|pc| {
+                                let r = DVec3::splat(self.reach);
+                                (pc.lo - r).cmple(hi).all() && (pc.hi + r).cmpge(lo).all()
+                            })
+                        }));
                     }
                 }
             }
@@ -285,43 +299,61 @@ impl SweptTool {
         best
     }
 
-    /// Lower bound of the distance to a piece (the placement at the piece's middle, less half
-    /// its motion).
-    fn piece_lower_bound(&self, pc: &Piece, p: DVec3) -> f64 {
+    /// Lower bound of the distance to a piece: the placement at the piece's middle less half its
+    /// motion (Lipschitz), or with `tight` for a translation the convexity bound.
+    fn piece_lower_bound(&self, pc: &Piece, p: DVec3, tight: bool) -> f64 {
         if self.ball_radius.is_some() {
             return self.piece_distance(pc, p);
         }
         let q = interpolate(pc.a, pc.b, 0.5);
-        self.solid.signed_distance_at(p, q.tip, q.axis) - 0.5 * pc.motion
+        let fm = self.solid.signed_distance_at(p, q.tip, q.axis);
+        if tight && pc.translation {
+            // Convex in the piece's parameter (a convex solid translated along a line): on each
+            // half the function stays above the secant through the middle and the far end, so
+            // min ≥ f(½) − max(f(0) − f(½), f(1) − f(½), 0).
+            let fa = self.solid.signed_distance_at(p, pc.a.tip, pc.a.axis);
+            let fb = self.solid.signed_distance_at(p, pc.b.tip, pc.b.axis);
+            return fm - (fa - fm).max(fb - fm).max(0.0);
+        }
+        fm - 0.5 * pc.motion
     }
 
-    /// Signed distance from `p` to the union over the candidate pieces (`f64::INFINITY` when
-    /// there are none); exact below the reach.
-    fn union_distance(
-        &self,
-        p: DVec3,
-        cand: &[u32],
-        scratch: &mut Vec<(f64, u32)>,
-    ) -> (f64, usize) {
-        scratch.clear();
-        for &i in cand {
-            if let Some(pc) = self.pieces.get(i as usize) {
-                scratch.push((self.piece_lower_bound(pc, p), i));
-            }
-        }
-        scratch.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    /// Lower bounds of the distances from `p` to the candidate pieces, ascending (exact
+    /// distances for ball capsules).
+    fn bounds_at(&self, p: DVec3, cand: &[u32]) -> Vec<(f64, u32)> {
+        // Pieces farther than the reach from p cannot matter within the reach of p.
+        let mut out: Vec<(f64, u32)> = cand
+            .iter()
+            .filter_map(|&i| {
+                let pc = self.pieces.get(i as usize)?;
+                let lb = self.piece_lower_bound(pc, p, false);
+                (lb <= self.reach).then_some((lb, i))
+            })
+            .collect();
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out
+    }
+
+    /// Signed distance to the union at `x`, a point within `t` of the point `p` at which
+    /// `sorted` holds the bounds (a piece's distance at `x` is at least its bound at `p` less
+    /// `t`, so the scan stops early). `(∞, usize::MAX)` when there are no pieces.
+    fn union_near(&self, x: DVec3, t: f64, sorted: &[(f64, u32)]) -> (f64, usize) {
         let mut best = (f64::INFINITY, usize::MAX);
-        for &(lb, i) in scratch.iter() {
-            if lb >= best.0 {
+        for &(lb, i) in sorted {
+            if lb - t >= best.0 {
                 break;
             }
             let Some(pc) = self.pieces.get(i as usize) else {
                 continue;
             };
             let d = if self.ball_radius.is_some() {
-                lb
+                self.piece_distance(pc, x)
             } else {
-                self.piece_distance(pc, p)
+                let lbx = self.piece_lower_bound(pc, x, true);
+                if lbx >= best.0 {
+                    continue;
+                }
+                self.piece_distance(pc, x)
             };
             if d < best.0 {
                 best = (d, pc.pose);
@@ -330,13 +362,12 @@ impl SweptTool {
         best
     }
 
-    /// Signed distance from `p` to the swept union (capped: values above the reach are reported
-    /// as `f64::INFINITY` when no piece is near).
+    /// Signed distance from `p` to the swept union; `None` when no piece lies within the reach.
     #[must_use]
     pub fn distance(&self, p: DVec3) -> Option<SweptDistance> {
         let cand = self.candidates(p, p);
-        let mut scratch = Vec::new();
-        let (d, pose) = self.union_distance(p, &cand, &mut scratch);
+        let sorted = self.bounds_at(p, &cand);
+        let (d, pose) = self.union_near(p, 0.0, &sorted);
         (pose != usize::MAX).then_some(SweptDistance {
             distance_mm: d,
             pose,
@@ -352,48 +383,216 @@ impl SweptTool {
     #[must_use]
     pub fn deviation(&self, p: DVec3, n: DVec3) -> Option<SweptDistance> {
         let cand = self.candidates(p - n * self.reach, p + n * self.reach);
-        let mut scratch = Vec::new();
-        let (d0, pose0) = self.union_distance(p, &cand, &mut scratch);
+        let sorted = self.bounds_at(p, &cand);
+        let (d0, pose0) = self.union_near(p, 0.0, &sorted);
         if pose0 == usize::MAX {
             return None;
         }
         if d0 <= 0.0 {
             // Inside: march along −n to the exit of the union (−d is a lower bound of the
             // distance to the union's boundary, so each step stays inside).
+            // Steps are at least MIN_STEP_MM (a grazing exit would otherwise take tiny steps);
+            // an overshoot is bisected back to the boundary.
+            let f = |t: f64| self.union_near(p - n * t, t, &sorted).0;
             let (mut t, mut d) = (0.0, d0);
-            for _ in 0..400 {
+            for _ in 0..2000 {
                 if d > -1e-10 || t > self.reach {
                     break;
                 }
-                t -= d;
-                d = self.union_distance(p - n * t, &cand, &mut scratch).0;
+                let next = t + (-d).max(MIN_STEP_MM);
+                let dn = f(next);
+                if dn > 0.0 {
+                    let (mut lo, mut hi) = (t, next);
+                    for _ in 0..40 {
+                        let mid = 0.5 * (lo + hi);
+                        if f(mid) > 0.0 {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    t = lo;
+                    break;
+                }
+                (t, d) = (next, dn);
             }
             return Some(SweptDistance {
                 distance_mm: -t,
                 pose: pose0,
             });
         }
+        if let Some(r) = self.ball_radius {
+            // Exact: first hit of the ray with any capsule. A capsule's hit is no nearer than
+            // its distance from p, so the scan in order of distance stops early.
+            let mut best = (f64::INFINITY, usize::MAX);
+            for &(dp, i) in &sorted {
+                if dp >= best.0 {
+                    break;
+                }
+                let Some(pc) = self.pieces.get(i as usize) else {
+                    continue;
+                };
+                let ca = pc.a.tip + pc.a.axis * r;
+                let cb = pc.b.tip + pc.b.axis * r;
+                if let Some(t) = ray_capsule(p, n, ca, cb, r)
+                    && t < best.0
+                {
+                    best = (t, pc.pose);
+                }
+            }
+            return (best.0 <= self.reach).then_some(SweptDistance {
+                distance_mm: best.0,
+                pose: best.1,
+            });
+        }
+        // Sphere tracing with steps of at least MIN_STEP_MM; an overshoot into a tool is
+        // bisected back to its boundary.
+        let f = |t: f64| self.union_near(p + n * t, t, &sorted);
         let mut t = 0.0;
         let (mut d, mut pose) = (d0, pose0);
-        for _ in 0..400 {
+        for _ in 0..2000 {
             if d < 1e-9 {
-                return Some(SweptDistance {
-                    distance_mm: t,
-                    pose,
-                });
+                break;
             }
-            t += d.min(self.reach);
-            if t > self.reach {
+            let next = t + d.max(MIN_STEP_MM);
+            if next > self.reach {
                 return None;
             }
-            (d, pose) = self.union_distance(p + n * t, &cand, &mut scratch);
-            if pose == usize::MAX {
+            let (dn, pn) = f(next);
+            if pn == usize::MAX {
                 return None;
             }
+            if dn < 0.0 {
+                let (mut lo, mut hi) = (t, next);
+                pose = pn;
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    let (dm, pm) = f(mid);
+                    if dm < 0.0 {
+                        (hi, pose) = (mid, pm);
+                    } else {
+                        lo = mid;
+                    }
+                }
+                t = hi;
+                break;
+            }
+            (t, d, pose) = (next, dn, pn);
         }
         Some(SweptDistance {
             distance_mm: t,
             pose,
         })
+    }
+}
+
+/// First parameter t ≥ 0 at which the ray `o + t·d` (unit `d`, `o` outside) meets the capsule
+/// of radius `r` around the segment `a`–`b` (I. Quilez's closed form).
+fn ray_capsule(o: DVec3, d: DVec3, a: DVec3, b: DVec3, r: f64) -> Option<f64> {
+    let ba = b - a;
+    let oa = o - a;
+    let baba = ba.dot(ba);
+    let bard = ba.dot(d);
+    let baoa = ba.dot(oa);
+    let rdoa = d.dot(oa);
+    let oaoa = oa.dot(oa);
+    let qa = baba - bard * bard;
+    if baba > 0.0 && qa > 1e-14 * baba {
+        let qb = baba * rdoa - baoa * bard;
+        let qc = baba * oaoa - baoa * baoa - r * r * baba;
+        let h = qb * qb - qa * qc;
+        if h < 0.0 {
+            return None;
+        }
+        let t = (-qb - h.sqrt()) / qa;
+        let y = baoa + t * bard;
+        if y > 0.0 && y < baba {
+            return (t >= 0.0).then_some(t);
+        }
+        // The hit is on a cap: the sphere at the end it passed.
+        let oc = if y <= 0.0 { oa } else { o - b };
+        return ray_sphere(oc, d, r);
+    }
+    // Degenerate segment or ray along it: the nearer of the two end spheres.
+    match (ray_sphere(oa, d, r), ray_sphere(o - b, d, r)) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => x.or(y),
+    }
+}
+
+/// First t ≥ 0 where `o + t·d` meets the sphere of radius `r` at the origin (`oc` = o − centre).
+fn ray_sphere(oc: DVec3, d: DVec3, r: f64) -> Option<f64> {
+    let b = d.dot(oc);
+    let c = oc.dot(oc) - r * r;
+    let h = b * b - c;
+    if h < 0.0 {
+        return None;
+    }
+    let t = -b - h.sqrt();
+    (t >= 0.0).then_some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Brute force: march the ray in 1e-5 steps until the capsule distance is ≤ 0, then bisect.
+    fn marched(o: DVec3, d: DVec3, a: DVec3, b: DVec3, r: f64) -> Option<f64> {
+        let f = |t: f64| capsule_distance(o + d * t, a, b, r);
+        let mut t = 0.0;
+        while t < 20.0 {
+            if f(t + 1e-3) <= 0.0 {
+                let (mut lo, mut hi) = (t, t + 1e-3);
+                for _ in 0..60 {
+                    let m = 0.5 * (lo + hi);
+                    if f(m) <= 0.0 { hi = m } else { lo = m }
+                }
+                return Some(hi);
+            }
+            t += 1e-3;
+        }
+        None
+    }
+
+    #[test]
+    fn ray_capsule_matches_marching() {
+        let a = DVec3::new(0.0, 0.0, 1.0);
+        let b = DVec3::new(3.0, 1.0, 2.0);
+        let mut hits = 0;
+        for i in 0..12 {
+            for j in 0..6 {
+                let o = DVec3::new(-2.0 + 0.6 * f64::from(i), -1.5 + 0.5 * f64::from(j), -2.0);
+                let d = DVec3::new(0.1 * f64::from(j) - 0.2, 0.05 * f64::from(i) - 0.3, 1.0)
+                    .normalize();
+                let want = marched(o, d, a, b, 1.0);
+                let got = ray_capsule(o, d, a, b, 1.0);
+                match (want, got) {
+                    (Some(w), Some(g)) => {
+                        hits += 1;
+                        assert!((w - g).abs() < 1e-9, "{o} {d}: {w} vs {g}");
+                    }
+                    (None, None) => {}
+                    other => panic!("{o} {d}: {other:?}"),
+                }
+            }
+        }
+        assert!(hits > 20, "{hits}");
+        // Along the axis and a degenerate capsule (a sphere).
+        let t = ray_capsule(
+            DVec3::new(-5.0, 0.0, 0.0),
+            DVec3::X,
+            DVec3::ZERO,
+            DVec3::X,
+            1.0,
+        );
+        assert!((t.expect("hit") - 4.0).abs() < 1e-12);
+        let t = ray_capsule(
+            DVec3::new(0.0, 0.0, -5.0),
+            DVec3::Z,
+            DVec3::ZERO,
+            DVec3::ZERO,
+            2.0,
+        );
+        assert!((t.expect("hit") - 3.0).abs() < 1e-12);
     }
 }

@@ -38,7 +38,8 @@ pub struct VerifyOptions {
     /// Distance from the rectangle's edge within which samples are skipped, mm (≥ 0).
     pub margin_mm: f64,
     /// Largest remaining height looked for (and largest penetration measured), mm; a sample
-    /// whose normal ray meets no tool within it counts as uncovered. `None` = the cutter radius.
+    /// whose normal ray meets no tool within it counts as uncovered. `None` = half the cutter
+    /// radius.
     pub max_height_mm: Option<f64>,
     /// Ball end mills: largest chord error of the swept ball centre, mm.
     pub ball_tolerance_mm: f64,
@@ -163,7 +164,7 @@ pub fn verify_masked(
         Some(r) => FacePatch::new(patch.surface, r, patch.flip)?.rect,
         None => patch.rect,
     };
-    let max_h = opts.max_height_mm.unwrap_or_else(|| cutter.radius());
+    let max_h = opts.max_height_mm.unwrap_or_else(|| 0.5 * cutter.radius());
     let sweep = SweptTool::new(cutter, poses, opts.ball_tolerance_mm, opts.piece_mm, max_h)?;
     let (nu, nv) = (opts.nu, opts.nv);
     let outcomes: Vec<Outcome> = (0..nu * nv)
