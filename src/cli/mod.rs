@@ -4,6 +4,7 @@
 pub mod dropcutter;
 pub mod feed;
 pub mod inspect;
+pub mod plan;
 pub mod plan_mesh;
 pub mod post;
 pub mod reduce;
@@ -36,6 +37,9 @@ pub enum Command {
     /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
     /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
     Inspect(inspect::InspectArgs),
+    /// Finishing tool path on one face of a STEP part (iso-parametric, iso-planar,
+    /// iso-scallop), written as tool-path JSON.
+    Plan(plan::PlanArgs),
     /// Drop-cutter against an STL mesh: the tool-tip height at every XY point of a CSV.
     Dropcutter(dropcutter::DropcutterArgs),
     /// SVD data reduction of a Z-map (CSV of heights): singular values, rank, reduced sizes,
@@ -92,6 +96,7 @@ pub fn run(command: Command) -> i32 {
                 EXIT_BAD_INPUT
             }
         },
+        Command::Plan(args) => report(plan::plan(&args), args.json, plan::human),
         Command::Dropcutter(args) => {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
         }

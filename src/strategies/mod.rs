@@ -2,7 +2,114 @@
 //! surfaces, raster finishing and Z-level roughing on meshes and Z-maps. Each strategy takes a
 //! part (or face), a cutter and its parameters, and returns a [`crate::toolpath::Toolpath`] plus
 //! diagnostics.
+//!
+//! Finishing on one face ([`finish::plan_finish`]): the face's parameter rectangle is covered
+//! by passes (polylines in parameter space), each pass is turned into poses by forward steps on
+//! the tool-tip curve ([`stepping`]), and the passes are joined by links ([`linking`]).
 
+pub mod axis;
+pub mod face;
+pub mod finish;
+pub mod isoparam;
+pub mod isoplanar;
+pub mod isoscallop;
+pub mod linking;
+pub mod pass;
 pub mod raster;
 pub mod raster_check;
+pub mod scallop;
+pub mod stepping;
 pub mod zlevel;
+
+/// Which parameter the passes run along.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// Passes run along u (v stepped across).
+    U,
+    /// Passes run along v (u stepped across), the thesis's default.
+    #[default]
+    V,
+}
+
+/// How iso-parametric passes are ordered and linked.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Pattern {
+    /// Two-way zig-zag: alternate directions, stay down between passes when safe.
+    #[default]
+    Zigzag,
+    /// One-way: every pass in the same direction, retract and return between passes.
+    Oneway,
+    /// Rectangular spiral: concentric iso-parametric loops stepping inward.
+    Spiral,
+}
+
+/// The finishing strategy and its own parameters.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Strategy {
+    /// Iso-parametric passes at a constant parametric side step chosen for the scallop limit.
+    IsoParametric {
+        /// Pass ordering.
+        pattern: Pattern,
+    },
+    /// Passes on parallel planes at an angle about the z axis (0° = planes ⟂ x).
+    IsoPlanar {
+        /// Angle of the planes' normal from the x axis in the xy plane, rad.
+        angle: f64,
+    },
+    /// Iso-scallop (the thesis's ISC-II): each pass placed from the previous one so the scallop
+    /// between them is the requested height everywhere.
+    IsoScallop,
+}
+
+/// Shared finishing options.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FinishOptions {
+    /// Target scallop height h, mm.
+    pub scallop: f64,
+    /// Chord tolerance ε on the tool-tip path, mm.
+    pub tolerance: f64,
+    /// Tool-axis mode.
+    pub axis: axis::AxisMode,
+    /// Feed, mm/min.
+    pub feed: f64,
+    /// Pass direction.
+    pub direction: Direction,
+    /// Clearance plane height (z), mm; `None`: 5 mm above the face.
+    pub clearance: Option<f64>,
+    /// Largest change of the tool axis between consecutive poses, rad (poses are inserted).
+    pub max_axis_step: f64,
+    /// Check every pose and cutting move for gouges against the exact surface
+    /// ([`crate::checks::check_path`]) and report them in the summary (slower).
+    pub exact_check: bool,
+}
+
+impl Default for FinishOptions {
+    fn default() -> Self {
+        Self {
+            scallop: 0.01,
+            tolerance: 0.01,
+            axis: axis::AxisMode::default(),
+            feed: 1000.0,
+            direction: Direction::V,
+            clearance: None,
+            max_axis_step: 5f64.to_radians(),
+            exact_check: false,
+        }
+    }
+}
+
+/// Why a plan could not be made.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// An option is out of range.
+    #[error("{0}")]
+    Option(String),
+    /// The face cannot be machined this way (unbounded, degenerate, wrong kind).
+    #[error("{0}")]
+    Face(String),
+    /// The cutter cannot be used by this strategy.
+    #[error("{0}")]
+    Tool(String),
+}

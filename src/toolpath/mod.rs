@@ -7,7 +7,7 @@
 
 mod summary;
 
-pub use summary::Summary;
+pub use summary::{GougeReport, Summary};
 
 use glam::DVec3;
 use std::path::Path;
@@ -205,7 +205,9 @@ impl Toolpath {
         for p in &mut tp.poses {
             p.axis = p.axis.normalize();
         }
+        let gouge = tp.summary.gouge;
         tp.summary = Summary::of(&tp.poses);
+        tp.summary.gouge = gouge;
         Ok(tp)
     }
 

@@ -22,6 +22,36 @@ pub struct Summary {
     pub bbox_min: DVec3,
     /// Largest tip coordinates (zero when empty).
     pub bbox_max: DVec3,
+    /// Largest predicted scallop height over the poses that carry one, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted_max_scallop_mm: Option<f64>,
+    /// What the planner found about gouging (kept across save and load).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gouge: Option<GougeReport>,
+}
+
+/// The planner's gouge report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GougeReport {
+    /// Poses checked.
+    pub checked_poses: usize,
+    /// Poses found gouging (after fixes), by the gouge checks.
+    pub gouging_poses: usize,
+    /// Deepest gouge found, mm (0 when none).
+    pub max_depth_mm: f64,
+    /// Where the deepest gouge is (contact point), when any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_at: Option<DVec3>,
+    /// The lead (Sturz) was raised to this many degrees to avoid local gouging.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lead_raised_deg: Option<f64>,
+    /// Local gouging somewhere that no lead fixes (the surface is more curved than the cutter
+    /// allows, or a ball larger than the smallest concave radius).
+    #[serde(default)]
+    pub local_gouge: bool,
+    /// True when the poses were checked against the exact surface (the checks module).
+    #[serde(default)]
+    pub exact_check: bool,
 }
 
 impl Summary {
@@ -35,6 +65,12 @@ impl Summary {
         if let Some(first) = poses.first() {
             s.bbox_min = first.tip;
             s.bbox_max = first.tip;
+        }
+        for p in poses {
+            if let Some(h) = p.scallop_mm {
+                let m = s.predicted_max_scallop_mm.get_or_insert(h);
+                *m = m.max(h);
+            }
         }
         for w in poses.windows(2) {
             let [a, b] = w else { continue };

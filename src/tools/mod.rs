@@ -7,6 +7,7 @@
 //! the profile: height 0 at radius 0.
 
 pub mod dropcutter;
+pub mod effective;
 pub mod solid;
 mod spec;
 

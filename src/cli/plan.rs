@@ -1,0 +1,333 @@
+//! `talas plan FILE --tool SPEC --strategy NAME --scallop H --tolerance E [options] -o PATH.json`:
+//! a finishing tool path on one face of a STEP part (iso-parametric, iso-planar, iso-scallop), or
+//! on the whole part's mesh (raster finishing, Z-level roughing; see [`super::plan_mesh`]),
+//! written as the contract's tool-path JSON.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use serde_json::{Value, json};
+
+use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+use crate::import::ImportError;
+use crate::import::step::read_step;
+use crate::strategies::axis::AxisMode;
+use crate::strategies::face::FacePatch;
+use crate::strategies::finish::plan_finish;
+use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
+use crate::toolpath::MoveKind;
+use crate::tools::parse_tool_spec;
+
+/// Options of `talas plan`.
+#[derive(Debug, clap::Args)]
+pub struct PlanArgs {
+    /// The part: .stp/.step (mm) for every strategy, .stl also for `raster` and `zlevel-rough`.
+    pub file: PathBuf,
+    /// The tool: `ball:d=6`, `flat:d=10`, `bull:d=10,r=2`, optionally `,flute=20,shank=8`.
+    #[arg(long, value_name = "SPEC")]
+    pub tool: String,
+    /// Strategy: `iso-parametric`, `iso-planar`, `iso-scallop` (5-axis finishing of one exact
+    /// face), `raster` (3-axis drop-cutter finishing of the whole part) or `zlevel-rough`
+    /// (Z-level roughing from a stock).
+    #[arg(long, value_name = "NAME")]
+    pub strategy: String,
+    /// Target scallop height h, mm.
+    #[arg(long, value_name = "H", default_value_t = 0.01)]
+    pub scallop: f64,
+    /// Chord tolerance ε of the tool-tip path, mm.
+    #[arg(long, value_name = "E", default_value_t = 0.01)]
+    pub tolerance: f64,
+    /// `zlevel-rough`: the stock, `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1` or
+    /// `cylinder:CX,CY,R,Z0,Z1` (mm).
+    #[arg(long, value_name = "STOCK", default_value = "box")]
+    pub stock: String,
+    /// `zlevel-rough`: step-down between levels, mm.
+    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    pub step_down: f64,
+    /// `zlevel-rough`: step-over as a fraction of the tool diameter.
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.4)]
+    pub step_over: f64,
+    /// `zlevel-rough`: stock to leave on walls (radial), mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.3)]
+    pub stock_to_leave: f64,
+    /// `zlevel-rough`: stock to leave on floors (axial), mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.3)]
+    pub stock_to_leave_axial: f64,
+    /// Lead (the thesis's Sturz): tilt of the axis from the normal toward the feed, degrees.
+    /// Raised automatically where a flat or bull-nose cutter would gouge locally.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub lead: f64,
+    /// Sideways tilt of the axis (toward n × feed), degrees.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub tilt: f64,
+    /// Tool axis mode instead of the normal with lead/tilt: `fixed:I,J,K` (3-axis: `fixed:0,0,1`),
+    /// `toward:X,Y,Z`, `away:X,Y,Z` (a point), `toward-line:X,Y,Z,I,J,K`, `away-line:...`.
+    #[arg(long, value_name = "MODE")]
+    pub axis: Option<String>,
+    /// Face index (0-based, file order), default 0.
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub face: usize,
+    /// Feed, mm/min.
+    #[arg(long, value_name = "F", default_value_t = 1000.0)]
+    pub feed: f64,
+    /// Parameter the passes run along: `u` or `v`.
+    #[arg(long, value_name = "u|v", default_value = "v")]
+    pub direction: String,
+    /// Pattern: `zigzag` (two-way), `oneway` or (iso-parametric) `spiral`.
+    #[arg(long, value_name = "PATTERN", default_value = "zigzag")]
+    pub pattern: String,
+    /// Iso-planar: angle of the planes' normal from +x about +z; raster: direction of the
+    /// passes from +x; degrees.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub angle: f64,
+    /// Clearance plane height z, mm (default: 5 mm above the path and the face); for `raster`
+    /// and `zlevel-rough`, the height above the part (stock), default 5 mm.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    pub clearance: Option<f64>,
+    /// Largest change of the tool axis between poses, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 5.0)]
+    pub max_axis_step: f64,
+    /// Check every pose and cutting move for gouges against the exact surface and put the
+    /// result in the summary's gouge report (slower).
+    #[arg(long)]
+    pub check: bool,
+    /// Print one JSON document (summary and diagnostics) instead of the human summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Where to write the tool path JSON.
+    #[arg(short = 'o', long = "output", value_name = "PATH.json")]
+    pub output: PathBuf,
+}
+
+fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
+    ImportError::new(Path::new(name), None, message)
+}
+
+fn numbers(text: &str, n: usize, name: &str) -> Result<Vec<f64>, ImportError> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| opt_err(name, format!("'{text}' is not {n} comma-separated numbers")))?;
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+        return Err(opt_err(
+            name,
+            format!("'{text}' is not {n} comma-separated numbers"),
+        ));
+    }
+    Ok(v)
+}
+
+fn parse_axis(args: &PlanArgs) -> Result<AxisMode, ImportError> {
+    let Some(text) = &args.axis else {
+        return Ok(AxisMode::Normal {
+            lead: args.lead.to_radians(),
+            tilt: args.tilt.to_radians(),
+        });
+    };
+    let (kind, rest) = text.split_once(':').unwrap_or((text.as_str(), ""));
+    let v3 = |v: &[f64], k: usize| DVec3::new(v[k], v[k + 1], v[k + 2]);
+    match kind {
+        "fixed" => {
+            let v = numbers(rest, 3, "--axis")?;
+            let a = v3(&v, 0)
+                .try_normalize()
+                .ok_or_else(|| opt_err("--axis", "the fixed axis has zero length"))?;
+            Ok(AxisMode::Fixed(a))
+        }
+        "toward" | "away" => {
+            let v = numbers(rest, 3, "--axis")?;
+            Ok(if kind == "toward" {
+                AxisMode::TowardPoint(v3(&v, 0))
+            } else {
+                AxisMode::AwayFromPoint(v3(&v, 0))
+            })
+        }
+        "toward-line" | "away-line" => {
+            let v = numbers(rest, 6, "--axis")?;
+            let d = v3(&v, 3)
+                .try_normalize()
+                .ok_or_else(|| opt_err("--axis", "the line direction has zero length"))?;
+            Ok(if kind == "toward-line" {
+                AxisMode::TowardLine(v3(&v, 0), d)
+            } else {
+                AxisMode::AwayFromLine(v3(&v, 0), d)
+            })
+        }
+        other => Err(opt_err(
+            "--axis",
+            format!("unknown axis mode '{other}' (fixed, toward, away, toward-line, away-line)"),
+        )),
+    }
+}
+
+fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
+    match args.strategy.as_str() {
+        "iso-parametric" => {
+            let pattern = match args.pattern.as_str() {
+                "zigzag" => Pattern::Zigzag,
+                "oneway" => Pattern::Oneway,
+                "spiral" => Pattern::Spiral,
+                other => {
+                    return Err(opt_err(
+                        "--pattern",
+                        format!("unknown pattern '{other}' (zigzag, oneway, spiral)"),
+                    ));
+                }
+            };
+            Ok(Strategy::IsoParametric { pattern })
+        }
+        "iso-planar" => {
+            if !args.angle.is_finite() {
+                return Err(opt_err("--angle", "the angle must be a finite number"));
+            }
+            Ok(Strategy::IsoPlanar {
+                angle: args.angle.to_radians(),
+            })
+        }
+        "iso-scallop" => Ok(Strategy::IsoScallop),
+        "raster" | "zlevel-rough" => Err(opt_err(
+            "--strategy",
+            format!(
+                "'{}' plans on a mesh, not on one face (internal dispatch error)",
+                args.strategy
+            ),
+        )),
+        other => Err(opt_err(
+            "--strategy",
+            format!(
+                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, zlevel-rough)"
+            ),
+        )),
+    }
+}
+
+/// Plan, save the tool path, and build the JSON report.
+///
+/// # Errors
+/// An [`ImportError`] naming the file (and the face) or the bad option.
+pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
+    if matches!(args.strategy.as_str(), "raster" | "zlevel-rough") {
+        return plan_on_mesh(args);
+    }
+    let cutter = parse_tool_spec(&args.tool).map_err(|e| opt_err("--tool", e.to_string()))?;
+    let strategy = parse_strategy(args)?;
+    let direction = match args.direction.as_str() {
+        "u" => Direction::U,
+        "v" => Direction::V,
+        other => return Err(opt_err("--direction", format!("'{other}' is not u or v"))),
+    };
+    let opts = FinishOptions {
+        scallop: args.scallop,
+        tolerance: args.tolerance,
+        axis: parse_axis(args)?,
+        feed: args.feed,
+        direction,
+        clearance: args.clearance,
+        max_axis_step: args.max_axis_step.to_radians(),
+        exact_check: args.check,
+    };
+    let part = read_step(&args.file)?;
+    let face = part.faces.get(args.face).ok_or_else(|| {
+        ImportError::new(
+            &args.file,
+            Some(format!("face {}", args.face)),
+            format!("the part has {} faces", part.faces.len()),
+        )
+    })?;
+    let place = Some(format!("face {} (#{})", args.face, face.source_id));
+    let face_err = |e: crate::strategies::PlanError| {
+        ImportError::new(&args.file, place.clone(), e.to_string())
+    };
+    let patch = FacePatch::from_face(face).map_err(face_err)?;
+    let result = plan_finish(patch, &cutter, &args.tool, strategy, &opts).map_err(face_err)?;
+    result
+        .toolpath
+        .save(&args.output)
+        .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
+    let s = &result.toolpath.summary;
+    Ok(json!({
+        "file": args.file.display().to_string(),
+        "output": args.output.display().to_string(),
+        "face": args.face,
+        "strategy": args.strategy,
+        "tool": args.tool,
+        "summary": s,
+        "passes": result.passes.len(),
+        "lead_deg": result.used.axis.lead().to_degrees(),
+        "clearance_mm": result.used.clearance,
+        "diagnostics": result.diagnostics,
+    }))
+}
+
+/// `raster` and `zlevel-rough`: plan on the part's mesh, save, report.
+fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
+    let opts = MeshPlanOptions {
+        scallop_mm: args.scallop,
+        tolerance_mm: args.tolerance,
+        angle_deg: args.angle,
+        pattern: args.pattern.clone(),
+        stock: args.stock.clone(),
+        step_down_mm: args.step_down,
+        step_over_fraction: args.step_over,
+        stock_to_leave_radial_mm: args.stock_to_leave,
+        stock_to_leave_axial_mm: args.stock_to_leave_axial,
+        feed_mm_per_min: args.feed,
+        clearance_mm: args.clearance.unwrap_or(5.0),
+    };
+    let toolpath = plan_mesh(&args.file, &args.strategy, &args.tool, &opts)?;
+    toolpath
+        .save(&args.output)
+        .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
+    let passes = toolpath
+        .poses
+        .windows(2)
+        .filter(|w| w[0].kind != MoveKind::Cut && w[1].kind == MoveKind::Cut)
+        .count();
+    Ok(json!({
+        "file": args.file.display().to_string(),
+        "output": args.output.display().to_string(),
+        "strategy": args.strategy,
+        "tool": args.tool,
+        "summary": toolpath.summary,
+        "passes": passes,
+        "diagnostics": [],
+    }))
+}
+
+/// A short human summary of the JSON document.
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    let s = &doc["summary"];
+    format!(
+        "{} on {} face {}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed, \
+         predicted max scallop {} mm\nwrote {}\n",
+        doc["strategy"].as_str().unwrap_or("?"),
+        doc["file"].as_str().unwrap_or("?"),
+        doc["face"],
+        doc["passes"],
+        s["pose_count"],
+        s["cut_length_mm"].as_f64().unwrap_or(0.0),
+        s["other_length_mm"].as_f64().unwrap_or(0.0),
+        s["estimated_time_s"].as_f64().unwrap_or(0.0),
+        s["predicted_max_scallop_mm"]
+            .as_f64()
+            .map_or_else(|| "?".into(), |h| format!("{h:.4}")),
+        doc["output"].as_str().unwrap_or("?"),
+    )
+}

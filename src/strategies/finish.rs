@@ -1,0 +1,428 @@
+//! Finishing one face: the shared setup (face, cutter, options, the cross-feed section at a
+//! guide point, the minimum lead against local gouging) and [`plan_finish`], which runs a
+//! strategy's passes through forward stepping and linking into a [`Toolpath`].
+
+use glam::{DVec2, DVec3};
+
+use super::axis::AxisMode;
+use super::face::{FacePatch, LocalFrame};
+use super::pass::Pass;
+use super::scallop::Section;
+use super::{Direction, FinishOptions, Pattern, PlanError, Strategy};
+use super::{isoparam, isoplanar, isoscallop, linking, stepping};
+use crate::diagnostics::Diagnostic;
+use crate::toolpath::{GougeReport, ToolRecord, Toolpath};
+use crate::tools::effective::{CrossProfile, torus_radii};
+use crate::tools::{Cutter, CutterKind};
+
+/// Everything a strategy needs: the face, the cutter, the options and internal resolutions.
+#[derive(Clone, Debug)]
+pub struct Setup<'a> {
+    /// The face.
+    pub patch: FacePatch<'a>,
+    /// The cutter (ball, flat or bull-nose).
+    pub cutter: &'a Cutter,
+    /// Options (the lead may have been raised against local gouging).
+    pub opts: FinishOptions,
+    /// Spacing of guide points along a pass, mm.
+    pub guide_spacing: f64,
+    /// Sub-step of marches along the surface, mm.
+    pub march_substep: f64,
+    /// Passes shorter than this are dropped, mm.
+    pub min_pass_length: f64,
+}
+
+/// A guide point of a pass: frame, unit feed and unit cross direction toward the next pass.
+#[derive(Clone, Copy, Debug)]
+pub struct Guide {
+    /// Frame at the guide.
+    pub frame: LocalFrame,
+    /// Unit feed direction (tangent).
+    pub f: DVec3,
+    /// Unit tangent ⟂ f toward increasing across-parameter (the next pass).
+    pub tau: DVec3,
+}
+
+/// The cross-feed section at a guide: this pass's and the next pass's profiles and κ.
+#[derive(Clone, Debug)]
+pub struct SectionAt {
+    a: CrossProfile,
+    b: CrossProfile,
+    kappa: f64,
+    h: f64,
+    symmetric: bool,
+}
+
+impl SectionAt {
+    fn section(&self) -> Section<'_> {
+        Section {
+            a: &self.a,
+            b: &self.b,
+            kappa: self.kappa,
+            symmetric: self.symmetric,
+        }
+    }
+
+    /// Side step for the requested scallop and the predicted height there.
+    #[must_use]
+    pub fn step(&self) -> (f64, f64) {
+        self.section().step_for(self.h)
+    }
+
+    /// Scallop for contacts `w` apart.
+    #[must_use]
+    pub fn height(&self, w: f64) -> f64 {
+        self.section().height(w)
+    }
+
+    /// Material left on a boundary `d` mm beside this pass.
+    #[must_use]
+    pub fn boundary_height(&self, d: f64) -> f64 {
+        let y = self.a.height(d);
+        if y.is_finite() {
+            (y - 0.5 * self.kappa * d * d).max(0.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+impl Setup<'_> {
+    /// Parameter index across the passes (0: u, 1: v).
+    #[must_use]
+    pub fn across(&self) -> usize {
+        match self.opts.direction {
+            Direction::V => 0,
+            Direction::U => 1,
+        }
+    }
+
+    /// Parameters from (across, along) fractions.
+    #[must_use]
+    pub fn at(&self, across: f64, along: f64) -> DVec2 {
+        match self.opts.direction {
+            Direction::V => self.patch.at(across, along),
+            Direction::U => self.patch.at(along, across),
+        }
+    }
+
+    /// The iso-parametric pass at `across` fraction `s`, resampled to the guide spacing.
+    #[must_use]
+    pub fn iso_pass(&self, s: f64) -> Pass {
+        let n = 64;
+        let uv = (0..=n)
+            .map(|k| self.at(s, f64::from(k) / f64::from(n)))
+            .collect();
+        Pass::new(uv).resampled(&self.patch, self.guide_spacing)
+    }
+
+    /// The guide at index `i` of `pass`.
+    #[must_use]
+    pub fn guide(&self, pass: &Pass, i: usize) -> Option<Guide> {
+        let uv = *pass.uv.get(i)?;
+        let frame = self.patch.frame(uv)?;
+        let prev = pass.uv.get(i.saturating_sub(1)).copied().unwrap_or(uv);
+        let next = pass.uv.get(i + 1).copied().unwrap_or(uv);
+        let chord =
+            self.patch.surface.point(next.x, next.y) - self.patch.surface.point(prev.x, prev.y);
+        let f = (chord - frame.n * chord.dot(frame.n)).try_normalize()?;
+        let mut tau = frame.n.cross(f);
+        let dp = FacePatch::param_dir(&frame.d, tau);
+        let comp = if self.across() == 0 { dp.x } else { dp.y };
+        if comp < 0.0 {
+            tau = -tau;
+        }
+        Some(Guide { frame, f, tau })
+    }
+
+    /// Tool axis at a contact.
+    #[must_use]
+    pub fn axis(&self, frame: &LocalFrame, f: DVec3) -> DVec3 {
+        self.opts.axis.axis(frame.p, frame.n, f)
+    }
+
+    /// The cross-feed section at a guide; the next pass runs along `−f` when `next_reversed`.
+    /// `None` for cutters without a cross profile (cones).
+    #[must_use]
+    pub fn section(&self, g: &Guide, next_reversed: bool) -> Option<SectionAt> {
+        let fa = g.f;
+        let fb = if next_reversed { -g.f } else { g.f };
+        let aa = self.axis(&g.frame, fa);
+        let ab = self.axis(&g.frame, fb);
+        let symmetric = matches!(self.opts.axis, AxisMode::Normal { tilt, .. } if tilt == 0.0);
+        let a = CrossProfile::new(self.cutter, aa, g.frame.n, fa, g.tau)?;
+        let b = if symmetric {
+            a.clone()
+        } else {
+            CrossProfile::new(self.cutter, ab, g.frame.n, fb, g.tau)?
+        };
+        Some(SectionAt {
+            a,
+            b,
+            kappa: self.patch.curvature_along(&g.frame, g.tau),
+            h: self.opts.scallop,
+            // Normal-relative axes without sideways tilt give a mirror-symmetric outline, the
+            // same for both feed senses (reflecting f → −f leaves the projection along f).
+            symmetric,
+        })
+    }
+}
+
+/// The result of finishing a face.
+#[derive(Clone, Debug)]
+pub struct FinishResult {
+    /// The tool path (summary with predicted max scallop and the gouge report).
+    pub toolpath: Toolpath,
+    /// The passes in machining order (parameter space).
+    pub passes: Vec<Pass>,
+    /// The options actually used (lead raised against local gouging, clearance chosen).
+    pub used: FinishOptions,
+    /// Warnings and notes.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Smallest lead (rad, in 0.25° steps up to 45°) at which the cutter's cross-feed and
+/// along-feed outlines clear a surface of concave curvature `k` (1/mm) to second order, for
+/// normal-relative axes with sideways `tilt`; `None` when even 45° does not.
+#[must_use]
+pub fn min_lead(cutter: &Cutter, k: f64, tilt: f64) -> Option<f64> {
+    let (rf, _) = torus_radii(cutter)?;
+    if rf == 0.0 || k <= 0.0 {
+        return Some(0.0);
+    }
+    let (n, f) = (DVec3::Z, DVec3::X);
+    let t = n.cross(f);
+    (0..=180)
+        .map(|i| f64::from(i) * 0.25f64.to_radians())
+        .find(|&lead| {
+            let a = AxisMode::Normal { lead, tilt }.axis(DVec3::ZERO, n, f);
+            let clears = |p: Option<CrossProfile>| {
+                p.is_some_and(|p| {
+                    let (hi, lo) = p.reach();
+                    (0..=200).all(|j| {
+                        let x = -lo + (hi + lo) * f64::from(j) / 200.0;
+                        let y = p.height(x);
+                        !y.is_finite() || y >= 0.5 * k * x * x - 1e-9
+                    })
+                })
+            };
+            // Across the feed, and along it (the heel behind the contact).
+            clears(CrossProfile::new(cutter, a, n, f, t))
+                && clears(CrossProfile::new(cutter, a, n, t, f))
+        })
+}
+
+/// Plan a finishing path on one face.
+///
+/// # Errors
+/// [`PlanError`] for options out of range, cone cutters, or a face that cannot be covered.
+pub fn plan_finish(
+    patch: FacePatch<'_>,
+    cutter: &Cutter,
+    spec: &str,
+    strategy: Strategy,
+    opts: &FinishOptions,
+) -> Result<FinishResult, PlanError> {
+    check_options(opts)?;
+    if torus_radii(cutter).is_none() {
+        return Err(PlanError::Tool(
+            "cone cutters are not supported for finishing; use ball, flat or bull".into(),
+        ));
+    }
+    let mut diags = Vec::new();
+    let mut used = *opts;
+    let mut report = GougeReport::default();
+    // Local gouging: raise the lead until the cutter clears the face's largest concave
+    // curvature (the thesis's Sturz; S is only ever increased).
+    let k_max = max_concave(&patch);
+    if let AxisMode::Normal { lead, tilt } = opts.axis {
+        match min_lead(cutter, k_max, tilt) {
+            Some(s) if s > lead => {
+                used.axis = AxisMode::Normal { lead: s, tilt };
+                report.lead_raised_deg = Some(s.to_degrees());
+                diags.push(Diagnostic::warning(
+                    None,
+                    format!(
+                        "lead raised from {:.2}° to {:.2}° to clear the concave radius {:.2} mm",
+                        lead.to_degrees(),
+                        s.to_degrees(),
+                        1.0 / k_max
+                    ),
+                ));
+            }
+            Some(_) => {}
+            None => {
+                report.local_gouge = true;
+                diags.push(Diagnostic::error(
+                    None,
+                    format!(
+                        "no lead up to 45° clears the concave radius {:.2} mm: local gouging",
+                        1.0 / k_max
+                    ),
+                ));
+            }
+        }
+    }
+    if cutter.kind == CutterKind::Ball && k_max * cutter.radius() > 1.0 {
+        report.local_gouge = true;
+        diags.push(Diagnostic::error(
+            None,
+            format!(
+                "ball radius {} mm exceeds the smallest concave radius {:.2} mm: local gouging",
+                cutter.radius(),
+                1.0 / k_max
+            ),
+        ));
+    }
+    let setup = Setup {
+        patch,
+        cutter,
+        opts: used,
+        guide_spacing: 0.5_f64.min(cutter.radius()),
+        march_substep: 0.5,
+        min_pass_length: cutter.radius(),
+    };
+    let (passes, zigzag) = match strategy {
+        Strategy::IsoScallop => (isoscallop::passes(&setup, &mut diags)?, true),
+        Strategy::IsoParametric { pattern } => (
+            isoparam::passes(&setup, pattern, &mut diags)?,
+            pattern == Pattern::Zigzag,
+        ),
+        Strategy::IsoPlanar { angle } => (isoplanar::passes(&setup, angle, &mut diags)?, true),
+    };
+    if passes.is_empty() {
+        return Err(PlanError::Face(
+            "no pass could be placed on the face".into(),
+        ));
+    }
+    let mut runs = Vec::with_capacity(passes.len());
+    let spiral = matches!(
+        strategy,
+        Strategy::IsoParametric {
+            pattern: Pattern::Spiral
+        }
+    );
+    for (k, p) in passes.iter().enumerate() {
+        let p = if zigzag && !spiral && k % 2 == 1 {
+            p.reversed()
+        } else {
+            p.clone()
+        };
+        runs.push(stepping::pass_poses(&setup, &p));
+    }
+    let clearance = used
+        .clearance
+        .unwrap_or_else(|| linking::default_clearance(&setup, &runs));
+    used.clearance = Some(clearance);
+    let poses = linking::link(&setup, &runs, clearance, !zigzag);
+    let record = ToolRecord {
+        spec: spec.to_string(),
+        cutter: cutter.clone(),
+    };
+    let mut toolpath = Toolpath::new(record, poses);
+    report.checked_poses = toolpath.poses.len();
+    if opts.exact_check {
+        exact_check(&setup, &toolpath, &mut report, &mut diags);
+    }
+    toolpath.summary.gouge = Some(report);
+    Ok(FinishResult {
+        toolpath,
+        passes,
+        used,
+        diagnostics: diags,
+    })
+}
+
+/// Gouge check of every pose and cutting move against the exact surface (the checks module),
+/// into the report; gouges are reported with their place and depth, never dropped.
+fn exact_check(
+    setup: &Setup<'_>,
+    toolpath: &Toolpath,
+    report: &mut GougeReport,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let p = &setup.patch;
+    let Ok(patch) = crate::checks::FacePatch::new(p.surface, p.domain, p.side < 0.0) else {
+        return;
+    };
+    let o = crate::checks::GougeOptions {
+        step_mm: 0.25,
+        footprint_n: 11,
+        fix_leads: false,
+        tolerance_mm: 1e-3,
+        ..crate::checks::GougeOptions::default()
+    };
+    match crate::checks::check_path(&patch, setup.cutter, &toolpath.poses, &o) {
+        Ok(r) => {
+            report.exact_check = true;
+            report.gouging_poses = r.gouges.len();
+            report.max_depth_mm = r.max_depth_mm;
+            let worst = r
+                .gouges
+                .iter()
+                .max_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm));
+            report.worst_at = worst.map(|g| g.point);
+            if let Some(g) = worst {
+                diags.push(Diagnostic::warning(
+                    Some(format!("pose {}", g.pose)),
+                    format!(
+                        "{} gouging poses, deepest {:.4} mm at ({:.3}, {:.3}, {:.3})",
+                        r.gouges.len(),
+                        g.depth_mm,
+                        g.point.x,
+                        g.point.y,
+                        g.point.z
+                    ),
+                ));
+            }
+        }
+        Err(e) => diags.push(Diagnostic::warning(
+            None,
+            format!("gouge check failed: {e}"),
+        )),
+    }
+}
+
+/// Largest concave curvature over a 41×41 grid of the face, 1/mm (≥ 0).
+#[must_use]
+pub fn max_concave(patch: &FacePatch<'_>) -> f64 {
+    let mut k: f64 = 0.0;
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let uv = patch.at(f64::from(i) / 40.0, f64::from(j) / 40.0);
+            if let Some(f) = patch.frame(uv) {
+                k = k.max(patch.max_concave(&f));
+            }
+        }
+    }
+    k
+}
+
+fn check_options(o: &FinishOptions) -> Result<(), PlanError> {
+    let bad = |what: &str, v: f64| PlanError::Option(format!("{what} {v} is out of range"));
+    if !(o.scallop > 0.0 && o.scallop.is_finite()) {
+        return Err(bad("scallop height (mm)", o.scallop));
+    }
+    if !(o.tolerance > 0.0 && o.tolerance.is_finite()) {
+        return Err(bad("chord tolerance (mm)", o.tolerance));
+    }
+    if !(o.feed > 0.0 && o.feed.is_finite()) {
+        return Err(bad("feed (mm/min)", o.feed));
+    }
+    if !(o.max_axis_step > 0.0 && o.max_axis_step.is_finite()) {
+        return Err(bad("axis step (rad)", o.max_axis_step));
+    }
+    if o.clearance.is_some_and(|c| !c.is_finite()) {
+        return Err(PlanError::Option("clearance must be finite".into()));
+    }
+    if let AxisMode::Normal { lead, tilt } = o.axis {
+        let lim = 60f64.to_radians();
+        if !(lead >= 0.0 && lead <= lim) {
+            return Err(bad("lead (deg)", lead.to_degrees()));
+        }
+        if !(tilt.abs() <= lim) {
+            return Err(bad("tilt (deg)", tilt.to_degrees()));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,235 @@
+//! Iso-planar passes: the face cut by parallel planes `x cos θ + y sin θ = c` (vertical planes
+//! at angle θ about z), each intersection traced in parameter space (predictor along the
+//! contour tangent, Newton corrector back onto the plane) from where it enters the domain's
+//! boundary to where it leaves. The plane spacing is the smallest over the face that keeps the
+//! scallop within h: the surface distance between neighbouring contours is `Δc / |∇_S c|`,
+//! `∇_S c = m − (m·n) n`. Closed contours that never touch the boundary are not traced.
+
+use glam::{DVec2, DVec3};
+
+use super::PlanError;
+use super::face::FacePatch;
+use super::finish::{Guide, Setup};
+use super::pass::Pass;
+use crate::diagnostics::Diagnostic;
+
+/// Boundary samples per side when looking for contour ends.
+const BOUNDARY_SAMPLES: usize = 400;
+
+/// Iso-planar passes at plane-normal angle `angle` (rad from +x about +z).
+///
+/// # Errors
+/// [`PlanError::Face`] when the face is parallel to the planes everywhere.
+pub fn passes(
+    setup: &Setup<'_>,
+    angle: f64,
+    diags: &mut Vec<Diagnostic>,
+) -> Result<Vec<Pass>, PlanError> {
+    let m = DVec3::new(angle.cos(), angle.sin(), 0.0);
+    let patch = &setup.patch;
+    let (mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut dc = f64::INFINITY;
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let uv = patch.at(f64::from(i) / 40.0, f64::from(j) / 40.0);
+            let Some(frame) = patch.frame(uv) else {
+                continue;
+            };
+            let c = frame.p.dot(m);
+            cmin = cmin.min(c);
+            cmax = cmax.max(c);
+            let grad = m - frame.n * m.dot(frame.n);
+            let g = grad.length();
+            let Some(tau) = grad.try_normalize() else {
+                continue;
+            };
+            let f = frame.n.cross(tau);
+            let guide = Guide { frame, f, tau };
+            if let Some(sec) = setup.section(&guide, true) {
+                dc = dc.min(sec.step().0 * g);
+            }
+        }
+    }
+    if !(dc.is_finite() && dc > 0.0 && cmax > cmin) {
+        return Err(PlanError::Face(
+            "the face is parallel to the iso-planar planes".into(),
+        ));
+    }
+    let count = (((cmax - cmin) / dc).ceil() as usize).clamp(1, 100_000);
+    let step = (cmax - cmin) / count as f64;
+    let mut out = Vec::new();
+    // Levels at half-steps from the extremes: the corners where c is extreme are then within
+    // half a step of the nearest contour.
+    for k in 0..count {
+        let c = cmin + step * (k as f64 + 0.5);
+        for uv in trace_level(patch, m, c, setup.guide_spacing) {
+            let mut p = Pass::new(uv).resampled(patch, setup.guide_spacing);
+            // Short contours cut the domain's corners: keep them (dropping them leaves the
+            // corner uncut); only collapsed ones go.
+            if p.length(patch) < 0.05 * setup.min_pass_length {
+                continue;
+            }
+            predict(setup, &mut p, m, step);
+            out.push(p);
+        }
+    }
+    diags.push(Diagnostic::info(
+        None,
+        format!(
+            "{} iso-planar passes, plane spacing {step:.4} mm",
+            out.len()
+        ),
+    ));
+    Ok(out)
+}
+
+fn predict(setup: &Setup<'_>, pass: &mut Pass, m: DVec3, dc: f64) {
+    for i in 0..pass.uv.len() {
+        let Some(uv) = pass.uv.get(i).copied() else {
+            continue;
+        };
+        let Some(frame) = setup.patch.frame(uv) else {
+            continue;
+        };
+        let grad = m - frame.n * m.dot(frame.n);
+        let Some(tau) = grad.try_normalize() else {
+            continue;
+        };
+        let guide = Guide {
+            frame,
+            f: frame.n.cross(tau),
+            tau,
+        };
+        if let (Some(sec), Some(s)) = (setup.section(&guide, true), pass.scallop.get_mut(i)) {
+            *s = sec.height(dc / grad.length());
+        }
+    }
+}
+
+/// All open contours of `S·m = c` that start on the domain boundary.
+fn trace_level(patch: &FacePatch<'_>, m: DVec3, c: f64, spacing: f64) -> Vec<Vec<DVec2>> {
+    let g = |uv: DVec2| patch.surface.point(uv.x, uv.y).dot(m) - c;
+    // Boundary walk (counter-clockwise), sign changes → seeds.
+    let corners = [
+        patch.at(0.0, 0.0),
+        patch.at(1.0, 0.0),
+        patch.at(1.0, 1.0),
+        patch.at(0.0, 1.0),
+    ];
+    let mut seeds: Vec<DVec2> = Vec::new();
+    for s in 0..4 {
+        let (a, b) = (corners[s], corners[(s + 1) % 4]);
+        let mut prev = a;
+        let mut gp = g(a);
+        for k in 1..=BOUNDARY_SAMPLES {
+            let q = a.lerp(b, k as f64 / BOUNDARY_SAMPLES as f64);
+            let gq = g(q);
+            if (gp <= 0.0) != (gq <= 0.0) {
+                let (mut lo, mut hi) = (prev, q);
+                for _ in 0..50 {
+                    let mid = lo.lerp(hi, 0.5);
+                    if (g(mid) <= 0.0) == (gp <= 0.0) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                seeds.push(lo.lerp(hi, 0.5));
+            }
+            prev = q;
+            gp = gq;
+        }
+    }
+    let mut used = vec![false; seeds.len()];
+    let mut out = Vec::new();
+    let scale = patch.domain.u.len().hypot(patch.domain.v.len());
+    for s in 0..seeds.len() {
+        if used.get(s).copied().unwrap_or(true) {
+            continue;
+        }
+        if let Some(u) = used.get_mut(s) {
+            *u = true;
+        }
+        let Some(&start) = seeds.get(s) else { continue };
+        let curve = trace_from(patch, m, c, start, spacing);
+        // Mark the seed the contour ended on.
+        if let Some(end) = curve.last() {
+            let hit = seeds
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| !used.get(*k).copied().unwrap_or(true))
+                .map(|(k, q)| (k, q.distance(*end)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .filter(|(_, d)| *d < 1e-3 * scale);
+            if let Some(u) = hit.and_then(|(k, _)| used.get_mut(k)) {
+                *u = true;
+            }
+        }
+        if curve.len() >= 2 {
+            out.push(curve);
+        }
+    }
+    out
+}
+
+/// Trace one contour from a boundary point into the domain until it leaves again.
+fn trace_from(patch: &FacePatch<'_>, m: DVec3, c: f64, start: DVec2, spacing: f64) -> Vec<DVec2> {
+    let mut pts = vec![start];
+    let centre = patch.at(0.5, 0.5);
+    let mut p = start;
+    let mut sense = 0.0;
+    for _ in 0..200_000 {
+        let Some(frame) = patch.frame(p) else { break };
+        let grad = m - frame.n * m.dot(frame.n);
+        let Some(t) = frame.n.cross(grad).try_normalize() else {
+            break;
+        };
+        let mut dp = FacePatch::param_dir(&frame.d, t);
+        let speed = (frame.d.su * dp.x + frame.d.sv * dp.y).length();
+        if !(speed > 0.0) {
+            break;
+        }
+        dp /= speed;
+        if sense == 0.0 {
+            // Into the domain: the side where a step stays inside (toward the centre if both).
+            let ins = |s: f64| patch.contains(p + dp * (spacing * s));
+            sense = match (ins(1.0), ins(-1.0)) {
+                (true, false) => 1.0,
+                (false, true) => -1.0,
+                _ if dp.dot(centre - p) >= 0.0 => 1.0,
+                _ => -1.0,
+            };
+        }
+        let mut q = p + dp * (spacing * sense);
+        // Newton back onto the plane along the parametric gradient.
+        for _ in 0..4 {
+            let d = patch.surface.derivs(q.x, q.y);
+            let r = d.p.dot(m) - c;
+            let gp = DVec2::new(d.su.dot(m), d.sv.dot(m));
+            let l2 = gp.length_squared();
+            if l2 <= 0.0 {
+                break;
+            }
+            q -= gp * (r / l2);
+        }
+        if !patch.contains(q) {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if patch.contains(p.lerp(q, mid)) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let end = patch.clamp(p.lerp(q, lo));
+            if end.distance(p) > 0.0 {
+                pts.push(end);
+            }
+            break;
+        }
+        pts.push(q);
+        p = q;
+    }
+    pts
+}

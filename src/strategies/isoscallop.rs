@@ -1,0 +1,175 @@
+//! Iso-scallop passes (the thesis's ISC-II, "dual iterative scan in parameter space",
+//! digest 2.12), reworked as the digest's section 6 asks: the first pass is the boundary
+//! iso-curve; at every guide point of pass k the cross-feed direction `t = ±n × f` is taken on
+//! the surface, the side step `w` comes from the local normal curvature across the feed and the
+//! cutter's exact cross profile (see [`super::scallop`]), and the next pass's point is reached by
+//! marching `w` along the surface (arc length, not the thesis's 0.0001 parameter crawl).
+//!
+//! Boundaries: a march that leaves the domain ends on the boundary; if the boundary is within
+//! half a step the strip is already within the scallop limit and the point is dropped, else the
+//! point is kept on the boundary (a pass along the edge). Runs of kept points become the next
+//! passes; their ends are extended to the domain boundary along their own direction (so passes
+//! can end on adjacent boundaries, as the thesis observes). Back-tracking points (the front
+//! folding over on the concave side of a curved pass) are removed, passes are resampled to a
+//! fixed guide spacing and passes shorter than the cutter radius are dropped. Every kept point
+//! is at least `w_min > 0` beyond its source, and the number of passes is bounded, so the scan
+//! terminates.
+
+use glam::DVec2;
+
+use super::PlanError;
+use super::finish::Setup;
+use super::pass::Pass;
+use crate::diagnostics::Diagnostic;
+
+/// Most passes before the scan stops with a diagnostic.
+const MAX_PASSES: usize = 20_000;
+
+/// Iso-scallop passes over the setup's face, in machining order.
+///
+/// # Errors
+/// [`PlanError`] when the face has no usable normal at the start.
+pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass>, PlanError> {
+    let first = setup.iso_pass(0.0);
+    if first.uv.len() < 2 {
+        return Err(PlanError::Face(
+            "the first boundary pass is degenerate".into(),
+        ));
+    }
+    let mut out: Vec<Pass> = Vec::new();
+    let mut fronts = vec![first];
+    let mut count = 0usize;
+    while let Some(mut pass) = fronts.pop() {
+        count += 1;
+        if count > MAX_PASSES {
+            diags.push(Diagnostic::warning(
+                None,
+                format!("iso-scallop stopped after {MAX_PASSES} passes"),
+            ));
+            break;
+        }
+        // Zig-zag: every other pass runs the other way.
+        let next_reversed = true;
+        let next = successors(setup, &mut pass, next_reversed);
+        out.push(pass);
+        // Depth-first keeps neighbouring passes adjacent in the output.
+        for p in next.into_iter().rev() {
+            fronts.push(p);
+        }
+    }
+    Ok(out)
+}
+
+/// The passes that follow `pass`; fills `pass.scallop` with the predicted heights.
+fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pass> {
+    let n = pass.uv.len();
+    let mut kept: Vec<Option<DVec2>> = Vec::with_capacity(n);
+    for i in 0..n {
+        let Some(g) = setup.guide(pass, i) else {
+            kept.push(None);
+            continue;
+        };
+        let Some(sec) = setup.section(&g, next_reversed) else {
+            kept.push(None);
+            continue;
+        };
+        let (w, h_pred) = sec.step();
+        let along = 1 - setup.across();
+        let m = setup
+            .patch
+            .march(g.frame.uv, g.tau, w, setup.march_substep, Some(along));
+        let (point, h) = if m.hit_boundary {
+            if m.travelled <= 0.5 * w {
+                (None, sec.boundary_height(m.travelled))
+            } else {
+                (Some(m.uv), sec.height(m.travelled))
+            }
+        } else {
+            (Some(m.uv), h_pred)
+        };
+        if let Some(s) = pass.scallop.get_mut(i) {
+            *s = h;
+        }
+        kept.push(point);
+    }
+    let mut runs: Vec<Pass> = Vec::new();
+    let mut i = 0;
+    while i < n {
+        if kept.get(i).copied().flatten().is_none() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        let mut pts: Vec<DVec2> = Vec::new();
+        while let Some(Some(q)) = kept.get(i).copied() {
+            // Drop points that run backwards against the source pass (a folded front).
+            let forward = match (
+                pts.last(),
+                pass.uv.get(i),
+                i.checked_sub(1).and_then(|j| pass.uv.get(j)),
+            ) {
+                (Some(last), Some(a), Some(b)) => (q - *last).dot(*a - *b) > 0.0,
+                _ => true,
+            };
+            if forward {
+                pts.push(q);
+            }
+            i += 1;
+        }
+        let end = i - 1;
+        if pts.len() < 2 {
+            continue;
+        }
+        if start == 0 {
+            extend_to_boundary(setup, &mut pts, true);
+        }
+        if end + 1 == n {
+            extend_to_boundary(setup, &mut pts, false);
+        }
+        let run = Pass::new(pts).resampled(&setup.patch, setup.guide_spacing);
+        if run.length(&setup.patch) >= setup.min_pass_length && run.uv.len() >= 2 {
+            runs.push(run);
+        }
+    }
+    runs
+}
+
+/// Extend a run at its start (or end) along its own parametric direction to the domain
+/// boundary, by at most a quarter of the domain.
+fn extend_to_boundary(setup: &Setup<'_>, pts: &mut Vec<DVec2>, at_start: bool) {
+    let (a, b) = if at_start {
+        (pts.first().copied(), pts.get(1).copied())
+    } else {
+        (
+            pts.last().copied(),
+            pts.len().checked_sub(2).and_then(|j| pts.get(j).copied()),
+        )
+    };
+    let (Some(a), Some(b)) = (a, b) else { return };
+    let dir = a - b;
+    if dir.length_squared() <= 0.0 {
+        return;
+    }
+    let dom = setup.patch.domain;
+    let reach = 0.25 * dom.u.len().hypot(dom.v.len()) / dir.length();
+    if setup.patch.contains(a + dir * reach) {
+        return;
+    }
+    let (mut lo, mut hi) = (0.0, reach);
+    for _ in 0..50 {
+        let m = 0.5 * (lo + hi);
+        if setup.patch.contains(a + dir * m) {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    let q = setup.patch.clamp(a + dir * lo);
+    if q.distance(a) > 1e-12 {
+        if at_start {
+            pts.insert(0, q);
+        } else {
+            pts.push(q);
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! Forward steps from the chord tolerance, on the tool-tip path the machine follows (digest 2.7,
+//! applied to the tip rather than only the contact points): from each accepted pose the step is
+//! grown or halved until the straight tip move stays within ε of the true tip curve (checked at
+//! interior samples) and the axis turns by at most the allowed angle; the step update uses
+//! `Δ ← Δ·√(ε/e)` (e ∝ Δ², the digest's suggestion), bounded.
+//!
+//! The tolerance is one-sided, outside the part: poses are placed on the surface raised by ε/2
+//! along the normal and chords may deviate by ε/2 from that raised tip curve, so the straight
+//! moves never dip below the nominal surface (convex stretches) and never stand more than ε
+//! above it (concave ones).
+
+use glam::{DVec2, DVec3};
+
+use super::axis::axis_angle;
+use super::finish::Setup;
+use super::pass::Pass;
+use crate::toolpath::{ContactKind, MoveKind, Pose};
+use crate::tools::CutterKind;
+use crate::tools::effective::contact_to_tip;
+
+/// A point of the true pass curve at index parameter σ.
+#[derive(Clone, Copy, Debug)]
+struct CurvePoint {
+    cc: DVec3,
+    lifted: DVec3,
+    tip: DVec3,
+    axis: DVec3,
+    n: DVec3,
+    scallop: f64,
+}
+
+/// Interior samples per chord check.
+const CHECKS: usize = 7;
+
+/// Cut poses along `pass` (in its order).
+#[must_use]
+pub fn pass_poses(setup: &Setup<'_>, pass: &Pass) -> Vec<Pose> {
+    let n = pass.uv.len();
+    if n < 2 {
+        return Vec::new();
+    }
+    // Unit feed per guide from neighbouring chords (a smooth, C0 field along the pass).
+    let pts: Vec<DVec3> = pass
+        .uv
+        .iter()
+        .map(|p| setup.patch.surface.point(p.x, p.y))
+        .collect();
+    let feeds: Vec<DVec3> = (0..n)
+        .map(|i| {
+            let a = pts.get(i.saturating_sub(1)).copied().unwrap_or_default();
+            let b = pts.get((i + 1).min(n - 1)).copied().unwrap_or_default();
+            (b - a).normalize_or_zero()
+        })
+        .collect();
+    let eval = |sigma: f64| -> Option<CurvePoint> {
+        let s = sigma.clamp(0.0, (n - 1) as f64);
+        let i = (s.floor() as usize).min(n - 2);
+        let t = s - i as f64;
+        let uv: DVec2 = pass.uv.get(i)?.lerp(*pass.uv.get(i + 1)?, t);
+        let frame = setup.patch.frame(uv)?;
+        let f0 = feeds.get(i)?.lerp(*feeds.get(i + 1)?, t);
+        let f = (f0 - frame.n * f0.dot(frame.n)).try_normalize()?;
+        let axis = setup.axis(&frame, f);
+        let lifted = frame.p + frame.n * (0.5 * setup.opts.tolerance);
+        let tip = contact_to_tip(setup.cutter, lifted, frame.n, axis, f)?;
+        let h0 = pass.scallop.get(i).copied().unwrap_or(0.0);
+        let h1 = pass.scallop.get(i + 1).copied().unwrap_or(0.0);
+        Some(CurvePoint {
+            cc: frame.p,
+            lifted,
+            tip,
+            axis,
+            n: frame.n,
+            scallop: h0 + (h1 - h0) * t,
+        })
+    };
+    let end = (n - 1) as f64;
+    let eps = 0.5 * setup.opts.tolerance;
+    let mut poses = Vec::new();
+    let mut sigma = 0.0;
+    let Some(mut cur) = eval(0.0) else {
+        return poses;
+    };
+    poses.push(make_pose(setup, &cur));
+    let mut step = 1.0_f64;
+    let min_step = 1e-6;
+    while sigma < end {
+        let mut tries = 0;
+        loop {
+            tries += 1;
+            let s1 = (sigma + step).min(end);
+            let Some(next) = eval(s1) else {
+                // Undefined normal ahead: skip a small step.
+                sigma = s1;
+                break;
+            };
+            let dev = chord_deviation(setup, &eval, sigma, s1, &cur, &next);
+            let turn = axis_angle(cur.axis, next.axis);
+            let ok = dev <= eps && turn <= setup.opts.max_axis_step;
+            if ok || step <= min_step || tries > 60 {
+                poses.push(make_pose(setup, &next));
+                sigma = s1;
+                cur = next;
+                // Grow for the next step, by the error ratio (e ∝ Δ²), at most ×2.
+                let ratio = if dev > 0.0 { (eps / dev).sqrt() } else { 2.0 };
+                step = (step * ratio.clamp(0.5, 2.0)).max(min_step);
+                break;
+            }
+            let ratio = if dev > eps {
+                (eps / dev).sqrt() * 0.9
+            } else {
+                0.5
+            };
+            step = (step * ratio.clamp(0.1, 0.5)).max(min_step);
+        }
+    }
+    poses
+}
+
+/// Largest distance between the straight move from `a` to `b` (tip linear, axis normalised
+/// linear) and the true curve between σ0 and σ1, at interior samples: both the tip and the
+/// cutter point that should touch the (lifted) contact are compared, so a turning axis that
+/// swings the cutter's rim into the surface is caught too.
+fn chord_deviation(
+    setup: &Setup<'_>,
+    eval: &impl Fn(f64) -> Option<CurvePoint>,
+    s0: f64,
+    s1: f64,
+    a: &CurvePoint,
+    b: &CurvePoint,
+) -> f64 {
+    let ab = b.tip - a.tip;
+    let len2 = ab.length_squared();
+    let mut worst: f64 = 0.0;
+    for k in 1..=CHECKS {
+        let frac = k as f64 / (CHECKS + 1) as f64;
+        let s = s0 + (s1 - s0) * frac;
+        let Some(p) = eval(s) else { continue };
+        let t = if len2 > 0.0 {
+            ((p.tip - a.tip).dot(ab) / len2).clamp(0.0, 1.0)
+        } else {
+            frac
+        };
+        let tip = a.tip + ab * t;
+        worst = worst.max(p.tip.distance(tip));
+        // The cutter at the interpolated pose: where is its point for this contact?
+        let axis = a.axis.lerp(b.axis, t).normalize_or(p.axis);
+        let offset = |ax: DVec3| {
+            contact_to_tip(setup.cutter, DVec3::ZERO, p.n, ax, DVec3::ZERO).unwrap_or(DVec3::ZERO)
+        };
+        let touch = tip - offset(axis);
+        worst = worst.max(touch.distance(p.lifted));
+    }
+    worst
+}
+
+fn make_pose(setup: &Setup<'_>, c: &CurvePoint) -> Pose {
+    let kind = match setup.cutter.kind {
+        CutterKind::Ball => ContactKind::Ball,
+        _ if c.axis.dot(c.n) > 1.0 - 1e-9 => ContactKind::Bottom,
+        _ => ContactKind::Corner,
+    };
+    Pose::new(MoveKind::Cut, c.tip, c.axis, setup.opts.feed)
+        .with_contact(c.cc, kind)
+        .with_scallop(c.scallop)
+}
