@@ -6,6 +6,7 @@ pub mod feed;
 pub mod inspect;
 pub mod post;
 pub mod reduce;
+pub mod render;
 
 use std::path::PathBuf;
 
@@ -45,6 +46,9 @@ pub enum Command {
     Machines,
     /// Jerk-limited motion plan of a G-code program: cycle time, limits and peaks per axis.
     Feed(feed::FeedArgs),
+    /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
+    /// renderer (builds with the `gui` feature).
+    Render(render::RenderArgs),
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -103,5 +107,7 @@ pub fn run(command: Command) -> i32 {
             0
         }
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
+        // The binary sends `render` to the workstation's renderer when it has one (main.rs).
+        Command::Render(_) => render::unavailable(),
     }
 }

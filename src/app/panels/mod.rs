@@ -4,7 +4,9 @@
 pub mod log_panel;
 pub mod menu_bar;
 pub mod project_tree;
+pub mod project_dialogs;
 pub mod properties;
+pub mod tool_library;
 pub mod status_bar;
 
 /// A number with thousands separated by thin spaces (`21 450`).
