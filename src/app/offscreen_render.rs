@@ -57,9 +57,7 @@ fn parse_view(name: &str) -> Result<StandardView, String> {
         "top" => Ok(StandardView::Top),
         "front" => Ok(StandardView::Front),
         "right" => Ok(StandardView::Right),
-        other => Err(format!(
-            "--view {other}: expected iso, top, front or right"
-        )),
+        other => Err(format!("--view {other}: expected iso, top, front or right")),
     }
 }
 
@@ -107,8 +105,8 @@ pub fn render(args: &RenderArgs) -> Result<RenderOutcome, RenderFailure> {
     args.check_size().map_err(input)?;
     let view = parse_view(&args.view).map_err(input)?;
     let field = parse_field(&args.colour_by).map_err(input)?;
-    let part = load_part(&args.file, &Progress::new())
-        .map_err(|e| RenderFailure::Input(e.to_string()))?;
+    let part =
+        load_part(&args.file, &Progress::new()).map_err(|e| RenderFailure::Input(e.to_string()))?;
     let toolpath = match &args.path {
         Some(p) => Some(Toolpath::load(p).map_err(|e| RenderFailure::Input(e.to_string()))?),
         None => None,
@@ -169,7 +167,9 @@ pub fn render(args: &RenderArgs) -> Result<RenderOutcome, RenderFailure> {
             ..DisplayOptions::default()
         },
     };
-    let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-50.0), Vec3::splat(50.0)));
+    let (lo, hi) = scene
+        .bounds()
+        .unwrap_or((Vec3::splat(-50.0), Vec3::splat(50.0)));
     scene.options.grid_z = lo.z;
     scene.options.grid_spacing = DisplayOptions::grid_spacing_for((hi - lo).max_element());
     let sphere = BoundingSphere::from_box(lo, hi);

@@ -203,7 +203,9 @@ pub fn recovery_path(path: Option<&Path>, data_dir: &Path) -> PathBuf {
 #[must_use]
 pub fn pending_recovery(path: Option<&Path>, data_dir: &Path) -> Option<PathBuf> {
     let recovery = recovery_path(path, data_dir);
-    let recovered = std::fs::metadata(&recovery).and_then(|m| m.modified()).ok()?;
+    let recovered = std::fs::metadata(&recovery)
+        .and_then(|m| m.modified())
+        .ok()?;
     match path.map(|p| std::fs::metadata(p).and_then(|m| m.modified())) {
         Some(Ok(saved)) if saved >= recovered => None,
         _ => Some(recovery),

@@ -4,6 +4,8 @@
 
 use crate::diagnostics::Progress;
 use crate::geometry::DVec2;
+use crate::geometry::diffgeom::Principal;
+use crate::geometry::surface::SurfaceGeom;
 use crate::render::{ColourMap, ScalarMapping};
 
 use super::document_loader::LoadedPart;
@@ -121,7 +123,7 @@ pub fn curvature_field(part: &LoadedPart, progress: &Progress) -> Result<Curvatu
             _ => surface.closest_point(p, rect, None),
         };
         previous = Some((fi, sp.uv));
-        let Some(pr) = surface.derivs(sp.uv.x, sp.uv.y).principal() else {
+        let Some(pr) = principal_near(surface, sp.uv) else {
             continue;
         };
         let (k_min, k_max) = if face.same_sense {
@@ -129,9 +131,11 @@ pub fn curvature_field(part: &LoadedPart, progress: &Progress) -> Result<Curvatu
         } else {
             (-pr.k_max, -pr.k_min)
         };
-        if let (Some(a), Some(b), Some(m)) =
-            (out.k_min.get_mut(v), out.k_max.get_mut(v), out.mean.get_mut(v))
-        {
+        if let (Some(a), Some(b), Some(m)) = (
+            out.k_min.get_mut(v),
+            out.k_max.get_mut(v),
+            out.mean.get_mut(v),
+        ) {
             *a = k_min as f32;
             *b = k_max as f32;
             *m = (0.5 * (k_min + k_max)) as f32;
@@ -139,6 +143,30 @@ pub fn curvature_field(part: &LoadedPart, progress: &Progress) -> Result<Curvatu
     }
     progress.set(1.0);
     Ok(out)
+}
+
+/// Relative step toward the domain's centre where the parameterisation is degenerate.
+const DEGENERATE_NUDGE: f64 = 1e-6;
+
+/// Principal curvatures at `uv`; at a degenerate point (the pole of a sphere, a collapsed edge)
+/// those a hair inside the domain, which are the limit the surface has there.
+fn principal_near(surface: &SurfaceGeom, uv: DVec2) -> Option<Principal> {
+    if let Some(p) = surface.derivs(uv.x, uv.y).principal() {
+        return Some(p);
+    }
+    let rect = surface.domain();
+    let step = |lo: f64, hi: f64, x: f64| {
+        if lo.is_finite() && hi.is_finite() {
+            x + (0.5 * (lo + hi) - x) * DEGENERATE_NUDGE * 10.0
+        } else {
+            x + DEGENERATE_NUDGE
+        }
+    };
+    let nudged = DVec2::new(
+        step(rect.u.t0, rect.u.t1, uv.x),
+        step(rect.v.t0, rect.v.t1, uv.y),
+    );
+    surface.derivs(nudged.x, nudged.y).principal()
 }
 
 /// The colour mapping of `values`: a diverging map, symmetric about zero, over the 2nd to 98th

@@ -37,9 +37,9 @@ impl ToolLibrary {
     /// tool size.
     pub fn from_toml(text: &str, source: &Path) -> Result<Self, String> {
         let lib: Self = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map_or(1, |s| text.get(..s.start).unwrap_or("").matches('\n').count() + 1);
+            let line = e.span().map_or(1, |s| {
+                text.get(..s.start).unwrap_or("").matches('\n').count() + 1
+            });
             format!("{}:{line}: {}", source.display(), e.message().trim())
         })?;
         if lib.version > TOOL_LIBRARY_VERSION {
@@ -130,7 +130,11 @@ mod tests {
         assert!(lib.tools.len() >= 4);
         let kinds: Vec<_> = lib.tools.iter().map(|t| t.cutter.kind).collect();
         assert!(kinds.contains(&CutterKind::Flat));
-        assert!(kinds.iter().any(|k| matches!(k, CutterKind::BullNose { .. })));
+        assert!(
+            kinds
+                .iter()
+                .any(|k| matches!(k, CutterKind::BullNose { .. }))
+        );
         assert!(kinds.iter().any(|k| matches!(k, CutterKind::Cone { .. })));
         let sel = lib.default_selection().expect("a default tool");
         assert_eq!(lib.tools[sel].cutter.kind, CutterKind::Ball);

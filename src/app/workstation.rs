@@ -111,7 +111,8 @@ impl Workstation {
         config: WorkstationConfig,
     ) -> Self {
         theme::apply(ctx);
-        let (library, library_error) = ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
+        let (library, library_error) =
+            ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
         let project = new_project(&library);
         let mut ws = Self {
             document: None,
@@ -535,7 +536,10 @@ impl Workstation {
             edges: self.viewport.show_edges,
             grid: self.viewport.options.grid,
             scalar_field: self.viewport.scalar_field,
-            fields_available: self.document.as_ref().is_some_and(|d| has_surfaces(&d.part)),
+            fields_available: self
+                .document
+                .as_ref()
+                .is_some_and(|d| has_surfaces(&d.part)),
         };
         let undo = UndoLabels {
             undo: self.session.history.undo_label(),

@@ -120,7 +120,9 @@ pub fn menu_bar_ui(
             }
         });
         ui.menu_button("Edit", |ui| {
-            let text = undo.undo.map_or_else(|| "Undo".to_string(), |l| format!("Undo {l}"));
+            let text = undo
+                .undo
+                .map_or_else(|| "Undo".to_string(), |l| format!("Undo {l}"));
             if ui
                 .add_enabled(
                     undo.undo.is_some(),
@@ -130,7 +132,9 @@ pub fn menu_bar_ui(
             {
                 commands.push(Command::Undo);
             }
-            let text = undo.redo.map_or_else(|| "Redo".to_string(), |l| format!("Redo {l}"));
+            let text = undo
+                .redo
+                .map_or_else(|| "Redo".to_string(), |l| format!("Redo {l}"));
             if ui
                 .add_enabled(
                     undo.redo.is_some(),

@@ -111,7 +111,7 @@ pub fn recovery_ui(
     project: Option<&Path>,
 ) -> Option<Command> {
     let mut answer = None;
-    egui::Modal::new(egui::Id::new("recovery")).show(ctx, |ui| {
+    egui::Modal::new(egui::Id::unique("recovery")).show(ctx, |ui| {
         ui.set_max_width(480.0);
         ui.heading("Recover unsaved changes?");
         ui.add_space(4.0);

@@ -97,7 +97,7 @@ fn part_ui(
             |p| p.path.display().to_string(),
         );
         ui.weak(format!("Part · {what} (not loaded)"));
-        ui.weak("File → Open… (Ctrl+O) or drop a STEP or STL file here.");
+        ui.weak("File > Open… (Ctrl+O) or drop a STEP or STL file here.");
         return;
     };
     let part = &doc.part;
@@ -140,7 +140,10 @@ fn part_ui(
                         let selected =
                             focus == Focus::Selection && doc.selection == Selection::Face(i);
                         if ui
-                            .selectable_label(selected, format!("Face {}  {}{id}", i + 1, face.kind))
+                            .selectable_label(
+                                selected,
+                                format!("Face {}  {}{id}", i + 1, face.kind),
+                            )
                             .clicked()
                         {
                             commands.push(Command::Select(Selection::Face(i)));

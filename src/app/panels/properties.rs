@@ -82,7 +82,7 @@ fn selection_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>) {
 /// A length in mm with 3 decimals, or "flat" for an infinite radius.
 fn radius_text(k: f64) -> String {
     if k.abs() < 1e-9 {
-        "∞ (flat)".to_string()
+        "infinite (flat)".to_string()
     } else {
         format!("{:.3} mm", 1.0 / k)
     }

@@ -38,7 +38,7 @@ pub fn tool_list_ui(
 ) {
     for (i, tool) in project.tools.iter().enumerate() {
         let in_use = if project.selected_tool == Some(i) {
-            "  ✔"
+            "  (in use)"
         } else {
             ""
         };
@@ -314,7 +314,7 @@ pub fn tool_editor_ui(
     ));
     ui.add_space(6.0);
     if project.selected_tool == Some(index) {
-        ui.label("✔ The project's selected tool");
+        ui.label("The project's selected tool");
     } else if ui.button("Use this tool").clicked() {
         commands.push(Command::Edit(Edit::SelectTool(Some(index))));
     }

@@ -47,10 +47,7 @@ pub fn legend_ui(ui: &egui::Ui, rect: egui::Rect, field: ScalarField, mapping: S
         let [r, g, b] = mapping.map.sample(t);
         let top = origin.y + i as f32 * band;
         painter.rect_filled(
-            egui::Rect::from_min_size(
-                egui::pos2(origin.x, top),
-                egui::vec2(BAR_WIDTH, band + 0.5),
-            ),
+            egui::Rect::from_min_size(egui::pos2(origin.x, top), egui::vec2(BAR_WIDTH, band + 0.5)),
             0.0,
             egui::Color32::from_rgb(r, g, b),
         );
@@ -65,7 +62,10 @@ pub fn legend_ui(ui: &egui::Ui, rect: egui::Rect, field: ScalarField, mapping: S
         );
     };
     label(origin.y, mapping.max);
-    label(origin.y + 0.5 * BAR_HEIGHT, 0.5 * (mapping.min + mapping.max));
+    label(
+        origin.y + 0.5 * BAR_HEIGHT,
+        0.5 * (mapping.min + mapping.max),
+    );
     label(origin.y + BAR_HEIGHT, mapping.min);
     painter.text(
         egui::pos2(origin.x, origin.y + BAR_HEIGHT + 6.0),

@@ -191,10 +191,13 @@ pub fn viewport_ui(
     if response.clicked() {
         let (selection, pick) = match (hit, document) {
             (Some(h), Some(doc)) if !doc.part.faces.is_empty() => {
-                let face = doc.part.face_of_triangle.get(h.triangle).map(|&f| f as usize);
-                let pick = face.and_then(|f| {
-                    picking::surface_pick(f, doc.part.faces.get(f)?, h.point)
-                });
+                let face = doc
+                    .part
+                    .face_of_triangle
+                    .get(h.triangle)
+                    .map(|&f| f as usize);
+                let pick =
+                    face.and_then(|f| picking::surface_pick(f, doc.part.faces.get(f)?, h.point));
                 (face.map_or(Selection::Part, Selection::Face), pick)
             }
             (Some(_), Some(_)) => (Selection::Part, None),

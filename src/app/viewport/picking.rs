@@ -113,8 +113,7 @@ mod tests {
         for j in 0..=n {
             for i in 0..=n {
                 let (x, y) = (f64::from(i) * 0.5, f64::from(j) * 0.5);
-                mesh.positions
-                    .push(DVec3::new(x, y, x.sin() * y.cos()));
+                mesh.positions.push(DVec3::new(x, y, x.sin() * y.cos()));
             }
         }
         let row = n + 1;
@@ -129,18 +128,18 @@ mod tests {
         let mut hits = 0;
         for k in 0..200 {
             let t = f64::from(k);
-            let origin = DVec3::new(
-                (t * 0.37) % 10.0,
-                (t * 0.61) % 10.0,
-                5.0,
-            );
+            let origin = DVec3::new((t * 0.37) % 10.0, (t * 0.61) % 10.0, 5.0);
             let dir = DVec3::new(0.1 * (t * 0.3).sin(), 0.1 * (t * 0.7).cos(), -1.0);
             let reference = brute_force(&mesh, origin, dir);
             let hit = ray_cast(&bvh, origin, dir);
             match (reference, hit) {
                 (Some((_, d)), Some(h)) => {
                     hits += 1;
-                    assert!((h.distance - d).abs() < 1e-9, "ray {k}: {} vs {d}", h.distance);
+                    assert!(
+                        (h.distance - d).abs() < 1e-9,
+                        "ray {k}: {} vs {d}",
+                        h.distance
+                    );
                 }
                 (None, None) => {}
                 (r, h) => panic!("ray {k}: brute force {r:?}, hierarchy {h:?}"),

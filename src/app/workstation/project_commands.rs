@@ -94,7 +94,10 @@ impl Workstation {
             Command::DiscardRecovery(file) => {
                 self.recovery = None;
                 let _ = std::fs::remove_file(&file);
-                self.log_info(format!("Discarded the autosaved changes in {}", file.display()));
+                self.log_info(format!(
+                    "Discarded the autosaved changes in {}",
+                    file.display()
+                ));
             }
             _ => {}
         }
@@ -166,11 +169,8 @@ impl Workstation {
             let path = library_path(&self.session.data_dir);
             if let Err(e) = self.library.save(&path) {
                 let t = self.now_s();
-                self.log.push(
-                    t,
-                    Severity::Warning,
-                    format!("Tool library not saved: {e}"),
-                );
+                self.log
+                    .push(t, Severity::Warning, format!("Tool library not saved: {e}"));
             }
         }
         self.load_project_part();
