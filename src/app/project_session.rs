@@ -207,7 +207,7 @@ pub fn pending_recovery(path: Option<&Path>, data_dir: &Path) -> Option<PathBuf>
         .and_then(|m| m.modified())
         .ok()?;
     match path.map(|p| std::fs::metadata(p).and_then(|m| m.modified())) {
-        Some(Ok(saved)) if saved >= recovered => None,
+        Some(Ok(saved)) if saved > recovered => None,
         _ => Some(recovery),
     }
 }
