@@ -274,8 +274,8 @@ fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
         }
     }
     let mut seen = [0usize; 3];
-    for v in 0..n {
-        let Some(face) = part.faces.get(face_of_vertex[v]) else {
+    for (v, &fv) in face_of_vertex.iter().enumerate() {
+        let Some(face) = part.faces.get(fv) else {
             continue;
         };
         let (a, b) = (f64::from(field.k_min[v]), f64::from(field.k_max[v]));
