@@ -460,9 +460,9 @@ impl Workstation {
                 {
                     self.log.push(t, Severity::Warning, e);
                 }
-                if let Some(edit) = self.session.part_edit(&part.path) {
-                    self.apply(Command::Edit(edit));
-                }
+                // Referencing the new part is an undoable edit, applied once the part is the
+                // loaded one (so the edit does not start another load).
+                let part_edit = self.session.part_edit(&part.path);
                 let id = self.next_data_id;
                 self.next_data_id += 2;
                 if let Some((_, job)) = self.field_job.take() {
@@ -473,6 +473,9 @@ impl Workstation {
                 self.focus = Focus::Selection;
                 self.viewport.fit_requested = true;
                 self.log.push(t, Severity::Info, summary);
+                if let Some(edit) = part_edit {
+                    self.apply(Command::Edit(edit));
+                }
                 // Keep showing the chosen field on the new part.
                 let field = self.viewport.scalar_field;
                 self.set_scalar_field(field);
