@@ -107,7 +107,7 @@ fn pick_ui(ui: &mut egui::Ui, pick: &SurfacePick) {
         rows.push(("Radius (k_max)", radius_text(k_max)));
     }
     grid(ui, "pick", &rows);
-    ui.weak("Curvatures are signed about the face normal (negative: concave).");
+    ui.weak("Curvatures are signed about the face normal: positive where the surface bends toward it (a pocket's fillet), negative where it bends away (a convex edge).");
 }
 
 fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
