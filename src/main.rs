@@ -6,6 +6,8 @@ use talas::cli::{self, Args};
 fn main() {
     let args = Args::parse();
     let code = match args.command {
+        #[cfg(feature = "gui")]
+        Some(cli::Command::Render(render)) => talas::app::offscreen_render::run(&render),
         Some(command) => cli::run(command),
         None => open_workstation(args.file),
     };

@@ -4,6 +4,10 @@
 use std::path::PathBuf;
 
 use super::document::Selection;
+use super::panels::properties::Focus;
+use super::scalar_field::ScalarField;
+use super::viewport::picking::SurfacePick;
+use crate::project::Edit;
 use crate::render::{Projection, StandardView};
 
 /// A request from the UI.
@@ -33,4 +37,32 @@ pub enum Command {
     Select(Selection),
     /// Empty the log.
     ClearLog,
+    /// Change the project document (through the undo history).
+    Edit(Edit),
+    /// Undo the last document change.
+    Undo,
+    /// Redo the last undone change.
+    Redo,
+    /// Show this item in the properties panel.
+    Inspect(Focus),
+    /// Start a new project (the default part and the tool library).
+    NewProject,
+    /// Ask for a project file to open.
+    OpenProjectDialog,
+    /// Open this project file.
+    OpenProject(PathBuf),
+    /// Save the project to its file (asks for a path when it has none).
+    SaveProject,
+    /// Ask for a path and save the project there.
+    SaveProjectAsDialog,
+    /// Save the project to this path.
+    SaveProjectAs(PathBuf),
+    /// Replace the open project by its recovery file (unsaved changes of a crashed session).
+    Recover(PathBuf),
+    /// Delete the offered recovery file.
+    DiscardRecovery(PathBuf),
+    /// Remember the surface point clicked in the viewport (or forget it).
+    SetPick(Option<SurfacePick>),
+    /// Colour the part by a per-vertex scalar field (or not).
+    SetScalarField(Option<ScalarField>),
 }

@@ -7,7 +7,9 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::document_loader::LoadedPart;
+use super::scalar_field::CurvatureField;
 use crate::geometry::Aabb;
+use crate::geometry::bvh::MeshBvh;
 use crate::render::{DataId, LineData, MeshData};
 
 /// What the user has selected.
@@ -46,6 +48,10 @@ pub struct Document {
     pub ids: [DataId; 2],
     /// Current selection.
     pub selection: Selection,
+    /// Triangle hierarchy for picking (`None` for a mesh without a triangle of non-zero area).
+    pub bvh: Option<MeshBvh>,
+    /// Curvatures at the mesh vertices, once computed (a background job).
+    pub curvature: Option<CurvatureField>,
 }
 
 impl Document {
@@ -69,6 +75,7 @@ impl Document {
                 *ft += 1;
             }
         }
+        let bvh = MeshBvh::new(&part.mesh).ok();
         let render_mesh = Arc::new(render_mesh(&part));
         let render_edges = Arc::new(feature_edges(&part));
         Self {
@@ -81,6 +88,8 @@ impl Document {
             render_edges,
             ids: [first_id, first_id + 1],
             selection: Selection::Part,
+            bvh,
+            curvature: None,
         }
     }
 
@@ -257,10 +266,14 @@ mod tests {
                 FaceSummary {
                     kind: "plane".into(),
                     source_id: 10,
+                    surface: None,
+                    same_sense: true,
                 },
                 FaceSummary {
                     kind: "plane".into(),
                     source_id: 11,
+                    surface: None,
+                    same_sense: true,
                 },
             ],
             diagnostics: Vec::new(),

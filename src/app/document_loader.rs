@@ -7,11 +7,13 @@
 //! ([`super::crease`]).
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::crease::split_creases;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::brep::Part;
 use crate::geometry::mesh::TriMesh;
+use crate::geometry::surface::SurfaceGeom;
 use crate::geometry::tessellate::{PartMesh, TessellationOptions, tessellate_part};
 use crate::import::ImportError;
 use crate::import::step::{read_step, read_step_bytes};
@@ -27,6 +29,10 @@ pub struct FaceSummary {
     pub kind: String,
     /// Source entity id in the file (STEP `#id`), 0 when none.
     pub source_id: u64,
+    /// The carrier surface (for picking and curvature), when the part came from a B-rep.
+    pub surface: Option<Arc<SurfaceGeom>>,
+    /// Whether the face normal agrees with the surface's `S_u × S_v`.
+    pub same_sense: bool,
 }
 
 /// A part read from a file, tessellated and ready to show.
@@ -60,6 +66,8 @@ impl LoadedPart {
             .map(|f| FaceSummary {
                 kind: f.surface.kind().to_string(),
                 source_id: f.source_id,
+                surface: Some(Arc::new(f.surface.clone())),
+                same_sense: f.same_sense,
             })
             .collect();
         let mut diagnostics = part.diagnostics.clone();

@@ -58,8 +58,8 @@ impl OpenDialog {
                 let mut dialog = rfd::FileDialog::new()
                     .set_title("Open part")
                     .add_filter(
-                        "Parts (STEP, STL)",
-                        &["stp", "step", "STP", "STEP", "stl", "STL"],
+                        "Parts and projects (STEP, STL, Talas)",
+                        &["stp", "step", "STP", "STEP", "stl", "STL", "talas"],
                     )
                     .add_filter("All files", &["*"]);
                 if let Some(dir) = start_dir {

@@ -13,15 +13,19 @@ pub mod document_loader;
 pub mod file_dialog;
 pub mod job;
 pub mod message_log;
+pub mod offscreen_render;
 pub mod panels;
+pub mod project_session;
 pub mod recent_files;
+pub mod scalar_field;
 pub mod theme;
+pub mod tool_library;
 pub mod viewport;
 pub mod workstation;
 
 use std::path::PathBuf;
 
-pub use workstation::Workstation;
+pub use workstation::{Workstation, WorkstationConfig};
 
 /// Open the workstation window on `file` (or on the embedded default part).
 ///
@@ -48,8 +52,7 @@ pub fn run(file: Option<PathBuf>) -> Result<(), String> {
             Ok(Box::new(Workstation::new(
                 &cc.egui_ctx,
                 cc.wgpu_render_state.as_ref(),
-                file,
-                recent_files::RecentFiles::load(),
+                WorkstationConfig::user(file),
             )))
         }),
     )

@@ -1,5 +1,9 @@
-//! The workstation: owns the document, the viewport state, the log and the background jobs; lays
-//! out the panels each frame; applies the commands they return in one place.
+//! The workstation: owns the project session (document, history, file), the loaded part, the
+//! viewport state, the log and the background jobs; lays out the panels each frame; applies the
+//! commands they return in one place ([`Workstation::apply`], with the project commands in
+//! [`project_commands`]).
+
+mod project_commands;
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -13,17 +17,65 @@ use super::job::{Job, JobPoll};
 use super::message_log::MessageLog;
 use super::panels::grouped;
 use super::panels::log_panel::log_ui;
-use super::panels::menu_bar::{ViewFlags, menu_bar_ui, shortcuts};
+use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui, shortcuts};
+use super::panels::project_dialogs::{PathPrompt, recovery_ui};
 use super::panels::project_tree::project_tree_ui;
-use super::panels::properties::properties_ui;
+use super::panels::properties::{Focus, PropertiesView, properties_ui};
 use super::panels::status_bar::{StatusInfo, status_bar_ui};
+use super::panels::tool_library::ToolForm;
+use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
+use super::scalar_field::{CurvatureField, ScalarField, curvature_field, has_surfaces};
 use super::theme;
+use super::tool_library::{ToolLibrary, library_path};
+use super::viewport::picking::SurfacePick;
 use super::viewport::{ViewportState, viewport_ui};
 use crate::diagnostics::Severity;
+use crate::project::Project;
 use crate::render::DataId;
 
 type LoadJob = Job<Result<LoadedPart, LoadError>>;
+/// A curvature job: the render id of the document it is for, and the field.
+type FieldJob = (DataId, Job<Result<CurvatureField, ()>>);
+
+/// Where the workstation keeps its files and how often it autosaves.
+#[derive(Clone, Debug)]
+pub struct WorkstationConfig {
+    /// A part or project to open at start (`None`: the embedded default part).
+    pub file: Option<PathBuf>,
+    /// The recent-files list.
+    pub recent: RecentFiles,
+    /// The data folder: the tool library (`tools.toml`) and the untitled project's recovery
+    /// file.
+    pub data_dir: PathBuf,
+    /// Autosave interval of a project with unsaved changes.
+    pub autosave_every: Duration,
+}
+
+impl WorkstationConfig {
+    /// The user's folders ([`default_data_dir`], the saved recent-files list), autosave every
+    /// [`AUTOSAVE_EVERY`].
+    #[must_use]
+    pub fn user(file: Option<PathBuf>) -> Self {
+        Self {
+            file,
+            recent: RecentFiles::load(),
+            data_dir: default_data_dir(),
+            autosave_every: AUTOSAVE_EVERY,
+        }
+    }
+
+    /// Folders under `data_dir` only, an unsaved recent-files list (tests, scripted runs).
+    #[must_use]
+    pub fn isolated(file: Option<PathBuf>, data_dir: PathBuf) -> Self {
+        Self {
+            file,
+            recent: RecentFiles::in_memory(),
+            data_dir,
+            autosave_every: AUTOSAVE_EVERY,
+        }
+    }
+}
 
 /// The workstation application.
 pub struct Workstation {
@@ -31,37 +83,66 @@ pub struct Workstation {
     viewport: ViewportState,
     log: MessageLog,
     load_job: Option<LoadJob>,
+    field_job: Option<FieldJob>,
     dialog: OpenDialog,
     recent: RecentFiles,
     started: Instant,
     next_data_id: DataId,
     render_problems: Option<Arc<Mutex<Vec<String>>>>,
     ctx: egui::Context,
+    session: ProjectSession,
+    library: ToolLibrary,
+    focus: Focus,
+    tool_form: ToolForm,
+    pick: Option<SurfacePick>,
+    prompt: Option<PathPrompt>,
+    /// A recovery file to offer (Recover / Discard).
+    recovery: Option<PathBuf>,
+    title: String,
 }
 
 impl Workstation {
-    /// A workstation on `ctx`, drawing through `render_state` when eframe runs on wgpu, opening
-    /// `file` at once when given.
+    /// A workstation on `ctx`, drawing through `render_state` when eframe runs on wgpu (without
+    /// it, everything but the 3D view works), opening `config.file` at once when given.
     #[must_use]
     pub fn new(
         ctx: &egui::Context,
         render_state: Option<&egui_wgpu::RenderState>,
-        file: Option<PathBuf>,
-        recent: RecentFiles,
+        config: WorkstationConfig,
     ) -> Self {
         theme::apply(ctx);
+        let (library, library_error) =
+            ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
+        let project = new_project(&library);
         let mut ws = Self {
             document: None,
             viewport: ViewportState::default(),
             log: MessageLog::default(),
             load_job: None,
+            field_job: None,
             dialog: OpenDialog::default(),
-            recent,
+            recent: config.recent,
             started: Instant::now(),
             next_data_id: 1,
             render_problems: render_state.map(super::viewport::bridge::install),
             ctx: ctx.clone(),
+            session: ProjectSession::new(project, config.data_dir, config.autosave_every),
+            library,
+            focus: Focus::Selection,
+            tool_form: ToolForm::default(),
+            pick: None,
+            prompt: None,
+            recovery: None,
+            title: String::new(),
         };
+        if let Some(e) = library_error {
+            let t = ws.now_s();
+            ws.log.notify(
+                t,
+                Severity::Warning,
+                format!("Tool library not read, using the default one: {e}"),
+            );
+        }
         match render_state {
             Some(rs) => {
                 let info = rs.adapter.get_info();
@@ -76,14 +157,62 @@ impl Workstation {
                 "No wgpu renderer: the 3D viewport is unavailable",
             ),
         }
-        ws.apply(file.map_or(Command::OpenDefaultPart, Command::Open));
+        match config.file {
+            Some(file) => ws.apply(Command::Open(file)),
+            None => {
+                ws.apply(Command::OpenDefaultPart);
+                ws.recovery = super::project_session::pending_recovery(None, &ws.session.data_dir);
+            }
+        }
         ws
     }
 
-    /// The open document.
+    /// The loaded part.
     #[must_use]
     pub fn document(&self) -> Option<&Document> {
         self.document.as_ref()
+    }
+
+    /// The project document with its history and file.
+    #[must_use]
+    pub fn session(&self) -> &ProjectSession {
+        &self.session
+    }
+
+    /// The tool library (what a new project starts with; saved in the data folder).
+    #[must_use]
+    pub fn library(&self) -> &ToolLibrary {
+        &self.library
+    }
+
+    /// What the properties panel shows.
+    #[must_use]
+    pub fn focus(&self) -> Focus {
+        self.focus
+    }
+
+    /// The surface point last clicked in the viewport.
+    #[must_use]
+    pub fn pick(&self) -> Option<&SurfacePick> {
+        self.pick.as_ref()
+    }
+
+    /// The recovery file being offered, if any.
+    #[must_use]
+    pub fn pending_recovery(&self) -> Option<&Path> {
+        self.recovery.as_deref()
+    }
+
+    /// The window title (project name, `*` when there are unsaved changes).
+    #[must_use]
+    pub fn title(&self) -> String {
+        self.session.title()
+    }
+
+    /// Is the curvature field being computed?
+    #[must_use]
+    pub fn is_computing_field(&self) -> bool {
+        self.field_job.is_some()
     }
 
     /// The log.
@@ -118,11 +247,26 @@ impl Workstation {
                 let ctx = self.ctx.clone();
                 self.dialog.open(start, move || ctx.request_repaint());
             }
-            Command::Open(path) => self.start_load(path),
+            Command::Open(path) => {
+                if path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case(crate::project::file::EXTENSION))
+                {
+                    self.apply(Command::OpenProject(path));
+                } else {
+                    self.start_load(path);
+                }
+            }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
                 if let Some(job) = self.load_job.take() {
                     job.cancel();
+                    let t = self.now_s();
+                    self.log
+                        .push(t, Severity::Warning, format!("{} cancelled", job.label));
+                } else if let Some((_, job)) = self.field_job.take() {
+                    job.cancel();
+                    self.viewport.scalar_field = None;
                     let t = self.now_s();
                     self.log
                         .push(t, Severity::Warning, format!("{} cancelled", job.label));
@@ -135,6 +279,7 @@ impl Workstation {
             Command::SetEdges(on) => self.viewport.show_edges = on,
             Command::SetGrid(on) => self.viewport.options.grid = on,
             Command::Select(selection) => {
+                self.focus = Focus::Selection;
                 if let Some(doc) = &mut self.document {
                     doc.selection = match selection {
                         Selection::Face(i) if i >= doc.part.faces.len() => Selection::Part,
@@ -143,7 +288,45 @@ impl Workstation {
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
+            Command::Inspect(focus) => self.focus = focus,
+            Command::SetPick(pick) => self.pick = pick,
+            Command::SetScalarField(field) => self.set_scalar_field(field),
+            Command::Edit(_)
+            | Command::Undo
+            | Command::Redo
+            | Command::NewProject
+            | Command::OpenProjectDialog
+            | Command::OpenProject(_)
+            | Command::SaveProject
+            | Command::SaveProjectAsDialog
+            | Command::SaveProjectAs(_)
+            | Command::Recover(_)
+            | Command::DiscardRecovery(_) => self.apply_project(command),
         }
+    }
+
+    /// Show `field` on the part, computing the curvatures first when needed.
+    fn set_scalar_field(&mut self, field: Option<ScalarField>) {
+        self.viewport.scalar_field = field;
+        let Some(doc) = &self.document else { return };
+        if field.is_none() || doc.curvature.is_some() || self.field_job.is_some() {
+            return;
+        }
+        if !has_surfaces(&doc.part) {
+            self.log_info("Curvature needs the exact surfaces: open a STEP part");
+            return;
+        }
+        let part = doc.part.clone();
+        let id = doc.ids[0];
+        let ctx = self.ctx.clone();
+        self.field_job = Some((
+            id,
+            Job::spawn(
+                "Evaluating curvature",
+                move |progress| curvature_field(&part, progress),
+                move || ctx.request_repaint(),
+            ),
+        ));
     }
 
     fn start_load(&mut self, path: PathBuf) {
@@ -198,6 +381,8 @@ impl Workstation {
                 }
             }
         }
+        self.poll_field_job();
+        self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
         }
@@ -226,6 +411,35 @@ impl Workstation {
         }
     }
 
+    fn poll_field_job(&mut self) {
+        let Some((id, job)) = &self.field_job else {
+            return;
+        };
+        let id = *id;
+        let outcome = match job.poll() {
+            JobPoll::Running => {
+                self.ctx.request_repaint_after(Duration::from_millis(100));
+                return;
+            }
+            JobPoll::Done(r) => r.ok(),
+            JobPoll::Lost => None,
+        };
+        let elapsed = job.started.elapsed().as_secs_f64();
+        self.field_job = None;
+        match (outcome, &mut self.document) {
+            (Some(field), Some(doc)) if doc.ids[0] == id => {
+                doc.curvature = Some(field);
+                self.log_info(format!("Curvature evaluated in {elapsed:.2} s"));
+            }
+            (Some(_), _) => {}
+            (None, _) => {
+                let t = self.now_s();
+                self.log
+                    .notify(t, Severity::Error, "Curvature could not be evaluated");
+            }
+        }
+    }
+
     fn finish_load(&mut self, result: Result<LoadedPart, LoadError>, elapsed_s: f64) {
         let t = self.now_s();
         match result {
@@ -246,11 +460,25 @@ impl Workstation {
                 {
                     self.log.push(t, Severity::Warning, e);
                 }
+                // Referencing the new part is an undoable edit, applied once the part is the
+                // loaded one (so the edit does not start another load).
+                let part_edit = self.session.part_edit(&part.path);
                 let id = self.next_data_id;
                 self.next_data_id += 2;
+                if let Some((_, job)) = self.field_job.take() {
+                    job.cancel();
+                }
                 self.document = Some(Document::new(part, id));
+                self.pick = None;
+                self.focus = Focus::Selection;
                 self.viewport.fit_requested = true;
                 self.log.push(t, Severity::Info, summary);
+                if let Some(edit) = part_edit {
+                    self.apply(Command::Edit(edit));
+                }
+                // Keep showing the chosen field on the new part.
+                let field = self.viewport.scalar_field;
+                self.set_scalar_field(field);
             }
             Err(LoadError::Cancelled) => self.log.push(t, Severity::Warning, "Loading cancelled"),
             Err(e) => {
@@ -268,13 +496,11 @@ impl Workstation {
     fn status(&self) -> StatusInfo {
         StatusInfo {
             cursor_mm: self.viewport.hover_point,
-            job: self.load_job.as_ref().map(|j| {
-                (
-                    j.label.clone(),
-                    j.progress.fraction(),
-                    j.started.elapsed().as_secs_f64(),
-                )
-            }),
+            job: self
+                .load_job
+                .as_ref()
+                .map(job_status)
+                .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
             document: self.document.as_ref().map(|d| {
                 format!(
                     "{} · {} triangles",
@@ -290,7 +516,13 @@ impl Workstation {
         self.poll_background();
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
+        self.ctx = ctx.clone();
         shortcuts(&ctx, &mut commands);
+        let title = self.session.title();
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
                 .dropped_files
@@ -306,9 +538,19 @@ impl Workstation {
             projection: self.viewport.camera.projection,
             edges: self.viewport.show_edges,
             grid: self.viewport.options.grid,
+            scalar_field: self.viewport.scalar_field,
+            fields_available: self
+                .document
+                .as_ref()
+                .is_some_and(|d| has_surfaces(&d.part)),
         };
-        egui::Panel::top("menu bar")
-            .show(ui, |ui| menu_bar_ui(ui, &self.recent, flags, &mut commands));
+        let undo = UndoLabels {
+            undo: self.session.history.undo_label(),
+            redo: self.session.history.redo_label(),
+        };
+        egui::Panel::top("menu bar").show(ui, |ui| {
+            menu_bar_ui(ui, &self.recent, flags, undo, &mut commands);
+        });
         let status = self.status();
         egui::Panel::bottom("status bar")
             .exact_size(26.0)
@@ -325,14 +567,26 @@ impl Workstation {
             .default_size(250.0)
             .size_range(160.0..=500.0)
             .show(ui, |ui| {
-                project_tree_ui(ui, self.document.as_ref(), &mut commands);
+                project_tree_ui(
+                    ui,
+                    self.document.as_ref(),
+                    &self.session.project,
+                    self.focus,
+                    &mut commands,
+                );
             });
         egui::Panel::right("properties")
             .resizable(true)
             .default_size(290.0)
             .size_range(180.0..=520.0)
             .show(ui, |ui| {
-                properties_ui(ui, self.document.as_ref());
+                let view = PropertiesView {
+                    focus: self.focus,
+                    document: self.document.as_ref(),
+                    project: &self.session.project,
+                    pick: self.pick.as_ref(),
+                };
+                properties_ui(ui, &view, &mut self.tool_form, &mut commands);
             });
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
@@ -350,6 +604,17 @@ impl Workstation {
             );
         });
         self.path_field_ui(&ctx, &mut commands);
+        if let Some(prompt) = &mut self.prompt
+            && let Some(outcome) = prompt.ui(&ctx)
+        {
+            self.prompt = None;
+            commands.extend(outcome);
+        }
+        if let Some(recovery) = &self.recovery
+            && let Some(answer) = recovery_ui(&ctx, recovery, self.session.path.as_deref())
+        {
+            commands.push(answer);
+        }
         for c in commands {
             self.apply(c);
         }
@@ -396,6 +661,25 @@ impl Workstation {
             self.dialog.path_field_open = false;
         }
     }
+}
+
+/// A job as the status bar shows it: label, fraction done, seconds running.
+fn job_status<T>(job: &Job<T>) -> (String, f64, f64) {
+    (
+        job.label.clone(),
+        job.progress.fraction(),
+        job.started.elapsed().as_secs_f64(),
+    )
+}
+
+/// A new project: the default part and the tool library's tools, its default tool selected.
+fn new_project(library: &ToolLibrary) -> Project {
+    let mut project = Project::default();
+    if !library.tools.is_empty() {
+        project.tools.clone_from(&library.tools);
+        project.selected_tool = library.default_selection();
+    }
+    project
 }
 
 /// Notifications and the drop hint over the viewport.

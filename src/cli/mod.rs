@@ -8,6 +8,7 @@ pub mod plan;
 pub mod plan_mesh;
 pub mod post;
 pub mod reduce;
+pub mod render;
 pub mod simulate;
 
 use std::path::PathBuf;
@@ -54,6 +55,9 @@ pub enum Command {
     /// Material removal on a dexel stock: removed volume, deviation from the part,
     /// collisions, time.
     Simulate(simulate::SimulateArgs),
+    /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
+    /// renderer (builds with the `gui` feature).
+    Render(render::RenderArgs),
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
@@ -116,5 +120,7 @@ pub fn run(command: Command) -> i32 {
         Command::Simulate(args) => {
             report(simulate::simulate_cmd(&args), args.json, simulate::human)
         }
+        // The binary sends `render` to the workstation's renderer when it has one (main.rs).
+        Command::Render(_) => render::unavailable(),
     }
 }

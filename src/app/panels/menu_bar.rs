@@ -1,14 +1,30 @@
-//! The menu bar: File (Open, Recent, Quit) and View (fit, standard views, projection, edges,
-//! grid), with the keyboard shortcuts shown beside the entries.
+//! The menu bar: File (new, open, save, save as, recent, quit), Edit (undo, redo) and View (fit,
+//! standard views, projection, edges, grid, colour by a scalar field), with the keyboard
+//! shortcuts shown beside the entries.
 
 use egui::{Key, KeyboardShortcut, Modifiers};
 
 use super::super::command::Command;
 use super::super::recent_files::RecentFiles;
+use super::super::scalar_field::ScalarField;
 use crate::render::{Projection, StandardView};
 
-/// Ctrl+O: open a part.
+/// Ctrl+O: open a part or a project.
 pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+/// Ctrl+N: new project.
+pub const NEW: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::N);
+/// Ctrl+S: save the project.
+pub const SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+/// Ctrl+Shift+S: save the project under another name.
+pub const SAVE_AS: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
+/// Ctrl+Z: undo.
+pub const UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+/// Ctrl+Shift+Z: redo.
+pub const REDO: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+/// Ctrl+Y: redo.
+pub const REDO_ALT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
 /// Ctrl+Q: quit.
 pub const QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
 
@@ -29,6 +45,24 @@ pub struct ViewFlags {
     pub edges: bool,
     /// Grid shown.
     pub grid: bool,
+    /// Scalar field the part is coloured by.
+    pub scalar_field: Option<ScalarField>,
+    /// Can the part be coloured by curvature (it has exact surfaces)?
+    pub fields_available: bool,
+}
+
+/// What the Edit menu shows: descriptions of the steps undo and redo would take.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UndoLabels {
+    /// The step undo would undo.
+    pub undo: Option<&'static str>,
+    /// The step redo would redo.
+    pub redo: Option<&'static str>,
+}
+
+fn shortcut_button(ui: &mut egui::Ui, text: &str, shortcut: &KeyboardShortcut) -> bool {
+    ui.add(egui::Button::new(text).shortcut_text(ui.ctx().format_shortcut(shortcut)))
+        .clicked()
 }
 
 /// The menu bar.
@@ -36,16 +70,27 @@ pub fn menu_bar_ui(
     ui: &mut egui::Ui,
     recent: &RecentFiles,
     view: ViewFlags,
+    undo: UndoLabels,
     commands: &mut Vec<Command>,
 ) {
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui
-                .add(egui::Button::new("Open…").shortcut_text(ui.ctx().format_shortcut(&OPEN)))
-                .clicked()
-            {
+            if shortcut_button(ui, "New Project", &NEW) {
+                commands.push(Command::NewProject);
+            }
+            if shortcut_button(ui, "Open…", &OPEN) {
                 commands.push(Command::OpenDialog);
             }
+            if ui.button("Open Project by Path…").clicked() {
+                commands.push(Command::OpenProjectDialog);
+            }
+            if shortcut_button(ui, "Save Project", &SAVE) {
+                commands.push(Command::SaveProject);
+            }
+            if shortcut_button(ui, "Save Project As…", &SAVE_AS) {
+                commands.push(Command::SaveProjectAsDialog);
+            }
+            ui.separator();
             if ui.button("Open Default Part").clicked() {
                 commands.push(Command::OpenDefaultPart);
             }
@@ -72,6 +117,32 @@ pub fn menu_bar_ui(
                 .clicked()
             {
                 commands.push(Command::Quit);
+            }
+        });
+        ui.menu_button("Edit", |ui| {
+            let text = undo
+                .undo
+                .map_or_else(|| "Undo".to_string(), |l| format!("Undo {l}"));
+            if ui
+                .add_enabled(
+                    undo.undo.is_some(),
+                    egui::Button::new(text).shortcut_text(ui.ctx().format_shortcut(&UNDO)),
+                )
+                .clicked()
+            {
+                commands.push(Command::Undo);
+            }
+            let text = undo
+                .redo
+                .map_or_else(|| "Redo".to_string(), |l| format!("Redo {l}"));
+            if ui
+                .add_enabled(
+                    undo.redo.is_some(),
+                    egui::Button::new(text).shortcut_text(ui.ctx().format_shortcut(&REDO)),
+                )
+                .clicked()
+            {
+                commands.push(Command::Redo);
             }
         });
         ui.menu_button("View", |ui| {
@@ -106,6 +177,19 @@ pub fn menu_bar_ui(
             if ui.checkbox(&mut grid, "Grid").changed() {
                 commands.push(Command::SetGrid(grid));
             }
+            ui.separator();
+            ui.add_enabled_ui(view.fields_available, |ui| {
+                ui.menu_button("Colour By", |ui| {
+                    let mut field = view.scalar_field;
+                    ui.radio_value(&mut field, None, "Plain");
+                    for f in ScalarField::ALL {
+                        ui.radio_value(&mut field, Some(f), f.name());
+                    }
+                    if field != view.scalar_field {
+                        commands.push(Command::SetScalarField(field));
+                    }
+                });
+            });
         });
     });
 }
@@ -119,10 +203,29 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
         if i.consume_shortcut(&QUIT) {
             commands.push(Command::Quit);
         }
+        if i.consume_shortcut(&NEW) {
+            commands.push(Command::NewProject);
+        }
+        // The longer shortcuts first: Ctrl+Shift+S must not be taken as Ctrl+S.
+        if i.consume_shortcut(&SAVE_AS) {
+            commands.push(Command::SaveProjectAsDialog);
+        }
+        if i.consume_shortcut(&SAVE) {
+            commands.push(Command::SaveProject);
+        }
     });
     if ctx.egui_wants_keyboard_input() {
+        // A text field has focus: Ctrl+Z belongs to it.
         return;
     }
+    ctx.input_mut(|i| {
+        if i.consume_shortcut(&REDO) || i.consume_shortcut(&REDO_ALT) {
+            commands.push(Command::Redo);
+        }
+        if i.consume_shortcut(&UNDO) {
+            commands.push(Command::Undo);
+        }
+    });
     ctx.input_mut(|i| {
         if i.consume_key(Modifiers::NONE, Key::F) {
             commands.push(Command::FitAll);

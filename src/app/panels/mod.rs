@@ -3,9 +3,11 @@
 
 pub mod log_panel;
 pub mod menu_bar;
+pub mod project_dialogs;
 pub mod project_tree;
 pub mod properties;
 pub mod status_bar;
+pub mod tool_library;
 
 /// A number with thousands separated by thin spaces (`21 450`).
 #[must_use]

@@ -1,73 +1,154 @@
-//! The project tree (left panel): the part and its faces. Shows only what exists.
+//! The project tree (left panel): the project's part (and its faces), stock, setup and work
+//! offset, tools, operations and machine, read from the project document and the loaded part.
 
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::grouped;
+use super::properties::Focus;
+use super::tool_library::tool_list_ui;
+use crate::project::{Operation, Project, Stock};
+
+/// One-line description of the stock.
+#[must_use]
+pub fn stock_summary(stock: &Stock) -> String {
+    match *stock {
+        Stock::None => "none".into(),
+        Stock::Box { min_mm, max_mm } => format!(
+            "box {:.1} × {:.1} × {:.1} mm",
+            max_mm[0] - min_mm[0],
+            max_mm[1] - min_mm[1],
+            max_mm[2] - min_mm[2]
+        ),
+        Stock::Cylinder {
+            radius_mm,
+            height_mm,
+            ..
+        } => format!("cylinder Ø{:.1} × {:.1} mm", 2.0 * radius_mm, height_mm),
+    }
+}
 
 /// The project tree.
 pub fn project_tree_ui(
     ui: &mut egui::Ui,
     document: Option<&Document>,
+    project: &Project,
+    focus: Focus,
     commands: &mut Vec<Command>,
 ) {
     ui.add_space(4.0);
     ui.label(egui::RichText::new("PROJECT").small().strong().weak());
     ui.separator();
+    ui.label(egui::RichText::new(project.name.as_str()).strong());
+    egui::ScrollArea::vertical()
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            part_ui(ui, document, project, focus, commands);
+            let mut leaf = |ui: &mut egui::Ui, f: Focus, text: String| {
+                if ui.selectable_label(focus == f, text).clicked() {
+                    commands.push(Command::Inspect(f));
+                }
+            };
+            leaf(
+                ui,
+                Focus::Stock,
+                format!("Stock · {}", stock_summary(&project.stock)),
+            );
+            leaf(ui, Focus::Setup, "Setup 1 · work offset G54".into());
+            egui::CollapsingHeader::new(format!("Tools ({})", project.tools.len()))
+                .id_salt("tools")
+                .default_open(true)
+                .show(ui, |ui| tool_list_ui(ui, project, focus, commands));
+            egui::CollapsingHeader::new(format!("Operations ({})", project.operations.len()))
+                .id_salt("operations")
+                .default_open(true)
+                .show(ui, |ui| {
+                    if project.operations.is_empty() {
+                        ui.weak("None yet");
+                    }
+                    for (i, op) in project.operations.iter().enumerate() {
+                        let Operation::Raster { name, .. } = op;
+                        if ui
+                            .selectable_label(focus == Focus::Operation(i), name.as_str())
+                            .clicked()
+                        {
+                            commands.push(Command::Inspect(Focus::Operation(i)));
+                        }
+                    }
+                });
+            let mut leaf = |ui: &mut egui::Ui, f: Focus, text: String| {
+                if ui.selectable_label(focus == f, text).clicked() {
+                    commands.push(Command::Inspect(f));
+                }
+            };
+            leaf(ui, Focus::Machine, format!("Machine · {}", project.machine));
+        });
+}
+
+fn part_ui(
+    ui: &mut egui::Ui,
+    document: Option<&Document>,
+    project: &Project,
+    focus: Focus,
+    commands: &mut Vec<Command>,
+) {
     let Some(doc) = document else {
-        ui.weak("No part open. File → Open… (Ctrl+O) or drop a STEP or STL file here.");
+        let what = project.part.as_ref().map_or_else(
+            || "the default part".to_string(),
+            |p| p.path.display().to_string(),
+        );
+        ui.weak(format!("Part · {what} (not loaded)"));
+        ui.weak("File > Open… (Ctrl+O) or drop a STEP or STL file here.");
         return;
     };
     let part = &doc.part;
-    let part_selected = doc.selection == Selection::Part;
-    egui::CollapsingHeader::new(egui::RichText::new(part.name.as_str()).strong())
-        .id_salt("part")
-        .default_open(true)
+    let part_selected = focus == Focus::Selection && doc.selection == Selection::Part;
+    if ui
+        .selectable_label(
+            part_selected,
+            format!(
+                "Part · {} · {} triangles",
+                part.name,
+                grouped(part.mesh.triangles.len())
+            ),
+        )
+        .clicked()
+    {
+        commands.push(Command::Select(Selection::Part));
+    }
+    if part.faces.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new(format!("Faces ({})", part.faces.len()))
+        .id_salt("faces")
+        .default_open(part.faces.len() <= 30)
         .show(ui, |ui| {
-            if ui
-                .selectable_label(
-                    part_selected,
-                    format!("Part · {} triangles", grouped(part.mesh.triangles.len())),
-                )
-                .clicked()
-            {
-                commands.push(Command::Select(Selection::Part));
-            }
-            if part.faces.is_empty() {
-                return;
-            }
-            egui::CollapsingHeader::new(format!("Faces ({})", part.faces.len()))
-                .id_salt("faces")
-                .default_open(true)
-                .show(ui, |ui| {
-                    let row_height = ui.spacing().interact_size.y;
-                    egui::ScrollArea::vertical()
-                        .max_height(ui.available_height().max(120.0))
-                        .auto_shrink([false, true])
-                        .show_rows(ui, row_height, part.faces.len(), |ui, rows| {
-                            for i in rows {
-                                let Some(face) = part.faces.get(i) else {
-                                    continue;
-                                };
-                                let id = if face.source_id > 0 {
-                                    format!("  #{}", face.source_id)
-                                } else {
-                                    String::new()
-                                };
-                                let selected = doc.selection == Selection::Face(i);
-                                if ui
-                                    .selectable_label(
-                                        selected,
-                                        format!("Face {}  {}{id}", i + 1, face.kind),
-                                    )
-                                    .clicked()
-                                {
-                                    commands.push(Command::Select(Selection::Face(i)));
-                                }
-                            }
-                        });
+            let row_height = ui.spacing().interact_size.y;
+            egui::ScrollArea::vertical()
+                .id_salt("face list")
+                .max_height(240.0)
+                .auto_shrink([false, true])
+                .show_rows(ui, row_height, part.faces.len(), |ui, rows| {
+                    for i in rows {
+                        let Some(face) = part.faces.get(i) else {
+                            continue;
+                        };
+                        let id = if face.source_id > 0 {
+                            format!("  #{}", face.source_id)
+                        } else {
+                            String::new()
+                        };
+                        let selected =
+                            focus == Focus::Selection && doc.selection == Selection::Face(i);
+                        if ui
+                            .selectable_label(
+                                selected,
+                                format!("Face {}  {}{id}", i + 1, face.kind),
+                            )
+                            .clicked()
+                        {
+                            commands.push(Command::Select(Selection::Face(i)));
+                        }
+                    }
                 });
         });
-    if part_selected || matches!(doc.selection, Selection::Face(_)) {
-        ui.add_space(6.0);
-    }
 }

@@ -1,23 +1,219 @@
-//! Properties of the selection (right panel), every number with its unit.
+//! Properties of what the project tree or the viewport points at (right panel), every number
+//! with its unit: the part or a face (with the picked surface point), a tool (editable), the
+//! stock, the setup, an operation, the machine.
 
 use glam::DVec3;
 
+use super::super::command::Command;
 use super::super::document::{Document, Selection};
+use super::super::viewport::picking::SurfacePick;
 use super::grouped;
+use super::tool_library::{ToolForm, tool_editor_ui};
 use crate::diagnostics::Severity;
+use crate::project::{Edit, Operation, Project, Stock};
+
+/// What the properties panel shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Focus {
+    /// The part selection (the part or a face).
+    #[default]
+    Selection,
+    /// Tool `i` of the project (its editor).
+    Tool(usize),
+    /// The stock.
+    Stock,
+    /// The setup and work offset.
+    Setup,
+    /// Operation `i`.
+    Operation(usize),
+    /// The machine.
+    Machine,
+}
+
+/// What the properties panel reads.
+pub struct PropertiesView<'a> {
+    /// What to show.
+    pub focus: Focus,
+    /// The loaded part.
+    pub document: Option<&'a Document>,
+    /// The project document.
+    pub project: &'a Project,
+    /// The last surface point clicked in the viewport.
+    pub pick: Option<&'a SurfacePick>,
+}
 
 /// The properties panel.
-pub fn properties_ui(ui: &mut egui::Ui, document: Option<&Document>) {
+pub fn properties_ui(
+    ui: &mut egui::Ui,
+    view: &PropertiesView<'_>,
+    form: &mut ToolForm,
+    commands: &mut Vec<Command>,
+) {
     ui.add_space(4.0);
     ui.label(egui::RichText::new("PROPERTIES").small().strong().weak());
     ui.separator();
-    let Some(doc) = document else { return };
+    egui::ScrollArea::vertical()
+        .auto_shrink([false, false])
+        .show(ui, |ui| match view.focus {
+            Focus::Selection => selection_ui(ui, view),
+            Focus::Tool(i) => tool_editor_ui(ui, view.project, i, form, commands),
+            Focus::Stock => stock_ui(ui, view, commands),
+            Focus::Setup => setup_ui(ui, view.project),
+            Focus::Operation(i) => operation_ui(ui, view.project, i),
+            Focus::Machine => machine_ui(ui, view.project, commands),
+        });
+}
+
+fn selection_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>) {
+    let Some(doc) = view.document else { return };
     match doc.selection {
         Selection::None => {
             ui.weak("Select the part or a face (click it in the viewport or the project tree).");
         }
         Selection::Part => part_ui(ui, doc),
         Selection::Face(i) => face_ui(ui, doc, i),
+    }
+    if let Some(pick) = view.pick {
+        ui.add_space(8.0);
+        pick_ui(ui, pick);
+    }
+}
+
+/// A length in mm with 3 decimals, or "flat" for an infinite radius.
+fn radius_text(k: f64) -> String {
+    if k.abs() < 1e-9 {
+        "infinite (flat)".to_string()
+    } else {
+        format!("{:.3} mm", 1.0 / k)
+    }
+}
+
+fn pick_ui(ui: &mut egui::Ui, pick: &SurfacePick) {
+    ui.label(egui::RichText::new("Picked point").strong());
+    let mut rows = vec![
+        ("Face", format!("{}", pick.face + 1)),
+        ("(u, v)", format!("({:.6}, {:.6})", pick.uv.x, pick.uv.y)),
+        ("Point", mm3(pick.point)),
+        ("Distance to mesh", format!("{:.4} mm", pick.distance_mm)),
+    ];
+    match pick.normal {
+        Some(n) => rows.push(("Normal", format!("{:.4}, {:.4}, {:.4}", n.x, n.y, n.z))),
+        None => rows.push(("Normal", "undefined (degenerate point)".into())),
+    }
+    if let Some((k_min, k_max)) = pick.curvature {
+        rows.push(("k_min", format!("{k_min:.5} 1/mm")));
+        rows.push(("k_max", format!("{k_max:.5} 1/mm")));
+        rows.push(("Radius (k_min)", radius_text(k_min)));
+        rows.push(("Radius (k_max)", radius_text(k_max)));
+    }
+    grid(ui, "pick", &rows);
+    ui.weak("Curvatures are signed about the face normal: positive where the surface bends toward it (a pocket's fillet), negative where it bends away (a convex edge).");
+}
+
+fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
+    ui.heading("Stock");
+    let rows: Vec<(&str, String)> = match view.project.stock {
+        Stock::None => vec![("Kind", "none".into())],
+        Stock::Box { min_mm, max_mm } => vec![
+            ("Kind", "box".into()),
+            ("Min", mm3(DVec3::from_array(min_mm))),
+            ("Max", mm3(DVec3::from_array(max_mm))),
+            (
+                "Size",
+                mm3(DVec3::from_array(max_mm) - DVec3::from_array(min_mm)),
+            ),
+        ],
+        Stock::Cylinder {
+            base_mm,
+            radius_mm,
+            height_mm,
+        } => vec![
+            ("Kind", "cylinder".into()),
+            ("Base centre", mm3(DVec3::from_array(base_mm))),
+            ("Radius", format!("{radius_mm:.3} mm")),
+            ("Height", format!("{height_mm:.3} mm")),
+        ],
+    };
+    grid(ui, "stock", &rows);
+    ui.add_space(8.0);
+    let bounds = view.document.map(|d| d.bounds).filter(|b| !b.is_empty());
+    ui.add_enabled_ui(bounds.is_some(), |ui| {
+        ui.horizontal_wrapped(|ui| {
+            if let Some(b) = bounds {
+                if ui.button("Box around part +2 mm").clicked() {
+                    commands.push(Command::Edit(Edit::SetStock(Stock::box_around(&b, 2.0))));
+                }
+                if ui.button("Cylinder around part +2 mm").clicked() {
+                    commands.push(Command::Edit(Edit::SetStock(Stock::cylinder_around(
+                        &b, 2.0,
+                    ))));
+                }
+            }
+        });
+    });
+    if view.project.stock != Stock::None && ui.button("No stock").clicked() {
+        commands.push(Command::Edit(Edit::SetStock(Stock::None)));
+    }
+}
+
+fn setup_ui(ui: &mut egui::Ui, project: &Project) {
+    ui.heading("Setup 1");
+    grid(
+        ui,
+        "setup",
+        &[
+            ("Work offset", "G54".into()),
+            ("Origin", "0.000, 0.000, 0.000 mm (part origin)".into()),
+            ("Tool axis", "+Z".into()),
+            ("Machine", project.machine.clone()),
+        ],
+    );
+    ui.weak("The work offset is the part's own origin until setups become editable.");
+}
+
+fn operation_ui(ui: &mut egui::Ui, project: &Project, i: usize) {
+    let Some(op) = project.operations.get(i) else {
+        ui.weak("No such operation.");
+        return;
+    };
+    match op {
+        Operation::Raster {
+            name,
+            tool,
+            stepover_mm,
+            angle_rad,
+        } => {
+            ui.heading(name);
+            let tool_name = project
+                .tools
+                .get(*tool)
+                .map_or_else(|| format!("T{} (missing)", tool + 1), |t| t.name.clone());
+            grid(
+                ui,
+                "operation",
+                &[
+                    ("Strategy", "raster drop-cutter".into()),
+                    ("Tool", tool_name),
+                    ("Stepover", format!("{stepover_mm:.3} mm")),
+                    ("Angle", format!("{:.2}°", angle_rad.to_degrees())),
+                ],
+            );
+        }
+    }
+}
+
+fn machine_ui(ui: &mut egui::Ui, project: &Project, commands: &mut Vec<Command>) {
+    ui.heading("Machine");
+    let mut chosen = project.machine.clone();
+    egui::ComboBox::from_label("Machine")
+        .selected_text(chosen.as_str())
+        .show_ui(ui, |ui| {
+            for name in crate::machine::Machine::builtin_names() {
+                ui.selectable_value(&mut chosen, name.to_string(), name);
+            }
+        });
+    if chosen != project.machine {
+        commands.push(Command::Edit(Edit::SetMachine(chosen)));
     }
 }
 

@@ -2,6 +2,7 @@
 //! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]).
 
 pub mod bridge;
+pub mod legend;
 pub mod navigation;
 pub mod picking;
 
@@ -11,10 +12,11 @@ use glam::{DVec3, Mat4, Vec3};
 
 use super::command::Command;
 use super::document::{Document, Selection};
+use super::scalar_field::ScalarField;
 use crate::render::triad::{AXIS_COLOURS, label_positions};
 use crate::render::{
     BoundingSphere, Camera, DataId, DisplayOptions, LineInstance, MeshData, MeshInstance,
-    Projection, Scene, StandardView,
+    Projection, ScalarMapping, Scene, StandardView,
 };
 
 /// Colour of the part (sRGB): a light steel grey-blue.
@@ -37,9 +39,22 @@ pub struct ViewportState {
     pub fit_requested: bool,
     /// Aspect of the last frame (width / height).
     pub aspect: f32,
+    /// The scalar field shown on the part, if any.
+    pub scalar_field: Option<ScalarField>,
+    /// The part's mesh with the shown field: ((document id, field), render id, mesh, mapping).
+    field_mesh: Option<FieldMesh>,
     /// The selected face's triangles: ((document id, face), render id, mesh).
     highlight: Option<((DataId, usize), DataId, Arc<MeshData>)>,
     next_id: DataId,
+}
+
+/// The part's mesh carrying a scalar field, cached per (document, field).
+#[derive(Debug)]
+struct FieldMesh {
+    key: (DataId, ScalarField),
+    id: DataId,
+    data: Arc<MeshData>,
+    mapping: ScalarMapping,
 }
 
 impl Default for ViewportState {
@@ -51,6 +66,8 @@ impl Default for ViewportState {
             hover_point: None,
             fit_requested: true,
             aspect: 1.5,
+            scalar_field: None,
+            field_mesh: None,
             highlight: None,
             // Document ids count up from 1; highlight ids live far above them.
             next_id: 1 << 40,
@@ -97,12 +114,22 @@ impl ViewportState {
                 self.camera.scene =
                     BoundingSphere::from_box(doc.bounds.min.as_vec3(), doc.bounds.max.as_vec3());
             }
-            meshes.push(MeshInstance {
-                id: doc.ids[0],
-                data: Arc::clone(&doc.render_mesh),
-                world_from_mesh: Mat4::IDENTITY,
-                colour: PART_COLOUR,
-                scalar_map: None,
+            let field = self.field_mesh(doc);
+            meshes.push(match field {
+                Some((id, data, mapping)) => MeshInstance {
+                    id,
+                    data,
+                    world_from_mesh: Mat4::IDENTITY,
+                    colour: PART_COLOUR,
+                    scalar_map: Some(mapping),
+                },
+                None => MeshInstance {
+                    id: doc.ids[0],
+                    data: Arc::clone(&doc.render_mesh),
+                    world_from_mesh: Mat4::IDENTITY,
+                    colour: PART_COLOUR,
+                    scalar_map: None,
+                },
             });
             if let Selection::Face(face) = doc.selection {
                 let key = (doc.ids[0], face);
@@ -157,24 +184,27 @@ pub fn viewport_ui(
     // Hover and click picking.
     let pointer = response.hover_pos();
     let hit = pointer.zip(document).and_then(|(pos, doc)| {
-        if doc.part.mesh.triangles.len() > picking::MAX_HOVER_TRIANGLES && !response.clicked() {
-            return None;
-        }
         let (origin, dir) = state.camera.ray(navigation::ndc(rect, pos), state.aspect);
-        picking::ray_cast(&doc.part.mesh, origin.as_dvec3(), dir.as_dvec3())
+        picking::ray_cast(doc.bvh.as_ref()?, origin.as_dvec3(), dir.as_dvec3())
     });
     state.hover_point = hit.map(|h| h.point);
     if response.clicked() {
-        let selection = match (hit, document) {
-            (Some(h), Some(doc)) if !doc.part.faces.is_empty() => doc
-                .part
-                .face_of_triangle
-                .get(h.triangle)
-                .map_or(Selection::Part, |&f| Selection::Face(f as usize)),
-            (Some(_), Some(_)) => Selection::Part,
-            _ => Selection::None,
+        let (selection, pick) = match (hit, document) {
+            (Some(h), Some(doc)) if !doc.part.faces.is_empty() => {
+                let face = doc
+                    .part
+                    .face_of_triangle
+                    .get(h.triangle)
+                    .map(|&f| f as usize);
+                let pick =
+                    face.and_then(|f| picking::surface_pick(f, doc.part.faces.get(f)?, h.point));
+                (face.map_or(Selection::Part, Selection::Face), pick)
+            }
+            (Some(_), Some(_)) => (Selection::Part, None),
+            _ => (Selection::None, None),
         };
         commands.push(Command::Select(selection));
+        commands.push(Command::SetPick(pick));
     }
     if response.double_clicked() {
         commands.push(Command::FitAll);
@@ -210,6 +240,9 @@ pub fn viewport_ui(
         Projection::Perspective => "Perspective",
         Projection::Orthographic => "Orthographic",
     };
+    if let Some((field, mapping)) = state.legend() {
+        legend::legend_ui(ui, rect, field, mapping);
+    }
     ui.painter().text(
         rect.right_bottom() + egui::vec2(-10.0, -8.0),
         egui::Align2::RIGHT_BOTTOM,
@@ -223,6 +256,38 @@ pub fn viewport_ui(
 }
 
 impl ViewportState {
+    /// The part's mesh with the chosen scalar field and its mapping, when a field is chosen and
+    /// the document has it.
+    fn field_mesh(&mut self, doc: &Document) -> Option<(DataId, Arc<MeshData>, ScalarMapping)> {
+        let field = self.scalar_field?;
+        let values = doc.curvature.as_ref()?.values(field);
+        if values.len() != doc.render_mesh.positions.len() {
+            return None;
+        }
+        let key = (doc.ids[0], field);
+        if self.field_mesh.as_ref().is_none_or(|f| f.key != key) {
+            self.next_id += 1;
+            let mut data = (*doc.render_mesh).clone();
+            data.scalars = values.to_vec();
+            self.field_mesh = Some(FieldMesh {
+                key,
+                id: self.next_id,
+                data: Arc::new(data),
+                mapping: super::scalar_field::mapping_for(values),
+            });
+        }
+        self.field_mesh
+            .as_ref()
+            .map(|f| (f.id, Arc::clone(&f.data), f.mapping))
+    }
+
+    /// The shown field and its mapping (for the legend).
+    #[must_use]
+    pub fn legend(&self) -> Option<(ScalarField, ScalarMapping)> {
+        let f = self.field_mesh.as_ref()?;
+        (Some(f.key.1) == self.scalar_field).then_some((f.key.1, f.mapping))
+    }
+
     fn options_grid_label(&self, document: Option<&Document>) -> String {
         let spacing = document
             .filter(|d| !d.bounds.is_empty())

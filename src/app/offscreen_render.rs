@@ -1,0 +1,247 @@
+//! `talas render`: a part (and a tool path) drawn offscreen by the workstation's renderer and
+//! written as PNG. The engine data becomes a [`Scene`] here, as in the viewport; the renderer
+//! never sees an engine type.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+
+use super::document::Document;
+use super::document_loader::load_part;
+use super::scalar_field::{ScalarField, curvature_field, mapping_for};
+use crate::cli::render::RenderArgs;
+use crate::cli::{EXIT_BAD_INPUT, EXIT_INTERNAL};
+use crate::diagnostics::Progress;
+use crate::render::{
+    BoundingSphere, Camera, DisplayOptions, LineData, LineInstance, MeshInstance, Projection,
+    Rgba8, RgbaImage, Scene, StandardView, render_to_image,
+};
+use crate::toolpath::{MoveKind, Toolpath};
+
+/// Colour of the part (sRGB), as in the viewport.
+const PART_COLOUR: Rgba8 = [176, 186, 200, 255];
+
+/// Colour of a tool-path segment by the kind of move that reaches its end (sRGB).
+#[must_use]
+pub fn move_colour(kind: MoveKind) -> Rgba8 {
+    match kind {
+        MoveKind::Cut => [255, 176, 32, 255],
+        MoveKind::Link => [64, 200, 255, 255],
+        MoveKind::Rapid => [240, 64, 64, 255],
+        MoveKind::Plunge => [210, 90, 255, 255],
+    }
+}
+
+/// The tool path's tip polyline, each segment coloured by the kind of its end pose.
+#[must_use]
+pub fn toolpath_lines(path: &Toolpath) -> LineData {
+    let mut lines = LineData::default();
+    for pair in path.poses.windows(2) {
+        let [a, b] = [&pair[0], &pair[1]];
+        let Ok(i) = u32::try_from(lines.positions.len()) else {
+            break;
+        };
+        let colour = move_colour(b.kind);
+        lines.positions.push(a.tip.as_vec3().to_array());
+        lines.positions.push(b.tip.as_vec3().to_array());
+        lines.colours.extend([colour, colour]);
+        lines.indices.extend([i, i + 1]);
+    }
+    lines
+}
+
+fn parse_view(name: &str) -> Result<StandardView, String> {
+    match name.to_ascii_lowercase().as_str() {
+        "iso" => Ok(StandardView::Iso),
+        "top" => Ok(StandardView::Top),
+        "front" => Ok(StandardView::Front),
+        "right" => Ok(StandardView::Right),
+        other => Err(format!("--view {other}: expected iso, top, front or right")),
+    }
+}
+
+fn parse_field(name: &str) -> Result<Option<ScalarField>, String> {
+    match name.to_ascii_lowercase().as_str() {
+        "none" => Ok(None),
+        "k-min" | "kmin" => Ok(Some(ScalarField::KMin)),
+        "k-max" | "kmax" => Ok(Some(ScalarField::KMax)),
+        "mean" => Ok(Some(ScalarField::Mean)),
+        other => Err(format!(
+            "--colour-by {other}: expected none, k-min, k-max or mean"
+        )),
+    }
+}
+
+/// What [`render`] drew.
+#[derive(Clone, Debug)]
+pub struct RenderOutcome {
+    /// The picture.
+    pub image: RgbaImage,
+    /// Triangles of the part.
+    pub triangles: usize,
+    /// Tool-path segments drawn.
+    pub path_segments: usize,
+    /// The colour-map range of the field shown: (field, min, max).
+    pub field_range: Option<(ScalarField, f32, f32)>,
+}
+
+/// Why `talas render` failed: bad input (exit 2) or the renderer (exit 1).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RenderFailure {
+    /// A bad file or option.
+    Input(String),
+    /// No adapter, or the device failed.
+    Renderer(String),
+}
+
+/// Load the part (and the tool path) of `args` and draw them.
+///
+/// # Errors
+/// [`RenderFailure::Input`] for unreadable or malformed files and bad options,
+/// [`RenderFailure::Renderer`] when nothing can draw.
+pub fn render(args: &RenderArgs) -> Result<RenderOutcome, RenderFailure> {
+    let input = RenderFailure::Input;
+    args.check_size().map_err(input)?;
+    let view = parse_view(&args.view).map_err(input)?;
+    let field = parse_field(&args.colour_by).map_err(input)?;
+    let part =
+        load_part(&args.file, &Progress::new()).map_err(|e| RenderFailure::Input(e.to_string()))?;
+    let toolpath = match &args.path {
+        Some(p) => Some(Toolpath::load(p).map_err(|e| RenderFailure::Input(e.to_string()))?),
+        None => None,
+    };
+    let mut doc = Document::new(part, 1);
+    let mut field_range = None;
+    let mut part_mesh = MeshInstance {
+        id: doc.ids[0],
+        data: Arc::clone(&doc.render_mesh),
+        world_from_mesh: Mat4::IDENTITY,
+        colour: PART_COLOUR,
+        scalar_map: None,
+    };
+    if let Some(f) = field {
+        if !super::scalar_field::has_surfaces(&doc.part) {
+            return Err(RenderFailure::Input(format!(
+                "{}: --colour-by needs a STEP part (exact surfaces)",
+                args.file.display()
+            )));
+        }
+        let curvature = curvature_field(&doc.part, &Progress::new())
+            .map_err(|()| RenderFailure::Renderer("curvature evaluation stopped".into()))?;
+        let values = curvature.values(f);
+        let mapping = mapping_for(values);
+        let mut data = (*doc.render_mesh).clone();
+        data.scalars = values.to_vec();
+        part_mesh.id = 3;
+        part_mesh.data = Arc::new(data);
+        part_mesh.scalar_map = Some(mapping);
+        field_range = Some((f, mapping.min, mapping.max));
+        doc.curvature = Some(curvature);
+    }
+    let mut lines = Vec::new();
+    if !args.no_edges {
+        lines.push(LineInstance {
+            id: doc.ids[1],
+            data: Arc::clone(&doc.render_edges),
+            world_from_lines: Mat4::IDENTITY,
+            draw_segments: None,
+        });
+    }
+    let path_lines = toolpath.as_ref().map(toolpath_lines);
+    let path_segments = path_lines.as_ref().map_or(0, LineData::segment_count);
+    if let Some(l) = path_lines {
+        lines.push(LineInstance {
+            id: 4,
+            data: Arc::new(l),
+            world_from_lines: Mat4::IDENTITY,
+            draw_segments: None,
+        });
+    }
+    let mut scene = Scene {
+        camera: Camera::default(),
+        meshes: vec![part_mesh],
+        lines,
+        options: DisplayOptions {
+            grid: !args.no_grid,
+            ..DisplayOptions::default()
+        },
+    };
+    let (lo, hi) = scene
+        .bounds()
+        .unwrap_or((Vec3::splat(-50.0), Vec3::splat(50.0)));
+    scene.options.grid_z = lo.z;
+    scene.options.grid_spacing = DisplayOptions::grid_spacing_for((hi - lo).max_element());
+    let sphere = BoundingSphere::from_box(lo, hi);
+    scene.camera.set_view(view);
+    scene.camera.projection = if args.ortho {
+        Projection::Orthographic
+    } else {
+        Projection::Perspective
+    };
+    scene.camera.scene = sphere;
+    scene
+        .camera
+        .fit(sphere, args.width as f32 / args.height as f32);
+    let image = render_to_image(args.width, args.height, &scene)
+        .map_err(|e| RenderFailure::Renderer(e.to_string()))?;
+    Ok(RenderOutcome {
+        image,
+        triangles: doc.part.mesh.triangles.len(),
+        path_segments,
+        field_range,
+    })
+}
+
+/// Write `image` as an 8-bit RGBA PNG at `path`, atomically.
+///
+/// # Errors
+/// The encoder's or the file system's message, naming the file.
+pub fn write_png(image: &RgbaImage, path: &Path) -> Result<(), String> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, image.width, image.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut writer = encoder
+            .write_header()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        writer
+            .write_image_data(&image.pixels)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    crate::storage::write_atomic(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `talas render`: draw, write the PNG, print a one-line summary; returns the exit code.
+#[must_use]
+pub fn run(args: &RenderArgs) -> i32 {
+    let outcome = match render(args) {
+        Ok(o) => o,
+        Err(RenderFailure::Input(e)) => {
+            eprintln!("talas: {e}");
+            return EXIT_BAD_INPUT;
+        }
+        Err(RenderFailure::Renderer(e)) => {
+            eprintln!("talas: render: {e}");
+            return EXIT_INTERNAL;
+        }
+    };
+    if let Err(e) = write_png(&outcome.image, &args.output) {
+        eprintln!("talas: {e}");
+        return EXIT_BAD_INPUT;
+    }
+    let field = outcome.field_range.map_or_else(String::new, |(f, lo, hi)| {
+        format!(", {} from {lo:.4} to {hi:.4} {}", f.name(), f.unit())
+    });
+    println!(
+        "{}: {}×{} px, {} triangles, {} path segments{field}",
+        args.output.display(),
+        outcome.image.width,
+        outcome.image.height,
+        outcome.triangles,
+        outcome.path_segments
+    );
+    0
+}

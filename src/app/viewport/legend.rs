@@ -1,0 +1,87 @@
+//! The colour-map legend over the viewport: a vertical bar with the field's name, unit, and the
+//! values at its ends and middle.
+
+use super::super::scalar_field::ScalarField;
+use crate::render::ScalarMapping;
+
+/// Height of the colour bar, points.
+const BAR_HEIGHT: f32 = 180.0;
+/// Width of the colour bar, points.
+const BAR_WIDTH: f32 = 16.0;
+/// Bands the bar is drawn with.
+const BANDS: usize = 48;
+
+/// A value for the legend: 4 significant digits, scientific when small or large.
+#[must_use]
+pub fn legend_value(v: f32) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        format!("{v:.4}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// Draw the legend of `field` mapped by `mapping` in the top-left corner of `rect`.
+pub fn legend_ui(ui: &egui::Ui, rect: egui::Rect, field: ScalarField, mapping: ScalarMapping) {
+    let painter = ui.painter();
+    let origin = rect.left_top() + egui::vec2(14.0, 34.0);
+    let frame = egui::Rect::from_min_size(
+        origin - egui::vec2(8.0, 26.0),
+        egui::vec2(BAR_WIDTH + 110.0, BAR_HEIGHT + 44.0),
+    );
+    painter.rect_filled(frame, 4.0, egui::Color32::from_black_alpha(150));
+    painter.text(
+        origin - egui::vec2(0.0, 8.0),
+        egui::Align2::LEFT_BOTTOM,
+        format!("{} ({})", field.name(), field.unit()),
+        egui::FontId::proportional(12.0),
+        egui::Color32::from_gray(230),
+    );
+    let band = BAR_HEIGHT / BANDS as f32;
+    for i in 0..BANDS {
+        // Top of the bar is the maximum.
+        let t = 1.0 - (i as f32 + 0.5) / BANDS as f32;
+        let [r, g, b] = mapping.map.sample(t);
+        let top = origin.y + i as f32 * band;
+        painter.rect_filled(
+            egui::Rect::from_min_size(egui::pos2(origin.x, top), egui::vec2(BAR_WIDTH, band + 0.5)),
+            0.0,
+            egui::Color32::from_rgb(r, g, b),
+        );
+    }
+    let label = |y: f32, v: f32| {
+        painter.text(
+            egui::pos2(origin.x + BAR_WIDTH + 6.0, y),
+            egui::Align2::LEFT_CENTER,
+            legend_value(v),
+            egui::FontId::monospace(11.0),
+            egui::Color32::from_gray(220),
+        );
+    };
+    label(origin.y, mapping.max);
+    label(
+        origin.y + 0.5 * BAR_HEIGHT,
+        0.5 * (mapping.min + mapping.max),
+    );
+    label(origin.y + BAR_HEIGHT, mapping.min);
+    painter.text(
+        egui::pos2(origin.x, origin.y + BAR_HEIGHT + 6.0),
+        egui::Align2::LEFT_TOP,
+        "values beyond the ends are clamped",
+        egui::FontId::proportional(10.0),
+        egui::Color32::from_gray(160),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn legend_values_keep_four_digits() {
+        assert_eq!(super::legend_value(0.2), "0.2000");
+        assert_eq!(super::legend_value(-0.000_5), "-5.000e-4");
+        assert_eq!(super::legend_value(0.0), "0");
+    }
+}

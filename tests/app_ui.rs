@@ -1,0 +1,311 @@
+//! The workstation driven through its UI with egui_kittest (headless: no window, no GPU; the 3D
+//! viewport's paint callback is simply not drawn): open the default part, select it, edit a tool
+//! value, undo and redo, drop a malformed file and see the error while the old part stays,
+//! autosave and recovery. Plus the surface data the UI shows, against references: curvature at
+//! a picked point against Open CASCADE's samples, and the per-vertex curvature field against
+//! the closed-form radii of a filleted pocket.
+#![cfg(feature = "gui")]
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use talas::app::command::Command;
+use talas::app::document_loader::load_part;
+use talas::app::panels::properties::Focus;
+use talas::app::scalar_field::curvature_field;
+use talas::app::viewport::picking::surface_pick;
+use talas::app::{Workstation, WorkstationConfig};
+use talas::diagnostics::Progress;
+use talas::project::Project;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// A fresh data folder for one test.
+fn data_dir(test: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("talas-app-ui-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let _ = std::fs::create_dir_all(&d);
+    d
+}
+
+fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
+    let ws = Workstation::new(&egui::Context::default(), None, config);
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
+}
+
+/// Step frames until no job runs (the loads run on worker threads).
+fn settle(h: &mut Harness<'static, Workstation>) {
+    for _ in 0..2000 {
+        h.step();
+        if !h.state().is_loading() && !h.state().is_computing_field() {
+            h.step();
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!("the workstation never finished loading");
+}
+
+/// A file dropped on the window, as the windowing backend would hand it over.
+#[derive(Debug)]
+struct DroppedPath(PathBuf);
+
+impl egui::DroppedFile for DroppedPath {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+fn press(h: &mut Harness<'static, Workstation>, modifiers: egui::Modifiers, key: egui::Key) {
+    h.key_press_modifiers(modifiers, key);
+    h.step();
+    h.step();
+}
+
+#[test]
+fn open_select_edit_undo_redo_and_a_malformed_file() {
+    let dir = data_dir("main");
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle(&mut h);
+
+    // The default part is open and the default ball end mill is the selected tool.
+    let doc = h.state().document().expect("default part loaded");
+    assert_eq!(doc.part.name, "bicubic-hills");
+    let triangles = doc.part.mesh.triangles.len();
+    let project = &h.state().session().project;
+    let t = project.selected_tool().expect("a selected tool");
+    assert_eq!(t.cutter.kind, talas::tools::CutterKind::Ball);
+    assert!((t.cutter.diameter - 6.0).abs() < 1e-12);
+    assert!(!h.state().title().contains('*'), "{}", h.state().title());
+
+    // Select the part in the tree: the properties panel shows it.
+    h.get_by_label_contains("Part · bicubic-hills").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().focus(), Focus::Selection);
+    h.get_by_label("Surface area");
+    assert!(h.query_all_by_label_contains(" mm²").next().is_some());
+
+    // Edit the tool's diameter in the properties panel.
+    h.get_by_label_contains("T1 Ball end mill Ø6").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().focus(), Focus::Tool(0));
+    h.get_by_label("Diameter").focus();
+    h.step();
+    h.get_by_label("Diameter").set_text_value_accesskit("8");
+    h.step();
+    assert_eq!(h.get_by_label("Diameter").value().as_deref(), Some("8"));
+    press(&mut h, egui::Modifiers::NONE, egui::Key::Enter);
+    let diameter =
+        |h: &Harness<'static, Workstation>| h.state().session().project.tools[0].cutter.diameter;
+    assert!(
+        (diameter(&h) - 8.0).abs() < 1e-12,
+        "diameter {}",
+        diameter(&h)
+    );
+    assert!(
+        h.state().title().contains('*'),
+        "dirty: {}",
+        h.state().title()
+    );
+    // The library file follows the tools.
+    let lib = std::fs::read_to_string(dir.join("tools.toml")).expect("library written");
+    assert!(lib.contains("diameter = 8.0"), "{lib}");
+
+    // Undo from the Edit menu, redo with Ctrl+Shift+Z, undo with Ctrl+Z, redo with Ctrl+Y.
+    h.get_by_label("Edit").click();
+    h.run_steps(3);
+    h.get_by_label_contains("Undo Edit tool").click();
+    h.step();
+    h.step();
+    assert!((diameter(&h) - 6.0).abs() < 1e-12);
+    assert!(!h.state().title().contains('*'), "clean after undo");
+    press(
+        &mut h,
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    assert!((diameter(&h) - 8.0).abs() < 1e-12);
+    press(&mut h, egui::Modifiers::COMMAND, egui::Key::Z);
+    assert!((diameter(&h) - 6.0).abs() < 1e-12);
+    press(&mut h, egui::Modifiers::COMMAND, egui::Key::Y);
+    assert!((diameter(&h) - 8.0).abs() < 1e-12);
+
+    // Drop a malformed STEP file: an error is shown, the part stays.
+    let bad = data("bad/bad-enum.stp");
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(DroppedPath(bad.clone())));
+    h.step();
+    settle(&mut h);
+    let doc = h.state().document().expect("the old part stays");
+    assert_eq!(doc.part.name, "bicubic-hills");
+    assert_eq!(doc.part.mesh.triangles.len(), triangles);
+    assert!(
+        h.query_all_by_label_contains("Could not open")
+            .next()
+            .is_some(),
+        "the error is shown"
+    );
+    assert!(
+        h.state()
+            .log()
+            .entries
+            .iter()
+            .any(|e| e.text.contains("bad-enum.stp") && e.text.contains("unchanged")),
+        "the log names the file"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn save_autosave_and_recover() {
+    let dir = data_dir("recover");
+    let mut config = WorkstationConfig::isolated(None, dir.clone());
+    config.autosave_every = Duration::ZERO;
+    let mut h = harness(config);
+    settle(&mut h);
+    h.state_mut()
+        .apply(Command::Edit(talas::project::Edit::Rename("Hills".into())));
+    h.step();
+    let recovery = dir.join("untitled.talas.autosave");
+    let autosaved = Project::load(&recovery).expect("autosaved project");
+    assert_eq!(autosaved.name, "Hills");
+    drop(h);
+
+    // A new session finds the recovery file and offers it.
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle(&mut h);
+    assert_eq!(h.state().pending_recovery(), Some(recovery.as_path()));
+    h.get_by_label("Recover unsaved changes?");
+    h.get_by_label("Recover").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().session().project.name, "Hills");
+    assert!(h.state().title().starts_with("Hills*"));
+
+    // Save As writes the project and removes the recovery file.
+    let path = dir.join("hills.talas");
+    h.state_mut().apply(Command::SaveProjectAs(path.clone()));
+    h.step();
+    assert!(!recovery.exists());
+    assert!(!h.state().title().contains('*'));
+    assert_eq!(Project::load(&path).expect("saved").name, "Hills");
+
+    // Opening the saved project by dropping it: clean, same name.
+    drop(h);
+    let mut h = harness(WorkstationConfig::isolated(Some(path.clone()), dir.clone()));
+    settle(&mut h);
+    assert_eq!(h.state().session().project.name, "Hills");
+    assert_eq!(h.state().session().path.as_deref(), Some(path.as_path()));
+    assert_eq!(h.state().pending_recovery(), None);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Open Cascade's samples of bicubic-hills (u, v, x, y, z, nx, ny, nz, k_min, k_max).
+fn occt_samples() -> Vec<[f64; 10]> {
+    let text = std::fs::read_to_string(data("bicubic-hills.samples.csv")).expect("samples");
+    text.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+            v.try_into().ok()
+        })
+        .collect()
+}
+
+#[test]
+fn a_picked_point_shows_open_cascades_curvature() {
+    let part = load_part(&data("bicubic-hills.stp"), &Progress::new()).expect("part");
+    let face = &part.faces[0];
+    let samples = occt_samples();
+    assert_eq!(samples.len(), 441);
+    let mut checked = 0;
+    // Interior samples (the edges of the domain have one-sided neighbours in the inversion).
+    for s in samples
+        .iter()
+        .filter(|s| (0.05..=0.95).contains(&s[0]) && (0.05..=0.95).contains(&s[1]))
+    {
+        let p = glam::DVec3::new(s[2], s[3], s[4]);
+        let pick = surface_pick(0, face, p).expect("a B-spline face");
+        assert!(pick.distance_mm < 1e-6, "{:?}", pick);
+        // OCCT's values are about S_u × S_v; the pick's about the face normal.
+        let sign = if face.same_sense { 1.0 } else { -1.0 };
+        let n = pick.normal.expect("regular point") * sign;
+        assert!((n - glam::DVec3::new(s[5], s[6], s[7])).length() < 1e-6);
+        let (k_min, k_max) = pick.curvature.expect("curvatures");
+        let (k_min, k_max) = if face.same_sense {
+            (k_min, k_max)
+        } else {
+            (-k_max, -k_min)
+        };
+        assert!((k_min - s[8]).abs() < 1e-7, "k_min {k_min} vs {}", s[8]);
+        assert!((k_max - s[9]).abs() < 1e-7, "k_max {k_max} vs {}", s[9]);
+        checked += 1;
+    }
+    assert!(checked > 300, "{checked}");
+}
+
+#[test]
+fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
+    // pocket-fillets: planes (k = 0), R5 cylinders (k = 0 and ±1/5), R5 spheres (±1/5, ±1/5).
+    let part = load_part(&data("pocket-fillets.stp"), &Progress::new()).expect("part");
+    let field = curvature_field(&part, &Progress::new()).expect("not cancelled");
+    let n = part.mesh.positions.len();
+    assert_eq!(field.k_min.len(), n);
+    let mut face_of_vertex = vec![usize::MAX; n];
+    for (tri, &f) in part.mesh.triangles.iter().zip(&part.face_of_triangle) {
+        for &v in tri {
+            face_of_vertex[v as usize] = f as usize;
+        }
+    }
+    let mut seen = [0usize; 3];
+    for (v, &fv) in face_of_vertex.iter().enumerate() {
+        let Some(face) = part.faces.get(fv) else {
+            continue;
+        };
+        let (a, b) = (f64::from(field.k_min[v]), f64::from(field.k_max[v]));
+        let mags = [a.abs(), b.abs()];
+        match face.kind.as_str() {
+            "plane" => {
+                assert!(mags.iter().all(|&k| k < 1e-6), "plane vertex {v}: {a} {b}");
+                seen[0] += 1;
+            }
+            "cylinder" => {
+                let (lo, hi) = (mags[0].min(mags[1]), mags[0].max(mags[1]));
+                assert!(
+                    lo < 1e-6 && (hi - 0.2).abs() < 1e-5,
+                    "cylinder {v}: {a} {b}"
+                );
+                seen[1] += 1;
+            }
+            "sphere" => {
+                assert!(
+                    mags.iter().all(|&k| (k - 0.2).abs() < 1e-5) && a * b > 0.0,
+                    "sphere {v}: {a} {b}"
+                );
+                seen[2] += 1;
+            }
+            other => panic!("unexpected face kind {other}"),
+        }
+        assert!(
+            (f64::from(field.mean[v]) - 0.5 * (a + b)).abs() < 1e-6,
+            "mean at {v}"
+        );
+    }
+    assert!(seen.iter().all(|&c| c > 20), "{seen:?}");
+}
