@@ -406,8 +406,21 @@ fn cli_plan_writes_contract_json_and_rejects_bad_input() {
             .iter()
             .all(|p| p.kind != MoveKind::Cut || p.cc.is_some())
     );
+    // The mesh strategies go through the same command: raster finishing of the whole part
+    // and Z-level roughing from the part's box.
+    for strategy in ["raster", "zlevel-rough"] {
+        let o = run(&["--strategy", strategy, "--step-down", "5", "--json"]);
+        assert!(
+            o.status.success(),
+            "{strategy}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let tp = Toolpath::load(&out).expect("load");
+        assert!(tp.poses.iter().filter(|p| p.kind == MoveKind::Cut).count() > 10);
+    }
     for bad in [
-        vec!["--strategy", "raster"],
+        vec!["--strategy", "zlevel-rough", "--stock", "box:1,2"],
+        vec!["--strategy", "raster", "--pattern", "spiral"],
         vec!["--strategy", "nonsense"],
         vec!["--strategy", "iso-scallop", "--face", "7"],
         vec!["--strategy", "iso-scallop", "--lead=-5"],

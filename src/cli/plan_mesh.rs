@@ -132,13 +132,14 @@ pub fn plan_mesh(
         return Ok(plan.toolpath);
     }
     let stock = Stock::parse(&opts.stock, &mesh.bbox()).map_err(|e| bad("--stock", e))?;
+    let grid_mm = roughing_grid_mm(&stock, &tool.cutter, opts);
     let zopts = ZlevelOptions {
         stock,
         step_down_mm: opts.step_down_mm,
         step_over_mm: opts.step_over_fraction * tool.cutter.diameter,
         stock_to_leave_radial_mm: opts.stock_to_leave_radial_mm,
         stock_to_leave_axial_mm: opts.stock_to_leave_axial_mm,
-        tolerance_mm: opts.tolerance_mm.max(1e-3),
+        tolerance_mm: grid_mm,
         feed_mm_per_min: opts.feed_mm_per_min,
         clearance_mm: opts.clearance_mm,
         ..ZlevelOptions::default()
@@ -146,4 +147,24 @@ pub fn plan_mesh(
     let plan =
         zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
     Ok(plan.toolpath)
+}
+
+/// The roughing grid spacing: the chord tolerance, but no finer than half the smaller stock to
+/// leave (the grid may leave up to one spacing more than the stock to leave, so half of it keeps
+/// roughing within 1.5× the requested allowance) and coarse enough that the grid over the stock
+/// (plus the tool's reach) stays under the planner's 4 million nodes.
+fn roughing_grid_mm(stock: &Stock, cutter: &crate::tools::Cutter, opts: &MeshPlanOptions) -> f64 {
+    let allowance = opts
+        .stock_to_leave_radial_mm
+        .min(opts.stock_to_leave_axial_mm)
+        .max(0.0);
+    let mut g = opts.tolerance_mm.max(0.5 * allowance).max(1e-3);
+    let (lo, hi) = stock.xy_box();
+    let size = hi - lo + glam::DVec2::splat(2.0 * cutter.radius() + 4.0 * g);
+    let area = (size.x.max(0.0) + g) * (size.y.max(0.0) + g);
+    let finest = (area / 3.5e6).sqrt();
+    if finest.is_finite() && finest > g {
+        g = finest;
+    }
+    g
 }

@@ -140,7 +140,7 @@ impl Stock {
     }
 
     /// XY box of the stock.
-    fn xy_box(&self) -> (DVec2, DVec2) {
+    pub fn xy_box(&self) -> (DVec2, DVec2) {
         match self {
             Self::Box { min, max } => (min.truncate(), max.truncate()),
             Self::Cylinder { centre, radius, .. } => (
