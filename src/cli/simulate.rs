@@ -9,7 +9,7 @@ use glam::DVec3;
 use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
-use crate::gcode::{InterpretOptions, interpret};
+use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
@@ -149,7 +149,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
         (Some(tp), None)
     } else {
-        let prog = interpret(&text, &InterpretOptions::default()).map_err(|e| {
+        let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(|e| {
             bad(
                 Some(format!("line {}, column {}", e.line, e.column)),
                 e.message,
