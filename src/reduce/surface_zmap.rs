@@ -43,10 +43,13 @@ pub fn zmap_from_surface(
     empty_z: f64,
     xy_tol_mm: f64,
 ) -> Result<SurfaceZmap, ReduceError> {
-    if !(step > 0.0 && step.is_finite() && xy_tol_mm > 0.0 && xy_tol_mm.is_finite())
-        || !origin.is_finite()
-        || !empty_z.is_finite()
-    {
+    let valid = step > 0.0
+        && step.is_finite()
+        && xy_tol_mm > 0.0
+        && xy_tol_mm.is_finite()
+        && origin.is_finite()
+        && empty_z.is_finite();
+    if !valid {
         return Err(ReduceError::Option(format!(
             "grid step and tolerance must be positive and origin finite, got step {step}, \
              tolerance {xy_tol_mm}"

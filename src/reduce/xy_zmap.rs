@@ -103,7 +103,7 @@ pub fn xy_zmap_from_points(
         .collect();
     // Step 3b: drop interior rows (columns) collinear with their kept neighbours.
     let eps = 1e-6 * step;
-    keep_r = drop_collinear(&keep_r, &keep_c, eps, |line, other| at(line, other));
+    keep_r = drop_collinear(&keep_r, &keep_c, eps, at);
     keep_c = drop_collinear(&keep_c, &keep_r, eps, |line, other| at(other, line));
     // Step 4: fill.
     let (m, n) = (keep_r.len(), keep_c.len());
