@@ -471,3 +471,45 @@ fn surface_zmap_of_bicubic_hills() {
     assert!(mean <= 0.5 && mean_fine <= 0.5, "{mean} {mean_fine}");
     assert!(worst <= 3.0 && worst_fine <= 3.0, "{worst} {worst_fine}");
 }
+
+/// Bad input to the new entry points gives an error value, not a panic.
+#[test]
+fn xy_and_surface_zmap_reject_bad_input() {
+    use glam::{DVec2, DVec3};
+    use talas::reduce::{
+        EmptyCellFill, ReduceError, reduce_to_size, xy_zmap_from_points, zmap_from_surface,
+    };
+    let lin = EmptyCellFill::Linear;
+    assert!(matches!(
+        xy_zmap_from_points(&[], 1.0, lin),
+        Err(ReduceError::Shape(_))
+    ));
+    assert!(matches!(
+        xy_zmap_from_points(&[DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 0.0)], 1.0, lin),
+        Err(ReduceError::NonFinite { row: 1, col: 2 })
+    ));
+    for step in [0.0, -1.0, f64::NAN] {
+        assert!(matches!(
+            xy_zmap_from_points(&[DVec3::ZERO], step, lin),
+            Err(ReduceError::Option(_))
+        ));
+    }
+    // A reference grid far too large for memory.
+    assert!(matches!(
+        xy_zmap_from_points(&[DVec3::ZERO, DVec3::new(1e9, 1e9, 0.0)], 1.0, lin),
+        Err(ReduceError::Shape(_))
+    ));
+    // One point: a 1×1 map.
+    let one = xy_zmap_from_points(&[DVec3::new(1.0, 2.0, 3.0)], 1.0, lin).unwrap();
+    assert_eq!(one.point(0, 0), Some(DVec3::new(1.0, 2.0, 3.0)));
+    let a = example_a();
+    assert!(reduce_to_size(&a, 0.1, RankRule::SpectralBound, 21, 5).is_err());
+    assert!(reduce_to_size(&a, 0.1, RankRule::SpectralBound, 0, 5).is_err());
+    assert!(reduce_to_size(&a, -0.1, RankRule::SpectralBound, 5, 5).is_err());
+    let part = talas::import::step::read_step(std::path::Path::new("tests/data/bicubic-hills.stp"))
+        .unwrap();
+    let s = &part.faces[0].surface;
+    assert!(zmap_from_surface(s, DVec2::ZERO, 0.0, 2, 2, 0.0, 1e-6).is_err());
+    assert!(zmap_from_surface(s, DVec2::ZERO, 1.0, 0, 2, 0.0, 1e-6).is_err());
+    assert!(zmap_from_surface(s, DVec2::NAN, 1.0, 2, 2, 0.0, 1e-6).is_err());
+}

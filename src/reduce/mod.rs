@@ -12,7 +12,13 @@
 //! form that reproduces all four spacings the thesis reports (0.773, 1.536, 0.399, 0.888 mm);
 //! the printed Eqs. 6.7/6.8 do not. A vector of N points at grid step γ becomes
 //! ⌊(N − 1)γ/l⌋ + 1 points (the thesis's regular cases), linearly interpolated over the same
-//! physical extent.
+//! physical extent ([`reduce_to_size`] resamples to a given size instead, as the thesis's
+//! examples do).
+//!
+//! **Z-maps.** A regular Z-map comes from a mesh ([`zmap_from_mesh`], vertical ray casts) or from
+//! a parametric surface ([`zmap_from_surface`], Newton on x(u,v), y(u,v)); irregular data
+//! (mesh vertices, point clouds) gives the thesis's XY-dependent Z-map ([`xy_zmap_from_points`]),
+//! reduced matrix by matrix with [`reduce_xy_zmap`].
 
 mod grid;
 mod surface_zmap;
