@@ -146,7 +146,7 @@ fn reduce_stl_reads_back_within_the_reported_error() {
     );
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let max_error = doc["max_error"].as_f64().unwrap();
-    // σ_5 = 0.875 > 0.2 ≥ σ_6 = 0.330? No: σ_6 = 0.330 > 0.2 ≥ σ_7 = 0.194, so rank 6.
+    // Spectral rule: σ_6 = 0.330 > 0.2 ≥ σ_7 = 0.194 (Fig. 6.3), so rank 6.
     assert_eq!(doc["rank"], 6);
     assert!(max_error > 0.0 && max_error <= 0.2, "{max_error}");
     let stl = read_stl(&out_stl, &StlOptions::default()).unwrap();
