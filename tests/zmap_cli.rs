@@ -121,3 +121,52 @@ fn reduce_json_on_example_a() {
         "{err}"
     );
 }
+
+/// `talas reduce --stl`: the STL reads back with the grid's triangle count, and its vertices
+/// sit on the grid nodes within the reported max error of the input heights.
+#[test]
+fn reduce_stl_reads_back_within_the_reported_error() {
+    use talas::import::stl::{StlOptions, read_stl};
+    let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
+    let input = talas::reduce::Grid::parse_csv(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let out_stl = temp_file("reduced-a.stl", "");
+    let out = talas(&[
+        "reduce",
+        file.to_str().unwrap(),
+        "--tolerance",
+        "0.2",
+        "--stl",
+        out_stl.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let max_error = doc["max_error"].as_f64().unwrap();
+    // Spectral rule: σ_6 = 0.330 > 0.2 ≥ σ_7 = 0.194 (Fig. 6.3), so rank 6.
+    assert_eq!(doc["rank"], 6);
+    assert!(max_error > 0.0 && max_error <= 0.2, "{max_error}");
+    let stl = read_stl(&out_stl, &StlOptions::default()).unwrap();
+    // 19 × 19 cells, two triangles each.
+    assert_eq!(stl.facet_count, 2 * 19 * 19);
+    assert_eq!(stl.mesh.triangles.len(), 2 * 19 * 19);
+    assert_eq!(stl.mesh.positions.len(), 20 * 20);
+    let mut worst = 0.0_f64;
+    for p in &stl.mesh.positions {
+        // Grid step 1 mm, origin 0: the vertex is node (row = y, col = x).
+        let (r, c) = (p.y.round(), p.x.round());
+        assert!((p.y - r).abs() < 1e-5 && (p.x - c).abs() < 1e-5, "{p}");
+        let z = input.get(r as usize, c as usize).unwrap();
+        worst = worst.max((p.z - z).abs());
+    }
+    // Binary STL stores f32: allow its rounding (heights ≤ 5 mm → ≤ 5e-7 mm).
+    assert!(
+        worst <= max_error + 1e-6,
+        "STL vertex off by {worst}, reported max error {max_error}"
+    );
+    // The reported max error is attained by some vertex (it is measured at the same nodes).
+    assert!(worst >= max_error - 1e-6, "{worst} vs {max_error}");
+}

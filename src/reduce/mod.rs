@@ -12,14 +12,26 @@
 //! form that reproduces all four spacings the thesis reports (0.773, 1.536, 0.399, 0.888 mm);
 //! the printed Eqs. 6.7/6.8 do not. A vector of N points at grid step γ becomes
 //! ⌊(N − 1)γ/l⌋ + 1 points (the thesis's regular cases), linearly interpolated over the same
-//! physical extent.
+//! physical extent ([`reduce_to_size`] resamples to a given size instead, as the thesis's
+//! examples do).
+//!
+//! **Z-maps.** A regular Z-map comes from a mesh ([`zmap_from_mesh`], vertical ray casts) or from
+//! a parametric surface ([`zmap_from_surface`], Newton on x(u,v), y(u,v)); irregular data
+//! (mesh vertices, point clouds) gives the thesis's XY-dependent Z-map ([`xy_zmap_from_points`]),
+//! reduced matrix by matrix with [`reduce_xy_zmap`].
 
 mod grid;
+mod surface_zmap;
 mod svd;
+mod xy_zmap;
 mod zmap;
 
 pub use grid::Grid;
+pub use surface_zmap::{SurfaceZmap, zmap_from_surface};
 pub use svd::{SvdFactors, svd};
+pub use xy_zmap::{
+    EmptyCellFill, XyReduction, XyZmap, reduce_xy_zmap, xy_mesh, xy_zmap_from_points,
+};
 pub use zmap::{grid_mesh, zmap_from_mesh};
 
 /// Why a Z-map could not be reduced.
@@ -197,6 +209,50 @@ pub fn reduce(z: &Grid, opts: &ReduceOptions) -> Result<Reduction, ReduceError> 
     };
     let f = svd(z)?;
     let rank = choose_rank(&f, opts.tolerance_mm, opts.rank_rule);
+    Ok(rebuild(z, &f, rank, m2, n2, spacing))
+}
+
+/// Reduce `z` to exactly `rows`×`cols` nodes (each kept singular vector linearly resampled
+/// to that count over the same extent), as the thesis's Sec. 6.4/6.7 examples do (20 → 16).
+///
+/// # Errors
+/// [`ReduceError::Option`] for a non-positive tolerance or a target size of 0, or larger than
+/// the grid; [`ReduceError::Svd`] when the decomposition fails.
+pub fn reduce_to_size(
+    z: &Grid,
+    tolerance_mm: f64,
+    rank_rule: RankRule,
+    rows: usize,
+    cols: usize,
+) -> Result<Reduction, ReduceError> {
+    if !(tolerance_mm > 0.0 && tolerance_mm.is_finite()) {
+        return Err(ReduceError::Option(format!(
+            "tolerance must be a positive length in mm, got {tolerance_mm}"
+        )));
+    }
+    if rows == 0 || cols == 0 || rows > z.rows() || cols > z.cols() {
+        return Err(ReduceError::Option(format!(
+            "target size {rows}×{cols} must be between 1×1 and the grid's {}×{}",
+            z.rows(),
+            z.cols()
+        )));
+    }
+    let f = svd(z)?;
+    let rank = choose_rank(&f, tolerance_mm, rank_rule);
+    Ok(rebuild(z, &f, rank, rows, cols, None))
+}
+
+/// Multiply back the first `rank` terms with vectors resampled to `m2`×`n2`, and measure the
+/// error at the original nodes.
+fn rebuild(
+    z: &Grid,
+    f: &SvdFactors,
+    rank: usize,
+    m2: usize,
+    n2: usize,
+    spacing: Option<f64>,
+) -> Reduction {
+    let (m, n) = (z.rows(), z.cols());
     let us: Vec<Vec<f64>> = (0..rank).map(|k| resample_linear(f.u(k), m2)).collect();
     let vs: Vec<Vec<f64>> = (0..rank).map(|k| resample_linear(f.v(k), n2)).collect();
     let s = &f.singular_values;
@@ -228,7 +284,7 @@ pub fn reduce(z: &Grid, opts: &ReduceOptions) -> Result<Reduction, ReduceError> 
             sum += e;
         }
     }
-    Ok(Reduction {
+    Reduction {
         rank_error_bound: s.get(rank).copied().unwrap_or(0.0),
         singular_values: s.clone(),
         rank,
@@ -237,5 +293,5 @@ pub fn reduce(z: &Grid, opts: &ReduceOptions) -> Result<Reduction, ReduceError> 
         reduced,
         max_error,
         mean_error: sum / (m * n) as f64,
-    })
+    }
 }
