@@ -14,8 +14,10 @@
 //! part is its mesh, the mesh's chord deflection (0.01 mm for bicubic-hills.stl) adds to both
 //! sides. Hence
 //!   B(r) = r/√2 · tan(45°) + chord error of the part mesh (if the path was not planned on it),
-//! used for: |simulated max remaining − predicted| ≤ B (the max can only be under-sampled, so
-//! this is a one-sided miss plus the mesh error), and max gouge ≤ B.
+//! used for: |simulated max remaining − predicted| ≤ chord tolerance of the path + B (the
+//! sampled max can only fall short of the true one by the miss, and exceed the prediction by
+//! the path's chord tolerance, which the planners' prediction leaves out, plus the mesh
+//! error), and max gouge ≤ B.
 
 use std::path::Path;
 
@@ -106,12 +108,12 @@ struct Covered {
     within: f64,
 }
 
-fn covered(d: &DeviationReport, lo: DVec2, hi: DVec2, limit: f64) -> Covered {
+fn covered(d: &DeviationReport, stock: &DexelStock, lo: DVec2, hi: DVec2, limit: f64) -> Covered {
     let mut rem = Vec::new();
     let mut gouge: f64 = 0.0;
     for (s, v) in d.samples.iter().zip(&d.values) {
         let p = s.position;
-        if p.x < lo.x || p.x > hi.x || p.y < lo.y || p.y > hi.y || p.z < PART_BOTTOM + 1.0 {
+        if p.x < lo.x || p.x > hi.x || p.y < lo.y || p.y > hi.y || on_stock_face(stock, p) {
             continue;
         }
         if *v < 0.0 {
@@ -131,27 +133,27 @@ fn covered(d: &DeviationReport, lo: DVec2, hi: DVec2, limit: f64) -> Covered {
     }
 }
 
-/// Deepest gouge over the whole stock, leaving out its uncut vertical walls (on a window of
-/// the part they lie inside the part, which extends beyond the stock).
-fn gouge_off_walls(d: &DeviationReport, stock: &DexelStock) -> f64 {
+/// Whether `p` lies on a face of the (box) stock: never cut there, and on a slab over a
+/// window of the part the floor and the walls lie inside the part.
+fn on_stock_face(stock: &DexelStock, p: DVec3) -> bool {
     let StockShape::Box { min, max } = stock.shapes[0] else {
         unreachable!("box stock")
     };
-    let wall = |p: DVec3| {
-        (p.x - min.x).abs() < 1e-3
-            || (p.x - max.x).abs() < 1e-3
-            || (p.y - min.y).abs() < 1e-3
-            || (p.y - max.y).abs() < 1e-3
-    };
+    (0..3).any(|k| (p[k] - min[k]).abs() < 1e-3 || (p[k] - max[k]).abs() < 1e-3)
+}
+
+/// Deepest gouge over the whole stock, leaving out its uncut faces.
+fn gouge_off_faces(d: &DeviationReport, stock: &DexelStock) -> f64 {
     d.samples
         .iter()
         .zip(&d.values)
-        .filter(|(s, _)| !wall(s.position))
+        .filter(|(s, _)| !on_stock_face(stock, s.position))
         .fold(0.0, |g: f64, (_, v)| g.max(-v))
 }
 
-/// Box stock over `[lo, hi]` (XY) from below the part's bottom to `clear` mm above the
-/// highest mesh vertex inside that rectangle.
+/// Box stock over `[lo, hi]` (XY), a slab from 1.5 mm below the lowest to `clear` mm above
+/// the highest mesh vertex inside that rectangle (thin, so that the X and Y rays of a
+/// tri-dexel stock stay few).
 fn stock_over(
     part: &TriMesh,
     lo: DVec2,
@@ -160,17 +162,22 @@ fn stock_over(
     r: f64,
     mode: DexelMode,
 ) -> DexelStock {
-    let top = part
+    let z = part
         .positions
         .iter()
         .filter(|p| {
-            p.x >= lo.x - 1.0 && p.x <= hi.x + 1.0 && p.y >= lo.y - 1.0 && p.y <= hi.y + 1.0
+            p.x >= lo.x - 1.0
+                && p.x <= hi.x + 1.0
+                && p.y >= lo.y - 1.0
+                && p.y <= hi.y + 1.0
+                && p.z > PART_BOTTOM + 1.0
         })
-        .map(|p| p.z)
-        .fold(f64::MIN, f64::max);
+        .map(|p| p.z);
+    let top = z.clone().fold(f64::MIN, f64::max);
+    let bottom = z.fold(f64::MAX, f64::min);
     DexelStock::new(
         vec![StockShape::Box {
-            min: DVec3::new(lo.x, lo.y, PART_BOTTOM - 5.0),
+            min: DVec3::new(lo.x, lo.y, bottom - 1.5),
             max: DVec3::new(hi.x, hi.y, top + clear),
         }],
         r,
@@ -180,10 +187,11 @@ fn stock_over(
     .expect("stock")
 }
 
-fn cut(stock: &mut DexelStock, tp: &Toolpath) {
+/// Simulate the cutting moves of `tp` (the flutes reach `reach` mm up the axis).
+fn cut(stock: &mut DexelStock, tp: &Toolpath, reach: f64) {
     let t0 = std::time::Instant::now();
     let steps = StepOptions {
-        reach_mm: tp.tool.cutter.flute_length,
+        reach_mm: reach,
         ..StepOptions::default()
     };
     let plan = plan_toolpath(tp, &steps).expect("move plan");
@@ -191,7 +199,11 @@ fn cut(stock: &mut DexelStock, tp: &Toolpath) {
         stock,
         &tp.tool.cutter,
         &plan,
-        &SimOptions::default(),
+        // The holder is checked by the collision tests; here it would only triple the work.
+        &SimOptions {
+            check_holder: false,
+            ..SimOptions::default()
+        },
         &Progress::new(),
     )
     .expect("simulate");
@@ -239,7 +251,6 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
         boundary: Boundary::Polygon(vec![w0, DVec2::new(w1.x, w0.y), w1, DVec2::new(w0.x, w1.y)]),
         ..RasterOptions::default()
     };
-    let t0 = std::time::Instant::now();
     let plan = raster(&stl.mesh, &bvh, &tool, &opts).expect("raster");
     let r = 0.1;
     let margin = 2.0;
@@ -260,8 +271,7 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
         r,
         DexelMode::Z,
     );
-    cut(&mut stock, &plan.toolpath);
-    eprintln!("planned in {:?}", t0.elapsed());
+    cut(&mut stock, &plan.toolpath, tool.cutter.flute_length);
     let t0 = std::time::Instant::now();
     let d = deviation(
         &stock,
@@ -271,9 +281,9 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
     )
     .expect("deviation");
     eprintln!("deviation in {:?}", t0.elapsed());
-    let whole = gouge_off_walls(&d, &stock);
+    let whole = gouge_off_faces(&d, &stock);
     let bound = r / 2f64.sqrt();
-    let c = covered(&d, lo, hi, h + chord + bound);
+    let c = covered(&d, &stock, lo, hi, h + chord + bound);
     eprintln!(
         "raster h {h}, chord {chord}, r {r}: {} passes, predicted max scallop {:.4} (plan), {predicted:.4} \
          (poses in the covered region); simulated over {} covered samples: max remaining {:.4}, \
@@ -306,11 +316,18 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
 }
 
 /// 5-axis iso-scallop (ball d=6, axis along the normal, h = 0.1 mm, ε = 0.01 mm) on a
-/// parameter window of bicubic-hills.stp face 0, simulated on a tri-dexel box at 0.2 mm (the
-/// axis tilts with the normal, up to the hills' slope, so Z rays alone would under-sample the
-/// flanks the shank passes over); compared with the exact verification of `checks::verify`
-/// on the same poses. The path follows the exact surface and the part is its 0.01 mm mesh:
-/// B = r/√2 + 0.01.
+/// parameter window of bicubic-hills.stp face 0, simulated on a Z-dexel box at 0.2 mm, and
+/// compared with the exact verification of `checks::verify` on the same poses. The path follows
+/// the exact surface and the part is its 0.01 mm mesh: B = r/√2 + 0.01.
+///
+/// Why Z rays suffice although the axis tilts (up to 21.7° here): the removal is exact per
+/// ray whatever the tool's attitude (each ray keeps all its intervals, so an overhang would
+/// still show), and the surface in this window is no steeper than the axis tilt, so Z rays
+/// sample it at a spacing of at most r/cos 22° ≈ 1.08 r. The X and Y rays of a tri-dexel stock
+/// add samples only on flanks steeper than 45°, which this window does not have, and they
+/// cost two GJK ray casts each per step (the tri-dexel run takes ≈ 25 s in a debug build on
+/// two shared cores on a 0.30–0.45 window and gave the same numbers as Z rays there: simulated
+/// max remaining 0.1056 mm, max gouge 0.0024 mm, against verify's 0.1065 mm).
 #[test]
 fn five_axis_isoscallop_agrees_with_the_exact_verification() {
     let part_step =
@@ -324,8 +341,8 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
         t1: i.t0 + b * (i.t1 - i.t0),
     };
     let rect = ParamRect {
-        u: sub(full.u, 0.30, 0.45),
-        v: sub(full.v, 0.30, 0.45),
+        u: sub(full.u, 0.32, 0.44),
+        v: sub(full.v, 0.32, 0.44),
     };
     let (h, eps) = (0.1, 0.01);
     let spec = "ball:d=6";
@@ -340,7 +357,6 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
         },
         ..FinishOptions::default()
     };
-    let t0 = std::time::Instant::now();
     let res = plan_finish(patch, &cutter, spec, Strategy::IsoScallop, &opts).expect("plan");
     let tp = &res.toolpath;
     let predicted = tp.summary.predicted_max_scallop_mm.expect("predicted");
@@ -363,10 +379,26 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
         hi + DVec2::splat(4.0),
         0.4,
         r,
-        DexelMode::Tri,
+        DexelMode::Z,
     );
-    cut(&mut stock, tp);
-    eprintln!("planned in {:?}", t0.elapsed());
+    // Only the part of the tool that can enter the slab matters: a point a along the axis
+    // lies at least a·cos(tilt) − R·sin(tilt) above the tip, so beyond
+    // (slab top − lowest tip + R)/cos(tilt) + R it is above the stock. Bounding the reach
+    // there leaves the removal unchanged and keeps the tilted sweeps (GJK ray casts per ray)
+    // cheap.
+    let StockShape::Box { max: top, .. } = stock.shapes[0] else {
+        unreachable!("box stock")
+    };
+    let low = tp
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .map(|p| p.tip.z)
+        .fold(f64::MAX, f64::min);
+    let radius = 0.5 * cutter.diameter;
+    let reach = ((top.z - low + radius) / tilt.cos() + radius).min(cutter.flute_length);
+    eprintln!("reach {reach:.2} mm of {:.2}", cutter.flute_length);
+    cut(&mut stock, tp, reach);
     let t0 = std::time::Instant::now();
     let d = deviation(
         &stock,
@@ -375,9 +407,9 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
         &Progress::new(),
     )
     .expect("deviation");
-    let whole = gouge_off_walls(&d, &stock);
+    let whole = gouge_off_faces(&d, &stock);
     let bound = r / 2f64.sqrt() + STL_CHORD;
-    let c = covered(&d, clo, chi, h + eps + bound);
+    let c = covered(&d, &stock, clo, chi, h + eps + bound);
     // The exact verification over the same region: the parameter window with the same border.
     let vp = talas::checks::FacePatch::new(&face.surface, rect, side < 0.0).expect("patch");
     let vo = talas::checks::VerifyOptions {
@@ -418,6 +450,11 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
     assert!(c.max_gouge <= bound, "gouge {}", c.max_gouge);
     assert!(whole <= bound, "gouge anywhere {}", whole);
     assert!(c.within >= 0.99, "only {} within h + ε + B", c.within);
+    assert!(
+        (c.max_remaining - predicted).abs() <= eps + bound,
+        "simulated max {} vs predicted {predicted}",
+        c.max_remaining
+    );
     assert!(
         (c.max_remaining - v.max_remaining_mm).abs() <= bound,
         "simulated max {} vs verified {}",
