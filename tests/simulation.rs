@@ -591,3 +591,6 @@ fn posted_five_axis_program_goes_through_the_machine_kinematics() {
         assert!(rel(got, want) < 0.005, "{got} vs {want}");
     }
 }
+
+#[path = "simulation/finish.rs"]
+mod finish;
