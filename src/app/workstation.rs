@@ -1,7 +1,7 @@
 //! The workstation: owns the project session (document, history, file), the loaded part, the
 //! viewport state, the log and the background jobs; lays out the panels each frame; applies the
 //! commands they return in one place ([`Workstation::apply`], with the project commands in
-//! [`project_commands`]).
+//! `project_commands`).
 
 mod project_commands;
 

@@ -6,7 +6,7 @@
 //! a positive normal curvature is concave as the tool sees it (the surface bends toward the
 //! tool) and a negative one convex.
 //!
-//! - [`verify`]: dense surface samples against the union of the tool envelopes swept along the
+//! - [`mod@verify`]: dense surface samples against the union of the tool envelopes swept along the
 //!   cut moves: remaining height (scallop) and penetration (gouge).
 //! - [`analysis`]: minimum concave/convex radii per parametric direction and principal; per-point
 //!   curvatures for colour maps.

@@ -149,12 +149,14 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
         (Some(tp), None)
     } else {
-        let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(|e| {
-            bad(
-                Some(format!("line {}, column {}", e.line, e.column)),
-                e.message,
-            )
-        })?;
+        let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(
+            |e| {
+                bad(
+                    Some(format!("line {}, column {}", e.line, e.column)),
+                    e.message,
+                )
+            },
+        )?;
         (None, Some(prog))
     };
     let cutter = match (&args.tool, &toolpath) {
