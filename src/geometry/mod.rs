@@ -10,6 +10,7 @@ pub mod curve;
 pub mod diffgeom;
 pub mod frame;
 pub mod mesh;
+pub mod minimize;
 pub mod nurbs;
 pub mod surface;
 pub mod tessellate;

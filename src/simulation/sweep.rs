@@ -17,6 +17,8 @@
 //!   and parry's GJK ray cast (from both ends of the ray) gives the entry and exit.
 
 use glam::{DVec2, DVec3};
+
+use crate::geometry::minimize::golden_min;
 use parry3d_f64::query::Ray;
 use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
@@ -322,30 +324,6 @@ fn capsule_entry(o: DVec3, e: DVec3, pa: DVec3, pb: DVec3, r: f64) -> Option<f64
     best
 }
 
-/// Minimum of a convex function on [a, b] by golden section (to 1e-12 of the interval).
-fn golden_min(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
-    const G: f64 = 0.618_033_988_749_894_8;
-    let mut x1 = b - G * (b - a);
-    let mut x2 = a + G * (b - a);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..60 {
-        if f1 <= f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - G * (b - a);
-            f1 = f(x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + G * (b - a);
-            f2 = f(x2);
-        }
-    }
-    f(a).min(f(b)).min(f1).min(f2)
-}
-
 /// The z-interval of the vertical line through `q` inside `body` (axis +Z) swept from `p0` to
 /// `p1`.
 pub(super) fn vertical_interval(body: &Body, p0: DVec3, p1: DVec3, q: DVec2) -> Option<(f64, f64)> {
@@ -385,7 +363,7 @@ pub(super) fn vertical_interval(body: &Body, p0: DVec3, p1: DVec3, q: DVec2) -> 
                     };
                     f(t)
                 } else {
-                    golden_min(ta, tb, f)
+                    golden_min(ta, tb, 60, f)
                 }
             }
         }

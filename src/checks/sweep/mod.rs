@@ -21,6 +21,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+use crate::geometry::minimize::{golden_iterations, golden_min};
+
 mod ray;
 
 use crate::checks::CheckError;
@@ -269,37 +271,11 @@ impl SweptTool {
             let q = interpolate(pc.a, pc.b, s);
             self.solid.signed_distance_at(p, q.tip, q.axis)
         };
-        let (fa, fb) = (f(0.0), f(1.0));
-        let mut best = fa.min(fb);
         if pc.motion <= 1e-12 {
-            return best;
+            return f(0.0).min(f(1.0));
         }
-        // Golden-section search on [0, 1] (convex for a constant axis).
-        let g = 0.5 * (5.0_f64.sqrt() - 1.0);
-        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-        let mut x1 = hi - g * (hi - lo);
-        let mut x2 = lo + g * (hi - lo);
-        let (mut f1, mut f2) = (f(x1), f(x2));
-        let iters = ((pc.motion / 1e-9).ln() / (1.0 / g).ln())
-            .ceil()
-            .clamp(1.0, 80.0) as usize;
-        for _ in 0..iters {
-            if f1 <= f2 {
-                hi = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = hi - g * (hi - lo);
-                f1 = f(x1);
-            } else {
-                lo = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = lo + g * (hi - lo);
-                f2 = f(x2);
-            }
-        }
-        best = best.min(f1).min(f2);
-        best
+        // Golden-section search on [0, 1] (convex for a constant axis), to 1e-9 mm of motion.
+        golden_min(0.0, 1.0, golden_iterations(pc.motion, 1e-9, 80), f)
     }
 
     /// Lower bound of the distance to a piece: the placement at the piece's middle less half its
