@@ -263,7 +263,9 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
             commands.push(Command::SaveProject);
         }
     });
-    if ctx.egui_wants_keyboard_input() {
+    // Only a focused text field takes the keys (a clicked button or tree row keeps focus too,
+    // and must not swallow F5 or Space).
+    if ctx.text_edit_focused() {
         // A text field has focus: Ctrl+Z belongs to it.
         return;
     }

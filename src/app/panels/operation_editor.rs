@@ -497,7 +497,21 @@ fn summary_ui(ui: &mut egui::Ui, result: &ComputedOp, fresh: bool) {
     if let Some(lead) = result.computed.lead_rad {
         rows.push(("Lead used", format!("{:.2}°", lead.to_degrees())));
     }
-    if let Some(g) = &s.gouge {
+    let exact = matches!(
+        result.operation,
+        Operation::Finish { options, .. } if options.exact_check
+    );
+    if let Some(g) = s.gouge.as_ref().filter(|_| !exact) {
+        rows.push((
+            "Gouge check",
+            if g.local_gouge {
+                "local gouging (see below); exact check off".to_string()
+            } else {
+                "curvature only (exact check off)".to_string()
+            },
+        ));
+    }
+    if let Some(g) = s.gouge.as_ref().filter(|_| exact) {
         rows.push((
             "Gouge check",
             if g.gouging_poses == 0 && !g.local_gouge {

@@ -54,7 +54,7 @@ pub fn playback_ui(ui: &mut egui::Ui, view: &PlaybackView, commands: &mut Vec<Co
             commands.push(Command::Playback(PlaybackCommand::Reset));
         }
         let mut t = view.t_s.unwrap_or(view.duration_s);
-        let width = (ui.available_width() - 330.0).max(80.0);
+        let width = (ui.available_width() - 430.0).max(80.0);
         ui.spacing_mut().slider_width = width;
         let r = ui.add(
             egui::Slider::new(&mut t, 0.0..=view.duration_s.max(1e-9))

@@ -117,7 +117,8 @@ impl Workstation {
                     Focus::Operation(i) => Some(i),
                     _ => None,
                 };
-                match focused.or(self.ops.active) {
+                let first = (!self.session.project.operations.is_empty()).then_some(0);
+                match focused.or(self.ops.active).or(first) {
                     Some(i) => self.start_calculation(i),
                     None => self.log_info("Select an operation to calculate"),
                 }
