@@ -403,3 +403,57 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
+    use talas::project::{Edit, Operation, OperationKind};
+    let dir = data_dir("simulate");
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle(&mut h);
+    let mut op = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut op {
+        *scallop_mm = 0.1;
+    }
+    h.state_mut().apply(Command::Edit(Edit::AddOperation {
+        index: 0,
+        operation: op,
+    }));
+    h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
+    h.state_mut().apply(Command::Calculate(0));
+    settle_calculation(&mut h);
+    assert!(
+        h.state()
+            .operation_result(0)
+            .is_some_and(|(_, fresh)| fresh)
+    );
+    // Simulate from the operation editor's button.
+    h.get_by_label("Simulate").click();
+    h.run_steps(2);
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_simulating() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.run_steps(2);
+    let sim = h.state().simulation_of(0).expect("simulated");
+    assert!(sim.simulated.report.removed_volume_mm3 > 0.0);
+    // The default tool's flutes (18 mm) are shorter than the stock is deep over the valleys:
+    // the shank meets material and the collisions are listed.
+    h.get_by_label("Deepest gouge");
+    assert!(
+        sim.simulated.max_gouge_mm < 0.02,
+        "gouge {} mm",
+        sim.simulated.max_gouge_mm
+    );
+    // A stock change makes the simulation stale (not shown for the operation any more).
+    h.state_mut()
+        .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {
+            min_mm: [0.0, 0.0, -20.0],
+            max_mm: [160.0, 120.0, 20.0],
+        })));
+    h.run_steps(2);
+    assert!(h.state().simulation_of(0).is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -208,3 +208,50 @@ fn bad_operations_give_errors_naming_the_operation() {
         Err(ComputeError::NoOperation { index: 3, count: 1 })
     ));
 }
+
+#[test]
+fn the_simulated_stock_keeps_the_predicted_scallop_and_no_gouge() {
+    use talas::project::simulate::{SimulationSettings, simulate_toolpath};
+    let part = hills();
+    let mut op = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut op {
+        *scallop_mm = 0.1;
+    }
+    // Flutes longer than the part is deep, so the cutter clears everything above the surface.
+    let project = project_with("ball:d=6,flute=40,length=60", op);
+    let out = compute(&project, 0, &part, &Progress::new()).expect("plans");
+    let predicted = out
+        .toolpath
+        .summary
+        .predicted_max_scallop_mm
+        .expect("raster predicts its scallop");
+    let settings = SimulationSettings {
+        resolution_mm: Some(1.0),
+        ..SimulationSettings::default()
+    };
+    let sim = simulate_toolpath(
+        &project.stock,
+        &part.mesh,
+        &out.toolpath,
+        &project.tools[0].cutter,
+        &settings,
+        &Progress::new(),
+    )
+    .expect("simulates");
+    assert!(sim.report.removed_volume_mm3 > 1e5, "{:?}", sim.report);
+    assert_eq!(sim.deviation_mm.len(), sim.stock_mesh.positions.len());
+    // Material left over the part: at most the predicted scallop plus the raster's chord
+    // tolerance (0.01 mm); the part mesh (chord 0.01 mm) may stand up to 0.01 mm off the exact
+    // surface either way.
+    assert!(
+        sim.remaining_p99_mm <= predicted + 0.01 + 0.01,
+        "p99 remaining {} mm, predicted {predicted} mm",
+        sim.remaining_p99_mm
+    );
+    assert!(
+        sim.remaining_p99_mm >= 0.3 * predicted,
+        "scallops exist: {} mm",
+        sim.remaining_p99_mm
+    );
+    assert!(sim.max_gouge_mm <= 0.012, "gouge {} mm", sim.max_gouge_mm);
+}

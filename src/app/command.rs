@@ -72,6 +72,12 @@ pub enum Command {
     Calculate(usize),
     /// Plan the active (or the focused) operation.
     CalculateActive,
+    /// Simulate operation `i`'s computed path on the stock.
+    Simulate(usize),
+    /// Simulate the active (or the focused) operation.
+    SimulateActive,
+    /// Show the simulated stock (instead of the part) or not.
+    SetStockVisible(bool),
     /// Show this pose of the active operation's path in the properties (or none).
     PickPose(Option<usize>),
     /// How tool paths are coloured.

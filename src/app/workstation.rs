@@ -5,6 +5,9 @@
 
 mod operations;
 mod project_commands;
+mod simulation;
+
+pub use simulation::ShownSimulation;
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -96,6 +99,7 @@ pub struct Workstation {
     focus: Focus,
     forms: Forms,
     ops: operations::Operations,
+    sims: simulation::Simulations,
     pick: Option<SurfacePick>,
     prompt: Option<PathPrompt>,
     /// A recovery file to offer (Recover / Discard).
@@ -133,6 +137,7 @@ impl Workstation {
             focus: Focus::Selection,
             forms: Forms::default(),
             ops: operations::Operations::new(),
+            sims: simulation::Simulations::default(),
             pick: None,
             prompt: None,
             recovery: None,
@@ -262,7 +267,7 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if self.cancel_calculation() {
+                if self.cancel_calculation() || self.cancel_simulation() {
                 } else if let Some(job) = self.load_job.take() {
                     job.cancel();
                     let t = self.now_s();
@@ -319,6 +324,9 @@ impl Workstation {
             Command::AddOperation(_)
             | Command::Calculate(_)
             | Command::CalculateActive
+            | Command::Simulate(_)
+            | Command::SimulateActive
+            | Command::SetStockVisible(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
             | Command::SetShowAllPaths(_)
@@ -404,6 +412,7 @@ impl Workstation {
         }
         self.poll_field_job();
         self.poll_calc_job();
+        self.poll_sim_job();
         self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
@@ -520,6 +529,7 @@ impl Workstation {
             cursor_mm: self.viewport.hover_point,
             job: self
                 .calc_status()
+                .or_else(|| self.sim_status())
                 .or_else(|| self.load_job.as_ref().map(job_status))
                 .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
             document: self.document.as_ref().map(|d| {
@@ -568,6 +578,8 @@ impl Workstation {
                 .is_some_and(|d| has_surfaces(&d.part)),
             path_colouring: self.ops.colouring,
             all_paths: self.ops.show_all,
+            stock: self.sims.visible,
+            stock_available: self.sims.shown.is_some(),
             has_faces: self
                 .document
                 .as_ref()
@@ -634,7 +646,13 @@ impl Workstation {
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
+            let stock = self.stock_instance();
             let extras = ViewportExtras {
+                hide_part: stock.is_some(),
+                stock_legend: stock
+                    .as_ref()
+                    .map(|(_, m)| ("Stock deviation (mm)".to_string(), *m)),
+                meshes: stock.into_iter().map(|(m, _)| m).collect(),
                 paths,
                 path_legend: legend.map(|m| ("Predicted scallop (mm)".to_string(), m)),
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),

@@ -1,7 +1,7 @@
 //! Edits: every change to a [`Project`]. [`Project::apply`] performs one and returns its inverse,
 //! which is what makes undo and redo exact.
 
-use super::{Operation, PartRef, Project, Stock, ToolEntry};
+use super::{Operation, PartRef, Project, Setup, Stock, ToolEntry};
 
 /// One change to the document.
 #[derive(Clone, Debug, PartialEq)]
@@ -12,6 +12,8 @@ pub enum Edit {
     SetPart(Option<PartRef>),
     /// Replace the stock.
     SetStock(Stock),
+    /// Replace the setup (work offset, program origin).
+    SetSetup(Setup),
     /// Insert a tool at `index` (0 ≤ index ≤ tool count); the selection keeps pointing at the
     /// same tool.
     AddTool {
@@ -92,6 +94,7 @@ impl Edit {
             Self::SetMachine(_) => "Change machine",
             Self::AddOperation { .. } => "Add operation",
             Self::RemoveOperation { .. } => "Delete operation",
+            Self::SetSetup(_) => "Edit setup",
             Self::SetOperation { .. } => "Edit operation",
             Self::Batch(edits) => edits.first().map_or("Edit", Edit::describe),
         }
@@ -153,6 +156,10 @@ impl Project {
                     return Err(EditError::Invalid("the project name is empty".into()));
                 }
                 Edit::Rename(std::mem::replace(&mut self.name, name))
+            }
+            Edit::SetSetup(setup) => {
+                setup.validate().map_err(EditError::Invalid)?;
+                Edit::SetSetup(std::mem::replace(&mut self.setup, setup))
             }
             Edit::SetPart(part) => Edit::SetPart(std::mem::replace(&mut self.part, part)),
             Edit::SetStock(stock) => {

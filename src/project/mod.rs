@@ -11,6 +11,7 @@ mod history;
 pub mod operation;
 mod part;
 pub mod pipeline;
+pub mod simulate;
 mod stock;
 
 pub use edit::{Edit, EditError};
@@ -33,6 +34,49 @@ pub struct ToolEntry {
     pub name: String,
     /// The cutter (sizes validated by [`Cutter::validate`] before an edit is applied).
     pub cutter: Cutter,
+}
+
+/// The setup: where the program's origin (the machine's work offset) sits on the part.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Setup {
+    /// Work offset number: 1 = G54 … 6 = G59.
+    pub work_offset: u8,
+    /// The program origin in part coordinates, mm (program = part − origin).
+    pub origin_mm: [f64; 3],
+}
+
+impl Default for Setup {
+    fn default() -> Self {
+        Self {
+            work_offset: 1,
+            origin_mm: [0.0; 3],
+        }
+    }
+}
+
+impl Setup {
+    /// The work offset's G-code word (`G54` … `G59`).
+    #[must_use]
+    pub fn work_offset_code(&self) -> String {
+        format!("G{}", 53 + u32::from(self.work_offset.clamp(1, 6)))
+    }
+
+    /// Check the values.
+    ///
+    /// # Errors
+    /// What is wrong, in words.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(1..=6).contains(&self.work_offset) {
+            return Err(format!(
+                "work offset {} is not one of G54…G59 (1…6)",
+                self.work_offset
+            ));
+        }
+        if self.origin_mm.iter().any(|v| !v.is_finite()) {
+            return Err("the origin must be finite (mm)".into());
+        }
+        Ok(())
+    }
 }
 
 /// The camera as plain numbers (mm, rad), so a reopened project shows the same view.
@@ -81,6 +125,9 @@ pub struct Project {
     /// Index of the selected tool in [`Project::tools`].
     #[serde(default)]
     pub selected_tool: Option<usize>,
+    /// The setup (work offset and program origin).
+    #[serde(default)]
+    pub setup: Setup,
     /// Machine name (one of [`crate::machine::Machine::builtin_names`]) or a machine file path.
     pub machine: String,
     /// Operations, in machining order.
@@ -107,6 +154,7 @@ impl Default for Project {
             name: "Untitled".into(),
             part: None,
             stock: Stock::None,
+            setup: Setup::default(),
             selected_tool: if tools.is_empty() { None } else { Some(0) },
             tools,
             machine: crate::machine::Machine::builtin_names()

@@ -57,6 +57,10 @@ pub struct ViewFlags {
     pub all_paths: bool,
     /// Does the part have exact faces (finishing operations possible)?
     pub has_faces: bool,
+    /// The simulated stock is drawn.
+    pub stock: bool,
+    /// There is a simulated stock to draw.
+    pub stock_available: bool,
 }
 
 /// What the Edit menu shows: descriptions of the steps undo and redo would take.
@@ -211,6 +215,16 @@ pub fn menu_bar_ui(
                 if ui.checkbox(&mut all, "All operations").changed() {
                     commands.push(Command::SetShowAllPaths(all));
                 }
+                let mut stock = view.stock;
+                if ui
+                    .add_enabled(
+                        view.stock_available,
+                        egui::Checkbox::new(&mut stock, "Simulated stock"),
+                    )
+                    .changed()
+                {
+                    commands.push(Command::SetStockVisible(stock));
+                }
             });
         });
         ui.menu_button("Machining", |ui| {
@@ -230,6 +244,13 @@ pub fn menu_bar_ui(
                 .clicked()
             {
                 commands.push(Command::CalculateActive);
+                ui.close();
+            }
+            if ui
+                .add(egui::Button::new("Simulate").shortcut_text("F6"))
+                .clicked()
+            {
+                commands.push(Command::SimulateActive);
                 ui.close();
             }
             if ui
@@ -283,6 +304,9 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
         }
         if i.consume_key(Modifiers::NONE, Key::F5) {
             commands.push(Command::CalculateActive);
+        }
+        if i.consume_key(Modifiers::NONE, Key::F6) {
+            commands.push(Command::SimulateActive);
         }
         if i.consume_key(Modifiers::NONE, Key::Space) {
             commands.push(Command::Playback(PlaybackCommand::Toggle));

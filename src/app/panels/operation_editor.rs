@@ -11,6 +11,7 @@ use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::super::theme;
 use super::super::toolpaths::ComputedOp;
+use super::super::workstation::ShownSimulation;
 use super::grouped;
 use super::properties::Focus;
 use crate::diagnostics::Severity;
@@ -44,6 +45,10 @@ pub struct OperationView<'a> {
     pub picked_pose: Option<usize>,
     /// The pose the playback shows.
     pub playback_pose: Option<usize>,
+    /// The simulation of this operation as it is now, if run.
+    pub simulation: Option<&'a ShownSimulation>,
+    /// The running simulation: fraction done, seconds running.
+    pub simulating: Option<(f64, f64)>,
 }
 
 /// The operation editor.
@@ -133,6 +138,8 @@ pub fn operation_editor_ui(
     if let Some((result, fresh)) = view.result {
         ui.add_space(8.0);
         summary_ui(ui, result, fresh);
+        ui.add_space(8.0);
+        simulation_ui(ui, view, fresh, commands);
         if let Some(i) = view.picked_pose.or(view.playback_pose) {
             ui.add_space(8.0);
             pose_ui(ui, result, i, view.picked_pose.is_some());
@@ -537,6 +544,91 @@ fn summary_ui(ui: &mut egui::Ui, result: &ComputedOp, fresh: bool) {
             Severity::Info => ui.visuals().weak_text_color(),
         };
         ui.colored_label(colour, d.to_string());
+    }
+}
+
+fn simulation_ui(
+    ui: &mut egui::Ui,
+    view: &OperationView<'_>,
+    fresh: bool,
+    commands: &mut Vec<Command>,
+) {
+    ui.horizontal(|ui| {
+        ui.label(egui::RichText::new("Stock simulation").strong());
+        match view.simulating {
+            Some((fraction, elapsed)) => {
+                ui.add(
+                    egui::ProgressBar::new(fraction as f32)
+                        .desired_width(120.0)
+                        .text(format!("{:.0} % · {elapsed:.1} s", fraction * 100.0)),
+                );
+                if ui.button("Cancel").clicked() {
+                    commands.push(Command::CancelJob);
+                }
+            }
+            None => {
+                if ui
+                    .add_enabled(fresh, egui::Button::new("Simulate"))
+                    .on_hover_text(
+                        "Cut the stock with this path (dexels) and compare it with the part",
+                    )
+                    .on_disabled_hover_text("Calculate the operation first")
+                    .clicked()
+                {
+                    commands.push(Command::Simulate(view.index));
+                }
+            }
+        }
+    });
+    let Some(sim) = view.simulation else {
+        return;
+    };
+    let s = &sim.simulated;
+    let r = &s.report;
+    grid(
+        ui,
+        "simulation",
+        &[
+            (
+                "Dexel spacing",
+                format!("{:.3} mm (Z rays)", s.resolution_mm),
+            ),
+            ("Removed", format!("{:.0} mm³", r.removed_volume_mm3)),
+            ("Stock left", format!("{:.0} mm³", r.final_volume_mm3)),
+            (
+                "Deepest gouge",
+                format!("{:.1} µm", s.max_gouge_mm * 1000.0),
+            ),
+            (
+                "Material left (99 %)",
+                format!("{:.1} µm", s.remaining_p99_mm * 1000.0),
+            ),
+            ("Collisions", grouped(r.collisions.len())),
+            ("Simulated in", format!("{:.1} s", sim.elapsed_s)),
+        ],
+    );
+    if !r.collisions.is_empty() {
+        egui::ScrollArea::vertical()
+            .id_salt("collisions")
+            .max_height(140.0)
+            .show(ui, |ui| {
+                for c in r.collisions.iter().take(500) {
+                    let text = format!(
+                        "{:?} at pose {}: {:.2} mm deep at {}",
+                        c.kind,
+                        grouped(c.block + 1),
+                        c.depth_mm,
+                        mm3(c.position)
+                    );
+                    if ui
+                        .selectable_label(view.picked_pose == Some(c.block), text)
+                        .on_hover_text("Show this pose")
+                        .clicked()
+                    {
+                        commands.push(Command::PickPose(Some(c.block)));
+                    }
+                }
+            });
     }
 }
 

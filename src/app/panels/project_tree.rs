@@ -54,7 +54,11 @@ pub fn project_tree_ui(
                 Focus::Stock,
                 format!("Stock · {}", stock_summary(&project.stock)),
             );
-            leaf(ui, Focus::Setup, "Setup 1 · work offset G54".into());
+            leaf(
+                ui,
+                Focus::Setup,
+                format!("Setup 1 · work offset {}", project.setup.work_offset_code()),
+            );
             egui::CollapsingHeader::new(format!("Tools ({})", project.tools.len()))
                 .id_salt("tools")
                 .default_open(true)

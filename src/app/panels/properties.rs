@@ -70,7 +70,7 @@ pub fn properties_ui(
             Focus::Selection => selection_ui(ui, view),
             Focus::Tool(i) => tool_editor_ui(ui, view.project, i, &mut forms.tool, commands),
             Focus::Stock => stock_ui(ui, view, commands),
-            Focus::Setup => setup_ui(ui, view.project),
+            Focus::Setup => setup_ui(ui, view, commands),
             Focus::Operation(i) => match &view.operation {
                 Some(op) if op.index == i => {
                     operation_editor_ui(ui, op, &mut forms.operation, commands);
@@ -175,19 +175,69 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
     }
 }
 
-fn setup_ui(ui: &mut egui::Ui, project: &Project) {
+fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
+    let project = view.project;
+    let setup = project.setup;
     ui.heading("Setup 1");
-    grid(
-        ui,
-        "setup",
-        &[
-            ("Work offset", "G54".into()),
-            ("Origin", "0.000, 0.000, 0.000 mm (part origin)".into()),
-            ("Tool axis", "+Z".into()),
-            ("Machine", project.machine.clone()),
-        ],
-    );
-    ui.weak("The work offset is the part's own origin until setups become editable.");
+    let mut next = setup;
+    egui::Grid::new("setup fields")
+        .num_columns(2)
+        .spacing([10.0, 6.0])
+        .show(ui, |ui| {
+            ui.label("Work offset");
+            egui::ComboBox::from_id_salt("work offset")
+                .selected_text(setup.work_offset_code())
+                .show_ui(ui, |ui| {
+                    for k in 1..=6u8 {
+                        ui.selectable_value(&mut next.work_offset, k, format!("G{}", 53 + k));
+                    }
+                });
+            ui.end_row();
+            for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+                ui.label(format!("Origin {name}"))
+                    .on_hover_text("Where the program's zero sits in part coordinates");
+                let mut v = setup.origin_mm[axis];
+                let r = ui.add(
+                    egui::DragValue::new(&mut v)
+                        .speed(0.1)
+                        .max_decimals(4)
+                        .suffix(" mm"),
+                );
+                if r.drag_stopped() || (r.changed() && !r.dragged()) {
+                    next.origin_mm[axis] = v;
+                }
+                ui.end_row();
+            }
+            ui.label("Tool axis");
+            ui.label("+Z (3-axis) or per pose (5-axis)");
+            ui.end_row();
+            ui.label("Machine");
+            ui.label(project.machine.as_str());
+            ui.end_row();
+        });
+    let bounds = view.document.map(|d| d.bounds).filter(|b| !b.is_empty());
+    if let Some(b) = bounds {
+        ui.horizontal_wrapped(|ui| {
+            ui.weak("Origin at:");
+            let c = 0.5 * (b.min + b.max);
+            if ui.small_button("part origin").clicked() {
+                next.origin_mm = [0.0; 3];
+            }
+            if ui.small_button("top centre").clicked() {
+                next.origin_mm = [c.x, c.y, b.max.z];
+            }
+            if ui.small_button("top front-left corner").clicked() {
+                next.origin_mm = [b.min.x, b.min.y, b.max.z];
+            }
+            if ui.small_button("bottom front-left corner").clicked() {
+                next.origin_mm = [b.min.x, b.min.y, b.min.z];
+            }
+        });
+    }
+    if next != setup {
+        commands.push(Command::Edit(Edit::SetSetup(next)));
+    }
+    ui.weak("Posted programs are written relative to this origin (program = part − origin), under the chosen work offset.");
 }
 
 fn machine_ui(ui: &mut egui::Ui, project: &Project, commands: &mut Vec<Command>) {

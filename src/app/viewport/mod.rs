@@ -174,6 +174,12 @@ pub struct ViewportExtras<'a> {
     pub paths: Vec<LineInstance>,
     /// Legend of the path colouring, when it maps a scalar (title with unit, mapping).
     pub path_legend: Option<(String, ScalarMapping)>,
+    /// More meshes (the simulated stock).
+    pub meshes: Vec<MeshInstance>,
+    /// Legend of the stock's deviation colouring.
+    pub stock_legend: Option<(String, ScalarMapping)>,
+    /// Draw the part's edges only (the simulated stock stands in for its faces).
+    pub hide_part: bool,
     /// The active path and how far playback has drawn it (poses beyond are not pickable).
     pub pick_path: Option<(&'a Toolpath, Option<usize>)>,
 }
@@ -253,6 +259,10 @@ pub fn viewport_ui(
         (rect.height() * ppp).round().max(1.0) as u32,
     ];
     let mut scene = state.scene(document);
+    if extras.hide_part {
+        scene.meshes.clear();
+    }
+    scene.meshes.extend(extras.meshes);
     scene.lines.extend(extras.paths);
     ui.painter().add(egui_wgpu::Callback::new_paint_callback(
         rect,
@@ -282,9 +292,10 @@ pub fn viewport_ui(
         let title = format!("{} ({})", field.name(), field.unit());
         legend::legend_ui(ui, rect, &title, mapping, 0);
     }
-    if let Some((title, mapping)) = &extras.path_legend {
-        let slot = usize::from(state.legend().is_some());
+    let mut slot = usize::from(state.legend().is_some());
+    for (title, mapping) in extras.path_legend.iter().chain(&extras.stock_legend) {
         legend::legend_ui(ui, rect, title, *mapping, slot);
+        slot += 1;
     }
     ui.painter().text(
         rect.right_bottom() + egui::vec2(-10.0, -8.0),

@@ -112,23 +112,33 @@ impl Workstation {
                 }
             }
             Command::Calculate(index) => self.start_calculation(index),
-            Command::CalculateActive => {
-                let focused = match self.focus {
-                    Focus::Operation(i) => Some(i),
-                    _ => None,
-                };
-                let first = (!self.session.project.operations.is_empty()).then_some(0);
-                match focused.or(self.ops.active).or(first) {
-                    Some(i) => self.start_calculation(i),
-                    None => self.log_info("Select an operation to calculate"),
-                }
-            }
+            Command::CalculateActive => match self.target_operation() {
+                Some(i) => self.start_calculation(i),
+                None => self.log_info("Select an operation to calculate"),
+            },
+            Command::SimulateActive => match self.target_operation() {
+                Some(i) => self.start_simulation(i),
+                None => self.log_info("Select an operation to simulate"),
+            },
             Command::PickPose(pose) => self.ops.picked_pose = pose,
+            Command::Simulate(index) => self.start_simulation(index),
+            Command::SetStockVisible(on) => self.sims.visible = on,
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
             Command::Playback(p) => self.playback(p),
             _ => {}
         }
+    }
+
+    /// The operation a menu entry or key acts on: the focused one, else the active one, else
+    /// the first.
+    fn target_operation(&self) -> Option<usize> {
+        let focused = match self.focus {
+            Focus::Operation(i) => Some(i),
+            _ => None,
+        };
+        let first = (!self.session.project.operations.is_empty()).then_some(0);
+        focused.or(self.ops.active).or(first)
     }
 
     fn start_calculation(&mut self, index: usize) {
@@ -298,7 +308,10 @@ impl Workstation {
             )
         });
         let active = self.ops.active == Some(index);
+        let simulating = self.sim_status().filter(|_| active).map(|(_, f, e)| (f, e));
         OperationView {
+            simulation: self.simulation_of(index),
+            simulating,
             project: &self.session.project,
             index,
             document: self.document.as_ref(),

@@ -1,0 +1,255 @@
+//! Stock simulation of the active operation's path: a background job (progress, Cancel) through
+//! [`crate::project::simulate::simulate_toolpath`], the cut stock drawn coloured by its signed
+//! deviation from the part (blue: gouge, white: on size, red: material left), its legend, and
+//! the report in the operation editor.
+
+use std::sync::Arc;
+
+use glam::Mat4;
+
+use super::super::job::{Job, JobPoll};
+use super::Workstation;
+use crate::diagnostics::Severity;
+use crate::project::Operation;
+use crate::project::simulate::{Simulated, SimulationSettings, simulate_toolpath};
+use crate::render::{ColourMap, DataId, MeshData, MeshInstance, ScalarMapping};
+use crate::simulation::SimError;
+use crate::tools::Cutter;
+
+/// Colour of the stock when no deviation is shown (sRGB).
+const STOCK_COLOUR: [u8; 4] = [196, 170, 120, 255];
+
+/// What a simulation was run on (it is shown while these are unchanged).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct SimKey {
+    operation: Operation,
+    cutter: Cutter,
+    part_id: DataId,
+    stock: crate::project::Stock,
+}
+
+/// A finished simulation with its render data.
+pub struct ShownSimulation {
+    key: SimKey,
+    /// The simulation's result.
+    pub simulated: Simulated,
+    /// Wall time, s.
+    pub elapsed_s: f64,
+    id: DataId,
+    mesh: Arc<MeshData>,
+    /// Colour mapping of the deviation.
+    pub mapping: ScalarMapping,
+}
+
+/// The simulation state of the workstation.
+#[derive(Default)]
+pub(super) struct Simulations {
+    job: Option<(SimKey, Job<Result<Simulated, SimError>>)>,
+    /// The latest simulation.
+    pub shown: Option<ShownSimulation>,
+    /// Draw the simulated stock.
+    pub visible: bool,
+}
+
+impl Workstation {
+    fn sim_key(&self, index: usize) -> Option<SimKey> {
+        let project = &self.session.project;
+        let operation = project.operations.get(index)?.clone();
+        let cutter = project.tools.get(operation.tool())?.cutter.clone();
+        Some(SimKey {
+            operation,
+            cutter,
+            part_id: self.document.as_ref()?.ids[0],
+            stock: project.stock,
+        })
+    }
+
+    /// Simulate operation `index`'s computed path (it must be fresh).
+    pub(super) fn start_simulation(&mut self, index: usize) {
+        let t = self.now_s();
+        let Some(key) = self.sim_key(index) else {
+            return;
+        };
+        let Some((result, true)) = self.operation_result(index) else {
+            self.log.notify(
+                t,
+                Severity::Warning,
+                "Calculate the operation before simulating it",
+            );
+            return;
+        };
+        let Some(doc) = &self.document else { return };
+        let toolpath = result.toolpath().clone();
+        let part = doc.part.mesh.clone();
+        let stock = self.session.project.stock;
+        let cutter = key.cutter.clone();
+        let ctx = self.ctx.clone();
+        if let Some((_, old)) = self.sims.job.take() {
+            old.cancel();
+        }
+        let settings = SimulationSettings {
+            max_rays: 250_000,
+            ..SimulationSettings::default()
+        };
+        let label = format!("Simulating {}", key.operation.name());
+        self.log_info(format!("{label} (Z dexels, at most 250 000 rays)"));
+        self.sims.job = Some((
+            key,
+            Job::spawn(
+                label,
+                move |progress| {
+                    simulate_toolpath(&stock, &part, &toolpath, &cutter, &settings, progress)
+                },
+                move || ctx.request_repaint(),
+            ),
+        ));
+    }
+
+    /// Cancel the running simulation; true when there was one.
+    pub(super) fn cancel_simulation(&mut self) -> bool {
+        let Some((_, job)) = self.sims.job.take() else {
+            return false;
+        };
+        job.cancel();
+        let t = self.now_s();
+        self.log
+            .push(t, Severity::Warning, format!("{} cancelled", job.label));
+        true
+    }
+
+    /// Is a simulation running?
+    #[must_use]
+    pub fn is_simulating(&self) -> bool {
+        self.sims.job.is_some()
+    }
+
+    /// The simulation shown for operation `index`, when it matches the operation, tool, part
+    /// and stock as they are now.
+    #[must_use]
+    pub fn simulation_of(&self, index: usize) -> Option<&ShownSimulation> {
+        let key = self.sim_key(index)?;
+        self.sims.shown.as_ref().filter(|s| s.key == key)
+    }
+
+    /// The running simulation as the status bar shows it.
+    pub(super) fn sim_status(&self) -> Option<(String, f64, f64)> {
+        self.sims.job.as_ref().map(|(_, j)| {
+            (
+                j.label.clone(),
+                j.progress.fraction(),
+                j.started.elapsed().as_secs_f64(),
+            )
+        })
+    }
+
+    /// Collect a finished simulation.
+    pub(super) fn poll_sim_job(&mut self) {
+        let Some((_, job)) = &self.sims.job else {
+            return;
+        };
+        let outcome = match job.poll() {
+            JobPoll::Running => {
+                self.ctx
+                    .request_repaint_after(std::time::Duration::from_millis(100));
+                return;
+            }
+            JobPoll::Done(r) => Some(r),
+            JobPoll::Lost => None,
+        };
+        let Some((key, job)) = self.sims.job.take() else {
+            return;
+        };
+        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let t = self.now_s();
+        match outcome {
+            Some(Ok(simulated)) => {
+                let r = &simulated.report;
+                self.log.push(
+                    t,
+                    Severity::Info,
+                    format!(
+                        "Simulated '{}': {:.0} mm³ removed, {} collisions, deepest gouge {:.1} µm, 99 % of the surface within {:.1} µm, {:.2} mm dexels, in {elapsed_s:.1} s",
+                        key.operation.name(),
+                        r.removed_volume_mm3,
+                        r.collisions.len(),
+                        simulated.max_gouge_mm * 1000.0,
+                        simulated.remaining_p99_mm * 1000.0,
+                        simulated.resolution_mm
+                    ),
+                );
+                if !r.collisions.is_empty() {
+                    self.log.notify(
+                        t,
+                        Severity::Warning,
+                        format!(
+                            "'{}': {} collisions of the shank, holder or a rapid with the stock",
+                            key.operation.name(),
+                            r.collisions.len()
+                        ),
+                    );
+                }
+                self.ops.next_id += 1;
+                let (mesh, mapping) = deviation_mesh(&simulated);
+                self.sims.shown = Some(ShownSimulation {
+                    key,
+                    simulated,
+                    elapsed_s,
+                    id: self.ops.next_id,
+                    mesh: Arc::new(mesh),
+                    mapping,
+                });
+                self.sims.visible = true;
+            }
+            Some(Err(SimError::Cancelled)) => {}
+            Some(Err(e)) => self
+                .log
+                .notify(t, Severity::Error, format!("Simulation failed: {e}")),
+            None => self.log.notify(
+                t,
+                Severity::Error,
+                "Simulation failed: the worker stopped unexpectedly",
+            ),
+        }
+    }
+
+    /// The stock mesh to draw and its legend, when visible.
+    pub(super) fn stock_instance(&self) -> Option<(MeshInstance, ScalarMapping)> {
+        let s = self.sims.shown.as_ref().filter(|_| self.sims.visible)?;
+        Some((
+            MeshInstance {
+                id: s.id,
+                data: Arc::clone(&s.mesh),
+                world_from_mesh: Mat4::IDENTITY,
+                colour: STOCK_COLOUR,
+                scalar_map: Some(s.mapping),
+            },
+            s.mapping,
+        ))
+    }
+}
+
+/// The stock mesh with the deviation as its scalar, mapped symmetrically about zero over the
+/// larger of the deepest gouge and the 99th percentile of the material left (at least 1 µm).
+fn deviation_mesh(s: &Simulated) -> (MeshData, ScalarMapping) {
+    let m = &s.stock_mesh;
+    let f = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32];
+    let normals = if m.normals.len() == m.positions.len() {
+        m.normals.iter().map(|&n| f(n)).collect()
+    } else {
+        vec![[0.0, 0.0, 1.0]; m.positions.len()]
+    };
+    let range = s.max_gouge_mm.max(s.remaining_p99_mm).max(1e-3) as f32;
+    (
+        MeshData {
+            positions: m.positions.iter().map(|&p| f(p)).collect(),
+            normals,
+            scalars: s.deviation_mm.iter().map(|&d| d as f32).collect(),
+            indices: m.triangles.iter().flatten().copied().collect(),
+        },
+        ScalarMapping {
+            map: ColourMap::CoolWarm,
+            min: -range,
+            max: range,
+        },
+    )
+}

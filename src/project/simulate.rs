@@ -1,0 +1,172 @@
+//! Material removal for a computed operation, as the workstation shows it: the project's stock
+//! (or a box 2 mm around the part when none is defined) on a Z-dexel grid sized to a ray budget,
+//! the operation's path swept through it, and the signed deviation of the cut stock's top from
+//! the part at every vertex of the stock's height-field mesh (+ material left, − gouge).
+
+use super::Stock;
+use crate::diagnostics::Progress;
+use crate::geometry::Aabb;
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+use crate::simulation::{
+    DexelMode, DexelStock, SimError, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
+    simulate,
+};
+use crate::toolpath::Toolpath;
+use crate::tools::Cutter;
+
+/// How finely to simulate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulationSettings {
+    /// Dexel spacing, mm (`None`: the finest that keeps the Z grid within `max_rays`).
+    pub resolution_mm: Option<f64>,
+    /// Most Z rays when the resolution is chosen automatically.
+    pub max_rays: usize,
+    /// Memory the stock may take, bytes.
+    pub memory_limit_bytes: u64,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        Self {
+            resolution_mm: None,
+            max_rays: 1_000_000,
+            memory_limit_bytes: 2 << 30,
+        }
+    }
+}
+
+/// A simulated operation.
+#[derive(Clone, Debug)]
+pub struct Simulated {
+    /// The removal's report (volumes, collisions of shank and holder, time).
+    pub report: SimReport,
+    /// Dexel spacing used, mm.
+    pub resolution_mm: f64,
+    /// The cut stock's top as a mesh (one vertex per Z ray holding material), mm.
+    pub stock_mesh: TriMesh,
+    /// Signed distance of each `stock_mesh` vertex from the part, mm: positive where material
+    /// is left (scallops, uncut margins), negative where the part was cut into.
+    pub deviation_mm: Vec<f64>,
+    /// Deepest cut into the part, mm (≥ 0).
+    pub max_gouge_mm: f64,
+    /// 99th percentile of the material left over the part (vertices whose closest part point
+    /// is straight below them), mm.
+    pub remaining_p99_mm: f64,
+}
+
+/// The stock shape of the project, or the part's box grown by 2 mm when none is defined.
+#[must_use]
+pub fn stock_shape(stock: &Stock, part_bounds: &Aabb) -> StockShape {
+    match *stock {
+        Stock::Box { min_mm, max_mm } => StockShape::Box {
+            min: min_mm.into(),
+            max: max_mm.into(),
+        },
+        Stock::Cylinder {
+            base_mm,
+            radius_mm,
+            height_mm,
+        } => StockShape::Cylinder {
+            base: base_mm.into(),
+            radius: radius_mm,
+            height: height_mm,
+        },
+        Stock::None => {
+            let m = glam::DVec3::splat(2.0);
+            StockShape::Box {
+                min: part_bounds.min - m,
+                max: part_bounds.max + m,
+            }
+        }
+    }
+}
+
+/// Simulate `toolpath` cut by `cutter` in `stock` and measure the result against `part`.
+///
+/// # Errors
+/// [`SimError`] for a bad stock, resolution or cutter, too little memory, or a cancel.
+pub fn simulate_toolpath(
+    stock: &Stock,
+    part: &TriMesh,
+    toolpath: &Toolpath,
+    cutter: &Cutter,
+    settings: &SimulationSettings,
+    progress: &Progress,
+) -> Result<Simulated, SimError> {
+    let shape = stock_shape(stock, &part.bbox());
+    let b = shape.bounds();
+    let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
+    let resolution = settings.resolution_mm.unwrap_or_else(|| {
+        let r = (area / settings.max_rays.max(1) as f64).sqrt();
+        // Round up to 2 significant digits so the grid is reproducible and reads well.
+        let scale = 10f64.powf(r.log10().floor() - 1.0);
+        ((r / scale).ceil() * scale).max(0.01)
+    });
+    let step = StepOptions {
+        reach_mm: cutter.flute_length,
+        chord_tolerance_mm: (0.05 * resolution).clamp(1e-4, 0.01),
+        axis_tolerance_mm: (0.1 * resolution).clamp(1e-4, 0.02),
+        ..StepOptions::default()
+    };
+    let plan = plan_toolpath(toolpath, &step)?;
+    let mut dexels = DexelStock::new(
+        vec![shape],
+        resolution,
+        DexelMode::Z,
+        settings.memory_limit_bytes,
+    )?;
+    let report = simulate(&mut dexels, cutter, &plan, &SimOptions::default(), progress)?;
+    let stock_mesh = dexels.height_field_mesh();
+    let bvh = MeshBvh::new(part).map_err(|e| SimError::Part(e.to_string()))?;
+    let mut deviation_mm = Vec::with_capacity(stock_mesh.positions.len());
+    let mut over_part = Vec::new();
+    for p in &stock_mesh.positions {
+        let Some(hit) = bvh.closest_point(*p) else {
+            deviation_mm.push(0.0);
+            continue;
+        };
+        let n = part
+            .triangles
+            .get(hit.triangle)
+            .map_or(glam::DVec3::Z, |t| triangle_normal(part, *t));
+        let along = (*p - hit.point).dot(n);
+        // Straight above or below the part: signed; beside its boundary: material left.
+        let signed = if along.abs() >= 0.9 * hit.distance {
+            over_part.push(along);
+            along
+        } else {
+            hit.distance
+        };
+        deviation_mm.push(signed);
+    }
+    let max_gouge_mm = deviation_mm
+        .iter()
+        .fold(0.0_f64, |g, &d| if d < 0.0 { g.max(-d) } else { g });
+    over_part.retain(|d| *d >= 0.0);
+    over_part.sort_by(f64::total_cmp);
+    let remaining_p99_mm = if over_part.is_empty() {
+        0.0
+    } else {
+        let k = ((over_part.len() - 1) as f64 * 0.99).round() as usize;
+        over_part.get(k).copied().unwrap_or(0.0)
+    };
+    Ok(Simulated {
+        report,
+        resolution_mm: resolution,
+        stock_mesh,
+        deviation_mm,
+        max_gouge_mm,
+        remaining_p99_mm,
+    })
+}
+
+/// Unit normal of triangle `t` of `mesh` (+Z when degenerate).
+fn triangle_normal(mesh: &TriMesh, t: [u32; 3]) -> glam::DVec3 {
+    let p = |i: u32| mesh.positions.get(i as usize).copied().unwrap_or_default();
+    let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+    (b - a)
+        .cross(c - a)
+        .try_normalize()
+        .unwrap_or(glam::DVec3::Z)
+}
