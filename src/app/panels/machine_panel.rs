@@ -163,6 +163,20 @@ impl MachinePanel {
         })
     }
 
+    /// Draw the tilt axis at `deg` in the schematic (clamped to its travel).
+    pub fn set_preview_tilt(&mut self, deg: f64) {
+        let range = self
+            .machine
+            .rotary_names()
+            .and_then(|(t, _)| self.machine.axis(t))
+            .map_or((0.0, 0.0), |a| (a.min.to_degrees(), a.max.to_degrees()));
+        self.view.tilt_deg = if deg.is_finite() {
+            deg.clamp(range.0, range.1)
+        } else {
+            0.0
+        };
+    }
+
     /// Replace the settings (made valid for the machine).
     pub fn set_settings(&mut self, settings: PostSettings) {
         self.settings = self.valid(settings);
@@ -213,23 +227,26 @@ impl MachinePanel {
             event = event.or(Some(e));
         }
         ui.separator();
-        let size = egui::vec2(
-            ui.available_width(),
-            ui.available_height().clamp(120.0, 320.0),
-        );
-        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-        draw_schematic(ui.painter(), rect, &self.machine, &self.view, ui.visuals());
-        if self.machine.kinematics != KinematicsKind::ThreeAxis {
-            let (t, _) = self.machine.rotary_names().unwrap_or(('A', 'C'));
+        if let Some((t, _)) = self.machine.rotary_names() {
             let range = self
                 .machine
                 .axis(t)
                 .map_or(-90.0..=90.0, |a| a.min.to_degrees()..=a.max.to_degrees());
-            ui.add(
-                egui::Slider::new(&mut self.view.tilt_deg, range)
-                    .text(format!("{t} preview (deg)")),
-            );
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::Slider::new(&mut self.view.tilt_deg, range).text(format!(
+                        "{t} (deg) · side view along {}",
+                        if t == 'A' { 'X' } else { 'Y' }
+                    )),
+                );
+            });
         }
+        let size = egui::vec2(
+            ui.available_width(),
+            ui.available_height().clamp(120.0, 360.0),
+        );
+        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+        draw_schematic(ui.painter(), rect, &self.machine, &self.view, ui.visuals());
         event
     }
 

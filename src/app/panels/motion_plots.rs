@@ -94,6 +94,12 @@ impl AxisCurves {
         }
     }
 
+    /// The largest |value| of a quantity's curve (display units; the decimation keeps it).
+    #[must_use]
+    pub fn peak_of(&self, q: Quantity) -> f64 {
+        self.curve(q).iter().fold(0.0, |m, p| m.max(p.y.abs()))
+    }
+
     /// The limit of a quantity (display units).
     #[must_use]
     pub fn limit_of(&self, q: Quantity) -> Option<f64> {
@@ -121,6 +127,8 @@ pub struct MotionPlots {
     pub sample_count: usize,
     quantity: Quantity,
     cursor_s: Option<f64>,
+    /// Draw every limit line, also those far above the curve (they squash it).
+    all_limits: bool,
 }
 
 impl MotionPlots {
@@ -197,6 +205,7 @@ impl MotionPlots {
             sample_count,
             quantity: Quantity::Feed,
             cursor_s: None,
+            all_limits: false,
         }
     }
 
@@ -246,6 +255,11 @@ impl MotionPlots {
             for q in Quantity::ALL {
                 ui.selectable_value(&mut self.quantity, q, q.label());
             }
+            ui.separator();
+            ui.checkbox(&mut self.all_limits, "All limits")
+                .on_hover_text(
+                    "Draw every axis limit; by default only limits the curve comes within 4× of",
+                );
         });
         let q = self.quantity;
         let link = egui::Id::unique("talas_motion_plots_time");
@@ -306,12 +320,18 @@ impl MotionPlots {
                 } else {
                     for a in self.axes.iter().filter(|a| a.rotary == rotary) {
                         let colour = axis_colour(a.axis);
-                        let name = a.axis.to_string();
+                        let peak = a.peak_of(q);
+                        let limit = a.limit_of(q).filter(|l| *l > 0.0);
+                        let name = match limit {
+                            Some(l) => format!("{}  peak {} of limit", a.axis, percent(peak / l)),
+                            None => a.axis.to_string(),
+                        };
                         p.line(Line::new(name.clone(), a.curve(q)).color(colour));
-                        if let Some(limit) = a.limit_of(q) {
+                        let near = |l: &f64| self.all_limits || peak >= 0.25 * l;
+                        if let Some(limit) = limit.filter(near) {
                             for y in [limit, -limit] {
                                 p.hline(
-                                    HLine::new(format!("{name} limit"), y)
+                                    HLine::new(format!("{} limit", a.axis), y)
                                         .color(colour.gamma_multiply(0.7))
                                         .style(LineStyle::dashed_loose()),
                                 );
@@ -320,7 +340,7 @@ impl MotionPlots {
                     }
                 }
                 if let Some(t) = cursor {
-                    p.vline(VLine::new("cursor", t).color(Color32::from_gray(230)));
+                    p.vline(VLine::new("cursor", t).color(Color32::WHITE).width(2.0));
                 }
                 if p.response().clicked() {
                     p.pointer_coordinate().map(|c| c.x.clamp(0.0, t_max))
@@ -341,6 +361,16 @@ fn axis_colour(axis: char) -> Color32 {
         'A' => Color32::from_rgb(232, 180, 60),
         'B' => Color32::from_rgb(200, 130, 230),
         _ => Color32::from_rgb(100, 200, 210),
+    }
+}
+
+/// `0.4 %`, `12 %`.
+fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction;
+    if p < 10.0 {
+        format!("{p:.1} %")
+    } else {
+        format!("{p:.0} %")
     }
 }
 

@@ -39,7 +39,7 @@ pub fn draw_schematic(
     // Table top at height 0 over the C centre; the pivot where the offsets put it.
     let pivot = DVec2::new(across, machine.tilt_offset_mm.z.min(-thick));
     let base_y = pivot.y - 1.2 * radius.max(-pivot.y);
-    let spindle_y = 1.4 * radius;
+    let spindle_y = 1.0 * radius;
     // Fit the scene (x in ±1.5 r, y from base to spindle top) into the rect.
     let (x0, x1) = (-1.6 * radius, 1.6 * radius);
     let (y0, y1) = (base_y, spindle_y + 0.6 * radius);
@@ -81,8 +81,9 @@ pub fn draw_schematic(
         ],
         body,
     );
-    let angle = match tilt_name {
-        Some(_) => view.tilt_deg.to_radians(),
+    // Counter-clockwise in the view for a positive turn, times the axis's direction.
+    let angle = match tilt_name.and_then(|t| machine.axis(t)) {
+        Some(axis) => view.tilt_deg.to_radians() * axis.direction,
         None => 0.0,
     };
     let turn = |p: DVec2| tilted(p, pivot, angle);
@@ -159,7 +160,7 @@ pub fn draw_schematic(
     painter.line_segment(
         [
             to_screen(DVec2::new(0.0, spindle_y)),
-            to_screen(DVec2::new(0.0, 0.45 * radius)),
+            to_screen(DVec2::new(0.0, 0.3 * radius)),
         ],
         Stroke::new(3.0, line),
     );
