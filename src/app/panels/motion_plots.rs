@@ -6,14 +6,16 @@
 //! [`MAX_POINTS`] points a curve), so drawing costs the same for a one-second and a one-hour
 //! program and no peak disappears.
 
+mod curves;
 mod decimation;
 
+pub use curves::{AxisCurves, Curve, Quantity, XAxis, interpolate_x};
 pub use decimation::MinMaxDecimator;
 
 use crate::feed::path::slot_of;
 use crate::feed::{AxisLimit, TimedPath, naive_time_s};
 use egui::Color32;
-use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoint, VLine};
+use egui_plot::{HLine, Legend, Line, LineStyle, Plot, VLine};
 
 /// Largest number of points kept per curve.
 pub const MAX_POINTS: usize = 20_000;
@@ -25,98 +27,11 @@ pub enum PlotEvent {
     TimeClicked(f64),
 }
 
-/// The quantity shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Quantity {
-    /// Path speed (feed), mm/s.
-    Feed,
-    /// Axis velocities.
-    Velocity,
-    /// Axis accelerations.
-    Acceleration,
-    /// Axis jerks.
-    Jerk,
-}
-
-impl Quantity {
-    /// All quantities, in tab order.
-    pub const ALL: [Self; 4] = [Self::Feed, Self::Velocity, Self::Acceleration, Self::Jerk];
-
-    /// The tab label.
-    #[must_use]
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Feed => "Feed",
-            Self::Velocity => "Velocity",
-            Self::Acceleration => "Acceleration",
-            Self::Jerk => "Jerk",
-        }
-    }
-
-    /// The unit for a linear (`mm`) or rotary (`deg`) axis.
-    #[must_use]
-    pub fn unit(self, rotary: bool) -> String {
-        let base = if rotary { "deg" } else { "mm" };
-        match self {
-            Self::Feed | Self::Velocity => format!("{base}/s"),
-            Self::Acceleration => format!("{base}/s²"),
-            Self::Jerk => format!("{base}/s³"),
-        }
-    }
-}
-
-/// The decimated curves of one axis, in display units (mm or deg).
-#[derive(Clone, Debug)]
-pub struct AxisCurves {
-    /// Axis letter.
-    pub axis: char,
-    /// A rotary axis (values in degrees).
-    pub rotary: bool,
-    /// The machine's limits, display units.
-    pub limit: AxisLimit,
-    /// Velocity against time.
-    pub velocity: Vec<PlotPoint>,
-    /// Acceleration against time.
-    pub acceleration: Vec<PlotPoint>,
-    /// Jerk against time.
-    pub jerk: Vec<PlotPoint>,
-}
-
-impl AxisCurves {
-    /// The curve of a quantity (`Feed` has none per axis).
-    #[must_use]
-    pub fn curve(&self, q: Quantity) -> &[PlotPoint] {
-        match q {
-            Quantity::Feed => &[],
-            Quantity::Velocity => &self.velocity,
-            Quantity::Acceleration => &self.acceleration,
-            Quantity::Jerk => &self.jerk,
-        }
-    }
-
-    /// The largest |value| of a quantity's curve (display units; the decimation keeps it).
-    #[must_use]
-    pub fn peak_of(&self, q: Quantity) -> f64 {
-        self.curve(q).iter().fold(0.0, |m, p| m.max(p.y.abs()))
-    }
-
-    /// The limit of a quantity (display units).
-    #[must_use]
-    pub fn limit_of(&self, q: Quantity) -> Option<f64> {
-        match q {
-            Quantity::Feed => None,
-            Quantity::Velocity => Some(self.limit.velocity),
-            Quantity::Acceleration => Some(self.limit.acceleration),
-            Quantity::Jerk => Some(self.limit.jerk),
-        }
-    }
-}
-
 /// State of the motion plots.
 #[derive(Clone, Debug)]
 pub struct MotionPlots {
-    /// Path speed against time, mm/s.
-    pub feed: Vec<PlotPoint>,
+    /// Path speed, mm/s.
+    pub feed: Curve,
     /// The axes, machine order.
     pub axes: Vec<AxisCurves>,
     /// Planned cycle time, s.
@@ -126,6 +41,7 @@ pub struct MotionPlots {
     /// Samples read from the plan.
     pub sample_count: usize,
     quantity: Quantity,
+    x_axis: XAxis,
     cursor_s: Option<f64>,
     /// Draw every limit line, also those far above the curve (they squash it).
     all_limits: bool,
@@ -158,7 +74,8 @@ impl MotionPlots {
         let mut sample_count = 0usize;
         for s in timed.samples() {
             sample_count += 1;
-            feed.push(s.t, s.feed);
+            let at = s.path_position;
+            feed.push_tagged(s.t, s.feed, at);
             for ((slot, scale), c) in slots.iter().zip(&mut curves) {
                 let (Some(v), Some(a), Some(j)) = (
                     s.velocity.get(*slot),
@@ -168,17 +85,12 @@ impl MotionPlots {
                     continue;
                 };
                 let [cv, ca, cj] = c;
-                cv.push(s.t, v * scale);
-                ca.push(s.t, a * scale);
-                cj.push(s.t, j * scale);
+                cv.push_tagged(s.t, v * scale, at);
+                ca.push_tagged(s.t, a * scale, at);
+                cj.push_tagged(s.t, j * scale, at);
             }
         }
-        let points = |d: MinMaxDecimator| {
-            d.finish()
-                .into_iter()
-                .map(|[x, y]| PlotPoint::new(x, y))
-                .collect::<Vec<_>>()
-        };
+        let points = |d: MinMaxDecimator| Curve::from_tagged(d.finish_tagged());
         let axes = timed
             .axes
             .iter()
@@ -204,6 +116,7 @@ impl MotionPlots {
             naive_time_s: naive_time_s(timed.blocks()),
             sample_count,
             quantity: Quantity::Feed,
+            x_axis: XAxis::Time,
             cursor_s: None,
             all_limits: false,
         }
@@ -218,6 +131,30 @@ impl MotionPlots {
     /// Show another quantity.
     pub fn set_quantity(&mut self, q: Quantity) {
         self.quantity = q;
+    }
+
+    /// What the horizontal axis shows.
+    #[must_use]
+    pub fn x_axis(&self) -> XAxis {
+        self.x_axis
+    }
+
+    /// Plot against time or path length.
+    pub fn set_x_axis(&mut self, x: XAxis) {
+        self.x_axis = x;
+    }
+
+    /// The path position (mm) at time `t_s`, read from the decimated plan.
+    #[must_use]
+    pub fn path_at_time(&self, t_s: f64) -> f64 {
+        interpolate_x(&self.feed.by_time, &self.feed.by_path, t_s)
+    }
+
+    /// The time (s) at path position `s_mm`, up to the decimation; where the path stands
+    /// still (a rotary-only move) the end of that stretch.
+    #[must_use]
+    pub fn time_at_path(&self, s_mm: f64) -> f64 {
+        interpolate_x(&self.feed.by_path, &self.feed.by_time, s_mm)
     }
 
     /// Put the vertical cursor at time `t_s` (`None`: no cursor).
@@ -255,6 +192,9 @@ impl MotionPlots {
             for q in Quantity::ALL {
                 ui.selectable_value(&mut self.quantity, q, q.label());
             }
+            ui.separator();
+            ui.selectable_value(&mut self.x_axis, XAxis::Time, "vs time");
+            ui.selectable_value(&mut self.x_axis, XAxis::PathLength, "vs path");
             ui.separator();
             ui.checkbox(&mut self.all_limits, "All limits")
                 .on_hover_text(
@@ -298,23 +238,30 @@ impl MotionPlots {
         } else {
             format!("{} ({unit})", q.label().to_lowercase())
         };
-        let cursor = self.cursor_s;
+        let x = self.x_axis;
+        let to_x = |t: f64| match x {
+            XAxis::Time => t,
+            XAxis::PathLength => self.path_at_time(t),
+        };
+        let cursor = self.cursor_s.map(to_x);
         let t_max = self.cycle_time_s;
-        let response = Plot::new(("motion_plot", id))
+        // Separate plots (and link groups) per horizontal axis, so each keeps its own zoom.
+        let link = link.with(x);
+        let response = Plot::new(("motion_plot", id, x))
             .height(height.max(60.0))
             .legend(Legend::default())
-            .x_axis_label("time (s)")
+            .x_axis_label(x.label())
             .y_axis_label(y_label)
             .link_axis(link, [true, false])
             .link_cursor(link, [true, false])
             .include_x(0.0)
-            .include_x(t_max)
+            .include_x(to_x(t_max))
             .include_y(0.0)
             .allow_double_click_reset(true)
             .show(ui, |p| {
                 if q == Quantity::Feed {
                     p.line(
-                        Line::new("feed", self.feed.as_slice())
+                        Line::new("feed", self.feed.points(x))
                             .color(Color32::from_rgb(64, 140, 230)),
                     );
                 } else {
@@ -326,7 +273,8 @@ impl MotionPlots {
                             Some(l) => format!("{}  peak {} of limit", a.axis, percent(peak / l)),
                             None => a.axis.to_string(),
                         };
-                        p.line(Line::new(name.clone(), a.curve(q)).color(colour));
+                        let points = a.curve(q).map_or(&[][..], |c| c.points(x));
+                        p.line(Line::new(name.clone(), points).color(colour));
                         let near = |l: &f64| self.all_limits || peak >= 0.25 * l;
                         if let Some(limit) = limit.filter(near) {
                             for y in [limit, -limit] {
@@ -343,12 +291,16 @@ impl MotionPlots {
                     p.vline(VLine::new("cursor", t).color(Color32::WHITE).width(2.0));
                 }
                 if p.response().clicked() {
-                    p.pointer_coordinate().map(|c| c.x.clamp(0.0, t_max))
+                    p.pointer_coordinate().map(|c| c.x)
                 } else {
                     None
                 }
             });
-        response.inner.map(PlotEvent::TimeClicked)
+        let t = response.inner.map(|at| match x {
+            XAxis::Time => at,
+            XAxis::PathLength => self.time_at_path(at),
+        });
+        t.map(|t| PlotEvent::TimeClicked(t.clamp(0.0, t_max)))
     }
 }
 

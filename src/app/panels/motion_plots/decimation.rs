@@ -8,9 +8,10 @@ pub struct MinMaxDecimator {
     t0: f64,
     bucket_s: f64,
     bucket: Option<i64>,
-    min: (f64, f64),
-    max: (f64, f64),
-    out: Vec<[f64; 2]>,
+    /// (t, value, tag) of the bucket's smallest and largest value.
+    min: (f64, f64, f64),
+    max: (f64, f64, f64),
+    out: Vec<[f64; 3]>,
 }
 
 impl MinMaxDecimator {
@@ -28,14 +29,19 @@ impl MinMaxDecimator {
             // Slightly wider buckets so that `t1` itself falls in the last one.
             bucket_s: span / buckets as f64 * (1.0 + 1e-9),
             bucket: None,
-            min: (0.0, f64::INFINITY),
-            max: (0.0, f64::NEG_INFINITY),
+            min: (0.0, f64::INFINITY, 0.0),
+            max: (0.0, f64::NEG_INFINITY, 0.0),
             out: Vec::with_capacity(max_points.min(1 << 20)),
         }
     }
 
     /// Add one sample (non-finite values are skipped).
     pub fn push(&mut self, t: f64, value: f64) {
+        self.push_tagged(t, value, 0.0);
+    }
+
+    /// Add one sample carrying a tag that is kept with it (e.g. the path position at `t`).
+    pub fn push_tagged(&mut self, t: f64, value: f64, tag: f64) {
         if !(t.is_finite() && value.is_finite()) {
             return;
         }
@@ -45,10 +51,10 @@ impl MinMaxDecimator {
             self.bucket = Some(bucket);
         }
         if value < self.min.1 {
-            self.min = (t, value);
+            self.min = (t, value, tag);
         }
         if value > self.max.1 {
-            self.max = (t, value);
+            self.max = (t, value, tag);
         }
     }
 
@@ -61,18 +67,27 @@ impl MinMaxDecimator {
         } else {
             (self.max, self.min)
         };
-        self.out.push([a.0, a.1]);
+        self.out.push([a.0, a.1, a.2]);
         if b != a {
-            self.out.push([b.0, b.1]);
+            self.out.push([b.0, b.1, b.2]);
         }
-        self.min = (0.0, f64::INFINITY);
-        self.max = (0.0, f64::NEG_INFINITY);
+        self.min = (0.0, f64::INFINITY, 0.0);
+        self.max = (0.0, f64::NEG_INFINITY, 0.0);
         self.bucket = None;
     }
 
-    /// The decimated points, in time order.
+    /// The decimated points `[t, value]`, in time order.
     #[must_use]
-    pub fn finish(mut self) -> Vec<[f64; 2]> {
+    pub fn finish(self) -> Vec<[f64; 2]> {
+        self.finish_tagged()
+            .into_iter()
+            .map(|[t, v, _]| [t, v])
+            .collect()
+    }
+
+    /// The decimated points with their tags, `[t, value, tag]`, in time order.
+    #[must_use]
+    pub fn finish_tagged(mut self) -> Vec<[f64; 3]> {
         self.flush();
         self.out
     }

@@ -2,6 +2,7 @@ use super::*;
 use crate::feed::{PlanInput, PlanOptions, machine_limits, plan};
 use crate::gcode::{InterpretOptions, interpret};
 use crate::machine::Machine;
+use egui_plot::PlotPoint;
 
 /// A 5-axis program planned on the A/C trunnion: linear moves, a move with A and C, an arc.
 fn planned() -> TimedPath {
@@ -40,22 +41,24 @@ fn curves_keep_the_peaks_in_display_units() {
             (Quantity::Acceleration, p.acceleration),
             (Quantity::Jerk, p.jerk),
         ] {
-            let got = max_abs(a.curve(q));
+            let curve = a.curve(q).unwrap();
+            let got = max_abs(&curve.by_time);
+            assert!((max_abs(&curve.by_path) - got).abs() < f64::EPSILON);
             assert!(
                 (got - peak * scale).abs() <= 1e-9 * (1.0 + peak * scale),
                 "{} {q:?}: {got} vs {}",
                 a.axis,
                 peak * scale
             );
-            assert!(a.curve(q).len() <= MAX_POINTS);
+            assert!(curve.by_time.len() <= MAX_POINTS);
         }
         let (_, limit) = tp.axes.iter().find(|(c, _)| *c == a.axis).unwrap();
         assert!((a.limit.velocity - limit.velocity * scale).abs() < 1e-9 * a.limit.velocity);
     }
     let peak_feed = tp.samples().fold(0.0f64, |m, s| m.max(s.feed));
-    assert!((max_abs(&plots.feed) - peak_feed).abs() < 1e-12);
+    assert!((max_abs(&plots.feed.by_time) - peak_feed).abs() < 1e-12);
     assert_eq!(
-        plots.feed.last().map(|p| p.x),
+        plots.feed.by_time.last().map(|p| p.x),
         Some(tp.cycle_time_s),
         "the curves run to the cycle time"
     );
@@ -66,6 +69,56 @@ fn curves_keep_the_peaks_in_display_units() {
         "{}",
         plots.summary()
     );
+}
+
+/// Path length against time: the curves' path positions are the plan's own (state_at), and
+/// time → path → time comes back (the path grows strictly while the tool moves).
+#[test]
+fn path_length_axis_matches_the_plan() {
+    let tp = planned();
+    let plots = MotionPlots::new(&tp);
+    for p in plots
+        .feed
+        .by_time
+        .iter()
+        .zip(&plots.feed.by_path)
+        .step_by(97)
+    {
+        let s = tp.state_at(p.0.x).path_position;
+        assert!((p.1.x - s).abs() < 1e-9, "t {}: {} vs {s}", p.0.x, p.1.x);
+    }
+    let total: f64 = tp
+        .blocks()
+        .iter()
+        .map(crate::gcode::MotionBlock::length_mm)
+        .sum();
+    assert!((plots.path_at_time(tp.cycle_time_s) - total).abs() < 1e-6);
+    for t in [0.3, 1.1, 2.0, 2.9] {
+        let s = plots.path_at_time(t);
+        let exact = tp.state_at(t).path_position;
+        // Linear interpolation between decimated points (spacing ≤ the sample period here).
+        assert!((s - exact).abs() < 1e-3, "t {t}: {s} vs {exact}");
+        assert!((plots.time_at_path(s) - t).abs() < 2e-3, "t {t}");
+    }
+}
+
+#[test]
+fn interpolation_through_a_monotone_table() {
+    let from = [
+        PlotPoint::new(0.0, 0.0),
+        PlotPoint::new(1.0, 0.0),
+        PlotPoint::new(3.0, 0.0),
+    ];
+    let to = [
+        PlotPoint::new(10.0, 0.0),
+        PlotPoint::new(20.0, 0.0),
+        PlotPoint::new(60.0, 0.0),
+    ];
+    assert!((interpolate_x(&from, &to, 2.0) - 40.0).abs() < 1e-12);
+    assert!((interpolate_x(&from, &to, 0.5) - 15.0).abs() < 1e-12);
+    assert!((interpolate_x(&from, &to, -1.0) - 10.0).abs() < 1e-12);
+    assert!((interpolate_x(&from, &to, 9.0) - 60.0).abs() < 1e-12);
+    assert!((interpolate_x(&[], &[], 9.0) - 9.0).abs() < 1e-12);
 }
 
 #[test]
@@ -101,9 +154,12 @@ fn clicking_a_plot_reports_its_time() {
                 events: Vec::new(),
             },
         );
-    for q in Quantity::ALL {
-        h.state_mut().plots.set_quantity(q);
-        h.run_steps(2);
+    for x in [XAxis::PathLength, XAxis::Time] {
+        h.state_mut().plots.set_x_axis(x);
+        for q in Quantity::ALL {
+            h.state_mut().plots.set_quantity(q);
+            h.run_steps(2);
+        }
     }
     h.state_mut().plots.set_quantity(Quantity::Feed);
     h.run_steps(2);
