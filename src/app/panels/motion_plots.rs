@@ -15,7 +15,7 @@ pub use decimation::MinMaxDecimator;
 use crate::feed::path::slot_of;
 use crate::feed::{AxisLimit, TimedPath, naive_time_s};
 use egui::Color32;
-use egui_plot::{HLine, Legend, Line, LineStyle, Plot, VLine};
+use egui_plot::{HLine, Legend, Line, LineStyle, Plot, VLine, uniform_grid_spacer};
 
 /// Largest number of points kept per curve.
 pub const MAX_POINTS: usize = 20_000;
@@ -257,6 +257,7 @@ impl MotionPlots {
             .include_x(0.0)
             .include_x(to_x(t_max))
             .include_y(0.0)
+            .y_grid_spacer(uniform_grid_spacer(|g| grid_steps(g.base_step_size)))
             .allow_double_click_reset(true)
             .show(ui, |p| {
                 if q == Quantity::Feed {
@@ -314,6 +315,27 @@ fn axis_colour(axis: char) -> Color32 {
         'B' => Color32::from_rgb(200, 130, 230),
         _ => Color32::from_rgb(100, 200, 210),
     }
+}
+
+/// Grid steps 1-2-5 × 10ᵏ (the finest at least `base`), each dividing the next, so the
+/// labels stay dense where limits widen the range (egui_plot's default steps by 10 only).
+fn grid_steps(base: f64) -> [f64; 3] {
+    let base = base.abs();
+    if !(base.is_finite() && base > 0.0) {
+        return [1.0, 5.0, 10.0];
+    }
+    let p = 10f64.powf(base.log10().floor());
+    let m = base / p;
+    let (s0, k) = if m <= 1.0 {
+        (p, 5.0)
+    } else if m <= 2.0 {
+        (2.0 * p, 5.0)
+    } else if m <= 5.0 {
+        (5.0 * p, 2.0)
+    } else {
+        (10.0 * p, 5.0)
+    };
+    [s0, s0 * k, s0 * 10.0]
 }
 
 /// `0.4 %`, `12 %`.

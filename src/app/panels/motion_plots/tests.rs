@@ -122,6 +122,23 @@ fn interpolation_through_a_monotone_table() {
 }
 
 #[test]
+fn grid_steps_are_1_2_5_and_divide_each_other() {
+    let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9 * y);
+    assert!(close(grid_steps(0.7), [1.0, 5.0, 10.0]));
+    assert!(close(grid_steps(130.0), [200.0, 1000.0, 2000.0]));
+    assert!(close(grid_steps(3.2e3), [5e3, 1e4, 5e4]));
+    assert!(close(grid_steps(7.0), [10.0, 50.0, 100.0]));
+    for base in [1e-4, 0.03, 2.5, 999.0, 1.2e6] {
+        let [a, b, c] = grid_steps(base);
+        assert!(a >= base * (1.0 - 1e-12) && a <= 2.5 * base, "{base}: {a}");
+        for (x, y) in [(a, b), (b, c)] {
+            let r = y / x;
+            assert!((r - r.round()).abs() < 1e-9, "{base}: {y} / {x}");
+        }
+    }
+}
+
+#[test]
 fn units_per_quantity_and_axis_kind() {
     assert_eq!(Quantity::Velocity.unit(false), "mm/s");
     assert_eq!(Quantity::Acceleration.unit(true), "deg/s²");
