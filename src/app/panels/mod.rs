@@ -35,4 +35,3 @@ mod tests {
         assert_eq!(super::grouped(1_000_000), "1\u{2009}000\u{2009}000");
     }
 }
-#[cfg(test)]
