@@ -99,6 +99,22 @@ pub struct Posted {
     pub pose_of_line: Vec<Option<usize>>,
 }
 
+impl Posted {
+    /// For each of `pose_count` poses, the line of the block that reaches it (the last line
+    /// tagged with it); `None` for a pose no block writes (a repeat of the previous pose).
+    /// The inverse of [`Posted::pose_of_line`], for selecting the line of a picked pose.
+    #[must_use]
+    pub fn line_of_each_pose(&self, pose_count: usize) -> Vec<Option<usize>> {
+        let mut lines = vec![None; pose_count];
+        for (line, pose) in self.pose_of_line.iter().enumerate() {
+            if let Some(slot) = pose.and_then(|k| lines.get_mut(k)) {
+                *slot = Some(line);
+            }
+        }
+        lines
+    }
+}
+
 /// Post a tool path.
 ///
 /// # Errors

@@ -160,8 +160,21 @@ fn check_line_map(tp: &Toolpath, machine: &str, dialect: &str) -> f64 {
         }
     }
     assert!(seen.iter().all(|&s| s), "{dialect}: a pose has no line");
+    let lines = posted.line_of_each_pose(tp.poses.len());
+    for (k, line) in lines.iter().enumerate() {
+        let l = line.unwrap_or_else(|| panic!("{dialect}: pose {k} has no line"));
+        assert_eq!(posted.pose_of_line[l], Some(k));
+        assert_ne!(posted.pose_of_line.get(l + 1).copied().flatten(), Some(k));
+    }
     // Preamble and comments are not motions.
     assert_eq!(posted.pose_of_line.first(), Some(&None));
+    let mapped = posted.pose_of_line.iter().filter(|p| p.is_some()).count();
+    eprintln!(
+        "{dialect}/{}: {mapped} of {} lines mapped to {} poses, worst tip error {worst:.2e} mm",
+        machine.name,
+        posted.pose_of_line.len(),
+        tp.poses.len()
+    );
     worst
 }
 
