@@ -16,7 +16,8 @@ use egui::{Color32, FontId, Sense};
 /// What the user did in the pane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GcodeEvent {
-    /// A line was clicked (0-based); it is now the selected line.
+    /// A line was clicked, or stepped to with the Up/Down arrows (0-based); it is now the
+    /// selected line.
     LineClicked(usize),
 }
 
@@ -196,6 +197,7 @@ impl GcodeView {
         let font = egui::TextStyle::Monospace.resolve(ui.style());
         let row_height = ui.fonts_mut(|f| f.row_height(&font)) + 2.0;
         let digits = self.line_count().max(1).to_string().len();
+        let mut event = self.step_with_keys(ui);
         let mut scroll = egui::ScrollArea::both()
             .id_salt("gcode_view")
             .auto_shrink([false, false]);
@@ -208,7 +210,6 @@ impl GcodeView {
             scroll = scroll.vertical_scroll_offset((top * row_height).max(0.0));
         }
         let colours = Palette::new(ui.visuals());
-        let mut event = None;
         ui.scope(|ui| {
             ui.spacing_mut().item_spacing.y = 0.0;
             scroll.show_rows(ui, row_height, self.line_count(), |ui, rows| {
@@ -234,6 +235,29 @@ impl GcodeView {
             });
         });
         event
+    }
+
+    /// Up/Down arrows (pointer over the pane, no text field focused) step the selection.
+    fn step_with_keys(&mut self, ui: &egui::Ui) -> Option<GcodeEvent> {
+        let over = ui.rect_contains_pointer(ui.available_rect_before_wrap());
+        if !over || ui.ctx().egui_wants_keyboard_input() {
+            return None;
+        }
+        let (up, down) = ui.input(|i| {
+            (
+                i.key_pressed(egui::Key::ArrowUp),
+                i.key_pressed(egui::Key::ArrowDown),
+            )
+        });
+        let last = self.line_count().saturating_sub(1);
+        let line = match (self.selected, up, down) {
+            (Some(l), true, false) => l.saturating_sub(1),
+            (Some(l), false, true) => (l + 1).min(last),
+            (None, true, false) | (None, false, true) => self.visible.start.min(last),
+            _ => return None,
+        };
+        self.scroll_to_line(line);
+        Some(GcodeEvent::LineClicked(line))
     }
 
     /// The coloured text of row `i`: the gutter, then the tokens.

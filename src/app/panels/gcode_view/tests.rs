@@ -233,4 +233,21 @@ fn a_million_lines_scroll_to_a_line_and_click_it() {
     assert!(rows.contains(&clicked), "{clicked} not in {rows:?}");
     assert!(clicked.abs_diff(target) <= 3, "{clicked} vs {target}");
     assert_eq!(h.state().view.selected_line(), Some(clicked));
+    // The arrows step the selection while the pointer is over the pane (and only then).
+    h.key_press(egui::Key::ArrowDown);
+    h.run_steps(2);
+    assert_eq!(h.state().view.selected_line(), Some(clicked));
+    h.hover_at(pos);
+    h.step();
+    h.key_press(egui::Key::ArrowDown);
+    h.run_steps(2);
+    h.key_press(egui::Key::ArrowDown);
+    h.run_steps(2);
+    h.key_press(egui::Key::ArrowUp);
+    h.run_steps(2);
+    assert_eq!(h.state().view.selected_line(), Some(clicked + 1));
+    assert_eq!(
+        h.state().events.last(),
+        Some(&GcodeEvent::LineClicked(clicked + 1))
+    );
 }
