@@ -309,3 +309,97 @@ fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
     }
     assert!(seen.iter().all(|&c| c > 20), "{seen:?}");
 }
+
+/// Step frames until the calculation ends.
+fn settle_calculation(h: &mut Harness<'static, Workstation>) {
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_calculating() {
+            h.step();
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!("the calculation never finished");
+}
+
+#[test]
+fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
+    use talas::project::{Edit, Operation};
+    let dir = data_dir("operation");
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle(&mut h);
+
+    // Machining > Add Iso-scallop finishing: the operation appears and is being edited.
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Add Iso-scallop finishing").click();
+    h.run_steps(2);
+    assert_eq!(h.state().session().project.operations.len(), 1);
+    assert_eq!(h.state().focus(), Focus::Operation(0));
+    h.get_by_label("Calculate");
+    // A coarser scallop keeps the test short (the default is 0.01 mm).
+    let mut op = h.state().session().project.operations[0].clone();
+    if let Operation::Finish { options, .. } = &mut op {
+        options.scallop = 0.05;
+        options.tolerance = 0.02;
+    }
+    h.state_mut().apply(Command::Edit(Edit::SetOperation {
+        index: 0,
+        operation: op.clone(),
+    }));
+    h.step();
+
+    // F5 calculates in the background; the summary appears with units.
+    press(&mut h, egui::Modifiers::NONE, egui::Key::F5);
+    assert!(h.state().is_calculating() || h.state().operation_result(0).is_some());
+    settle_calculation(&mut h);
+    let (result, fresh) = h.state().operation_result(0).expect("a result");
+    assert!(fresh);
+    let poses = result.toolpath().poses.len();
+    assert!(poses > 100, "{poses} poses");
+    let predicted = result
+        .toolpath()
+        .summary
+        .predicted_max_scallop_mm
+        .expect("predicted scallop");
+    assert!(predicted <= 0.05 + 1e-9, "{predicted}");
+    h.get_by_label("Cut length");
+    assert!(h.query_all_by_label_contains(" µm").next().is_some());
+    assert!(h.query_all_by_label_contains("Stale").next().is_none());
+
+    // Space plays the path on its clock: the playback pose advances, the bar shows it.
+    assert_eq!(h.state().playback_position(), None);
+    press(&mut h, egui::Modifiers::NONE, egui::Key::Space);
+    for _ in 0..20 {
+        h.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let p1 = h.state().playback_position().expect("playing back");
+    press(&mut h, egui::Modifiers::NONE, egui::Key::Period);
+    let p2 = h.state().playback_position().expect("stepped");
+    assert!(p2 > p1.min(poses - 2), "{p1} -> {p2}");
+    assert!(
+        h.query_all_by_label_contains("Playback pose")
+            .next()
+            .is_some()
+    );
+
+    // Editing the operation makes the path stale; undo brings the fresh path back.
+    if let Operation::Finish { options, .. } = &mut op {
+        options.scallop = 0.04;
+    }
+    h.state_mut().apply(Command::Edit(Edit::SetOperation {
+        index: 0,
+        operation: op,
+    }));
+    h.run_steps(2);
+    assert!(!h.state().operation_result(0).expect("kept").1);
+    assert!(h.query_all_by_label_contains("Stale").next().is_some());
+    press(&mut h, egui::Modifiers::COMMAND, egui::Key::Z);
+    assert!(
+        h.state().operation_result(0).expect("kept").1,
+        "fresh again"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

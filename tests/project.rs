@@ -5,8 +5,8 @@ use std::path::Path;
 
 use talas::geometry::Aabb;
 use talas::project::{
-    Edit, EditError, History, Operation, PartRef, PartStatus, Project, ProjectError, Stock,
-    ToolEntry, content_hash,
+    Edit, EditError, History, Operation, OperationKind, PartRef, PartStatus, Project, ProjectError,
+    Stock, ToolEntry, content_hash,
 };
 use talas::tools::parse_tool_spec;
 
@@ -45,9 +45,16 @@ fn rich_project(dir: &Path) -> Project {
     p.operations.push(Operation::Raster {
         name: "Finish".into(),
         tool: 0,
-        stepover_mm: 0.3,
+        scallop_mm: 0.005,
         angle_rad: 0.25,
+        one_way: true,
+        tolerance_mm: 0.002,
+        feed_mm_per_min: 1500.0,
     });
+    p.operations
+        .push(Operation::new(OperationKind::IsoScallop, 1, 0));
+    p.operations
+        .push(Operation::new(OperationKind::Rough, 1, 0));
     p.view.distance_mm = 123.456_789_012_345;
     p.view.orthographic = true;
     p
@@ -264,9 +271,15 @@ fn random_edit(rng: &mut Lcg, p: &Project) -> Edit {
             index: rng.below(n + 1),
             tool: tool(specs[rng.below(4)], "t"),
         },
-        2 if n > 0 => Edit::RemoveTool {
-            index: rng.below(n),
-        },
+        // Only tools no operation uses can be deleted.
+        2 if (0..n).any(|i| p.operations.iter().all(|op| op.tool() != i)) => {
+            let free: Vec<usize> = (0..n)
+                .filter(|&i| p.operations.iter().all(|op| op.tool() != i))
+                .collect();
+            Edit::RemoveTool {
+                index: free[rng.below(free.len())],
+            }
+        }
         3 if n > 0 => {
             let mut t = tool(specs[rng.below(4)], "edited");
             let extra = rng.below(10) as f64;
@@ -288,15 +301,11 @@ fn random_edit(rng: &mut Lcg, p: &Project) -> Edit {
             min_mm: [0.0; 3],
             max_mm: [1.0 + rng.below(50) as f64, 2.0, 3.0],
         }),
-        _ => Edit::AddOperation {
+        8 if n > 0 => Edit::AddOperation {
             index: rng.below(p.operations.len() + 1),
-            operation: Operation::Raster {
-                name: "op".into(),
-                tool: 0,
-                stepover_mm: 0.5,
-                angle_rad: 0.0,
-            },
+            operation: Operation::new(OperationKind::Raster, rng.below(n), 0),
         },
+        _ => Edit::Rename(format!("renamed {}", rng.next())),
     }
 }
 
@@ -364,4 +373,66 @@ fn dirty_flag_follows_the_saved_state() {
     h.mark_unsaved();
     while h.undo(&mut p).is_some() {}
     assert!(h.is_dirty(), "never saved");
+}
+
+#[test]
+fn operations_keep_their_tools_when_the_library_changes() {
+    let mut p = Project::default();
+    p.tools.push(tool("flat:d=10", "Flat 10"));
+    let mut h = History::new();
+    h.apply(
+        &mut p,
+        Edit::AddOperation {
+            index: 0,
+            operation: Operation::new(OperationKind::Rough, 1, 0),
+        },
+    )
+    .expect("operation added");
+    let before = p.clone();
+    // A tool inserted before the operation's tool: the operation follows it.
+    h.apply(
+        &mut p,
+        Edit::AddTool {
+            index: 0,
+            tool: tool("ball:d=3", "Ball 3"),
+        },
+    )
+    .expect("tool added");
+    assert_eq!(p.operations[0].tool(), 2);
+    assert_eq!(p.tools[2].name, "Flat 10");
+    // The tool in use cannot be deleted; another can, and the index follows.
+    assert!(h.apply(&mut p, Edit::RemoveTool { index: 2 }).is_err());
+    h.apply(&mut p, Edit::RemoveTool { index: 0 })
+        .expect("unused tool removed");
+    assert_eq!(p.operations[0].tool(), 1);
+    h.undo(&mut p);
+    h.undo(&mut p);
+    assert_eq!(p, before);
+    // An operation naming a missing tool or with a bad number is refused.
+    let bad = Operation::new(OperationKind::Raster, 9, 0);
+    assert!(
+        h.apply(
+            &mut p,
+            Edit::AddOperation {
+                index: 0,
+                operation: bad
+            }
+        )
+        .is_err()
+    );
+    let mut neg = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut neg {
+        *scallop_mm = -1.0;
+    }
+    let e = h
+        .apply(
+            &mut p,
+            Edit::SetOperation {
+                index: 0,
+                operation: neg,
+            },
+        )
+        .expect_err("negative scallop refused");
+    assert!(e.to_string().contains("scallop"), "{e}");
+    assert_eq!(p, before);
 }

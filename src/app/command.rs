@@ -6,8 +6,9 @@ use std::path::PathBuf;
 use super::document::Selection;
 use super::panels::properties::Focus;
 use super::scalar_field::ScalarField;
+use super::toolpaths::PathColouring;
 use super::viewport::picking::SurfacePick;
-use crate::project::Edit;
+use crate::project::{Edit, OperationKind};
 use crate::render::{Projection, StandardView};
 
 /// A request from the UI.
@@ -65,4 +66,37 @@ pub enum Command {
     SetPick(Option<SurfacePick>),
     /// Colour the part by a per-vertex scalar field (or not).
     SetScalarField(Option<ScalarField>),
+    /// Add an operation of this kind (selected tool, selected face) and edit it.
+    AddOperation(OperationKind),
+    /// Plan operation `i` in the background.
+    Calculate(usize),
+    /// Plan the active (or the focused) operation.
+    CalculateActive,
+    /// Show this pose of the active operation's path in the properties (or none).
+    PickPose(Option<usize>),
+    /// How tool paths are coloured.
+    SetPathColouring(PathColouring),
+    /// Draw every operation's path (true) or only the active one's.
+    SetShowAllPaths(bool),
+    /// Playback of the active path.
+    Playback(PlaybackCommand),
+}
+
+/// What the playback bar asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlaybackCommand {
+    /// Run the clock.
+    Play,
+    /// Stop the clock where it is.
+    Pause,
+    /// Play when paused, pause when playing.
+    Toggle,
+    /// Show the whole path again (no playback position).
+    Reset,
+    /// Jump to this time of the path's clock, s.
+    Seek(f64),
+    /// Step this many poses forward (negative: back).
+    Step(i64),
+    /// Playback speed, × real time at feed.
+    Speed(f64),
 }

@@ -20,6 +20,7 @@ pub mod recent_files;
 pub mod scalar_field;
 pub mod theme;
 pub mod tool_library;
+pub mod toolpaths;
 pub mod viewport;
 pub mod workstation;
 

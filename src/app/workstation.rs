@@ -3,6 +3,7 @@
 //! commands they return in one place ([`Workstation::apply`], with the project commands in
 //! `project_commands`).
 
+mod operations;
 mod project_commands;
 
 use std::path::{Path, PathBuf};
@@ -18,18 +19,18 @@ use super::message_log::MessageLog;
 use super::panels::grouped;
 use super::panels::log_panel::log_ui;
 use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui, shortcuts};
+use super::panels::playback::playback_ui;
 use super::panels::project_dialogs::{PathPrompt, recovery_ui};
 use super::panels::project_tree::project_tree_ui;
-use super::panels::properties::{Focus, PropertiesView, properties_ui};
+use super::panels::properties::{Focus, Forms, PropertiesView, properties_ui};
 use super::panels::status_bar::{StatusInfo, status_bar_ui};
-use super::panels::tool_library::ToolForm;
 use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
 use super::scalar_field::{CurvatureField, ScalarField, curvature_field, has_surfaces};
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
 use super::viewport::picking::SurfacePick;
-use super::viewport::{ViewportState, viewport_ui};
+use super::viewport::{ViewportExtras, ViewportState, viewport_ui};
 use crate::diagnostics::Severity;
 use crate::project::Project;
 use crate::render::DataId;
@@ -93,7 +94,8 @@ pub struct Workstation {
     session: ProjectSession,
     library: ToolLibrary,
     focus: Focus,
-    tool_form: ToolForm,
+    forms: Forms,
+    ops: operations::Operations,
     pick: Option<SurfacePick>,
     prompt: Option<PathPrompt>,
     /// A recovery file to offer (Recover / Discard).
@@ -129,7 +131,8 @@ impl Workstation {
             session: ProjectSession::new(project, config.data_dir, config.autosave_every),
             library,
             focus: Focus::Selection,
-            tool_form: ToolForm::default(),
+            forms: Forms::default(),
+            ops: operations::Operations::new(),
             pick: None,
             prompt: None,
             recovery: None,
@@ -259,7 +262,8 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if let Some(job) = self.load_job.take() {
+                if self.cancel_calculation() {
+                } else if let Some(job) = self.load_job.take() {
                     job.cancel();
                     let t = self.now_s();
                     self.log
@@ -288,7 +292,17 @@ impl Workstation {
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
-            Command::Inspect(focus) => self.focus = focus,
+            Command::Inspect(focus) => {
+                if let Focus::Operation(i) = focus
+                    && self.ops.active != Some(i)
+                {
+                    self.ops.active = Some(i);
+                    self.ops.picked_pose = None;
+                    self.ops.t_s = None;
+                    self.ops.playing = false;
+                }
+                self.focus = focus;
+            }
             Command::SetPick(pick) => self.pick = pick,
             Command::SetScalarField(field) => self.set_scalar_field(field),
             Command::Edit(_)
@@ -302,6 +316,13 @@ impl Workstation {
             | Command::SaveProjectAs(_)
             | Command::Recover(_)
             | Command::DiscardRecovery(_) => self.apply_project(command),
+            Command::AddOperation(_)
+            | Command::Calculate(_)
+            | Command::CalculateActive
+            | Command::PickPose(_)
+            | Command::SetPathColouring(_)
+            | Command::SetShowAllPaths(_)
+            | Command::Playback(_) => self.apply_operation(command),
         }
     }
 
@@ -382,6 +403,7 @@ impl Workstation {
             }
         }
         self.poll_field_job();
+        self.poll_calc_job();
         self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
@@ -497,9 +519,8 @@ impl Workstation {
         StatusInfo {
             cursor_mm: self.viewport.hover_point,
             job: self
-                .load_job
-                .as_ref()
-                .map(job_status)
+                .calc_status()
+                .or_else(|| self.load_job.as_ref().map(job_status))
                 .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
             document: self.document.as_ref().map(|d| {
                 format!(
@@ -514,6 +535,8 @@ impl Workstation {
     /// Lay out one frame and apply what it asked for.
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         self.poll_background();
+        let dt = ui.ctx().input(|i| f64::from(i.stable_dt));
+        self.tick_playback(dt);
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
         self.ctx = ctx.clone();
@@ -543,6 +566,12 @@ impl Workstation {
                 .document
                 .as_ref()
                 .is_some_and(|d| has_surfaces(&d.part)),
+            path_colouring: self.ops.colouring,
+            all_paths: self.ops.show_all,
+            has_faces: self
+                .document
+                .as_ref()
+                .is_some_and(|d| !d.part.faces.is_empty()),
         };
         let undo = UndoLabels {
             undo: self.session.history.undo_label(),
@@ -575,25 +604,46 @@ impl Workstation {
                     &mut commands,
                 );
             });
+        let mut forms = std::mem::take(&mut self.forms);
         egui::Panel::right("properties")
             .resizable(true)
             .default_size(290.0)
             .size_range(180.0..=520.0)
             .show(ui, |ui| {
+                let operation = match self.focus {
+                    Focus::Operation(i) => Some(self.operation_view(i)),
+                    _ => None,
+                };
                 let view = PropertiesView {
                     focus: self.focus,
                     document: self.document.as_ref(),
                     project: &self.session.project,
                     pick: self.pick.as_ref(),
+                    operation,
                 };
-                properties_ui(ui, &view, &mut self.tool_form, &mut commands);
+                properties_ui(ui, &view, &mut forms, &mut commands);
             });
+        self.forms = forms;
+        if let Some(view) = self.playback_view() {
+            egui::Panel::bottom("playback")
+                .exact_size(30.0)
+                .show(ui, |ui| playback_ui(ui, &view, &mut commands));
+        }
+        let (paths, legend) = self.path_instances();
+        let mut viewport = std::mem::take(&mut self.viewport);
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
+            let up_to = self.playback_pose();
+            let extras = ViewportExtras {
+                paths,
+                path_legend: legend.map(|m| ("Predicted scallop (mm)".to_string(), m)),
+                pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
+            };
             viewport_ui(
                 ui,
-                &mut self.viewport,
+                &mut viewport,
                 self.document.as_ref(),
+                extras,
                 &mut commands,
             );
             overlays_ui(
@@ -603,6 +653,7 @@ impl Workstation {
                 ctx.input(|i| !i.raw.hovered_files.is_empty()),
             );
         });
+        self.viewport = viewport;
         self.path_field_ui(&ctx, &mut commands);
         if let Some(prompt) = &mut self.prompt
             && let Some(outcome) = prompt.ui(&ctx)

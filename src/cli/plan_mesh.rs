@@ -10,7 +10,7 @@ use crate::import::ImportError;
 use crate::import::step::read_step;
 use crate::import::stl::{StlOptions, read_stl};
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
-use crate::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+use crate::strategies::zlevel::{Stock, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
 
@@ -132,7 +132,13 @@ pub fn plan_mesh(
         return Ok(plan.toolpath);
     }
     let stock = Stock::parse(&opts.stock, &mesh.bbox()).map_err(|e| bad("--stock", e))?;
-    let grid_mm = roughing_grid_mm(&stock, &tool.cutter, opts);
+    let grid_mm = roughing_grid_mm(
+        &stock,
+        tool.cutter.radius(),
+        opts.tolerance_mm,
+        opts.stock_to_leave_radial_mm
+            .min(opts.stock_to_leave_axial_mm),
+    );
     let zopts = ZlevelOptions {
         stock,
         step_down_mm: opts.step_down_mm,
@@ -147,24 +153,4 @@ pub fn plan_mesh(
     let plan =
         zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
     Ok(plan.toolpath)
-}
-
-/// The roughing grid spacing: the chord tolerance, but no finer than half the smaller stock to
-/// leave (the grid may leave up to one spacing more than the stock to leave, so half of it keeps
-/// roughing within 1.5× the requested allowance) and coarse enough that the grid over the stock
-/// (plus the tool's reach) stays under the planner's 4 million nodes.
-fn roughing_grid_mm(stock: &Stock, cutter: &crate::tools::Cutter, opts: &MeshPlanOptions) -> f64 {
-    let allowance = opts
-        .stock_to_leave_radial_mm
-        .min(opts.stock_to_leave_axial_mm)
-        .max(0.0);
-    let mut g = opts.tolerance_mm.max(0.5 * allowance).max(1e-3);
-    let (lo, hi) = stock.xy_box();
-    let size = hi - lo + glam::DVec2::splat(2.0 * cutter.radius() + 4.0 * g);
-    let area = (size.x.max(0.0) + g) * (size.y.max(0.0) + g);
-    let finest = (area / 3.5e6).sqrt();
-    if finest.is_finite() && finest > g {
-        g = finest;
-    }
-    g
 }

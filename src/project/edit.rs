@@ -48,6 +48,13 @@ pub enum Edit {
         /// Which operation.
         index: usize,
     },
+    /// Replace the operation at `index` (its parameters, tool or name).
+    SetOperation {
+        /// Which operation.
+        index: usize,
+        /// Its new values.
+        operation: Operation,
+    },
     /// Several edits as one undo step, applied in order.
     Batch(Vec<Edit>),
 }
@@ -85,6 +92,7 @@ impl Edit {
             Self::SetMachine(_) => "Change machine",
             Self::AddOperation { .. } => "Add operation",
             Self::RemoveOperation { .. } => "Delete operation",
+            Self::SetOperation { .. } => "Edit operation",
             Self::Batch(edits) => edits.first().map_or("Edit", Edit::describe),
         }
     }
@@ -123,6 +131,16 @@ fn check_tool(tool: &ToolEntry) -> Result<(), EditError> {
         .map_err(|e| EditError::Invalid(e.to_string()))
 }
 
+fn check_operation(project: &Project, operation: &Operation) -> Result<(), EditError> {
+    if operation.tool() >= project.tools.len() {
+        return Err(no_such("tool", operation.tool(), project.tools.len()));
+    }
+    if operation.name().trim().is_empty() {
+        return Err(EditError::Invalid("the operation name is empty".into()));
+    }
+    operation.validate().map_err(EditError::Invalid)
+}
+
 impl Project {
     /// Apply `edit` and return the edit that undoes it exactly.
     ///
@@ -153,6 +171,12 @@ impl Project {
                 {
                     *s += 1;
                 }
+                // Operations keep their tools.
+                for op in &mut self.operations {
+                    if op.tool() >= index {
+                        *op = op.clone().with_tool(op.tool() + 1);
+                    }
+                }
                 Edit::Batch(vec![Edit::RemoveTool { index }, Edit::SelectTool(before)])
             }
             Edit::SetTool { index, tool } => {
@@ -171,8 +195,19 @@ impl Project {
                 if index >= self.tools.len() {
                     return Err(no_such("tool", index, self.tools.len()));
                 }
+                if let Some(op) = self.operations.iter().find(|op| op.tool() == index) {
+                    return Err(EditError::Invalid(format!(
+                        "the tool is used by the operation '{}'",
+                        op.name()
+                    )));
+                }
                 let before = self.selected_tool;
                 let tool = self.tools.remove(index);
+                for op in &mut self.operations {
+                    if op.tool() > index {
+                        *op = op.clone().with_tool(op.tool() - 1);
+                    }
+                }
                 self.selected_tool = match before {
                     Some(s) if s == index => None,
                     Some(s) if s > index => Some(s - 1),
@@ -201,8 +236,21 @@ impl Project {
                 if index > self.operations.len() {
                     return Err(no_such("operation", index, self.operations.len()));
                 }
+                check_operation(self, &operation)?;
                 self.operations.insert(index, operation);
                 Edit::RemoveOperation { index }
+            }
+            Edit::SetOperation { index, operation } => {
+                check_operation(self, &operation)?;
+                let count = self.operations.len();
+                let slot = self
+                    .operations
+                    .get_mut(index)
+                    .ok_or_else(|| no_such("operation", index, count))?;
+                Edit::SetOperation {
+                    index,
+                    operation: std::mem::replace(slot, operation),
+                }
             }
             Edit::RemoveOperation { index } => {
                 if index >= self.operations.len() {

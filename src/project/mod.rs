@@ -8,12 +8,15 @@
 mod edit;
 pub mod file;
 mod history;
+pub mod operation;
 mod part;
+pub mod pipeline;
 mod stock;
 
 pub use edit::{Edit, EditError};
 pub use file::ProjectError;
 pub use history::History;
+pub use operation::{Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
 pub use stock::Stock;
 
@@ -30,24 +33,6 @@ pub struct ToolEntry {
     pub name: String,
     /// The cutter (sizes validated by [`Cutter::validate`] before an edit is applied).
     pub cutter: Cutter,
-}
-
-/// A machining operation. Only kinds the engine can run are listed; more come with the
-/// strategies.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Operation {
-    /// Raster drop-cutter finishing over the part.
-    Raster {
-        /// Name shown in the tree.
-        name: String,
-        /// Index of the tool in [`Project::tools`].
-        tool: usize,
-        /// Distance between raster lines, mm.
-        stepover_mm: f64,
-        /// Direction of the raster lines from +X, rad.
-        angle_rad: f64,
-    },
 }
 
 /// The camera as plain numbers (mm, rad), so a reopened project shows the same view.

@@ -75,7 +75,16 @@ impl<'a> FacePatch<'a> {
     /// # Errors
     /// [`PlanError::Face`] for unbounded surfaces or faces without a defined normal.
     pub fn from_face(face: &'a Face) -> Result<Self, PlanError> {
-        let mut patch = Self::new(&face.surface, face.surface.domain(), 1.0)?;
+        Self::from_surface(&face.surface)
+    }
+
+    /// The patch of `surface` over its natural domain, with the tool on the side whose normal
+    /// points up (+z) on average (as [`FacePatch::from_face`]).
+    ///
+    /// # Errors
+    /// [`PlanError::Face`] for unbounded surfaces or surfaces without a defined normal.
+    pub fn from_surface(surface: &'a SurfaceGeom) -> Result<Self, PlanError> {
+        let mut patch = Self::new(surface, surface.domain(), 1.0)?;
         let mut z = 0.0;
         let mut count = 0;
         for i in 0..=8 {

@@ -219,6 +219,29 @@ pub enum ZlevelError {
     Cutter,
 }
 
+/// The roughing grid spacing (mm) for a cutter of `cutter_radius` mm: the chord tolerance, but
+/// no finer than half the stock to leave `allowance_mm` (the grid may leave up to one spacing more
+/// than the stock to leave, so half of it keeps roughing within 1.5× the requested allowance) and
+/// coarse enough that the grid over the stock (plus the tool's reach) stays under the planner's 4
+/// million nodes.
+#[must_use]
+pub fn roughing_grid_mm(
+    stock: &Stock,
+    cutter_radius: f64,
+    tolerance_mm: f64,
+    allowance_mm: f64,
+) -> f64 {
+    let mut g = tolerance_mm.max(0.5 * allowance_mm.max(0.0)).max(1e-3);
+    let (lo, hi) = stock.xy_box();
+    let size = hi - lo + DVec2::splat(2.0 * cutter_radius + 4.0 * g);
+    let area = (size.x.max(0.0) + g) * (size.y.max(0.0) + g);
+    let finest = (area / 3.5e6).sqrt();
+    if finest.is_finite() && finest > g {
+        g = finest;
+    }
+    g
+}
+
 /// A planned roughing path.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ZlevelPlan {

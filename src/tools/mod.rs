@@ -11,7 +11,7 @@ pub mod effective;
 pub mod solid;
 mod spec;
 
-pub use spec::parse_tool_spec;
+pub use spec::{parse_tool_spec, tool_spec};
 
 /// The shape of a cutter's cutting end.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -84,6 +84,39 @@ pub fn parse_tool_spec(spec: &str) -> Result<Cutter, ToolError> {
     Ok(cutter)
 }
 
+/// The spec string of `cutter` (`bull:d=10,r=2,flute=20,shank=10,length=70,holder=40x60`):
+/// every size written, so [`parse_tool_spec`] gives the same cutter back.
+#[must_use]
+pub fn tool_spec(cutter: &Cutter) -> String {
+    let mut s = match cutter.kind {
+        CutterKind::Ball => format!("ball:d={}", cutter.diameter),
+        CutterKind::Flat => format!("flat:d={}", cutter.diameter),
+        CutterKind::BullNose { corner_radius } => {
+            format!("bull:d={},r={corner_radius}", cutter.diameter)
+        }
+        CutterKind::Cone { half_angle } => {
+            format!(
+                "cone:d={},angle={}",
+                cutter.diameter,
+                half_angle.to_degrees()
+            )
+        }
+    };
+    s.push_str(&format!(
+        ",flute={},shank={},length={}",
+        cutter.flute_length, cutter.shank_diameter, cutter.overall_length
+    ));
+    if !cutter.holder.is_empty() {
+        let sections: Vec<String> = cutter
+            .holder
+            .iter()
+            .map(|h| format!("{}x{}", h.diameter, h.length))
+            .collect();
+        s.push_str(&format!(",holder={}", sections.join("+")));
+    }
+    s
+}
+
 fn parse_holder(text: &str) -> Result<Vec<HolderSection>, String> {
     text.split('+')
         .map(|s| {
@@ -120,6 +153,32 @@ mod tests {
         let c = parse_tool_spec("cone:d=10,angle=45,holder=20x30+40x50").expect("cone");
         assert!((c.profile_height() - 5.0).abs() < 1e-12);
         assert_eq!(c.holder.len(), 2);
+    }
+
+    #[test]
+    fn spec_round_trips() {
+        for spec in [
+            "ball:d=6",
+            "flat:d=10,flute=20,shank=8",
+            "bull:d=10,r=2,holder=20x30+40x50",
+            "cone:d=10,angle=30,length=55",
+        ] {
+            let c = parse_tool_spec(spec).expect(spec);
+            let written = tool_spec(&c);
+            let back = parse_tool_spec(&written).expect(&written);
+            let same_kind = match (back.kind, c.kind) {
+                (CutterKind::Cone { half_angle: a }, CutterKind::Cone { half_angle: b }) => {
+                    (a - b).abs() < 1e-12
+                }
+                (a, b) => a == b,
+            };
+            assert!(same_kind, "{written}");
+            assert!((back.diameter - c.diameter).abs() < 1e-12, "{written}");
+            assert_eq!(back.flute_length, c.flute_length, "{written}");
+            assert_eq!(back.shank_diameter, c.shank_diameter, "{written}");
+            assert_eq!(back.overall_length, c.overall_length, "{written}");
+            assert_eq!(back.holder, c.holder, "{written}");
+        }
     }
 
     #[test]

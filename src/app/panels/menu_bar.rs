@@ -4,9 +4,11 @@
 
 use egui::{Key, KeyboardShortcut, Modifiers};
 
-use super::super::command::Command;
+use super::super::command::{Command, PlaybackCommand};
 use super::super::recent_files::RecentFiles;
 use super::super::scalar_field::ScalarField;
+use super::super::toolpaths::PathColouring;
+use crate::project::OperationKind;
 use crate::render::{Projection, StandardView};
 
 /// Ctrl+O: open a part or a project.
@@ -49,6 +51,12 @@ pub struct ViewFlags {
     pub scalar_field: Option<ScalarField>,
     /// Can the part be coloured by curvature (it has exact surfaces)?
     pub fields_available: bool,
+    /// How tool paths are coloured.
+    pub path_colouring: PathColouring,
+    /// Every operation's path drawn (not only the active one's).
+    pub all_paths: bool,
+    /// Does the part have exact faces (finishing operations possible)?
+    pub has_faces: bool,
 }
 
 /// What the Edit menu shows: descriptions of the steps undo and redo would take.
@@ -190,6 +198,47 @@ pub fn menu_bar_ui(
                     }
                 });
             });
+            ui.menu_button("Tool Paths", |ui| {
+                let mut c = view.path_colouring;
+                for option in PathColouring::ALL {
+                    ui.radio_value(&mut c, option, option.name());
+                }
+                if c != view.path_colouring {
+                    commands.push(Command::SetPathColouring(c));
+                }
+                ui.separator();
+                let mut all = view.all_paths;
+                if ui.checkbox(&mut all, "All operations").changed() {
+                    commands.push(Command::SetShowAllPaths(all));
+                }
+            });
+        });
+        ui.menu_button("Machining", |ui| {
+            for kind in OperationKind::ALL {
+                let enabled = view.has_faces || !kind.needs_face();
+                if ui
+                    .add_enabled(enabled, egui::Button::new(format!("Add {}", kind.label())))
+                    .clicked()
+                {
+                    commands.push(Command::AddOperation(kind));
+                    ui.close();
+                }
+            }
+            ui.separator();
+            if ui
+                .add(egui::Button::new("Calculate").shortcut_text("F5"))
+                .clicked()
+            {
+                commands.push(Command::CalculateActive);
+                ui.close();
+            }
+            if ui
+                .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
+                .clicked()
+            {
+                commands.push(Command::Playback(PlaybackCommand::Toggle));
+                ui.close();
+            }
         });
     });
 }
@@ -214,7 +263,9 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
             commands.push(Command::SaveProject);
         }
     });
-    if ctx.egui_wants_keyboard_input() {
+    // Only a focused text field takes the keys (a clicked button or tree row keeps focus too,
+    // and must not swallow F5 or Space).
+    if ctx.text_edit_focused() {
         // A text field has focus: Ctrl+Z belongs to it.
         return;
     }
@@ -229,6 +280,18 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
     ctx.input_mut(|i| {
         if i.consume_key(Modifiers::NONE, Key::F) {
             commands.push(Command::FitAll);
+        }
+        if i.consume_key(Modifiers::NONE, Key::F5) {
+            commands.push(Command::CalculateActive);
+        }
+        if i.consume_key(Modifiers::NONE, Key::Space) {
+            commands.push(Command::Playback(PlaybackCommand::Toggle));
+        }
+        if i.consume_key(Modifiers::NONE, Key::Comma) {
+            commands.push(Command::Playback(PlaybackCommand::Step(-1)));
+        }
+        if i.consume_key(Modifiers::NONE, Key::Period) {
+            commands.push(Command::Playback(PlaybackCommand::Step(1)));
         }
         for (v, key) in VIEW_KEYS {
             if i.consume_key(Modifiers::NONE, key) {

@@ -6,6 +6,8 @@ pub mod log_panel;
 pub mod machine_panel;
 pub mod menu_bar;
 pub mod motion_plots;
+pub mod operation_editor;
+pub mod playback;
 pub mod project_dialogs;
 pub mod project_tree;
 pub mod properties;

@@ -4,9 +4,10 @@
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::grouped;
+use super::operation_editor::add_operation_ui;
 use super::properties::Focus;
 use super::tool_library::tool_list_ui;
-use crate::project::{Operation, Project, Stock};
+use crate::project::{Project, Stock};
 
 /// One-line description of the stock.
 #[must_use]
@@ -66,14 +67,30 @@ pub fn project_tree_ui(
                         ui.weak("None yet");
                     }
                     for (i, op) in project.operations.iter().enumerate() {
-                        let Operation::Raster { name, .. } = op;
+                        let tool = project
+                            .tools
+                            .get(op.tool())
+                            .map_or_else(|| "no tool".to_string(), |t| t.name.clone());
                         if ui
-                            .selectable_label(focus == Focus::Operation(i), name.as_str())
+                            .selectable_label(
+                                focus == Focus::Operation(i),
+                                format!("{}. {}", i + 1, op.name()),
+                            )
+                            .on_hover_text(format!(
+                                "{} · T{} {tool}",
+                                op.kind().label(),
+                                op.tool() + 1
+                            ))
                             .clicked()
                         {
                             commands.push(Command::Inspect(Focus::Operation(i)));
                         }
                     }
+                    add_operation_ui(
+                        ui,
+                        document.is_some_and(|d| !d.part.faces.is_empty()),
+                        commands,
+                    );
                 });
             let mut leaf = |ui: &mut egui::Ui, f: Focus, text: String| {
                 if ui.selectable_label(focus == f, text).clicked() {

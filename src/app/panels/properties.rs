@@ -8,9 +8,10 @@ use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::super::viewport::picking::SurfacePick;
 use super::grouped;
+use super::operation_editor::{OperationForm, OperationView, operation_editor_ui};
 use super::tool_library::{ToolForm, tool_editor_ui};
 use crate::diagnostics::Severity;
-use crate::project::{Edit, Operation, Project, Stock};
+use crate::project::{Edit, Project, Stock};
 
 /// What the properties panel shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,13 +41,24 @@ pub struct PropertiesView<'a> {
     pub project: &'a Project,
     /// The last surface point clicked in the viewport.
     pub pick: Option<&'a SurfacePick>,
+    /// The operation shown (when the focus is an operation).
+    pub operation: Option<OperationView<'a>>,
+}
+
+/// The editors' working copies.
+#[derive(Debug, Default)]
+pub struct Forms {
+    /// The tool editor's texts.
+    pub tool: ToolForm,
+    /// The operation editor's draft.
+    pub operation: OperationForm,
 }
 
 /// The properties panel.
 pub fn properties_ui(
     ui: &mut egui::Ui,
     view: &PropertiesView<'_>,
-    form: &mut ToolForm,
+    forms: &mut Forms,
     commands: &mut Vec<Command>,
 ) {
     ui.add_space(4.0);
@@ -56,10 +68,17 @@ pub fn properties_ui(
         .auto_shrink([false, false])
         .show(ui, |ui| match view.focus {
             Focus::Selection => selection_ui(ui, view),
-            Focus::Tool(i) => tool_editor_ui(ui, view.project, i, form, commands),
+            Focus::Tool(i) => tool_editor_ui(ui, view.project, i, &mut forms.tool, commands),
             Focus::Stock => stock_ui(ui, view, commands),
             Focus::Setup => setup_ui(ui, view.project),
-            Focus::Operation(i) => operation_ui(ui, view.project, i),
+            Focus::Operation(i) => match &view.operation {
+                Some(op) if op.index == i => {
+                    operation_editor_ui(ui, op, &mut forms.operation, commands);
+                }
+                _ => {
+                    ui.weak("No such operation.");
+                }
+            },
             Focus::Machine => machine_ui(ui, view.project, commands),
         });
 }
@@ -169,37 +188,6 @@ fn setup_ui(ui: &mut egui::Ui, project: &Project) {
         ],
     );
     ui.weak("The work offset is the part's own origin until setups become editable.");
-}
-
-fn operation_ui(ui: &mut egui::Ui, project: &Project, i: usize) {
-    let Some(op) = project.operations.get(i) else {
-        ui.weak("No such operation.");
-        return;
-    };
-    match op {
-        Operation::Raster {
-            name,
-            tool,
-            stepover_mm,
-            angle_rad,
-        } => {
-            ui.heading(name);
-            let tool_name = project
-                .tools
-                .get(*tool)
-                .map_or_else(|| format!("T{} (missing)", tool + 1), |t| t.name.clone());
-            grid(
-                ui,
-                "operation",
-                &[
-                    ("Strategy", "raster drop-cutter".into()),
-                    ("Tool", tool_name),
-                    ("Stepover", format!("{stepover_mm:.3} mm")),
-                    ("Angle", format!("{:.2}°", angle_rad.to_degrees())),
-                ],
-            );
-        }
-    }
 }
 
 fn machine_ui(ui: &mut egui::Ui, project: &Project, commands: &mut Vec<Command>) {

@@ -1,7 +1,6 @@
 //! The colour-map legend over the viewport: a vertical bar with the field's name, unit, and the
 //! values at its ends and middle.
 
-use super::super::scalar_field::ScalarField;
 use crate::render::ScalarMapping;
 
 /// Height of the colour bar, points.
@@ -24,10 +23,20 @@ pub fn legend_value(v: f32) -> String {
     }
 }
 
-/// Draw the legend of `field` mapped by `mapping` in the top-left corner of `rect`.
-pub fn legend_ui(ui: &egui::Ui, rect: egui::Rect, field: ScalarField, mapping: ScalarMapping) {
+/// Height a legend takes, points (legends stack down the left edge).
+pub const LEGEND_HEIGHT: f32 = BAR_HEIGHT + 52.0;
+
+/// Draw the legend `title` (with its unit) of values mapped by `mapping` at the top-left corner
+/// of `rect`, `slot` legends down.
+pub fn legend_ui(
+    ui: &egui::Ui,
+    rect: egui::Rect,
+    title: &str,
+    mapping: ScalarMapping,
+    slot: usize,
+) {
     let painter = ui.painter();
-    let origin = rect.left_top() + egui::vec2(14.0, 34.0);
+    let origin = rect.left_top() + egui::vec2(14.0, 34.0 + slot as f32 * LEGEND_HEIGHT);
     let frame = egui::Rect::from_min_size(
         origin - egui::vec2(8.0, 26.0),
         egui::vec2(BAR_WIDTH + 110.0, BAR_HEIGHT + 44.0),
@@ -36,7 +45,7 @@ pub fn legend_ui(ui: &egui::Ui, rect: egui::Rect, field: ScalarField, mapping: S
     painter.text(
         origin - egui::vec2(0.0, 8.0),
         egui::Align2::LEFT_BOTTOM,
-        format!("{} ({})", field.name(), field.unit()),
+        title,
         egui::FontId::proportional(12.0),
         egui::Color32::from_gray(230),
     );

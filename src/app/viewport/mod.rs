@@ -18,6 +18,7 @@ use crate::render::{
     BoundingSphere, Camera, DataId, DisplayOptions, LineInstance, MeshData, MeshInstance,
     Projection, ScalarMapping, Scene, StandardView,
 };
+use crate::toolpath::Toolpath;
 
 /// Colour of the part (sRGB): a light steel grey-blue.
 const PART_COLOUR: [u8; 4] = [176, 186, 200, 255];
@@ -165,12 +166,28 @@ impl ViewportState {
     }
 }
 
+/// What the viewport draws besides the part: tool paths, their legend, and the path whose poses
+/// can be picked.
+#[derive(Default)]
+pub struct ViewportExtras<'a> {
+    /// Tool paths (drawn over the part).
+    pub paths: Vec<LineInstance>,
+    /// Legend of the path colouring, when it maps a scalar (title with unit, mapping).
+    pub path_legend: Option<(String, ScalarMapping)>,
+    /// The active path and how far playback has drawn it (poses beyond are not pickable).
+    pub pick_path: Option<(&'a Toolpath, Option<usize>)>,
+}
+
+/// Pick radius around a path pose, points.
+const POSE_PICK_RADIUS: f32 = 7.0;
+
 /// Draw the viewport into the rest of `ui`; navigation changes the camera, clicks on the part
-/// become selection commands.
+/// become selection commands, clicks on a pose of the active path pick it.
 pub fn viewport_ui(
     ui: &mut egui::Ui,
     state: &mut ViewportState,
     document: Option<&Document>,
+    extras: ViewportExtras<'_>,
     commands: &mut Vec<Command>,
 ) {
     let rect = ui.available_rect_before_wrap();
@@ -188,7 +205,27 @@ pub fn viewport_ui(
         picking::ray_cast(doc.bvh.as_ref()?, origin.as_dvec3(), dir.as_dvec3())
     });
     state.hover_point = hit.map(|h| h.point);
-    if response.clicked() {
+    let pose_hit = if response.clicked() {
+        pointer
+            .zip(extras.pick_path)
+            .and_then(|(pos, (path, up_to))| {
+                let local = pos - rect.min;
+                super::toolpaths::pick_pose(
+                    path,
+                    state.camera.clip_from_world(state.aspect),
+                    glam::Vec2::new(rect.width(), rect.height()),
+                    glam::Vec2::new(local.x, local.y),
+                    POSE_PICK_RADIUS,
+                    up_to,
+                )
+            })
+    } else {
+        None
+    };
+    if let Some(i) = pose_hit {
+        commands.push(Command::PickPose(Some(i)));
+    } else if response.clicked() {
+        commands.push(Command::PickPose(None));
         let (selection, pick) = match (hit, document) {
             (Some(h), Some(doc)) if !doc.part.faces.is_empty() => {
                 let face = doc
@@ -215,7 +252,8 @@ pub fn viewport_ui(
         (rect.width() * ppp).round().max(1.0) as u32,
         (rect.height() * ppp).round().max(1.0) as u32,
     ];
-    let scene = state.scene(document);
+    let mut scene = state.scene(document);
+    scene.lines.extend(extras.paths);
     ui.painter().add(egui_wgpu::Callback::new_paint_callback(
         rect,
         bridge::ViewportCallback { scene, size_px },
@@ -241,7 +279,12 @@ pub fn viewport_ui(
         Projection::Orthographic => "Orthographic",
     };
     if let Some((field, mapping)) = state.legend() {
-        legend::legend_ui(ui, rect, field, mapping);
+        let title = format!("{} ({})", field.name(), field.unit());
+        legend::legend_ui(ui, rect, &title, mapping, 0);
+    }
+    if let Some((title, mapping)) = &extras.path_legend {
+        let slot = usize::from(state.legend().is_some());
+        legend::legend_ui(ui, rect, title, *mapping, slot);
     }
     ui.painter().text(
         rect.right_bottom() + egui::vec2(-10.0, -8.0),

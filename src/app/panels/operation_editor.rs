@@ -1,0 +1,644 @@
+//! The operation editor (properties panel): tool, face, strategy and its parameters with their
+//! units, Calculate with progress and Cancel, the computed path's summary (lengths, poses, time at
+//! feed, predicted scallop, gouge report) and the pose picked in the viewport.
+//!
+//! Numbers are dragged or typed; a value is applied (one undo step) when the drag ends or the
+//! typing is confirmed. Values are shown in mm, mm/min and degrees; the document keeps rad.
+
+use glam::DVec3;
+
+use super::super::command::Command;
+use super::super::document::{Document, Selection};
+use super::super::theme;
+use super::super::toolpaths::ComputedOp;
+use super::grouped;
+use super::properties::Focus;
+use crate::diagnostics::Severity;
+use crate::project::{Edit, Operation, OperationKind, Project};
+use crate::strategies::axis::AxisMode;
+use crate::strategies::{Direction, Pattern, Strategy};
+use crate::toolpath::MoveKind;
+
+/// The working copy of the operation being edited (so a drag shows its value at once and is
+/// applied as one edit when it ends).
+#[derive(Clone, Debug, Default)]
+pub struct OperationForm {
+    source: Option<(usize, Operation)>,
+    draft: Option<Operation>,
+    name: String,
+}
+
+/// What the operation editor reads.
+pub struct OperationView<'a> {
+    /// The project.
+    pub project: &'a Project,
+    /// Which operation.
+    pub index: usize,
+    /// The loaded part (faces, selection).
+    pub document: Option<&'a Document>,
+    /// The latest result for this operation and whether it matches the current parameters.
+    pub result: Option<(&'a ComputedOp, bool)>,
+    /// The running calculation of this operation: fraction done, seconds running.
+    pub running: Option<(f64, f64)>,
+    /// The pose picked in the viewport (index into the result's tool path).
+    pub picked_pose: Option<usize>,
+    /// The pose the playback shows.
+    pub playback_pose: Option<usize>,
+}
+
+/// The operation editor.
+pub fn operation_editor_ui(
+    ui: &mut egui::Ui,
+    view: &OperationView<'_>,
+    form: &mut OperationForm,
+    commands: &mut Vec<Command>,
+) {
+    let Some(current) = view.project.operations.get(view.index) else {
+        ui.weak("No such operation.");
+        return;
+    };
+    let editing = ui.ctx().dragged_id().is_some();
+    if form.source.as_ref() != Some(&(view.index, current.clone())) && !editing {
+        form.source = Some((view.index, current.clone()));
+        form.draft = Some(current.clone());
+        form.name = current.name().to_string();
+    }
+    let Some(mut draft) = form.draft.clone() else {
+        return;
+    };
+    let mut commit = false;
+    ui.horizontal(|ui| {
+        let r = ui.add(egui::TextEdit::singleline(&mut form.name).desired_width(200.0));
+        if r.lost_focus() && form.name.trim() != current.name() && !form.name.trim().is_empty() {
+            draft = draft.clone().with_name(form.name.trim());
+            commit = true;
+        }
+    });
+    ui.weak(current.kind().label());
+    ui.add_space(4.0);
+    egui::Grid::new("operation fields")
+        .num_columns(2)
+        .spacing([10.0, 6.0])
+        .show(ui, |ui| {
+            commit |= tool_row(ui, view.project, &mut draft);
+            commit |= kind_rows(ui, view.document, &mut draft);
+        });
+    if commit && draft != *current {
+        commands.push(Command::Edit(Edit::SetOperation {
+            index: view.index,
+            operation: draft.clone(),
+        }));
+    }
+    form.draft = Some(draft);
+
+    ui.add_space(8.0);
+    ui.horizontal(|ui| {
+        match view.running {
+            Some((fraction, elapsed)) => {
+                ui.add(
+                    egui::ProgressBar::new(fraction as f32)
+                        .desired_width(140.0)
+                        .text(format!("{:.0} % · {elapsed:.1} s", fraction * 100.0)),
+                );
+                if ui.button("Cancel").clicked() {
+                    commands.push(Command::CancelJob);
+                }
+            }
+            None => {
+                let fresh = view.result.is_some_and(|(_, fresh)| fresh);
+                let label = if fresh { "Recalculate" } else { "Calculate" };
+                if ui
+                    .button(egui::RichText::new(label).strong())
+                    .on_hover_text("Plan the tool path in the background (F5)")
+                    .clicked()
+                {
+                    commands.push(Command::Calculate(view.index));
+                }
+            }
+        }
+        if ui.button("Duplicate").clicked() {
+            commands.push(Command::Edit(Edit::AddOperation {
+                index: view.index + 1,
+                operation: current
+                    .clone()
+                    .with_name(format!("{} (copy)", current.name())),
+            }));
+            commands.push(Command::Inspect(Focus::Operation(view.index + 1)));
+        }
+        if ui.button("Delete").clicked() {
+            commands.push(Command::Edit(Edit::RemoveOperation { index: view.index }));
+            commands.push(Command::Inspect(Focus::Selection));
+        }
+    });
+    if let Some((result, fresh)) = view.result {
+        ui.add_space(8.0);
+        summary_ui(ui, result, fresh);
+        if let Some(i) = view.picked_pose.or(view.playback_pose) {
+            ui.add_space(8.0);
+            pose_ui(ui, result, i, view.picked_pose.is_some());
+        }
+    } else if view.running.is_none() {
+        ui.add_space(6.0);
+        ui.weak("Not calculated yet.");
+    }
+}
+
+/// A number field: `value` in internal units shown × `scale` with `suffix`; true when a change
+/// should be applied now.
+fn number(
+    ui: &mut egui::Ui,
+    value: &mut f64,
+    scale: f64,
+    range: std::ops::RangeInclusive<f64>,
+    speed: f64,
+    decimals: usize,
+    suffix: &str,
+) -> bool {
+    let mut shown = *value * scale;
+    let r = ui.add(
+        egui::DragValue::new(&mut shown)
+            .range(range)
+            .speed(speed)
+            .max_decimals(decimals)
+            .suffix(suffix),
+    );
+    if r.changed() {
+        *value = shown / scale;
+    }
+    r.drag_stopped() || (r.changed() && !r.dragged())
+}
+
+fn label(ui: &mut egui::Ui, text: &str, hint: &str) {
+    ui.label(text).on_hover_text(hint);
+}
+
+fn tool_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) -> bool {
+    label(ui, "Tool", "The cutter, from the project's tool library");
+    let mut tool = draft.tool();
+    let name = |i: usize| {
+        project.tools.get(i).map_or_else(
+            || format!("T{} (missing)", i + 1),
+            |t| format!("T{} {}", i + 1, t.name),
+        )
+    };
+    egui::ComboBox::from_id_salt("operation tool")
+        .selected_text(name(tool))
+        .width(190.0)
+        .show_ui(ui, |ui| {
+            for i in 0..project.tools.len() {
+                ui.selectable_value(&mut tool, i, name(i));
+            }
+        });
+    ui.end_row();
+    if tool != draft.tool() {
+        *draft = draft.clone().with_tool(tool);
+        return true;
+    }
+    false
+}
+
+fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operation) -> bool {
+    let mut commit = false;
+    match draft {
+        Operation::Finish {
+            face,
+            strategy,
+            options,
+            ..
+        } => {
+            commit |= face_row(ui, document, face);
+            commit |= strategy_rows(ui, strategy);
+            label(ui, "Scallop height", "Largest cusp left between passes");
+            commit |= number(ui, &mut options.scallop, 1.0, 1e-4..=5.0, 0.001, 4, " mm");
+            ui.end_row();
+            label(
+                ui,
+                "Chord tolerance",
+                "Largest deviation of the straight tool-tip moves from the true tip curve",
+            );
+            commit |= number(ui, &mut options.tolerance, 1.0, 1e-4..=2.0, 0.001, 4, " mm");
+            ui.end_row();
+            commit |= axis_rows(ui, &mut options.axis);
+            label(ui, "Direction", "Parameter the passes run along");
+            let mut d = options.direction;
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut d, Direction::V, "along v");
+                ui.selectable_value(&mut d, Direction::U, "along u");
+            });
+            ui.end_row();
+            if d != options.direction {
+                options.direction = d;
+                commit = true;
+            }
+            label(
+                ui,
+                "Clearance plane",
+                "Height of retracts between passes (z)",
+            );
+            ui.horizontal(|ui| {
+                let mut auto = options.clearance.is_none();
+                if ui.checkbox(&mut auto, "auto").changed() {
+                    options.clearance = if auto { None } else { Some(50.0) };
+                    commit = true;
+                }
+                if let Some(c) = options.clearance.as_mut() {
+                    commit |= number(ui, c, 1.0, -1e4..=1e4, 0.5, 3, " mm");
+                }
+            });
+            ui.end_row();
+            label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, &mut options.feed, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            ui.end_row();
+            label(
+                ui,
+                "Largest axis step",
+                "Largest tool-axis change between poses",
+            );
+            commit |= number(
+                ui,
+                &mut options.max_axis_step,
+                1f64.to_degrees(),
+                0.1..=45.0,
+                0.1,
+                2,
+                "°",
+            );
+            ui.end_row();
+            label(
+                ui,
+                "Exact gouge check",
+                "Check every pose and move against the exact surface (slower)",
+            );
+            commit |= ui.checkbox(&mut options.exact_check, "").changed();
+            ui.end_row();
+        }
+        Operation::Raster {
+            scallop_mm,
+            angle_rad,
+            one_way,
+            tolerance_mm,
+            feed_mm_per_min,
+            ..
+        } => {
+            label(
+                ui,
+                "Scallop height",
+                "Largest cusp between passes on slopes",
+            );
+            commit |= number(ui, scallop_mm, 1.0, 1e-4..=5.0, 0.001, 4, " mm");
+            ui.end_row();
+            label(ui, "Angle", "Direction of the passes from +X");
+            commit |= number(
+                ui,
+                angle_rad,
+                1f64.to_degrees(),
+                -180.0..=180.0,
+                0.5,
+                2,
+                "°",
+            );
+            ui.end_row();
+            label(ui, "One way", "Cut every pass in the same direction");
+            commit |= ui.checkbox(one_way, "").changed();
+            ui.end_row();
+            label(
+                ui,
+                "Chord tolerance",
+                "Deviation of the cutter-location polyline",
+            );
+            commit |= number(ui, tolerance_mm, 1.0, 1e-4..=2.0, 0.001, 4, " mm");
+            ui.end_row();
+            label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, feed_mm_per_min, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            ui.end_row();
+        }
+        Operation::Rough {
+            step_down_mm,
+            step_over_fraction,
+            stock_to_leave_mm,
+            tolerance_mm,
+            feed_mm_per_min,
+            ..
+        } => {
+            label(ui, "Step-down", "Depth of each level");
+            commit |= number(ui, step_down_mm, 1.0, 0.01..=100.0, 0.05, 3, " mm");
+            ui.end_row();
+            label(
+                ui,
+                "Step-over",
+                "Distance between contours, % of the tool diameter",
+            );
+            commit |= number(ui, step_over_fraction, 100.0, 1.0..=100.0, 0.5, 1, " %");
+            ui.end_row();
+            label(
+                ui,
+                "Stock to leave",
+                "Material left for finishing, radial and axial",
+            );
+            commit |= number(ui, stock_to_leave_mm, 1.0, 0.0..=20.0, 0.01, 3, " mm");
+            ui.end_row();
+            label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
+            commit |= number(ui, tolerance_mm, 1.0, 1e-3..=5.0, 0.005, 3, " mm");
+            ui.end_row();
+            label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, feed_mm_per_min, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            ui.end_row();
+        }
+    }
+    commit
+}
+
+fn face_row(ui: &mut egui::Ui, document: Option<&Document>, face: &mut usize) -> bool {
+    label(
+        ui,
+        "Face",
+        "The face to finish (click one in the viewport, then 'use selected')",
+    );
+    let mut commit = false;
+    ui.horizontal(|ui| {
+        let faces = document.map_or(0, |d| d.part.faces.len());
+        let text = document.and_then(|d| d.part.faces.get(*face)).map_or_else(
+            || format!("Face {} (missing)", *face + 1),
+            |f| format!("Face {} {}", *face + 1, f.kind),
+        );
+        egui::ComboBox::from_id_salt("operation face")
+            .selected_text(text)
+            .width(130.0)
+            .show_ui(ui, |ui| {
+                for i in 0..faces.min(500) {
+                    let kind = document
+                        .and_then(|d| d.part.faces.get(i))
+                        .map_or("", |f| f.kind.as_str());
+                    if ui
+                        .selectable_label(*face == i, format!("Face {} {kind}", i + 1))
+                        .clicked()
+                    {
+                        *face = i;
+                        commit = true;
+                    }
+                }
+            });
+        if let Some(Selection::Face(sel)) = document.map(|d| d.selection)
+            && sel != *face
+            && ui
+                .small_button("use selected")
+                .on_hover_text(format!("Face {}", sel + 1))
+                .clicked()
+        {
+            *face = sel;
+            commit = true;
+        }
+    });
+    ui.end_row();
+    commit
+}
+
+fn strategy_rows(ui: &mut egui::Ui, strategy: &mut Strategy) -> bool {
+    let mut commit = false;
+    match strategy {
+        Strategy::IsoParametric { pattern } => {
+            label(ui, "Pattern", "How the passes are ordered");
+            let before = *pattern;
+            ui.horizontal(|ui| {
+                ui.selectable_value(pattern, Pattern::Zigzag, "zig-zag");
+                ui.selectable_value(pattern, Pattern::Oneway, "one way");
+                ui.selectable_value(pattern, Pattern::Spiral, "spiral");
+            });
+            ui.end_row();
+            commit |= before != *pattern;
+        }
+        Strategy::IsoPlanar { angle } => {
+            label(
+                ui,
+                "Plane angle",
+                "Angle of the cutting planes' normal from +X",
+            );
+            commit |= number(ui, angle, 1f64.to_degrees(), -180.0..=180.0, 0.5, 2, "°");
+            ui.end_row();
+        }
+        Strategy::IsoScallop => {}
+    }
+    commit
+}
+
+fn axis_rows(ui: &mut egui::Ui, axis: &mut AxisMode) -> bool {
+    let mut commit = false;
+    label(
+        ui,
+        "Tool axis",
+        "Surface normal with lead and tilt (5-axis) or fixed +Z (3-axis)",
+    );
+    let normal = matches!(axis, AxisMode::Normal { .. });
+    let mut choice = normal;
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut choice, true, "normal + lead/tilt");
+        ui.selectable_value(&mut choice, false, "fixed +Z");
+    });
+    ui.end_row();
+    if choice != normal {
+        *axis = if choice {
+            AxisMode::default()
+        } else {
+            AxisMode::Fixed(DVec3::Z)
+        };
+        commit = true;
+    }
+    if let AxisMode::Normal { lead, tilt } = axis {
+        label(
+            ui,
+            "Lead",
+            "Tilt of the axis toward the feed (raised when needed against gouging)",
+        );
+        commit |= number(ui, lead, 1f64.to_degrees(), -60.0..=60.0, 0.25, 2, "°");
+        ui.end_row();
+        label(ui, "Tilt", "Sideways tilt of the axis");
+        commit |= number(ui, tilt, 1f64.to_degrees(), -60.0..=60.0, 0.25, 2, "°");
+        ui.end_row();
+    }
+    commit
+}
+
+/// Seconds as `1 h 02 min`, `3 min 05 s` or `12.3 s`.
+#[must_use]
+pub fn duration_text(s: f64) -> String {
+    if !s.is_finite() {
+        return "—".into();
+    }
+    let whole = s.round() as u64;
+    if whole >= 3600 {
+        format!("{} h {:02} min", whole / 3600, (whole % 3600) / 60)
+    } else if whole >= 60 {
+        format!("{} min {:02} s", whole / 60, whole % 60)
+    } else {
+        format!("{s:.1} s")
+    }
+}
+
+fn summary_ui(ui: &mut egui::Ui, result: &ComputedOp, fresh: bool) {
+    ui.label(egui::RichText::new("Tool path").strong());
+    if !fresh {
+        ui.colored_label(
+            theme::WARNING,
+            "Stale: the operation, its tool or the part changed since. Calculate again.",
+        );
+    }
+    let tp = result.toolpath();
+    let s = &tp.summary;
+    let mut rows: Vec<(&str, String)> = vec![
+        ("Poses", grouped(s.pose_count)),
+        ("Passes", grouped(result.computed.passes)),
+        ("Cut length", format!("{:.1} mm", s.cut_length_mm)),
+        ("Other moves", format!("{:.1} mm", s.other_length_mm)),
+        ("Time at feed", duration_text(s.estimated_time_s)),
+    ];
+    if let Some(h) = s.predicted_max_scallop_mm {
+        rows.push(("Max predicted scallop", format!("{:.2} µm", h * 1000.0)));
+    }
+    if let Some(lead) = result.computed.lead_rad {
+        rows.push(("Lead used", format!("{:.2}°", lead.to_degrees())));
+    }
+    let exact = matches!(
+        result.operation,
+        Operation::Finish { options, .. } if options.exact_check
+    );
+    if let Some(g) = s.gouge.as_ref().filter(|_| !exact) {
+        rows.push((
+            "Gouge check",
+            if g.local_gouge {
+                "local gouging (see below); exact check off".to_string()
+            } else {
+                "curvature only (exact check off)".to_string()
+            },
+        ));
+    }
+    if let Some(g) = s.gouge.as_ref().filter(|_| exact) {
+        rows.push((
+            "Gouge check",
+            if g.gouging_poses == 0 && !g.local_gouge {
+                format!("clean ({} poses)", grouped(g.checked_poses))
+            } else {
+                format!(
+                    "{} gouging poses, deepest {:.1} µm",
+                    grouped(g.gouging_poses),
+                    g.max_depth_mm * 1000.0
+                )
+            },
+        ));
+        if let Some(at) = g.worst_at {
+            rows.push(("Deepest gouge at", mm3(at)));
+        }
+    }
+    rows.push(("Computed in", format!("{:.2} s", result.elapsed_s)));
+    grid(ui, "operation summary", &rows);
+    for d in &result.computed.diagnostics {
+        let colour = match d.severity {
+            Severity::Error => theme::ERROR,
+            Severity::Warning => theme::WARNING,
+            Severity::Info => ui.visuals().weak_text_color(),
+        };
+        ui.colored_label(colour, d.to_string());
+    }
+}
+
+fn pose_ui(ui: &mut egui::Ui, result: &ComputedOp, index: usize, picked: bool) {
+    let Some(p) = result.toolpath().poses.get(index) else {
+        return;
+    };
+    ui.label(
+        egui::RichText::new(if picked {
+            "Picked pose"
+        } else {
+            "Playback pose"
+        })
+        .strong(),
+    );
+    let kind = match p.kind {
+        MoveKind::Cut => "cut",
+        MoveKind::Link => "link",
+        MoveKind::Rapid => "rapid",
+        MoveKind::Plunge => "plunge",
+    };
+    let tilt = p.axis.angle_between(DVec3::Z).to_degrees();
+    let mut rows = vec![
+        (
+            "Pose",
+            format!(
+                "{} of {}",
+                grouped(index + 1),
+                grouped(result.toolpath().poses.len())
+            ),
+        ),
+        ("Move", kind.to_string()),
+        ("Tool tip", mm3(p.tip)),
+        (
+            "Tool axis",
+            format!(
+                "{:.4}, {:.4}, {:.4} ({tilt:.2}° from +Z)",
+                p.axis.x, p.axis.y, p.axis.z
+            ),
+        ),
+        ("Feed", format!("{:.0} mm/min", p.feed_mm_per_min)),
+    ];
+    if let Some(t) = result.clock_s.get(index) {
+        rows.push(("Time at feed", duration_text(*t)));
+    }
+    if let Some(cc) = p.cc {
+        rows.push(("Contact point", mm3(cc)));
+    }
+    if let Some(c) = p.contact {
+        rows.push(("Contact", format!("{c:?}").to_lowercase()));
+    }
+    if let Some(h) = p.scallop_mm {
+        rows.push(("Predicted scallop", format!("{:.2} µm", h * 1000.0)));
+    }
+    grid(ui, "pose", &rows);
+}
+
+fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
+    egui::Grid::new(id)
+        .num_columns(2)
+        .spacing([12.0, 4.0])
+        .striped(true)
+        .show(ui, |ui| {
+            for (name, value) in rows {
+                ui.weak(*name);
+                ui.label(egui::RichText::new(value).monospace());
+                ui.end_row();
+            }
+        });
+}
+
+fn mm3(v: DVec3) -> String {
+    format!("{:.3}, {:.3}, {:.3} mm", v.x, v.y, v.z)
+}
+
+/// The "add operation" buttons of the project tree: one per kind (finishing kinds need a B-rep
+/// part); the new operation takes the selected tool and the selected face.
+pub fn add_operation_ui(ui: &mut egui::Ui, has_faces: bool, commands: &mut Vec<Command>) {
+    ui.menu_button("+ Operation", |ui| {
+        for kind in OperationKind::ALL {
+            let enabled = has_faces || !kind.needs_face();
+            let r = ui.add_enabled(enabled, egui::Button::new(kind.label()));
+            let r = if enabled {
+                r
+            } else {
+                r.on_disabled_hover_text("Needs a STEP part with exact faces")
+            };
+            if r.clicked() {
+                commands.push(Command::AddOperation(kind));
+                ui.close();
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn durations_read_naturally() {
+        assert_eq!(super::duration_text(12.34), "12.3 s");
+        assert_eq!(super::duration_text(185.0), "3 min 05 s");
+        assert_eq!(super::duration_text(3725.0), "1 h 02 min");
+        assert_eq!(super::duration_text(f64::NAN), "—");
+    }
+}

@@ -1,0 +1,389 @@
+//! Computed tool paths of the project's operations, kept beside the document: each result
+//! remembers the operation, the cutter and the part it was computed from, so it is shown exactly
+//! while those are unchanged (undo brings an earlier result back) and marked stale otherwise.
+//! Also the paths in render form (coloured by move kind or by predicted scallop), the time at
+//! feed of every pose for playback, and picking a pose near the cursor.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Mat4, Vec2};
+
+use crate::project::Operation;
+use crate::project::pipeline::Computed;
+use crate::render::{ColourMap, DataId, LineData, Rgba8, ScalarMapping};
+use crate::toolpath::{MoveKind, Toolpath};
+use crate::tools::Cutter;
+
+/// How paths are coloured in the viewport.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PathColouring {
+    /// By move kind: cut, link, rapid, plunge.
+    #[default]
+    MoveKind,
+    /// Cutting moves by the predicted scallop height at their end pose; others by kind.
+    Scallop,
+}
+
+impl PathColouring {
+    /// Every colouring, menu order.
+    pub const ALL: [Self; 2] = [Self::MoveKind, Self::Scallop];
+
+    /// Name for menus.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::MoveKind => "Move kind",
+            Self::Scallop => "Predicted scallop",
+        }
+    }
+}
+
+/// Colour of each move kind (sRGB): cut, link, rapid, plunge.
+#[must_use]
+pub fn move_colour(kind: MoveKind) -> Rgba8 {
+    match kind {
+        MoveKind::Cut => [70, 170, 255, 255],
+        MoveKind::Link => [240, 200, 60, 255],
+        MoveKind::Rapid => [235, 75, 75, 255],
+        MoveKind::Plunge => [255, 140, 40, 255],
+    }
+}
+
+/// Rapid speed used for the playback clock and the time estimate, mm/min (a typical mill's).
+pub const RAPID_MM_PER_MIN: f64 = 10_000.0;
+
+/// One computed operation.
+#[derive(Debug)]
+pub struct ComputedOp {
+    /// The operation as it was when computed.
+    pub operation: Operation,
+    /// The tool as it was when computed.
+    pub cutter: Cutter,
+    /// Render id of the part it was computed on.
+    pub part_id: DataId,
+    /// The pipeline's result.
+    pub computed: Computed,
+    /// Wall time of the computation, s.
+    pub elapsed_s: f64,
+    /// Time at feed when each pose is reached, s (rapids at [`RAPID_MM_PER_MIN`]).
+    pub clock_s: Vec<f64>,
+    /// Predicted scallop range of the cutting poses, mm (`None` when no pose predicts one).
+    pub scallop_range_mm: Option<(f64, f64)>,
+    render: Option<(PathColouring, DataId, Arc<LineData>)>,
+}
+
+impl ComputedOp {
+    /// A result for `operation` with `cutter` on part `part_id`.
+    #[must_use]
+    pub fn new(
+        operation: Operation,
+        cutter: Cutter,
+        part_id: DataId,
+        computed: Computed,
+        elapsed_s: f64,
+    ) -> Self {
+        let clock_s = pose_clock(&computed.toolpath);
+        let scallop_range_mm = computed
+            .toolpath
+            .poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .filter_map(|p| p.scallop_mm)
+            .filter(|h| h.is_finite())
+            .fold(None, |acc: Option<(f64, f64)>, h| {
+                Some(acc.map_or((h, h), |(lo, hi)| (lo.min(h), hi.max(h))))
+            });
+        Self {
+            operation,
+            cutter,
+            part_id,
+            computed,
+            elapsed_s,
+            clock_s,
+            scallop_range_mm,
+            render: None,
+        }
+    }
+
+    /// The tool path.
+    #[must_use]
+    pub fn toolpath(&self) -> &Toolpath {
+        &self.computed.toolpath
+    }
+
+    /// The colour mapping of the scallop colouring (0 to the largest predicted scallop).
+    #[must_use]
+    pub fn scallop_mapping(&self) -> Option<ScalarMapping> {
+        let (_, hi) = self.scallop_range_mm?;
+        Some(ScalarMapping {
+            map: ColourMap::Turbo,
+            min: 0.0,
+            max: (hi as f32).max(1e-6),
+        })
+    }
+
+    /// The path in render form for `colouring` (built once per colouring; `next_id` supplies a
+    /// fresh render id when it is rebuilt).
+    pub fn render_lines(
+        &mut self,
+        colouring: PathColouring,
+        next_id: &mut DataId,
+    ) -> (DataId, Arc<LineData>) {
+        if let Some((c, id, data)) = &self.render
+            && *c == colouring
+        {
+            return (*id, Arc::clone(data));
+        }
+        *next_id += 1;
+        let mapping = match colouring {
+            PathColouring::MoveKind => None,
+            PathColouring::Scallop => self.scallop_mapping(),
+        };
+        let data = Arc::new(path_lines(self.toolpath(), mapping));
+        self.render = Some((colouring, *next_id, Arc::clone(&data)));
+        (*next_id, data)
+    }
+
+    /// Index of the last pose reached at time `t_s` of the playback clock.
+    #[must_use]
+    pub fn pose_at_time(&self, t_s: f64) -> usize {
+        self.clock_s
+            .partition_point(|&c| c <= t_s)
+            .saturating_sub(1)
+    }
+
+    /// Total time at feed, s.
+    #[must_use]
+    pub fn duration_s(&self) -> f64 {
+        self.clock_s.last().copied().unwrap_or(0.0)
+    }
+}
+
+/// Time at which each pose is reached when moves run at their feed (rapids at
+/// [`RAPID_MM_PER_MIN`]), s.
+#[must_use]
+pub fn pose_clock(toolpath: &Toolpath) -> Vec<f64> {
+    let mut t = 0.0;
+    let mut out = Vec::with_capacity(toolpath.poses.len());
+    let mut prev: Option<DVec3> = None;
+    for p in &toolpath.poses {
+        if let Some(a) = prev {
+            let feed = match p.kind {
+                MoveKind::Rapid => RAPID_MM_PER_MIN,
+                _ if p.feed_mm_per_min.is_finite() && p.feed_mm_per_min > 0.0 => p.feed_mm_per_min,
+                _ => RAPID_MM_PER_MIN,
+            };
+            t += a.distance(p.tip) / (feed / 60.0);
+        }
+        out.push(t);
+        prev = Some(p.tip);
+    }
+    out
+}
+
+/// The path as line segments, two vertices per segment so each keeps its own colour: segment
+/// `i` is the move from pose `i` to pose `i + 1`, coloured by that move's kind, or for cutting
+/// moves by the scallop predicted at pose `i + 1` through `scallop` when given.
+#[must_use]
+pub fn path_lines(toolpath: &Toolpath, scallop: Option<ScalarMapping>) -> LineData {
+    let n = toolpath.poses.len().saturating_sub(1);
+    let mut out = LineData {
+        positions: Vec::with_capacity(2 * n),
+        colours: Vec::with_capacity(2 * n),
+        indices: Vec::with_capacity(2 * n),
+    };
+    for (k, w) in toolpath.poses.windows(2).enumerate() {
+        let [a, b] = w else { continue };
+        let colour = match (scallop, b.kind, b.scallop_mm) {
+            (Some(m), MoveKind::Cut, Some(h)) if h.is_finite() => {
+                let t = (h as f32 - m.min) / (m.max - m.min).max(1e-12);
+                let [r, g, bl] = m.map.sample(t);
+                [r, g, bl, 255]
+            }
+            (Some(_), MoveKind::Cut, _) => [200, 200, 200, 255],
+            (_, kind, _) => move_colour(kind),
+        };
+        out.positions.push(a.tip.as_vec3().to_array());
+        out.positions.push(b.tip.as_vec3().to_array());
+        out.colours.extend([colour, colour]);
+        let i = u32::try_from(2 * k).unwrap_or(u32::MAX - 1);
+        out.indices.extend([i, i + 1]);
+    }
+    out
+}
+
+/// The pose whose tip projects nearest to `cursor` (pixels, within `radius_px`) for the view
+/// `clip_from_world` on a `size_px` viewport; the nearer to the eye wins a tie.
+#[must_use]
+pub fn pick_pose(
+    toolpath: &Toolpath,
+    clip_from_world: Mat4,
+    size_px: Vec2,
+    cursor: Vec2,
+    radius_px: f32,
+    up_to: Option<usize>,
+) -> Option<usize> {
+    let mut best: Option<(usize, f32, f32)> = None;
+    let last = up_to.unwrap_or(usize::MAX);
+    for (i, p) in toolpath
+        .poses
+        .iter()
+        .enumerate()
+        .take(last.saturating_add(1))
+    {
+        let c = clip_from_world * p.tip.as_vec3().extend(1.0);
+        if c.w <= 0.0 {
+            continue;
+        }
+        let ndc = c.truncate() / c.w;
+        // Outside the near and far planes (either depth convention).
+        if ndc.z.abs() > 1.0 {
+            continue;
+        }
+        let px = Vec2::new(
+            (ndc.x + 1.0) * 0.5 * size_px.x,
+            (1.0 - ndc.y) * 0.5 * size_px.y,
+        );
+        let d = px.distance(cursor);
+        if d > radius_px {
+            continue;
+        }
+        let better = best.is_none_or(|(_, bd, bz)| d < bd - 0.5 || (d < bd + 0.5 && ndc.z < bz));
+        if better {
+            best = Some((i, d, ndc.z));
+        }
+    }
+    best.map(|(i, _, _)| i)
+}
+
+/// The computed operations (a bounded list; the oldest result goes first).
+#[derive(Debug, Default)]
+pub struct ToolpathStore {
+    results: Vec<ComputedOp>,
+}
+
+/// Results kept at most (each holds its path).
+const KEEP: usize = 24;
+
+impl ToolpathStore {
+    /// Keep `result`, replacing one for the same operation, tool and part.
+    pub fn insert(&mut self, result: ComputedOp) {
+        self.results.retain(|r| {
+            !(r.operation == result.operation
+                && r.cutter == result.cutter
+                && r.part_id == result.part_id)
+        });
+        self.results.push(result);
+        if self.results.len() > KEEP {
+            self.results.remove(0);
+        }
+    }
+
+    /// The result for `operation` with `cutter` on part `part_id`, if computed.
+    #[must_use]
+    pub fn find(&self, operation: &Operation, cutter: &Cutter, part_id: DataId) -> Option<usize> {
+        self.results
+            .iter()
+            .rposition(|r| r.operation == *operation && r.cutter == *cutter && r.part_id == part_id)
+    }
+
+    /// The result at `index` (from [`ToolpathStore::find`]).
+    #[must_use]
+    pub fn get(&self, index: usize) -> Option<&ComputedOp> {
+        self.results.get(index)
+    }
+
+    /// The result at `index`, mutable (to build its render data).
+    pub fn get_mut(&mut self, index: usize) -> Option<&mut ComputedOp> {
+        self.results.get_mut(index)
+    }
+
+    /// The latest result computed for an operation named `name` (shown as stale when the
+    /// operation has changed since).
+    #[must_use]
+    pub fn latest_named(&self, name: &str) -> Option<&ComputedOp> {
+        self.results
+            .iter()
+            .rev()
+            .find(|r| r.operation.name() == name)
+    }
+
+    /// Forget everything (a new part or project).
+    pub fn clear(&mut self) {
+        self.results.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::toolpath::{Pose, ToolRecord};
+    use crate::tools::parse_tool_spec;
+
+    fn path() -> Toolpath {
+        let tool = ToolRecord {
+            spec: "ball:d=6".into(),
+            cutter: parse_tool_spec("ball:d=6").expect("spec"),
+        };
+        let mut poses = vec![
+            Pose::new(MoveKind::Rapid, DVec3::new(0.0, 0.0, 10.0), DVec3::Z, 0.0),
+            Pose::new(MoveKind::Plunge, DVec3::new(0.0, 0.0, 0.0), DVec3::Z, 300.0),
+            Pose::new(MoveKind::Cut, DVec3::new(10.0, 0.0, 0.0), DVec3::Z, 600.0),
+            Pose::new(MoveKind::Cut, DVec3::new(20.0, 0.0, 0.0), DVec3::Z, 600.0),
+        ];
+        poses[2].scallop_mm = Some(0.01);
+        poses[3].scallop_mm = Some(0.02);
+        Toolpath::new(tool, poses)
+    }
+
+    #[test]
+    fn clock_follows_the_feeds() {
+        let c = pose_clock(&path());
+        // 10 mm plunge at 300 mm/min = 2 s; 10 mm cuts at 600 mm/min = 1 s each.
+        assert_eq!(c.len(), 4);
+        assert!((c[1] - 2.0).abs() < 1e-12);
+        assert!((c[3] - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn segments_take_the_colour_of_their_move() {
+        let tp = path();
+        let lines = path_lines(&tp, None);
+        assert_eq!(lines.segment_count(), 3);
+        assert_eq!(lines.problem(), None);
+        assert_eq!(lines.colours[0], move_colour(MoveKind::Plunge));
+        assert_eq!(lines.colours[2], move_colour(MoveKind::Cut));
+        let m = ScalarMapping {
+            map: ColourMap::Turbo,
+            min: 0.0,
+            max: 0.02,
+        };
+        let by_scallop = path_lines(&tp, Some(m));
+        let [r, g, b] = ColourMap::Turbo.sample(1.0);
+        assert_eq!(by_scallop.colours[4], [r, g, b, 255]);
+        assert_eq!(by_scallop.colours[0], move_colour(MoveKind::Plunge));
+    }
+
+    #[test]
+    fn picking_finds_the_pose_under_the_cursor() {
+        let tp = path();
+        // Orthographic top view of x in [-5, 25], y in [-15, 15] on a 300 × 300 px viewport.
+        let clip =
+            glam::camera::rh::proj::directx::orthographic(-5.0, 25.0, -15.0, 15.0, -100.0, 100.0);
+        let size = Vec2::new(300.0, 300.0);
+        // Pose 2 (x = 10) is at pixel x = 150, y = 150.
+        assert_eq!(
+            pick_pose(&tp, clip, size, Vec2::new(152.0, 149.0), 8.0, None),
+            Some(2)
+        );
+        assert_eq!(
+            pick_pose(&tp, clip, size, Vec2::new(100.0, 100.0), 8.0, None),
+            None
+        );
+        // Poses beyond the playback index are not pickable.
+        assert_eq!(
+            pick_pose(&tp, clip, size, Vec2::new(250.0, 150.0), 8.0, Some(2)),
+            None
+        );
+    }
+}

@@ -1,0 +1,438 @@
+//! The operation commands: adding operations, calculating them on a worker thread (progress,
+//! Cancel, results kept in the [`ToolpathStore`]), the paths drawn in the viewport, picking a
+//! pose, and playback of the active path on its clock.
+
+use std::sync::Arc;
+
+use glam::Mat4;
+
+use super::super::command::{Command, PlaybackCommand};
+use super::super::document::Selection;
+use super::super::job::{Job, JobPoll};
+use super::super::panels::operation_editor::OperationView;
+use super::super::panels::playback::PlaybackView;
+use super::super::panels::properties::Focus;
+use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
+use super::Workstation;
+use crate::diagnostics::Severity;
+use crate::project::pipeline::{ComputeError, Computed, PartGeometry, compute};
+use crate::project::{Edit, Operation};
+use crate::render::{DataId, LineInstance, ScalarMapping};
+use crate::tools::Cutter;
+
+/// A running calculation: what it computes (to file the result) and the job.
+pub(super) struct CalcJob {
+    index: usize,
+    operation: Operation,
+    cutter: Cutter,
+    part_id: DataId,
+    job: Job<Result<Computed, ComputeError>>,
+}
+
+/// The operations' state of the workstation.
+#[derive(Default)]
+pub(super) struct Operations {
+    /// Computed paths.
+    pub store: ToolpathStore,
+    /// The running calculation.
+    pub job: Option<CalcJob>,
+    /// The operation whose path is active (drawn, played back, picked).
+    pub active: Option<usize>,
+    /// The pose picked in the viewport (index into the active path).
+    pub picked_pose: Option<usize>,
+    /// Path colouring.
+    pub colouring: PathColouring,
+    /// Draw every fresh path, not only the active one.
+    pub show_all: bool,
+    /// Playback clock, s (`None`: the whole path).
+    pub t_s: Option<f64>,
+    /// Is the clock running?
+    pub playing: bool,
+    /// Playback speed, × real time.
+    pub speed: f64,
+    /// Render ids for paths.
+    pub next_id: DataId,
+}
+
+impl Operations {
+    /// A fresh state (ids above the documents' and the viewport's).
+    pub fn new() -> Self {
+        Self {
+            speed: 10.0,
+            next_id: 1 << 48,
+            ..Self::default()
+        }
+    }
+}
+
+impl Workstation {
+    /// Is an operation being calculated?
+    #[must_use]
+    pub fn is_calculating(&self) -> bool {
+        self.ops.job.is_some()
+    }
+
+    /// The latest result for operation `index` and whether it is fresh (computed from the
+    /// operation, tool and part as they are now).
+    #[must_use]
+    pub fn operation_result(&self, index: usize) -> Option<(&ComputedOp, bool)> {
+        let (i, fresh) = self.result_index(index)?;
+        Some((self.ops.store.get(i)?, fresh))
+    }
+
+    /// The pose the playback has reached (`None`: the whole path is shown).
+    #[must_use]
+    pub fn playback_position(&self) -> Option<usize> {
+        self.playback_pose()
+    }
+
+    /// Apply an operation command (see [`Workstation::apply`]).
+    pub(super) fn apply_operation(&mut self, command: Command) {
+        match command {
+            Command::AddOperation(kind) => {
+                let tool = self.session.project.selected_tool.unwrap_or(0);
+                if self.session.project.tools.is_empty() {
+                    let t = self.now_s();
+                    self.log.notify(
+                        t,
+                        Severity::Warning,
+                        "Add a tool to the library first (Tools > + Ball …)",
+                    );
+                    return;
+                }
+                let face = match self.document.as_ref().map(|d| d.selection) {
+                    Some(Selection::Face(f)) => f,
+                    _ => 0,
+                };
+                let index = self.session.project.operations.len();
+                let operation = Operation::new(kind, tool, face);
+                self.apply(Command::Edit(Edit::AddOperation { index, operation }));
+                if self.session.project.operations.len() > index {
+                    self.apply(Command::Inspect(Focus::Operation(index)));
+                }
+            }
+            Command::Calculate(index) => self.start_calculation(index),
+            Command::CalculateActive => {
+                let focused = match self.focus {
+                    Focus::Operation(i) => Some(i),
+                    _ => None,
+                };
+                let first = (!self.session.project.operations.is_empty()).then_some(0);
+                match focused.or(self.ops.active).or(first) {
+                    Some(i) => self.start_calculation(i),
+                    None => self.log_info("Select an operation to calculate"),
+                }
+            }
+            Command::PickPose(pose) => self.ops.picked_pose = pose,
+            Command::SetPathColouring(c) => self.ops.colouring = c,
+            Command::SetShowAllPaths(on) => self.ops.show_all = on,
+            Command::Playback(p) => self.playback(p),
+            _ => {}
+        }
+    }
+
+    fn start_calculation(&mut self, index: usize) {
+        let project = &self.session.project;
+        let Some(operation) = project.operations.get(index).cloned() else {
+            return;
+        };
+        let Some(doc) = &self.document else {
+            let t = self.now_s();
+            self.log
+                .notify(t, Severity::Warning, "Open a part before calculating");
+            return;
+        };
+        let Some(cutter) = project
+            .tools
+            .get(operation.tool())
+            .map(|t| t.cutter.clone())
+        else {
+            let t = self.now_s();
+            self.log.notify(
+                t,
+                Severity::Error,
+                format!("'{}' names a tool the library lacks", operation.name()),
+            );
+            return;
+        };
+        if let Some(old) = self.ops.job.take() {
+            old.job.cancel();
+        }
+        let part = PartGeometry {
+            mesh: doc.part.mesh.clone(),
+            faces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
+        };
+        let project = project.clone();
+        let ctx = self.ctx.clone();
+        let part_id = doc.ids[0];
+        self.log_info(format!("Calculating '{}'", operation.name()));
+        self.ops.job = Some(CalcJob {
+            index,
+            cutter,
+            part_id,
+            job: Job::spawn(
+                format!("Calculating {}", operation.name()),
+                move |progress| compute(&project, index, &part, progress),
+                move || ctx.request_repaint(),
+            ),
+            operation,
+        });
+        self.ops.active = Some(index);
+    }
+
+    /// Cancel the running calculation; true when there was one.
+    pub(super) fn cancel_calculation(&mut self) -> bool {
+        let Some(calc) = self.ops.job.take() else {
+            return false;
+        };
+        calc.job.cancel();
+        let t = self.now_s();
+        self.log.push(
+            t,
+            Severity::Warning,
+            format!("{} cancelled", calc.job.label),
+        );
+        true
+    }
+
+    /// The running calculation as the status bar shows it.
+    pub(super) fn calc_status(&self) -> Option<(String, f64, f64)> {
+        self.ops.job.as_ref().map(|c| {
+            (
+                c.job.label.clone(),
+                c.job.progress.fraction(),
+                c.job.started.elapsed().as_secs_f64(),
+            )
+        })
+    }
+
+    /// Collect a finished calculation.
+    pub(super) fn poll_calc_job(&mut self) {
+        let Some(calc) = &self.ops.job else { return };
+        let outcome = match calc.job.poll() {
+            JobPoll::Running => {
+                self.ctx
+                    .request_repaint_after(std::time::Duration::from_millis(100));
+                return;
+            }
+            JobPoll::Done(r) => Some(r),
+            JobPoll::Lost => None,
+        };
+        let Some(calc) = self.ops.job.take() else {
+            return;
+        };
+        let elapsed = calc.job.started.elapsed().as_secs_f64();
+        let t = self.now_s();
+        match outcome {
+            Some(Ok(computed)) => {
+                for d in &computed.diagnostics {
+                    self.log
+                        .push(t, d.severity, format!("{}: {d}", calc.operation.name()));
+                }
+                let s = &computed.toolpath.summary;
+                self.log.push(
+                    t,
+                    Severity::Info,
+                    format!(
+                        "'{}': {} poses, {:.1} mm cut, {:.1} s at feed, computed in {elapsed:.2} s",
+                        calc.operation.name(),
+                        s.pose_count,
+                        s.cut_length_mm,
+                        s.estimated_time_s
+                    ),
+                );
+                self.ops.store.insert(ComputedOp::new(
+                    calc.operation,
+                    calc.cutter,
+                    calc.part_id,
+                    computed,
+                    elapsed,
+                ));
+                self.ops.active = Some(calc.index);
+                self.ops.picked_pose = None;
+                self.ops.t_s = None;
+                self.ops.playing = false;
+            }
+            Some(Err(ComputeError::Cancelled)) => {}
+            Some(Err(e)) => self.log.notify(t, Severity::Error, e.to_string()),
+            None => self.log.notify(
+                t,
+                Severity::Error,
+                format!("{}: the worker stopped unexpectedly", calc.job.label),
+            ),
+        }
+    }
+
+    /// The stored result for operation `index` and whether it is fresh (same operation, tool and
+    /// part); a stale one is the latest computed for an operation of the same name.
+    pub(super) fn result_index(&self, index: usize) -> Option<(usize, bool)> {
+        let op = self.session.project.operations.get(index)?;
+        let cutter = &self.session.project.tools.get(op.tool())?.cutter;
+        let part_id = self.document.as_ref()?.ids[0];
+        if let Some(i) = self.ops.store.find(op, cutter, part_id) {
+            return Some((i, true));
+        }
+        let stale = self.ops.store.latest_named(op.name())?;
+        let i = self
+            .ops
+            .store
+            .find(&stale.operation, &stale.cutter, stale.part_id)?;
+        Some((i, false))
+    }
+
+    /// The active operation's result (fresh or stale).
+    pub(super) fn active_result(&self) -> Option<&ComputedOp> {
+        let (i, _) = self.result_index(self.ops.active?)?;
+        self.ops.store.get(i)
+    }
+
+    /// What the operation editor shows for operation `index`.
+    pub(super) fn operation_view(&self, index: usize) -> OperationView<'_> {
+        let result = self
+            .result_index(index)
+            .and_then(|(i, fresh)| Some((self.ops.store.get(i)?, fresh)));
+        let running = self.ops.job.as_ref().filter(|c| c.index == index).map(|c| {
+            (
+                c.job.progress.fraction(),
+                c.job.started.elapsed().as_secs_f64(),
+            )
+        });
+        let active = self.ops.active == Some(index);
+        OperationView {
+            project: &self.session.project,
+            index,
+            document: self.document.as_ref(),
+            result,
+            running,
+            picked_pose: self.ops.picked_pose.filter(|_| active),
+            playback_pose: self.playback_pose().filter(|_| active),
+        }
+    }
+
+    /// The pose the playback clock has reached, if playing back.
+    pub(super) fn playback_pose(&self) -> Option<usize> {
+        let t = self.ops.t_s?;
+        Some(self.active_result()?.pose_at_time(t))
+    }
+
+    /// The playback bar's view, when the active operation has a path.
+    pub(super) fn playback_view(&self) -> Option<PlaybackView> {
+        let r = self.active_result()?;
+        let poses = r.toolpath().poses.len();
+        Some(PlaybackView {
+            t_s: self.ops.t_s,
+            duration_s: r.duration_s(),
+            playing: self.ops.playing,
+            speed: self.ops.speed,
+            pose: self
+                .ops
+                .t_s
+                .map_or(poses.saturating_sub(1), |t| r.pose_at_time(t)),
+            poses,
+        })
+    }
+
+    fn playback(&mut self, command: PlaybackCommand) {
+        let Some(r) = self.active_result() else {
+            return;
+        };
+        let duration = r.duration_s();
+        let clock = r.clock_s.clone();
+        let pose = self
+            .ops
+            .t_s
+            .map_or(clock.len().saturating_sub(1), |t| r.pose_at_time(t));
+        match command {
+            PlaybackCommand::Play => {
+                if self.ops.t_s.is_none_or(|t| t >= duration) {
+                    self.ops.t_s = Some(0.0);
+                }
+                self.ops.playing = true;
+            }
+            PlaybackCommand::Pause => self.ops.playing = false,
+            PlaybackCommand::Toggle => {
+                let next = if self.ops.playing {
+                    PlaybackCommand::Pause
+                } else {
+                    PlaybackCommand::Play
+                };
+                self.playback(next);
+            }
+            PlaybackCommand::Reset => {
+                self.ops.playing = false;
+                self.ops.t_s = None;
+            }
+            PlaybackCommand::Seek(t) => self.ops.t_s = Some(t.clamp(0.0, duration)),
+            PlaybackCommand::Step(n) => {
+                self.ops.playing = false;
+                let target = if n < 0 {
+                    pose.saturating_sub(n.unsigned_abs() as usize)
+                } else {
+                    pose.saturating_add(n as usize)
+                };
+                let target = target.min(clock.len().saturating_sub(1));
+                self.ops.t_s = clock.get(target).copied();
+            }
+            PlaybackCommand::Speed(s) if s.is_finite() && s > 0.0 => self.ops.speed = s,
+            PlaybackCommand::Speed(_) => {}
+        }
+    }
+
+    /// Advance the playback clock by `dt_s` of wall time.
+    pub(super) fn tick_playback(&mut self, dt_s: f64) {
+        if !self.ops.playing {
+            return;
+        }
+        let Some(duration) = self.active_result().map(ComputedOp::duration_s) else {
+            self.ops.playing = false;
+            return;
+        };
+        let t = self.ops.t_s.unwrap_or(0.0) + dt_s.clamp(0.0, 0.25) * self.ops.speed;
+        if t >= duration {
+            self.ops.t_s = Some(duration);
+            self.ops.playing = false;
+        } else {
+            self.ops.t_s = Some(t);
+            self.ctx.request_repaint();
+        }
+    }
+
+    /// The paths to draw: the active operation's (up to the playback pose) and, when asked, every
+    /// other fresh one; plus the legend of the scallop colouring.
+    pub(super) fn path_instances(&mut self) -> (Vec<LineInstance>, Option<ScalarMapping>) {
+        let mut out = Vec::new();
+        let mut legend = None;
+        let count = self.session.project.operations.len();
+        let active = self.ops.active.filter(|&a| a < count);
+        let playback = self.playback_pose();
+        for i in 0..count {
+            let is_active = Some(i) == active;
+            if !(is_active || self.ops.show_all) {
+                continue;
+            }
+            let Some((k, fresh)) = self.result_index(i) else {
+                continue;
+            };
+            if !fresh && !is_active {
+                continue;
+            }
+            let colouring = self.ops.colouring;
+            let mut next_id = self.ops.next_id;
+            let Some(r) = self.ops.store.get_mut(k) else {
+                continue;
+            };
+            let (id, data) = r.render_lines(colouring, &mut next_id);
+            if is_active && colouring == PathColouring::Scallop {
+                legend = r.scallop_mapping();
+            }
+            self.ops.next_id = next_id;
+            out.push(LineInstance {
+                id,
+                data: Arc::clone(&data),
+                world_from_lines: Mat4::IDENTITY,
+                draw_segments: if is_active { playback } else { None },
+            });
+        }
+        (out, legend)
+    }
+}

@@ -1,0 +1,305 @@
+//! Machining operations as the document stores them: which tool, what it cuts, and the
+//! strategy's parameters (mm, rad, mm/min), with defaults a machinist would start from.
+
+use crate::strategies::{FinishOptions, Pattern, Strategy};
+
+/// A machining operation. Each kind names the engine strategy that runs it
+/// ([`super::pipeline::compute`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Operation {
+    /// 5-axis (or 3-axis with a fixed axis) finishing of one B-spline/analytic face:
+    /// iso-parametric, iso-planar or iso-scallop (the first thesis).
+    Finish {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Index of the face in the part (STEP order).
+        face: usize,
+        /// The strategy and its own parameters.
+        strategy: Strategy,
+        /// Scallop, chord tolerance, axis mode, feed, direction, clearance.
+        options: FinishOptions,
+    },
+    /// Raster drop-cutter finishing over the whole part (3-axis).
+    Raster {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Scallop height between passes, mm.
+        #[serde(default = "default_scallop_mm")]
+        scallop_mm: f64,
+        /// Direction of the raster lines from +X, rad.
+        angle_rad: f64,
+        /// Cut in one direction only (climb everywhere) instead of zig-zag.
+        #[serde(default)]
+        one_way: bool,
+        /// Chord tolerance of the cutter-location polyline, mm.
+        #[serde(default = "default_tolerance_mm")]
+        tolerance_mm: f64,
+        /// Cutting feed, mm/min.
+        #[serde(default = "default_feed")]
+        feed_mm_per_min: f64,
+    },
+    /// Z-level (waterline) roughing of the project's stock down to the part plus an allowance
+    /// (3-axis).
+    Rough {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Depth of cut per level, mm.
+        step_down_mm: f64,
+        /// Distance between neighbouring contours, as a fraction of the tool diameter.
+        step_over_fraction: f64,
+        /// Material left on the part for finishing (radial and axial), mm.
+        stock_to_leave_mm: f64,
+        /// Contour tolerance, mm.
+        tolerance_mm: f64,
+        /// Cutting feed, mm/min.
+        feed_mm_per_min: f64,
+    },
+}
+
+fn default_scallop_mm() -> f64 {
+    0.01
+}
+
+fn default_tolerance_mm() -> f64 {
+    0.01
+}
+
+fn default_feed() -> f64 {
+    1000.0
+}
+
+/// The kinds of operation, for menus.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OperationKind {
+    /// [`Operation::Finish`] with an iso-scallop strategy.
+    IsoScallop,
+    /// [`Operation::Finish`] with a zig-zag iso-parametric strategy.
+    IsoParametric,
+    /// [`Operation::Finish`] with an iso-planar strategy.
+    IsoPlanar,
+    /// [`Operation::Raster`].
+    Raster,
+    /// [`Operation::Rough`].
+    Rough,
+}
+
+impl OperationKind {
+    /// Every kind, in menu order.
+    pub const ALL: [Self; 5] = [
+        Self::IsoScallop,
+        Self::IsoParametric,
+        Self::IsoPlanar,
+        Self::Raster,
+        Self::Rough,
+    ];
+
+    /// Name for menus and new operations.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::IsoScallop => "Iso-scallop finishing",
+            Self::IsoParametric => "Iso-parametric finishing",
+            Self::IsoPlanar => "Iso-planar finishing",
+            Self::Raster => "Raster finishing",
+            Self::Rough => "Z-level roughing",
+        }
+    }
+
+    /// Does the kind machine one face (and so need a B-rep part)?
+    #[must_use]
+    pub fn needs_face(self) -> bool {
+        matches!(
+            self,
+            Self::IsoScallop | Self::IsoParametric | Self::IsoPlanar
+        )
+    }
+}
+
+impl Operation {
+    /// A new operation of `kind` with `tool` on `face`, with starting values: 0.01 mm scallop
+    /// and chord tolerance for finishing, 2 mm step-down, 40 % step-over and 0.3 mm allowance for
+    /// roughing, 1000 mm/min.
+    #[must_use]
+    pub fn new(kind: OperationKind, tool: usize, face: usize) -> Self {
+        let name = kind.label().to_string();
+        let finish = |strategy| Self::Finish {
+            name: name.clone(),
+            tool,
+            face,
+            strategy,
+            options: FinishOptions::default(),
+        };
+        match kind {
+            OperationKind::IsoScallop => finish(Strategy::IsoScallop),
+            OperationKind::IsoParametric => finish(Strategy::IsoParametric {
+                pattern: Pattern::Zigzag,
+            }),
+            OperationKind::IsoPlanar => finish(Strategy::IsoPlanar { angle: 0.0 }),
+            OperationKind::Raster => Self::Raster {
+                name,
+                tool,
+                scallop_mm: default_scallop_mm(),
+                angle_rad: 0.0,
+                one_way: false,
+                tolerance_mm: default_tolerance_mm(),
+                feed_mm_per_min: default_feed(),
+            },
+            OperationKind::Rough => Self::Rough {
+                name,
+                tool,
+                step_down_mm: 2.0,
+                step_over_fraction: 0.4,
+                stock_to_leave_mm: 0.3,
+                tolerance_mm: 0.05,
+                feed_mm_per_min: default_feed(),
+            },
+        }
+    }
+
+    /// The kind (for finishing, from the strategy).
+    #[must_use]
+    pub fn kind(&self) -> OperationKind {
+        match self {
+            Self::Finish { strategy, .. } => match strategy {
+                Strategy::IsoScallop => OperationKind::IsoScallop,
+                Strategy::IsoParametric { .. } => OperationKind::IsoParametric,
+                Strategy::IsoPlanar { .. } => OperationKind::IsoPlanar,
+            },
+            Self::Raster { .. } => OperationKind::Raster,
+            Self::Rough { .. } => OperationKind::Rough,
+        }
+    }
+
+    /// Name shown in the tree.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        match self {
+            Self::Finish { name, .. } | Self::Raster { name, .. } | Self::Rough { name, .. } => {
+                name
+            }
+        }
+    }
+
+    /// Index of the operation's tool in the project's library.
+    #[must_use]
+    pub fn tool(&self) -> usize {
+        match self {
+            Self::Finish { tool, .. } | Self::Raster { tool, .. } | Self::Rough { tool, .. } => {
+                *tool
+            }
+        }
+    }
+
+    /// The same operation with tool index `tool`.
+    #[must_use]
+    pub fn with_tool(mut self, new_tool: usize) -> Self {
+        match &mut self {
+            Self::Finish { tool, .. } | Self::Raster { tool, .. } | Self::Rough { tool, .. } => {
+                *tool = new_tool;
+            }
+        }
+        self
+    }
+
+    /// The same operation renamed.
+    #[must_use]
+    pub fn with_name(mut self, new_name: impl Into<String>) -> Self {
+        match &mut self {
+            Self::Finish { name, .. } | Self::Raster { name, .. } | Self::Rough { name, .. } => {
+                *name = new_name.into();
+            }
+        }
+        self
+    }
+
+    /// Check the numbers (finite, in range), in words with units.
+    ///
+    /// # Errors
+    /// What is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = |what: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{what} must be a positive number, got {v}"))
+            }
+        };
+        match self {
+            Self::Finish {
+                strategy, options, ..
+            } => {
+                positive("scallop height (mm)", options.scallop)?;
+                positive("chord tolerance (mm)", options.tolerance)?;
+                positive("feed (mm/min)", options.feed)?;
+                positive("largest axis step (rad)", options.max_axis_step)?;
+                if let Strategy::IsoPlanar { angle } = strategy
+                    && !angle.is_finite()
+                {
+                    return Err("the plane angle must be a finite number".into());
+                }
+                if let crate::strategies::axis::AxisMode::Normal { lead, tilt } = options.axis
+                    && !(lead.abs() < std::f64::consts::FRAC_PI_2
+                        && tilt.abs() < std::f64::consts::FRAC_PI_2)
+                {
+                    return Err("lead and tilt must lie between −90° and 90°".into());
+                }
+                if let Some(c) = options.clearance
+                    && !c.is_finite()
+                {
+                    return Err("the clearance height must be a finite number".into());
+                }
+                Ok(())
+            }
+            Self::Raster {
+                scallop_mm,
+                angle_rad,
+                tolerance_mm,
+                feed_mm_per_min,
+                ..
+            } => {
+                positive("scallop height (mm)", *scallop_mm)?;
+                positive("chord tolerance (mm)", *tolerance_mm)?;
+                positive("feed (mm/min)", *feed_mm_per_min)?;
+                if angle_rad.is_finite() {
+                    Ok(())
+                } else {
+                    Err("the raster angle must be a finite number".into())
+                }
+            }
+            Self::Rough {
+                step_down_mm,
+                step_over_fraction,
+                stock_to_leave_mm,
+                tolerance_mm,
+                feed_mm_per_min,
+                ..
+            } => {
+                positive("step-down (mm)", *step_down_mm)?;
+                positive("tolerance (mm)", *tolerance_mm)?;
+                positive("feed (mm/min)", *feed_mm_per_min)?;
+                if !(step_over_fraction.is_finite()
+                    && *step_over_fraction > 0.0
+                    && *step_over_fraction <= 1.0)
+                {
+                    return Err(format!(
+                        "step-over must lie in (0, 100 %] of the diameter, got {:.1} %",
+                        step_over_fraction * 100.0
+                    ));
+                }
+                if !(stock_to_leave_mm.is_finite() && *stock_to_leave_mm >= 0.0) {
+                    return Err(format!(
+                        "stock to leave must be zero or more (mm), got {stock_to_leave_mm}"
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+}

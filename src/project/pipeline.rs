@@ -1,0 +1,286 @@
+//! The pipeline that runs one operation of a project end to end: the operation's tool from the
+//! library, its face or the part's mesh, the project's stock, into the strategy, out as a
+//! [`Toolpath`] with diagnostics. The workstation runs it on a worker thread; the command line
+//! and the tests call it directly.
+
+use std::sync::Arc;
+
+use super::{Operation, Project, Stock};
+use crate::diagnostics::{Diagnostic, Progress};
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::mesh::TriMesh;
+use crate::geometry::surface::SurfaceGeom;
+use crate::strategies::face::FacePatch;
+use crate::strategies::finish::plan_finish;
+use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
+use crate::strategies::zlevel::{self, ZlevelOptions, roughing_grid_mm, zlevel_rough};
+use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
+use crate::tools::tool_spec;
+
+/// The part as the pipeline needs it: the mesh (for 3-axis strategies) and each face's exact
+/// surface (for finishing; `None` for a mesh part or a face without one).
+#[derive(Clone, Debug)]
+pub struct PartGeometry {
+    /// Triangles of the whole part, mm.
+    pub mesh: TriMesh,
+    /// The carrier surface of each face, in the part's face order.
+    pub faces: Vec<Option<Arc<SurfaceGeom>>>,
+}
+
+/// What running an operation produced.
+#[derive(Clone, Debug)]
+pub struct Computed {
+    /// The tool path (summary with lengths, time at feed, predicted scallop, gouge report).
+    pub toolpath: Toolpath,
+    /// Number of cutting passes (contours for roughing).
+    pub passes: usize,
+    /// Warnings and notes of the strategy.
+    pub diagnostics: Vec<Diagnostic>,
+    /// For finishing: the lead actually used, rad (raised against local gouging).
+    pub lead_rad: Option<f64>,
+}
+
+/// Why an operation could not be run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ComputeError {
+    /// No operation at that index.
+    #[error("no operation number {index} (there are {count})")]
+    NoOperation {
+        /// The index asked for.
+        index: usize,
+        /// How many there are.
+        count: usize,
+    },
+    /// The operation names a tool the library lacks.
+    #[error("operation '{operation}': no tool number {tool} in the library")]
+    NoTool {
+        /// Operation name.
+        operation: String,
+        /// Tool index.
+        tool: usize,
+    },
+    /// The operation's face is missing or has no exact surface.
+    #[error("operation '{operation}': {message}")]
+    Face {
+        /// Operation name.
+        operation: String,
+        /// What is wrong with the face.
+        message: String,
+    },
+    /// The strategy refused (options out of range, cutter unsupported, nothing to cut).
+    #[error("operation '{operation}': {message}")]
+    Plan {
+        /// Operation name.
+        operation: String,
+        /// The strategy's message.
+        message: String,
+    },
+    /// The user cancelled.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// Run operation `index` of `project` on `part`. Reports progress through `progress` and stops
+/// early when it is cancelled (finishing checks between its stages only).
+///
+/// # Errors
+/// [`ComputeError`] naming the operation and what is wrong.
+pub fn compute(
+    project: &Project,
+    index: usize,
+    part: &PartGeometry,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let op = project
+        .operations
+        .get(index)
+        .ok_or(ComputeError::NoOperation {
+            index,
+            count: project.operations.len(),
+        })?;
+    let name = op.name().to_string();
+    let entry = project
+        .tools
+        .get(op.tool())
+        .ok_or_else(|| ComputeError::NoTool {
+            operation: name.clone(),
+            tool: op.tool(),
+        })?;
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: name.clone(),
+        message,
+    };
+    op.validate().map_err(plan_err)?;
+    let tool = ToolRecord {
+        spec: tool_spec(&entry.cutter),
+        cutter: entry.cutter.clone(),
+    };
+    let cancelled = |p: &Progress| {
+        if p.is_cancelled() {
+            Err(ComputeError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
+    cancelled(progress)?;
+    progress.set(0.02);
+    let computed = match op {
+        Operation::Finish {
+            face,
+            strategy,
+            options,
+            ..
+        } => {
+            let face_err = |message: String| ComputeError::Face {
+                operation: name.clone(),
+                message,
+            };
+            let surface = match part.faces.get(*face) {
+                None => {
+                    return Err(face_err(format!(
+                        "no face number {face} (the part has {})",
+                        part.faces.len()
+                    )));
+                }
+                Some(None) => {
+                    return Err(face_err(format!(
+                        "face {face} has no exact surface (finishing needs a STEP part)"
+                    )));
+                }
+                Some(Some(s)) => s.as_ref(),
+            };
+            let patch = FacePatch::from_surface(surface)
+                .map_err(|e| face_err(format!("face {face}: {e}")))?;
+            let r = plan_finish(patch, &tool.cutter, &tool.spec, *strategy, options)
+                .map_err(|e| plan_err(format!("face {face}: {e}")))?;
+            Computed {
+                passes: r.passes.len(),
+                lead_rad: Some(r.used.axis.lead()),
+                toolpath: r.toolpath,
+                diagnostics: r.diagnostics,
+            }
+        }
+        Operation::Raster {
+            scallop_mm,
+            angle_rad,
+            one_way,
+            tolerance_mm,
+            feed_mm_per_min,
+            ..
+        } => {
+            let bvh = MeshBvh::new(&part.mesh).map_err(|e| plan_err(e.to_string()))?;
+            cancelled(progress)?;
+            let opts = RasterOptions {
+                angle_rad: *angle_rad,
+                pattern: if *one_way {
+                    RasterPattern::OneWay
+                } else {
+                    RasterPattern::ZigZag
+                },
+                scallop_mm: *scallop_mm,
+                chord_tol_mm: *tolerance_mm,
+                boundary: Boundary::Silhouette,
+                feed_mm_per_min: *feed_mm_per_min,
+                plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
+                ..RasterOptions::default()
+            };
+            let plan = raster_progress(&part.mesh, &bvh, &tool, &opts, progress)
+                .map_err(|e| plan_err(e.to_string()))?;
+            cancelled(progress)?;
+            Computed {
+                passes: plan.passes,
+                lead_rad: None,
+                toolpath: plan.toolpath,
+                diagnostics: plan.diagnostics,
+            }
+        }
+        Operation::Rough {
+            step_down_mm,
+            step_over_fraction,
+            stock_to_leave_mm,
+            tolerance_mm,
+            feed_mm_per_min,
+            ..
+        } => {
+            let bvh = MeshBvh::new(&part.mesh).map_err(|e| plan_err(e.to_string()))?;
+            let stock = roughing_stock(&project.stock, &part.mesh);
+            let grid = roughing_grid_mm(
+                &stock,
+                tool.cutter.radius(),
+                *tolerance_mm,
+                *stock_to_leave_mm,
+            );
+            let opts = ZlevelOptions {
+                stock,
+                step_down_mm: *step_down_mm,
+                step_over_mm: step_over_fraction * tool.cutter.diameter,
+                stock_to_leave_radial_mm: *stock_to_leave_mm,
+                stock_to_leave_axial_mm: *stock_to_leave_mm,
+                tolerance_mm: grid,
+                feed_mm_per_min: *feed_mm_per_min,
+                ..ZlevelOptions::default()
+            };
+            cancelled(progress)?;
+            let plan = zlevel_rough(&part.mesh, &bvh, &tool, &opts)
+                .map_err(|e| plan_err(e.to_string()))?;
+            let mut diagnostics = plan.diagnostics;
+            if matches!(project.stock, Stock::None) {
+                diagnostics.push(Diagnostic::info(
+                    None,
+                    "no stock defined: roughing the part's bounding box",
+                ));
+            }
+            Computed {
+                passes: plan.contours,
+                lead_rad: None,
+                toolpath: plan.toolpath,
+                diagnostics,
+            }
+        }
+    };
+    cancelled(progress)?;
+    progress.set(1.0);
+    Ok(computed)
+}
+
+/// The roughing stock: the project's, or the part's bounding box when none is defined.
+fn roughing_stock(stock: &Stock, mesh: &TriMesh) -> zlevel::Stock {
+    match *stock {
+        Stock::Box { min_mm, max_mm } => zlevel::Stock::Box {
+            min: min_mm.into(),
+            max: max_mm.into(),
+        },
+        Stock::Cylinder {
+            base_mm,
+            radius_mm,
+            height_mm,
+        } => zlevel::Stock::Cylinder {
+            centre: glam::DVec2::new(base_mm[0], base_mm[1]),
+            radius: radius_mm,
+            z0: base_mm[2],
+            z1: base_mm[2] + height_mm,
+        },
+        Stock::None => {
+            let b = mesh.bbox();
+            zlevel::Stock::Box {
+                min: b.min,
+                max: b.max,
+            }
+        }
+    }
+}
+
+/// Number of cutting runs in `toolpath` (a run starts where a cut follows a non-cut).
+#[must_use]
+pub fn cutting_runs(toolpath: &Toolpath) -> usize {
+    let mut runs = 0;
+    let mut cutting = false;
+    for p in &toolpath.poses {
+        let cut = p.kind == MoveKind::Cut;
+        if cut && !cutting {
+            runs += 1;
+        }
+        cutting = cut;
+    }
+    runs
+}

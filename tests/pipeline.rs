@@ -1,0 +1,210 @@
+//! The project pipeline (`project::pipeline::compute`): an operation of a project run end to end
+//! on the default part, checked against closed-form contact conditions and the drop-cutter, not
+//! against itself.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+use talas::diagnostics::Progress;
+use talas::geometry::bvh::MeshBvh;
+use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
+use talas::import::step::read_step;
+use talas::project::pipeline::{ComputeError, PartGeometry, compute, cutting_runs};
+use talas::project::{Operation, OperationKind, Project, ToolEntry};
+use talas::toolpath::MoveKind;
+use talas::tools::dropcutter::drop_cutter;
+use talas::tools::parse_tool_spec;
+
+fn hills() -> PartGeometry {
+    let part = read_step(Path::new("tests/data/bicubic-hills.stp")).expect("bicubic-hills reads");
+    let mesh = tessellate_part(&part, &TessellationOptions::with_chord_tol(0.01)).mesh;
+    PartGeometry {
+        mesh,
+        faces: part
+            .faces
+            .iter()
+            .map(|f| Some(Arc::new(f.surface.clone())))
+            .collect(),
+    }
+}
+
+fn project_with(tool: &str, op: Operation) -> Project {
+    Project {
+        tools: vec![ToolEntry {
+            name: "T1".into(),
+            cutter: parse_tool_spec(tool).expect("tool spec"),
+        }],
+        selected_tool: Some(0),
+        operations: vec![op],
+        ..Project::default()
+    }
+}
+
+#[test]
+fn finishing_a_face_puts_the_ball_centre_one_radius_off_the_exact_surface() {
+    let part = hills();
+    let mut op = Operation::new(OperationKind::IsoScallop, 0, 0);
+    if let Operation::Finish { options, .. } = &mut op {
+        options.scallop = 0.05;
+        options.tolerance = 0.02;
+    }
+    let project = project_with("ball:d=6", op);
+    let out = compute(&project, 0, &part, &Progress::new()).expect("iso-scallop plans");
+    let tp = &out.toolpath;
+    assert!(out.passes >= 5, "{} passes", out.passes);
+    assert_eq!(cutting_runs(tp), out.passes, "one cutting run per pass");
+    let surface = part.faces[0].as_ref().expect("surface");
+    let rect = surface.domain();
+    let r = 3.0;
+    // tolerance 0.02 mm: poses are raised by 0.01 mm.
+    let mut checked = 0;
+    for pose in tp.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let centre = pose.tip + r * pose.axis;
+        // The contact is on the surface, and the ball centre is one radius from the surface
+        // (closest point = contact): the closed-form condition of a ball touching a surface.
+        let cc = pose.cc.expect("cutting poses carry the contact");
+        let on = surface.closest_point(cc, rect, None);
+        assert!(
+            on.distance < 1e-6,
+            "contact {cc} is {} mm off the surface",
+            on.distance
+        );
+        // Poses sit on the surface raised by half the chord tolerance (the one-sided tolerance
+        // of `strategies::stepping`), so the centre is R + ε/2 from the surface.
+        let nearest = surface.closest_point(centre, rect, None);
+        assert!(
+            (nearest.distance - (r + 0.01)).abs() < 1e-5,
+            "ball centre {} mm from the surface (R + ε/2 = {})",
+            nearest.distance,
+            r + 0.01
+        );
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} cutting poses");
+    let scallop = tp
+        .summary
+        .predicted_max_scallop_mm
+        .expect("predicted scallop");
+    assert!(scallop <= 0.05 + 1e-9, "predicted {scallop} mm > 0.05 mm");
+    // Deterministic: the same project gives the same path.
+    let again = compute(&project, 0, &part, &Progress::new()).expect("plans again");
+    assert_eq!(again.toolpath.poses, tp.poses);
+}
+
+#[test]
+fn raster_never_gouges_and_touches_the_part_where_it_cuts() {
+    let part = hills();
+    let bvh = MeshBvh::new(&part.mesh).expect("bvh");
+    let mut raster = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut raster {
+        *scallop_mm = 0.05;
+    }
+    let project = project_with("ball:d=6", raster);
+    let tp = compute(&project, 0, &part, &Progress::new())
+        .expect("raster plans")
+        .toolpath;
+    let cuts: Vec<_> = tp
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .collect();
+    assert!(cuts.len() > 100);
+    let mut touching = 0;
+    for p in &cuts {
+        let d = bvh
+            .closest_point(p.tip + 3.0 * p.axis)
+            .expect("closest point")
+            .distance;
+        assert!(d >= 3.0 - 1e-6, "ball centre {d} mm from the mesh: gouge");
+        if d < 3.0 + 0.02 {
+            touching += 1;
+        }
+    }
+    assert!(
+        touching * 10 >= cuts.len() * 9,
+        "only {touching} of {} cutting poses touch the part",
+        cuts.len()
+    );
+}
+
+#[test]
+fn roughing_leaves_the_allowance_above_the_drop_cutter_height() {
+    let part = hills();
+    let bvh = MeshBvh::new(&part.mesh).expect("bvh");
+    // Roughing with a flat end mill: every cutting pose is at or above the drop-cutter height
+    // plus the allowance, less the roughing grid's documented slack (half the allowance).
+    let mut rough = Operation::new(OperationKind::Rough, 0, 0);
+    if let Operation::Rough {
+        step_down_mm,
+        tolerance_mm,
+        ..
+    } = &mut rough
+    {
+        // A coarse grid (0.3 mm) and few levels keep the debug-build test short.
+        *step_down_mm = 4.0;
+        *tolerance_mm = 0.3;
+    }
+    let project = project_with("flat:d=10", rough);
+    let out = compute(&project, 0, &part, &Progress::new()).expect("roughing plans");
+    assert!(out.passes > 0);
+    let cuts: Vec<_> = out
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .collect();
+    let xy: Vec<DVec2> = cuts.iter().map(|p| p.tip.truncate()).collect();
+    let drops = drop_cutter(&bvh, &part.mesh, &project.tools[0].cutter, &xy);
+    let allowance = 0.3;
+    let mut worst = f64::INFINITY;
+    for (p, d) in cuts.iter().zip(&drops) {
+        if let Some(d) = d {
+            worst = worst.min(p.tip.z - (d.z + allowance));
+        }
+    }
+    assert!(
+        worst >= -0.5 * allowance - 1e-6,
+        "roughing cuts {worst} mm into the allowance"
+    );
+    assert!(
+        cuts.iter().all(|p| p.axis == DVec3::Z),
+        "roughing is 3-axis"
+    );
+}
+
+#[test]
+fn bad_operations_give_errors_naming_the_operation() {
+    let part = hills();
+    let project = project_with("ball:d=6", Operation::new(OperationKind::IsoPlanar, 0, 7));
+    match compute(&project, 0, &part, &Progress::new()) {
+        Err(ComputeError::Face { operation, message }) => {
+            assert_eq!(operation, "Iso-planar finishing");
+            assert!(message.contains("no face number 7"), "{message}");
+        }
+        other => panic!("expected a face error, got {other:?}"),
+    }
+    let mesh_only = PartGeometry {
+        mesh: part.mesh.clone(),
+        faces: vec![None],
+    };
+    let project = project_with("ball:d=6", Operation::new(OperationKind::IsoScallop, 0, 0));
+    let e = compute(&project, 0, &mesh_only, &Progress::new()).expect_err("no surface");
+    assert!(e.to_string().contains("STEP"), "{e}");
+    let cancelled = Progress::new();
+    cancelled.cancel();
+    assert_eq!(
+        compute(&project, 0, &part, &cancelled).expect_err("cancelled"),
+        ComputeError::Cancelled
+    );
+    let cone = project_with(
+        "cone:d=6,angle=30",
+        Operation::new(OperationKind::IsoScallop, 0, 0),
+    );
+    let e = compute(&cone, 0, &part, &Progress::new()).expect_err("cone refused");
+    assert!(matches!(e, ComputeError::Plan { .. }), "{e:?}");
+    assert!(matches!(
+        compute(&cone, 3, &part, &Progress::new()),
+        Err(ComputeError::NoOperation { index: 3, count: 1 })
+    ));
+}
