@@ -7,7 +7,9 @@ use std::path::PathBuf;
 
 use serde_json::{Map, Value, json};
 
-use crate::feed::{AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, plan};
+use crate::feed::{
+    AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, naive_time_s, plan,
+};
 use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
@@ -179,12 +181,7 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
             json!({"v": p.velocity, "a": p.acceleration, "j": p.jerk}),
         );
     }
-    let naive: f64 = prog
-        .blocks
-        .iter()
-        .filter(|b| b.feed_mm_per_min > 0.0)
-        .map(|b| b.length_mm() / (b.feed_mm_per_min / 60.0))
-        .sum();
+    let naive = naive_time_s(&prog.blocks);
     Ok(json!({
         "cycle_time_s": tp.cycle_time_s,
         "naive_time_s": naive,

@@ -19,11 +19,13 @@
 //! the tolerance ([`blend`]), so the path stays smooth and every axis limit holds.
 
 pub mod blend;
+pub mod estimate;
 pub mod lookahead;
 pub mod path;
 pub mod profile;
 pub mod timed_path;
 
+pub use estimate::naive_time_s;
 pub use profile::{Limits1, PhaseKind, Profile, ProfileError, reachable_velocity};
 pub use timed_path::{AxisPeak, Sample, TimedPath};
 

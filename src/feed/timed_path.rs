@@ -125,6 +125,12 @@ impl TimedPath {
         peaks
     }
 
+    /// The program's motion blocks the plan was made for.
+    #[must_use]
+    pub fn blocks(&self) -> &[MotionBlock] {
+        &self.blocks
+    }
+
     /// Number of planned segments (non-empty blocks, plus corner blends).
     #[must_use]
     pub fn block_count(&self) -> usize {

@@ -87,24 +87,65 @@ struct Target {
     tip: glam::DVec3,
 }
 
+/// A posted program with the tool-path pose behind every line.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Posted {
+    /// The program text, one block per line, ending with a newline.
+    pub text: String,
+    /// For each line of `text` (0-based), the index of the tool-path pose whose motion the
+    /// line writes: the block reaching the pose or, for a linearised move, every block on the
+    /// way from the previous pose to it. `None` for the header, comments, tool change, the
+    /// approach at clearance, the retracts of a safe flip and the end.
+    pub pose_of_line: Vec<Option<usize>>,
+}
+
+impl Posted {
+    /// For each of `pose_count` poses, the line of the block that reaches it (the last line
+    /// tagged with it); `None` for a pose no block writes (a repeat of the previous pose).
+    /// The inverse of [`Posted::pose_of_line`], for selecting the line of a picked pose.
+    #[must_use]
+    pub fn line_of_each_pose(&self, pose_count: usize) -> Vec<Option<usize>> {
+        let mut lines = vec![None; pose_count];
+        for (line, pose) in self.pose_of_line.iter().enumerate() {
+            if let Some(slot) = pose.and_then(|k| lines.get_mut(k)) {
+                *slot = Some(line);
+            }
+        }
+        lines
+    }
+}
+
 /// Post a tool path.
 ///
 /// # Errors
-/// [`PostError::Unsupported`] for a 5-axis machine with a 3-axis dialect, TCP on a dialect or
-/// machine without it, or a tilted pose on a 3-axis machine; [`PostError::Pose`] for poses the
-/// kinematics cannot reach; [`PostError::Options`] for bad options.
+/// As [`post_mapped`].
 pub fn post(
     toolpath: &Toolpath,
     machine: &Machine,
     dialect: &Dialect,
     options: &PostOptions,
 ) -> Result<String, PostError> {
+    post_mapped(toolpath, machine, dialect, options).map(|p| p.text)
+}
+
+/// Post a tool path and map every output line to the pose it moves to.
+///
+/// # Errors
+/// [`PostError::Unsupported`] for a 5-axis machine with a 3-axis dialect, TCP on a dialect or
+/// machine without it, or a tilted pose on a 3-axis machine; [`PostError::Pose`] for poses the
+/// kinematics cannot reach; [`PostError::Options`] for bad options.
+pub fn post_mapped(
+    toolpath: &Toolpath,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+) -> Result<Posted, PostError> {
     check(toolpath, machine, dialect, options)?;
     let mut w = Writer::new(dialect, machine, toolpath, options);
     w.preamble();
     let Some(first) = toolpath.poses.first() else {
         w.postamble();
-        return Ok(w.finish());
+        return Ok(posted(w));
     };
     let pose_err = |pose: usize| move |source| PostError::Pose { pose, source };
     let start = ToolPose {
@@ -120,6 +161,7 @@ pub fn post(
         first.kind,
         first.feed_mm_per_min,
         0.0,
+        0,
     );
     for (k, pair) in toolpath.poses.windows(2).enumerate() {
         let [a, b] = pair else { continue };
@@ -139,6 +181,7 @@ pub fn post(
                 b.kind,
                 b.feed_mm_per_min,
                 len,
+                k + 1,
             );
             prev = j;
             continue;
@@ -153,7 +196,7 @@ pub fn post(
                         pose: k + 1,
                         source: MachineError::Unreachable(first_error),
                     })?;
-                w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min);
+                w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min, k);
                 js
             }
             Err(e) => return Err(pose_err(k + 1)(e)),
@@ -164,7 +207,13 @@ pub fn post(
                 continue;
             }
             let t = target(dialect, machine, j, false);
-            w.motion(&t, b.kind, b.feed_mm_per_min, last_tip.distance(t.tip));
+            w.motion(
+                &t,
+                b.kind,
+                b.feed_mm_per_min,
+                last_tip.distance(t.tip),
+                k + 1,
+            );
             last_tip = t.tip;
         }
         if let Some(j) = js.last() {
@@ -172,7 +221,12 @@ pub fn post(
         }
     }
     w.postamble();
-    Ok(w.finish())
+    Ok(posted(w))
+}
+
+fn posted(w: Writer<'_>) -> Posted {
+    let (text, pose_of_line) = w.finish();
+    Posted { text, pose_of_line }
 }
 
 fn check(

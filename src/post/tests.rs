@@ -75,3 +75,130 @@ fn rotary_moves_use_inverse_time_and_tcp_does_not() {
     let text = post(&tp, &trt, &lcnc, &tcp).unwrap();
     assert!(text.contains("G43.4 H1") && !text.contains("G93"), "{text}");
 }
+
+/// The tip a block puts in part coordinates (forward kinematics of its end joints).
+fn block_tip(machine: &Machine, b: &crate::gcode::MotionBlock) -> glam::DVec3 {
+    let tilt = if machine.rotary_names() == Some(('B', 'C')) {
+        b.end.b
+    } else {
+        b.end.a
+    };
+    let j = MachineJoints {
+        xyz: b.end.xyz,
+        tilt_rad: tilt.unwrap_or(0.0),
+        rotary_rad: b.end.c.unwrap_or(0.0),
+    };
+    machine.forward(&j).tip
+}
+
+fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + d * t)
+}
+
+/// Posts `tp`, reads the text back with the interpreter and checks the line map: every line
+/// tagged with pose k is a motion block whose tip (forward kinematics) lies on the move from
+/// pose k-1 to pose k, the last line of pose k ends on its tip, the poses come in increasing
+/// order and none is left out. Returns the largest tip error at a pose, mm.
+fn check_line_map(tp: &Toolpath, machine: &str, dialect: &str) -> f64 {
+    use crate::gcode::{InterpretOptions, Syntax, interpret};
+    let machine = Machine::builtin(machine).unwrap();
+    let d = Dialect::builtin(dialect).unwrap();
+    let options = PostOptions::default();
+    let posted = post_mapped(tp, &machine, &d, &options).unwrap();
+    assert_eq!(
+        posted.text,
+        post(tp, &machine, &d, &options).unwrap(),
+        "post and post_mapped differ"
+    );
+    assert_eq!(posted.pose_of_line.len(), posted.text.lines().count());
+    let program = interpret(
+        &posted.text,
+        &InterpretOptions::for_syntax(Syntax::from_name(dialect).unwrap()),
+    )
+    .unwrap();
+    let resolution = 10f64.powi(-i32::try_from(d.decimals_linear).unwrap());
+    let mut worst = 0.0f64;
+    let mut seen = vec![false; tp.poses.len()];
+    let mut last_pose = 0usize;
+    for (line, tag) in posted.pose_of_line.iter().enumerate() {
+        let Some(k) = *tag else { continue };
+        assert!(
+            k >= last_pose,
+            "{dialect}: line {line} pose {k} after {last_pose}"
+        );
+        last_pose = k;
+        seen[k] = true;
+        let block = program
+            .blocks
+            .iter()
+            .rev()
+            .find(|b| b.source_line == line + 1)
+            .unwrap_or_else(|| panic!("{dialect}: line {line} tagged {k} is not a motion"));
+        let tip = block_tip(&machine, block);
+        let a = tp.poses[k.saturating_sub(1)].tip;
+        let b = tp.poses[k].tip;
+        // On the way to the pose (linearised), or at the previous pose (the feed-in of a flip).
+        let off = point_segment(tip, a, b);
+        assert!(
+            off < 2.0 * resolution,
+            "{dialect}: line {line} {off} mm off"
+        );
+        let next_tag = posted.pose_of_line.get(line + 1).copied().flatten();
+        if next_tag != Some(k) {
+            let e = tip.distance(b);
+            assert!(
+                e < 2.0 * resolution,
+                "{dialect}: line {line} ends {e} mm from pose {k}"
+            );
+            worst = worst.max(e);
+        }
+    }
+    assert!(seen.iter().all(|&s| s), "{dialect}: a pose has no line");
+    let lines = posted.line_of_each_pose(tp.poses.len());
+    for (k, line) in lines.iter().enumerate() {
+        let l = line.unwrap_or_else(|| panic!("{dialect}: pose {k} has no line"));
+        assert_eq!(posted.pose_of_line[l], Some(k));
+        assert_ne!(posted.pose_of_line.get(l + 1).copied().flatten(), Some(k));
+    }
+    // Preamble and comments are not motions.
+    assert_eq!(posted.pose_of_line.first(), Some(&None));
+    let mapped = posted.pose_of_line.iter().filter(|p| p.is_some()).count();
+    eprintln!(
+        "{dialect}/{}: {mapped} of {} lines mapped to {} poses, worst tip error {worst:.2e} mm",
+        machine.name,
+        posted.pose_of_line.len(),
+        tp.poses.len()
+    );
+    worst
+}
+
+#[test]
+fn every_motion_line_maps_to_its_pose() {
+    // 5 axes: the axis swings (linearised moves of several blocks each).
+    let tilted = path(&[
+        DVec3::Z,
+        DVec3::Z,
+        DVec3::new(0.0, 0.4, 1.0),
+        DVec3::new(0.3, 0.4, 1.0),
+        DVec3::new(0.3, -0.2, 1.0),
+        DVec3::Z,
+    ]);
+    for dialect in ["linuxcnc", "siemens", "heidenhain", "fanuc"] {
+        let e = check_line_map(&tilted, "trt-ac", dialect);
+        assert!(e < 1e-3, "{dialect}: {e}");
+    }
+    let e = check_line_map(&tilted, "trt-bc", "linuxcnc");
+    assert!(e < 1e-3, "{e}");
+    // 3 axes: one line per pose.
+    let straight = path(&[DVec3::Z; 5]);
+    for dialect in ["grbl", "linuxcnc"] {
+        let e = check_line_map(&straight, "mill-3axis", dialect);
+        assert!(e < 1e-3, "{dialect}: {e}");
+    }
+}

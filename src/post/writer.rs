@@ -20,6 +20,10 @@ pub(super) struct Writer<'a> {
     numbered: bool,
     next_number: u64,
     lines: Vec<String>,
+    /// For each line, the tool-path pose whose motion it writes.
+    pose_of_line: Vec<Option<usize>>,
+    /// The pose the blocks written now belong to (set by [`Self::motion`]).
+    current_pose: Option<usize>,
     /// Last written X Y Z, tilt, rotary words (formatted values).
     last: [Option<String>; 5],
     last_motion: Option<String>,
@@ -42,6 +46,8 @@ impl<'a> Writer<'a> {
             numbered: options.line_numbers.unwrap_or(d.line_numbers),
             next_number: u64::from(d.line_number_start),
             lines: Vec::new(),
+            pose_of_line: Vec::new(),
+            current_pose: None,
             last: Default::default(),
             last_motion: None,
             feed_mode: FeedMode::PerMinute,
@@ -59,10 +65,17 @@ impl<'a> Writer<'a> {
             .replace("{rpm}", &format!("{:.0}", self.options.spindle_rpm))
     }
 
+    /// One output line, tagged with the current pose.
+    fn push_line(&mut self, line: String) {
+        self.lines.push(line);
+        self.pose_of_line.push(self.current_pose);
+    }
+
     /// One block (numbered, with the block end) or a raw `!` line.
     fn block(&mut self, text: &str) {
         if let Some(raw) = text.strip_prefix('!') {
-            self.lines.push(self.fill(raw));
+            let line = self.fill(raw);
+            self.push_line(line);
             return;
         }
         let body = self.fill(text);
@@ -73,7 +86,7 @@ impl<'a> Writer<'a> {
         } else {
             format!("{body}{}", self.d.block_end)
         };
-        self.lines.push(line);
+        self.push_line(line);
     }
 
     fn blocks(&mut self, templates: &[String]) {
@@ -92,10 +105,8 @@ impl<'a> Writer<'a> {
                 c => c,
             })
             .collect();
-        self.lines.push(format!(
-            "{}{}{}",
-            self.d.comment_open, clean, self.d.comment_close
-        ));
+        let line = format!("{}{}{}", self.d.comment_open, clean, self.d.comment_close);
+        self.push_line(line);
     }
 
     fn five_axis(&self) -> bool {
@@ -191,19 +202,34 @@ impl<'a> Writer<'a> {
         self.rapid_words(t, [true, true, false, false, false]);
     }
 
-    /// A safe move to `t`: retract to the clearance, turn the rotaries, position X Y, feed in.
-    pub(super) fn reposition(&mut self, t: &Target, feed: f64) {
+    /// A safe move to `t` (at tool-path pose `pose`): retract to the clearance, turn the
+    /// rotaries, position X Y, feed in (only the feed-in is tagged with the pose).
+    pub(super) fn reposition(&mut self, t: &Target, feed: f64, pose: usize) {
         let d = self.d;
         let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
         let code = self.motion_code(&d.rapid);
         self.block(&join(code, &[format!("Z{z}")]));
         self.last[2] = Some(z);
         self.approach(t);
-        self.motion(t, MoveKind::Plunge, feed, 0.0);
+        self.motion(t, MoveKind::Plunge, feed, 0.0, pose);
     }
 
-    /// The block reaching `t` by a move of `kind` (tip travel `tip_len` mm).
-    pub(super) fn motion(&mut self, t: &Target, kind: MoveKind, feed: f64, tip_len: f64) {
+    /// The block reaching `t` by a move of `kind` (tip travel `tip_len` mm), on the way to the
+    /// tool-path pose `pose`.
+    pub(super) fn motion(
+        &mut self,
+        t: &Target,
+        kind: MoveKind,
+        feed: f64,
+        tip_len: f64,
+        pose: usize,
+    ) {
+        self.current_pose = Some(pose);
+        self.motion_block(t, kind, feed, tip_len);
+        self.current_pose = None;
+    }
+
+    fn motion_block(&mut self, t: &Target, kind: MoveKind, feed: f64, tip_len: f64) {
         let values = self.values(t);
         if kind == MoveKind::Rapid {
             self.rapid_words(t, [true; 5]);
@@ -283,11 +309,11 @@ impl<'a> Writer<'a> {
         self.blocks(&d.trailer);
     }
 
-    /// The text, one block per line, ending with a newline.
-    pub(super) fn finish(self) -> String {
+    /// The text, one block per line, ending with a newline, and the pose of every line.
+    pub(super) fn finish(self) -> (String, Vec<Option<usize>>) {
         let mut s = self.lines.join("\n");
         s.push('\n');
-        s
+        (s, self.pose_of_line)
     }
 }
 

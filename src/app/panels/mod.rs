@@ -1,8 +1,11 @@
 //! The panels around the viewport. Each reads the state it shows and returns [`super::command::Command`]s;
 //! none changes the document itself.
 
+pub mod gcode_view;
 pub mod log_panel;
+pub mod machine_panel;
 pub mod menu_bar;
+pub mod motion_plots;
 pub mod operation_editor;
 pub mod playback;
 pub mod project_dialogs;
