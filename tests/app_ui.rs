@@ -447,6 +447,26 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         "gouge {} mm",
         sim.simulated.max_gouge_mm
     );
+    // F7 posts the path and plans its motion; the G-code pane shows it, Export writes it.
+    press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_posting() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.run_steps(2);
+    let text = h.state().program_text(0).expect("posted").to_string();
+    assert!(
+        text.contains("G54") && text.contains("M30"),
+        "{}",
+        &text[..200.min(text.len())]
+    );
+    assert!(h.query_all_by_label_contains("G-code").next().is_some());
+    let out = dir.join("raster.ngc");
+    h.state_mut().apply(Command::ExportProgramTo(out.clone()));
+    assert_eq!(std::fs::read_to_string(&out).expect("exported"), text);
     // A stock change makes the simulation stale (not shown for the operation any more).
     h.state_mut()
         .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {

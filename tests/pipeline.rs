@@ -255,3 +255,56 @@ fn the_simulated_stock_keeps_the_predicted_scallop_and_no_gouge() {
     );
     assert!(sim.max_gouge_mm <= 0.012, "gouge {} mm", sim.max_gouge_mm);
 }
+
+#[test]
+fn posting_writes_program_coordinates_under_the_work_offset() {
+    use talas::project::Setup;
+    use talas::project::posting::post_operation;
+    let part = hills();
+    let mut op = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut op {
+        *scallop_mm = 0.2;
+    }
+    let mut project = project_with("ball:d=6", op);
+    let tp = compute(&project, 0, &part, &Progress::new())
+        .expect("plans")
+        .toolpath;
+    let at_zero = post_operation(&project, &tp, 3).expect("posts");
+    project.setup = Setup {
+        work_offset: 2,
+        origin_mm: [10.0, -20.0, 5.0],
+    };
+    let shifted = post_operation(&project, &tp, 3).expect("posts");
+    assert!(!at_zero.text.contains("G55") && shifted.text.contains("G55"));
+    assert!(shifted.text.contains("T3"));
+    // The line that reaches each pose holds X, Y, Z of its tip less the origin.
+    let word = |line: &str, c: char| -> Option<f64> {
+        line.split_whitespace()
+            .find_map(|w| w.strip_prefix(c).and_then(|v| v.parse::<f64>().ok()))
+    };
+    let lines: Vec<&str> = shifted.text.lines().collect();
+    let mut checked = 0;
+    for (k, line) in shifted
+        .line_of_each_pose(tp.poses.len())
+        .iter()
+        .enumerate()
+        .filter_map(|(k, l)| Some((k, (*l)?)))
+    {
+        let Some(text) = lines.get(line) else {
+            continue;
+        };
+        let tip = tp.poses[k].tip;
+        // Words are modal: only the coordinates that change are written.
+        if let Some(x) = word(text, 'X') {
+            assert!((x - (tip.x - 10.0)).abs() < 1e-3, "{text}: x vs {}", tip.x);
+            checked += 1;
+        }
+        if let Some(y) = word(text, 'Y') {
+            assert!((y - (tip.y + 20.0)).abs() < 1e-3, "{text}: y vs {}", tip.y);
+        }
+        if let Some(z) = word(text, 'Z') {
+            assert!((z - (tip.z - 5.0)).abs() < 1e-3, "{text}: z vs {}", tip.z);
+        }
+    }
+    assert!(checked > 50, "{checked} lines checked");
+}

@@ -76,6 +76,14 @@ pub enum Command {
     Simulate(usize),
     /// Simulate the active (or the focused) operation.
     SimulateActive,
+    /// Ask for a machine definition file (JSON) to use.
+    OpenMachineFileDialog,
+    /// Post the active operation (and plan its motion).
+    PostActive,
+    /// Ask where to export the posted program.
+    ExportProgramDialog,
+    /// Export the posted program to this path.
+    ExportProgramTo(PathBuf),
     /// Show the simulated stock (instead of the part) or not.
     SetStockVisible(bool),
     /// Show this pose of the active operation's path in the properties (or none).

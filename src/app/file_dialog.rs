@@ -1,4 +1,5 @@
-//! The Open dialog: the native dialog (rfd, through the XDG desktop portal) on a worker thread.
+//! The Open and Save dialogs: the native dialog (rfd, through the XDG desktop portal) on a worker
+//! thread.
 //! Where no portal answers, rfd returns "no file" at once; then the workstation shows a path
 //! field instead.
 
@@ -115,6 +116,122 @@ impl OpenDialog {
                     DialogOutcome::Unavailable
                 } else {
                     DialogOutcome::Cancelled
+                }
+            }
+        }
+    }
+}
+
+/// What a save dialog is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SavePurpose {
+    /// Save the project as.
+    Project,
+    /// Export the posted program.
+    Program,
+}
+
+/// The native Save dialog on a worker thread (as [`OpenDialog`]); when no dialog answers, the
+/// workstation asks for the path in a prompt instead.
+#[derive(Debug, Default)]
+pub struct SaveDialog {
+    pending: Option<(Instant, SavePurpose, mpsc::Receiver<Option<PathBuf>>)>,
+    native_unavailable: bool,
+}
+
+/// What the save dialog produced this frame.
+#[derive(Debug, PartialEq, Eq)]
+pub enum SaveOutcome {
+    /// Nothing yet.
+    Waiting,
+    /// Save there.
+    Picked(SavePurpose, PathBuf),
+    /// The user cancelled.
+    Cancelled,
+    /// No dialog could be shown: ask for the path another way.
+    Unavailable(SavePurpose),
+}
+
+impl SaveDialog {
+    /// Ask where to save for `purpose`, starting at `start` (a suggested file path).
+    pub fn open(
+        &mut self,
+        purpose: SavePurpose,
+        start: Option<PathBuf>,
+        wake: impl FnOnce() + Send + 'static,
+    ) -> SaveOutcome {
+        if self.native_unavailable {
+            return SaveOutcome::Unavailable(purpose);
+        }
+        if self.pending.is_some() {
+            return SaveOutcome::Waiting;
+        }
+        let (sender, receiver) = mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("talas save dialog".into())
+            .spawn(move || {
+                let mut dialog = rfd::FileDialog::new();
+                dialog = match purpose {
+                    SavePurpose::Project => dialog
+                        .set_title("Save project as")
+                        .add_filter("Talas project", &["talas"]),
+                    SavePurpose::Program => dialog
+                        .set_title("Export G-code")
+                        .add_filter("G-code", &["ngc", "nc", "tap", "mpf", "h", "gcode"])
+                        .add_filter("All files", &["*"]),
+                };
+                if let Some(start) = start {
+                    if let Some(dir) = start.parent().filter(|d| d.is_dir()) {
+                        dialog = dialog.set_directory(dir);
+                    }
+                    if let Some(name) = start.file_name() {
+                        dialog = dialog.set_file_name(name.to_string_lossy());
+                    }
+                }
+                let _ = sender.send(dialog.save_file());
+                wake();
+            });
+        if spawned.is_ok() {
+            self.pending = Some((Instant::now(), purpose, receiver));
+            SaveOutcome::Waiting
+        } else {
+            self.native_unavailable = true;
+            SaveOutcome::Unavailable(purpose)
+        }
+    }
+
+    /// Is the native dialog open?
+    #[must_use]
+    pub fn is_waiting(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Check whether the dialog has returned.
+    pub fn poll(&mut self) -> SaveOutcome {
+        let Some((started, purpose, receiver)) = &self.pending else {
+            return SaveOutcome::Waiting;
+        };
+        let (elapsed, purpose) = (started.elapsed(), *purpose);
+        match receiver.try_recv() {
+            Err(mpsc::TryRecvError::Empty) => {
+                if elapsed > OFFER_PATH_FIELD_AFTER && !self.native_unavailable {
+                    self.native_unavailable = true;
+                    self.pending = None;
+                    return SaveOutcome::Unavailable(purpose);
+                }
+                SaveOutcome::Waiting
+            }
+            Ok(Some(path)) => {
+                self.pending = None;
+                SaveOutcome::Picked(purpose, path)
+            }
+            Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
+                self.pending = None;
+                if elapsed < NO_DIALOG_WITHIN {
+                    self.native_unavailable = true;
+                    SaveOutcome::Unavailable(purpose)
+                } else {
+                    SaveOutcome::Cancelled
                 }
             }
         }

@@ -4,6 +4,7 @@
 //! `project_commands`).
 
 mod operations;
+mod program;
 mod project_commands;
 mod simulation;
 
@@ -16,7 +17,7 @@ use std::time::{Duration, Instant};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
-use super::file_dialog::{DialogOutcome, OpenDialog};
+use super::file_dialog::{DialogOutcome, OpenDialog, SaveDialog, SaveOutcome, SavePurpose};
 use super::job::{Job, JobPoll};
 use super::message_log::MessageLog;
 use super::panels::grouped;
@@ -100,6 +101,8 @@ pub struct Workstation {
     forms: Forms,
     ops: operations::Operations,
     sims: simulation::Simulations,
+    programs: program::Programs,
+    save_dialog: SaveDialog,
     pick: Option<SurfacePick>,
     prompt: Option<PathPrompt>,
     /// A recovery file to offer (Recover / Discard).
@@ -138,6 +141,8 @@ impl Workstation {
             forms: Forms::default(),
             ops: operations::Operations::new(),
             sims: simulation::Simulations::default(),
+            programs: program::Programs::default(),
+            save_dialog: SaveDialog::default(),
             pick: None,
             prompt: None,
             recovery: None,
@@ -267,7 +272,7 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if self.cancel_calculation() || self.cancel_simulation() {
+                if self.cancel_calculation() || self.cancel_simulation() || self.cancel_post() {
                 } else if let Some(job) = self.load_job.take() {
                     job.cancel();
                     let t = self.now_s();
@@ -326,6 +331,10 @@ impl Workstation {
             | Command::CalculateActive
             | Command::Simulate(_)
             | Command::SimulateActive
+            | Command::PostActive
+            | Command::OpenMachineFileDialog
+            | Command::ExportProgramDialog
+            | Command::ExportProgramTo(_)
             | Command::SetStockVisible(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
@@ -413,6 +422,7 @@ impl Workstation {
         self.poll_field_job();
         self.poll_calc_job();
         self.poll_sim_job();
+        self.poll_post_job();
         self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
@@ -426,6 +436,11 @@ impl Workstation {
             }
             DialogOutcome::Waiting | DialogOutcome::Cancelled => {}
         }
+        if self.save_dialog.is_waiting() {
+            self.ctx.request_repaint_after(Duration::from_millis(250));
+        }
+        let saved = self.save_dialog.poll();
+        self.after_save_dialog(saved);
         let problems: Vec<String> = self
             .render_problems
             .as_ref()
@@ -530,6 +545,7 @@ impl Workstation {
             job: self
                 .calc_status()
                 .or_else(|| self.sim_status())
+                .or_else(|| self.post_status())
                 .or_else(|| self.load_job.as_ref().map(job_status))
                 .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
             document: self.document.as_ref().map(|d| {
@@ -598,10 +614,20 @@ impl Workstation {
             .show(ui, |ui| status_bar_ui(ui, &status, &mut commands));
         egui::Panel::bottom("log")
             .resizable(true)
-            .default_size(150.0)
-            .size_range(60.0..=500.0)
+            .default_size(190.0)
+            .size_range(60.0..=700.0)
             .show(ui, |ui| {
-                log_ui(ui, &self.log, &mut commands);
+                ui.horizontal(|ui| {
+                    let dock = &mut self.programs.dock;
+                    ui.selectable_value(dock, program::DockTab::Log, "Log");
+                    ui.selectable_value(dock, program::DockTab::Gcode, "G-code");
+                    ui.selectable_value(dock, program::DockTab::Motion, "Motion");
+                });
+                match self.programs.dock {
+                    program::DockTab::Log => log_ui(ui, &self.log, &mut commands),
+                    program::DockTab::Gcode => self.gcode_tab_ui(ui, &mut commands),
+                    program::DockTab::Motion => self.motion_tab_ui(ui, &mut commands),
+                }
             });
         egui::Panel::left("project tree")
             .resizable(true)
@@ -647,6 +673,13 @@ impl Workstation {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
             let stock = self.stock_instance();
+            // Over the simulated stock the path would hide the deviation map: it is drawn only
+            // while playing back.
+            let paths = if stock.is_some() && up_to.is_none() {
+                Vec::new()
+            } else {
+                paths
+            };
             let extras = ViewportExtras {
                 hide_part: stock.is_some(),
                 stock_legend: stock
@@ -729,6 +762,78 @@ impl Workstation {
         if !open {
             self.dialog.path_field_open = false;
         }
+    }
+}
+
+impl Workstation {
+    /// Act on what the save dialog returned.
+    fn after_save_dialog(&mut self, outcome: SaveOutcome) {
+        match outcome {
+            SaveOutcome::Picked(SavePurpose::Project, path) => {
+                self.apply(Command::SaveProjectAs(path));
+            }
+            SaveOutcome::Picked(SavePurpose::Program, path) => {
+                self.apply(Command::ExportProgramTo(path));
+            }
+            SaveOutcome::Unavailable(purpose) => {
+                self.prompt = Some(match purpose {
+                    SavePurpose::Project => PathPrompt::save_as(self.session.path.as_deref()),
+                    SavePurpose::Program => PathPrompt::export(&self.program_suggestion()),
+                });
+            }
+            SaveOutcome::Waiting | SaveOutcome::Cancelled => {}
+        }
+    }
+
+    /// Open the native save dialog for `purpose` (or the path prompt without one).
+    fn save_dialog_for(&mut self, purpose: SavePurpose) {
+        let start = match purpose {
+            SavePurpose::Project => self.session.path.clone().or_else(|| {
+                std::env::current_dir()
+                    .ok()
+                    .map(|d| d.join("untitled.talas"))
+            }),
+            SavePurpose::Program => Some(self.program_suggestion()),
+        };
+        let ctx = self.ctx.clone();
+        let outcome = self
+            .save_dialog
+            .open(purpose, start, move || ctx.request_repaint());
+        self.after_save_dialog(outcome);
+    }
+
+    /// A file name for the exported program: next to the project, named after it and the
+    /// operation, with the dialect's usual extension.
+    fn program_suggestion(&self) -> PathBuf {
+        let dir = self
+            .session
+            .path
+            .as_ref()
+            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        let op = self
+            .ops
+            .active
+            .and_then(|i| self.session.project.operations.get(i))
+            .map_or("program", |o| o.name());
+        let stem: String = format!("{}-{op}", self.session.project.name)
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let ext = match self.session.project.post.dialect.as_str() {
+            "linuxcnc" => "ngc",
+            "siemens" => "mpf",
+            "heidenhain" => "i",
+            _ => "nc",
+        };
+        dir.join(format!("{stem}.{ext}"))
     }
 }
 

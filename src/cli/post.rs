@@ -36,6 +36,9 @@ pub struct PostArgs {
     /// Number the blocks (default: as the dialect says).
     #[arg(long)]
     pub line_numbers: bool,
+    /// Work offset (G54 … G59).
+    #[arg(long, value_name = "G5X", default_value = "G54")]
+    pub work_offset: String,
     /// Program name in the header.
     #[arg(long, value_name = "NAME", default_value = "TALAS")]
     pub program: String,
@@ -49,6 +52,16 @@ pub struct PostArgs {
 /// # Errors
 /// A line naming the file and the place.
 pub fn post(args: &PostArgs) -> Result<(), String> {
+    let offset = args.work_offset.trim().to_ascii_uppercase();
+    if !matches!(
+        offset.as_str(),
+        "G54" | "G55" | "G56" | "G57" | "G58" | "G59"
+    ) {
+        return Err(format!(
+            "--work-offset: '{}' is not one of G54 … G59",
+            args.work_offset
+        ));
+    }
     let tp = Toolpath::load(&args.file).map_err(|e| e.to_string())?;
     let machine = Machine::resolve(&args.machine).map_err(|e| format!("{}: {e}", args.machine))?;
     let dialect = Dialect::resolve(&args.dialect).map_err(|e| e.to_string())?;
@@ -60,6 +73,7 @@ pub fn post(args: &PostArgs) -> Result<(), String> {
         spindle_rpm: args.rpm,
         clearance_z_mm: args.clearance,
         line_numbers: args.line_numbers.then_some(true),
+        work_offset: offset,
         ..PostOptions::default()
     };
     let text = run_post(&tp, &machine, &dialect, &options)

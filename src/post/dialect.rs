@@ -3,7 +3,7 @@
 //! other file can be loaded by path).
 //!
 //! Template lines may use `{program}`, `{machine}`, `{dialect}`, `{tool}`, `{tool_spec}`,
-//! `{rpm}`. A line beginning with `!` is written as it stands: no line number, no block end.
+//! `{rpm}`, `{work_offset}`. A line beginning with `!` is written as it stands: no line number, no block end.
 
 use super::PostError;
 

@@ -63,6 +63,8 @@ pub struct PostOptions {
     pub clearance_z_mm: f64,
     /// Line numbers on or off (`None`: the dialect's default).
     pub line_numbers: Option<bool>,
+    /// Work offset word written by the dialect's `{work_offset}` (`G54` … `G59`).
+    pub work_offset: String,
 }
 
 impl Default for PostOptions {
@@ -76,6 +78,7 @@ impl Default for PostOptions {
             coolant: true,
             clearance_z_mm: 100.0,
             line_numbers: None,
+            work_offset: "G54".into(),
         }
     }
 }

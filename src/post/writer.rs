@@ -63,6 +63,7 @@ impl<'a> Writer<'a> {
             .replace("{tool_spec}", &self.toolpath.tool.spec)
             .replace("{tool}", &self.options.tool_number.to_string())
             .replace("{rpm}", &format!("{:.0}", self.options.spindle_rpm))
+            .replace("{work_offset}", &self.options.work_offset)
     }
 
     /// One output line, tagged with the current pose.

@@ -1,7 +1,7 @@
 //! Edits: every change to a [`Project`]. [`Project::apply`] performs one and returns its inverse,
 //! which is what makes undo and redo exact.
 
-use super::{Operation, PartRef, Project, Setup, Stock, ToolEntry};
+use super::{Operation, PartRef, PostConfig, Project, Setup, Stock, ToolEntry};
 
 /// One change to the document.
 #[derive(Clone, Debug, PartialEq)]
@@ -14,6 +14,8 @@ pub enum Edit {
     SetStock(Stock),
     /// Replace the setup (work offset, program origin).
     SetSetup(Setup),
+    /// Replace the post settings (dialect, TCP, spindle speed).
+    SetPost(PostConfig),
     /// Insert a tool at `index` (0 ≤ index ≤ tool count); the selection keeps pointing at the
     /// same tool.
     AddTool {
@@ -95,6 +97,7 @@ impl Edit {
             Self::AddOperation { .. } => "Add operation",
             Self::RemoveOperation { .. } => "Delete operation",
             Self::SetSetup(_) => "Edit setup",
+            Self::SetPost(_) => "Change post settings",
             Self::SetOperation { .. } => "Edit operation",
             Self::Batch(edits) => edits.first().map_or("Edit", Edit::describe),
         }
@@ -160,6 +163,18 @@ impl Project {
             Edit::SetSetup(setup) => {
                 setup.validate().map_err(EditError::Invalid)?;
                 Edit::SetSetup(std::mem::replace(&mut self.setup, setup))
+            }
+            Edit::SetPost(post) => {
+                if post.dialect.trim().is_empty() {
+                    return Err(EditError::Invalid("the dialect name is empty".into()));
+                }
+                if !(post.spindle_rpm.is_finite() && post.spindle_rpm >= 0.0) {
+                    return Err(EditError::Invalid(format!(
+                        "spindle speed must be zero or more (rpm), got {}",
+                        post.spindle_rpm
+                    )));
+                }
+                Edit::SetPost(std::mem::replace(&mut self.post, post))
             }
             Edit::SetPart(part) => Edit::SetPart(std::mem::replace(&mut self.part, part)),
             Edit::SetStock(stock) => {

@@ -11,6 +11,7 @@ mod history;
 pub mod operation;
 mod part;
 pub mod pipeline;
+pub mod posting;
 pub mod simulate;
 mod stock;
 
@@ -79,6 +80,33 @@ impl Setup {
     }
 }
 
+/// How programs are posted: the dialect and tool-centre-point output (the machine is
+/// [`Project::machine`], the work offset [`Setup::work_offset`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PostConfig {
+    /// Dialect name (`linuxcnc`, `fanuc`, `siemens`, `heidenhain`, `grbl`) or a dialect file.
+    pub dialect: String,
+    /// Tool-centre-point output (G43.4 / TRAORI / M128) on 5-axis machines.
+    pub tcp: bool,
+    /// Spindle speed, rpm.
+    #[serde(default = "default_rpm")]
+    pub spindle_rpm: f64,
+}
+
+fn default_rpm() -> f64 {
+    10_000.0
+}
+
+impl Default for PostConfig {
+    fn default() -> Self {
+        Self {
+            dialect: "linuxcnc".into(),
+            tcp: false,
+            spindle_rpm: default_rpm(),
+        }
+    }
+}
+
 /// The camera as plain numbers (mm, rad), so a reopened project shows the same view.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ViewState {
@@ -128,6 +156,9 @@ pub struct Project {
     /// The setup (work offset and program origin).
     #[serde(default)]
     pub setup: Setup,
+    /// Posting: dialect and options.
+    #[serde(default)]
+    pub post: PostConfig,
     /// Machine name (one of [`crate::machine::Machine::builtin_names`]) or a machine file path.
     pub machine: String,
     /// Operations, in machining order.
@@ -155,6 +186,7 @@ impl Default for Project {
             part: None,
             stock: Stock::None,
             setup: Setup::default(),
+            post: PostConfig::default(),
             selected_tool: if tools.is_empty() { None } else { Some(0) },
             tools,
             machine: crate::machine::Machine::builtin_names()

@@ -254,6 +254,17 @@ pub fn menu_bar_ui(
                 ui.close();
             }
             if ui
+                .add(egui::Button::new("Post G-code").shortcut_text("F7"))
+                .clicked()
+            {
+                commands.push(Command::PostActive);
+                ui.close();
+            }
+            if ui.button("Export G-code…").clicked() {
+                commands.push(Command::ExportProgramDialog);
+                ui.close();
+            }
+            if ui
                 .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
                 .clicked()
             {
@@ -307,6 +318,9 @@ pub fn shortcuts(ctx: &egui::Context, commands: &mut Vec<Command>) {
         }
         if i.consume_key(Modifiers::NONE, Key::F6) {
             commands.push(Command::SimulateActive);
+        }
+        if i.consume_key(Modifiers::NONE, Key::F7) {
+            commands.push(Command::PostActive);
         }
         if i.consume_key(Modifiers::NONE, Key::Space) {
             commands.push(Command::Playback(PlaybackCommand::Toggle));

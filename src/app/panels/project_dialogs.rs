@@ -12,6 +12,10 @@ pub enum PromptKind {
     Open,
     /// Save the project as.
     SaveAs,
+    /// Export the posted program.
+    Export,
+    /// Use a machine definition file.
+    MachineFile,
 }
 
 /// A small window asking for a project path.
@@ -55,11 +59,33 @@ impl PathPrompt {
         }
     }
 
+    /// Ask where to export the posted program, starting from `suggested`.
+    #[must_use]
+    pub fn export(suggested: &Path) -> Self {
+        Self {
+            kind: PromptKind::Export,
+            text: suggested.display().to_string(),
+            focus: true,
+        }
+    }
+
+    /// Ask for a machine definition file (JSON).
+    #[must_use]
+    pub fn machine_file() -> Self {
+        Self {
+            kind: PromptKind::MachineFile,
+            text: String::new(),
+            focus: true,
+        }
+    }
+
     /// Show the prompt; `Some(commands)` when it closes (empty when cancelled).
     pub fn ui(&mut self, ctx: &egui::Context) -> Option<Vec<Command>> {
         let (title, action) = match self.kind {
             PromptKind::Open => ("Open project", "Open"),
             PromptKind::SaveAs => ("Save project as", "Save"),
+            PromptKind::Export => ("Export G-code", "Export"),
+            PromptKind::MachineFile => ("Machine file", "Use"),
         };
         let mut result = None;
         let mut open = true;
@@ -68,7 +94,13 @@ impl PathPrompt {
             .resizable(false)
             .open(&mut open)
             .show(ctx, |ui| {
-                let label = ui.label("Path of the project file (.talas):");
+                let label = ui.label(match self.kind {
+                    PromptKind::Export => "Path of the G-code file:",
+                    PromptKind::MachineFile => {
+                        "Path of a machine definition (JSON, as assets/machines/*.json):"
+                    }
+                    PromptKind::Open | PromptKind::SaveAs => "Path of the project file (.talas):",
+                });
                 let edit = ui
                     .add(
                         egui::TextEdit::singleline(&mut self.text)
@@ -89,6 +121,10 @@ impl PathPrompt {
                         result = Some(vec![match self.kind {
                             PromptKind::Open => Command::OpenProject(path),
                             PromptKind::SaveAs => Command::SaveProjectAs(path),
+                            PromptKind::Export => Command::ExportProgramTo(path),
+                            PromptKind::MachineFile => Command::Edit(
+                                crate::project::Edit::SetMachine(path.display().to_string()),
+                            ),
                         }]);
                     }
                     if ui.button("Cancel").clicked() {

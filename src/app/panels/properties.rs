@@ -8,6 +8,7 @@ use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::super::viewport::picking::SurfacePick;
 use super::grouped;
+use super::machine_panel::{MachinePanel, MachinePanelEvent, PostSettings};
 use super::operation_editor::{OperationForm, OperationView, operation_editor_ui};
 use super::tool_library::{ToolForm, tool_editor_ui};
 use crate::diagnostics::Severity;
@@ -52,6 +53,16 @@ pub struct Forms {
     pub tool: ToolForm,
     /// The operation editor's draft.
     pub operation: OperationForm,
+    /// The machine panel (rebuilt when the project's machine or post settings change).
+    pub machine: Option<MachinePanel>,
+}
+
+impl std::fmt::Debug for MachinePanel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MachinePanel")
+            .field("machine", &self.machine().name)
+            .finish_non_exhaustive()
+    }
 }
 
 /// The properties panel.
@@ -79,7 +90,7 @@ pub fn properties_ui(
                     ui.weak("No such operation.");
                 }
             },
-            Focus::Machine => machine_ui(ui, view.project, commands),
+            Focus::Machine => machine_ui(ui, view.project, &mut forms.machine, commands),
         });
 }
 
@@ -240,19 +251,88 @@ fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
     ui.weak("Posted programs are written relative to this origin (program = part − origin), under the chosen work offset.");
 }
 
-fn machine_ui(ui: &mut egui::Ui, project: &Project, commands: &mut Vec<Command>) {
+fn machine_ui(
+    ui: &mut egui::Ui,
+    project: &Project,
+    panel: &mut Option<MachinePanel>,
+    commands: &mut Vec<Command>,
+) {
     ui.heading("Machine");
-    let mut chosen = project.machine.clone();
-    egui::ComboBox::from_label("Machine")
-        .selected_text(chosen.as_str())
-        .show_ui(ui, |ui| {
-            for name in crate::machine::Machine::builtin_names() {
-                ui.selectable_value(&mut chosen, name.to_string(), name);
+    let settings = PostSettings {
+        dialect: project.post.dialect.clone(),
+        tcp: project.post.tcp,
+        work_offset: 53 + project.setup.work_offset,
+    };
+    let stale = panel
+        .as_ref()
+        .is_none_or(|p| p.machine().name != project.machine || *p.settings() != settings);
+    if stale {
+        match crate::machine::Machine::resolve(&project.machine) {
+            Ok(m) => *panel = Some(MachinePanel::new(m, settings.clone())),
+            Err(e) => {
+                ui.colored_label(
+                    super::super::theme::ERROR,
+                    format!("Machine '{}' not found: {e}", project.machine),
+                );
+                *panel = None;
             }
-        });
-    if chosen != project.machine {
-        commands.push(Command::Edit(Edit::SetMachine(chosen)));
+        }
     }
+    let Some(p) = panel.as_mut() else {
+        return;
+    };
+    let apply = |s: PostSettings| {
+        let mut edits = Vec::new();
+        if s.dialect != project.post.dialect || s.tcp != project.post.tcp {
+            edits.push(Edit::SetPost(crate::project::PostConfig {
+                dialect: s.dialect.clone(),
+                tcp: s.tcp,
+                ..project.post.clone()
+            }));
+        }
+        let offset = s.work_offset.saturating_sub(53);
+        if offset != project.setup.work_offset {
+            edits.push(Edit::SetSetup(crate::project::Setup {
+                work_offset: offset,
+                ..project.setup
+            }));
+        }
+        edits
+    };
+    match p.ui(ui) {
+        Some(MachinePanelEvent::MachineChosen { name, settings }) => {
+            let mut edits = vec![Edit::SetMachine(name)];
+            edits.extend(apply(settings));
+            commands.push(Command::Edit(Edit::Batch(edits)));
+        }
+        Some(MachinePanelEvent::PostSettingsChanged(settings)) => {
+            let edits = apply(settings);
+            if !edits.is_empty() {
+                commands.push(Command::Edit(Edit::Batch(edits)));
+            }
+        }
+        Some(MachinePanelEvent::OpenMachineFile) => {
+            commands.push(Command::OpenMachineFileDialog);
+        }
+        None => {}
+    }
+    ui.add_space(6.0);
+    let mut rpm = project.post.spindle_rpm;
+    ui.horizontal(|ui| {
+        ui.label("Spindle speed");
+        let r = ui.add(
+            egui::DragValue::new(&mut rpm)
+                .range(0.0..=100_000.0)
+                .speed(50.0)
+                .suffix(" rpm"),
+        );
+        if (r.drag_stopped() || (r.changed() && !r.dragged())) && rpm != project.post.spindle_rpm {
+            commands.push(Command::Edit(Edit::SetPost(crate::project::PostConfig {
+                spindle_rpm: rpm,
+                ..project.post.clone()
+            })));
+        }
+    });
 }
 
 fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {

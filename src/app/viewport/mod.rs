@@ -292,10 +292,10 @@ pub fn viewport_ui(
         let title = format!("{} ({})", field.name(), field.unit());
         legend::legend_ui(ui, rect, &title, mapping, 0);
     }
-    let mut slot = usize::from(state.legend().is_some());
-    for (title, mapping) in extras.path_legend.iter().chain(&extras.stock_legend) {
+    let first = usize::from(state.legend().is_some());
+    let legends = extras.path_legend.iter().chain(&extras.stock_legend);
+    for (slot, (title, mapping)) in (first..).zip(legends) {
         legend::legend_ui(ui, rect, title, *mapping, slot);
-        slot += 1;
     }
     ui.painter().text(
         rect.right_bottom() + egui::vec2(-10.0, -8.0),

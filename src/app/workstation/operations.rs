@@ -120,7 +120,22 @@ impl Workstation {
                 Some(i) => self.start_simulation(i),
                 None => self.log_info("Select an operation to simulate"),
             },
-            Command::PickPose(pose) => self.ops.picked_pose = pose,
+            Command::PickPose(pose) => {
+                self.ops.picked_pose = pose;
+                if let Some(p) = pose {
+                    self.follow_pose(p);
+                }
+            }
+            Command::PostActive => match self.target_operation() {
+                Some(i) => self.start_post(i),
+                None => self.log_info("Select an operation to post"),
+            },
+            Command::ExportProgramDialog => self.save_dialog_for(super::SavePurpose::Program),
+            Command::ExportProgramTo(path) => self.export_program(path),
+            Command::OpenMachineFileDialog => {
+                self.prompt =
+                    Some(super::super::panels::project_dialogs::PathPrompt::machine_file());
+            }
             Command::Simulate(index) => self.start_simulation(index),
             Command::SetStockVisible(on) => self.sims.visible = on,
             Command::SetPathColouring(c) => self.ops.colouring = c,
@@ -407,6 +422,9 @@ impl Workstation {
         } else {
             self.ops.t_s = Some(t);
             self.ctx.request_repaint();
+        }
+        if let Some(p) = self.playback_pose() {
+            self.follow_pose(p);
         }
     }
 

@@ -51,7 +51,7 @@ impl Workstation {
             }
             Command::OpenProjectDialog => self.prompt = Some(PathPrompt::open()),
             Command::SaveProjectAsDialog => {
-                self.prompt = Some(PathPrompt::save_as(self.session.path.as_deref()));
+                self.save_dialog_for(super::SavePurpose::Project);
             }
             Command::OpenProject(path) => self.open_project(&path),
             Command::SaveProject => match self.session.path.clone() {

@@ -1,0 +1,382 @@
+//! The posted program of the active operation: posting and jerk-limited motion planning on a
+//! worker thread, the G-code pane and the motion plots in the bottom dock, export through a save
+//! dialog, and the links between a G-code line, a path pose, the playback and a plot time.
+
+use std::path::PathBuf;
+
+use super::super::command::Command;
+use super::super::job::{Job, JobPoll};
+use super::super::panels::gcode_view::{GcodeEvent, GcodeView};
+use super::super::panels::motion_plots::{MotionPlots, PlotEvent};
+use super::Workstation;
+use crate::diagnostics::Severity;
+use crate::project::posting::{plan_motion, post_operation};
+use crate::project::{Operation, PostConfig, Setup};
+use crate::render::DataId;
+use crate::tools::Cutter;
+
+/// Corner blending tolerance of the motion plan, mm.
+const CORNER_TOLERANCE_MM: f64 = 0.01;
+
+/// Which tab the bottom dock shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DockTab {
+    /// The log.
+    #[default]
+    Log,
+    /// The posted G-code.
+    Gcode,
+    /// Motion plots of the posted program.
+    Motion,
+}
+
+/// What a program was posted from (it is shown as current while these are unchanged).
+#[derive(Clone, Debug, PartialEq)]
+struct ProgramKey {
+    operation: Operation,
+    cutter: Cutter,
+    part_id: DataId,
+    machine: String,
+    setup: Setup,
+    post: PostConfig,
+}
+
+/// What the worker produces.
+struct ProgramOutput {
+    text: String,
+    pose_of_line: Vec<Option<usize>>,
+    motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
+}
+
+/// A posted program and its views.
+pub(super) struct Program {
+    key: ProgramKey,
+    index: usize,
+    view: GcodeView,
+    pose_of_line: Vec<Option<usize>>,
+    line_of_pose: Vec<Option<usize>>,
+    /// Motion plots and (start time, 0-based line) of each motion block, by time.
+    motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
+    elapsed_s: f64,
+}
+
+/// A running post: what it posts, the operation index, the job.
+type PostJob = (ProgramKey, usize, Job<Result<ProgramOutput, String>>);
+
+/// The program state of the workstation.
+#[derive(Default)]
+pub(super) struct Programs {
+    job: Option<PostJob>,
+    pub current: Option<Program>,
+    pub dock: DockTab,
+}
+
+impl Workstation {
+    fn program_key(&self, index: usize) -> Option<ProgramKey> {
+        let project = &self.session.project;
+        let operation = project.operations.get(index)?.clone();
+        Some(ProgramKey {
+            cutter: project.tools.get(operation.tool())?.cutter.clone(),
+            operation,
+            part_id: self.document.as_ref()?.ids[0],
+            machine: project.machine.clone(),
+            setup: project.setup,
+            post: project.post.clone(),
+        })
+    }
+
+    /// Post operation `index`'s computed path and plan its motion in the background.
+    pub(super) fn start_post(&mut self, index: usize) {
+        let t = self.now_s();
+        let Some(key) = self.program_key(index) else {
+            return;
+        };
+        let Some((result, true)) = self.operation_result(index) else {
+            self.log.notify(
+                t,
+                Severity::Warning,
+                "Calculate the operation before posting it",
+            );
+            return;
+        };
+        let toolpath = result.toolpath().clone();
+        let project = self.session.project.clone();
+        let tool_number = u32::try_from(key.operation.tool() + 1).unwrap_or(1);
+        let ctx = self.ctx.clone();
+        if let Some((_, _, old)) = self.programs.job.take() {
+            old.cancel();
+        }
+        let label = format!("Posting {}", key.operation.name());
+        self.log_info(format!(
+            "{label} for {} ({})",
+            project.machine, project.post.dialect
+        ));
+        self.programs.job = Some((
+            key,
+            index,
+            Job::spawn(
+                label,
+                move |progress| {
+                    let posted = post_operation(&project, &toolpath, tool_number)?;
+                    progress.set(0.3);
+                    let motion =
+                        plan_motion(&project, &posted.text, CORNER_TOLERANCE_MM).map(|timed| {
+                            let plots = MotionPlots::new(&timed);
+                            let mut lines = Vec::new();
+                            let mut last = usize::MAX;
+                            for s in timed.samples_every(0.005) {
+                                if s.block != last {
+                                    last = s.block;
+                                    if let Some(b) = timed.blocks().get(s.block) {
+                                        lines.push((s.t, b.source_line.saturating_sub(1)));
+                                    }
+                                }
+                            }
+                            (plots, lines)
+                        });
+                    Ok(ProgramOutput {
+                        text: posted.text,
+                        pose_of_line: posted.pose_of_line,
+                        motion,
+                    })
+                },
+                move || ctx.request_repaint(),
+            ),
+        ));
+    }
+
+    /// Is a program being posted?
+    #[must_use]
+    pub fn is_posting(&self) -> bool {
+        self.programs.job.is_some()
+    }
+
+    /// The posted G-code of operation `index`, when it is current.
+    #[must_use]
+    pub fn program_text(&self, index: usize) -> Option<&str> {
+        let key = self.program_key(index)?;
+        self.programs
+            .current
+            .as_ref()
+            .filter(|p| p.key == key)
+            .map(|p| p.view.text())
+    }
+
+    /// Cancel the running post; true when there was one.
+    pub(super) fn cancel_post(&mut self) -> bool {
+        let Some((_, _, job)) = self.programs.job.take() else {
+            return false;
+        };
+        job.cancel();
+        true
+    }
+
+    /// The running post as the status bar shows it.
+    pub(super) fn post_status(&self) -> Option<(String, f64, f64)> {
+        self.programs.job.as_ref().map(|(_, _, j)| {
+            (
+                j.label.clone(),
+                j.progress.fraction(),
+                j.started.elapsed().as_secs_f64(),
+            )
+        })
+    }
+
+    /// Collect a finished post.
+    pub(super) fn poll_post_job(&mut self) {
+        let Some((_, _, job)) = &self.programs.job else {
+            return;
+        };
+        let outcome = match job.poll() {
+            JobPoll::Running => {
+                self.ctx
+                    .request_repaint_after(std::time::Duration::from_millis(100));
+                return;
+            }
+            JobPoll::Done(r) => Some(r),
+            JobPoll::Lost => None,
+        };
+        let Some((key, index, job)) = self.programs.job.take() else {
+            return;
+        };
+        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let t = self.now_s();
+        match outcome {
+            Some(Ok(out)) => {
+                let poses = self
+                    .operation_result(index)
+                    .map_or(0, |(r, _)| r.toolpath().poses.len());
+                let mut line_of_pose = vec![None; poses];
+                for (line, pose) in out.pose_of_line.iter().enumerate() {
+                    if let Some(slot) = pose.and_then(|p| line_of_pose.get_mut(p)) {
+                        *slot = Some(line);
+                    }
+                }
+                let lines = out.text.lines().count();
+                match &out.motion {
+                    Ok((plots, _)) => self.log.push(
+                        t,
+                        Severity::Info,
+                        format!(
+                            "Posted '{}': {lines} lines; {}",
+                            key.operation.name(),
+                            plots.summary()
+                        ),
+                    ),
+                    Err(e) => self.log.push(
+                        t,
+                        Severity::Warning,
+                        format!(
+                            "Posted '{}': {lines} lines; no motion plan: {e}",
+                            key.operation.name()
+                        ),
+                    ),
+                }
+                self.programs.current = Some(Program {
+                    key,
+                    index,
+                    view: GcodeView::new(out.text),
+                    pose_of_line: out.pose_of_line,
+                    line_of_pose,
+                    motion: out.motion,
+                    elapsed_s,
+                });
+                self.programs.dock = DockTab::Gcode;
+            }
+            Some(Err(e)) => self.log.notify(t, Severity::Error, e),
+            None => self.log.notify(
+                t,
+                Severity::Error,
+                "Posting failed: the worker stopped unexpectedly",
+            ),
+        }
+    }
+
+    /// Bring the G-code line and the plot cursor to pose `pose` of the active path.
+    pub(super) fn follow_pose(&mut self, pose: usize) {
+        let active = self.ops.active;
+        let Some(p) = self.programs.current.as_mut() else {
+            return;
+        };
+        if Some(p.index) != active {
+            return;
+        }
+        let Some(line) = p.line_of_pose.get(pose).copied().flatten() else {
+            return;
+        };
+        p.view.scroll_to_line(line);
+        if let Ok((plots, lines)) = &mut p.motion
+            && let Some((t, _)) = lines.iter().find(|(_, l)| *l == line)
+        {
+            plots.set_cursor_time(Some(*t));
+        }
+    }
+
+    /// Save the current program to `path` (atomically).
+    pub(super) fn export_program(&mut self, path: PathBuf) {
+        let t = self.now_s();
+        let Some(p) = &self.programs.current else {
+            self.log
+                .notify(t, Severity::Warning, "Post an operation before exporting");
+            return;
+        };
+        match crate::storage::write_atomic(&path, p.view.text().as_bytes()) {
+            Ok(()) => self.log.push(
+                t,
+                Severity::Info,
+                format!(
+                    "Exported {} lines to {}",
+                    p.view.line_count(),
+                    path.display()
+                ),
+            ),
+            Err(e) => self.log.notify(
+                t,
+                Severity::Error,
+                format!("Not exported: {}: {e}", path.display()),
+            ),
+        }
+    }
+
+    /// The G-code tab.
+    pub(super) fn gcode_tab_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        let index = self.ops.active;
+        let current_key = index.and_then(|i| self.program_key(i));
+        ui.horizontal(|ui| {
+            let can_post = index.is_some_and(|i| self.operation_result(i).is_some_and(|r| r.1));
+            if ui
+                .add_enabled(can_post, egui::Button::new("Post").shortcut_text("F7"))
+                .on_hover_text(format!(
+                    "Write the active operation's program for {} ({})",
+                    self.session.project.machine, self.session.project.post.dialect
+                ))
+                .on_disabled_hover_text("Calculate the active operation first")
+                .clicked()
+            {
+                commands.push(Command::PostActive);
+            }
+            let has = self.programs.current.is_some();
+            if ui.add_enabled(has, egui::Button::new("Export…")).clicked() {
+                commands.push(Command::ExportProgramDialog);
+            }
+            if let Some(p) = &self.programs.current {
+                let stale = current_key.as_ref() != Some(&p.key);
+                ui.label(format!(
+                    "{} · {} · {} · {:.2} s",
+                    p.key.operation.name(),
+                    p.key.machine,
+                    p.key.post.dialect,
+                    p.elapsed_s
+                ));
+                if stale {
+                    ui.colored_label(
+                        super::super::theme::WARNING,
+                        "stale: the operation or the post settings changed",
+                    );
+                }
+            }
+        });
+        let Some(p) = self.programs.current.as_mut() else {
+            ui.weak("No program yet: calculate an operation, then Post (F7).");
+            return;
+        };
+        if let Some(GcodeEvent::LineClicked(line)) = p.view.ui(ui)
+            && let Some(pose) = p.pose_of_line.get(line).copied().flatten()
+        {
+            if let Ok((plots, lines)) = &mut p.motion
+                && let Some((t, _)) = lines.iter().find(|(_, l)| *l == line)
+            {
+                plots.set_cursor_time(Some(*t));
+            }
+            if Some(p.index) == self.ops.active {
+                commands.push(Command::PickPose(Some(pose)));
+            }
+        }
+    }
+
+    /// The motion tab.
+    pub(super) fn motion_tab_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        let Some(p) = self.programs.current.as_mut() else {
+            ui.weak("No program yet: calculate an operation, then Post (F7).");
+            return;
+        };
+        match &mut p.motion {
+            Err(e) => {
+                ui.colored_label(super::super::theme::WARNING, format!("No motion plan: {e}"));
+            }
+            Ok((plots, lines)) => {
+                if let Some(PlotEvent::TimeClicked(t)) = plots.ui(ui) {
+                    plots.set_cursor_time(Some(t));
+                    let k = lines.partition_point(|(s, _)| *s <= t).saturating_sub(1);
+                    if let Some(pose) = lines
+                        .get(k)
+                        .and_then(|(_, line)| p.pose_of_line.get(*line).copied().flatten())
+                        && Some(p.index) == self.ops.active
+                    {
+                        commands.push(Command::PickPose(Some(pose)));
+                    }
+                }
+            }
+        }
+    }
+}
