@@ -158,9 +158,9 @@ pub fn pick(camera: &Camera, point: Vec2) -> Option<CubePick> {
     })
 }
 
-/// Draw the cube in the upper-right corner of `viewport` and return the view a click on it asks
-/// for.
-pub fn view_cube_ui(ui: &egui::Ui, viewport: egui::Rect, camera: &Camera) -> Option<StandardView> {
+/// Where the cube sits in `viewport`: its square (in the upper-right corner), and the map from
+/// cube coordinates to screen points.
+pub fn cube_layout(viewport: egui::Rect) -> (egui::Rect, impl Fn(Vec2) -> egui::Pos2) {
     let rect = egui::Rect::from_min_size(
         egui::pos2(
             viewport.right() - MARGIN - WIDGET_SIZE,
@@ -168,14 +168,22 @@ pub fn view_cube_ui(ui: &egui::Ui, viewport: egui::Rect, camera: &Camera) -> Opt
         ),
         egui::vec2(WIDGET_SIZE, WIDGET_SIZE),
     );
+    // The cube's silhouette reaches √3 half sizes from the centre.
+    let scale = WIDGET_SIZE * 0.5 / 3.0_f32.sqrt() * 0.95;
+    let centre = rect.center();
+    (rect, move |p: Vec2| centre + egui::vec2(p.x, p.y) * scale)
+}
+
+/// Draw the cube in the upper-right corner of `viewport` and return the view a click on it asks
+/// for.
+pub fn view_cube_ui(ui: &egui::Ui, viewport: egui::Rect, camera: &Camera) -> Option<StandardView> {
+    let (rect, to_screen) = cube_layout(viewport);
     if !viewport.contains_rect(rect) {
         return None;
     }
     let response = ui.interact(rect, ui.scope_id().with("view cube"), egui::Sense::click());
-    // The cube's silhouette reaches √3 half sizes from the centre.
-    let scale = WIDGET_SIZE * 0.5 / 3.0_f32.sqrt() * 0.95;
-    let centre = rect.center();
-    let to_screen = |p: Vec2| centre + egui::vec2(p.x, p.y) * scale;
+    let centre = to_screen(Vec2::ZERO);
+    let scale = to_screen(Vec2::X).x - centre.x;
     let hovered = response.hover_pos().and_then(|pos| {
         pick(
             camera,
@@ -369,6 +377,47 @@ mod tests {
         assert_eq!(
             at(&top, -0.8, 0.8),
             Some(StandardView::IsoFrom([false, false, true]))
+        );
+    }
+
+    #[test]
+    fn a_click_on_the_viewport_s_cube_asks_for_the_view_and_selects_nothing() {
+        use crate::app::command::Command;
+        use crate::app::viewport::{ViewportState, viewport_ui};
+        type State = (ViewportState, Vec<Command>, egui::Rect);
+        let mut h = egui_kittest::Harness::builder()
+            .with_size(egui::vec2(640.0, 400.0))
+            .build_ui_state(
+                |ui, (state, commands, rect): &mut State| {
+                    *rect = ui.available_rect_before_wrap();
+                    viewport_ui(ui, state, None, commands);
+                },
+                (ViewportState::default(), Vec::new(), egui::Rect::NOTHING),
+            );
+        h.run();
+        let (viewport, camera) = (h.state().2, h.state().0.camera);
+        let (_, to_screen) = cube_layout(viewport);
+        // The default camera is isometric: the top face's centre is on the cube's upper half.
+        let top = to_screen(project(&camera, Vec3::Z));
+        h.hover_at(top);
+        h.run();
+        for pressed in [true, false] {
+            h.event(egui::Event::PointerButton {
+                pos: top,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: egui::Modifiers::NONE,
+            });
+            h.run();
+        }
+        let commands = &h.state().1;
+        assert!(
+            commands.contains(&Command::StandardView(StandardView::Top)),
+            "{commands:?}"
+        );
+        assert!(
+            !commands.iter().any(|c| matches!(c, Command::Select(_))),
+            "the click went to the viewport too: {commands:?}"
         );
     }
 }
