@@ -1,5 +1,7 @@
 //! The 3D viewport: turns the document into a [`Scene`], handles navigation and picking, and
-//! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]).
+//! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]). Over the
+//! part: the tool at its pose and the work-offset marker ([`tool_model`]); in the upper-right
+//! corner, the view cube ([`view_cube`]).
 
 pub mod bridge;
 pub mod legend;
