@@ -57,7 +57,12 @@ fn parse_view(name: &str) -> Result<StandardView, String> {
         "top" => Ok(StandardView::Top),
         "front" => Ok(StandardView::Front),
         "right" => Ok(StandardView::Right),
-        other => Err(format!("--view {other}: expected iso, top, front or right")),
+        "back" => Ok(StandardView::Back),
+        "left" => Ok(StandardView::Left),
+        "bottom" => Ok(StandardView::Bottom),
+        other => Err(format!(
+            "--view {other}: expected iso, top, front, right, back, left or bottom"
+        )),
     }
 }
 
@@ -95,12 +100,45 @@ pub enum RenderFailure {
     Renderer(String),
 }
 
+/// The scene `talas render` draws, before it is drawn: what [`render`] hands to the renderer.
+#[derive(Clone, Debug)]
+pub struct RenderScene {
+    /// The scene (camera fitted to the part for the image's aspect).
+    pub scene: Scene,
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// Triangles of the part.
+    pub triangles: usize,
+    /// Tool-path segments drawn.
+    pub path_segments: usize,
+    /// The colour-map range of the field shown: (field, min, max).
+    pub field_range: Option<(ScalarField, f32, f32)>,
+}
+
 /// Load the part (and the tool path) of `args` and draw them.
 ///
 /// # Errors
 /// [`RenderFailure::Input`] for unreadable or malformed files and bad options,
 /// [`RenderFailure::Renderer`] when nothing can draw.
 pub fn render(args: &RenderArgs) -> Result<RenderOutcome, RenderFailure> {
+    let prepared = render_scene(args)?;
+    let image = render_to_image(prepared.width, prepared.height, &prepared.scene)
+        .map_err(|e| RenderFailure::Renderer(e.to_string()))?;
+    Ok(RenderOutcome {
+        image,
+        triangles: prepared.triangles,
+        path_segments: prepared.path_segments,
+        field_range: prepared.field_range,
+    })
+}
+
+/// Load the part (and the tool path) of `args` and build the scene [`render`] draws.
+///
+/// # Errors
+/// As [`render`], except that nothing is drawn yet.
+pub fn render_scene(args: &RenderArgs) -> Result<RenderScene, RenderFailure> {
     let input = RenderFailure::Input;
     args.check_size().map_err(input)?;
     let view = parse_view(&args.view).map_err(input)?;
@@ -183,10 +221,10 @@ pub fn render(args: &RenderArgs) -> Result<RenderOutcome, RenderFailure> {
     scene
         .camera
         .fit(sphere, args.width as f32 / args.height as f32);
-    let image = render_to_image(args.width, args.height, &scene)
-        .map_err(|e| RenderFailure::Renderer(e.to_string()))?;
-    Ok(RenderOutcome {
-        image,
+    Ok(RenderScene {
+        scene,
+        width: args.width,
+        height: args.height,
         triangles: doc.part.mesh.triangles.len(),
         path_segments,
         field_range,

@@ -669,6 +669,19 @@ impl Workstation {
         }
         let (paths, legend) = self.path_instances();
         let mut viewport = std::mem::take(&mut self.viewport);
+        // The tool stands at the playback pose (or the picked one); the marker at program zero.
+        viewport.tool_pose = self.active_result().and_then(|r| {
+            let i = self.playback_pose().or(self.ops.picked_pose)?;
+            let p = r.toolpath().poses.get(i)?;
+            Some(super::viewport::ToolPose {
+                tip: p.tip,
+                axis: p.axis,
+                cutter: r.cutter.clone(),
+            })
+        });
+        viewport.work_offset = Some(glam::DVec3::from_array(
+            self.session.project.setup.origin_mm,
+        ));
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();

@@ -22,7 +22,7 @@ pub struct RenderArgs {
     /// The PNG to write.
     #[arg(short = 'o', long = "output", value_name = "VIEW.png")]
     pub output: PathBuf,
-    /// View direction: iso, top, front or right.
+    /// View direction: iso, top, front, right, back, left or bottom.
     #[arg(long, value_name = "VIEW", default_value = "iso")]
     pub view: String,
     /// Colour the part by a scalar field: none, k-min, k-max or mean (curvature, 1/mm).

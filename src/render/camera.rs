@@ -24,13 +24,31 @@ pub enum StandardView {
     Front,
     /// Looking along −X (from the right), Y to the right, Z up.
     Right,
+    /// Looking along −Y (from the back), X to the left, Z up.
+    Back,
+    /// Looking along +X (from the left), Y to the left, Z up.
+    Left,
+    /// Looking up +Z (from below), X to the right, Y down.
+    Bottom,
     /// Isometric, from +X −Y +Z.
     Iso,
+    /// Isometric from the octant of the eye: the signs of its X, Y and Z (true: positive).
+    /// `IsoFrom([true, false, true])` is [`StandardView::Iso`].
+    IsoFrom([bool; 3]),
 }
 
 impl StandardView {
-    /// Every standard view, in menu order.
-    pub const ALL: [Self; 4] = [Self::Top, Self::Front, Self::Right, Self::Iso];
+    /// Every named standard view, in menu order (the other isometric octants are reached from
+    /// the view cube's corners).
+    pub const ALL: [Self; 7] = [
+        Self::Top,
+        Self::Front,
+        Self::Right,
+        Self::Back,
+        Self::Left,
+        Self::Bottom,
+        Self::Iso,
+    ];
 
     /// A short name for menus.
     #[must_use]
@@ -39,21 +57,58 @@ impl StandardView {
             Self::Top => "Top",
             Self::Front => "Front",
             Self::Right => "Right",
-            Self::Iso => "Isometric",
+            Self::Back => "Back",
+            Self::Left => "Left",
+            Self::Bottom => "Bottom",
+            Self::Iso | Self::IsoFrom([true, false, true]) => "Isometric",
+            Self::IsoFrom(signs) => OCTANT_NAMES[octant_index(signs)],
+        }
+    }
+
+    /// The view from the octant of the eye with these signs; [`StandardView::Iso`] for its own
+    /// octant.
+    #[must_use]
+    pub fn iso_from(signs: [bool; 3]) -> Self {
+        if signs == [true, false, true] {
+            Self::Iso
+        } else {
+            Self::IsoFrom(signs)
         }
     }
 
     /// (yaw, pitch) in rad of the direction from the target to the eye.
     fn angles_rad(self) -> (f32, f32) {
-        use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+        use std::f32::consts::{FRAC_PI_2, PI};
+        // atan(1/sqrt(2)) = 35.264°: the eye on a cube diagonal.
+        let iso_pitch = (1.0_f32 / 2.0_f32.sqrt()).atan();
+        let sign = |positive: bool| if positive { 1.0_f32 } else { -1.0 };
         match self {
             Self::Top => (-FRAC_PI_2, FRAC_PI_2),
             Self::Front => (-FRAC_PI_2, 0.0),
             Self::Right => (0.0, 0.0),
-            // atan(1/sqrt(2)) = 35.264°: the eye on the (1, -1, 1) diagonal.
-            Self::Iso => (-FRAC_PI_4, (1.0_f32 / 2.0_f32.sqrt()).atan()),
+            Self::Back => (FRAC_PI_2, 0.0),
+            Self::Left => (PI, 0.0),
+            Self::Bottom => (-FRAC_PI_2, -FRAC_PI_2),
+            Self::Iso => Self::IsoFrom([true, false, true]).angles_rad(),
+            Self::IsoFrom([x, y, z]) => (sign(y).atan2(sign(x)), sign(z) * iso_pitch),
         }
     }
+}
+
+/// Menu names of the isometric views by octant (index: x + 2y + 4z, 1 for positive).
+const OCTANT_NAMES: [&str; 8] = [
+    "Isometric (−X −Y −Z)",
+    "Isometric (+X −Y −Z)",
+    "Isometric (−X +Y −Z)",
+    "Isometric (+X +Y −Z)",
+    "Isometric (−X −Y +Z)",
+    "Isometric (+X −Y +Z)",
+    "Isometric (−X +Y +Z)",
+    "Isometric (+X +Y +Z)",
+];
+
+fn octant_index([x, y, z]: [bool; 3]) -> usize {
+    usize::from(x) + 2 * usize::from(y) + 4 * usize::from(z)
 }
 
 /// A sphere bounding what the camera should see (for clip planes and fitting).
@@ -265,8 +320,34 @@ mod tests {
         assert!(near(c.backward(), -Vec3::Y) && near(c.right(), Vec3::X) && near(c.up(), Vec3::Z));
         c.set_view(StandardView::Right);
         assert!(near(c.backward(), Vec3::X) && near(c.right(), Vec3::Y) && near(c.up(), Vec3::Z));
+        c.set_view(StandardView::Back);
+        assert!(near(c.backward(), Vec3::Y) && near(c.right(), -Vec3::X) && near(c.up(), Vec3::Z));
+        c.set_view(StandardView::Left);
+        assert!(near(c.backward(), -Vec3::X) && near(c.right(), -Vec3::Y) && near(c.up(), Vec3::Z));
+        c.set_view(StandardView::Bottom);
+        assert!(near(c.backward(), -Vec3::Z) && near(c.right(), Vec3::X) && near(c.up(), -Vec3::Y));
         c.set_view(StandardView::Iso);
         assert!(near(c.backward(), Vec3::new(1.0, -1.0, 1.0).normalize()));
+        // Every octant: the eye on that cube diagonal, Z never pointing down on screen.
+        for i in 0..8_u8 {
+            let signs = [i & 1 != 0, i & 2 != 0, i & 4 != 0];
+            let diagonal = Vec3::from_array(signs.map(|s| if s { 1.0 } else { -1.0 }));
+            c.set_view(StandardView::iso_from(signs));
+            assert!(near(c.backward(), diagonal.normalize()), "{signs:?}");
+            assert!(c.up().z > 0.0);
+        }
+        assert_eq!(
+            StandardView::iso_from([true, false, true]),
+            StandardView::Iso
+        );
+        assert_eq!(
+            StandardView::IsoFrom([true, false, true]).name(),
+            "Isometric"
+        );
+        assert_eq!(
+            StandardView::IsoFrom([false; 3]).name(),
+            "Isometric (−X −Y −Z)"
+        );
     }
 
     #[test]

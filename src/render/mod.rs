@@ -9,6 +9,7 @@
 
 pub mod camera;
 pub mod colour_map;
+pub mod glyphs;
 pub mod gpu;
 pub mod gpu_geometry;
 pub mod offscreen;

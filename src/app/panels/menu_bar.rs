@@ -31,10 +31,13 @@ pub const REDO_ALT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND,
 pub const QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
 
 /// The standard views and their keys.
-pub const VIEW_KEYS: [(StandardView, Key); 4] = [
+pub const VIEW_KEYS: [(StandardView, Key); 7] = [
     (StandardView::Top, Key::Num1),
     (StandardView::Front, Key::Num2),
     (StandardView::Right, Key::Num3),
+    (StandardView::Back, Key::Num4),
+    (StandardView::Left, Key::Num5),
+    (StandardView::Bottom, Key::Num6),
     (StandardView::Iso, Key::Num0),
 ];
 

@@ -1,10 +1,14 @@
 //! The 3D viewport: turns the document into a [`Scene`], handles navigation and picking, and
-//! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]).
+//! hands the scene to the renderer through an egui-wgpu paint callback ([`bridge`]). Over the
+//! part: the tool at its pose and the work-offset marker ([`tool_model`]); in the upper-right
+//! corner, the view cube ([`view_cube`]).
 
 pub mod bridge;
 pub mod legend;
 pub mod navigation;
 pub mod picking;
+pub mod tool_model;
+pub mod view_cube;
 
 use std::sync::Arc;
 
@@ -19,6 +23,7 @@ use crate::render::{
     Projection, ScalarMapping, Scene, StandardView,
 };
 use crate::toolpath::Toolpath;
+pub use tool_model::ToolPose;
 
 /// Colour of the part (sRGB): a light steel grey-blue.
 const PART_COLOUR: [u8; 4] = [176, 186, 200, 255];
@@ -42,6 +47,12 @@ pub struct ViewportState {
     pub aspect: f32,
     /// The scalar field shown on the part, if any.
     pub scalar_field: Option<ScalarField>,
+    /// The tool drawn at its pose (playback, simulation), if any.
+    pub tool_pose: Option<ToolPose>,
+    /// The work offset (program origin, mm) marked by coloured axes, if any.
+    pub work_offset: Option<DVec3>,
+    tool_mesh: Option<tool_model::ToolMesh>,
+    marker_lines: Option<tool_model::MarkerLines>,
     /// The part's mesh with the shown field: ((document id, field), render id, mesh, mapping).
     field_mesh: Option<FieldMesh>,
     /// The selected face's triangles: ((document id, face), render id, mesh).
@@ -68,6 +79,10 @@ impl Default for ViewportState {
             fit_requested: true,
             aspect: 1.5,
             scalar_field: None,
+            tool_pose: None,
+            work_offset: None,
+            tool_mesh: None,
+            marker_lines: None,
             field_mesh: None,
             highlight: None,
             // Document ids count up from 1; highlight ids live far above them.
@@ -157,8 +172,23 @@ impl ViewportState {
                 });
             }
         }
+        let mut camera = self.camera;
+        let part_size = document
+            .filter(|d| !d.bounds.is_empty())
+            .map_or(0.0, |d| (d.bounds.max - d.bounds.min).max_element() as f32);
+        let (tool, marker) = self.tool_and_marker(part_size);
+        let extra = Scene {
+            meshes: tool.into_iter().collect(),
+            lines: marker.into_iter().collect(),
+            ..Scene::default()
+        };
+        if let Some((lo, hi)) = extra.bounds() {
+            camera.scene = tool_model::enclose(camera.scene, lo, hi);
+        }
+        meshes.extend(extra.meshes);
+        lines.extend(extra.lines);
         Scene {
-            camera: self.camera,
+            camera,
             meshes,
             lines,
             options,
@@ -296,6 +326,9 @@ pub fn viewport_ui(
     let legends = extras.path_legend.iter().chain(&extras.stock_legend);
     for (slot, (title, mapping)) in (first..).zip(legends) {
         legend::legend_ui(ui, rect, title, *mapping, slot);
+    }
+    if let Some(view) = view_cube::view_cube_ui(ui, rect, &state.camera) {
+        commands.push(Command::StandardView(view));
     }
     ui.painter().text(
         rect.right_bottom() + egui::vec2(-10.0, -8.0),
