@@ -65,13 +65,13 @@ fn plan_with(
 }
 
 /// Largest penetration (mm) of the path's swept tools below the region, by the checks
-/// module's verification on a 40 × 40 grid.
+/// module's verification on a 30 × 30 grid.
 fn penetration(s: &SurfaceGeom, rect: ParamRect, side: f64, tool: &str, poses: &[Pose]) -> f64 {
     let cutter = parse_tool_spec(tool).expect("tool");
     let gp = talas::checks::FacePatch::new(s, rect, side < 0.0).expect("patch");
     let o = VerifyOptions {
-        nu: 40,
-        nv: 40,
+        nu: 30,
+        nv: 30,
         ..VerifyOptions::default()
     };
     let r = talas::checks::verify(&gp, &cutter, poses, &o).expect("verify");
@@ -297,4 +297,111 @@ fn lead_arcs_are_tangent_quarter_circles_above_the_surface() {
     );
     let pen = penetration(&s, rect, side, tool, poses);
     assert!(pen <= 1e-3, "penetration {pen} mm");
+}
+
+#[test]
+#[ignore]
+fn explore_isoplanar_trough() {
+    let p = part("rational-trough.stp");
+    let (s, rect, side) = region(&p, 0.0, 1.0);
+    let tool = "ball:d=6";
+    let o = FinishOptions {
+        scallop: 0.05,
+        tolerance: 0.01,
+        axis: normal(0.0),
+        ..FinishOptions::default()
+    };
+    for deg in [0.0, 30.0, 90.0] {
+        let r = plan_with(
+            &s,
+            rect,
+            side,
+            tool,
+            Strategy::IsoPlanar {
+                angle: f64::to_radians(deg),
+            },
+            &o,
+        );
+        eprintln!("angle {deg}");
+        eprintln!("domain {:?}", rect);
+        let edge = |uv: glam::DVec2| {
+            let du = ((uv.x - rect.u.t0).abs()).min((rect.u.t1 - uv.x).abs()) / rect.u.len();
+            let dv = ((uv.y - rect.v.t0).abs()).min((rect.v.t1 - uv.y).abs()) / rect.v.len();
+            du.min(dv)
+        };
+        for (k, ps) in r.passes.iter().enumerate() {
+            let (a, b) = (ps.uv[0], ps.uv[ps.uv.len() - 1]);
+            if edge(a) > 1e-6 || edge(b) > 1e-6 {
+                eprintln!(
+                    "pass {k}: {} pts, start {a:?} ({:.2e}) end {b:?} ({:.2e})",
+                    ps.uv.len(),
+                    edge(a),
+                    edge(b)
+                );
+            }
+        }
+        let cutter = parse_tool_spec(tool).expect("tool");
+        let gp = talas::checks::FacePatch::new(&s, rect, side < 0.0).expect("patch");
+        let v = talas::checks::verify(
+            &gp,
+            &cutter,
+            &r.toolpath.poses,
+            &VerifyOptions {
+                nu: 60,
+                nv: 60,
+                threshold_mm: 0.06,
+                ..VerifyOptions::default()
+            },
+        )
+        .expect("v");
+        eprintln!(
+            "{} passes; uncovered {} of {}, within {}, pen {} max {} at {:?} pct {:?}",
+            r.passes.len(),
+            v.uncovered,
+            v.samples,
+            v.within_threshold,
+            v.max_penetration_mm,
+            v.max_remaining_mm,
+            v.max_remaining_at,
+            v.remaining_percentiles_mm
+        );
+        // Where: strips.
+        for (name, mask) in [
+            (
+                "u0",
+                Box::new(|uv: glam::DVec2| (uv.x - rect.u.t0) < 0.02 * rect.u.len())
+                    as Box<dyn Fn(glam::DVec2) -> bool + Sync>,
+            ),
+            (
+                "u1",
+                Box::new(|uv: glam::DVec2| (rect.u.t1 - uv.x) < 0.02 * rect.u.len()),
+            ),
+            (
+                "v0",
+                Box::new(|uv: glam::DVec2| (uv.y - rect.v.t0) < 0.02 * rect.v.len()),
+            ),
+            (
+                "v1",
+                Box::new(|uv: glam::DVec2| (rect.v.t1 - uv.y) < 0.02 * rect.v.len()),
+            ),
+        ] {
+            let v = talas::checks::verify_masked(
+                &gp,
+                &cutter,
+                &r.toolpath.poses,
+                &VerifyOptions {
+                    nu: 60,
+                    nv: 60,
+                    threshold_mm: 0.06,
+                    ..VerifyOptions::default()
+                },
+                &*mask,
+            )
+            .expect("v");
+            eprintln!(
+                "{name}: uncovered {} counted {} within {} max {} at {:?}",
+                v.uncovered, v.counted, v.within_threshold, v.max_remaining_mm, v.max_remaining_at
+            );
+        }
+    }
 }
