@@ -299,109 +299,55 @@ fn lead_arcs_are_tangent_quarter_circles_above_the_surface() {
     assert!(pen <= 1e-3, "penetration {pen} mm");
 }
 
+/// Iso-planar passes at 0° and 90° on rational-trough with a ball: the trough's end edges
+/// run nearly along the planes, so no contour ends there; the edge passes keep the strip along
+/// them within the scallop limit (before: 98.8 % of the samples within h + ε, up to 0.17 mm
+/// remaining at the edges). Independent verification: ≥ 99.5 % within h + ε, no penetration.
 #[test]
-#[ignore]
-fn explore_isoplanar_trough() {
+fn isoplanar_covers_the_trough_up_to_its_edges() {
     let p = part("rational-trough.stp");
     let (s, rect, side) = region(&p, 0.0, 1.0);
     let tool = "ball:d=6";
+    let (h, eps) = (0.05, 0.01);
     let o = FinishOptions {
-        scallop: 0.05,
-        tolerance: 0.01,
+        scallop: h,
+        tolerance: eps,
         axis: normal(0.0),
         ..FinishOptions::default()
     };
-    for deg in [0.0, 30.0, 90.0] {
-        let r = plan_with(
-            &s,
-            rect,
-            side,
-            tool,
-            Strategy::IsoPlanar {
-                angle: f64::to_radians(deg),
-            },
-            &o,
-        );
-        eprintln!("angle {deg}");
-        eprintln!("domain {:?}", rect);
-        let edge = |uv: glam::DVec2| {
-            let du = ((uv.x - rect.u.t0).abs()).min((rect.u.t1 - uv.x).abs()) / rect.u.len();
-            let dv = ((uv.y - rect.v.t0).abs()).min((rect.v.t1 - uv.y).abs()) / rect.v.len();
-            du.min(dv)
+    let cutter = parse_tool_spec(tool).expect("tool");
+    let gp = talas::checks::FacePatch::new(&s, rect, side < 0.0).expect("patch");
+    for deg in [0.0_f64, 90.0] {
+        let st = Strategy::IsoPlanar {
+            angle: deg.to_radians(),
         };
-        for (k, ps) in r.passes.iter().enumerate() {
-            let (a, b) = (ps.uv[0], ps.uv[ps.uv.len() - 1]);
-            if edge(a) > 1e-6 || edge(b) > 1e-6 {
-                eprintln!(
-                    "pass {k}: {} pts, start {a:?} ({:.2e}) end {b:?} ({:.2e})",
-                    ps.uv.len(),
-                    edge(a),
-                    edge(b)
-                );
-            }
-        }
-        let cutter = parse_tool_spec(tool).expect("tool");
-        let gp = talas::checks::FacePatch::new(&s, rect, side < 0.0).expect("patch");
+        let r = plan_with(&s, rect, side, tool, st, &o);
         let v = talas::checks::verify(
             &gp,
             &cutter,
             &r.toolpath.poses,
             &VerifyOptions {
-                nu: 60,
-                nv: 60,
-                threshold_mm: 0.06,
+                nu: 50,
+                nv: 50,
+                threshold_mm: h + eps,
                 ..VerifyOptions::default()
             },
         )
-        .expect("v");
+        .expect("verify");
         eprintln!(
-            "{} passes; uncovered {} of {}, within {}, pen {} max {} at {:?} pct {:?}",
+            "iso-planar {deg}°: {} passes, {} within h + ε, max {} mm at {:?}, uncovered {}",
             r.passes.len(),
-            v.uncovered,
-            v.samples,
             v.within_threshold,
-            v.max_penetration_mm,
             v.max_remaining_mm,
-            v.max_remaining_at,
-            v.remaining_percentiles_mm
+            v.max_remaining_at.map(|a| a.point),
+            v.uncovered
         );
-        // Where: strips.
-        for (name, mask) in [
-            (
-                "u0",
-                Box::new(|uv: glam::DVec2| (uv.x - rect.u.t0) < 0.02 * rect.u.len())
-                    as Box<dyn Fn(glam::DVec2) -> bool + Sync>,
-            ),
-            (
-                "u1",
-                Box::new(|uv: glam::DVec2| (rect.u.t1 - uv.x) < 0.02 * rect.u.len()),
-            ),
-            (
-                "v0",
-                Box::new(|uv: glam::DVec2| (uv.y - rect.v.t0) < 0.02 * rect.v.len()),
-            ),
-            (
-                "v1",
-                Box::new(|uv: glam::DVec2| (rect.v.t1 - uv.y) < 0.02 * rect.v.len()),
-            ),
-        ] {
-            let v = talas::checks::verify_masked(
-                &gp,
-                &cutter,
-                &r.toolpath.poses,
-                &VerifyOptions {
-                    nu: 60,
-                    nv: 60,
-                    threshold_mm: 0.06,
-                    ..VerifyOptions::default()
-                },
-                &*mask,
-            )
-            .expect("v");
-            eprintln!(
-                "{name}: uncovered {} counted {} within {} max {} at {:?}",
-                v.uncovered, v.counted, v.within_threshold, v.max_remaining_mm, v.max_remaining_at
-            );
-        }
+        assert_eq!(v.uncovered, 0);
+        assert!(
+            v.within_threshold >= 0.995,
+            "{deg}°: {}",
+            v.within_threshold
+        );
+        assert!(v.max_penetration_mm <= 1e-3, "{}", v.max_penetration_mm);
     }
 }
