@@ -1,8 +1,9 @@
-//! The finishing planner's gouge repair, axis smoothing and lead-in/lead-out arcs, each checked
-//! independently: the checks module's dense verification (penetration of the swept tools), the
-//! largest axis change within the passes before and after smoothing, and the arcs' geometry
-//! (circle fit through their poses: radius and tangent) with the ball centre's distance to the
-//! exact surface.
+//! The finishing planner's gouge repair, axis smoothing, lead-in/lead-out arcs and iso-planar
+//! edge coverage, each checked independently: the checks module's dense verification
+//! (penetration of the swept tools, remaining height), the largest axis change within the
+//! passes before and after smoothing, the arcs' geometry (circle fit through their poses: radius
+//! and tangent) with the ball centre's distance to the exact surface, and the report of gouges
+//! no lead up to 45° fixes.
 
 use std::path::Path;
 
@@ -350,4 +351,44 @@ fn isoplanar_covers_the_trough_up_to_its_edges() {
         );
         assert!(v.max_penetration_mm <= 1e-3, "{}", v.max_penetration_mm);
     }
+}
+
+/// A flat end mill of 10 mm inside a cylinder of radius 6 mm: no lead up to 45° clears it
+/// (asin(5/6) = 56°), so the repair leaves the gouges and the report gives their number,
+/// depth and place, with one diagnostic per gouge (up to ten) in mm and µm.
+#[test]
+fn unfixable_gouges_are_reported_with_place_and_depth() {
+    use talas::geometry::Interval;
+    use talas::geometry::frame::Frame;
+    use talas::geometry::surface::Cylinder;
+    let cyl = SurfaceGeom::Cylinder(Cylinder {
+        frame: Frame::WORLD,
+        radius: 6.0,
+    });
+    let rect = ParamRect {
+        u: Interval::new(4.2, 5.2),
+        v: Interval::new(0.0, 4.0),
+    };
+    let o = FinishOptions {
+        scallop: 0.5,
+        tolerance: 0.05,
+        axis: normal(0.0),
+        exact_check: true,
+        ..FinishOptions::default()
+    };
+    let r = plan(&cyl, rect, -1.0, "flat:d=10", &o);
+    let g = r.toolpath.summary.gouge.expect("report");
+    let lines: Vec<&str> = r
+        .diagnostics
+        .iter()
+        .map(|d| d.message.as_str())
+        .filter(|m| m.contains("µm deep at"))
+        .collect();
+    eprintln!("{g:?}\n{lines:?}");
+    assert!(g.local_gouge, "min_lead should find no clearing lead");
+    assert!(g.gouging_poses > 0 && g.max_depth_mm > 1e-3, "{g:?}");
+    let at = g.worst_at.expect("place");
+    // On the cylinder (radius 6 about z).
+    assert!((at.truncate().length() - 6.0).abs() < 1e-3, "{at:?}");
+    assert_eq!(lines.len(), g.gouging_poses.min(10));
 }

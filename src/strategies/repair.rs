@@ -234,16 +234,23 @@ fn clearing_lead(
     from: f64,
     o: &GougeOptions,
 ) -> Option<f64> {
+    let clears = |lead: f64| {
+        curve
+            .eval(sigma, Some(lead))
+            .is_some_and(|c| check_pose(gp, setup.cutter, &make_pose(setup, &c), 0, o).is_none())
+    };
+    // Hopeless when even the largest lead gouges (the depth falls with the lead).
+    if from > MAX_REPAIR_LEAD || !clears(MAX_REPAIR_LEAD) {
+        return None;
+    }
     let mut lead = from;
-    while lead <= MAX_REPAIR_LEAD + 1e-12 {
-        let c = curve.eval(sigma, Some(lead))?;
-        let pose = make_pose(setup, &c);
-        if check_pose(gp, setup.cutter, &pose, 0, o).is_none() {
+    while lead < MAX_REPAIR_LEAD {
+        if clears(lead) {
             return Some(lead);
         }
         lead += LEAD_STEP;
     }
-    None
+    Some(MAX_REPAIR_LEAD)
 }
 
 /// Largest angle between the axes of consecutive cut poses of `poses` (moves within the

@@ -200,7 +200,13 @@ fn chord_deviation(
         };
         let tip = a.tip + ab * t;
         worst = worst.max(p.tip.distance(tip));
-        // The cutter at the interpolated pose: where is its point for this contact?
+        // The cutter at the interpolated pose: where is its point for this contact? Not for a
+        // flat or toroidal bottom touching with the axis along the normal: any point of the
+        // bottom touches there, and the rim point picked for a slightly turned axis would jump
+        // by the flat radius (the tip check covers it).
+        if setup.cutter.kind != CutterKind::Ball && p.axis.dot(p.n) > 1.0 - 1e-9 {
+            continue;
+        }
         let axis = a.axis.lerp(b.axis, t).normalize_or(p.axis);
         let offset = |ax: DVec3| {
             contact_to_tip(setup.cutter, DVec3::ZERO, p.n, ax, DVec3::ZERO).unwrap_or(DVec3::ZERO)
