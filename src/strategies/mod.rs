@@ -5,7 +5,9 @@
 //!
 //! Finishing on one face ([`finish::plan_finish`]): the face's parameter rectangle is covered
 //! by passes (polylines in parameter space), each pass is turned into poses by forward steps on
-//! the tool-tip curve ([`stepping`]), and the passes are joined by links ([`linking`]).
+//! the tool-tip curve ([`stepping`]), with the exact check its gouges are repaired and its axes
+//! smoothed ([`repair`]), and the passes are joined by links with optional lead-in/lead-out arcs
+//! ([`linking`]).
 
 pub mod axis;
 pub mod face;

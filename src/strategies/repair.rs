@@ -356,3 +356,24 @@ fn smooth_pass(
     }
     changed.iter().filter(|&&c| c).count()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::lead_profile;
+
+    #[test]
+    fn raised_lead_is_held_then_ramped_back() {
+        let (base, hold, slope) = (1.0, 2.0, 0.5);
+        let bumps = [(10.0, 5.0), (30.0, 3.0)];
+        let at = |s: f64| lead_profile(base, &bumps, hold, slope, s);
+        assert_eq!(at(10.0), 5.0);
+        assert_eq!(at(12.0), 5.0);
+        assert_eq!(at(8.0), 5.0);
+        assert_eq!(at(14.0), 4.0);
+        assert_eq!(at(19.0), 1.5);
+        assert_eq!(at(0.0), 1.0);
+        // The lower bump where it dominates, the base far from both.
+        assert_eq!(at(31.0), 3.0);
+        assert_eq!(at(100.0), 1.0);
+    }
+}
