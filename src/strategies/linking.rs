@@ -315,3 +315,75 @@ fn surface_link(setup: &Setup<'_>, a: &Pose, b: &Pose) -> Option<Vec<Pose>> {
     }
     Some(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::link;
+    use crate::geometry::Interval;
+    use crate::geometry::frame::Frame;
+    use crate::geometry::surface::{Cylinder, ParamRect, SurfaceGeom};
+    use crate::strategies::FinishOptions;
+    use crate::strategies::face::FacePatch;
+    use crate::strategies::finish::Setup;
+    use crate::toolpath::{MoveKind, Pose};
+    use crate::tools::{Cutter, CutterKind};
+
+    /// A ball of radius 1 running around the inside of a cylinder of radius 10: a 20 mm
+    /// lead-in arc is flatter than the ball centre's circle (radius 9) and would cut in behind
+    /// the start, 10 mm too; halved twice, 5 mm clears. The arc's ball centres stay within 9 mm
+    /// of the cylinder's axis (no penetration), and it meets the pass tangentially.
+    #[test]
+    fn a_gouging_lead_arc_is_shrunk() {
+        let cyl = SurfaceGeom::Cylinder(Cylinder {
+            frame: Frame::WORLD,
+            radius: 10.0,
+        });
+        let rect = ParamRect {
+            u: Interval::new(3.0, 6.4),
+            v: Interval::new(0.0, 10.0),
+        };
+        let patch = FacePatch::new(&cyl, rect, -1.0).expect("patch");
+        let cutter = Cutter::new(CutterKind::Ball, 2.0).expect("ball");
+        let opts = FinishOptions {
+            lead_arc_mm: 20.0,
+            ..FinishOptions::default()
+        };
+        let setup = Setup::new(patch, &cutter, opts);
+        let lift = 0.005;
+        let run: Vec<Pose> = (0..=30)
+            .map(|k| {
+                let u = 3.0 * std::f64::consts::FRAC_PI_2 - 0.3 + 0.02 * f64::from(k);
+                let cc = DVec3::new(10.0 * u.cos(), 10.0 * u.sin(), 5.0);
+                let n = DVec3::new(-u.cos(), -u.sin(), 0.0);
+                Pose::new(MoveKind::Cut, cc + n * lift, n, 1000.0)
+                    .with_contact(cc, crate::toolpath::ContactKind::Ball)
+            })
+            .collect();
+        let poses = link(&setup, &[run.clone()], 30.0, false);
+        let first = poses
+            .iter()
+            .position(|p| p.kind == MoveKind::Cut)
+            .expect("cut");
+        let arc: Vec<&Pose> = poses[..first]
+            .iter()
+            .filter(|p| p.kind == MoveKind::Plunge)
+            .collect();
+        assert!(arc.len() >= 3, "{arc:?}");
+        // Radius from the arc's start: 5 mm behind the pass start along the cut and 5 mm up
+        // along the axis.
+        let (a, t) = (arc[0].tip, arc[arc.len() - 1].tip);
+        let d = (run[1].tip - run[0].tip).normalize();
+        let u = run[0].axis;
+        let behind = (t - a).dot(d);
+        let up = (a - t).dot(u - d * u.dot(d));
+        assert!((behind - 5.0).abs() < 0.05, "behind {behind}");
+        assert!((up - 5.0).abs() < 0.1, "up {up}");
+        for p in &arc {
+            let centre = p.tip + p.axis * 1.0;
+            let r = centre.truncate().length();
+            assert!(r <= 9.0 + 1e-3, "ball centre {r} mm from the axis");
+        }
+    }
+}
