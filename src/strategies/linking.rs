@@ -361,7 +361,7 @@ mod tests {
                     .with_contact(cc, crate::toolpath::ContactKind::Ball)
             })
             .collect();
-        let poses = link(&setup, &[run.clone()], 30.0, false);
+        let poses = link(&setup, std::slice::from_ref(&run), 30.0, false);
         let first = poses
             .iter()
             .position(|p| p.kind == MoveKind::Cut)
