@@ -102,6 +102,10 @@ pub struct PlanArgs {
     /// Largest change of the tool axis between poses, degrees.
     #[arg(long, value_name = "DEG", default_value_t = 5.0)]
     pub max_axis_step: f64,
+    /// Radius of tangential lead-in/lead-out arcs at the ends of the passes entered from
+    /// above, mm (0: plunge straight onto the pass).
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub lead_arc: f64,
     /// Check every pose and cutting move for gouges against the exact surface and put the
     /// result in the summary's gouge report (slower).
     #[arg(long)]
@@ -241,6 +245,8 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         clearance: args.clearance,
         max_axis_step: args.max_axis_step.to_radians(),
         exact_check: args.check,
+        curvature_lead: true,
+        lead_arc_mm: args.lead_arc,
     };
     let part = read_step(&args.file)?;
     let face = part.faces.get(args.face).ok_or_else(|| {

@@ -9,9 +9,9 @@ use super::face::{FacePatch, LocalFrame};
 use super::pass::Pass;
 use super::scallop::Section;
 use super::{Direction, FinishOptions, Pattern, PlanError, Strategy};
-use super::{isoparam, isoplanar, isoscallop, linking, stepping};
+use super::{isoparam, isoplanar, isoscallop, linking, repair};
 use crate::diagnostics::Diagnostic;
-use crate::toolpath::{GougeReport, ToolRecord, Toolpath};
+use crate::toolpath::{GougeReport, Pose, ToolRecord, Toolpath};
 use crate::tools::effective::{CrossProfile, torus_radii};
 use crate::tools::{Cutter, CutterKind};
 
@@ -87,7 +87,22 @@ impl SectionAt {
     }
 }
 
-impl Setup<'_> {
+impl<'a> Setup<'a> {
+    /// The setup of a face, a cutter and (already adjusted) options, with the planner's
+    /// internal resolutions (guide spacing min(0.5 mm, R), 0.5 mm march sub-steps, passes
+    /// shorter than R dropped).
+    #[must_use]
+    pub fn new(patch: FacePatch<'a>, cutter: &'a Cutter, opts: FinishOptions) -> Self {
+        Self {
+            patch,
+            cutter,
+            opts,
+            guide_spacing: 0.5_f64.min(cutter.radius()),
+            march_substep: 0.5,
+            min_pass_length: cutter.radius(),
+        }
+    }
+
     /// Parameter index across the passes (0: u, 1: v).
     #[must_use]
     pub fn across(&self) -> usize {
@@ -235,7 +250,9 @@ pub fn plan_finish(
     // Local gouging: raise the lead until the cutter clears the face's largest concave
     // curvature (the thesis's Sturz; S is only ever increased).
     let k_max = max_concave(&patch);
-    if let AxisMode::Normal { lead, tilt } = opts.axis {
+    if let AxisMode::Normal { lead, tilt } = opts.axis
+        && opts.curvature_lead
+    {
         match min_lead(cutter, k_max, tilt) {
             Some(s) if s > lead => {
                 used.axis = AxisMode::Normal { lead: s, tilt };
@@ -274,14 +291,7 @@ pub fn plan_finish(
             ),
         ));
     }
-    let setup = Setup {
-        patch,
-        cutter,
-        opts: used,
-        guide_spacing: 0.5_f64.min(cutter.radius()),
-        march_substep: 0.5,
-        min_pass_length: cutter.radius(),
-    };
+    let setup = Setup::new(patch, cutter, used);
     let (passes, zigzag) = match strategy {
         Strategy::IsoScallop => (isoscallop::passes(&setup, &mut diags)?, true),
         Strategy::IsoParametric { pattern } => (
@@ -295,21 +305,26 @@ pub fn plan_finish(
             "no pass could be placed on the face".into(),
         ));
     }
-    let mut runs = Vec::with_capacity(passes.len());
     let spiral = matches!(
         strategy,
         Strategy::IsoParametric {
             pattern: Pattern::Spiral
         }
     );
-    for (k, p) in passes.iter().enumerate() {
-        let p = if zigzag && !spiral && k % 2 == 1 {
-            p.reversed()
-        } else {
-            p.clone()
-        };
-        runs.push(stepping::pass_poses(&setup, &p));
-    }
+    let ordered: Vec<Pass> = passes
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            if zigzag && !spiral && k % 2 == 1 {
+                p.reversed()
+            } else {
+                p.clone()
+            }
+        })
+        .collect();
+    let planned = repair::plan_passes(&setup, &ordered, opts.exact_check, true);
+    note_repairs(&planned, used.axis.lead(), &mut report, &mut diags);
+    let runs: Vec<Vec<Pose>> = planned.into_iter().map(|r| r.poses).collect();
     let clearance = used
         .clearance
         .unwrap_or_else(|| linking::default_clearance(&setup, &runs));
@@ -333,45 +348,78 @@ pub fn plan_finish(
     })
 }
 
-/// Gouge check of every pose and cutting move against the exact surface (the checks module),
-/// into the report; gouges are reported with their place and depth, never dropped.
+/// The repair's totals into the report and the diagnostics.
+fn note_repairs(
+    planned: &[repair::PassRepair],
+    base: f64,
+    report: &mut GougeReport,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let found: usize = planned.iter().map(|r| r.found).sum();
+    if found == 0 {
+        return;
+    }
+    let unfixed: usize = planned.iter().map(|r| r.unfixed.len()).sum();
+    let inserted: usize = planned.iter().map(|r| r.inserted).sum();
+    let depth = planned.iter().fold(0.0_f64, |m, r| m.max(r.found_depth_mm));
+    let lead = planned.iter().fold(0.0_f64, |m, r| m.max(r.max_lead));
+    report.found_before_repair = found;
+    if lead > base + 1e-9 {
+        report.repair_lead_deg = Some(lead.to_degrees());
+    }
+    diags.push(Diagnostic::info(
+        None,
+        format!(
+            "gouge repair: {found} gouges found on the passes (deepest {:.1} µm), {} fixed \
+             (lead raised locally up to {:.2}°, {inserted} poses inserted)",
+            depth * 1e3,
+            found.saturating_sub(unfixed),
+            lead.to_degrees()
+        ),
+    ));
+}
+
+/// Gouge check of every pose and cutting move of the linked path against the exact surface
+/// (after the repair of the passes), into the report; what still gouges is reported with its
+/// place (mm) and depth (µm), never dropped.
 fn exact_check(
     setup: &Setup<'_>,
     toolpath: &Toolpath,
     report: &mut GougeReport,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let p = &setup.patch;
-    let Ok(patch) = crate::checks::FacePatch::new(p.surface, p.domain, p.side < 0.0) else {
+    let Some(patch) = repair::check_patch(setup) else {
         return;
     };
-    let o = crate::checks::GougeOptions {
-        step_mm: 0.25,
-        footprint_n: 11,
-        fix_leads: false,
-        tolerance_mm: 1e-3,
-        ..crate::checks::GougeOptions::default()
-    };
+    let o = repair::check_options();
     match crate::checks::check_path(&patch, setup.cutter, &toolpath.poses, &o) {
         Ok(r) => {
             report.exact_check = true;
             report.gouging_poses = r.gouges.len();
             report.max_depth_mm = r.max_depth_mm;
-            let worst = r
-                .gouges
-                .iter()
-                .max_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm));
-            report.worst_at = worst.map(|g| g.point);
-            if let Some(g) = worst {
-                diags.push(Diagnostic::warning(
+            let mut worst: Vec<&crate::checks::Gouge> = r.gouges.iter().collect();
+            worst.sort_by(|a, b| b.depth_mm.total_cmp(&a.depth_mm));
+            report.worst_at = worst.first().map(|g| g.point);
+            for g in worst.iter().take(MAX_GOUGE_DIAGNOSTICS) {
+                diags.push(Diagnostic::error(
                     Some(format!("pose {}", g.pose)),
                     format!(
-                        "{} gouging poses, deepest {:.4} mm at ({:.3}, {:.3}, {:.3})",
-                        r.gouges.len(),
-                        g.depth_mm,
+                        "unfixed {:?} gouge {:.1} µm deep at ({:.3}, {:.3}, {:.3}) mm",
+                        g.kind,
+                        g.depth_mm * 1e3,
                         g.point.x,
                         g.point.y,
                         g.point.z
+                    ),
+                ));
+            }
+            if worst.len() > MAX_GOUGE_DIAGNOSTICS {
+                diags.push(Diagnostic::error(
+                    None,
+                    format!(
+                        "{} gouging poses in all, deepest {:.1} µm",
+                        worst.len(),
+                        r.max_depth_mm * 1e3
                     ),
                 ));
             }
@@ -382,6 +430,9 @@ fn exact_check(
         )),
     }
 }
+
+/// Unfixed gouges listed one by one in the diagnostics (then a count).
+const MAX_GOUGE_DIAGNOSTICS: usize = 10;
 
 /// Largest concave curvature over a 41×41 grid of the face, 1/mm (≥ 0).
 #[must_use]
@@ -411,6 +462,9 @@ fn check_options(o: &FinishOptions) -> Result<(), PlanError> {
     }
     if !(o.max_axis_step > 0.0 && o.max_axis_step.is_finite()) {
         return Err(bad("axis step (rad)", o.max_axis_step));
+    }
+    if !(o.lead_arc_mm >= 0.0 && o.lead_arc_mm.is_finite()) {
+        return Err(bad("lead arc radius (mm)", o.lead_arc_mm));
     }
     if o.clearance.is_some_and(|c| !c.is_finite()) {
         return Err(PlanError::Option("clearance must be finite".into()));

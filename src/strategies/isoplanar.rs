@@ -4,6 +4,12 @@
 //! boundary to where it leaves. The plane spacing is the smallest over the face that keeps the
 //! scallop within h: the surface distance between neighbouring contours is `Δc / |∇_S c|`,
 //! `∇_S c = m − (m·n) n`. Closed contours that never touch the boundary are not traced.
+//!
+//! Edges: where a domain edge runs nearly along the planes no contour ends on it, and the strip
+//! between the edge and the nearest contour can be up to a whole spacing wide (the half-step
+//! levels only protect the global extremes of c). Edge points farther than half the local
+//! spacing from every traced pass are collected into stretches, and each stretch becomes a
+//! pass along the edge, ordered with the others by its mean level.
 
 use glam::{DVec2, DVec3};
 
@@ -57,22 +63,33 @@ pub fn passes(
     }
     let count = (((cmax - cmin) / dc).ceil() as usize).clamp(1, 100_000);
     let step = (cmax - cmin) / count as f64;
-    let mut out = Vec::new();
+    let mut levelled: Vec<(f64, Pass)> = Vec::new();
+    let keep = |uv: Vec<DVec2>| {
+        let mut p = Pass::new(uv).resampled(patch, setup.guide_spacing);
+        // Short contours cut the domain's corners: keep them (dropping them leaves the corner
+        // uncut); only collapsed ones go.
+        if p.length(patch) < 0.05 * setup.min_pass_length {
+            return None;
+        }
+        predict(setup, &mut p, m, step);
+        Some(p)
+    };
     // Levels at half-steps from the extremes: the corners where c is extreme are then within
     // half a step of the nearest contour.
     for k in 0..count {
         let c = cmin + step * (k as f64 + 0.5);
         for uv in trace_level(patch, m, c, setup.guide_spacing) {
-            let mut p = Pass::new(uv).resampled(patch, setup.guide_spacing);
-            // Short contours cut the domain's corners: keep them (dropping them leaves the
-            // corner uncut); only collapsed ones go.
-            if p.length(patch) < 0.05 * setup.min_pass_length {
-                continue;
-            }
-            predict(setup, &mut p, m, step);
-            out.push(p);
+            levelled.extend(keep(uv).map(|p| (c, p)));
         }
     }
+    // Boundary stretches the contours leave farther than half a pass spacing away (an edge
+    // running nearly along the planes): a pass along the edge there.
+    let traced: Vec<Pass> = levelled.iter().map(|(_, p)| p.clone()).collect();
+    for (c, uv) in edge_stretches(setup, m, step, &traced) {
+        levelled.extend(keep(uv).map(|p| (c, p)));
+    }
+    levelled.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let out: Vec<Pass> = levelled.into_iter().map(|(_, p)| p).collect();
     diags.push(Diagnostic::info(
         None,
         format!(
@@ -104,6 +121,96 @@ fn predict(setup: &Setup<'_>, pass: &mut Pass, m: DVec3, dc: f64) {
             *s = sec.height(dc / grad.length());
         }
     }
+}
+
+/// Edge samples per side for the coverage of the boundary.
+const EDGE_SAMPLES: usize = 100;
+
+/// An edge point counts as covered within this fraction of half the pass spacing.
+const EDGE_SLACK: f64 = 1.05;
+
+/// Stretches of the domain's edges (as parameter polylines, with the mean level along them)
+/// whose points are farther from every traced pass than half the local pass spacing
+/// `step / |∇_S c|` (5 % slack; distances to the passes' polylines): there the strip between
+/// the edge and the nearest contour is up to a whole spacing wide (the edge runs nearly along
+/// the planes, so no contour ends on it). Each stretch is extended by one sample at both ends.
+fn edge_stretches(
+    setup: &Setup<'_>,
+    m: DVec3,
+    step: f64,
+    passes: &[Pass],
+) -> Vec<(f64, Vec<DVec2>)> {
+    let patch = &setup.patch;
+    let lines: Vec<Vec<DVec3>> = passes
+        .iter()
+        .map(|p| p.uv.iter().map(|q| patch.surface.point(q.x, q.y)).collect())
+        .collect();
+    let dist = |x: DVec3| {
+        let mut d2 = f64::INFINITY;
+        for l in &lines {
+            for w in l.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let ab = b - a;
+                let t = if ab.length_squared() > 0.0 {
+                    ((x - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                d2 = d2.min((a + ab * t).distance_squared(x));
+            }
+        }
+        d2.sqrt()
+    };
+    let corners = [
+        patch.at(0.0, 0.0),
+        patch.at(1.0, 0.0),
+        patch.at(1.0, 1.0),
+        patch.at(0.0, 1.0),
+    ];
+    let mut out = Vec::new();
+    for s in 0..4 {
+        let (a, b) = (corners[s], corners[(s + 1) % 4]);
+        let samples: Vec<(DVec2, bool)> = (0..=EDGE_SAMPLES)
+            .map(|k| {
+                let uv = a.lerp(b, k as f64 / EDGE_SAMPLES as f64);
+                let Some(frame) = patch.frame(uv) else {
+                    return (uv, false);
+                };
+                let g = (m - frame.n * m.dot(frame.n)).length();
+                if !(g > 1e-9) {
+                    return (uv, false);
+                }
+                (uv, dist(frame.p) > EDGE_SLACK * 0.5 * step / g)
+            })
+            .collect();
+        let mut k = 0;
+        while k < samples.len() {
+            if !samples.get(k).is_some_and(|x| x.1) {
+                k += 1;
+                continue;
+            }
+            let start = k;
+            while samples.get(k).is_some_and(|x| x.1) {
+                k += 1;
+            }
+            let (i0, i1) = (start.saturating_sub(1), k.min(samples.len() - 1));
+            let uv: Vec<DVec2> = samples
+                .get(i0..=i1)
+                .unwrap_or_default()
+                .iter()
+                .map(|x| x.0)
+                .collect();
+            let c = uv
+                .iter()
+                .map(|q| patch.surface.point(q.x, q.y).dot(m))
+                .sum::<f64>()
+                / uv.len().max(1) as f64;
+            if uv.len() >= 2 {
+                out.push((c, uv));
+            }
+        }
+    }
+    out
 }
 
 /// All open contours of `S·m = c` that start on the domain boundary.

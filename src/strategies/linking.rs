@@ -3,6 +3,16 @@
 //! the link is short (the link is itself stepped over the surface, so it cannot gouge), else
 //! retract along the axis to the clearance plane, rapid across, and plunge; depart to the
 //! clearance plane at the end. Rapids are marked `rapid`.
+//!
+//! Lead-in/lead-out arcs (`FinishOptions::lead_arc_mm` > 0): a pass entered from above is
+//! reached by a quarter circle of the tool tip in the plane of the first cut direction `d` and
+//! the tool axis, tangent to `d` where it meets the pass (centre `T + ρ u`, `u` the axis's part
+//! ⟂ `d`): it starts straight down (along −u) at `T − ρ d + ρ u` and ends moving along `d`; the
+//! pass is left by the mirrored arc after its last pose. The axis stays that of the pass's end
+//! pose. Lead-in arcs are fed moves into the material (`plunge`), lead-out arcs fed moves clear
+//! of it (`link`). Every arc placement and the moves between them are checked against the
+//! exact surface ([`crate::checks::check_pose`], [`crate::checks::check_move`]); a gouging arc
+//! is halved (up to four times) and otherwise left out (straight plunge / retract).
 
 use glam::{DQuat, DVec3};
 
@@ -54,11 +64,12 @@ fn above(p: &Pose, z: f64) -> DVec3 {
 pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool) -> Vec<Pose> {
     let feed = setup.opts.feed;
     let stay_down = 2.5 * setup.cutter.diameter;
+    let arcs = Arcs::new(setup);
     let mut out: Vec<Pose> = Vec::new();
     for run in runs.iter().filter(|r| !r.is_empty()) {
         let (Some(first), Some(last_prev)) = (run.first(), out.last().copied()) else {
-            if let Some(first) = run.first() {
-                out.extend(approach(first, clearance, feed));
+            if !run.is_empty() {
+                out.extend(arcs.enter(run, clearance));
                 out.extend(run.iter().skip(1).copied());
             }
             continue;
@@ -80,17 +91,21 @@ pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool
                 out.extend(run.iter().copied());
             }
             None => {
-                out.push(Pose::new(
-                    MoveKind::Rapid,
-                    above(&last_prev, clearance),
-                    last_prev.axis,
-                    feed,
-                ));
-                out.extend(approach(first, clearance, feed));
+                out.extend(arcs.leave(&out));
+                if let Some(last) = out.last().copied() {
+                    out.push(Pose::new(
+                        MoveKind::Rapid,
+                        above(&last, clearance),
+                        last.axis,
+                        feed,
+                    ));
+                }
+                out.extend(arcs.enter(run, clearance));
                 out.extend(run.iter().skip(1).copied());
             }
         }
     }
+    out.extend(arcs.leave(&out));
     if let Some(last) = out.last().copied() {
         out.push(Pose::new(
             MoveKind::Rapid,
@@ -103,16 +118,144 @@ pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool
 }
 
 /// Rapid to the clearance plane above `first`, rapid down to the approach height, plunge to it.
-fn approach(first: &Pose, clearance: f64, feed: f64) -> Vec<Pose> {
-    let top = above(first, clearance);
-    let near = above(first, (first.tip.z + APPROACH_HEIGHT).min(clearance));
+/// `arc`: lead-in arc poses ending at `first` (excluded); the plunge then goes to the arc's
+/// start and the arc follows.
+fn approach(first: &Pose, arc: &[Pose], clearance: f64, feed: f64) -> Vec<Pose> {
+    let start = arc.first().unwrap_or(first);
+    let top = above(start, clearance);
+    let near = above(start, (start.tip.z + APPROACH_HEIGHT).min(clearance));
     let mut plunge = *first;
     plunge.kind = MoveKind::Plunge;
-    vec![
+    let mut out = vec![
         Pose::new(MoveKind::Rapid, top, first.axis, feed),
         Pose::new(MoveKind::Rapid, near, first.axis, feed),
-        plunge,
-    ]
+    ];
+    out.extend(arc.iter().copied());
+    out.push(plunge);
+    out
+}
+
+/// Lead-in/lead-out arcs of a setup (see the module doc).
+struct Arcs<'s, 'a> {
+    setup: &'s Setup<'a>,
+    patch: Option<crate::checks::FacePatch<'a>>,
+}
+
+impl<'s, 'a> Arcs<'s, 'a> {
+    fn new(setup: &'s Setup<'a>) -> Self {
+        let patch = (setup.opts.lead_arc_mm > 0.0)
+            .then(|| super::repair::check_patch(setup))
+            .flatten();
+        Self { setup, patch }
+    }
+
+    /// Approach into the run's first pose (with a lead-in arc when asked and clear).
+    fn enter(&self, run: &[Pose], clearance: f64) -> Vec<Pose> {
+        let feed = self.setup.opts.feed;
+        let Some(first) = run.first() else {
+            return Vec::new();
+        };
+        let arc = match (run.get(1), &self.patch) {
+            (Some(second), Some(gp)) => self.clear_arc(gp, first, second.tip - first.tip, true),
+            _ => Vec::new(),
+        };
+        approach(first, &arc, clearance, feed)
+    }
+
+    /// Lead-out arc after the last pose of `out` when it is a cut (empty otherwise).
+    fn leave(&self, out: &[Pose]) -> Vec<Pose> {
+        let (Some(gp), [.., before, last]) = (&self.patch, out) else {
+            return Vec::new();
+        };
+        if last.kind != MoveKind::Cut {
+            return Vec::new();
+        }
+        self.clear_arc(gp, last, last.tip - before.tip, false)
+    }
+
+    /// The largest arc (the asked radius, halved up to four times) whose placements and moves
+    /// clear the surface; empty when none does.
+    fn clear_arc(
+        &self,
+        gp: &crate::checks::FacePatch<'_>,
+        end: &Pose,
+        dir: DVec3,
+        entering: bool,
+    ) -> Vec<Pose> {
+        let o = super::repair::check_options();
+        let cutter = self.setup.cutter;
+        let mut radius = self.setup.opts.lead_arc_mm;
+        for _ in 0..5 {
+            let Some(arc) = lead_arc(end, dir, radius, self.setup.opts.tolerance, entering) else {
+                return Vec::new();
+            };
+            let mut chain: Vec<Pose> = arc.clone();
+            if entering {
+                chain.push(*end);
+            } else {
+                chain.insert(0, *end);
+            }
+            let clear = arc
+                .iter()
+                .all(|p| crate::checks::check_pose(gp, cutter, p, 0, &o).is_none())
+                && chain
+                    .windows(2)
+                    .all(|w| crate::checks::check_move(gp, cutter, &w[0], &w[1], 0, &o).is_none());
+            if clear {
+                return arc;
+            }
+            radius *= 0.5;
+        }
+        Vec::new()
+    }
+}
+
+/// A quarter-circle arc of the tool tip of radius `radius` tangent to `dir` at `end`'s tip, in
+/// the plane of `dir` and `end`'s axis, on the axis side; sampled so that its chords stay
+/// within `tolerance / 2` of the circle (at most 10° apart). Entering: the poses before `end`
+/// (kind `plunge`), from the arc's top; leaving: the poses after it (kind `link`). `None` when
+/// `dir` is zero or along the axis, or the radius is not positive.
+#[must_use]
+pub fn lead_arc(
+    end: &Pose,
+    dir: DVec3,
+    radius: f64,
+    tolerance: f64,
+    entering: bool,
+) -> Option<Vec<Pose>> {
+    let d = dir.try_normalize()?;
+    let u = (end.axis - d * end.axis.dot(d)).try_normalize()?;
+    if !(radius > 0.0 && radius.is_finite() && tolerance > 0.0) {
+        return None;
+    }
+    let centre = end.tip + u * radius;
+    // Sagitta ρ(1 − cos(Δφ/2)) ≤ ε/2.
+    let c = (1.0 - 0.5 * tolerance / radius).clamp(-1.0, 1.0);
+    let dphi = (2.0 * c.acos()).min(10f64.to_radians()).max(1e-3);
+    let n = ((std::f64::consts::FRAC_PI_2 / dphi).ceil() as usize).clamp(2, 1000);
+    let at = |phi: f64, side: f64| centre - (u * phi.cos() + d * (side * phi.sin())) * radius;
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let poses = if entering {
+        (0..n)
+            .map(|k| {
+                let phi = quarter * (1.0 - k as f64 / n as f64);
+                Pose::new(
+                    MoveKind::Plunge,
+                    at(phi, 1.0),
+                    end.axis,
+                    end.feed_mm_per_min,
+                )
+            })
+            .collect()
+    } else {
+        (1..=n)
+            .map(|k| {
+                let phi = quarter * k as f64 / n as f64;
+                Pose::new(MoveKind::Link, at(phi, -1.0), end.axis, end.feed_mm_per_min)
+            })
+            .collect()
+    };
+    Some(poses)
 }
 
 /// A stay-down link over the surface from the contact of `a` to that of `b` (both must carry
@@ -171,4 +314,76 @@ fn surface_link(setup: &Setup<'_>, a: &Pose, b: &Pose) -> Option<Vec<Pose>> {
         out.push(pose);
     }
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::link;
+    use crate::geometry::Interval;
+    use crate::geometry::frame::Frame;
+    use crate::geometry::surface::{Cylinder, ParamRect, SurfaceGeom};
+    use crate::strategies::FinishOptions;
+    use crate::strategies::face::FacePatch;
+    use crate::strategies::finish::Setup;
+    use crate::toolpath::{MoveKind, Pose};
+    use crate::tools::{Cutter, CutterKind};
+
+    /// A ball of radius 1 running around the inside of a cylinder of radius 10: a 20 mm
+    /// lead-in arc is flatter than the ball centre's circle (radius 9) and would cut in behind
+    /// the start, 10 mm too; halved twice, 5 mm clears. The arc's ball centres stay within 9 mm
+    /// of the cylinder's axis (no penetration), and it meets the pass tangentially.
+    #[test]
+    fn a_gouging_lead_arc_is_shrunk() {
+        let cyl = SurfaceGeom::Cylinder(Cylinder {
+            frame: Frame::WORLD,
+            radius: 10.0,
+        });
+        let rect = ParamRect {
+            u: Interval::new(3.0, 6.4),
+            v: Interval::new(0.0, 10.0),
+        };
+        let patch = FacePatch::new(&cyl, rect, -1.0).expect("patch");
+        let cutter = Cutter::new(CutterKind::Ball, 2.0).expect("ball");
+        let opts = FinishOptions {
+            lead_arc_mm: 20.0,
+            ..FinishOptions::default()
+        };
+        let setup = Setup::new(patch, &cutter, opts);
+        let lift = 0.005;
+        let run: Vec<Pose> = (0..=30)
+            .map(|k| {
+                let u = 3.0 * std::f64::consts::FRAC_PI_2 - 0.3 + 0.02 * f64::from(k);
+                let cc = DVec3::new(10.0 * u.cos(), 10.0 * u.sin(), 5.0);
+                let n = DVec3::new(-u.cos(), -u.sin(), 0.0);
+                Pose::new(MoveKind::Cut, cc + n * lift, n, 1000.0)
+                    .with_contact(cc, crate::toolpath::ContactKind::Ball)
+            })
+            .collect();
+        let poses = link(&setup, std::slice::from_ref(&run), 30.0, false);
+        let first = poses
+            .iter()
+            .position(|p| p.kind == MoveKind::Cut)
+            .expect("cut");
+        let arc: Vec<&Pose> = poses[..first]
+            .iter()
+            .filter(|p| p.kind == MoveKind::Plunge)
+            .collect();
+        assert!(arc.len() >= 3, "{arc:?}");
+        // Radius from the arc's start: 5 mm behind the pass start along the cut and 5 mm up
+        // along the axis.
+        let (a, t) = (arc[0].tip, arc[arc.len() - 1].tip);
+        let d = (run[1].tip - run[0].tip).normalize();
+        let u = run[0].axis;
+        let behind = (t - a).dot(d);
+        let up = (a - t).dot(u - d * u.dot(d));
+        assert!((behind - 5.0).abs() < 0.05, "behind {behind}");
+        assert!((up - 5.0).abs() < 0.1, "up {up}");
+        for p in &arc {
+            let centre = p.tip + p.axis * 1.0;
+            let r = centre.truncate().length();
+            assert!(r <= 9.0 + 1e-3, "ball centre {r} mm from the axis");
+        }
+    }
 }

@@ -5,7 +5,9 @@
 //!
 //! Finishing on one face ([`finish::plan_finish`]): the face's parameter rectangle is covered
 //! by passes (polylines in parameter space), each pass is turned into poses by forward steps on
-//! the tool-tip curve ([`stepping`]), and the passes are joined by links ([`linking`]).
+//! the tool-tip curve ([`stepping`]), with the exact check its gouges are repaired and its axes
+//! smoothed ([`repair`]), and the passes are joined by links with optional lead-in/lead-out arcs
+//! ([`linking`]).
 
 pub mod axis;
 pub mod face;
@@ -17,6 +19,7 @@ pub mod linking;
 pub mod pass;
 pub mod raster;
 pub mod raster_check;
+pub mod repair;
 pub mod scallop;
 pub mod stepping;
 pub mod zlevel;
@@ -81,8 +84,22 @@ pub struct FinishOptions {
     /// Largest change of the tool axis between consecutive poses, rad (poses are inserted).
     pub max_axis_step: f64,
     /// Check every pose and cutting move for gouges against the exact surface
-    /// ([`crate::checks::check_path`]) and report them in the summary (slower).
+    /// ([`crate::checks::check_path`]), repair what gouges on the passes (lead raised locally,
+    /// poses inserted: [`repair`]) and report what is left in the summary (slower).
     pub exact_check: bool,
+    /// Raise the lead over the whole face to clear its largest concave curvature before
+    /// planning ([`finish::min_lead`], the thesis's Sturz; default on). Off: keep the given
+    /// lead; with `exact_check`, the repair raises it only where the tool gouges.
+    #[serde(default = "default_true")]
+    pub curvature_lead: bool,
+    /// Radius of the tangential lead-in/lead-out arcs at the passes' ends, mm (0: none; see
+    /// [`linking`]).
+    #[serde(default)]
+    pub lead_arc_mm: f64,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 impl Default for FinishOptions {
@@ -96,6 +113,8 @@ impl Default for FinishOptions {
             clearance: None,
             max_axis_step: 5f64.to_radians(),
             exact_check: false,
+            curvature_lead: true,
+            lead_arc_mm: 0.0,
         }
     }
 }

@@ -52,6 +52,13 @@ pub struct GougeReport {
     /// True when the poses were checked against the exact surface (the checks module).
     #[serde(default)]
     pub exact_check: bool,
+    /// Gouges the exact check found on the cutting passes as first stepped, before the repair
+    /// (lead raised locally, poses inserted); what is left is `gouging_poses`.
+    #[serde(default)]
+    pub found_before_repair: usize,
+    /// The largest lead the repair raised to, degrees, when it raised any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repair_lead_deg: Option<f64>,
 }
 
 impl Summary {
