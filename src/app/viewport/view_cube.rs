@@ -390,7 +390,13 @@ mod tests {
             .build_ui_state(
                 |ui, (state, commands, rect): &mut State| {
                     *rect = ui.available_rect_before_wrap();
-                    viewport_ui(ui, state, None, commands);
+                    viewport_ui(
+                        ui,
+                        state,
+                        None,
+                        crate::app::viewport::ViewportExtras::default(),
+                        commands,
+                    );
                 },
                 (ViewportState::default(), Vec::new(), egui::Rect::NOTHING),
             );
