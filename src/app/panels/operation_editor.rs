@@ -258,6 +258,13 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             ui.end_row();
             label(
                 ui,
+                "Lead-in/out arc",
+                "Radius of the tangential arcs into and out of each pass (0: none)",
+            );
+            commit |= number(ui, &mut options.lead_arc_mm, 1.0, 0.0..=50.0, 0.1, 2, " mm");
+            ui.end_row();
+            label(
+                ui,
                 "Largest axis step",
                 "Largest tool-axis change between poses",
             );
