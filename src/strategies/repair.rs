@@ -14,7 +14,7 @@
 //! What is still gouging after [`ROUNDS`] rounds (or would need a lead above 45°, or an axis
 //! mode without a lead) is returned as unfixed, with its place and depth.
 //!
-//! Axis smoothing ([`smooth_pass`]) runs after the repair: the axes of a pass are averaged with
+//! Axis smoothing (`smooth_pass`) runs after the repair: the axes of a pass are averaged with
 //! [`super::axis::smooth_axes`], each kept within [`SMOOTH_MAX_DEV_DEG`] of the planned axis and
 //! the tips recomputed from the contacts; a smoothed pose that gouges (checked exactly, when the
 //! exact check is on) or exceeds the axis step keeps its planned axis.

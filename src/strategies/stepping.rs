@@ -10,7 +10,7 @@
 //! above it (concave ones).
 //!
 //! A pass is a curve in its index parameter σ (0 at the first guide point, one per guide);
-//! [`PassCurve`] evaluates it with an optional lead profile along σ (normal-relative axes: the
+//! `PassCurve` evaluates it with an optional lead profile along σ (normal-relative axes: the
 //! gouge repair raises the lead locally) and steps it, optionally through given σ values.
 
 use glam::{DVec2, DVec3};
