@@ -368,6 +368,13 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     assert!(h.query_all_by_label_contains(" µm").next().is_some());
     assert!(h.query_all_by_label_contains("Stale").next().is_none());
 
+    // The comparison window lists the computed operation with its numbers and units.
+    h.state_mut().apply(Command::CompareOperations);
+    h.state_mut().apply(Command::SetShowAxisVectors(true));
+    h.run_steps(2);
+    h.get_by_label("vs first");
+    assert!(h.query_all_by_label_contains(" mm").next().is_some());
+
     // Space plays the path on its clock: the playback pose advances, the bar shows it.
     assert_eq!(h.state().playback_position(), None);
     press(&mut h, egui::Modifiers::NONE, egui::Key::Space);

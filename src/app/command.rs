@@ -92,6 +92,10 @@ pub enum Command {
     SetPathColouring(PathColouring),
     /// Draw every operation's path (true) or only the active one's.
     SetShowAllPaths(bool),
+    /// Draw tool-axis vectors at the active path's cutting poses.
+    SetShowAxisVectors(bool),
+    /// Open the window comparing the computed operations.
+    CompareOperations,
     /// Playback of the active path.
     Playback(PlaybackCommand),
 }

@@ -70,6 +70,7 @@ pub struct ComputedOp {
     /// Predicted scallop range of the cutting poses, mm (`None` when no pose predicts one).
     pub scallop_range_mm: Option<(f64, f64)>,
     render: Option<(PathColouring, DataId, Arc<LineData>)>,
+    axes: Option<(DataId, Arc<LineData>, Vec<usize>)>,
 }
 
 impl ComputedOp {
@@ -102,6 +103,7 @@ impl ComputedOp {
             clock_s,
             scallop_range_mm,
             render: None,
+            axes: None,
         }
     }
 
@@ -142,6 +144,24 @@ impl ComputedOp {
         let data = Arc::new(path_lines(self.toolpath(), mapping));
         self.render = Some((colouring, *next_id, Arc::clone(&data)));
         (*next_id, data)
+    }
+
+    /// The tool-axis vectors in render form (built once; `length_mm` long) and, per segment, the
+    /// pose it stands at.
+    pub fn axis_lines(
+        &mut self,
+        length_mm: f64,
+        next_id: &mut DataId,
+    ) -> (DataId, Arc<LineData>, &[usize]) {
+        if self.axes.is_none() {
+            *next_id += 1;
+            let (lines, poses) = axis_vectors(self.toolpath(), length_mm);
+            self.axes = Some((*next_id, Arc::new(lines), poses));
+        }
+        match &self.axes {
+            Some((id, data, poses)) => (*id, Arc::clone(data), poses.as_slice()),
+            None => (0, Arc::new(LineData::default()), &[]),
+        }
     }
 
     /// Index of the last pose reached at time `t_s` of the playback clock.
@@ -210,6 +230,42 @@ pub fn path_lines(toolpath: &Toolpath, scallop: Option<ScalarMapping>) -> LineDa
         out.indices.extend([i, i + 1]);
     }
     out
+}
+
+/// Colour of the tool-axis vectors (sRGB).
+pub const AXIS_VECTOR_COLOUR: Rgba8 = [120, 230, 160, 255];
+
+/// Most tool-axis vectors drawn for one path (every k-th cutting pose beyond that).
+pub const MAX_AXIS_VECTORS: usize = 4000;
+
+/// Tool-axis vectors at the cutting poses of `toolpath` (every k-th so that at most
+/// [`MAX_AXIS_VECTORS`] are drawn), each `length_mm` long from the tip along the axis; segment
+/// `i` belongs to the `i`-th vector drawn, with the index of its pose in `poses`.
+#[must_use]
+pub fn axis_vectors(toolpath: &Toolpath, length_mm: f64) -> (LineData, Vec<usize>) {
+    let cuts: Vec<usize> = toolpath
+        .poses
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.kind == MoveKind::Cut)
+        .map(|(i, _)| i)
+        .collect();
+    let every = cuts.len().div_ceil(MAX_AXIS_VECTORS).max(1);
+    let mut out = LineData::default();
+    let mut poses = Vec::new();
+    for &i in cuts.iter().step_by(every) {
+        let Some(p) = toolpath.poses.get(i) else {
+            continue;
+        };
+        let a = p.tip;
+        let b = p.tip + p.axis * length_mm;
+        out.push_polyline(
+            &[a.as_vec3().to_array(), b.as_vec3().to_array()],
+            AXIS_VECTOR_COLOUR,
+        );
+        poses.push(i);
+    }
+    (out, poses)
 }
 
 /// The pose whose tip projects nearest to `cursor` (pixels, within `radius_px`) for the view
@@ -362,6 +418,16 @@ mod tests {
         let [r, g, b] = ColourMap::Turbo.sample(1.0);
         assert_eq!(by_scallop.colours[4], [r, g, b, 255]);
         assert_eq!(by_scallop.colours[0], move_colour(MoveKind::Plunge));
+    }
+
+    #[test]
+    fn axis_vectors_stand_on_the_cutting_poses() {
+        let tp = path();
+        let (lines, poses) = axis_vectors(&tp, 5.0);
+        assert_eq!(poses, vec![2, 3]);
+        assert_eq!(lines.segment_count(), 2);
+        assert_eq!(lines.positions[0], [10.0, 0.0, 0.0]);
+        assert_eq!(lines.positions[1], [10.0, 0.0, 5.0]);
     }
 
     #[test]

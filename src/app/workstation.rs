@@ -339,6 +339,8 @@ impl Workstation {
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
             | Command::SetShowAllPaths(_)
+            | Command::SetShowAxisVectors(_)
+            | Command::CompareOperations
             | Command::Playback(_) => self.apply_operation(command),
         }
     }
@@ -594,6 +596,7 @@ impl Workstation {
                 .is_some_and(|d| has_surfaces(&d.part)),
             path_colouring: self.ops.colouring,
             all_paths: self.ops.show_all,
+            axis_vectors: self.ops.show_axes,
             stock: self.sims.visible,
             stock_available: self.sims.shown.is_some(),
             has_faces: self
@@ -719,6 +722,7 @@ impl Workstation {
         });
         self.viewport = viewport;
         self.path_field_ui(&ctx, &mut commands);
+        self.compare_ui(&ctx, &mut commands);
         if let Some(prompt) = &mut self.prompt
             && let Some(outcome) = prompt.ui(&ctx)
         {

@@ -58,6 +58,8 @@ pub struct ViewFlags {
     pub path_colouring: PathColouring,
     /// Every operation's path drawn (not only the active one's).
     pub all_paths: bool,
+    /// Tool-axis vectors drawn at the active path's cutting poses.
+    pub axis_vectors: bool,
     /// Does the part have exact faces (finishing operations possible)?
     pub has_faces: bool,
     /// The simulated stock is drawn.
@@ -218,6 +220,10 @@ pub fn menu_bar_ui(
                 if ui.checkbox(&mut all, "All operations").changed() {
                     commands.push(Command::SetShowAllPaths(all));
                 }
+                let mut axes = view.axis_vectors;
+                if ui.checkbox(&mut axes, "Tool-axis vectors").changed() {
+                    commands.push(Command::SetShowAxisVectors(axes));
+                }
                 let mut stock = view.stock;
                 if ui
                     .add_enabled(
@@ -261,6 +267,10 @@ pub fn menu_bar_ui(
                 .clicked()
             {
                 commands.push(Command::PostActive);
+                ui.close();
+            }
+            if ui.button("Compare operations…").clicked() {
+                commands.push(Command::CompareOperations);
                 ui.close();
             }
             if ui.button("Export G-code…").clicked() {

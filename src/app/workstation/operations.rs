@@ -44,6 +44,10 @@ pub(super) struct Operations {
     pub colouring: PathColouring,
     /// Draw every fresh path, not only the active one.
     pub show_all: bool,
+    /// Draw tool-axis vectors at the active path's cutting poses.
+    pub show_axes: bool,
+    /// The comparison window is open.
+    pub compare_open: bool,
     /// Playback clock, s (`None`: the whole path).
     pub t_s: Option<f64>,
     /// Is the clock running?
@@ -140,6 +144,8 @@ impl Workstation {
             Command::SetStockVisible(on) => self.sims.visible = on,
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
+            Command::SetShowAxisVectors(on) => self.ops.show_axes = on,
+            Command::CompareOperations => self.ops.compare_open = true,
             Command::Playback(p) => self.playback(p),
             _ => {}
         }
@@ -456,14 +462,114 @@ impl Workstation {
             if is_active && colouring == PathColouring::Scallop {
                 legend = r.scallop_mapping();
             }
-            self.ops.next_id = next_id;
             out.push(LineInstance {
                 id,
                 data: Arc::clone(&data),
                 world_from_lines: Mat4::IDENTITY,
                 draw_segments: if is_active { playback } else { None },
             });
+            if is_active && self.ops.show_axes {
+                // Vectors a little longer than the cutter's diameter, drawn up to the playback.
+                let length = (2.0 * r.cutter.diameter).max(1.0);
+                let (id, data, poses) = r.axis_lines(length, &mut next_id);
+                let upto = playback.map(|p| poses.partition_point(|&q| q <= p));
+                out.push(LineInstance {
+                    id,
+                    data,
+                    world_from_lines: Mat4::IDENTITY,
+                    draw_segments: upto,
+                });
+            }
+            self.ops.next_id = next_id;
         }
         (out, legend)
+    }
+
+    /// The comparison of the computed operations: strategy, tool, cut length, poses, passes,
+    /// time at feed and largest predicted scallop side by side (fresh results only); the paths
+    /// themselves show together with View → Tool Paths → All operations.
+    pub(super) fn compare_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
+        if !self.ops.compare_open {
+            return;
+        }
+        let mut open = true;
+        let rows: Vec<(usize, &ComputedOp)> = (0..self.session.project.operations.len())
+            .filter_map(|i| {
+                let (k, fresh) = self.result_index(i)?;
+                fresh.then(|| Some((i, self.ops.store.get(k)?)))?
+            })
+            .collect();
+        let base = rows
+            .first()
+            .map(|(_, r)| r.toolpath().summary.cut_length_mm);
+        egui::Window::new("Compare operations")
+            .open(&mut open)
+            .default_width(760.0)
+            .show(ctx, |ui| {
+                if rows.is_empty() {
+                    ui.weak("Calculate two or more operations to compare them.");
+                    return;
+                }
+                egui::Grid::new("compare")
+                    .striped(true)
+                    .spacing([14.0, 4.0])
+                    .show(ui, |ui| {
+                        for h in [
+                            "Operation",
+                            "Strategy",
+                            "Tool",
+                            "Cut length",
+                            "vs first",
+                            "Poses",
+                            "Passes",
+                            "Time at feed",
+                            "Max scallop",
+                        ] {
+                            ui.label(egui::RichText::new(h).strong());
+                        }
+                        ui.end_row();
+                        for (i, r) in &rows {
+                            let s = &r.toolpath().summary;
+                            if ui
+                                .selectable_label(self.ops.active == Some(*i), r.operation.name())
+                                .clicked()
+                            {
+                                commands.push(Command::Inspect(
+                                    super::super::panels::properties::Focus::Operation(*i),
+                                ));
+                            }
+                            ui.label(r.operation.kind().label());
+                            ui.label(crate::tools::tool_spec(&r.cutter));
+                            ui.monospace(format!("{:.1} mm", s.cut_length_mm));
+                            ui.monospace(base.filter(|b| *b > 0.0).map_or_else(
+                                || "—".into(),
+                                |b| format!("{:+.1} %", (s.cut_length_mm / b - 1.0) * 100.0),
+                            ));
+                            ui.monospace(s.pose_count.to_string());
+                            ui.monospace(r.computed.passes.to_string());
+                            ui.monospace(super::super::panels::operation_editor::duration_text(
+                                s.estimated_time_s,
+                            ));
+                            ui.monospace(
+                                s.predicted_max_scallop_mm.map_or_else(
+                                    || "—".into(),
+                                    |h| format!("{:.1} µm", h * 1000.0),
+                                ),
+                            );
+                            ui.end_row();
+                        }
+                    });
+                ui.add_space(6.0);
+                let mut all = self.ops.show_all;
+                if ui
+                    .checkbox(&mut all, "Show every operation's path in the viewport")
+                    .changed()
+                {
+                    commands.push(Command::SetShowAllPaths(all));
+                }
+            });
+        if !open {
+            self.ops.compare_open = false;
+        }
     }
 }
