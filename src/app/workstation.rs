@@ -691,11 +691,12 @@ impl Workstation {
             let stock = self.stock_instance();
             // Over the simulated stock the path would hide the deviation map: it is drawn only
             // while playing back.
-            let paths = if stock.is_some() && up_to.is_none() {
+            let mut paths = if stock.is_some() && up_to.is_none() {
                 Vec::new()
             } else {
                 paths
             };
+            paths.extend(self.collision_instance());
             let extras = ViewportExtras {
                 hide_part: stock.is_some(),
                 stock_legend: stock

@@ -142,29 +142,68 @@ fn pick_ui(ui: &mut egui::Ui, pick: &SurfacePick) {
 
 fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
     ui.heading("Stock");
-    let rows: Vec<(&str, String)> = match view.project.stock {
-        Stock::None => vec![("Kind", "none".into())],
-        Stock::Box { min_mm, max_mm } => vec![
-            ("Kind", "box".into()),
-            ("Min", mm3(DVec3::from_array(min_mm))),
-            ("Max", mm3(DVec3::from_array(max_mm))),
-            (
+    // Every size is editable (drag or type; applied when the drag ends or the value is typed);
+    // the edit is refused with the reason when the stock would be empty.
+    let mut next = view.project.stock;
+    egui::Grid::new("stock fields")
+        .num_columns(2)
+        .spacing([10.0, 6.0])
+        .show(ui, |ui| match &mut next {
+            Stock::None => {
+                ui.label("Kind");
+                ui.label("none (roughing and simulation use the part's box + 2 mm)");
+                ui.end_row();
+            }
+            Stock::Box { min_mm, max_mm } => {
+                ui.label("Kind");
+                ui.label("box");
+                ui.end_row();
+                for (name, v) in [("Min", min_mm), ("Max", max_mm)] {
+                    ui.label(name);
+                    ui.horizontal(|ui| {
+                        for x in v.iter_mut() {
+                            length_field(ui, x);
+                        }
+                    });
+                    ui.end_row();
+                }
+            }
+            Stock::Cylinder {
+                base_mm,
+                radius_mm,
+                height_mm,
+            } => {
+                ui.label("Kind");
+                ui.label("cylinder (axis +Z)");
+                ui.end_row();
+                ui.label("Base centre");
+                ui.horizontal(|ui| {
+                    for x in base_mm.iter_mut() {
+                        length_field(ui, x);
+                    }
+                });
+                ui.end_row();
+                ui.label("Radius");
+                length_field(ui, radius_mm);
+                ui.end_row();
+                ui.label("Height");
+                length_field(ui, height_mm);
+                ui.end_row();
+            }
+        });
+    if let Stock::Box { min_mm, max_mm } = view.project.stock {
+        grid(
+            ui,
+            "stock size",
+            &[(
                 "Size",
                 mm3(DVec3::from_array(max_mm) - DVec3::from_array(min_mm)),
-            ),
-        ],
-        Stock::Cylinder {
-            base_mm,
-            radius_mm,
-            height_mm,
-        } => vec![
-            ("Kind", "cylinder".into()),
-            ("Base centre", mm3(DVec3::from_array(base_mm))),
-            ("Radius", format!("{radius_mm:.3} mm")),
-            ("Height", format!("{height_mm:.3} mm")),
-        ],
-    };
-    grid(ui, "stock", &rows);
+            )],
+        );
+    }
+    if next != view.project.stock {
+        commands.push(Command::Edit(Edit::SetStock(next)));
+    }
     ui.add_space(8.0);
     let bounds = view.document.map(|d| d.bounds).filter(|b| !b.is_empty());
     ui.add_enabled_ui(bounds.is_some(), |ui| {
@@ -207,16 +246,7 @@ fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
             for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(format!("Origin {name}"))
                     .on_hover_text("Where the program's zero sits in part coordinates");
-                let mut v = setup.origin_mm[axis];
-                let r = ui.add(
-                    egui::DragValue::new(&mut v)
-                        .speed(0.1)
-                        .max_decimals(4)
-                        .suffix(" mm"),
-                );
-                if r.drag_stopped() || (r.changed() && !r.dragged()) {
-                    next.origin_mm[axis] = v;
-                }
+                length_field(ui, &mut next.origin_mm[axis]);
                 ui.end_row();
             }
             ui.label("Tool axis");
@@ -323,16 +353,33 @@ fn machine_ui(
         let r = ui.add(
             egui::DragValue::new(&mut rpm)
                 .range(0.0..=100_000.0)
-                .speed(50.0)
+                .speed(0.0)
+                .update_while_editing(false)
                 .suffix(" rpm"),
         );
-        if (r.drag_stopped() || (r.changed() && !r.dragged())) && rpm != project.post.spindle_rpm {
+        if r.changed() && rpm != project.post.spindle_rpm {
             commands.push(Command::Edit(Edit::SetPost(crate::project::PostConfig {
                 spindle_rpm: rpm,
                 ..project.post.clone()
             })));
         }
     });
+}
+
+/// A length in mm, typed (click the field) and applied when confirmed with Enter or by leaving
+/// the field: one undo step per value.
+pub fn length_field(ui: &mut egui::Ui, value: &mut f64) {
+    let mut v = *value;
+    let r = ui.add(
+        egui::DragValue::new(&mut v)
+            .speed(0.0)
+            .update_while_editing(false)
+            .max_decimals(4)
+            .suffix(" mm"),
+    );
+    if r.changed() && v.is_finite() {
+        *value = v;
+    }
 }
 
 fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {

@@ -12,7 +12,9 @@ use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::Operation;
 use crate::project::simulate::{Simulated, SimulationSettings, simulate_toolpath};
-use crate::render::{ColourMap, DataId, MeshData, MeshInstance, ScalarMapping};
+use crate::render::{
+    ColourMap, DataId, LineData, LineInstance, MeshData, MeshInstance, ScalarMapping,
+};
 use crate::simulation::SimError;
 use crate::tools::Cutter;
 
@@ -37,6 +39,8 @@ pub struct ShownSimulation {
     pub elapsed_s: f64,
     id: DataId,
     mesh: Arc<MeshData>,
+    /// Red crosses at the collisions, with their render id.
+    markers: (DataId, Arc<LineData>),
     /// Colour mapping of the deviation.
     pub mapping: ScalarMapping,
 }
@@ -190,12 +194,24 @@ impl Workstation {
                 }
                 self.ops.next_id += 1;
                 let (mesh, mapping) = deviation_mesh(&simulated);
+                let id = self.ops.next_id;
+                self.ops.next_id += 1;
+                let size = self
+                    .document
+                    .as_ref()
+                    .map_or(2.0, |d| 0.015 * (d.bounds.max - d.bounds.min).max_element())
+                    .max(0.5);
+                let markers = (
+                    self.ops.next_id,
+                    Arc::new(collision_markers(&simulated, size as f32)),
+                );
                 self.sims.shown = Some(ShownSimulation {
                     key,
                     simulated,
                     elapsed_s,
-                    id: self.ops.next_id,
+                    id,
                     mesh: Arc::new(mesh),
+                    markers,
                     mapping,
                 });
                 self.sims.visible = true;
@@ -210,6 +226,17 @@ impl Workstation {
                 "Simulation failed: the worker stopped unexpectedly",
             ),
         }
+    }
+
+    /// Red crosses at the collisions of the shown simulation, when visible.
+    pub(super) fn collision_instance(&self) -> Option<LineInstance> {
+        let s = self.sims.shown.as_ref().filter(|_| self.sims.visible)?;
+        (s.markers.1.segment_count() > 0).then(|| LineInstance {
+            id: s.markers.0,
+            data: Arc::clone(&s.markers.1),
+            world_from_lines: Mat4::IDENTITY,
+            draw_segments: None,
+        })
     }
 
     /// The stock mesh to draw and its legend, when visible.
@@ -252,4 +279,22 @@ fn deviation_mesh(s: &Simulated) -> (MeshData, ScalarMapping) {
             max: range,
         },
     )
+}
+
+/// Colour of the collision markers (sRGB).
+const COLLISION_COLOUR: [u8; 4] = [255, 40, 40, 255];
+
+/// A three-axis cross of half-size `size` mm at every collision of `s`.
+fn collision_markers(s: &Simulated, size: f32) -> LineData {
+    let mut out = LineData::default();
+    for c in &s.report.collisions {
+        let p = c.position.as_vec3();
+        for d in [glam::Vec3::X, glam::Vec3::Y, glam::Vec3::Z] {
+            out.push_polyline(
+                &[(p - d * size).to_array(), (p + d * size).to_array()],
+                COLLISION_COLOUR,
+            );
+        }
+    }
+    out
 }
