@@ -471,6 +471,39 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         &text[..200.min(text.len())]
     );
     assert!(h.query_all_by_label_contains("G-code").next().is_some());
+    // The jerk-limited plan of the posted program never runs faster than programmed (1000
+    // mm/min) and the path can be coloured by it.
+    let feeds = h.state().planned_feed(0).expect("planned feed");
+    let (result, _) = h.state().operation_result(0).expect("result");
+    let finite: Vec<f32> = feeds
+        .iter()
+        .zip(&result.toolpath().poses)
+        .filter(|(_, p)| p.kind == talas::toolpath::MoveKind::Cut)
+        .map(|(f, _)| *f)
+        .filter(|f| f.is_finite())
+        .collect();
+    assert!(
+        finite.len() * 2 > feeds.len(),
+        "{} of {}",
+        finite.len(),
+        feeds.len()
+    );
+    assert!(
+        finite.iter().all(|&f| f <= 1000.0 * 1.001),
+        "max {}",
+        finite.iter().copied().fold(0.0f32, f32::max)
+    );
+    let mut sorted = finite.clone();
+    sorted.sort_by(f32::total_cmp);
+    assert!(
+        sorted[sorted.len() / 2] > 100.0,
+        "median {}",
+        sorted[sorted.len() / 2]
+    );
+    h.state_mut().apply(Command::SetPathColouring(
+        talas::app::toolpaths::PathColouring::PlannedFeed,
+    ));
+    h.run_steps(2);
     let out = dir.join("raster.ngc");
     h.state_mut().apply(Command::ExportProgramTo(out.clone()));
     assert_eq!(std::fs::read_to_string(&out).expect("exported"), text);

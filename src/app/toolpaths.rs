@@ -22,11 +22,14 @@ pub enum PathColouring {
     MoveKind,
     /// Cutting moves by the predicted scallop height at their end pose; others by kind.
     Scallop,
+    /// Cutting moves by the feed the jerk-limited plan of the posted program reaches there
+    /// (needs a posted program); others by kind.
+    PlannedFeed,
 }
 
 impl PathColouring {
     /// Every colouring, menu order.
-    pub const ALL: [Self; 2] = [Self::MoveKind, Self::Scallop];
+    pub const ALL: [Self; 3] = [Self::MoveKind, Self::Scallop, Self::PlannedFeed];
 
     /// Name for menus.
     #[must_use]
@@ -34,6 +37,7 @@ impl PathColouring {
         match self {
             Self::MoveKind => "Move kind",
             Self::Scallop => "Predicted scallop",
+            Self::PlannedFeed => "Planned feed (after posting)",
         }
     }
 }
@@ -138,7 +142,7 @@ impl ComputedOp {
         }
         *next_id += 1;
         let mapping = match colouring {
-            PathColouring::MoveKind => None,
+            PathColouring::MoveKind | PathColouring::PlannedFeed => None,
             PathColouring::Scallop => self.scallop_mapping(),
         };
         let data = Arc::new(path_lines(self.toolpath(), mapping));
@@ -206,6 +210,32 @@ pub fn pose_clock(toolpath: &Toolpath) -> Vec<f64> {
 /// moves by the scallop predicted at pose `i + 1` through `scallop` when given.
 #[must_use]
 pub fn path_lines(toolpath: &Toolpath, scallop: Option<ScalarMapping>) -> LineData {
+    match scallop {
+        Some(m) => {
+            let values: Vec<f32> = toolpath
+                .poses
+                .iter()
+                .map(|p| p.scallop_mm.map_or(f32::NAN, |h| h as f32))
+                .collect();
+            path_lines_by(toolpath, &values, m)
+        }
+        None => path_lines_by(
+            toolpath,
+            &[],
+            ScalarMapping {
+                map: ColourMap::Turbo,
+                min: 0.0,
+                max: 1.0,
+            },
+        ),
+    }
+}
+
+/// The path as line segments (see [`path_lines`]), cutting moves coloured by `values` (one per
+/// pose, the value at the move's end pose) through `mapping`; moves without a finite value, and
+/// every move when `values` is empty, by their kind (cuts without a value grey).
+#[must_use]
+pub fn path_lines_by(toolpath: &Toolpath, values: &[f32], mapping: ScalarMapping) -> LineData {
     let n = toolpath.poses.len().saturating_sub(1);
     let mut out = LineData {
         positions: Vec::with_capacity(2 * n),
@@ -214,13 +244,14 @@ pub fn path_lines(toolpath: &Toolpath, scallop: Option<ScalarMapping>) -> LineDa
     };
     for (k, w) in toolpath.poses.windows(2).enumerate() {
         let [a, b] = w else { continue };
-        let colour = match (scallop, b.kind, b.scallop_mm) {
-            (Some(m), MoveKind::Cut, Some(h)) if h.is_finite() => {
-                let t = (h as f32 - m.min) / (m.max - m.min).max(1e-12);
-                let [r, g, bl] = m.map.sample(t);
+        let value = values.get(k + 1).copied();
+        let colour = match (values.is_empty(), b.kind, value) {
+            (false, MoveKind::Cut, Some(v)) if v.is_finite() => {
+                let t = (v - mapping.min) / (mapping.max - mapping.min).max(1e-12);
+                let [r, g, bl] = mapping.map.sample(t);
                 [r, g, bl, 255]
             }
-            (Some(_), MoveKind::Cut, _) => [200, 200, 200, 255],
+            (false, MoveKind::Cut, _) => [200, 200, 200, 255],
             (_, kind, _) => move_colour(kind),
         };
         out.positions.push(a.tip.as_vec3().to_array());

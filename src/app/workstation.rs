@@ -564,6 +564,7 @@ impl Workstation {
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         self.poll_background();
         let dt = ui.ctx().input(|i| f64::from(i.stable_dt));
+        self.ops.hover_pose = None;
         self.tick_playback(dt);
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
@@ -674,7 +675,11 @@ impl Workstation {
         let mut viewport = std::mem::take(&mut self.viewport);
         // The tool stands at the playback pose (or the picked one); the marker at program zero.
         viewport.tool_pose = self.active_result().and_then(|r| {
-            let i = self.playback_pose().or(self.ops.picked_pose)?;
+            let i = self
+                .ops
+                .hover_pose
+                .or(self.playback_pose())
+                .or(self.ops.picked_pose)?;
             let p = r.toolpath().poses.get(i)?;
             Some(super::viewport::ToolPose {
                 tip: p.tip,
@@ -704,7 +709,7 @@ impl Workstation {
                     .map(|(_, m)| ("Stock deviation (mm)".to_string(), *m)),
                 meshes: stock.into_iter().map(|(m, _)| m).collect(),
                 paths,
-                path_legend: legend.map(|m| ("Predicted scallop (mm)".to_string(), m)),
+                path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
             };
             viewport_ui(

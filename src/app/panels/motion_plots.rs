@@ -25,6 +25,8 @@ pub const MAX_POINTS: usize = 20_000;
 pub enum PlotEvent {
     /// The user clicked a plot at this time (s), clamped to the program.
     TimeClicked(f64),
+    /// The pointer is over a plot at this time (s), clamped to the program.
+    TimeHovered(f64),
 }
 
 /// State of the motion plots.
@@ -291,17 +293,25 @@ impl MotionPlots {
                 if let Some(t) = cursor {
                     p.vline(VLine::new("cursor", t).color(Color32::WHITE).width(2.0));
                 }
-                if p.response().clicked() {
-                    p.pointer_coordinate().map(|c| c.x)
+                let clicked = p.response().clicked();
+                if clicked || p.response().hovered() {
+                    p.pointer_coordinate().map(|c| (c.x, clicked))
                 } else {
                     None
                 }
             });
-        let t = response.inner.map(|at| match x {
-            XAxis::Time => at,
-            XAxis::PathLength => self.time_at_path(at),
-        });
-        t.map(|t| PlotEvent::TimeClicked(t.clamp(0.0, t_max)))
+        response.inner.map(|(at, clicked)| {
+            let t = match x {
+                XAxis::Time => at,
+                XAxis::PathLength => self.time_at_path(at),
+            }
+            .clamp(0.0, t_max);
+            if clicked {
+                PlotEvent::TimeClicked(t)
+            } else {
+                PlotEvent::TimeHovered(t)
+            }
+        })
     }
 }
 

@@ -40,6 +40,8 @@ pub(super) struct Operations {
     pub active: Option<usize>,
     /// The pose picked in the viewport (index into the active path).
     pub picked_pose: Option<usize>,
+    /// The pose under the pointer in the motion plots (this frame only).
+    pub hover_pose: Option<usize>,
     /// Path colouring.
     pub colouring: PathColouring,
     /// Draw every fresh path, not only the active one.
@@ -436,7 +438,14 @@ impl Workstation {
 
     /// The paths to draw: the active operation's (up to the playback pose) and, when asked, every
     /// other fresh one; plus the legend of the scallop colouring.
-    pub(super) fn path_instances(&mut self) -> (Vec<LineInstance>, Option<ScalarMapping>) {
+    pub(super) fn path_instances(
+        &mut self,
+    ) -> (Vec<LineInstance>, Option<(String, ScalarMapping)>) {
+        let feed = if self.ops.colouring == PathColouring::PlannedFeed {
+            self.feed_coloured_path()
+        } else {
+            None
+        };
         let mut out = Vec::new();
         let mut legend = None;
         let count = self.session.project.operations.len();
@@ -460,8 +469,17 @@ impl Workstation {
             };
             let (id, data) = r.render_lines(colouring, &mut next_id);
             if is_active && colouring == PathColouring::Scallop {
-                legend = r.scallop_mapping();
+                legend = r
+                    .scallop_mapping()
+                    .map(|m| ("Predicted scallop (mm)".to_string(), m));
             }
+            let (id, data) = match (&feed, is_active) {
+                (Some((fid, fdata, m)), true) => {
+                    legend = Some(("Planned feed (mm/min)".to_string(), *m));
+                    (*fid, Arc::clone(fdata))
+                }
+                _ => (id, data),
+            };
             out.push(LineInstance {
                 id,
                 data: Arc::clone(&data),

@@ -3,6 +3,7 @@
 //! dialog, and the links between a G-code line, a path pose, the playback and a plot time.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use super::super::command::Command;
 use super::super::job::{Job, JobPoll};
@@ -12,7 +13,7 @@ use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::posting::{plan_motion, post_operation};
 use crate::project::{Operation, PostConfig, Setup};
-use crate::render::DataId;
+use crate::render::{ColourMap, DataId, LineData, ScalarMapping};
 use crate::tools::Cutter;
 
 /// Corner blending tolerance of the motion plan, mm.
@@ -46,6 +47,8 @@ struct ProgramOutput {
     text: String,
     pose_of_line: Vec<Option<usize>>,
     motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
+    /// Mean planned path speed of each line's blocks, mm/min (NaN where none).
+    feed_of_line: Vec<f32>,
 }
 
 /// A posted program and its views.
@@ -58,6 +61,10 @@ pub(super) struct Program {
     /// Motion plots and (start time, 0-based line) of each motion block, by time.
     motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
     elapsed_s: f64,
+    /// Planned feed at each pose of the path, mm/min (NaN where unknown).
+    pose_feed: Vec<f32>,
+    /// The path coloured by planned feed (render id, lines, mapping in mm/min), built once.
+    feed_lines: Option<(DataId, Arc<LineData>, ScalarMapping)>,
 }
 
 /// A running post: what it posts, the operation index, the job.
@@ -119,25 +126,46 @@ impl Workstation {
                 move |progress| {
                     let posted = post_operation(&project, &toolpath, tool_number)?;
                     progress.set(0.3);
+                    let mut sums = vec![(0.0f64, 0u32); posted.pose_of_line.len()];
                     let motion =
                         plan_motion(&project, &posted.text, CORNER_TOLERANCE_MM).map(|timed| {
                             let plots = MotionPlots::new(&timed);
                             let mut lines = Vec::new();
                             let mut last = usize::MAX;
                             for s in timed.samples_every(0.005) {
+                                let line = timed
+                                    .blocks()
+                                    .get(s.block)
+                                    .map(|b| b.source_line.saturating_sub(1));
                                 if s.block != last {
                                     last = s.block;
-                                    if let Some(b) = timed.blocks().get(s.block) {
-                                        lines.push((s.t, b.source_line.saturating_sub(1)));
+                                    if let Some(l) = line {
+                                        lines.push((s.t, l));
                                     }
+                                }
+                                if let Some(slot) = line.and_then(|l| sums.get_mut(l)) {
+                                    slot.0 += s.feed;
+                                    slot.1 += 1;
                                 }
                             }
                             (plots, lines)
                         });
+                    // Mean planned path speed of each line, mm/s → mm/min.
+                    let feed_of_line = sums
+                        .iter()
+                        .map(|&(sum, n)| {
+                            if n > 0 {
+                                (60.0 * sum / f64::from(n)) as f32
+                            } else {
+                                f32::NAN
+                            }
+                        })
+                        .collect();
                     Ok(ProgramOutput {
                         text: posted.text,
                         pose_of_line: posted.pose_of_line,
                         motion,
+                        feed_of_line,
                     })
                 },
                 move || ctx.request_repaint(),
@@ -160,6 +188,18 @@ impl Workstation {
             .as_ref()
             .filter(|p| p.key == key)
             .map(|p| p.view.text())
+    }
+
+    /// The planned feed at each pose of operation `index`'s path, mm/min (NaN where unknown),
+    /// when its posted program is current.
+    #[must_use]
+    pub fn planned_feed(&self, index: usize) -> Option<&[f32]> {
+        let key = self.program_key(index)?;
+        self.programs
+            .current
+            .as_ref()
+            .filter(|p| p.key == key)
+            .map(|p| p.pose_feed.as_slice())
     }
 
     /// Cancel the running post; true when there was one.
@@ -212,6 +252,13 @@ impl Workstation {
                         *slot = Some(line);
                     }
                 }
+                let pose_feed: Vec<f32> = line_of_pose
+                    .iter()
+                    .map(|l| {
+                        l.and_then(|l| out.feed_of_line.get(l).copied())
+                            .unwrap_or(f32::NAN)
+                    })
+                    .collect();
                 let lines = out.text.lines().count();
                 match &out.motion {
                     Ok((plots, _)) => self.log.push(
@@ -240,6 +287,8 @@ impl Workstation {
                     line_of_pose,
                     motion: out.motion,
                     elapsed_s,
+                    pose_feed,
+                    feed_lines: None,
                 });
                 self.programs.dock = DockTab::Gcode;
             }
@@ -365,18 +414,61 @@ impl Workstation {
                 ui.colored_label(super::super::theme::WARNING, format!("No motion plan: {e}"));
             }
             Ok((plots, lines)) => {
-                if let Some(PlotEvent::TimeClicked(t)) = plots.ui(ui) {
+                let event = plots.ui(ui);
+                let (t, clicked) = match event {
+                    Some(PlotEvent::TimeClicked(t)) => (t, true),
+                    Some(PlotEvent::TimeHovered(t)) => (t, false),
+                    None => return,
+                };
+                let k = lines.partition_point(|(s, _)| *s <= t).saturating_sub(1);
+                let pose = lines
+                    .get(k)
+                    .and_then(|(_, line)| p.pose_of_line.get(*line).copied().flatten())
+                    .filter(|_| Some(p.index) == self.ops.active);
+                if clicked {
                     plots.set_cursor_time(Some(t));
-                    let k = lines.partition_point(|(s, _)| *s <= t).saturating_sub(1);
-                    if let Some(pose) = lines
-                        .get(k)
-                        .and_then(|(_, line)| p.pose_of_line.get(*line).copied().flatten())
-                        && Some(p.index) == self.ops.active
-                    {
+                    if let Some(pose) = pose {
                         commands.push(Command::PickPose(Some(pose)));
                     }
+                } else {
+                    // Hovering a plot shows the place on the path: the tool stands there.
+                    self.ops.hover_pose = pose;
                 }
             }
         }
+    }
+
+    /// The active path coloured by planned feed, when its program is posted and current.
+    pub(super) fn feed_coloured_path(&mut self) -> Option<(DataId, Arc<LineData>, ScalarMapping)> {
+        let index = self.ops.active?;
+        let key = self.program_key(index)?;
+        let (k, true) = self.result_index(index)? else {
+            return None;
+        };
+        let mut next_id = self.ops.next_id;
+        let store = &self.ops.store;
+        let p = self.programs.current.as_mut().filter(|p| p.key == key)?;
+        if p.feed_lines.is_none() {
+            let r = store.get(k)?;
+            let max = p
+                .pose_feed
+                .iter()
+                .copied()
+                .filter(|f| f.is_finite())
+                .fold(0.0f32, f32::max)
+                .max(1.0);
+            let mapping = ScalarMapping {
+                map: ColourMap::Turbo,
+                min: 0.0,
+                max,
+            };
+            next_id += 1;
+            let lines = crate::app::toolpaths::path_lines_by(r.toolpath(), &p.pose_feed, mapping);
+            p.feed_lines = Some((next_id, Arc::new(lines), mapping));
+        }
+        self.ops.next_id = next_id;
+        p.feed_lines
+            .as_ref()
+            .map(|(id, l, m)| (*id, Arc::clone(l), *m))
     }
 }

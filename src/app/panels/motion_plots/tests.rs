@@ -187,9 +187,19 @@ fn clicking_a_plot_reports_its_time() {
     h.step();
     h.drop_at(pos);
     h.run_steps(2);
-    let Some(PlotEvent::TimeClicked(t)) = h.state().events.last().copied() else {
+    let Some(t) = h.state().events.iter().rev().find_map(|e| match e {
+        PlotEvent::TimeClicked(t) => Some(*t),
+        PlotEvent::TimeHovered(_) => None,
+    }) else {
         panic!("no click event");
     };
+    // Hovering reports the time under the pointer too.
+    assert!(
+        h.state()
+            .events
+            .iter()
+            .any(|e| matches!(e, PlotEvent::TimeHovered(_)))
+    );
     assert!(t > 0.0 && t < tp.cycle_time_s, "{t} of {}", tp.cycle_time_s);
     assert_eq!(h.state().plots.cursor_time(), Some(0.5 * tp.cycle_time_s));
 }
