@@ -308,3 +308,81 @@ fn posting_writes_program_coordinates_under_the_work_offset() {
     }
     assert!(checked > 50, "{checked} lines checked");
 }
+
+#[test]
+fn roughing_then_finishing_on_one_stock_leaves_the_allowance_then_the_scallop() {
+    use talas::project::simulate::{SimulationSettings, simulate_toolpaths};
+    let part = hills();
+    let mut rough = Operation::new(OperationKind::Rough, 0, 0);
+    if let Operation::Rough {
+        step_down_mm,
+        tolerance_mm,
+        stock_to_leave_mm,
+        ..
+    } = &mut rough
+    {
+        *step_down_mm = 4.0;
+        *tolerance_mm = 0.5;
+        *stock_to_leave_mm = 0.5;
+    }
+    let mut finish = Operation::new(OperationKind::Raster, 1, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut finish {
+        *scallop_mm = 0.1;
+    }
+    let mut project = project_with("flat:d=10,flute=40,length=60", rough);
+    project.tools.push(ToolEntry {
+        name: "T2".into(),
+        cutter: parse_tool_spec("ball:d=6,flute=40,length=60").expect("spec"),
+    });
+    project.operations.push(finish);
+    let r = compute(&project, 0, &part, &Progress::new()).expect("roughs");
+    let f = compute(&project, 1, &part, &Progress::new()).expect("finishes");
+    let settings = SimulationSettings {
+        resolution_mm: Some(1.0),
+        ..SimulationSettings::default()
+    };
+    let (t0, t1) = (&project.tools[0].cutter, &project.tools[1].cutter);
+    let roughed = simulate_toolpaths(
+        &project.stock,
+        &part.mesh,
+        &[(&r.toolpath, t0)],
+        &settings,
+        &Progress::new(),
+    )
+    .expect("simulates roughing");
+    let both = simulate_toolpaths(
+        &project.stock,
+        &part.mesh,
+        &[(&r.toolpath, t0), (&f.toolpath, t1)],
+        &settings,
+        &Progress::new(),
+    )
+    .expect("simulates both");
+    // Roughing leaves about the allowance (0.5 mm; the roughing grid may leave up to one grid
+    // spacing more, and the flat end mill leaves steps between levels on slopes).
+    assert!(
+        roughed.remaining_p99_mm >= 0.3,
+        "roughing p99 {} mm",
+        roughed.remaining_p99_mm
+    );
+    assert!(
+        roughed.max_gouge_mm <= 0.012,
+        "roughing gouge {}",
+        roughed.max_gouge_mm
+    );
+    // Finishing the roughed stock leaves the raster's scallop.
+    let predicted = f
+        .toolpath
+        .summary
+        .predicted_max_scallop_mm
+        .expect("prediction");
+    assert!(
+        both.remaining_p99_mm <= predicted + 0.02,
+        "after finishing p99 {} mm, predicted {predicted} mm",
+        both.remaining_p99_mm
+    );
+    assert_eq!(both.reports.len(), 2);
+    assert!(both.reports[1].removed_volume_mm3 > 0.0);
+    let sum: f64 = both.reports.iter().map(|r| r.removed_volume_mm3).sum();
+    assert!((both.report.removed_volume_mm3 - sum).abs() < 1e-6);
+}

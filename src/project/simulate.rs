@@ -39,8 +39,10 @@ impl Default for SimulationSettings {
 /// A simulated operation.
 #[derive(Clone, Debug)]
 pub struct Simulated {
-    /// The removal's report (volumes, collisions of shank and holder, time).
+    /// The removal's report over all paths (volumes, collisions of shank and holder, time).
     pub report: SimReport,
+    /// One report per path, in order.
+    pub reports: Vec<SimReport>,
     /// Dexel spacing used, mm.
     pub resolution_mm: f64,
     /// The cut stock's top as a mesh (one vertex per Z ray holding material), mm.
@@ -94,6 +96,25 @@ pub fn simulate_toolpath(
     settings: &SimulationSettings,
     progress: &Progress,
 ) -> Result<Simulated, SimError> {
+    simulate_toolpaths(stock, part, &[(toolpath, cutter)], settings, progress)
+}
+
+/// Simulate several paths, in order, on one stock (roughing, then finishing, …) and measure the
+/// result against `part`. [`Simulated::reports`] has one report per path; [`Simulated::report`]
+/// sums them (volumes from the first stock to the last, every collision).
+///
+/// # Errors
+/// As [`simulate_toolpath`]; [`SimError::Options`] when `paths` is empty.
+pub fn simulate_toolpaths(
+    stock: &Stock,
+    part: &TriMesh,
+    paths: &[(&Toolpath, &Cutter)],
+    settings: &SimulationSettings,
+    progress: &Progress,
+) -> Result<Simulated, SimError> {
+    if paths.is_empty() {
+        return Err(SimError::Options("no tool path to simulate".into()));
+    }
     let shape = stock_shape(stock, &part.bbox());
     let b = shape.bounds();
     let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
@@ -103,20 +124,30 @@ pub fn simulate_toolpath(
         let scale = 10f64.powf(r.log10().floor() - 1.0);
         ((r / scale).ceil() * scale).max(0.01)
     });
-    let step = StepOptions {
-        reach_mm: cutter.flute_length,
-        chord_tolerance_mm: (0.05 * resolution).clamp(1e-4, 0.01),
-        axis_tolerance_mm: (0.1 * resolution).clamp(1e-4, 0.02),
-        ..StepOptions::default()
-    };
-    let plan = plan_toolpath(toolpath, &step)?;
     let mut dexels = DexelStock::new(
         vec![shape],
         resolution,
         DexelMode::Z,
         settings.memory_limit_bytes,
     )?;
-    let report = simulate(&mut dexels, cutter, &plan, &SimOptions::default(), progress)?;
+    let mut reports = Vec::with_capacity(paths.len());
+    for (toolpath, cutter) in paths {
+        let step = StepOptions {
+            reach_mm: cutter.flute_length,
+            chord_tolerance_mm: (0.05 * resolution).clamp(1e-4, 0.01),
+            axis_tolerance_mm: (0.1 * resolution).clamp(1e-4, 0.02),
+            ..StepOptions::default()
+        };
+        let plan = plan_toolpath(toolpath, &step)?;
+        reports.push(simulate(
+            &mut dexels,
+            cutter,
+            &plan,
+            &SimOptions::default(),
+            progress,
+        )?);
+    }
+    let report = merged(&reports);
     let stock_mesh = dexels.height_field_mesh();
     let bvh = MeshBvh::new(part).map_err(|e| SimError::Part(e.to_string()))?;
     let mut deviation_mm = Vec::with_capacity(stock_mesh.positions.len());
@@ -153,12 +184,38 @@ pub fn simulate_toolpath(
     };
     Ok(Simulated {
         report,
+        reports,
         resolution_mm: resolution,
         stock_mesh,
         deviation_mm,
         max_gouge_mm,
         remaining_p99_mm,
     })
+}
+
+/// The reports of consecutive runs on one stock as one: the first run's initial volume, the last
+/// run's final volume and memory, the sums of the rest, every collision.
+fn merged(reports: &[SimReport]) -> SimReport {
+    let mut out = reports.first().cloned().unwrap_or(SimReport {
+        initial_volume_mm3: 0.0,
+        final_volume_mm3: 0.0,
+        removed_volume_mm3: 0.0,
+        collisions: Vec::new(),
+        moves: 0,
+        steps: 0,
+        time_s: 0.0,
+        memory_bytes: 0,
+    });
+    for r in reports.iter().skip(1) {
+        out.final_volume_mm3 = r.final_volume_mm3;
+        out.memory_bytes = r.memory_bytes;
+        out.removed_volume_mm3 += r.removed_volume_mm3;
+        out.collisions.extend(r.collisions.iter().copied());
+        out.moves += r.moves;
+        out.steps += r.steps;
+        out.time_s += r.time_s;
+    }
+    out
 }
 
 /// Unit normal of triangle `t` of `mesh` (+Z when degenerate).

@@ -11,7 +11,7 @@ use super::super::job::{Job, JobPoll};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::Operation;
-use crate::project::simulate::{Simulated, SimulationSettings, simulate_toolpath};
+use crate::project::simulate::{Simulated, SimulationSettings, simulate_toolpaths};
 use crate::render::{
     ColourMap, DataId, LineData, LineInstance, MeshData, MeshInstance, ScalarMapping,
 };
@@ -24,10 +24,16 @@ const STOCK_COLOUR: [u8; 4] = [196, 170, 120, 255];
 /// What a simulation was run on (it is shown while these are unchanged).
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct SimKey {
-    operation: Operation,
-    cutter: Cutter,
+    /// The operations simulated, in order (the last is the one asked for), with their tools.
+    operations: Vec<(Operation, Cutter)>,
     part_id: DataId,
     stock: crate::project::Stock,
+}
+
+impl SimKey {
+    fn name(&self) -> &str {
+        self.operations.last().map_or("", |(o, _)| o.name())
+    }
 }
 
 /// A finished simulation with its render data.
@@ -56,13 +62,21 @@ pub(super) struct Simulations {
 }
 
 impl Workstation {
+    /// What simulating operation `index` runs: every operation before it that has a fresh path
+    /// (in order: the stock after each one is the next one's stock), then operation `index`.
     fn sim_key(&self, index: usize) -> Option<SimKey> {
         let project = &self.session.project;
-        let operation = project.operations.get(index)?.clone();
-        let cutter = project.tools.get(operation.tool())?.cutter.clone();
+        let mut operations = Vec::new();
+        for i in 0..=index {
+            let operation = project.operations.get(i)?.clone();
+            let cutter = project.tools.get(operation.tool())?.cutter.clone();
+            let fresh = matches!(self.result_index(i), Some((_, true)));
+            if fresh || i == index {
+                operations.push((operation, cutter));
+            }
+        }
         Some(SimKey {
-            operation,
-            cutter,
+            operations,
             part_id: self.document.as_ref()?.ids[0],
             stock: project.stock,
         })
@@ -74,7 +88,7 @@ impl Workstation {
         let Some(key) = self.sim_key(index) else {
             return;
         };
-        let Some((result, true)) = self.operation_result(index) else {
+        let Some((_, true)) = self.operation_result(index) else {
             self.log.notify(
                 t,
                 Severity::Warning,
@@ -83,10 +97,15 @@ impl Workstation {
             return;
         };
         let Some(doc) = &self.document else { return };
-        let toolpath = result.toolpath().clone();
+        // The fresh paths of the operations in the key, in order.
+        let mut paths = Vec::new();
+        for i in 0..=index {
+            if let Some((r, true)) = self.operation_result(i) {
+                paths.push((r.toolpath().clone(), r.cutter.clone()));
+            }
+        }
         let part = doc.part.mesh.clone();
         let stock = self.session.project.stock;
-        let cutter = key.cutter.clone();
         let ctx = self.ctx.clone();
         if let Some((_, old)) = self.sims.job.take() {
             old.cancel();
@@ -95,14 +114,23 @@ impl Workstation {
             max_rays: 250_000,
             ..SimulationSettings::default()
         };
-        let label = format!("Simulating {}", key.operation.name());
-        self.log_info(format!("{label} (Z dexels, at most 250 000 rays)"));
+        let label = format!("Simulating {}", key.name());
+        let before = key.operations.len().saturating_sub(1);
+        self.log_info(if before > 0 {
+            format!(
+                "{label} after {before} earlier operation(s) on the same stock (Z dexels, at most 250 000 rays)"
+            )
+        } else {
+            format!("{label} (Z dexels, at most 250 000 rays)")
+        });
         self.sims.job = Some((
             key,
             Job::spawn(
                 label,
                 move |progress| {
-                    simulate_toolpath(&stock, &part, &toolpath, &cutter, &settings, progress)
+                    let refs: Vec<(&crate::toolpath::Toolpath, &Cutter)> =
+                        paths.iter().map(|(t, c)| (t, c)).collect();
+                    simulate_toolpaths(&stock, &part, &refs, &settings, progress)
                 },
                 move || ctx.request_repaint(),
             ),
@@ -173,7 +201,7 @@ impl Workstation {
                     Severity::Info,
                     format!(
                         "Simulated '{}': {:.0} mm³ removed, {} collisions, deepest gouge {:.1} µm, 99 % of the surface within {:.1} µm, {:.2} mm dexels, in {elapsed_s:.1} s",
-                        key.operation.name(),
+                        key.name(),
                         r.removed_volume_mm3,
                         r.collisions.len(),
                         simulated.max_gouge_mm * 1000.0,
@@ -187,7 +215,7 @@ impl Workstation {
                         Severity::Warning,
                         format!(
                             "'{}': {} collisions of the shank, holder or a rapid with the stock",
-                            key.operation.name(),
+                            key.name(),
                             r.collisions.len()
                         ),
                     );
