@@ -445,6 +445,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     }
     h.run_steps(2);
     let sim = h.state().simulation_of(0).expect("simulated");
+    let whole_removed = sim.simulated.report.removed_volume_mm3;
     assert!(sim.simulated.report.removed_volume_mm3 > 0.0);
     // The default tool's flutes (18 mm) are shorter than the stock is deep over the valleys:
     // the shank meets material and the collisions are listed.
@@ -454,6 +455,31 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         "gouge {} mm",
         sim.simulated.max_gouge_mm
     );
+    // The stock at a playback pose: less material removed than by the whole path.
+    let whole = whole_removed;
+    h.state_mut().apply(Command::Playback(
+        talas::app::command::PlaybackCommand::Seek(60.0),
+    ));
+    h.state_mut().apply(Command::SimulateToPlayback);
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_simulating() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let partial = h
+        .state()
+        .shown_simulation()
+        .expect("partial stock")
+        .simulated
+        .report
+        .removed_volume_mm3;
+    assert!(
+        partial > 0.0 && partial < 0.5 * whole,
+        "{partial} of {whole} mm³"
+    );
+
     // F7 posts the path and plans its motion; the G-code pane shows it, Export writes it.
     press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
     for _ in 0..6000 {

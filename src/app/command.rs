@@ -76,6 +76,8 @@ pub enum Command {
     Simulate(usize),
     /// Simulate the active (or the focused) operation.
     SimulateActive,
+    /// Simulate the active operation up to the playback pose (the stock at that moment).
+    SimulateToPlayback,
     /// Ask for a machine definition file (JSON) to use.
     OpenMachineFileDialog,
     /// Post the active operation (and plan its motion).

@@ -331,6 +331,7 @@ impl Workstation {
             | Command::CalculateActive
             | Command::Simulate(_)
             | Command::SimulateActive
+            | Command::SimulateToPlayback
             | Command::PostActive
             | Command::OpenMachineFileDialog
             | Command::ExportProgramDialog

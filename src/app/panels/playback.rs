@@ -54,7 +54,7 @@ pub fn playback_ui(ui: &mut egui::Ui, view: &PlaybackView, commands: &mut Vec<Co
             commands.push(Command::Playback(PlaybackCommand::Reset));
         }
         let mut t = view.t_s.unwrap_or(view.duration_s);
-        let width = (ui.available_width() - 430.0).max(80.0);
+        let width = (ui.available_width() - 520.0).max(80.0);
         ui.spacing_mut().slider_width = width;
         let r = ui.add(
             egui::Slider::new(&mut t, 0.0..=view.duration_s.max(1e-9))
@@ -81,6 +81,13 @@ pub fn playback_ui(ui: &mut egui::Ui, view: &PlaybackView, commands: &mut Vec<Co
             .monospace()
             .weak(),
         );
+        if ui
+            .add_enabled(view.t_s.is_some(), egui::Button::new("Stock here"))
+            .on_hover_text("Simulate the stock up to this pose (after the earlier operations)")
+            .clicked()
+        {
+            commands.push(Command::SimulateToPlayback);
+        }
         let mut speed = view.speed;
         egui::ComboBox::from_id_salt("playback speed")
             .selected_text(format!("×{}", view.speed))

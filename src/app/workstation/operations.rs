@@ -123,7 +123,7 @@ impl Workstation {
                 None => self.log_info("Select an operation to calculate"),
             },
             Command::SimulateActive => match self.target_operation() {
-                Some(i) => self.start_simulation(i),
+                Some(i) => self.start_simulation(i, None),
                 None => self.log_info("Select an operation to simulate"),
             },
             Command::PickPose(pose) => {
@@ -142,7 +142,11 @@ impl Workstation {
                 self.prompt =
                     Some(super::super::panels::project_dialogs::PathPrompt::machine_file());
             }
-            Command::Simulate(index) => self.start_simulation(index),
+            Command::Simulate(index) => self.start_simulation(index, None),
+            Command::SimulateToPlayback => match (self.ops.active, self.playback_pose()) {
+                (Some(i), Some(p)) => self.start_simulation(i, Some(p)),
+                _ => self.log_info("Play back or step the path to a pose first"),
+            },
             Command::SetStockVisible(on) => self.sims.visible = on,
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::SetShowAllPaths(on) => self.ops.show_all = on,

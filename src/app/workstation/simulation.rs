@@ -28,6 +28,8 @@ pub(super) struct SimKey {
     operations: Vec<(Operation, Cutter)>,
     part_id: DataId,
     stock: crate::project::Stock,
+    /// The last operation's path cut only up to this pose (playback), or whole.
+    upto: Option<usize>,
 }
 
 impl SimKey {
@@ -79,15 +81,18 @@ impl Workstation {
             operations,
             part_id: self.document.as_ref()?.ids[0],
             stock: project.stock,
+            upto: None,
         })
     }
 
-    /// Simulate operation `index`'s computed path (it must be fresh).
-    pub(super) fn start_simulation(&mut self, index: usize) {
+    /// Simulate operation `index`'s computed path (it must be fresh), after the earlier
+    /// calculated operations, up to pose `upto` (the playback position) or whole.
+    pub(super) fn start_simulation(&mut self, index: usize, upto: Option<usize>) {
         let t = self.now_s();
-        let Some(key) = self.sim_key(index) else {
+        let Some(mut key) = self.sim_key(index) else {
             return;
         };
+        key.upto = upto;
         let Some((_, true)) = self.operation_result(index) else {
             self.log.notify(
                 t,
@@ -101,7 +106,14 @@ impl Workstation {
         let mut paths = Vec::new();
         for i in 0..=index {
             if let Some((r, true)) = self.operation_result(i) {
-                paths.push((r.toolpath().clone(), r.cutter.clone()));
+                let tp = match upto.filter(|_| i == index) {
+                    Some(p) => crate::toolpath::Toolpath::new(
+                        r.toolpath().tool.clone(),
+                        r.toolpath().poses.iter().take(p + 1).cloned().collect(),
+                    ),
+                    None => r.toolpath().clone(),
+                };
+                paths.push((tp, r.cutter.clone()));
             }
         }
         let part = doc.part.mesh.clone();
@@ -114,7 +126,10 @@ impl Workstation {
             max_rays: 250_000,
             ..SimulationSettings::default()
         };
-        let label = format!("Simulating {}", key.name());
+        let label = match upto {
+            Some(p) => format!("Simulating {} up to pose {}", key.name(), p + 1),
+            None => format!("Simulating {}", key.name()),
+        };
         let before = key.operations.len().saturating_sub(1);
         self.log_info(if before > 0 {
             format!(
@@ -161,6 +176,12 @@ impl Workstation {
     pub fn simulation_of(&self, index: usize) -> Option<&ShownSimulation> {
         let key = self.sim_key(index)?;
         self.sims.shown.as_ref().filter(|s| s.key == key)
+    }
+
+    /// The simulation on display (whole or up to a playback pose), if any.
+    #[must_use]
+    pub fn shown_simulation(&self) -> Option<&ShownSimulation> {
+        self.sims.shown.as_ref()
     }
 
     /// The running simulation as the status bar shows it.
