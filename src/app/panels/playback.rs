@@ -24,6 +24,8 @@ pub struct PlaybackView {
     pub pose: usize,
     /// Number of poses.
     pub poses: usize,
+    /// The clock is the jerk-limited plan of the posted program (else the programmed feeds).
+    pub planned: bool,
 }
 
 /// The playback bar.
@@ -71,7 +73,12 @@ pub fn playback_ui(ui: &mut egui::Ui, view: &PlaybackView, commands: &mut Vec<Co
                 duration_text(view.duration_s)
             ))
             .monospace(),
-        );
+        )
+        .on_hover_text(if view.planned {
+            "Planned time: the jerk-limited motion of the posted program"
+        } else {
+            "Time at the programmed feeds (post the operation for the planned time)"
+        });
         ui.label(
             egui::RichText::new(format!(
                 "pose {} / {}",

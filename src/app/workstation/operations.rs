@@ -71,6 +71,11 @@ impl Operations {
     }
 }
 
+/// Index of the last pose reached at time `t_s` on `clock` (non-decreasing times).
+fn pose_at(clock: &[f64], t_s: f64) -> usize {
+    clock.partition_point(|&c| c <= t_s).saturating_sub(1)
+}
+
 impl Workstation {
     /// Is an operation being calculated?
     #[must_use]
@@ -349,39 +354,57 @@ impl Workstation {
         }
     }
 
+    /// The playback clock of the active path: the time each pose is reached in the jerk-limited
+    /// plan of its posted program when that is current, else at the programmed feeds.
+    pub(super) fn active_clock(&self) -> Option<&[f64]> {
+        let index = self.ops.active?;
+        if let Some(clock) = self.planned_clock(index) {
+            return Some(clock);
+        }
+        Some(self.active_result()?.clock_s.as_slice())
+    }
+
+    /// Is the playback clock the jerk-limited plan's (true) or the feed estimate's?
+    pub(super) fn clock_is_planned(&self) -> bool {
+        self.ops
+            .active
+            .is_some_and(|i| self.planned_clock(i).is_some())
+    }
+
     /// The pose the playback clock has reached, if playing back.
     pub(super) fn playback_pose(&self) -> Option<usize> {
         let t = self.ops.t_s?;
-        Some(self.active_result()?.pose_at_time(t))
+        Some(pose_at(self.active_clock()?, t))
     }
 
     /// The playback bar's view, when the active operation has a path.
     pub(super) fn playback_view(&self) -> Option<PlaybackView> {
-        let r = self.active_result()?;
-        let poses = r.toolpath().poses.len();
+        let clock = self.active_clock()?;
+        let poses = clock.len();
         Some(PlaybackView {
             t_s: self.ops.t_s,
-            duration_s: r.duration_s(),
+            duration_s: clock.last().copied().unwrap_or(0.0),
             playing: self.ops.playing,
             speed: self.ops.speed,
             pose: self
                 .ops
                 .t_s
-                .map_or(poses.saturating_sub(1), |t| r.pose_at_time(t)),
+                .map_or(poses.saturating_sub(1), |t| pose_at(clock, t)),
             poses,
+            planned: self.clock_is_planned(),
         })
     }
 
     fn playback(&mut self, command: PlaybackCommand) {
-        let Some(r) = self.active_result() else {
+        let Some(clock) = self.active_clock() else {
             return;
         };
-        let duration = r.duration_s();
-        let clock = r.clock_s.clone();
+        let clock = clock.to_vec();
+        let duration = clock.last().copied().unwrap_or(0.0);
         let pose = self
             .ops
             .t_s
-            .map_or(clock.len().saturating_sub(1), |t| r.pose_at_time(t));
+            .map_or(clock.len().saturating_sub(1), |t| pose_at(&clock, t));
         match command {
             PlaybackCommand::Play => {
                 if self.ops.t_s.is_none_or(|t| t >= duration) {
@@ -423,7 +446,7 @@ impl Workstation {
         if !self.ops.playing {
             return;
         }
-        let Some(duration) = self.active_result().map(ComputedOp::duration_s) else {
+        let Some(duration) = self.active_clock().and_then(|c| c.last().copied()) else {
             self.ops.playing = false;
             return;
         };

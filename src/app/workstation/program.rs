@@ -63,6 +63,8 @@ pub(super) struct Program {
     elapsed_s: f64,
     /// Planned feed at each pose of the path, mm/min (NaN where unknown).
     pose_feed: Vec<f32>,
+    /// Planned time at which each pose is reached, s (non-decreasing; empty without a plan).
+    pose_time: Vec<f64>,
     /// The path coloured by planned feed (render id, lines, mapping in mm/min), built once.
     feed_lines: Option<(DataId, Arc<LineData>, ScalarMapping)>,
 }
@@ -190,6 +192,17 @@ impl Workstation {
             .map(|p| p.view.text())
     }
 
+    /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
+    /// posted program is current and planned.
+    pub(super) fn planned_clock(&self, index: usize) -> Option<&[f64]> {
+        let key = self.program_key(index)?;
+        self.programs
+            .current
+            .as_ref()
+            .filter(|p| p.key == key && !p.pose_time.is_empty())
+            .map(|p| p.pose_time.as_slice())
+    }
+
     /// The planned feed at each pose of operation `index`'s path, mm/min (NaN where unknown),
     /// when its posted program is current.
     #[must_use]
@@ -252,6 +265,32 @@ impl Workstation {
                         *slot = Some(line);
                     }
                 }
+                // Planned time of each pose: when the last block of its line ends (the next
+                // block starts), carried over poses without a line of their own.
+                let pose_time: Vec<f64> = match &out.motion {
+                    Ok((plots, lines)) => {
+                        let mut start = vec![f64::NAN; out.pose_of_line.len()];
+                        for (k, (_, l)) in lines.iter().enumerate() {
+                            let end = lines.get(k + 1).map_or(plots.cycle_time_s, |n| n.0);
+                            if let Some(s) = start.get_mut(*l) {
+                                *s = end;
+                            }
+                        }
+                        let mut last = 0.0f64;
+                        line_of_pose
+                            .iter()
+                            .map(|l| {
+                                let t = l
+                                    .and_then(|l| start.get(l).copied())
+                                    .filter(|t| t.is_finite())
+                                    .unwrap_or(last);
+                                last = last.max(t);
+                                last
+                            })
+                            .collect()
+                    }
+                    Err(_) => Vec::new(),
+                };
                 let pose_feed: Vec<f32> = line_of_pose
                     .iter()
                     .map(|l| {
@@ -288,8 +327,12 @@ impl Workstation {
                     motion: out.motion,
                     elapsed_s,
                     pose_feed,
+                    pose_time,
                     feed_lines: None,
                 });
+                // The playback now runs on the planned clock.
+                self.ops.t_s = None;
+                self.ops.playing = false;
                 self.programs.dock = DockTab::Gcode;
             }
             Some(Err(e)) => self.log.notify(t, Severity::Error, e),
