@@ -25,6 +25,11 @@ use crate::diagnostics::Diagnostic;
 /// Most passes before the scan stops with a diagnostic.
 const MAX_PASSES: usize = 20_000;
 
+/// A next-pass candidate closer than this fraction of another source guide's step to that
+/// guide is inside the front's swallowtail (3D chords slightly under-estimate the arc length,
+/// hence a margin below 1).
+const SWALLOWTAIL: f64 = 0.98;
+
 /// Iso-scallop passes over the setup's face, in machining order.
 ///
 /// # Errors
@@ -60,20 +65,60 @@ pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass
     Ok(out)
 }
 
+/// A candidate point of the next pass.
+#[derive(Clone, Copy, Debug)]
+enum Next {
+    /// No point (no guide or section, or dropped at the boundary): the front breaks here.
+    Gap,
+    /// A point of the next pass.
+    Point(DVec2),
+    /// A point inside the swallowtail of the offset front: skipped without breaking it.
+    Trimmed,
+}
+
 /// The passes that follow `pass`; fills `pass.scallop` with the predicted heights.
+///
+/// Two corrections against the front folding over itself (which, for flat and bull-nose
+/// cutters whose large effective radius gives side steps of several mm that vary by ×2 with
+/// the cross curvature, produced passes that curled into loops up to 1.6 m long, ten times the
+/// passes of iso-parametric and, through the jittering feed of a tilted cutter, five times the
+/// poses per mm):
+/// - the cross direction at a guide comes from a chord spanning about the side step (not the
+///   neighbouring guides 0.5 mm apart): a direction error θ moves the next point by w·θ along
+///   the front, so with w ≫ the guide spacing short wiggles were amplified into back-tracking;
+/// - the next front is the boundary of the union of the step discs (the trimmed variable-radius
+///   offset): a candidate closer than its step to another source guide lies in a swallowtail
+///   and is skipped (the neighbouring points, at their full steps, still bound the scallop).
 fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pass> {
     let n = pass.uv.len();
-    let mut kept: Vec<Option<DVec2>> = Vec::with_capacity(n);
+    let spacing = setup.guide_spacing.max(1e-9);
+    let mut kept: Vec<Next> = Vec::with_capacity(n);
+    // Source points and their steps (3D), for the swallowtail test.
+    let mut discs: Vec<(glam::DVec3, f64)> = Vec::with_capacity(n);
     for i in 0..n {
-        let Some(g) = setup.guide(pass, i) else {
-            kept.push(None);
+        let Some((g, sec)) = setup
+            .guide(pass, i)
+            .and_then(|g| Some((g, setup.section(&g, next_reversed)?)))
+        else {
+            kept.push(Next::Gap);
             continue;
         };
-        let Some(sec) = setup.section(&g, next_reversed) else {
-            kept.push(None);
-            continue;
+        // Re-take the guide with a chord about the side step wide, then its section.
+        let (w0, _) = sec.step();
+        let k = ((0.5 * w0 / spacing).ceil() as usize).clamp(1, 64);
+        let (g, sec) = if k > 1 {
+            match setup
+                .guide_spanning(pass, i, k)
+                .and_then(|g2| Some((g2, setup.section(&g2, next_reversed)?)))
+            {
+                Some(gs) => gs,
+                None => (g, sec),
+            }
+        } else {
+            (g, sec)
         };
         let (w, h_pred) = sec.step();
+        discs.push((g.frame.p, w));
         let along = 1 - setup.across();
         let m = setup
             .patch
@@ -90,18 +135,38 @@ fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pa
         if let Some(s) = pass.scallop.get_mut(i) {
             *s = h;
         }
-        kept.push(point);
+        kept.push(point.map_or(Next::Gap, Next::Point));
+    }
+    // Swallowtails: candidates strictly inside another source guide's step disc.
+    for c in &mut kept {
+        if let Next::Point(q) = *c {
+            let qp = setup.patch.surface.point(q.x, q.y);
+            if discs
+                .iter()
+                .any(|&(p, w)| qp.distance_squared(p) < (SWALLOWTAIL * w).powi(2))
+            {
+                *c = Next::Trimmed;
+            }
+        }
     }
     let mut runs: Vec<Pass> = Vec::new();
     let mut i = 0;
     while i < n {
-        if kept.get(i).copied().flatten().is_none() {
+        if !matches!(kept.get(i), Some(Next::Point(_))) {
             i += 1;
             continue;
         }
         let start = i;
         let mut pts: Vec<DVec2> = Vec::new();
-        while let Some(Some(q)) = kept.get(i).copied() {
+        while let Some(&c) = kept.get(i) {
+            let q = match c {
+                Next::Gap => break,
+                Next::Trimmed => {
+                    i += 1;
+                    continue;
+                }
+                Next::Point(q) => q,
+            };
             // Drop points that run backwards against the source pass (a folded front).
             let forward = match (
                 pts.last(),
