@@ -192,6 +192,59 @@ fn bicubic_hills_ball_isoscallop_verified_and_shorter() {
     );
 }
 
+/// Flat and bull-nose iso-scallop on bicubic-hills: their large effective radius across the
+/// feed gives wider side steps than a ball, so iso-scallop must beat two-way iso-parametric at
+/// the same h (it was 2–30× longer when its fronts curled into loops), and the independent
+/// verification must still hold.
+#[test]
+fn bicubic_hills_flat_and_bull_isoscallop_verified_and_shorter() {
+    let p = part("bicubic-hills.stp");
+    let o = opts(0.0);
+    let (s, d, side) = face_domain(&p);
+    for tool in ["bull:d=10,r=2", "flat:d=10"] {
+        let isc = plan_face(&p, tool, Strategy::IsoScallop, &o);
+        let (frac, worst, pen) = verify(&isc.toolpath, &s, d, side, 50, H + EPS);
+        let zz = plan_face(
+            &p,
+            tool,
+            Strategy::IsoParametric {
+                pattern: Pattern::Zigzag,
+            },
+            &o,
+        );
+        let (a, b) = (isc.toolpath.summary, zz.toolpath.summary);
+        eprintln!(
+            "{tool}: ISC {} mm ({} poses, {} passes), zig-zag {} mm ({} poses, {} passes); \
+             {frac} ≤ h+ε, worst {worst}, penetration {pen}",
+            a.cut_length_mm,
+            a.pose_count,
+            isc.passes.len(),
+            b.cut_length_mm,
+            b.pose_count,
+            zz.passes.len()
+        );
+        assert!(
+            frac >= 0.99,
+            "{tool}: only {frac} within h + ε (worst {worst})"
+        );
+        assert!(pen <= 1e-3, "{tool}: penetration {pen} mm");
+        let ha = a.predicted_max_scallop_mm.expect("h");
+        assert!(ha <= H + 1e-9, "{tool}: predicted max {ha}");
+        assert!(
+            a.cut_length_mm < b.cut_length_mm,
+            "{tool}: ISC {} vs iso-parametric {}",
+            a.cut_length_mm,
+            b.cut_length_mm
+        );
+        assert!(
+            a.pose_count < b.pose_count,
+            "{tool}: ISC {} poses vs iso-parametric {}",
+            a.pose_count,
+            b.pose_count
+        );
+    }
+}
+
 #[test]
 fn rigid_motion_gives_the_same_summary() {
     let p = part("bicubic-hills.stp");

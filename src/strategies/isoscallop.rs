@@ -62,6 +62,15 @@ pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass
             fronts.push(p);
         }
     }
+    // The far boundary iso-curve closes the scan. The last fronts, tilted by the varying side
+    // step, meet that boundary obliquely; between their ends the edge lies ahead of one pass's
+    // last contact and behind the next one's first, where a tilted flat or bull-nose cutter
+    // leaves material (up to 0.3 mm at h = 0.05 on bicubic-hills). A pass along the edge
+    // covers it, as the boundary iso-curve that starts the scan covers the near edge.
+    let last = setup.iso_pass(1.0);
+    if last.uv.len() >= 2 && out.len() < MAX_PASSES {
+        out.push(last);
+    }
     Ok(out)
 }
 
