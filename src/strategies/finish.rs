@@ -131,6 +131,17 @@ impl<'a> Setup<'a> {
         Pass::new(uv).resampled(&self.patch, self.guide_spacing)
     }
 
+    /// The pass along the edge at `along` fraction `s` (the iso-curve across the passes),
+    /// resampled to the guide spacing.
+    #[must_use]
+    pub fn edge_pass(&self, s: f64) -> Pass {
+        let n = 64;
+        let uv = (0..=n)
+            .map(|k| self.at(f64::from(k) / f64::from(n), s))
+            .collect();
+        Pass::new(uv).resampled(&self.patch, self.guide_spacing)
+    }
+
     /// The guide at index `i` of `pass`.
     #[must_use]
     pub fn guide(&self, pass: &Pass, i: usize) -> Option<Guide> {

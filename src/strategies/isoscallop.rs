@@ -62,14 +62,37 @@ pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass
             fronts.push(p);
         }
     }
-    // The far boundary iso-curve closes the scan. The last fronts, tilted by the varying side
+    // Edge passes. The far boundary iso-curve closes the scan. The last fronts, tilted by the varying side
     // step, meet that boundary obliquely; between their ends the edge lies ahead of one pass's
     // last contact and behind the next one's first, where a tilted flat or bull-nose cutter
     // leaves material (up to 0.3 mm at h = 0.05 on bicubic-hills). A pass along the edge
     // covers it, as the boundary iso-curve that starts the scan covers the near edge.
-    let last = setup.iso_pass(1.0);
-    if last.uv.len() >= 2 && out.len() < MAX_PASSES {
-        out.push(last);
+    // The same holds at the two other edges, where the passes start and end: the fronts cross
+    // them obliquely, and behind a first contact (or ahead of a last one) the tilted flat
+    // bottom stands higher by the lead's slope. Passes along those edges (iso-curves across
+    // the scan) cover them.
+    let dom = setup.patch.domain;
+    let (lo, hi) = if setup.across() == 0 {
+        (dom.u.t0, dom.u.t1)
+    } else {
+        (dom.v.t0, dom.v.t1)
+    };
+    let on_far = |p: &Pass| {
+        p.uv.iter().all(|q| {
+            let a = if setup.across() == 0 { q.x } else { q.y };
+            a >= hi - 1e-9 * (hi - lo).abs().max(1.0)
+        })
+    };
+    let mut edges = Vec::with_capacity(3);
+    if !out.iter().any(on_far) {
+        edges.push(setup.iso_pass(1.0));
+    }
+    edges.push(setup.edge_pass(1.0));
+    edges.push(setup.edge_pass(0.0));
+    for e in edges {
+        if e.uv.len() >= 2 && out.len() < MAX_PASSES {
+            out.push(e);
+        }
     }
     Ok(out)
 }
