@@ -223,12 +223,35 @@ fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pa
         if end + 1 == n {
             extend_to_boundary(setup, &mut pts, false);
         }
+        smooth(&mut pts);
         let run = Pass::new(pts).resampled(&setup.patch, setup.guide_spacing);
         if run.length(&setup.patch) >= setup.min_pass_length && run.uv.len() >= 2 {
             runs.push(run);
         }
     }
     runs
+}
+
+/// Binomial smoothing passes over a new front.
+const SMOOTHING_PASSES: usize = 3;
+
+/// Smooth a new front's interior points in parameter space with the binomial filter
+/// `(1, 2, 1)/4` ([`SMOOTHING_PASSES`] times; the ends stay). Without it, the front carried
+/// sub-micrometre jitter from the marches (steps from a piecewise-linear outline table, kinks
+/// where swallowtails were trimmed); harmless for a ball, but a tilted flat or bull-nose cutter
+/// puts its tip R_f behind the contact along the feed, so the jitter of the feed direction
+/// reappears ×R_f on the tip path and the chord check stepped at 0.6 mm instead of 1.2 mm (1.7
+/// poses per mm against 0.8 for iso-parametric passes). The filter moves a smooth front by
+/// about `s²κ/4` per pass (`s` the guide spacing), far below the side step.
+fn smooth(pts: &mut [DVec2]) {
+    for _ in 0..SMOOTHING_PASSES {
+        let prev = pts.to_vec();
+        for (j, q) in pts.iter_mut().enumerate().skip(1) {
+            if let (Some(a), Some(b), Some(c)) = (prev.get(j - 1), prev.get(j), prev.get(j + 1)) {
+                *q = (*a + *b * 2.0 + *c) * 0.25;
+            }
+        }
+    }
 }
 
 /// Extend a run at its start (or end) along its own parametric direction to the domain
