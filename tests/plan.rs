@@ -203,7 +203,7 @@ fn bicubic_hills_flat_and_bull_isoscallop_verified_and_shorter() {
     let (s, d, side) = face_domain(&p);
     for tool in ["bull:d=10,r=2", "flat:d=10"] {
         let isc = plan_face(&p, tool, Strategy::IsoScallop, &o);
-        let (frac, worst, pen) = verify(&isc.toolpath, &s, d, side, 50, H + EPS);
+        let (frac, worst, pen) = verify(&isc.toolpath, &s, d, side, 40, H + EPS);
         let zz = plan_face(
             &p,
             tool,
