@@ -13,7 +13,9 @@
 //! folding over on the concave side of a curved pass) are removed, passes are resampled to a
 //! fixed guide spacing and passes shorter than the cutter radius are dropped. Every kept point
 //! is at least `w_min > 0` beyond its source, and the number of passes is bounded, so the scan
-//! terminates.
+//! terminates. Each new front is trimmed of its swallowtails and smoothed (see `successors`),
+//! and the scan is closed by passes along the far edge and the two edges where passes start
+//! and end, which the fronts meet obliquely.
 
 use glam::DVec2;
 
