@@ -192,6 +192,59 @@ fn bicubic_hills_ball_isoscallop_verified_and_shorter() {
     );
 }
 
+/// Flat and bull-nose iso-scallop on bicubic-hills: their large effective radius across the
+/// feed gives wider side steps than a ball, so iso-scallop must beat two-way iso-parametric at
+/// the same h (it was 2–30× longer when its fronts curled into loops), and the independent
+/// verification must still hold.
+#[test]
+fn bicubic_hills_flat_and_bull_isoscallop_verified_and_shorter() {
+    let p = part("bicubic-hills.stp");
+    let o = opts(0.0);
+    let (s, d, side) = face_domain(&p);
+    for tool in ["bull:d=10,r=2", "flat:d=10"] {
+        let isc = plan_face(&p, tool, Strategy::IsoScallop, &o);
+        let (frac, worst, pen) = verify(&isc.toolpath, &s, d, side, 40, H + EPS);
+        let zz = plan_face(
+            &p,
+            tool,
+            Strategy::IsoParametric {
+                pattern: Pattern::Zigzag,
+            },
+            &o,
+        );
+        let (a, b) = (isc.toolpath.summary, zz.toolpath.summary);
+        eprintln!(
+            "{tool}: ISC {} mm ({} poses, {} passes), zig-zag {} mm ({} poses, {} passes); \
+             {frac} ≤ h+ε, worst {worst}, penetration {pen}",
+            a.cut_length_mm,
+            a.pose_count,
+            isc.passes.len(),
+            b.cut_length_mm,
+            b.pose_count,
+            zz.passes.len()
+        );
+        assert!(
+            frac >= 0.99,
+            "{tool}: only {frac} within h + ε (worst {worst})"
+        );
+        assert!(pen <= 1e-3, "{tool}: penetration {pen} mm");
+        let ha = a.predicted_max_scallop_mm.expect("h");
+        assert!(ha <= H + 1e-9, "{tool}: predicted max {ha}");
+        assert!(
+            a.cut_length_mm < b.cut_length_mm,
+            "{tool}: ISC {} vs iso-parametric {}",
+            a.cut_length_mm,
+            b.cut_length_mm
+        );
+        assert!(
+            a.pose_count < b.pose_count,
+            "{tool}: ISC {} poses vs iso-parametric {}",
+            a.pose_count,
+            b.pose_count
+        );
+    }
+}
+
 #[test]
 fn rigid_motion_gives_the_same_summary() {
     let p = part("bicubic-hills.stp");
@@ -233,6 +286,12 @@ fn rigid_motion_gives_the_same_summary() {
     }
 }
 
+/// The scan's passes of an iso-scallop result, without the two closing passes along the
+/// edges where the passes start and end.
+fn scan(r: &FinishResult) -> &[talas::strategies::pass::Pass] {
+    &r.passes[..r.passes.len().saturating_sub(2)]
+}
+
 /// Pass spacing (mean distance between contact points of neighbouring passes, measured
 /// across) for analytic faces, against eq. 3.69 and its exact circle form.
 #[test]
@@ -253,7 +312,7 @@ fn ball_side_step_on_plane_sphere_cylinder() {
     };
     let res = plan(&plane, dom, 1.0, "ball:d=6", Strategy::IsoScallop, &o);
     let w = 2.0 * (r * r - (r - h) * (r - h)).sqrt();
-    let us: Vec<f64> = res.passes.iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
+    let us: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
     for pair in us.windows(2).take(us.len().saturating_sub(2)) {
         let d = (pair[1] - pair[0]).abs();
         assert!((d - w).abs() < 1e-6, "plane step {d} vs {w}");
@@ -273,7 +332,7 @@ fn ball_side_step_on_plane_sphere_cylinder() {
         ..o
     };
     let res = plan(&sphere, dom, 1.0, "ball:d=6", Strategy::IsoScallop, &o2);
-    let vs: Vec<f64> = res.passes.iter().map(|p| p.uv[p.uv.len() / 2].y).collect();
+    let vs: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].y).collect();
     let thesis = talas::strategies::scallop::thesis_side_step(h, r, rho).expect("convex");
     for pair in vs.windows(2).take(vs.len().saturating_sub(2)) {
         let arc = (pair[1] - pair[0]).abs() * rho;
@@ -293,7 +352,7 @@ fn ball_side_step_on_plane_sphere_cylinder() {
         v: Interval::new(0.0, 30.0),
     };
     let res = plan(&cyl, dom, -1.0, "ball:d=6", Strategy::IsoScallop, &o);
-    let us: Vec<f64> = res.passes.iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
+    let us: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
     let thesis = talas::strategies::scallop::thesis_side_step(h, r, -rho).expect("concave");
     for pair in us.windows(2).take(us.len().saturating_sub(2)) {
         let arc = (pair[1] - pair[0]).abs() * rho;
@@ -333,7 +392,7 @@ fn flat_with_sturz_on_plane() {
         (w_exact - w_circle).abs() < 0.01 * w_circle,
         "ellipse {w_exact} vs circle {w_circle}"
     );
-    let us: Vec<f64> = res.passes.iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
+    let us: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
     for pair in us.windows(2).take(us.len().saturating_sub(2)) {
         let d = (pair[1] - pair[0]).abs();
         assert!((d - w_exact).abs() < 1e-3, "step {d} vs {w_exact}");

@@ -150,9 +150,18 @@ fn smoothing_lowers_the_largest_axis_change() {
         &cutter,
         r.used,
     );
-    // Per pass (the passes as planned, each stepped on its own).
+    // Per pass (the passes as planned, each stepped on its own), on the scan's passes: not
+    // the closing passes along the domain's edges (all their points on one edge).
+    let on_edge = |p: &talas::strategies::pass::Pass| {
+        let all = |f: &dyn Fn(glam::DVec2) -> bool| p.uv.iter().all(|q| f(*q));
+        all(&|q| q.x <= rect.u.t0)
+            || all(&|q| q.x >= rect.u.t1)
+            || all(&|q| q.y <= rect.v.t0)
+            || all(&|q| q.y >= rect.v.t1)
+    };
+    let scan: Vec<_> = r.passes.iter().filter(|p| !on_edge(p)).cloned().collect();
     let largest = |smooth: bool| {
-        plan_passes(&setup, &r.passes, false, smooth)
+        plan_passes(&setup, &scan, false, smooth)
             .iter()
             .map(|q| max_axis_change(&q.poses))
             .fold(0.0, f64::max)

@@ -131,13 +131,34 @@ impl<'a> Setup<'a> {
         Pass::new(uv).resampled(&self.patch, self.guide_spacing)
     }
 
+    /// The pass along the edge at `along` fraction `s` (the iso-curve across the passes),
+    /// resampled to the guide spacing.
+    #[must_use]
+    pub fn edge_pass(&self, s: f64) -> Pass {
+        let n = 64;
+        let uv = (0..=n)
+            .map(|k| self.at(f64::from(k) / f64::from(n), s))
+            .collect();
+        Pass::new(uv).resampled(&self.patch, self.guide_spacing)
+    }
+
     /// The guide at index `i` of `pass`.
     #[must_use]
     pub fn guide(&self, pass: &Pass, i: usize) -> Option<Guide> {
+        self.guide_spanning(pass, i, 1)
+    }
+
+    /// The guide at index `i` of `pass`, its feed taken from the chord between the points `k`
+    /// guides before and after (clamped to the pass): a wide chord keeps the cross direction
+    /// steady against wiggles much shorter than the side step.
+    #[must_use]
+    pub fn guide_spanning(&self, pass: &Pass, i: usize, k: usize) -> Option<Guide> {
         let uv = *pass.uv.get(i)?;
         let frame = self.patch.frame(uv)?;
-        let prev = pass.uv.get(i.saturating_sub(1)).copied().unwrap_or(uv);
-        let next = pass.uv.get(i + 1).copied().unwrap_or(uv);
+        let k = k.max(1);
+        let last = pass.uv.len().saturating_sub(1);
+        let prev = pass.uv.get(i.saturating_sub(k)).copied().unwrap_or(uv);
+        let next = pass.uv.get((i + k).min(last)).copied().unwrap_or(uv);
         let chord =
             self.patch.surface.point(next.x, next.y) - self.patch.surface.point(prev.x, prev.y);
         let f = (chord - frame.n * chord.dot(frame.n)).try_normalize()?;

@@ -13,7 +13,9 @@
 //! folding over on the concave side of a curved pass) are removed, passes are resampled to a
 //! fixed guide spacing and passes shorter than the cutter radius are dropped. Every kept point
 //! is at least `w_min > 0` beyond its source, and the number of passes is bounded, so the scan
-//! terminates.
+//! terminates. Each new front is trimmed of its swallowtails and smoothed (see `successors`),
+//! and the scan is closed by passes along the far edge and the two edges where passes start
+//! and end, which the fronts meet obliquely.
 
 use glam::DVec2;
 
@@ -24,6 +26,11 @@ use crate::diagnostics::Diagnostic;
 
 /// Most passes before the scan stops with a diagnostic.
 const MAX_PASSES: usize = 20_000;
+
+/// A next-pass candidate closer than this fraction of another source guide's step to that
+/// guide is inside the front's swallowtail (3D chords slightly under-estimate the arc length,
+/// hence a margin below 1).
+const SWALLOWTAIL: f64 = 0.98;
 
 /// Iso-scallop passes over the setup's face, in machining order.
 ///
@@ -57,23 +64,95 @@ pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass
             fronts.push(p);
         }
     }
+    // Edge passes. The far boundary iso-curve closes the scan. The last fronts, tilted by the varying side
+    // step, meet that boundary obliquely; between their ends the edge lies ahead of one pass's
+    // last contact and behind the next one's first, where a tilted flat or bull-nose cutter
+    // leaves material (up to 0.3 mm at h = 0.05 on bicubic-hills). A pass along the edge
+    // covers it, as the boundary iso-curve that starts the scan covers the near edge.
+    // The same holds at the two other edges, where the passes start and end: the fronts cross
+    // them obliquely, and behind a first contact (or ahead of a last one) the tilted flat
+    // bottom stands higher by the lead's slope. Passes along those edges (iso-curves across
+    // the scan) cover them.
+    let dom = setup.patch.domain;
+    let (lo, hi) = if setup.across() == 0 {
+        (dom.u.t0, dom.u.t1)
+    } else {
+        (dom.v.t0, dom.v.t1)
+    };
+    let on_far = |p: &Pass| {
+        p.uv.iter().all(|q| {
+            let a = if setup.across() == 0 { q.x } else { q.y };
+            a >= hi - 1e-9 * (hi - lo).abs().max(1.0)
+        })
+    };
+    let mut edges = Vec::with_capacity(3);
+    if !out.iter().any(on_far) {
+        edges.push(setup.iso_pass(1.0));
+    }
+    edges.push(setup.edge_pass(1.0));
+    edges.push(setup.edge_pass(0.0));
+    for e in edges {
+        if e.uv.len() >= 2 && out.len() < MAX_PASSES {
+            out.push(e);
+        }
+    }
     Ok(out)
 }
 
+/// A candidate point of the next pass.
+#[derive(Clone, Copy, Debug)]
+enum Next {
+    /// No point (no guide or section, or dropped at the boundary): the front breaks here.
+    Gap,
+    /// A point of the next pass.
+    Point(DVec2),
+    /// A point inside the swallowtail of the offset front: skipped without breaking it.
+    Trimmed,
+}
+
 /// The passes that follow `pass`; fills `pass.scallop` with the predicted heights.
+///
+/// Two corrections against the front folding over itself (which, for flat and bull-nose
+/// cutters whose large effective radius gives side steps of several mm that vary by ×2 with
+/// the cross curvature, produced passes that curled into loops up to 1.6 m long, ten times the
+/// passes of iso-parametric and, through the jittering feed of a tilted cutter, five times the
+/// poses per mm):
+/// - the cross direction at a guide comes from a chord spanning about the side step (not the
+///   neighbouring guides 0.5 mm apart): a direction error θ moves the next point by w·θ along
+///   the front, so with w ≫ the guide spacing short wiggles were amplified into back-tracking;
+/// - the next front is the boundary of the union of the step discs (the trimmed variable-radius
+///   offset): a candidate closer than its step to another source guide lies in a swallowtail
+///   and is skipped (the neighbouring points, at their full steps, still bound the scallop).
 fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pass> {
     let n = pass.uv.len();
-    let mut kept: Vec<Option<DVec2>> = Vec::with_capacity(n);
+    let spacing = setup.guide_spacing.max(1e-9);
+    let mut kept: Vec<Next> = Vec::with_capacity(n);
+    // Source points and their steps (3D), for the swallowtail test.
+    let mut discs: Vec<(glam::DVec3, f64)> = Vec::with_capacity(n);
     for i in 0..n {
-        let Some(g) = setup.guide(pass, i) else {
-            kept.push(None);
+        let Some((g, sec)) = setup
+            .guide(pass, i)
+            .and_then(|g| Some((g, setup.section(&g, next_reversed)?)))
+        else {
+            kept.push(Next::Gap);
             continue;
         };
-        let Some(sec) = setup.section(&g, next_reversed) else {
-            kept.push(None);
-            continue;
+        // Re-take the guide with a chord about the side step wide, then its section.
+        let (w0, _) = sec.step();
+        let k = ((0.5 * w0 / spacing).ceil() as usize).clamp(1, 64);
+        let (g, sec) = if k > 1 {
+            match setup
+                .guide_spanning(pass, i, k)
+                .and_then(|g2| Some((g2, setup.section(&g2, next_reversed)?)))
+            {
+                Some(gs) => gs,
+                None => (g, sec),
+            }
+        } else {
+            (g, sec)
         };
         let (w, h_pred) = sec.step();
+        discs.push((g.frame.p, w));
         let along = 1 - setup.across();
         let m = setup
             .patch
@@ -90,18 +169,38 @@ fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pa
         if let Some(s) = pass.scallop.get_mut(i) {
             *s = h;
         }
-        kept.push(point);
+        kept.push(point.map_or(Next::Gap, Next::Point));
+    }
+    // Swallowtails: candidates strictly inside another source guide's step disc.
+    for c in &mut kept {
+        if let Next::Point(q) = *c {
+            let qp = setup.patch.surface.point(q.x, q.y);
+            if discs
+                .iter()
+                .any(|&(p, w)| qp.distance_squared(p) < (SWALLOWTAIL * w).powi(2))
+            {
+                *c = Next::Trimmed;
+            }
+        }
     }
     let mut runs: Vec<Pass> = Vec::new();
     let mut i = 0;
     while i < n {
-        if kept.get(i).copied().flatten().is_none() {
+        if !matches!(kept.get(i), Some(Next::Point(_))) {
             i += 1;
             continue;
         }
         let start = i;
         let mut pts: Vec<DVec2> = Vec::new();
-        while let Some(Some(q)) = kept.get(i).copied() {
+        while let Some(&c) = kept.get(i) {
+            let q = match c {
+                Next::Gap => break,
+                Next::Trimmed => {
+                    i += 1;
+                    continue;
+                }
+                Next::Point(q) => q,
+            };
             // Drop points that run backwards against the source pass (a folded front).
             let forward = match (
                 pts.last(),
@@ -126,12 +225,35 @@ fn successors(setup: &Setup<'_>, pass: &mut Pass, next_reversed: bool) -> Vec<Pa
         if end + 1 == n {
             extend_to_boundary(setup, &mut pts, false);
         }
+        smooth(&mut pts);
         let run = Pass::new(pts).resampled(&setup.patch, setup.guide_spacing);
         if run.length(&setup.patch) >= setup.min_pass_length && run.uv.len() >= 2 {
             runs.push(run);
         }
     }
     runs
+}
+
+/// Binomial smoothing passes over a new front.
+const SMOOTHING_PASSES: usize = 3;
+
+/// Smooth a new front's interior points in parameter space with the binomial filter
+/// `(1, 2, 1)/4` ([`SMOOTHING_PASSES`] times; the ends stay). Without it, the front carried
+/// sub-micrometre jitter from the marches (steps from a piecewise-linear outline table, kinks
+/// where swallowtails were trimmed); harmless for a ball, but a tilted flat or bull-nose cutter
+/// puts its tip R_f behind the contact along the feed, so the jitter of the feed direction
+/// reappears ×R_f on the tip path and the chord check stepped at 0.6 mm instead of 1.2 mm (1.7
+/// poses per mm against 0.8 for iso-parametric passes). The filter moves a smooth front by
+/// about `s²κ/4` per pass (`s` the guide spacing), far below the side step.
+fn smooth(pts: &mut [DVec2]) {
+    for _ in 0..SMOOTHING_PASSES {
+        let prev = pts.to_vec();
+        for (j, q) in pts.iter_mut().enumerate().skip(1) {
+            if let (Some(a), Some(b), Some(c)) = (prev.get(j - 1), prev.get(j), prev.get(j + 1)) {
+                *q = (*a + *b * 2.0 + *c) * 0.25;
+            }
+        }
+    }
 }
 
 /// Extend a run at its start (or end) along its own parametric direction to the domain

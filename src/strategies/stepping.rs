@@ -211,8 +211,14 @@ fn chord_deviation(
         let offset = |ax: DVec3| {
             contact_to_tip(setup.cutter, DVec3::ZERO, p.n, ax, DVec3::ZERO).unwrap_or(DVec3::ZERO)
         };
+        // Only the height of that point along the normal matters (a gap or a gouge): it used to
+        // be the full distance, but for a flat or toroidal bottom tilted by a small lead the
+        // touching rim point is ill-conditioned (its direction is the normal projected on the
+        // bottom, |n − (a·n)a| = sin S), so an axis interpolated 0.1° off the true one slid it
+        // sideways by R_f·0.1°/S, tenths of a mm along the surface at no change of height,
+        // and the steps were cut far below what the tolerance needs.
         let touch = tip - offset(axis);
-        worst = worst.max(touch.distance(p.lifted));
+        worst = worst.max((touch - p.lifted).dot(p.n).abs());
     }
     worst
 }
