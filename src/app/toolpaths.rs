@@ -263,6 +263,31 @@ pub fn path_lines_by(toolpath: &Toolpath, values: &[f32], mapping: ScalarMapping
     out
 }
 
+/// Colour of the highlighted move (sRGB).
+pub const HIGHLIGHT_COLOUR: Rgba8 = [255, 255, 255, 255];
+
+/// The move into pose `index` (from the pose before it) and a cross of half-size `size` mm at the
+/// pose's tip, for highlighting a picked pose or G-code line.
+#[must_use]
+pub fn highlight_move(toolpath: &Toolpath, index: usize, size: f32) -> Option<LineData> {
+    let p = toolpath.poses.get(index)?;
+    let tip = p.tip.as_vec3();
+    let mut out = LineData::default();
+    if let Some(prev) = index.checked_sub(1).and_then(|i| toolpath.poses.get(i)) {
+        out.push_polyline(
+            &[prev.tip.as_vec3().to_array(), tip.to_array()],
+            HIGHLIGHT_COLOUR,
+        );
+    }
+    for d in [glam::Vec3::X, glam::Vec3::Y, glam::Vec3::Z] {
+        out.push_polyline(
+            &[(tip - d * size).to_array(), (tip + d * size).to_array()],
+            HIGHLIGHT_COLOUR,
+        );
+    }
+    Some(out)
+}
+
 /// Colour of the tool-axis vectors (sRGB).
 pub const AXIS_VECTOR_COLOUR: Rgba8 = [120, 230, 160, 255];
 
@@ -449,6 +474,20 @@ mod tests {
         let [r, g, b] = ColourMap::Turbo.sample(1.0);
         assert_eq!(by_scallop.colours[4], [r, g, b, 255]);
         assert_eq!(by_scallop.colours[0], move_colour(MoveKind::Plunge));
+    }
+
+    #[test]
+    fn the_highlight_is_the_move_into_the_pose_and_a_cross_at_it() {
+        let tp = path();
+        let h = highlight_move(&tp, 2, 1.0).expect("pose 2");
+        assert_eq!(h.segment_count(), 4);
+        assert_eq!(h.positions[0], [0.0, 0.0, 0.0]);
+        assert_eq!(h.positions[1], [10.0, 0.0, 0.0]);
+        assert_eq!(
+            highlight_move(&tp, 0, 1.0).expect("pose 0").segment_count(),
+            3
+        );
+        assert!(highlight_move(&tp, 9, 1.0).is_none());
     }
 
     #[test]

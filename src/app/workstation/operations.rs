@@ -29,6 +29,9 @@ pub(super) struct CalcJob {
     job: Job<Result<Computed, ComputeError>>,
 }
 
+/// The highlighted move: (active operation, pose, stored result), render id, lines.
+pub(super) type HighlightedMove = ((usize, usize, usize), DataId, Arc<crate::render::LineData>);
+
 /// The operations' state of the workstation.
 #[derive(Default)]
 pub(super) struct Operations {
@@ -50,6 +53,8 @@ pub(super) struct Operations {
     pub show_axes: bool,
     /// The comparison window is open.
     pub compare_open: bool,
+    /// The highlighted move: (active op, pose), render id and lines.
+    pub highlight: Option<HighlightedMove>,
     /// Playback clock, s (`None`: the whole path).
     pub t_s: Option<f64>,
     /// Is the clock running?
@@ -526,6 +531,40 @@ impl Workstation {
                 });
             }
             self.ops.next_id = next_id;
+        }
+        // The picked pose's move, highlighted (white, with a cross at the tip).
+        if let (Some(a), Some(p), Some((k, _))) = (
+            active,
+            self.ops.picked_pose,
+            active.and_then(|a| self.result_index(a)),
+        ) {
+            if self
+                .ops
+                .highlight
+                .as_ref()
+                .is_none_or(|(key, _, _)| *key != (a, p, k))
+            {
+                let size = self
+                    .document
+                    .as_ref()
+                    .map_or(1.0, |d| 0.01 * (d.bounds.max - d.bounds.min).max_element())
+                    .max(0.2) as f32;
+                let lines = self
+                    .active_result()
+                    .and_then(|r| crate::app::toolpaths::highlight_move(r.toolpath(), p, size));
+                self.ops.highlight = lines.map(|l| {
+                    self.ops.next_id += 1;
+                    ((a, p, k), self.ops.next_id, Arc::new(l))
+                });
+            }
+            if let Some((_, id, data)) = &self.ops.highlight {
+                out.push(LineInstance {
+                    id: *id,
+                    data: Arc::clone(data),
+                    world_from_lines: Mat4::IDENTITY,
+                    draw_segments: None,
+                });
+            }
         }
         (out, legend)
     }
