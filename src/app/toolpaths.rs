@@ -167,20 +167,6 @@ impl ComputedOp {
             None => (0, Arc::new(LineData::default()), &[]),
         }
     }
-
-    /// Index of the last pose reached at time `t_s` of the playback clock.
-    #[must_use]
-    pub fn pose_at_time(&self, t_s: f64) -> usize {
-        self.clock_s
-            .partition_point(|&c| c <= t_s)
-            .saturating_sub(1)
-    }
-
-    /// Total time at feed, s.
-    #[must_use]
-    pub fn duration_s(&self) -> f64 {
-        self.clock_s.last().copied().unwrap_or(0.0)
-    }
 }
 
 /// Time at which each pose is reached when moves run at their feed (rapids at

@@ -750,6 +750,22 @@ impl Workstation {
     }
 }
 
+impl Workstation {
+    /// A background job's outcome once it has ended: `Some(Some(result))`, or `Some(None)` when
+    /// the worker stopped without one; `None` while it runs (a repaint is then asked for, so the
+    /// result is collected soon after it arrives).
+    fn finished<T: Send + 'static>(&self, job: &Job<T>) -> Option<Option<T>> {
+        match job.poll() {
+            JobPoll::Running => {
+                self.ctx.request_repaint_after(Duration::from_millis(100));
+                None
+            }
+            JobPoll::Done(r) => Some(Some(r)),
+            JobPoll::Lost => Some(None),
+        }
+    }
+}
+
 /// A job as the status bar shows it: label, fraction done, seconds running.
 fn job_status<T>(job: &Job<T>) -> (String, f64, f64) {
     (

@@ -13,7 +13,7 @@ use super::super::theme;
 use super::super::toolpaths::ComputedOp;
 use super::super::workstation::ShownSimulation;
 use super::grouped;
-use super::properties::Focus;
+use super::properties::{Focus, grid, mm3};
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
 use crate::strategies::axis::AxisMode;
@@ -691,24 +691,6 @@ fn pose_ui(ui: &mut egui::Ui, result: &ComputedOp, index: usize, picked: bool) {
         rows.push(("Predicted scallop", format!("{:.2} µm", h * 1000.0)));
     }
     grid(ui, "pose", &rows);
-}
-
-fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
-    egui::Grid::new(id)
-        .num_columns(2)
-        .spacing([12.0, 4.0])
-        .striped(true)
-        .show(ui, |ui| {
-            for (name, value) in rows {
-                ui.weak(*name);
-                ui.label(egui::RichText::new(value).monospace());
-                ui.end_row();
-            }
-        });
-}
-
-fn mm3(v: DVec3) -> String {
-    format!("{:.3}, {:.3}, {:.3} mm", v.x, v.y, v.z)
 }
 
 /// The "add operation" buttons of the project tree: one per kind (finishing kinds need a B-rep

@@ -382,7 +382,8 @@ pub fn length_field(ui: &mut egui::Ui, value: &mut f64) {
     }
 }
 
-fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
+/// Rows of (name, value) in two columns, the values monospaced.
+pub fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
     egui::Grid::new(id)
         .num_columns(2)
         .spacing([12.0, 4.0])
@@ -396,7 +397,8 @@ fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
         });
 }
 
-fn mm3(v: DVec3) -> String {
+/// A point or vector in mm with 3 decimals.
+pub fn mm3(v: DVec3) -> String {
     format!("{:.3}, {:.3}, {:.3} mm", v.x, v.y, v.z)
 }
 

@@ -8,7 +8,7 @@ use glam::Mat4;
 
 use super::super::command::{Command, PlaybackCommand};
 use super::super::document::Selection;
-use super::super::job::{Job, JobPoll};
+use super::super::job::Job;
 use super::super::panels::operation_editor::OperationView;
 use super::super::panels::playback::PlaybackView;
 use super::super::panels::properties::Focus;
@@ -244,26 +244,14 @@ impl Workstation {
 
     /// The running calculation as the status bar shows it.
     pub(super) fn calc_status(&self) -> Option<(String, f64, f64)> {
-        self.ops.job.as_ref().map(|c| {
-            (
-                c.job.label.clone(),
-                c.job.progress.fraction(),
-                c.job.started.elapsed().as_secs_f64(),
-            )
-        })
+        self.ops.job.as_ref().map(|c| super::job_status(&c.job))
     }
 
     /// Collect a finished calculation.
     pub(super) fn poll_calc_job(&mut self) {
         let Some(calc) = &self.ops.job else { return };
-        let outcome = match calc.job.poll() {
-            JobPoll::Running => {
-                self.ctx
-                    .request_repaint_after(std::time::Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => Some(r),
-            JobPoll::Lost => None,
+        let Some(outcome) = self.finished(&calc.job) else {
+            return;
         };
         let Some(calc) = self.ops.job.take() else {
             return;

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::super::command::Command;
-use super::super::job::{Job, JobPoll};
+use super::super::job::Job;
 use super::super::panels::gcode_view::{GcodeEvent, GcodeView};
 use super::super::panels::motion_plots::{MotionPlots, PlotEvent};
 use super::Workstation;
@@ -226,13 +226,10 @@ impl Workstation {
 
     /// The running post as the status bar shows it.
     pub(super) fn post_status(&self) -> Option<(String, f64, f64)> {
-        self.programs.job.as_ref().map(|(_, _, j)| {
-            (
-                j.label.clone(),
-                j.progress.fraction(),
-                j.started.elapsed().as_secs_f64(),
-            )
-        })
+        self.programs
+            .job
+            .as_ref()
+            .map(|(_, _, j)| super::job_status(j))
     }
 
     /// Collect a finished post.
@@ -240,14 +237,8 @@ impl Workstation {
         let Some((_, _, job)) = &self.programs.job else {
             return;
         };
-        let outcome = match job.poll() {
-            JobPoll::Running => {
-                self.ctx
-                    .request_repaint_after(std::time::Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => Some(r),
-            JobPoll::Lost => None,
+        let Some(outcome) = self.finished(job) else {
+            return;
         };
         let Some((key, index, job)) = self.programs.job.take() else {
             return;
@@ -358,7 +349,7 @@ impl Workstation {
         };
         p.view.scroll_to_line(line);
         if let Ok((plots, lines)) = &mut p.motion
-            && let Some((t, _)) = lines.iter().find(|(_, l)| *l == line)
+            && let Some((t, _)) = line_start(lines, line)
         {
             plots.set_cursor_time(Some(*t));
         }
@@ -436,7 +427,7 @@ impl Workstation {
             && let Some(pose) = p.pose_of_line.get(line).copied().flatten()
         {
             if let Ok((plots, lines)) = &mut p.motion
-                && let Some((t, _)) = lines.iter().find(|(_, l)| *l == line)
+                && let Some((t, _)) = line_start(lines, line)
             {
                 plots.set_cursor_time(Some(*t));
             }
@@ -514,4 +505,11 @@ impl Workstation {
             .as_ref()
             .map(|(id, l, m)| (*id, Arc::clone(l), *m))
     }
+}
+
+/// The start time of `line`'s first block in `lines` ((start time, line) by time; a program runs
+/// its lines in order, so the lines are non-decreasing and a binary search finds it).
+fn line_start(lines: &[(f64, usize)], line: usize) -> Option<&(f64, usize)> {
+    let k = lines.partition_point(|(_, l)| *l < line);
+    lines.get(k).filter(|(_, l)| *l == line)
 }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::Mat4;
 
-use super::super::job::{Job, JobPoll};
+use super::super::job::Job;
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::Operation;
@@ -186,13 +186,7 @@ impl Workstation {
 
     /// The running simulation as the status bar shows it.
     pub(super) fn sim_status(&self) -> Option<(String, f64, f64)> {
-        self.sims.job.as_ref().map(|(_, j)| {
-            (
-                j.label.clone(),
-                j.progress.fraction(),
-                j.started.elapsed().as_secs_f64(),
-            )
-        })
+        self.sims.job.as_ref().map(|(_, j)| super::job_status(j))
     }
 
     /// Collect a finished simulation.
@@ -200,14 +194,8 @@ impl Workstation {
         let Some((_, job)) = &self.sims.job else {
             return;
         };
-        let outcome = match job.poll() {
-            JobPoll::Running => {
-                self.ctx
-                    .request_repaint_after(std::time::Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => Some(r),
-            JobPoll::Lost => None,
+        let Some(outcome) = self.finished(job) else {
+            return;
         };
         let Some((key, job)) = self.sims.job.take() else {
             return;
