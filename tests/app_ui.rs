@@ -543,3 +543,104 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     assert!(h.state().simulation_of(0).is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Machining → Data reduction: the part's Z-map reduced in the background. The Z-map's heights
+/// against the exact B-spline surface (Newton inversion of x(u,v), y(u,v)), the singular values
+/// against the Frobenius norm (Σσ² = Σz²), the rank rule's guarantee (σ_r > t ≥ σ_(r+1) and
+/// every node within t), and the exported STL read back.
+#[test]
+fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
+    use talas::reduce::zmap_from_surface;
+    let dir = data_dir("reduction");
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle(&mut h);
+    h.get_by_label("Machining").click();
+    h.run_steps(2);
+    h.get_by_label("Data reduction (Z-map SVD)…").click();
+    h.run_steps(4);
+    // 160 × 120 mm part: a 1 mm step (about 200 nodes along X would be 0.8 → rounded to 1).
+    h.get_by_label_contains("161 × 121 nodes");
+    h.get_by_label("Reduce").click();
+    h.run_steps(2);
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_reducing() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.run_steps(2);
+    let r = h.state().reduction().expect("reduced").clone();
+    assert!(h.state().reduction_visible());
+    h.get_by_label("Bound σ(r+1)");
+    let tol = 0.01;
+    let red = &r.reduction;
+    let (rows, cols) = (r.zmap.grid.rows(), r.zmap.grid.cols());
+    assert_eq!((rows, cols), (121, 161));
+    // Heights against the exact surface, sampled independently of the mesh.
+    let part = talas::import::step::read_step(&data("bicubic-hills.stp")).unwrap();
+    let exact = zmap_from_surface(
+        &part.faces[0].surface,
+        r.zmap.origin,
+        r.zmap.step_mm,
+        rows,
+        cols,
+        -1000.0,
+        1e-7,
+    )
+    .unwrap();
+    let mut worst = 0.0_f64;
+    for (k, (a, b)) in r
+        .zmap
+        .grid
+        .values()
+        .iter()
+        .zip(exact.grid.values())
+        .enumerate()
+    {
+        if exact.params[k].is_some() {
+            worst = worst.max((a - b).abs());
+        }
+    }
+    eprintln!(
+        "Z-map vs exact surface: worst {worst:.2e} mm, {} exact nodes, {} off the part",
+        r.zmap.exact_nodes, r.zmap.misses
+    );
+    assert_eq!(r.zmap.misses, 0);
+    // Every node refined onto the B-spline: no tessellation error left (the mesh alone is
+    // 36 µm off at worst).
+    assert_eq!(r.zmap.exact_nodes, rows * cols);
+    assert!(worst < 1e-6, "{worst}");
+    // Singular values: Σσ² equals the Z-map's squared Frobenius norm.
+    let s2: f64 = red.singular_values.iter().map(|s| s * s).sum();
+    let f2: f64 = r.zmap.grid.values().iter().map(|z| z * z).sum();
+    assert!((s2 - f2).abs() <= 1e-9 * f2, "{s2} vs {f2}");
+    // The spectral rule: σ_r > t ≥ σ_(r+1), and every node within t.
+    assert!(red.rank >= 1 && red.rank < red.singular_values.len());
+    assert!(red.singular_values[red.rank - 1] > tol);
+    assert!(red.singular_values[red.rank] <= tol);
+    let worst_error = r
+        .signed_error
+        .values()
+        .iter()
+        .fold(0.0_f64, |a, e| a.max(e.abs()));
+    assert!(worst_error <= tol && (worst_error - red.max_error).abs() < 1e-12);
+    assert!(
+        red.stored_numbers < rows * cols / 5,
+        "{}",
+        red.stored_numbers
+    );
+    // Export, and read the STL back.
+    let out = dir.join("reduced.stl");
+    h.state_mut().apply(Command::ExportReductionTo(out.clone()));
+    let back =
+        talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
+    assert_eq!(back.mesh.triangles.len(), 2 * (rows - 1) * (cols - 1));
+    let zmax = red.reduced.values().iter().fold(f64::MIN, |a, b| a.max(*b));
+    let back_max = back.mesh.positions.iter().fold(f64::MIN, |a, p| a.max(p.z));
+    assert!((zmax - back_max).abs() < 1e-4, "{zmax} vs {back_max}");
+    // Hiding it shows the part again.
+    h.state_mut().apply(Command::SetReductionVisible(false));
+    h.run_steps(2);
+    assert!(!h.state().reduction_visible());
+}

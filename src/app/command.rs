@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use super::document::Selection;
 use super::panels::properties::Focus;
+use super::panels::reduction_view::ReductionSettings;
 use super::scalar_field::ScalarField;
 use super::toolpaths::PathColouring;
 use super::viewport::picking::SurfacePick;
@@ -100,6 +101,16 @@ pub enum Command {
     CompareOperations,
     /// Playback of the active path.
     Playback(PlaybackCommand),
+    /// Open the data-reduction window.
+    OpenReductionView,
+    /// Reduce the part's Z-map with these settings (in the background).
+    Reduce(ReductionSettings),
+    /// Draw the reduced surface (instead of the part) or not.
+    SetReductionVisible(bool),
+    /// Ask where to export the reduced surface (STL).
+    ExportReductionDialog,
+    /// Export the reduced surface as binary STL to this path.
+    ExportReductionTo(PathBuf),
 }
 
 /// What the playback bar asks for.

@@ -129,6 +129,8 @@ pub enum SavePurpose {
     Project,
     /// Export the posted program.
     Program,
+    /// Export the reduced Z-map surface (STL).
+    ReducedStl,
 }
 
 /// The native Save dialog on a worker thread (as [`OpenDialog`]); when no dialog answers, the
@@ -179,6 +181,9 @@ impl SaveDialog {
                         .set_title("Export G-code")
                         .add_filter("G-code", &["ngc", "nc", "tap", "mpf", "h", "gcode"])
                         .add_filter("All files", &["*"]),
+                    SavePurpose::ReducedStl => dialog
+                        .set_title("Export reduced surface")
+                        .add_filter("STL", &["stl"]),
                 };
                 if let Some(start) = start {
                     if let Some(dir) = start.parent().filter(|d| d.is_dir()) {

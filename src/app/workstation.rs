@@ -8,6 +8,7 @@ mod dialogs;
 mod operations;
 mod program;
 mod project_commands;
+mod reduction;
 mod simulation;
 
 pub use simulation::ShownSimulation;
@@ -104,6 +105,7 @@ pub struct Workstation {
     forms: Forms,
     ops: operations::Operations,
     sims: simulation::Simulations,
+    reductions: reduction::Reductions,
     programs: program::Programs,
     save_dialog: SaveDialog,
     pick: Option<SurfacePick>,
@@ -144,6 +146,7 @@ impl Workstation {
             forms: Forms::default(),
             ops: operations::Operations::new(),
             sims: simulation::Simulations::default(),
+            reductions: reduction::Reductions::default(),
             programs: program::Programs::default(),
             save_dialog: SaveDialog::default(),
             pick: None,
@@ -275,7 +278,11 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if self.cancel_calculation() || self.cancel_simulation() || self.cancel_post() {
+                if self.cancel_calculation()
+                    || self.cancel_simulation()
+                    || self.cancel_post()
+                    || self.cancel_reduction()
+                {
                 } else if let Some(job) = self.load_job.take() {
                     job.cancel();
                     let t = self.now_s();
@@ -346,6 +353,11 @@ impl Workstation {
             | Command::SetShowAxisVectors(_)
             | Command::CompareOperations
             | Command::Playback(_) => self.apply_operation(command),
+            Command::OpenReductionView
+            | Command::Reduce(_)
+            | Command::SetReductionVisible(_)
+            | Command::ExportReductionDialog
+            | Command::ExportReductionTo(_) => self.apply_reduction(command),
         }
     }
 
@@ -429,6 +441,7 @@ impl Workstation {
         self.poll_calc_job();
         self.poll_sim_job();
         self.poll_post_job();
+        self.poll_reduction_job();
         self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
@@ -552,6 +565,7 @@ impl Workstation {
                 .calc_status()
                 .or_else(|| self.sim_status())
                 .or_else(|| self.post_status())
+                .or_else(|| self.reduction_status())
                 .or_else(|| self.load_job.as_ref().map(job_status))
                 .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
             document: self.document.as_ref().map(|d| {
@@ -698,6 +712,7 @@ impl Workstation {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
             let stock = self.stock_instance();
+            let reduced = self.reduction_instance();
             // Over the simulated stock the path would hide the deviation map: it is drawn only
             // while playing back.
             let mut paths = if stock.is_some() && up_to.is_none() {
@@ -706,12 +721,17 @@ impl Workstation {
                 paths
             };
             paths.extend(self.collision_instance());
+            // The reduced surface replaces the part (and the stock) while it is shown.
+            let (shown_mesh, legend_title) = match (reduced, stock) {
+                (Some(r), _) => (Some(r), "Reduction error, model − part (mm)"),
+                (None, s) => (s, "Stock deviation (mm)"),
+            };
             let extras = ViewportExtras {
-                hide_part: stock.is_some(),
-                stock_legend: stock
+                hide_part: shown_mesh.is_some(),
+                stock_legend: shown_mesh
                     .as_ref()
-                    .map(|(_, m)| ("Stock deviation (mm)".to_string(), *m)),
-                meshes: stock.into_iter().map(|(m, _)| m).collect(),
+                    .map(|(_, m)| (legend_title.to_string(), *m)),
+                meshes: shown_mesh.into_iter().map(|(m, _)| m).collect(),
                 paths,
                 path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
@@ -733,6 +753,7 @@ impl Workstation {
         self.viewport = viewport;
         self.path_field_ui(&ctx, &mut commands);
         self.compare_ui(&ctx, &mut commands);
+        self.reduction_ui(&ctx, &mut commands);
         if let Some(prompt) = &mut self.prompt
             && let Some(outcome) = prompt.ui(&ctx)
         {

@@ -21,12 +21,16 @@
 //! reduced matrix by matrix with [`reduce_xy_zmap`].
 
 mod grid;
+mod part_reduction;
 mod surface_zmap;
 mod svd;
 mod xy_zmap;
 mod zmap;
 
 pub use grid::Grid;
+pub use part_reduction::{
+    ExactFaces, MAX_PART_ZMAP_NODES, PartReduction, PartZmap, part_zmap, reduce_part, zmap_size,
+};
 pub use surface_zmap::{SurfaceZmap, zmap_from_surface};
 pub use svd::{SvdFactors, svd};
 pub use xy_zmap::{
@@ -62,6 +66,9 @@ pub enum ReduceError {
     /// The SVD did not converge.
     #[error("singular value decomposition failed: {0}")]
     Svd(String),
+    /// The work was cancelled.
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// How the number of kept singular values is chosen from the tolerance.
@@ -116,6 +123,28 @@ pub struct Reduction {
     pub max_error: f64,
     /// Mean |Z − Z′| over the original nodes.
     pub mean_error: f64,
+}
+
+impl Reduction {
+    /// The reduced model at the nodes of the original `rows`×`cols` grid: the reduced grid
+    /// stretched over the same extent and interpolated bilinearly (the values the error report
+    /// compares with the original).
+    #[must_use]
+    pub fn at_nodes(&self, rows: usize, cols: usize) -> Grid {
+        let scale = |reduced: usize, original: usize| {
+            if original > 1 {
+                (reduced.saturating_sub(1)) as f64 / (original - 1) as f64
+            } else {
+                0.0
+            }
+        };
+        let row_scale = scale(self.reduced.rows(), rows);
+        let col_scale = scale(self.reduced.cols(), cols);
+        Grid::from_fn(rows, cols, |r, c| {
+            self.reduced
+                .bilinear(r as f64 * row_scale, c as f64 * col_scale)
+        })
+    }
 }
 
 /// Point spacing for a ball of radius ρ at tolerance t: l = √(4ρt − t²), mm.
@@ -265,33 +294,24 @@ fn rebuild(
             })
             .sum()
     });
-    let row_scale = if m > 1 {
-        (m2 - 1) as f64 / (m - 1) as f64
-    } else {
-        0.0
-    };
-    let col_scale = if n > 1 {
-        (n2 - 1) as f64 / (n - 1) as f64
-    } else {
-        0.0
-    };
-    let (mut max_error, mut sum) = (0.0_f64, 0.0);
-    for r in 0..m {
-        for c in 0..n {
-            let approx = reduced.bilinear(r as f64 * row_scale, c as f64 * col_scale);
-            let e = (z.get(r, c).unwrap_or(0.0) - approx).abs();
-            max_error = max_error.max(e);
-            sum += e;
-        }
-    }
-    Reduction {
+    let mut out = Reduction {
         rank_error_bound: s.get(rank).copied().unwrap_or(0.0),
         singular_values: s.clone(),
         rank,
         spacing_mm: spacing,
         stored_numbers: rank * (m2 + n2 + 1),
         reduced,
-        max_error,
-        mean_error: sum / (m * n) as f64,
+        max_error: 0.0,
+        mean_error: 0.0,
+    };
+    let approx = out.at_nodes(m, n);
+    let (mut max_error, mut sum) = (0.0_f64, 0.0);
+    for (a, b) in z.values().iter().zip(approx.values()) {
+        let e = (a - b).abs();
+        max_error = max_error.max(e);
+        sum += e;
     }
+    out.max_error = max_error;
+    out.mean_error = sum / (m * n) as f64;
+    out
 }

@@ -68,7 +68,6 @@ pub fn zmap_from_surface(
             "the surface's parameter domain is not finite".into(),
         ));
     }
-    let clamp = |p: DVec2| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1));
     // Coarse lattice of (parameter, XY position) for fallback seeds.
     let lattice: Vec<(DVec2, DVec2)> = (0..SEED_LATTICE * SEED_LATTICE)
         .map(|k| {
@@ -79,32 +78,7 @@ pub fn zmap_from_surface(
         })
         .filter(|(_, xy)| xy.is_finite())
         .collect();
-    let newton = |target: DVec2, start: DVec2| -> Option<DVec2> {
-        let mut uv = clamp(start);
-        for _ in 0..NEWTON_ITERATIONS {
-            let d = surface.derivs(uv.x, uv.y);
-            let r = target - d.p.truncate();
-            if !r.is_finite() {
-                return None;
-            }
-            if r.length() <= xy_tol_mm {
-                return Some(uv);
-            }
-            let (a, b, c, e) = (d.su.x, d.sv.x, d.su.y, d.sv.y);
-            let det = a * e - b * c;
-            if !(det.abs() > 1e-300) {
-                return None;
-            }
-            let du = (e * r.x - b * r.y) / det;
-            let dv = (a * r.y - c * r.x) / det;
-            let next = clamp(uv + DVec2::new(du, dv));
-            if next == uv {
-                return None; // stuck on the domain boundary: the node is outside
-            }
-            uv = next;
-        }
-        None
-    };
+    let newton = |target: DVec2, start: DVec2| invert_xy(surface, target, start, xy_tol_mm);
     let mut values = Vec::with_capacity(rows * cols);
     let mut params: Vec<Option<DVec2>> = Vec::with_capacity(rows * cols);
     let mut misses = 0;
@@ -150,4 +124,46 @@ pub fn zmap_from_surface(
         params,
         misses,
     })
+}
+
+/// The (u, v) of `surface` whose x and y equal `target` within `xy_tol_mm`: Newton on the 2×2
+/// Jacobian [[x_u, x_v], [y_u, y_v]] from `start`, kept inside the parameter domain. `None` when
+/// it does not converge or leaves the domain (the point is outside the surface's footprint).
+pub(crate) fn invert_xy(
+    surface: &SurfaceGeom,
+    target: DVec2,
+    start: DVec2,
+    xy_tol_mm: f64,
+) -> Option<DVec2> {
+    let rect = surface.domain();
+    let clamp = |p: DVec2| {
+        DVec2::new(
+            p.x.clamp(rect.u.t0.min(rect.u.t1), rect.u.t1.max(rect.u.t0)),
+            p.y.clamp(rect.v.t0.min(rect.v.t1), rect.v.t1.max(rect.v.t0)),
+        )
+    };
+    let mut uv = clamp(start);
+    for _ in 0..NEWTON_ITERATIONS {
+        let d = surface.derivs(uv.x, uv.y);
+        let r = target - d.p.truncate();
+        if !r.is_finite() {
+            return None;
+        }
+        if r.length() <= xy_tol_mm {
+            return Some(uv);
+        }
+        let (a, b, c, e) = (d.su.x, d.sv.x, d.su.y, d.sv.y);
+        let det = a * e - b * c;
+        if !(det.abs() > 1e-300) {
+            return None;
+        }
+        let du = (e * r.x - b * r.y) / det;
+        let dv = (a * r.y - c * r.x) / det;
+        let next = clamp(uv + DVec2::new(du, dv));
+        if next == uv {
+            return None; // stuck on the domain boundary: the node is outside
+        }
+        uv = next;
+    }
+    None
 }

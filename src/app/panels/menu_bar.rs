@@ -277,6 +277,17 @@ pub fn menu_bar_ui(
                 commands.push(Command::ExportProgramDialog);
                 ui.close();
             }
+            ui.separator();
+            if ui
+                .button("Data reduction (Z-map SVD)…")
+                .on_hover_text(
+                    "Sample the part's Z-map and reduce it by singular value decomposition",
+                )
+                .clicked()
+            {
+                commands.push(Command::OpenReductionView);
+                ui.close();
+            }
             if ui
                 .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
                 .clicked()

@@ -16,6 +16,8 @@ pub enum PromptKind {
     Export,
     /// Use a machine definition file.
     MachineFile,
+    /// Export the reduced surface (STL).
+    ExportStl,
 }
 
 /// A small window asking for a project path.
@@ -69,6 +71,16 @@ impl PathPrompt {
         }
     }
 
+    /// Ask where to export the reduced surface, starting from `suggested`.
+    #[must_use]
+    pub fn export_stl(suggested: &Path) -> Self {
+        Self {
+            kind: PromptKind::ExportStl,
+            text: suggested.display().to_string(),
+            focus: true,
+        }
+    }
+
     /// Ask for a machine definition file (JSON).
     #[must_use]
     pub fn machine_file() -> Self {
@@ -86,6 +98,7 @@ impl PathPrompt {
             PromptKind::SaveAs => ("Save project as", "Save"),
             PromptKind::Export => ("Export G-code", "Export"),
             PromptKind::MachineFile => ("Machine file", "Use"),
+            PromptKind::ExportStl => ("Export reduced surface", "Export"),
         };
         let mut result = None;
         let mut open = true;
@@ -96,6 +109,7 @@ impl PathPrompt {
             .show(ctx, |ui| {
                 let label = ui.label(match self.kind {
                     PromptKind::Export => "Path of the G-code file:",
+                    PromptKind::ExportStl => "Path of the STL file:",
                     PromptKind::MachineFile => {
                         "Path of a machine definition (JSON, as assets/machines/*.json):"
                     }
@@ -122,6 +136,7 @@ impl PathPrompt {
                             PromptKind::Open => Command::OpenProject(path),
                             PromptKind::SaveAs => Command::SaveProjectAs(path),
                             PromptKind::Export => Command::ExportProgramTo(path),
+                            PromptKind::ExportStl => Command::ExportReductionTo(path),
                             PromptKind::MachineFile => Command::Edit(
                                 crate::project::Edit::SetMachine(path.display().to_string()),
                             ),

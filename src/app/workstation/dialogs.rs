@@ -64,10 +64,14 @@ impl Workstation {
             SaveOutcome::Picked(SavePurpose::Program, path) => {
                 self.apply(Command::ExportProgramTo(path));
             }
+            SaveOutcome::Picked(SavePurpose::ReducedStl, path) => {
+                self.apply(Command::ExportReductionTo(path));
+            }
             SaveOutcome::Unavailable(purpose) => {
                 self.prompt = Some(match purpose {
                     SavePurpose::Project => PathPrompt::save_as(self.session.path.as_deref()),
                     SavePurpose::Program => PathPrompt::export(&self.program_suggestion()),
+                    SavePurpose::ReducedStl => PathPrompt::export_stl(&self.reduction_suggestion()),
                 });
             }
             SaveOutcome::Waiting | SaveOutcome::Cancelled => {}
@@ -83,6 +87,7 @@ impl Workstation {
                     .map(|d| d.join("untitled.talas"))
             }),
             SavePurpose::Program => Some(self.program_suggestion()),
+            SavePurpose::ReducedStl => Some(self.reduction_suggestion()),
         };
         let ctx = self.ctx.clone();
         let outcome = self

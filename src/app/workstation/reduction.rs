@@ -1,0 +1,339 @@
+//! The data-reduction view's state: the window's settings, the background job
+//! ([`crate::reduce::reduce_part`] with progress and Cancel), the reduced surface drawn in the
+//! viewport coloured by its signed error at the Z-map's nodes (blue: below the part, white:
+//! on it, red: above), and the STL export of the reduced grid.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{DVec2, Mat4};
+
+use super::super::command::Command;
+use super::super::job::Job;
+use super::super::panels::reduction_view::{ReductionSettings, ReductionView, reduction_window};
+use super::Workstation;
+use crate::diagnostics::Severity;
+use crate::import::stl::{StlFormat, save_stl};
+use crate::reduce::{ExactFaces, PartReduction, ReduceError, reduce_part};
+use crate::render::{ColourMap, DataId, MeshData, MeshInstance, ScalarMapping};
+
+/// Colour of the reduced surface where no error is mapped (sRGB).
+const SURFACE_COLOUR: [u8; 4] = [170, 190, 210, 255];
+
+/// A finished reduction with its render data.
+pub(super) struct ShownReduction {
+    /// The part it was made from.
+    part_id: DataId,
+    settings: ReductionSettings,
+    result: PartReduction,
+    elapsed_s: f64,
+    id: DataId,
+    mesh: Arc<MeshData>,
+    mapping: ScalarMapping,
+}
+
+/// A running reduction: the part and settings it was started with, and its job.
+type ReductionJob = (
+    DataId,
+    ReductionSettings,
+    Job<Result<PartReduction, ReduceError>>,
+);
+
+/// The data-reduction state of the workstation.
+#[derive(Default)]
+pub(super) struct Reductions {
+    /// The window is open.
+    pub open: bool,
+    /// The window's settings (None until the window first opens on a part).
+    settings: Option<ReductionSettings>,
+    job: Option<ReductionJob>,
+    shown: Option<ShownReduction>,
+    /// Draw the reduced surface instead of the part.
+    pub visible: bool,
+}
+
+impl Workstation {
+    /// Act on a data-reduction command.
+    pub(super) fn apply_reduction(&mut self, command: Command) {
+        match command {
+            Command::OpenReductionView => self.reductions.open = true,
+            Command::Reduce(settings) => self.start_reduction(settings),
+            Command::SetReductionVisible(on) => {
+                self.reductions.visible = on && self.reductions.shown.is_some();
+                if self.reductions.visible {
+                    self.sims.visible = false;
+                }
+            }
+            Command::ExportReductionDialog => {
+                self.save_dialog_for(super::super::file_dialog::SavePurpose::ReducedStl);
+            }
+            Command::ExportReductionTo(path) => self.export_reduction(path),
+            _ => {}
+        }
+    }
+
+    fn start_reduction(&mut self, settings: ReductionSettings) {
+        let Some(doc) = &self.document else { return };
+        let Some(bvh) = doc.bvh.clone() else {
+            let t = self.now_s();
+            self.log
+                .notify(t, Severity::Warning, "The part has no triangles to sample");
+            return;
+        };
+        let part_id = doc.ids[0];
+        let exact = doc
+            .part
+            .faces
+            .iter()
+            .any(|f| f.surface.is_some())
+            .then(|| ExactFaces {
+                face_of_triangle: doc.part.face_of_triangle.clone(),
+                surfaces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
+            });
+        self.reductions.settings = Some(settings);
+        if let Some((_, _, old)) = self.reductions.job.take() {
+            old.cancel();
+        }
+        let ctx = self.ctx.clone();
+        let opts = settings.options();
+        self.log_info(format!(
+            "Reducing the Z-map of {} at {} mm, tolerance {} mm",
+            doc.part.name, settings.step_mm, settings.tolerance_mm
+        ));
+        self.reductions.job = Some((
+            part_id,
+            settings,
+            Job::spawn(
+                "Reducing the Z-map",
+                move |progress| {
+                    reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
+                },
+                move || ctx.request_repaint(),
+            ),
+        ));
+    }
+
+    /// Cancel the running reduction; true when there was one.
+    pub(super) fn cancel_reduction(&mut self) -> bool {
+        let Some((_, _, job)) = self.reductions.job.take() else {
+            return false;
+        };
+        job.cancel();
+        let t = self.now_s();
+        self.log
+            .push(t, Severity::Warning, format!("{} cancelled", job.label));
+        true
+    }
+
+    /// Is a reduction running?
+    #[must_use]
+    pub fn is_reducing(&self) -> bool {
+        self.reductions.job.is_some()
+    }
+
+    /// The latest reduction, if any.
+    #[must_use]
+    pub fn reduction(&self) -> Option<&PartReduction> {
+        self.reductions.shown.as_ref().map(|s| &s.result)
+    }
+
+    /// Is the reduced surface drawn in the viewport?
+    #[must_use]
+    pub fn reduction_visible(&self) -> bool {
+        self.reductions.visible
+    }
+
+    /// The running reduction as the status bar shows it.
+    pub(super) fn reduction_status(&self) -> Option<(String, f64, f64)> {
+        self.reductions
+            .job
+            .as_ref()
+            .map(|(_, _, j)| super::job_status(j))
+    }
+
+    /// Collect a finished reduction.
+    pub(super) fn poll_reduction_job(&mut self) {
+        let Some((_, _, job)) = &self.reductions.job else {
+            return;
+        };
+        let Some(outcome) = self.finished(job) else {
+            return;
+        };
+        let Some((part_id, settings, job)) = self.reductions.job.take() else {
+            return;
+        };
+        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let t = self.now_s();
+        match outcome {
+            Some(Ok(result)) => {
+                let red = &result.reduction;
+                let nodes = result.zmap.grid.values().len();
+                self.log.push(
+                    t,
+                    Severity::Info,
+                    format!(
+                        "Reduced a {}×{} Z-map to rank {} ({} numbers for {nodes} nodes): max error {:.2} µm, mean {:.2} µm, in {elapsed_s:.2} s",
+                        result.zmap.grid.rows(),
+                        result.zmap.grid.cols(),
+                        red.rank,
+                        red.stored_numbers,
+                        red.max_error * 1000.0,
+                        red.mean_error * 1000.0,
+                    ),
+                );
+                let (mesh, mapping) = error_mesh(&result);
+                self.ops.next_id += 1;
+                let id = self.ops.next_id;
+                self.reductions.shown = Some(ShownReduction {
+                    part_id,
+                    settings,
+                    result,
+                    elapsed_s,
+                    id,
+                    mesh: Arc::new(mesh),
+                    mapping,
+                });
+                self.reductions.visible = true;
+                self.sims.visible = false;
+            }
+            Some(Err(ReduceError::Cancelled)) => {}
+            Some(Err(e)) => self
+                .log
+                .notify(t, Severity::Error, format!("Reduction failed: {e}")),
+            None => self.log.notify(
+                t,
+                Severity::Error,
+                "Reduction failed: the worker stopped unexpectedly",
+            ),
+        }
+    }
+
+    /// The reduced surface to draw instead of the part, and its legend, when visible.
+    pub(super) fn reduction_instance(&self) -> Option<(MeshInstance, ScalarMapping)> {
+        let s = self
+            .reductions
+            .shown
+            .as_ref()
+            .filter(|_| self.reductions.visible)?;
+        Some((
+            MeshInstance {
+                id: s.id,
+                data: Arc::clone(&s.mesh),
+                world_from_mesh: Mat4::IDENTITY,
+                colour: SURFACE_COLOUR,
+                scalar_map: Some(s.mapping),
+            },
+            s.mapping,
+        ))
+    }
+
+    /// A file name for the reduced surface: next to the project, named after the part.
+    pub(super) fn reduction_suggestion(&self) -> PathBuf {
+        let dir = self
+            .session
+            .path
+            .as_ref()
+            .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        let name = self
+            .document
+            .as_ref()
+            .map_or("part", |d| d.part.name.as_str());
+        dir.join(format!("{name}-reduced.stl"))
+    }
+
+    fn export_reduction(&mut self, path: PathBuf) {
+        let t = self.now_s();
+        let Some(s) = &self.reductions.shown else {
+            self.log
+                .notify(t, Severity::Warning, "Reduce the Z-map before exporting it");
+            return;
+        };
+        let mesh = s.result.reduced_mesh();
+        match save_stl(&path, &mesh, StlFormat::Binary) {
+            Ok(()) => self.log.push(
+                t,
+                Severity::Info,
+                format!(
+                    "Exported the reduced surface ({} triangles) to {}",
+                    mesh.triangles.len(),
+                    path.display()
+                ),
+            ),
+            Err(e) => self
+                .log
+                .notify(t, Severity::Error, format!("Not exported: {e}")),
+        }
+    }
+
+    /// The data-reduction window.
+    pub(super) fn reduction_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
+        if !self.reductions.open {
+            return;
+        }
+        let Some(doc) = &self.document else {
+            return;
+        };
+        let size = DVec2::new(
+            doc.bounds.max.x - doc.bounds.min.x,
+            doc.bounds.max.y - doc.bounds.min.y,
+        );
+        let part_id = doc.ids[0];
+        let mut settings = self.reductions.settings.unwrap_or_else(|| {
+            let ball = self
+                .session
+                .project
+                .selected_tool()
+                .filter(|t| matches!(t.cutter.kind, crate::tools::CutterKind::Ball))
+                .map(|t| t.cutter.radius());
+            ReductionSettings::for_part(size, ball)
+        });
+        let view = ReductionView {
+            part_size_mm: Some(size),
+            result: self
+                .reductions
+                .shown
+                .as_ref()
+                .map(|s| (&s.result, &s.settings, s.elapsed_s)),
+            stale: self
+                .reductions
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.part_id != part_id || s.settings != settings),
+            running: self
+                .reductions
+                .job
+                .as_ref()
+                .map(|(_, _, j)| j.progress.fraction()),
+            visible: self.reductions.visible,
+        };
+        let mut open = true;
+        reduction_window(ctx, &mut open, &mut settings, &view, commands);
+        self.reductions.settings = Some(settings);
+        self.reductions.open = open;
+    }
+}
+
+/// The reduced surface at the Z-map's nodes with its signed error as the scalar, mapped
+/// symmetrically about zero over the largest error (at least 0.1 µm).
+fn error_mesh(r: &PartReduction) -> (MeshData, ScalarMapping) {
+    let m = r.approximation_mesh();
+    let f = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32];
+    let mut mesh = m;
+    mesh.compute_normals();
+    let range = r.reduction.max_error.max(1e-4) as f32;
+    (
+        MeshData {
+            positions: mesh.positions.iter().map(|&p| f(p)).collect(),
+            normals: mesh.normals.iter().map(|&n| f(n)).collect(),
+            scalars: r.signed_error.values().iter().map(|&d| d as f32).collect(),
+            indices: mesh.triangles.iter().flatten().copied().collect(),
+        },
+        ScalarMapping {
+            map: ColourMap::CoolWarm,
+            min: -range,
+            max: range,
+        },
+    )
+}
