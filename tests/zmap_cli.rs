@@ -170,3 +170,82 @@ fn reduce_stl_reads_back_within_the_reported_error() {
     // The reported max error is attained by some vertex (it is measured at the same nodes).
     assert!(worst >= max_error - 1e-6, "{worst} vs {max_error}");
 }
+
+/// `talas reduce PART`: a STEP part's Z-map sampled through the mesh and refined onto the exact
+/// face has the singular values of a Z-map sampled from the B-spline alone (Newton on x, y:
+/// no mesh), so bicubic-hills is rank 2; the same part's STL carries its tessellation error
+/// into the spectrum and needs far more terms for the same tolerance.
+#[test]
+fn reduce_a_part_samples_its_exact_zmap() {
+    use glam::DVec2;
+    use talas::reduce::{Grid, zmap_from_surface};
+    let run = |file: &str| -> serde_json::Value {
+        let out = talas(&[
+            "reduce",
+            data(file).to_str().unwrap(),
+            "--step",
+            "2",
+            "--tolerance",
+            "0.01",
+            "--json",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let step = run("bicubic-hills.stp");
+    assert_eq!(
+        (step["rows"].as_u64(), step["cols"].as_u64()),
+        (Some(61), Some(81))
+    );
+    assert_eq!(step["zmap"]["exact_nodes"], 61 * 81);
+    let part = talas::import::step::read_step(&data("bicubic-hills.stp")).unwrap();
+    let reference = zmap_from_surface(
+        &part.faces[0].surface,
+        DVec2::ZERO,
+        2.0,
+        61,
+        81,
+        -1000.0,
+        1e-9,
+    )
+    .unwrap();
+    assert_eq!(reference.misses, 0);
+    let sigma = talas::reduce::svd(&Grid::new(61, 81, reference.grid.values().to_vec()).unwrap())
+        .unwrap()
+        .singular_values;
+    let got: Vec<f64> = step["singular_values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    for (k, (a, b)) in got.iter().zip(&sigma).enumerate() {
+        assert!((a - b).abs() <= 1e-6 * sigma[0], "σ_{}: {a} vs {b}", k + 1);
+    }
+    assert_eq!(step["rank"], 2);
+    assert!(step["max_error"].as_f64().unwrap() <= 1e-6);
+    let stl = run("bicubic-hills.stl");
+    assert_eq!(stl["zmap"]["exact_nodes"], 0);
+    let stl_rank = stl["rank"].as_u64().unwrap();
+    assert!(stl_rank > 10, "{stl_rank}");
+    assert!(stl["max_error"].as_f64().unwrap() <= 0.01);
+    // A Z-map file is still read as before; a part with a bad step names the option.
+    let out = talas(&[
+        "reduce",
+        data("bicubic-hills.stl").to_str().unwrap(),
+        "--step",
+        "0",
+        "--tolerance",
+        "0.01",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bicubic-hills.stl") && err.contains("--step"),
+        "{err}"
+    );
+}

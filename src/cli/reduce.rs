@@ -1,21 +1,32 @@
 //! `talas reduce ZMAP.csv --tolerance T [--rank-rule R] [--rank N] [--tool-radius MM --step MM]
 //! [--stl OUT.stl] [--json]`: SVD data reduction of a Z-map (CSV of heights, one grid row a line, no header).
+//!
+//! The input may also be a part (`.stp`, `.step`, `.stl`): its Z-map is sampled at `--step` over
+//! its XY bounding box (for STEP, every height refined onto the exact face surface; see
+//! [`crate::reduce::part_zmap`]) and reduced the same way, as the workstation's data-reduction
+//! view does.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde_json::{Value, json};
 
+use crate::diagnostics::Progress;
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
-use crate::import::stl::{StlFormat, save_stl};
+use crate::import::step::read_step;
+use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
 use crate::reduce::{
-    Grid, RankRule, ReduceError, ReduceOptions, Resampling, grid_mesh, point_spacing,
-    reduce as run_reduce,
+    ExactFaces, Grid, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, grid_mesh,
+    part_zmap, point_spacing, reduce as run_reduce,
 };
 
 /// Options of `talas reduce`.
 #[derive(Debug, clap::Args)]
 pub struct ReduceArgs {
-    /// The Z-map: heights (mm), one grid row a line, comma-separated, no header.
+    /// The Z-map: heights (mm), one grid row a line, comma-separated, no header; or a part
+    /// (.stp, .step, .stl) whose Z-map is sampled at --step.
     pub file: PathBuf,
     /// Tolerance t (mm): chooses the rank and, with --tool-radius, the resampling spacing.
     #[arg(long, value_name = "MM")]
@@ -30,7 +41,8 @@ pub struct ReduceArgs {
     /// Ball end-mill radius ρ (mm): resample the singular vectors at l = √(4ρt − t²).
     #[arg(long, value_name = "MM")]
     pub tool_radius: Option<f64>,
-    /// Grid step γ of the Z-map (mm), used with --tool-radius.
+    /// Grid step γ of the Z-map (mm): used with --tool-radius and --stl, and the sampling step
+    /// of a part.
     #[arg(long, value_name = "MM", default_value_t = 1.0)]
     pub step: f64,
     /// Write the reduced Z-map as a binary STL (grid step --step, origin 0, the original
@@ -65,9 +77,19 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
             ));
         }
     };
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| ImportError::new(&args.file, None, format!("cannot read file: {e}")))?;
-    let grid = Grid::parse_csv(&text).map_err(file_err)?;
+    let part = part_kind(&args.file);
+    let (grid, zmap) = match part {
+        Some(is_stl) => {
+            let z = sample_part(&args.file, is_stl, args.step)?;
+            (z.grid.clone(), Some(z))
+        }
+        None => {
+            let text = std::fs::read_to_string(&args.file).map_err(|e| {
+                ImportError::new(&args.file, None, format!("cannot read file: {e}"))
+            })?;
+            (Grid::parse_csv(&text).map_err(file_err)?, None)
+        }
+    };
     let opts = ReduceOptions {
         tolerance_mm: args.tolerance,
         rank_rule,
@@ -87,7 +109,8 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         }
         let width = (grid.cols().saturating_sub(1)) as f64 * args.step;
         let height = (grid.rows().saturating_sub(1)) as f64 * args.step;
-        let mesh = grid_mesh(&r.reduced, glam::DVec2::ZERO, width, height);
+        let origin = zmap.as_ref().map_or(glam::DVec2::ZERO, |z| z.origin);
+        let mesh = grid_mesh(&r.reduced, origin, width, height);
         save_stl(out, &mesh, StlFormat::Binary)?;
     }
     Ok(json!({
@@ -107,7 +130,50 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         "max_error": r.max_error,
         "mean_error": r.mean_error,
         "stl": args.stl.as_ref().map(|p| p.display().to_string()),
+        "zmap": zmap.as_ref().map(|z| json!({
+            "origin_mm": [z.origin.x, z.origin.y],
+            "step_mm": z.step_mm,
+            "exact_nodes": z.exact_nodes,
+            "mesh_nodes": z.grid.values().len() - z.exact_nodes - z.misses,
+            "misses": z.misses,
+        })),
     }))
+}
+
+/// `Some(true)` for an STL part, `Some(false)` for a STEP part, `None` for a Z-map CSV.
+fn part_kind(file: &Path) -> Option<bool> {
+    let ext = file.extension()?.to_str()?.to_ascii_lowercase();
+    match ext.as_str() {
+        "stl" => Some(true),
+        "stp" | "step" => Some(false),
+        _ => None,
+    }
+}
+
+/// The Z-map of the part in `file` at `step` mm (STEP heights refined onto the exact faces).
+fn sample_part(file: &Path, is_stl: bool, step: f64) -> Result<PartZmap, ImportError> {
+    let (mesh, exact) = if is_stl {
+        (read_stl(file, &StlOptions::default())?.mesh, None)
+    } else {
+        let part = read_step(file)?;
+        let t = tessellate_part(
+            &part,
+            &TessellationOptions::for_size(part.rough_bbox().diagonal()),
+        );
+        let exact = ExactFaces {
+            face_of_triangle: t.face_of_triangle,
+            surfaces: part
+                .faces
+                .iter()
+                .map(|f| Some(Arc::new(f.surface.clone())))
+                .collect(),
+        };
+        (t.mesh, Some(exact))
+    };
+    let bvh = MeshBvh::new(&mesh)
+        .map_err(|e| ImportError::new(file, None, format!("no surface to sample: {e}")))?;
+    part_zmap(&bvh, exact.as_ref(), step, &Progress::new())
+        .map_err(|e| ImportError::new(file, Some("--step".into()), e.to_string()))
 }
 
 /// A short human summary of the JSON document.

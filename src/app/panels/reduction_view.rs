@@ -260,9 +260,14 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
         });
 }
 
-/// `12.3 µm` below 1 mm, `1.234 mm` above.
+/// `1.234 mm` from 1 mm, `12.34 µm` down to 0.01 µm, `3.21e-8 mm` below, `0 mm`.
 fn length_text(mm: f64) -> String {
-    if mm.abs() < 1.0 {
+    let a = mm.abs();
+    if a == 0.0 {
+        "0 mm".into()
+    } else if a < 1e-5 {
+        format!("{mm:.2e} mm")
+    } else if a < 1.0 {
         format!("{:.2} µm", mm * 1000.0)
     } else {
         format!("{mm:.4} mm")
@@ -421,6 +426,14 @@ mod tests {
         assert!((s.step_mm - 0.05).abs() < 1e-12, "{}", s.step_mm);
         let (rows, cols) = zmap_size(DVec2::new(7.3, 2.0), s.step_mm);
         assert_eq!((rows, cols), (41, 147));
+    }
+
+    #[test]
+    fn lengths_keep_their_digits() {
+        assert_eq!(length_text(0.0), "0 mm");
+        assert_eq!(length_text(3.2e-8), "3.20e-8 mm");
+        assert_eq!(length_text(0.0123), "12.30 µm");
+        assert_eq!(length_text(2.5), "2.5000 mm");
     }
 
     #[test]
