@@ -116,9 +116,13 @@ pub fn reduction_window(
     view: &ReductionView<'_>,
     commands: &mut Vec<Command>,
 ) {
+    // Right of the viewport's legends (top left), left of the properties panel.
+    let right_top = ctx.content_rect().right_top();
     egui::Window::new("Data reduction (Z-map SVD)")
         .open(open)
         .default_width(460.0)
+        .pivot(egui::Align2::RIGHT_TOP)
+        .default_pos(right_top + egui::vec2(-340.0, 40.0))
         .show(ctx, |ui| {
             let Some(size) = view.part_size_mm else {
                 ui.weak("Open a part first.");
@@ -350,18 +354,21 @@ fn report_ui(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSettings, ela
 /// the tolerance as a dashed line and the cut after the r-th term.
 fn singular_value_plot(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSettings) {
     let red = &r.reduction;
-    // σ of 0 (exactly separable data) sits at the bottom of the plot instead of −∞.
-    let floor = red
+    // Values below σ_1 · 1e-16 are rounding noise (exactly separable data gives them): they sit
+    // on a floor under the smaller of that level and the tolerance instead of going to −∞.
+    let sigma1 = red
         .singular_values
-        .iter()
+        .first()
         .copied()
-        .filter(|s| *s > 0.0)
-        .fold(f64::INFINITY, f64::min)
-        .min(used.tolerance_mm)
-        .max(1e-300)
-        .log10()
-        - 1.0;
-    let point = |k: usize, s: f64| [(k + 1) as f64, if s > 0.0 { s.log10() } else { floor }];
+        .unwrap_or(1.0)
+        .max(1e-300);
+    let floor = (sigma1 * 1e-16).min(used.tolerance_mm).max(1e-300).log10() - 1.0;
+    let point = |k: usize, s: f64| {
+        [
+            (k + 1) as f64,
+            if s > 0.0 { s.log10().max(floor) } else { floor },
+        ]
+    };
     let kept: Vec<[f64; 2]> = red
         .singular_values
         .iter()

@@ -172,16 +172,16 @@ impl Workstation {
                     t,
                     Severity::Info,
                     format!(
-                        "Reduced a {}×{} Z-map to rank {} ({} numbers for {nodes} nodes): max error {:.2} µm, mean {:.2} µm, in {elapsed_s:.2} s",
-                        result.zmap.grid.rows(),
+                        "Reduced a {}×{} (X×Y) Z-map to rank {} ({} numbers for {nodes} nodes): max error {:.4} mm, mean {:.4} mm, in {elapsed_s:.2} s",
                         result.zmap.grid.cols(),
+                        result.zmap.grid.rows(),
                         red.rank,
                         red.stored_numbers,
-                        red.max_error * 1000.0,
-                        red.mean_error * 1000.0,
+                        red.max_error,
+                        red.mean_error,
                     ),
                 );
-                let (mesh, mapping) = error_mesh(&result);
+                let (mesh, mapping) = error_mesh(&result, settings.tolerance_mm);
                 self.ops.next_id += 1;
                 let id = self.ops.next_id;
                 self.reductions.shown = Some(ShownReduction {
@@ -316,13 +316,14 @@ impl Workstation {
 }
 
 /// The reduced surface at the Z-map's nodes with its signed error as the scalar, mapped
-/// symmetrically about zero over the largest error (at least 0.1 µm).
-fn error_mesh(r: &PartReduction) -> (MeshData, ScalarMapping) {
+/// symmetrically about zero over ± the tolerance: white is on the part, full blue or red is at
+/// or beyond the tolerance (below or above the part).
+fn error_mesh(r: &PartReduction, tolerance_mm: f64) -> (MeshData, ScalarMapping) {
     let m = r.approximation_mesh();
     let f = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32];
     let mut mesh = m;
     mesh.compute_normals();
-    let range = r.reduction.max_error.max(1e-4) as f32;
+    let range = tolerance_mm.max(1e-6) as f32;
     (
         MeshData {
             positions: mesh.positions.iter().map(|&p| f(p)).collect(),
