@@ -513,3 +513,60 @@ fn xy_and_surface_zmap_reject_bad_input() {
     assert!(zmap_from_surface(s, DVec2::ZERO, 1.0, 0, 2, 0.0, 1e-6).is_err());
     assert!(zmap_from_surface(s, DVec2::NAN, 1.0, 2, 2, 0.0, 1e-6).is_err());
 }
+
+/// The CL Z-map by inverse offset against drop-cutter (checked against OpenCAMLib to 1e-10 mm
+/// in `benches/dropcutter_ocl.py`) on the same Z-map triangulated: the drop-cutter tip is never
+/// lower (it also touches facets and edges), and at most the ball's gap over half a grid
+/// diagonal higher; for a flat end mill, whose rim meets the facets between nodes, never lower.
+#[test]
+fn inverse_offset_agrees_with_drop_cutter_on_the_zmap_mesh() {
+    use glam::DVec2;
+    use talas::diagnostics::Progress;
+    use talas::geometry::bvh::MeshBvh;
+    use talas::reduce::{grid_mesh, inverse_offset};
+    use talas::tools::dropcutter::drop_cutter;
+    use talas::tools::{Cutter, CutterKind};
+    let step = 1.0;
+    let (rows, cols) = (41, 51);
+    // A wavy surface with curvature radii ≥ 1/(0.3·0.04) ≈ 83 mm.
+    let z = talas::reduce::Grid::new(
+        rows,
+        cols,
+        (0..rows * cols)
+            .map(|k| {
+                let (x, y) = ((k % cols) as f64, (k / cols) as f64);
+                3.0 * (0.2 * x).sin() * (0.15 * y).cos() + 0.05 * x
+            })
+            .collect(),
+    )
+    .unwrap();
+    let mesh = grid_mesh(&z, DVec2::ZERO, (cols - 1) as f64, (rows - 1) as f64);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let nodes: Vec<DVec2> = (0..rows * cols)
+        .map(|k| DVec2::new((k % cols) as f64, (k / cols) as f64))
+        .collect();
+    for (cutter, upper) in [
+        // Ball ρ = 3: gap ≤ δ²/2·(1/ρ + κ_max)/cos²φ with δ² = γ²/2, κ ≤ 0.12/mm, φ ≤ 40°.
+        (
+            Cutter::new(CutterKind::Ball, 6.0).unwrap(),
+            0.25 * (1.0 / 3.0 + 0.12) / 0.58,
+        ),
+        (Cutter::new(CutterKind::Flat, 4.0).unwrap(), f64::INFINITY),
+    ] {
+        let cl = inverse_offset(&z, step, &cutter, &Progress::new()).unwrap();
+        let dropped = drop_cutter(&bvh, &mesh, &cutter, &nodes);
+        let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (k, d) in dropped.iter().enumerate() {
+            let d = d.as_ref().unwrap();
+            let diff = d.z - cl.values()[k];
+            lowest = lowest.min(diff);
+            highest = highest.max(diff);
+        }
+        eprintln!(
+            "{}: drop-cutter − inverse offset in [{lowest:.2e}, {highest:.2e}] mm",
+            talas::tools::tool_spec(&cutter)
+        );
+        assert!(lowest >= -1e-9, "{lowest}");
+        assert!(highest <= upper, "{highest} vs {upper}");
+    }
+}

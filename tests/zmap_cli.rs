@@ -249,3 +249,71 @@ fn reduce_a_part_samples_its_exact_zmap() {
         "{err}"
     );
 }
+
+/// `talas reduce PART --path`: a raster path on the reduced model (CL Z-map by inverse offset),
+/// checked by the independent remaining-height check against the part's mesh: scallop within
+/// the requested height plus the reduction tolerance on ≥ 99 % of the samples, no gouge.
+#[test]
+fn reduce_a_part_and_machine_the_reduced_model() {
+    use glam::DVec2;
+    use talas::strategies::raster_check::{RemainingOptions, ball_remaining_height};
+    use talas::toolpath::{MoveKind, Toolpath};
+    let out_path =
+        std::env::temp_dir().join(format!("talas-zmap-path-{}.json", std::process::id()));
+    let out = talas(&[
+        "reduce",
+        data("bicubic-hills.stp").to_str().unwrap(),
+        "--step",
+        "0.5",
+        "--tolerance",
+        "0.005",
+        "--path",
+        out_path.to_str().unwrap(),
+        "--path-tool",
+        "ball:d=6",
+        "--scallop",
+        "0.02",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let stepover = doc["path"]["stepover_mm"].as_f64().unwrap();
+    assert!((stepover - 2.0 * (2.0 * 3.0 * 0.02 - 0.0004_f64).sqrt()).abs() < 1e-12);
+    let tp = Toolpath::from_json(&std::fs::read_to_string(&out_path).unwrap(), "path").unwrap();
+    assert!(tp.poses.iter().any(|p| p.kind == MoveKind::Cut));
+    // The reference surface: the STEP part tessellated at 2 µm (the shipped STL's chordal sag
+    // alone would read as several µm of gouge).
+    let part = talas::import::step::read_step(&data("bicubic-hills.stp")).unwrap();
+    let mesh = talas::geometry::tessellate::tessellate_part(
+        &part,
+        &talas::geometry::tessellate::TessellationOptions::with_chord_tol(0.002),
+    )
+    .mesh;
+    let check = RemainingOptions {
+        sample_spacing_mm: 0.6,
+        max_slope_rad: 60f64.to_radians(),
+        max_height_mm: 0.5,
+        march_step_mm: 0.004,
+        region: Some((DVec2::new(40.0, 30.0), DVec2::new(90.0, 70.0))),
+    };
+    let rep = ball_remaining_height(&mesh, &tp, &check).unwrap();
+    let within = rep.fraction_within(0.02 + 0.005);
+    eprintln!(
+        "Z-map path: {} poses, stepover {stepover:.3} mm, samples {}, p50 {:.4} p99 {:.4} mm, within {within:.4}, gouge {:.2e} mm",
+        tp.poses.len(),
+        rep.samples(),
+        rep.quantile(0.5),
+        rep.quantile(0.99),
+        rep.max_gouge_mm
+    );
+    assert!(rep.samples() > 1000);
+    assert!(within >= 0.99, "{within}");
+    // Left: the reference mesh's sag (2 µm), the path's chord tolerance (half the reduction
+    // tolerance, 2.5 µm) and the linear moves between CL nodes.
+    assert!(rep.max_gouge_mm <= 0.006, "{}", rep.max_gouge_mm);
+    let _ = std::fs::remove_file(&out_path);
+}

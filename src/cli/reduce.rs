@@ -18,9 +18,11 @@ use crate::import::ImportError;
 use crate::import::step::read_step;
 use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
 use crate::reduce::{
-    ExactFaces, Grid, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, grid_mesh,
-    part_zmap, point_spacing, reduce as run_reduce,
+    ExactFaces, Grid, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, ZmapPathOptions,
+    cl_zmap, grid_mesh, part_zmap, point_spacing, reduce as run_reduce, zmap_raster,
 };
+use crate::toolpath::ToolRecord;
+use crate::tools::{CutterKind, parse_tool_spec};
 
 /// Options of `talas reduce`.
 #[derive(Debug, clap::Args)]
@@ -49,6 +51,19 @@ pub struct ReduceArgs {
     /// extent kept).
     #[arg(long, value_name = "OUT.stl")]
     pub stl: Option<PathBuf>,
+    /// Write a raster finishing path computed on the reduced model (the contract's tool-path
+    /// JSON): the CL Z-map of --path-tool by inverse offset, every k-th row a zig-zag pass.
+    #[arg(long, value_name = "OUT.json")]
+    pub path: Option<PathBuf>,
+    /// Tool SPEC for --path.
+    #[arg(long, value_name = "SPEC", default_value = "ball:d=6")]
+    pub path_tool: String,
+    /// Scallop height for --path's step-over (a ball: 2·√(2ρh − h²)), mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub scallop: f64,
+    /// Step-over for --path, mm (overrides --scallop; needed for non-ball tools).
+    #[arg(long, value_name = "MM")]
+    pub stepover: Option<f64>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -113,7 +128,18 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         let mesh = grid_mesh(&r.reduced, origin, width, height);
         save_stl(out, &mesh, StlFormat::Binary)?;
     }
+    let origin = zmap.as_ref().map_or(glam::DVec2::ZERO, |z| z.origin);
+    let path = match &args.path {
+        Some(out) => Some(write_path(
+            args,
+            &r.at_nodes(grid.rows(), grid.cols()),
+            origin,
+            out,
+        )?),
+        None => None,
+    };
     Ok(json!({
+        "path": path,
         "rows": grid.rows(),
         "cols": grid.cols(),
         "tolerance_mm": args.tolerance,
@@ -191,4 +217,63 @@ pub fn human(doc: &Value) -> String {
         doc["max_error"],
         doc["mean_error"]
     )
+}
+
+/// Plan the raster path on the reduced model `model` (at the Z-map's nodes) and write it to
+/// `out`; returns its summary for the JSON document.
+fn write_path(
+    args: &ReduceArgs,
+    model: &Grid,
+    origin: glam::DVec2,
+    out: &Path,
+) -> Result<Value, ImportError> {
+    let opt = |what: &str, msg: String| ImportError::new(&args.file, Some(what.to_string()), msg);
+    let cutter = parse_tool_spec(&args.path_tool).map_err(|e| opt("--path-tool", e.to_string()))?;
+    let stepover = match (args.stepover, cutter.kind) {
+        (Some(s), _) => s,
+        (None, CutterKind::Ball) => {
+            let (rho, h) = (cutter.radius(), args.scallop);
+            if !(h > 0.0 && h < rho) {
+                return Err(opt(
+                    "--scallop",
+                    format!("must be between 0 and the ball radius, got {h}"),
+                ));
+            }
+            2.0 * (2.0 * rho * h - h * h).sqrt()
+        }
+        (None, _) => {
+            return Err(opt(
+                "--stepover",
+                "a non-ball tool needs --stepover (the scallop rule is for a ball)".into(),
+            ));
+        }
+    };
+    // Drop-cutter on the triangulated model: the node-only inverse offset would let the tool
+    // sink between nodes (see `reduce::inverse_offset`).
+    let cl = cl_zmap(model, origin, args.step, &cutter, &Progress::new())
+        .map_err(|e| opt("--step", e.to_string()))?;
+    let tool = ToolRecord {
+        spec: args.path_tool.clone(),
+        cutter,
+    };
+    let popts = ZmapPathOptions {
+        stepover_mm: stepover,
+        chord_tol_mm: (0.5 * args.tolerance).max(1e-4),
+        ..ZmapPathOptions::default()
+    };
+    let tp = zmap_raster(&cl, origin, args.step, tool, &popts)
+        .map_err(|e| opt("--stepover", e.to_string()))?;
+    let text = tp
+        .to_json()
+        .map_err(|e| ImportError::new(out, None, e.to_string()))?;
+    crate::storage::write_atomic(out, text.as_bytes())
+        .map_err(|e| ImportError::new(out, None, format!("cannot write: {e}")))?;
+    Ok(json!({
+        "file": out.display().to_string(),
+        "tool": args.path_tool,
+        "stepover_mm": stepover,
+        "poses": tp.summary.pose_count,
+        "cut_length_mm": tp.summary.cut_length_mm,
+        "estimated_time_s": tp.summary.estimated_time_s,
+    }))
 }

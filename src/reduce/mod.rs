@@ -19,15 +19,23 @@
 //! a parametric surface ([`zmap_from_surface`], Newton on x(u,v), y(u,v)); irregular data
 //! (mesh vertices, point clouds) gives the thesis's XY-dependent Z-map ([`xy_zmap_from_points`]),
 //! reduced matrix by matrix with [`reduce_xy_zmap`].
+//!
+//! **Tool paths on Z-maps.** [`inverse_offset`] gives a cutter's CL Z-map (tip heights, the
+//! thesis's Eqs. 4.7–4.10 generalised to every cutter profile; contacts at the nodes only),
+//! [`cl_zmap`] the exact one of the triangulated Z-map (drop-cutter), and [`zmap_raster`] reads a
+//! raster finishing path off either.
 
 mod grid;
+mod inverse_offset;
 mod part_reduction;
 mod surface_zmap;
 mod svd;
 mod xy_zmap;
 mod zmap;
+mod zmap_path;
 
 pub use grid::Grid;
+pub use inverse_offset::{cl_zmap, inverse_offset};
 pub use part_reduction::{
     ExactFaces, MAX_PART_ZMAP_NODES, PartReduction, PartZmap, part_zmap, reduce_part, zmap_size,
 };
@@ -37,6 +45,7 @@ pub use xy_zmap::{
     EmptyCellFill, XyReduction, XyZmap, reduce_xy_zmap, xy_mesh, xy_zmap_from_points,
 };
 pub use zmap::{grid_mesh, zmap_from_mesh};
+pub use zmap_path::{ZmapPathOptions, zmap_raster};
 
 /// Why a Z-map could not be reduced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
