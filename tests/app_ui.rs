@@ -570,7 +570,11 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         std::thread::sleep(Duration::from_millis(5));
     }
     h.run_steps(2);
-    let r = h.state().reduction().expect("reduced").clone();
+    let Some(talas::app::panels::reduction_view::ReductionResult::Regular(r)) =
+        h.state().reduction().cloned()
+    else {
+        panic!("no regular reduction");
+    };
     assert!(h.state().reduction_visible());
     h.get_by_label("Bound σ(r+1)");
     let tol = 0.01;
@@ -643,4 +647,52 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.state_mut().apply(Command::SetReductionVisible(false));
     h.run_steps(2);
     assert!(!h.state().reduction_visible());
+    // The XY-dependent Z-map of the mesh's vertices: X, Y and Z reduced separately; the report
+    // shows the three ranks and the vertical error, which is the largest node error measured.
+    h.get_by_label("XY-dependent").click();
+    h.run_steps(2);
+    h.get_by_label("Reduce").click();
+    h.run_steps(2);
+    for _ in 0..6000 {
+        h.step();
+        if !h.state().is_reducing() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.run_steps(2);
+    let Some(talas::app::panels::reduction_view::ReductionResult::Xy(xy)) =
+        h.state().reduction().cloned()
+    else {
+        panic!("no XY-dependent reduction");
+    };
+    h.get_by_label("Ranks");
+    let red = &xy.reduction;
+    assert!(red.x.rank >= 1 && red.y.rank >= 1 && red.z.rank >= 1);
+    // The nodes are mesh vertices (or cell centres on the mesh): they lie within the mesh's
+    // bounding box, and every node is covered by the reduced surface or counted as not.
+    let covered = xy.signed_error.iter().flatten().count();
+    assert_eq!(covered + red.uncovered, xy.map.z.values().len());
+    let worst = xy
+        .signed_error
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |a, e| a.max(e.abs()));
+    assert!((worst - red.max_error).abs() < 1e-12);
+    eprintln!(
+        "XY-dependent: {}×{} nodes, ranks X {} Y {} Z {}, max vertical error {:.2e} mm, {} uncovered",
+        xy.map.z.cols(),
+        xy.map.z.rows(),
+        red.x.rank,
+        red.y.rank,
+        red.z.rank,
+        red.max_error,
+        red.uncovered
+    );
+    let out = dir.join("reduced-xy.stl");
+    h.state_mut().apply(Command::ExportReductionTo(out.clone()));
+    let back =
+        talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
+    let (m2, n2) = (red.reduced.z.rows(), red.reduced.z.cols());
+    assert_eq!(back.mesh.triangles.len(), 2 * (m2 - 1) * (n2 - 1));
 }

@@ -37,7 +37,8 @@ mod zmap_path;
 pub use grid::Grid;
 pub use inverse_offset::{cl_zmap, inverse_offset};
 pub use part_reduction::{
-    ExactFaces, MAX_PART_ZMAP_NODES, PartReduction, PartZmap, part_zmap, reduce_part, zmap_size,
+    ExactFaces, MAX_PART_ZMAP_NODES, PartReduction, PartXyReduction, PartZmap, part_zmap,
+    reduce_part, reduce_part_xy, zmap_size,
 };
 pub use surface_zmap::{SurfaceZmap, zmap_from_surface};
 pub use svd::{SvdFactors, svd};

@@ -12,7 +12,10 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::surface_zmap::invert_xy;
-use super::{Grid, ReduceError, ReduceOptions, Reduction, grid_mesh, reduce};
+use super::{
+    EmptyCellFill, Grid, ReduceError, ReduceOptions, Reduction, XyReduction, XyZmap, grid_mesh,
+    point_spacing, reduce, reduce_xy_zmap, resampled_count, xy_mesh, xy_zmap_from_points,
+};
 use crate::diagnostics::Progress;
 use crate::geometry::bvh::{MeshBvh, RayHit};
 use crate::geometry::mesh::TriMesh;
@@ -277,6 +280,92 @@ pub fn reduce_part(
     })
 }
 
+/// A part's XY-dependent Z-map (built from its mesh vertices, the thesis's irregular-data
+/// program), its reduction (X, Y and Z each by its own SVD), and the signed vertical error of
+/// every original node against the reduced surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartXyReduction {
+    /// The XY-dependent Z-map that was reduced.
+    pub map: XyZmap,
+    /// The reduction of its three matrices.
+    pub reduction: XyReduction,
+    /// Reduced surface − node height at every node of `map` (row-major), mm; `None` where the
+    /// node lies outside the reduced surface's XY footprint.
+    pub signed_error: Vec<Option<f64>>,
+}
+
+impl PartXyReduction {
+    /// The original XY-dependent Z-map as a mesh (one vertex per node, row-major, so
+    /// `signed_error`'s values are its per-vertex scalars).
+    #[must_use]
+    pub fn original_mesh(&self) -> TriMesh {
+        xy_mesh(&self.map)
+    }
+
+    /// The reduced model as a mesh (what an STL export writes).
+    #[must_use]
+    pub fn reduced_mesh(&self) -> TriMesh {
+        xy_mesh(&self.reduction.reduced)
+    }
+
+    /// Numbers the reduced model stores (the three matrices' factors).
+    #[must_use]
+    pub fn stored_numbers(&self) -> usize {
+        let r = &self.reduction;
+        r.x.stored_numbers + r.y.stored_numbers + r.z.stored_numbers
+    }
+}
+
+/// Reduce the XY-dependent Z-map of `mesh`'s vertices at reference step `step_mm` (empty cells
+/// filled from the mesh behind `bvh`): each matrix to the rank `opts` chooses, resampled to the
+/// ball's spacing when `opts` asks for it (the grid step being `step_mm`).
+///
+/// # Errors
+/// As [`xy_zmap_from_points`] and [`reduce_xy_zmap`]; [`ReduceError::Cancelled`] when
+/// `progress` is cancelled.
+pub fn reduce_part_xy(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    step_mm: f64,
+    opts: &ReduceOptions,
+    progress: &Progress,
+) -> Result<PartXyReduction, ReduceError> {
+    let map = xy_zmap_from_points(&mesh.positions, step_mm, EmptyCellFill::Mesh(bvh))?;
+    progress.check().map_err(|_| ReduceError::Cancelled)?;
+    progress.set(0.3);
+    let (m, n) = (map.z.rows(), map.z.cols());
+    let (rows, cols) = match opts.resampling {
+        Some(rs) => {
+            let l = point_spacing(rs.tool_radius_mm, opts.tolerance_mm);
+            (
+                resampled_count(m, step_mm, l),
+                resampled_count(n, step_mm, l),
+            )
+        }
+        None => (m, n),
+    };
+    let reduction = reduce_xy_zmap(&map, opts.tolerance_mm, opts.rank_rule, rows, cols)?;
+    progress.check().map_err(|_| ReduceError::Cancelled)?;
+    progress.set(0.8);
+    let reduced = MeshBvh::new(&xy_mesh(&reduction.reduced))
+        .map_err(|e| ReduceError::Shape(format!("reduced mesh: {e}")))?;
+    let top = reduced.bbox().max.z + 1.0;
+    let signed_error = (0..m * n)
+        .into_par_iter()
+        .map(|k| {
+            let p = map.point(k / n, k % n)?;
+            let hit = reduced.ray_cast(p.truncate().extend(top), DVec3::NEG_Z, f64::INFINITY)?;
+            Some(hit.point.z - p.z)
+        })
+        .collect();
+    progress.set(1.0);
+    Ok(PartXyReduction {
+        map,
+        reduction,
+        signed_error,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -333,6 +422,30 @@ mod tests {
         assert!(max <= opts.tolerance_mm);
         let mesh = r.approximation_mesh();
         assert_eq!(mesh.positions.len(), r.signed_error.values().len());
+    }
+
+    #[test]
+    fn xy_reduction_errors_agree_with_the_report() {
+        let n = 40;
+        let g = Grid::from_fn(n + 1, n + 1, |r, c| {
+            let (x, y) = (c as f64 * 0.25, r as f64 * 0.25);
+            (0.7 * x).sin() + 0.3 * (0.5 * y).cos() * x
+        });
+        let mesh = grid_mesh(&g, DVec2::ZERO, 10.0, 10.0);
+        let bvh = MeshBvh::new(&mesh).unwrap();
+        let opts = ReduceOptions {
+            tolerance_mm: 0.01,
+            rank_rule: super::super::RankRule::SpectralBound,
+            resampling: None,
+        };
+        let r = reduce_part_xy(&mesh, &bvh, 0.25, &opts, &Progress::new()).unwrap();
+        assert_eq!(r.signed_error.len(), r.map.z.values().len());
+        let covered: Vec<f64> = r.signed_error.iter().flatten().map(|e| e.abs()).collect();
+        assert_eq!(r.signed_error.len() - covered.len(), r.reduction.uncovered);
+        let max = covered.iter().fold(0.0_f64, |a, b| a.max(*b));
+        assert!((max - r.reduction.max_error).abs() < 1e-12, "{max}");
+        assert!(r.stored_numbers() > 0);
+        assert_eq!(r.original_mesh().positions.len(), r.signed_error.len());
     }
 
     #[test]

@@ -11,8 +11,8 @@ use glam::DVec2;
 use super::super::command::Command;
 use super::super::theme;
 use crate::reduce::{
-    MAX_PART_ZMAP_NODES, PartReduction, RankRule, ReduceOptions, Resampling, point_spacing,
-    zmap_size,
+    MAX_PART_ZMAP_NODES, PartReduction, PartXyReduction, RankRule, ReduceOptions, Reduction,
+    Resampling, point_spacing, zmap_size,
 };
 
 /// How the rank is chosen, as the window offers it.
@@ -26,9 +26,20 @@ pub enum RankChoice {
     Fixed,
 }
 
+/// Which Z-map of the part is reduced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ZmapSource {
+    /// A regular grid over the part's XY box (heights exact on STEP faces).
+    Regular,
+    /// The thesis's XY-dependent Z-map: the mesh's vertices binned into a reference grid.
+    XyDependent,
+}
+
 /// What a reduction is run with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReductionSettings {
+    /// Which Z-map is reduced.
+    pub source: ZmapSource,
     /// Z-map grid step, mm.
     pub step_mm: f64,
     /// Tolerance t, mm.
@@ -46,6 +57,7 @@ pub struct ReductionSettings {
 impl Default for ReductionSettings {
     fn default() -> Self {
         Self {
+            source: ZmapSource::Regular,
             step_mm: 0.5,
             tolerance_mm: 0.01,
             rank: RankChoice::Spectral,
@@ -99,7 +111,7 @@ pub struct ReductionView<'a> {
     /// XY extent of the part, mm (None without a part).
     pub part_size_mm: Option<DVec2>,
     /// The latest reduction, with its settings and wall time (s).
-    pub result: Option<(&'a PartReduction, &'a ReductionSettings, f64)>,
+    pub result: Option<(&'a ReductionResult, &'a ReductionSettings, f64)>,
     /// The result was made from another part or other settings.
     pub stale: bool,
     /// Fraction done of the running reduction.
@@ -186,7 +198,21 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
         .num_columns(2)
         .spacing([12.0, 4.0])
         .show(ui, |ui| {
-            ui.label("Grid step");
+            ui.label("Z-map");
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut s.source, ZmapSource::Regular, "Regular grid")
+                    .on_hover_text("Heights at grid nodes over the part's XY box");
+                ui.radio_value(&mut s.source, ZmapSource::XyDependent, "XY-dependent")
+                    .on_hover_text(
+                        "The mesh's vertices binned into a reference grid: X, Y and Z matrices \
+                         reduced separately (keeps sharp edges where a regular grid blurs them)",
+                    );
+            });
+            ui.end_row();
+            ui.label(match s.source {
+                ZmapSource::Regular => "Grid step",
+                ZmapSource::XyDependent => "Reference step",
+            });
             ui.add(
                 egui::DragValue::new(&mut s.step_mm)
                     .range(0.001..=100.0)
@@ -197,10 +223,16 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
             ui.end_row();
             let (rows, cols) = zmap_size(size, s.step_mm);
             let nodes = rows.saturating_mul(cols);
-            ui.label("Z-map");
+            ui.label("Nodes");
             let text = format!(
-                "{cols} × {rows} nodes (X × Y) over {:.1} × {:.1} mm",
-                size.x, size.y
+                "{}{cols} × {rows} nodes (X × Y) over {:.1} × {:.1} mm",
+                if s.source == ZmapSource::XyDependent {
+                    "at most "
+                } else {
+                    ""
+                },
+                size.x,
+                size.y
             );
             if nodes > MAX_PART_ZMAP_NODES {
                 ui.colored_label(theme::ERROR, format!("{text} (more than 4 M)"));
@@ -278,90 +310,220 @@ fn length_text(mm: f64) -> String {
     }
 }
 
-fn report_ui(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSettings, elapsed_s: f64) {
-    let red = &r.reduction;
-    let (m, n) = (r.zmap.grid.rows(), r.zmap.grid.cols());
-    let nodes = m * n;
+/// A finished reduction of either kind of Z-map.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReductionResult {
+    /// A regular Z-map (grid nodes).
+    Regular(PartReduction),
+    /// An XY-dependent Z-map (mesh vertices), reduced matrix by matrix.
+    Xy(PartXyReduction),
+}
+
+impl ReductionResult {
+    /// Largest |model − part| over the original nodes, mm.
+    #[must_use]
+    pub fn max_error(&self) -> f64 {
+        match self {
+            Self::Regular(r) => r.reduction.max_error,
+            Self::Xy(r) => r.reduction.max_error,
+        }
+    }
+
+    /// Numbers the reduced model stores.
+    #[must_use]
+    pub fn stored_numbers(&self) -> usize {
+        match self {
+            Self::Regular(r) => r.reduction.stored_numbers,
+            Self::Xy(r) => r.stored_numbers(),
+        }
+    }
+
+    /// The spectra shown: one per reduced matrix, with its name.
+    fn spectra(&self) -> Vec<(&'static str, &Reduction)> {
+        match self {
+            Self::Regular(r) => vec![("Z", &r.reduction)],
+            Self::Xy(r) => vec![
+                ("X", &r.reduction.x),
+                ("Y", &r.reduction.y),
+                ("Z", &r.reduction.z),
+            ],
+        }
+    }
+}
+
+/// One report row: a label and a monospace value.
+fn report_row(ui: &mut egui::Ui, key: &str, value: String) {
+    ui.label(key);
+    ui.monospace(value);
+    ui.end_row();
+}
+
+/// `2.1 µm  (within tolerance)`.
+fn error_text(mm: f64, tolerance_mm: f64) -> String {
+    let verdict = if mm <= tolerance_mm {
+        "  (within tolerance)"
+    } else {
+        "  (over tolerance)"
+    };
+    format!("{}{verdict}", length_text(mm))
+}
+
+fn report_ui(
+    ui: &mut egui::Ui,
+    result: &ReductionResult,
+    used: &ReductionSettings,
+    elapsed_s: f64,
+) {
     egui::Grid::new("reduction report")
         .num_columns(2)
         .striped(true)
         .spacing([12.0, 3.0])
         .show(ui, |ui| {
-            let mut row = |k: &str, v: String| {
-                ui.label(k);
-                ui.monospace(v);
-                ui.end_row();
-            };
-            row(
-                "Z-map",
-                format!("{n} × {m} nodes (X × Y) at {} mm", r.zmap.step_mm),
-            );
-            let from_mesh = nodes - r.zmap.exact_nodes - r.zmap.misses;
-            row(
-                "Heights",
-                format!(
-                    "{} exact, {from_mesh} from the mesh, {} off the part (floor)",
-                    r.zmap.exact_nodes, r.zmap.misses
-                ),
-            );
-            row(
-                "Rank",
-                format!(
-                    "{} of {} singular values",
-                    red.rank,
-                    red.singular_values.len()
-                ),
-            );
-            row("Bound σ(r+1)", length_text(red.rank_error_bound));
-            row(
-                "Max error",
-                format!(
-                    "{}{}",
-                    length_text(red.max_error),
-                    if red.max_error <= used.tolerance_mm {
-                        "  (within tolerance)"
-                    } else {
-                        "  (over tolerance)"
-                    }
-                ),
-            );
-            row("Mean error", length_text(red.mean_error));
-            row(
-                "Reduced grid",
-                format!(
-                    "{} × {} nodes (X × Y)",
-                    red.reduced.cols(),
-                    red.reduced.rows()
-                ),
-            );
-            if let Some(l) = red.spacing_mm {
-                row("Point spacing", format!("{l:.4} mm"));
+            match result {
+                ReductionResult::Regular(r) => regular_rows(ui, r, used),
+                ReductionResult::Xy(r) => xy_rows(ui, r, used),
             }
-            row(
-                "Stored",
-                format!(
-                    "{} numbers for {} nodes ({:.2} % of the Z-map)",
-                    red.stored_numbers,
-                    nodes,
-                    100.0 * red.stored_numbers as f64 / nodes.max(1) as f64
-                ),
-            );
-            row("Time", format!("{elapsed_s:.2} s"));
+            report_row(ui, "Time", format!("{elapsed_s:.2} s"));
         });
 }
 
-/// The singular values on a log₁₀ scale: kept terms in the accent colour, dropped ones grey,
-/// the tolerance as a dashed line and the cut after the r-th term.
-fn singular_value_plot(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSettings) {
+fn regular_rows(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSettings) {
     let red = &r.reduction;
+    let (m, n) = (r.zmap.grid.rows(), r.zmap.grid.cols());
+    let nodes = m * n;
+    report_row(
+        ui,
+        "Z-map",
+        format!("{n} × {m} nodes (X × Y) at {} mm", r.zmap.step_mm),
+    );
+    let from_mesh = nodes - r.zmap.exact_nodes - r.zmap.misses;
+    report_row(
+        ui,
+        "Heights",
+        format!(
+            "{} exact, {from_mesh} from the mesh, {} off the part (floor)",
+            r.zmap.exact_nodes, r.zmap.misses
+        ),
+    );
+    report_row(
+        ui,
+        "Rank",
+        format!(
+            "{} of {} singular values",
+            red.rank,
+            red.singular_values.len()
+        ),
+    );
+    report_row(ui, "Bound σ(r+1)", length_text(red.rank_error_bound));
+    report_row(
+        ui,
+        "Max error",
+        error_text(red.max_error, used.tolerance_mm),
+    );
+    report_row(ui, "Mean error", length_text(red.mean_error));
+    report_row(
+        ui,
+        "Reduced grid",
+        format!(
+            "{} × {} nodes (X × Y)",
+            red.reduced.cols(),
+            red.reduced.rows()
+        ),
+    );
+    if let Some(l) = red.spacing_mm {
+        report_row(ui, "Point spacing", format!("{l:.4} mm"));
+    }
+    report_row(
+        ui,
+        "Stored",
+        format!(
+            "{} numbers for {} nodes ({:.2} % of the Z-map)",
+            red.stored_numbers,
+            nodes,
+            100.0 * red.stored_numbers as f64 / nodes.max(1) as f64
+        ),
+    );
+}
+
+fn xy_rows(ui: &mut egui::Ui, r: &PartXyReduction, used: &ReductionSettings) {
+    let red = &r.reduction;
+    let (m, n) = (r.map.z.rows(), r.map.z.cols());
+    report_row(
+        ui,
+        "Z-map",
+        format!(
+            "XY-dependent, {n} × {m} nodes (X × Y), reference step {} mm",
+            used.step_mm
+        ),
+    );
+    report_row(
+        ui,
+        "Ranks",
+        format!(
+            "X {}, Y {}, Z {} of {} singular values",
+            red.x.rank,
+            red.y.rank,
+            red.z.rank,
+            red.z.singular_values.len()
+        ),
+    );
+    report_row(
+        ui,
+        "Max error",
+        format!(
+            "{} (vertical)",
+            error_text(red.max_error, used.tolerance_mm)
+        ),
+    );
+    report_row(ui, "Mean error", length_text(red.mean_error));
+    if red.uncovered > 0 {
+        report_row(
+            ui,
+            "Not covered",
+            format!("{} nodes outside the reduced surface", red.uncovered),
+        );
+    }
+    report_row(
+        ui,
+        "Reduced grid",
+        format!(
+            "{} × {} nodes (X × Y)",
+            red.reduced.z.cols(),
+            red.reduced.z.rows()
+        ),
+    );
+    let numbers = 3 * m * n;
+    report_row(
+        ui,
+        "Stored",
+        format!(
+            "{} numbers for {numbers} (X, Y, Z of {} nodes; {:.2} %)",
+            r.stored_numbers(),
+            m * n,
+            100.0 * r.stored_numbers() as f64 / numbers.max(1) as f64
+        ),
+    );
+}
+
+/// Colour of a matrix's spectrum.
+fn spectrum_colour(name: &str) -> Color32 {
+    match name {
+        "X" => Color32::from_rgb(235, 90, 80),
+        "Y" => Color32::from_rgb(110, 200, 110),
+        _ => theme::ACCENT,
+    }
+}
+
+/// The singular values on a log₁₀ scale: kept terms filled, dropped ones hollow, the tolerance as
+/// a dashed line and the cut after each matrix's r-th term.
+fn singular_value_plot(ui: &mut egui::Ui, result: &ReductionResult, used: &ReductionSettings) {
+    let spectra = result.spectra();
     // Values below σ_1 · 1e-16 are rounding noise (exactly separable data gives them): they sit
     // on a floor under the smaller of that level and the tolerance instead of going to −∞.
-    let sigma1 = red
-        .singular_values
-        .first()
-        .copied()
-        .unwrap_or(1.0)
-        .max(1e-300);
+    let sigma1 = spectra
+        .iter()
+        .filter_map(|(_, r)| r.singular_values.first().copied())
+        .fold(1e-300, f64::max);
     let floor = (sigma1 * 1e-16).min(used.tolerance_mm).max(1e-300).log10() - 1.0;
     let point = |k: usize, s: f64| {
         [
@@ -369,23 +531,10 @@ fn singular_value_plot(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSet
             if s > 0.0 { s.log10().max(floor) } else { floor },
         ]
     };
-    let kept: Vec<[f64; 2]> = red
-        .singular_values
-        .iter()
-        .take(red.rank)
-        .enumerate()
-        .map(|(k, s)| point(k, *s))
-        .collect();
-    let dropped: Vec<[f64; 2]> = red
-        .singular_values
-        .iter()
-        .enumerate()
-        .skip(red.rank)
-        .map(|(k, s)| point(k, *s))
-        .collect();
     let tol = used.tolerance_mm.log10();
     Plot::new("singular values")
         .height(220.0)
+        .legend(egui_plot::Legend::default())
         .x_axis_label("term k")
         .y_axis_label("σ_k (mm, log scale)")
         .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
@@ -398,25 +547,41 @@ fn singular_value_plot(ui: &mut egui::Ui, r: &PartReduction, used: &ReductionSet
         })
         .allow_double_click_reset(true)
         .show(ui, |p| {
-            p.points(
-                Points::new("kept", kept)
-                    .color(theme::ACCENT)
-                    .shape(MarkerShape::Circle)
-                    .filled(true)
-                    .radius(2.5),
-            );
-            p.points(
-                Points::new("dropped", dropped)
-                    .color(Color32::from_gray(140))
-                    .shape(MarkerShape::Circle)
-                    .radius(2.0),
-            );
+            for (name, red) in &spectra {
+                let colour = spectrum_colour(name);
+                let (kept, dropped): (Vec<_>, Vec<_>) = red
+                    .singular_values
+                    .iter()
+                    .enumerate()
+                    .map(|(k, s)| (k < red.rank, point(k, *s)))
+                    .partition(|(keep, _)| *keep);
+                let strip = |v: Vec<(bool, [f64; 2])>| -> Vec<[f64; 2]> {
+                    v.into_iter().map(|(_, p)| p).collect()
+                };
+                p.points(
+                    Points::new(format!("{name} kept"), strip(kept))
+                        .color(colour)
+                        .shape(MarkerShape::Circle)
+                        .filled(true)
+                        .radius(2.5),
+                );
+                p.points(
+                    Points::new(format!("{name} dropped"), strip(dropped))
+                        .color(colour.gamma_multiply(0.5))
+                        .shape(MarkerShape::Circle)
+                        .filled(false)
+                        .radius(2.0),
+                );
+                p.vline(
+                    VLine::new(format!("{name} rank"), red.rank as f64 + 0.5)
+                        .color(colour.gamma_multiply(0.8)),
+                );
+            }
             p.hline(
                 HLine::new("tolerance", tol)
                     .color(theme::WARNING)
                     .style(LineStyle::dashed_loose()),
             );
-            p.vline(VLine::new("rank", red.rank as f64 + 0.5).color(Color32::WHITE));
         });
 }
 

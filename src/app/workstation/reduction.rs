@@ -10,11 +10,13 @@ use glam::{DVec2, Mat4};
 
 use super::super::command::Command;
 use super::super::job::Job;
-use super::super::panels::reduction_view::{ReductionSettings, ReductionView, reduction_window};
+use super::super::panels::reduction_view::{
+    ReductionResult, ReductionSettings, ReductionView, ZmapSource, reduction_window,
+};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::import::stl::{StlFormat, save_stl};
-use crate::reduce::{ExactFaces, PartReduction, ReduceError, reduce_part};
+use crate::reduce::{ExactFaces, ReduceError, reduce_part, reduce_part_xy};
 use crate::render::{ColourMap, DataId, MeshData, MeshInstance, ScalarMapping};
 
 /// Colour of the reduced surface where no error is mapped (sRGB).
@@ -25,7 +27,7 @@ pub(super) struct ShownReduction {
     /// The part it was made from.
     part_id: DataId,
     settings: ReductionSettings,
-    result: PartReduction,
+    result: ReductionResult,
     elapsed_s: f64,
     id: DataId,
     mesh: Arc<MeshData>,
@@ -36,7 +38,7 @@ pub(super) struct ShownReduction {
 type ReductionJob = (
     DataId,
     ReductionSettings,
-    Job<Result<PartReduction, ReduceError>>,
+    Job<Result<ReductionResult, ReduceError>>,
 );
 
 /// The data-reduction state of the workstation.
@@ -96,17 +98,30 @@ impl Workstation {
         }
         let ctx = self.ctx.clone();
         let opts = settings.options();
-        self.log_info(format!(
-            "Reducing the Z-map of {} at {} mm, tolerance {} mm",
+        let what = match settings.source {
+            ZmapSource::Regular => "Z-map",
+            ZmapSource::XyDependent => "XY-dependent Z-map",
+        };
+        let mesh = doc.part.mesh.clone();
+        let message = format!(
+            "Reducing the {what} of {} at {} mm, tolerance {} mm",
             doc.part.name, settings.step_mm, settings.tolerance_mm
-        ));
+        );
+        self.log_info(message);
         self.reductions.job = Some((
             part_id,
             settings,
             Job::spawn(
-                "Reducing the Z-map",
-                move |progress| {
-                    reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
+                format!("Reducing the {what}"),
+                move |progress| match settings.source {
+                    ZmapSource::Regular => {
+                        reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
+                            .map(ReductionResult::Regular)
+                    }
+                    ZmapSource::XyDependent => {
+                        reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
+                            .map(ReductionResult::Xy)
+                    }
                 },
                 move || ctx.request_repaint(),
             ),
@@ -133,7 +148,7 @@ impl Workstation {
 
     /// The latest reduction, if any.
     #[must_use]
-    pub fn reduction(&self) -> Option<&PartReduction> {
+    pub fn reduction(&self) -> Option<&ReductionResult> {
         self.reductions.shown.as_ref().map(|s| &s.result)
     }
 
@@ -166,19 +181,34 @@ impl Workstation {
         let t = self.now_s();
         match outcome {
             Some(Ok(result)) => {
-                let red = &result.reduction;
-                let nodes = result.zmap.grid.values().len();
+                let (kind, cols, rows, ranks) = match &result {
+                    ReductionResult::Regular(r) => (
+                        "",
+                        r.zmap.grid.cols(),
+                        r.zmap.grid.rows(),
+                        r.reduction.rank.to_string(),
+                    ),
+                    ReductionResult::Xy(r) => (
+                        "XY-dependent ",
+                        r.map.z.cols(),
+                        r.map.z.rows(),
+                        format!(
+                            "X {} Y {} Z {}",
+                            r.reduction.x.rank, r.reduction.y.rank, r.reduction.z.rank
+                        ),
+                    ),
+                };
+                let mean = match &result {
+                    ReductionResult::Regular(r) => r.reduction.mean_error,
+                    ReductionResult::Xy(r) => r.reduction.mean_error,
+                };
                 self.log.push(
                     t,
                     Severity::Info,
                     format!(
-                        "Reduced a {}×{} (X×Y) Z-map to rank {} ({} numbers for {nodes} nodes): max error {:.4} mm, mean {:.4} mm, in {elapsed_s:.2} s",
-                        result.zmap.grid.cols(),
-                        result.zmap.grid.rows(),
-                        red.rank,
-                        red.stored_numbers,
-                        red.max_error,
-                        red.mean_error,
+                        "Reduced a {cols}×{rows} (X×Y) {kind}Z-map to rank {ranks} ({} numbers): max error {:.4} mm, mean {mean:.4} mm, in {elapsed_s:.2} s",
+                        result.stored_numbers(),
+                        result.max_error(),
                     ),
                 );
                 let (mesh, mapping) = error_mesh(&result, settings.tolerance_mm);
@@ -250,7 +280,10 @@ impl Workstation {
                 .notify(t, Severity::Warning, "Reduce the Z-map before exporting it");
             return;
         };
-        let mesh = s.result.reduced_mesh();
+        let mesh = match &s.result {
+            ReductionResult::Regular(r) => r.reduced_mesh(),
+            ReductionResult::Xy(r) => r.reduced_mesh(),
+        };
         match save_stl(&path, &mesh, StlFormat::Binary) {
             Ok(()) => self.log.push(
                 t,
@@ -315,20 +348,32 @@ impl Workstation {
     }
 }
 
-/// The reduced surface at the Z-map's nodes with its signed error as the scalar, mapped
-/// symmetrically about zero over ± the tolerance: white is on the part, full blue or red is at
-/// or beyond the tolerance (below or above the part).
-fn error_mesh(r: &PartReduction, tolerance_mm: f64) -> (MeshData, ScalarMapping) {
-    let m = r.approximation_mesh();
+/// The reduced surface at the Z-map's nodes with its signed error as the scalar (a regular
+/// Z-map), or the original XY-dependent Z-map with the reduced surface's vertical distance above
+/// each node (nodes outside it: 0), mapped symmetrically about zero over ± the tolerance: white
+/// is on the part, full blue or red is at or beyond the tolerance (below or above the part).
+fn error_mesh(r: &ReductionResult, tolerance_mm: f64) -> (MeshData, ScalarMapping) {
+    let (mut mesh, scalars): (_, Vec<f32>) = match r {
+        ReductionResult::Regular(r) => (
+            r.approximation_mesh(),
+            r.signed_error.values().iter().map(|&d| d as f32).collect(),
+        ),
+        ReductionResult::Xy(r) => (
+            r.original_mesh(),
+            r.signed_error
+                .iter()
+                .map(|d| d.unwrap_or(0.0) as f32)
+                .collect(),
+        ),
+    };
     let f = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32];
-    let mut mesh = m;
     mesh.compute_normals();
     let range = tolerance_mm.max(1e-6) as f32;
     (
         MeshData {
             positions: mesh.positions.iter().map(|&p| f(p)).collect(),
             normals: mesh.normals.iter().map(|&n| f(n)).collect(),
-            scalars: r.signed_error.values().iter().map(|&d| d as f32).collect(),
+            scalars,
             indices: mesh.triangles.iter().flatten().copied().collect(),
         },
         ScalarMapping {
