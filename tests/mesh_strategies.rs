@@ -30,14 +30,27 @@ fn tool(spec: &str) -> ToolRecord {
     }
 }
 
-/// Plan, check, and return (p50, p99, fraction ≤ h + tol, max gouge).
+/// What the planner predicted and the independent check measured.
+struct Checked {
+    /// The planner's largest predicted scallop, mm.
+    predicted: f64,
+    /// Remaining height p99 and max over the checked samples, mm.
+    p99: f64,
+    max: f64,
+    /// Fraction of samples within h + chord tolerance.
+    within: f64,
+    /// Largest gouge, mm.
+    gouge: f64,
+}
+
+/// Plan, check, and return what was predicted and measured.
 fn plan_and_check(
     mesh: &TriMesh,
     bvh: &MeshBvh,
     opts: &RasterOptions,
     region: Option<(DVec2, DVec2)>,
     check_slope: f64,
-) -> (f64, f64, f64, f64) {
+) -> Checked {
     let t0 = std::time::Instant::now();
     let plan = raster(mesh, bvh, &tool("ball:d=6"), opts).unwrap();
     eprintln!("raster planned in {:?}", t0.elapsed());
@@ -66,9 +79,10 @@ fn plan_and_check(
     let h = opts.scallop_mm + opts.chord_tol_mm;
     let within = rep.fraction_within(h);
     eprintln!(
-        "passes {}, poses {}, samples {}, remaining p50 {:.4} p90 {:.4} p99 {:.4} max {:.4} mm, ≤ h+tol {:.4}, uncovered {}, max gouge {:.2e} mm at {:?}, predicted max {:.4}",
+        "passes {}, poses {}, cut {:.0} mm, samples {}, remaining p50 {:.4} p90 {:.4} p99 {:.4} max {:.4} mm, ≤ h+tol {:.4}, uncovered {}, max gouge {:.2e} mm at {:?}, predicted max {:.4}",
         plan.passes,
         tp.poses.len(),
+        tp.summary.cut_length_mm,
         rep.samples(),
         rep.quantile(0.5),
         rep.quantile(0.9),
@@ -84,12 +98,39 @@ fn plan_and_check(
         eprintln!("  worst {v:.4} at {p:.3}");
     }
     assert!(rep.samples() > 5000, "{} samples", rep.samples());
-    (
-        rep.quantile(0.5),
-        rep.quantile(0.99),
+    Checked {
+        predicted: plan.max_predicted_scallop_mm,
+        p99: rep.quantile(0.99),
+        max: rep.quantile(1.0),
         within,
-        rep.max_gouge_mm,
-    )
+        gouge: rep.max_gouge_mm,
+    }
+}
+
+/// The planner's prediction against the request and against the independent check: the step
+/// holds the scallop (prediction ≤ h, and not far below it, or the step is wastefully small),
+/// and the prediction is honest (the measured p99 is not above it by more than the chord
+/// tolerance, with which the followed path may stand above the true CL).
+fn assert_prediction(c: &Checked, opts: &RasterOptions) {
+    let h = opts.scallop_mm;
+    assert!(
+        c.predicted <= h + 1e-9,
+        "predicted max scallop {} mm for a request of {h} mm",
+        c.predicted
+    );
+    assert!(c.predicted >= 0.8 * h, "predicted {} mm", c.predicted);
+    assert!(
+        c.p99 <= c.predicted + opts.chord_tol_mm,
+        "measured p99 {} mm above the prediction {} mm",
+        c.p99,
+        c.predicted
+    );
+    assert!(
+        c.within >= 0.99,
+        "only {} of samples within h + tol",
+        c.within
+    );
+    assert!(c.gouge <= 1e-3, "gouge {} mm", c.gouge);
 }
 
 #[test]
@@ -110,9 +151,14 @@ fn raster_ball_on_bicubic_hills_holds_the_scallop_without_gouge() {
         ..RasterOptions::default()
     };
     let region = Some((DVec2::new(31.0, 21.0), DVec2::new(109.0, 79.0)));
-    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, region, opts.max_slope_rad);
-    assert!(within >= 0.99, "only {within} of samples within h + tol");
-    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+    let c = plan_and_check(&mesh, &bvh, &opts, region, opts.max_slope_rad);
+    assert_prediction(&c, &opts);
+    // Away from the region's edge every sample is within h + tol.
+    assert!(
+        c.max <= opts.scallop_mm + opts.chord_tol_mm,
+        "max {}",
+        c.max
+    );
 }
 
 #[test]
@@ -126,9 +172,8 @@ fn raster_ball_on_pocket_fillets_holds_the_scallop_without_gouge() {
         boundary: Boundary::Silhouette,
         ..RasterOptions::default()
     };
-    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, None, 45f64.to_radians());
-    assert!(within >= 0.99, "only {within} of samples within h + tol");
-    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+    let c = plan_and_check(&mesh, &bvh, &opts, None, 45f64.to_radians());
+    assert_prediction(&c, &opts);
 }
 
 /// Z-level roughing of pocket-fillets from a box stock with a flat end mill: no cut pose (nor
