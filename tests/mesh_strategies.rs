@@ -254,6 +254,180 @@ fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
     );
 }
 
+/// Points of every fed move of `tp` every `step` mm, with the index of the move's end pose.
+fn fed_points(tp: &talas::toolpath::Toolpath, step: f64) -> Vec<(usize, talas::geometry::DVec3)> {
+    let mut pts = Vec::new();
+    for (k, w) in tp.poses.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        if b.kind == MoveKind::Rapid {
+            continue;
+        }
+        let n = (a.tip.distance(b.tip) / step).ceil().max(1.0) as usize;
+        for i in 0..=n {
+            pts.push((k + 1, a.tip.lerp(b.tip, i as f64 / n as f64)));
+        }
+    }
+    pts
+}
+
+/// Z-level roughing with flat-area detection on pocket-fillets (top z = 30, pocket floor
+/// z = 15, both flat): with the stock top at 35 and a 4 mm step-down the levels are 31, 27,
+/// 23, 19 (then 15 lies below the floor plus the stock), so both flat areas lie between two
+/// levels. Judged independently from the path alone (a flat end mill removes, over every
+/// point within its radius of the axis, everything above its tip): every floor sample keeps
+/// the stock to leave (not the 4 mm step), the part is never cut (drop-cutter with the real
+/// tool), and every plunge ends over material already cleared below it across the whole
+/// footprint (no full-width plunge into material). Without the option the floor keeps a
+/// whole step.
+#[test]
+fn zlevel_rough_detects_flat_floors_between_levels() {
+    use talas::geometry::DVec3;
+    use talas::strategies::zlevel::{Stock, ZlevelOptions, flat_areas, zlevel_rough};
+    use talas::tools::dropcutter::drop_cutter;
+    let (mesh, bvh) = load("pocket-fillets.stl");
+    // The reference heights of the flat areas, from the mesh.
+    let flats: Vec<f64> = flat_areas(&mesh)
+        .iter()
+        .filter(|(_, a)| *a > 100.0)
+        .map(|(z, _)| *z)
+        .collect();
+    assert!(
+        flats.iter().any(|z| (z - 15.0).abs() < 1e-6)
+            && flats.iter().any(|z| (z - 30.0).abs() < 1e-6),
+        "{flats:?}"
+    );
+    let t = tool("flat:d=10");
+    let big = 5.0;
+    let (sd, dr, da) = (4.0, 0.3, 0.3);
+    let opts = ZlevelOptions {
+        stock: Stock::Box {
+            min: DVec3::new(-5.0, -5.0, 0.0),
+            max: DVec3::new(105.0, 85.0, 35.0),
+        },
+        step_down_mm: sd,
+        step_over_mm: 4.0,
+        stock_to_leave_radial_mm: dr,
+        stock_to_leave_axial_mm: da,
+        tolerance_mm: 0.5,
+        ..ZlevelOptions::default()
+    };
+    // Floor samples: a 2 mm grid over the pocket floor's box (x 25–75, y 25–55), kept where
+    // the part's top surface is the floor itself (z = 15) within 1.5 mm around (the corners of
+    // the pocket are rounded).
+    let on_floor = |q: DVec2| {
+        bvh.ray_cast(q.extend(50.0), DVec3::NEG_Z, 100.0)
+            .is_some_and(|h| (h.point.z - 15.0).abs() < 1e-6)
+    };
+    let floor: Vec<DVec2> = (0..=25)
+        .flat_map(|i| {
+            (0..=15).map(move |j| DVec2::new(25.0 + 2.0 * f64::from(i), 25.0 + 2.0 * f64::from(j)))
+        })
+        .filter(|q| {
+            [(1.5, 0.0), (-1.5, 0.0), (0.0, 1.5), (0.0, -1.5), (0.0, 0.0)]
+                .iter()
+                .all(|(dx, dy)| on_floor(*q + DVec2::new(*dx, *dy)))
+        })
+        .collect();
+    assert!(floor.len() > 250, "{} floor samples", floor.len());
+    let left_on_floor = |tp: &talas::toolpath::Toolpath| -> (f64, f64) {
+        let pts = fed_points(tp, 0.25);
+        let lows: Vec<f64> = floor
+            .iter()
+            .map(|q| {
+                pts.iter()
+                    .filter(|(_, p)| p.truncate().distance(*q) <= big)
+                    .map(|(_, p)| p.z)
+                    .fold(35.0, f64::min)
+                    - 15.0
+            })
+            .collect();
+        (
+            lows.iter().copied().fold(f64::INFINITY, f64::min),
+            lows.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    };
+
+    let plan = zlevel_rough(&mesh, &bvh, &t, &opts).unwrap();
+    let tp = &plan.toolpath;
+    tp.validate("<zlevel>").unwrap();
+    let (lo, hi) = left_on_floor(tp);
+    eprintln!(
+        "levels {:?}, {:?}; left on {} floor samples {lo:.4}..{hi:.4} mm, cut {:.0} mm",
+        plan.levels,
+        plan.diagnostics
+            .iter()
+            .map(|d| &d.message)
+            .collect::<Vec<_>>(),
+        floor.len(),
+        tp.summary.cut_length_mm
+    );
+    assert!(
+        (lo - da).abs() <= 1e-6 && (hi - da).abs() <= 1e-6,
+        "left on the floor {lo}..{hi} mm, want {da}"
+    );
+    // Never closer to the part than the stock to leave.
+    let pts = fed_points(tp, 0.5);
+    let xy: Vec<DVec2> = pts.iter().map(|(_, p)| p.truncate()).collect();
+    let cl = drop_cutter(&bvh, &mesh, &t.cutter, &xy);
+    let worst = pts
+        .iter()
+        .zip(&cl)
+        .filter_map(|((_, p), c)| c.map(|c| p.z - (c.z + da.max(dr))))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        worst >= -0.05,
+        "a cut comes {worst} mm inside the stock to leave"
+    );
+    // Every plunge ends where the material under the whole footprint was already cleared
+    // below the plunge's end (or above the stock).
+    let ring: Vec<DVec2> = (0..12)
+        .map(|i| {
+            let a = f64::from(i) * std::f64::consts::TAU / 12.0;
+            DVec2::new(a.cos(), a.sin()) * 0.95 * big
+        })
+        .chain(std::iter::once(DVec2::ZERO))
+        .collect();
+    let mut plunges = 0;
+    for (k, p) in tp.poses.iter().enumerate() {
+        if p.kind != MoveKind::Plunge || p.tip.z >= 35.0 {
+            continue;
+        }
+        plunges += 1;
+        for off in &ring {
+            let q = p.tip.truncate() + *off;
+            let cleared = pts
+                .iter()
+                .filter(|(i, c)| *i < k && c.truncate().distance(q) <= big)
+                .map(|(_, c)| c.z)
+                .fold(35.0, f64::min);
+            assert!(
+                cleared <= p.tip.z + 1e-6,
+                "plunge {k} to z {} over {q} where material stands up to {cleared}",
+                p.tip.z
+            );
+        }
+    }
+    assert!(plunges > 0);
+
+    // Without flat detection the floor keeps a whole step (19 − 15 mm).
+    let plain = zlevel_rough(
+        &mesh,
+        &bvh,
+        &t,
+        &ZlevelOptions {
+            detect_flats: false,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    let (lo0, _) = left_on_floor(&plain.toolpath);
+    eprintln!(
+        "without flat levels: {:?}, left on the floor ≥ {lo0:.3} mm",
+        plain.levels
+    );
+    assert!(lo0 > sd - 0.5, "{lo0}");
+}
+
 /// The CLI entry point: both mesh strategies from an STL, and clear errors for bad names.
 #[test]
 fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
