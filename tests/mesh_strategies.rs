@@ -41,6 +41,10 @@ struct Checked {
     within: f64,
     /// Largest gouge, mm.
     gouge: f64,
+    /// The samples with the largest remaining height (largest first), mm.
+    worst: Vec<(talas::geometry::DVec3, f64)>,
+    /// The planner's notes.
+    notes: Vec<String>,
 }
 
 /// Plan, check, and return what was predicted and measured.
@@ -104,6 +108,8 @@ fn plan_and_check(
         max: rep.quantile(1.0),
         within,
         gouge: rep.max_gouge_mm,
+        worst: rep.worst.clone(),
+        notes: plan.diagnostics.iter().map(|d| d.message.clone()).collect(),
     }
 }
 
@@ -158,6 +164,38 @@ fn raster_ball_on_bicubic_hills_holds_the_scallop_without_gouge() {
         c.max <= opts.scallop_mm + opts.chord_tol_mm,
         "max {}",
         c.max
+    );
+}
+
+/// The whole of bicubic-hills with passes along +X (the command line's default): the surface
+/// slopes along the passes almost everywhere, which the old cusp measure (the tool's profile at
+/// the grid point, hanging R·(sec θ − 1) above the surface on a slope θ along the pass) took for
+/// scallop: 0.121 mm predicted for 0.05 mm requested, and a step shrunk to 0.3 mm. Samples above
+/// h + tol are allowed only at the part's edges x = 0 and 160 mm (the ends of the passes), where
+/// the surface falls away under a tool that stops with its axis over the edge; the planner
+/// reports them as such.
+#[test]
+fn raster_ball_on_whole_bicubic_hills_holds_the_scallop_and_reports_the_edge() {
+    let (mesh, bvh) = load("bicubic-hills.stl");
+    let opts = RasterOptions {
+        scallop_mm: 0.05,
+        chord_tol_mm: 0.01,
+        ..RasterOptions::default()
+    };
+    let c = plan_and_check(&mesh, &bvh, &opts, None, opts.max_slope_rad);
+    assert_prediction(&c, &opts);
+    let limit = opts.scallop_mm + opts.chord_tol_mm;
+    for (p, v) in &c.worst {
+        // Within a tool radius of either end of the passes (x = 0 and 160 mm).
+        assert!(
+            *v <= limit || !(3.0..=157.0).contains(&p.x),
+            "{v} mm left at {p}"
+        );
+    }
+    assert!(
+        c.notes.iter().any(|n| n.contains("ends of passes")),
+        "{:?}",
+        c.notes
     );
 }
 
