@@ -469,7 +469,7 @@ fn zlevel_rough_detects_flat_floors_between_levels() {
 /// The CLI entry point: both mesh strategies from an STL, and clear errors for bad names.
 #[test]
 fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
-    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh, plan_mesh_noted};
     let file = Path::new("tests/data/pocket-fillets.stl");
     let opts = MeshPlanOptions {
         scallop_mm: 0.3,
@@ -490,8 +490,15 @@ fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
         tolerance_mm: 0.5,
         ..opts
     };
-    let rough = plan_mesh(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
+    let (rough, notes) = plan_mesh_noted(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
     assert!(rough.summary.cut_length_mm > 500.0);
+    // Levels 27, 22, 17, 12, ...: the top (30) and the floor (15) get their own levels.
+    assert!(
+        notes
+            .iter()
+            .any(|d| d.message.contains("z = 15.300, 30.300")),
+        "{notes:?}"
+    );
     assert!(rough.poses.iter().any(|p| p.kind == MoveKind::Plunge));
     let e = plan_mesh(file, "spiral", "ball:d=6", &opts).unwrap_err();
     assert!(e.to_string().contains("--strategy"), "{e}");
