@@ -31,15 +31,13 @@ use crate::tools::{Cutter, CutterKind};
 /// Sub-chords per grid interval.
 const SUB: usize = 4;
 
-/// CL height on the pass at parameter `t` between grid points `k` and `k + 1`; None where
-/// either end has no CL point.
-fn cl_height(grid: &[f64], pass: &CoarsePass, k: usize, s: f64) -> Option<f64> {
+/// CL height on the pass at the fraction `s` of the way from grid point `k` to `k + 1` (a
+/// uniform grid); None where either end has no CL point.
+fn cl_height(pass: &CoarsePass, k: usize, s: f64) -> Option<f64> {
     let z = |i: usize| pass.cl.get(i).copied().flatten().map(|c| c.z);
     let (z1, z2) = (z(k)?, z(k + 1)?);
     let chord = z1 + (z2 - z1) * s;
-    // Neighbours for the cubic's tangents (a uniform grid); missing ones fall back to the
-    // chord's slope.
-    grid.get(k + 1)?;
+    // Neighbours for the cubic's tangents; missing ones fall back to the chord's slope.
     let z0 = k.checked_sub(1).and_then(z).unwrap_or(2.0 * z1 - z2);
     let z3 = z(k + 2).unwrap_or(2.0 * z2 - z1);
     let (m1, m2) = (0.5 * (z2 - z0), 0.5 * (z3 - z1));
@@ -131,7 +129,7 @@ pub(crate) fn swept_lower(
         let mut prev: Option<(f64, f64)> = None;
         for i in 0..=SUB {
             let s = i as f64 / SUB as f64;
-            let Some(z) = cl_height(grid, pass, k, s) else {
+            let Some(z) = cl_height(pass, k, s) else {
                 break;
             };
             let cur = (ta + (tb - ta) * s, z);
