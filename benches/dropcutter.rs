@@ -1,6 +1,8 @@
 //! Drop-cutter throughput (points per second) on `bicubic-hills.stl` for ball, flat, bull-nose and
-//! cone cutters over a 100×100 grid, and raster finishing planning time on the same part. `benches/dropcutter_ocl.py` compares heights and times with
-//! OpenCAMLib's BatchDropCutter on the same machine.
+//! cone cutters over a 100×100 grid, and raster finishing planning time on the same part (and on
+//! `pocket-fillets.stl`), with the plan's passes, cut length and predicted scallop printed once
+//! before timing. `benches/dropcutter_ocl.py` compares heights and times with OpenCAMLib's
+//! BatchDropCutter on the same machine.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -46,26 +48,39 @@ fn dropcutter(c: &mut Criterion) {
     g.finish();
 }
 
-/// Raster finishing of the whole of bicubic-hills with a Ø6 ball (scallop 0.02 mm, chord
-/// 0.01 mm): planning time, drop-cutter included.
+/// Raster finishing of the whole of bicubic-hills and pocket-fillets with a Ø6 ball (scallop
+/// 0.02 and 0.05 mm, chord 0.01 mm, passes along +X): planning time, drop-cutter included.
 fn raster_planning(c: &mut Criterion) {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl");
-    let stl = read_stl(&file, &StlOptions::default()).expect("test mesh reads");
-    let bvh = MeshBvh::new(&stl.mesh).expect("test mesh has triangles");
     let tool = ToolRecord {
         spec: "ball:d=6".into(),
         cutter: parse_tool_spec("ball:d=6").expect("valid spec"),
     };
-    let opts = RasterOptions {
-        scallop_mm: 0.02,
-        chord_tol_mm: 0.01,
-        ..RasterOptions::default()
-    };
     let mut g = c.benchmark_group("raster");
     g.sample_size(10);
-    g.bench_function("bicubic-hills ball:d=6 h=0.02", |b| {
-        b.iter(|| black_box(raster(&stl.mesh, &bvh, &tool, &opts)));
-    });
+    for (part, h) in [
+        ("bicubic-hills", 0.02),
+        ("bicubic-hills", 0.05),
+        ("pocket-fillets", 0.05),
+    ] {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/data/{part}.stl"));
+        let stl = read_stl(&file, &StlOptions::default()).expect("test mesh reads");
+        let bvh = MeshBvh::new(&stl.mesh).expect("test mesh has triangles");
+        let opts = RasterOptions {
+            scallop_mm: h,
+            chord_tol_mm: 0.01,
+            ..RasterOptions::default()
+        };
+        if let Ok(plan) = raster(&stl.mesh, &bvh, &tool, &opts) {
+            let m = &plan.toolpath.summary;
+            eprintln!(
+                "raster {part} h {h}: passes {}, poses {}, cut {:.0} mm, predicted max scallop {:.4} mm",
+                plan.passes, m.pose_count, m.cut_length_mm, plan.max_predicted_scallop_mm
+            );
+        }
+        g.bench_function(format!("{part} ball:d=6 h={h}"), |b| {
+            b.iter(|| black_box(raster(&stl.mesh, &bvh, &tool, &opts)));
+        });
+    }
     g.finish();
 }
 

@@ -30,14 +30,31 @@ fn tool(spec: &str) -> ToolRecord {
     }
 }
 
-/// Plan, check, and return (p50, p99, fraction ≤ h + tol, max gouge).
+/// What the planner predicted and the independent check measured.
+struct Checked {
+    /// The planner's largest predicted scallop, mm.
+    predicted: f64,
+    /// Remaining height p99 and max over the checked samples, mm.
+    p99: f64,
+    max: f64,
+    /// Fraction of samples within h + chord tolerance.
+    within: f64,
+    /// Largest gouge, mm.
+    gouge: f64,
+    /// The samples with the largest remaining height (largest first), mm.
+    worst: Vec<(talas::geometry::DVec3, f64)>,
+    /// The planner's notes.
+    notes: Vec<String>,
+}
+
+/// Plan, check, and return what was predicted and measured.
 fn plan_and_check(
     mesh: &TriMesh,
     bvh: &MeshBvh,
     opts: &RasterOptions,
     region: Option<(DVec2, DVec2)>,
     check_slope: f64,
-) -> (f64, f64, f64, f64) {
+) -> Checked {
     let t0 = std::time::Instant::now();
     let plan = raster(mesh, bvh, &tool("ball:d=6"), opts).unwrap();
     eprintln!("raster planned in {:?}", t0.elapsed());
@@ -66,9 +83,10 @@ fn plan_and_check(
     let h = opts.scallop_mm + opts.chord_tol_mm;
     let within = rep.fraction_within(h);
     eprintln!(
-        "passes {}, poses {}, samples {}, remaining p50 {:.4} p90 {:.4} p99 {:.4} max {:.4} mm, ≤ h+tol {:.4}, uncovered {}, max gouge {:.2e} mm at {:?}, predicted max {:.4}",
+        "passes {}, poses {}, cut {:.0} mm, samples {}, remaining p50 {:.4} p90 {:.4} p99 {:.4} max {:.4} mm, ≤ h+tol {:.4}, uncovered {}, max gouge {:.2e} mm at {:?}, predicted max {:.4}",
         plan.passes,
         tp.poses.len(),
+        tp.summary.cut_length_mm,
         rep.samples(),
         rep.quantile(0.5),
         rep.quantile(0.9),
@@ -84,12 +102,41 @@ fn plan_and_check(
         eprintln!("  worst {v:.4} at {p:.3}");
     }
     assert!(rep.samples() > 5000, "{} samples", rep.samples());
-    (
-        rep.quantile(0.5),
-        rep.quantile(0.99),
+    Checked {
+        predicted: plan.max_predicted_scallop_mm,
+        p99: rep.quantile(0.99),
+        max: rep.quantile(1.0),
         within,
-        rep.max_gouge_mm,
-    )
+        gouge: rep.max_gouge_mm,
+        worst: rep.worst.clone(),
+        notes: plan.diagnostics.iter().map(|d| d.message.clone()).collect(),
+    }
+}
+
+/// The planner's prediction against the request and against the independent check: the step
+/// holds the scallop (prediction ≤ h, and not far below it, or the step is wastefully small),
+/// and the prediction is honest (the measured p99 is not above it by more than the chord
+/// tolerance, with which the followed path may stand above the true CL).
+fn assert_prediction(c: &Checked, opts: &RasterOptions) {
+    let h = opts.scallop_mm;
+    assert!(
+        c.predicted <= h + 1e-9,
+        "predicted max scallop {} mm for a request of {h} mm",
+        c.predicted
+    );
+    assert!(c.predicted >= 0.8 * h, "predicted {} mm", c.predicted);
+    assert!(
+        c.p99 <= c.predicted + opts.chord_tol_mm,
+        "measured p99 {} mm above the prediction {} mm",
+        c.p99,
+        c.predicted
+    );
+    assert!(
+        c.within >= 0.99,
+        "only {} of samples within h + tol",
+        c.within
+    );
+    assert!(c.gouge <= 1e-3, "gouge {} mm", c.gouge);
 }
 
 #[test]
@@ -110,9 +157,46 @@ fn raster_ball_on_bicubic_hills_holds_the_scallop_without_gouge() {
         ..RasterOptions::default()
     };
     let region = Some((DVec2::new(31.0, 21.0), DVec2::new(109.0, 79.0)));
-    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, region, opts.max_slope_rad);
-    assert!(within >= 0.99, "only {within} of samples within h + tol");
-    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+    let c = plan_and_check(&mesh, &bvh, &opts, region, opts.max_slope_rad);
+    assert_prediction(&c, &opts);
+    // Away from the region's edge every sample is within h + tol.
+    assert!(
+        c.max <= opts.scallop_mm + opts.chord_tol_mm,
+        "max {}",
+        c.max
+    );
+}
+
+/// The whole of bicubic-hills with passes along +X (the command line's default): the surface
+/// slopes along the passes almost everywhere, which the old cusp measure (the tool's profile at
+/// the grid point, hanging R·(sec θ − 1) above the surface on a slope θ along the pass) took for
+/// scallop: 0.121 mm predicted for 0.05 mm requested, and a step shrunk to 0.3 mm. Samples above
+/// h + tol are allowed only at the part's edges x = 0 and 160 mm (the ends of the passes), where
+/// the surface falls away under a tool that stops with its axis over the edge; the planner
+/// reports them as such.
+#[test]
+fn raster_ball_on_whole_bicubic_hills_holds_the_scallop_and_reports_the_edge() {
+    let (mesh, bvh) = load("bicubic-hills.stl");
+    let opts = RasterOptions {
+        scallop_mm: 0.05,
+        chord_tol_mm: 0.01,
+        ..RasterOptions::default()
+    };
+    let c = plan_and_check(&mesh, &bvh, &opts, None, opts.max_slope_rad);
+    assert_prediction(&c, &opts);
+    let limit = opts.scallop_mm + opts.chord_tol_mm;
+    for (p, v) in &c.worst {
+        // Within a tool radius of either end of the passes (x = 0 and 160 mm).
+        assert!(
+            *v <= limit || !(3.0..=157.0).contains(&p.x),
+            "{v} mm left at {p}"
+        );
+    }
+    assert!(
+        c.notes.iter().any(|n| n.contains("ends of passes")),
+        "{:?}",
+        c.notes
+    );
 }
 
 #[test]
@@ -126,9 +210,8 @@ fn raster_ball_on_pocket_fillets_holds_the_scallop_without_gouge() {
         boundary: Boundary::Silhouette,
         ..RasterOptions::default()
     };
-    let (_, _, within, gouge) = plan_and_check(&mesh, &bvh, &opts, None, 45f64.to_radians());
-    assert!(within >= 0.99, "only {within} of samples within h + tol");
-    assert!(gouge <= 1e-3, "gouge {gouge} mm");
+    let c = plan_and_check(&mesh, &bvh, &opts, None, 45f64.to_radians());
+    assert_prediction(&c, &opts);
 }
 
 /// Z-level roughing of pocket-fillets from a box stock with a flat end mill: no cut pose (nor
@@ -209,10 +292,184 @@ fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
     );
 }
 
+/// Points of every fed move of `tp` every `step` mm, with the index of the move's end pose.
+fn fed_points(tp: &talas::toolpath::Toolpath, step: f64) -> Vec<(usize, talas::geometry::DVec3)> {
+    let mut pts = Vec::new();
+    for (k, w) in tp.poses.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        if b.kind == MoveKind::Rapid {
+            continue;
+        }
+        let n = (a.tip.distance(b.tip) / step).ceil().max(1.0) as usize;
+        for i in 0..=n {
+            pts.push((k + 1, a.tip.lerp(b.tip, i as f64 / n as f64)));
+        }
+    }
+    pts
+}
+
+/// Z-level roughing with flat-area detection on pocket-fillets (top z = 30, pocket floor
+/// z = 15, both flat): with the stock top at 35 and a 4 mm step-down the levels are 31, 27,
+/// 23, 19 (then 15 lies below the floor plus the stock), so both flat areas lie between two
+/// levels. Judged independently from the path alone (a flat end mill removes, over every
+/// point within its radius of the axis, everything above its tip): every floor sample keeps
+/// the stock to leave (not the 4 mm step), the part is never cut (drop-cutter with the real
+/// tool), and every plunge ends over material already cleared below it across the whole
+/// footprint (no full-width plunge into material). Without the option the floor keeps a
+/// whole step.
+#[test]
+fn zlevel_rough_detects_flat_floors_between_levels() {
+    use talas::geometry::DVec3;
+    use talas::strategies::zlevel::{Stock, ZlevelOptions, flat_areas, zlevel_rough};
+    use talas::tools::dropcutter::drop_cutter;
+    let (mesh, bvh) = load("pocket-fillets.stl");
+    // The reference heights of the flat areas, from the mesh.
+    let flats: Vec<f64> = flat_areas(&mesh)
+        .iter()
+        .filter(|(_, a)| *a > 100.0)
+        .map(|(z, _)| *z)
+        .collect();
+    assert!(
+        flats.iter().any(|z| (z - 15.0).abs() < 1e-6)
+            && flats.iter().any(|z| (z - 30.0).abs() < 1e-6),
+        "{flats:?}"
+    );
+    let t = tool("flat:d=10");
+    let big = 5.0;
+    let (sd, dr, da) = (4.0, 0.3, 0.3);
+    let opts = ZlevelOptions {
+        stock: Stock::Box {
+            min: DVec3::new(-5.0, -5.0, 0.0),
+            max: DVec3::new(105.0, 85.0, 35.0),
+        },
+        step_down_mm: sd,
+        step_over_mm: 4.0,
+        stock_to_leave_radial_mm: dr,
+        stock_to_leave_axial_mm: da,
+        tolerance_mm: 0.5,
+        ..ZlevelOptions::default()
+    };
+    // Floor samples: a 2 mm grid over the pocket floor's box (x 25–75, y 25–55), kept where
+    // the part's top surface is the floor itself (z = 15) within 1.5 mm around (the corners of
+    // the pocket are rounded).
+    let on_floor = |q: DVec2| {
+        bvh.ray_cast(q.extend(50.0), DVec3::NEG_Z, 100.0)
+            .is_some_and(|h| (h.point.z - 15.0).abs() < 1e-6)
+    };
+    let floor: Vec<DVec2> = (0..=25)
+        .flat_map(|i| {
+            (0..=15).map(move |j| DVec2::new(25.0 + 2.0 * f64::from(i), 25.0 + 2.0 * f64::from(j)))
+        })
+        .filter(|q| {
+            [(1.5, 0.0), (-1.5, 0.0), (0.0, 1.5), (0.0, -1.5), (0.0, 0.0)]
+                .iter()
+                .all(|(dx, dy)| on_floor(*q + DVec2::new(*dx, *dy)))
+        })
+        .collect();
+    assert!(floor.len() > 250, "{} floor samples", floor.len());
+    let left_on_floor = |tp: &talas::toolpath::Toolpath| -> (f64, f64) {
+        let pts = fed_points(tp, 0.25);
+        let lows: Vec<f64> = floor
+            .iter()
+            .map(|q| {
+                pts.iter()
+                    .filter(|(_, p)| p.truncate().distance(*q) <= big)
+                    .map(|(_, p)| p.z)
+                    .fold(35.0, f64::min)
+                    - 15.0
+            })
+            .collect();
+        (
+            lows.iter().copied().fold(f64::INFINITY, f64::min),
+            lows.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    };
+
+    let plan = zlevel_rough(&mesh, &bvh, &t, &opts).unwrap();
+    let tp = &plan.toolpath;
+    tp.validate("<zlevel>").unwrap();
+    let (lo, hi) = left_on_floor(tp);
+    eprintln!(
+        "levels {:?}, {:?}; left on {} floor samples {lo:.4}..{hi:.4} mm, cut {:.0} mm",
+        plan.levels,
+        plan.diagnostics
+            .iter()
+            .map(|d| &d.message)
+            .collect::<Vec<_>>(),
+        floor.len(),
+        tp.summary.cut_length_mm
+    );
+    assert!(
+        (lo - da).abs() <= 1e-6 && (hi - da).abs() <= 1e-6,
+        "left on the floor {lo}..{hi} mm, want {da}"
+    );
+    // Never closer to the part than the stock to leave.
+    let pts = fed_points(tp, 0.5);
+    let xy: Vec<DVec2> = pts.iter().map(|(_, p)| p.truncate()).collect();
+    let cl = drop_cutter(&bvh, &mesh, &t.cutter, &xy);
+    let worst = pts
+        .iter()
+        .zip(&cl)
+        .filter_map(|((_, p), c)| c.map(|c| p.z - (c.z + da.max(dr))))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        worst >= -0.05,
+        "a cut comes {worst} mm inside the stock to leave"
+    );
+    // Every plunge ends where the material under the whole footprint was already cleared
+    // below the plunge's end (or above the stock).
+    let ring: Vec<DVec2> = (0..12)
+        .map(|i| {
+            let a = f64::from(i) * std::f64::consts::TAU / 12.0;
+            DVec2::new(a.cos(), a.sin()) * 0.95 * big
+        })
+        .chain(std::iter::once(DVec2::ZERO))
+        .collect();
+    let mut plunges = 0;
+    for (k, p) in tp.poses.iter().enumerate() {
+        if p.kind != MoveKind::Plunge || p.tip.z >= 35.0 {
+            continue;
+        }
+        plunges += 1;
+        for off in &ring {
+            let q = p.tip.truncate() + *off;
+            let cleared = pts
+                .iter()
+                .filter(|(i, c)| *i < k && c.truncate().distance(q) <= big)
+                .map(|(_, c)| c.z)
+                .fold(35.0, f64::min);
+            assert!(
+                cleared <= p.tip.z + 1e-6,
+                "plunge {k} to z {} over {q} where material stands up to {cleared}",
+                p.tip.z
+            );
+        }
+    }
+    assert!(plunges > 0);
+
+    // Without flat detection the floor keeps a whole step (19 − 15 mm).
+    let plain = zlevel_rough(
+        &mesh,
+        &bvh,
+        &t,
+        &ZlevelOptions {
+            detect_flats: false,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    let (lo0, _) = left_on_floor(&plain.toolpath);
+    eprintln!(
+        "without flat levels: {:?}, left on the floor ≥ {lo0:.3} mm",
+        plain.levels
+    );
+    assert!(lo0 > sd - 0.5, "{lo0}");
+}
+
 /// The CLI entry point: both mesh strategies from an STL, and clear errors for bad names.
 #[test]
 fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
-    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+    use talas::cli::plan_mesh::{MeshPlanOptions, plan_mesh, plan_mesh_noted};
     let file = Path::new("tests/data/pocket-fillets.stl");
     let opts = MeshPlanOptions {
         scallop_mm: 0.3,
@@ -233,8 +490,15 @@ fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
         tolerance_mm: 0.5,
         ..opts
     };
-    let rough = plan_mesh(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
+    let (rough, notes) = plan_mesh_noted(file, "zlevel-rough", "flat:d=10", &opts).unwrap();
     assert!(rough.summary.cut_length_mm > 500.0);
+    // Levels 27, 22, 17, 12, ...: the top (30) and the floor (15) get their own levels.
+    assert!(
+        notes
+            .iter()
+            .any(|d| d.message.contains("z = 15.300, 30.300")),
+        "{notes:?}"
+    );
     assert!(rough.poses.iter().any(|p| p.kind == MoveKind::Plunge));
     let e = plan_mesh(file, "spiral", "ball:d=6", &opts).unwrap_err();
     assert!(e.to_string().contains("--strategy"), "{e}");

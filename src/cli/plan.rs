@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde_json::{Value, json};
 
-use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh};
+use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_noted};
 use crate::import::ImportError;
 use crate::import::step::read_step;
 use crate::strategies::axis::AxisMode;
@@ -53,6 +53,10 @@ pub struct PlanArgs {
     /// `zlevel-rough`: stock to leave on floors (axial), mm.
     #[arg(long, value_name = "MM", default_value_t = 0.3)]
     pub stock_to_leave_axial: f64,
+    /// `zlevel-rough`: no extra level at flat areas (by default each flat floor between two
+    /// levels gets its own level at the floor plus the stock to leave).
+    #[arg(long)]
+    pub no_flat_levels: bool,
     /// Lead (the thesis's Sturz): tilt of the axis from the normal toward the feed, degrees.
     /// Raised automatically where a flat or bull-nose cutter would gouge locally.
     #[arg(
@@ -295,8 +299,9 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         stock_to_leave_axial_mm: args.stock_to_leave_axial,
         feed_mm_per_min: args.feed,
         clearance_mm: args.clearance.unwrap_or(5.0),
+        detect_flats: !args.no_flat_levels,
     };
-    let toolpath = plan_mesh(&args.file, &args.strategy, &args.tool, &opts)?;
+    let (toolpath, diagnostics) = plan_mesh_noted(&args.file, &args.strategy, &args.tool, &opts)?;
     toolpath
         .save(&args.output)
         .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
@@ -312,7 +317,7 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         "tool": args.tool,
         "summary": toolpath.summary,
         "passes": passes,
-        "diagnostics": [],
+        "diagnostics": diagnostics,
     }))
 }
 
@@ -320,20 +325,32 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
 #[must_use]
 pub fn human(doc: &Value) -> String {
     let s = &doc["summary"];
-    format!(
-        "{} on {} face {}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed, \
+    let face = doc["face"]
+        .as_u64()
+        .map_or_else(String::new, |f| format!(" face {f}"));
+    let mut notes = String::new();
+    for d in doc["diagnostics"].as_array().into_iter().flatten() {
+        notes.push_str(&format!(
+            "{}: {}\n",
+            d["severity"].as_str().unwrap_or("note"),
+            d["message"].as_str().unwrap_or("")
+        ));
+    }
+    notes
+        + &format!(
+            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed, \
          predicted max scallop {} mm\nwrote {}\n",
-        doc["strategy"].as_str().unwrap_or("?"),
-        doc["file"].as_str().unwrap_or("?"),
-        doc["face"],
-        doc["passes"],
-        s["pose_count"],
-        s["cut_length_mm"].as_f64().unwrap_or(0.0),
-        s["other_length_mm"].as_f64().unwrap_or(0.0),
-        s["estimated_time_s"].as_f64().unwrap_or(0.0),
-        s["predicted_max_scallop_mm"]
-            .as_f64()
-            .map_or_else(|| "?".into(), |h| format!("{h:.4}")),
-        doc["output"].as_str().unwrap_or("?"),
-    )
+            doc["strategy"].as_str().unwrap_or("?"),
+            doc["file"].as_str().unwrap_or("?"),
+            face,
+            doc["passes"],
+            s["pose_count"],
+            s["cut_length_mm"].as_f64().unwrap_or(0.0),
+            s["other_length_mm"].as_f64().unwrap_or(0.0),
+            s["estimated_time_s"].as_f64().unwrap_or(0.0),
+            s["predicted_max_scallop_mm"]
+                .as_f64()
+                .map_or_else(|| "?".into(), |h| format!("{h:.4}")),
+            doc["output"].as_str().unwrap_or("?"),
+        )
 }

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use crate::diagnostics::Diagnostic;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
@@ -40,6 +41,13 @@ pub struct MeshPlanOptions {
     pub feed_mm_per_min: f64,
     /// Clearance above the part (raster) or the stock (roughing), mm.
     pub clearance_mm: f64,
+    /// Roughing: a level of its own for each flat area between two levels.
+    #[serde(default = "detect_flats_default")]
+    pub detect_flats: bool,
+}
+
+fn detect_flats_default() -> bool {
+    true
 }
 
 impl Default for MeshPlanOptions {
@@ -56,6 +64,7 @@ impl Default for MeshPlanOptions {
             stock_to_leave_axial_mm: 0.3,
             feed_mm_per_min: 1000.0,
             clearance_mm: 5.0,
+            detect_flats: true,
         }
     }
 }
@@ -92,6 +101,20 @@ pub fn plan_mesh(
     tool_spec: &str,
     opts: &MeshPlanOptions,
 ) -> Result<Toolpath, ImportError> {
+    plan_mesh_noted(file, strategy, tool_spec, opts).map(|(tp, _)| tp)
+}
+
+/// [`plan_mesh`] with the planner's notes (steep walls, material no step-over removes, added
+/// flat levels, ...).
+///
+/// # Errors
+/// As [`plan_mesh`].
+pub fn plan_mesh_noted(
+    file: &Path,
+    strategy: &str,
+    tool_spec: &str,
+    opts: &MeshPlanOptions,
+) -> Result<(Toolpath, Vec<Diagnostic>), ImportError> {
     let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
     let cutter = parse_tool_spec(tool_spec).map_err(|e| bad("--tool", e.to_string()))?;
     let tool = ToolRecord {
@@ -129,7 +152,7 @@ pub fn plan_mesh(
             ..RasterOptions::default()
         };
         let plan = raster(&mesh, &bvh, &tool, &ropts).map_err(|e| bad("raster", e.to_string()))?;
-        return Ok(plan.toolpath);
+        return Ok((plan.toolpath, plan.diagnostics));
     }
     let stock = Stock::parse(&opts.stock, &mesh.bbox()).map_err(|e| bad("--stock", e))?;
     let grid_mm = roughing_grid_mm(
@@ -148,9 +171,10 @@ pub fn plan_mesh(
         tolerance_mm: grid_mm,
         feed_mm_per_min: opts.feed_mm_per_min,
         clearance_mm: opts.clearance_mm,
+        detect_flats: opts.detect_flats,
         ..ZlevelOptions::default()
     };
     let plan =
         zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
-    Ok(plan.toolpath)
+    Ok((plan.toolpath, plan.diagnostics))
 }

@@ -8,6 +8,11 @@
 //! level z the tool centre is free where that holds and where the centre lies within the stock
 //! grown by 0.9·R (so the outermost pass trims the stock's skin).
 //!
+//! **Levels.** Every step-down from the stock top to its bottom (or the part's lowest point plus
+//! the axial stock), plus, with `detect_flats`, one level per flat area of the part (faces
+//! within 0.5° of horizontal, at least a quarter of the tool's footprint) at its height plus
+//! the stock to leave: without it a floor between two levels keeps up to a whole step-down.
+//!
 //! **Clearing.** Each level's free region is cleared by offset contours of its boundary: the
 //! level sets φ = d₀ + k·s of the Euclidean distance φ to the nearest blocked grid node
 //! (`field`: exact distance transform, marching squares, Douglas–Peucker), d₀ = one grid step
@@ -187,7 +192,19 @@ pub struct ZlevelOptions {
     pub feed_mm_per_min: f64,
     /// Clearance plane above the stock top, mm.
     pub clearance_mm: f64,
+    /// Detect flat areas: horizontal faces of the part (within [`FLAT_TOLERANCE_RAD`]) lying
+    /// between two levels get a level of their own at their height plus the stock to leave, so
+    /// floors keep the stock to leave instead of a whole staircase step.
+    #[serde(default = "detect_flats_default")]
+    pub detect_flats: bool,
 }
+
+fn detect_flats_default() -> bool {
+    true
+}
+
+/// How far from horizontal a face may tilt and still count as a flat area, rad (0.5°).
+pub const FLAT_TOLERANCE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl Default for ZlevelOptions {
     fn default() -> Self {
@@ -204,8 +221,54 @@ impl Default for ZlevelOptions {
             ramp_angle_rad: 5f64.to_radians(),
             feed_mm_per_min: 1000.0,
             clearance_mm: 5.0,
+            detect_flats: true,
         }
     }
+}
+
+/// Heights of the part's flat areas facing up (faces within [`FLAT_TOLERANCE_RAD`] of
+/// horizontal, merged when within 0.01 mm of each other), with their areas, mm and mm²,
+/// ascending.
+#[must_use]
+pub fn flat_areas(mesh: &TriMesh) -> Vec<(f64, f64)> {
+    let cos_flat = FLAT_TOLERANCE_RAD.cos();
+    let mut flats: Vec<(f64, f64)> = (0..mesh.triangles.len())
+        .filter_map(|t| {
+            let [a, b, c] = mesh.triangle_corners(t)?;
+            let n = (b - a).cross(c - a);
+            let area = 0.5 * n.length();
+            let n = n.try_normalize()?;
+            (n.z >= cos_flat && area > 0.0).then_some(((a.z + b.z + c.z) / 3.0, area))
+        })
+        .collect();
+    flats.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for (z, area) in flats {
+        match out.last_mut() {
+            // Area-weighted mean height of the merged group.
+            Some((mz, ma)) if z - *mz <= 0.01 => {
+                *mz = (*mz * *ma + z * area) / (*ma + area);
+                *ma += area;
+            }
+            _ => out.push((z, area)),
+        }
+    }
+    out
+}
+
+/// The levels for flat areas: at each flat area's height plus `lift`, when no level lies already
+/// at that height (within 1 µm above it), above the lowest level and below the top; floors
+/// smaller than a quarter of the tool's footprint are left out.
+fn flat_levels(mesh: &TriMesh, levels: &[f64], lift: f64, top: f64, tool_radius: f64) -> Vec<f64> {
+    let min_area = 0.25 * std::f64::consts::PI * tool_radius * tool_radius;
+    let lowest = levels.last().copied().unwrap_or(top);
+    flat_areas(mesh)
+        .into_iter()
+        .filter(|(_, area)| *area >= min_area)
+        .map(|(z, _)| z + lift)
+        .filter(|z| *z < top - 1e-9 && *z > lowest + 1e-9)
+        .filter(|z| !levels.iter().any(|l| *l >= *z - 1e-9 && *l <= *z + 1e-3))
+        .collect()
 }
 
 /// Why roughing could not be planned.
@@ -360,6 +423,28 @@ pub fn zlevel_rough(
     if levels.last().is_none_or(|l| *l > floor + 1e-6) && floor < top {
         levels.push(floor);
     }
+    let mut diagnostics = Vec::new();
+    if opts.detect_flats {
+        // On a flat floor the offset cutter's tip touches it, so the lowest allowed tip is the
+        // floor plus the larger stock to leave (the radial stock is kept in every direction).
+        let extra = flat_levels(mesh, &levels, lift, top, big);
+        if !extra.is_empty() {
+            diagnostics.push(Diagnostic::info(
+                None,
+                format!(
+                    "flat areas: {} levels added at z = {}",
+                    extra.len(),
+                    extra
+                        .iter()
+                        .map(|z| format!("{z:.3}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+            levels.extend(extra);
+            levels.sort_by(|a, b| b.total_cmp(a));
+        }
+    }
 
     let clear_z = top.max(bvh.bbox().max.z) + opts.clearance_mm;
     let mut poses: Vec<Pose> = Vec::new();
@@ -371,7 +456,7 @@ pub fn zlevel_rough(
         let free: Vec<bool> = need
             .iter()
             .zip(&in_reach)
-            .map(|(n, r)| *r && z >= *n)
+            .map(|(n, r)| *r && z >= *n - 1e-7)
             .collect();
         let field = Field::distance(origin, g, nx, ny, &free);
         let mut loops: Vec<Vec<DVec2>> = Vec::new();
@@ -437,7 +522,6 @@ pub fn zlevel_rough(
             opts.feed_mm_per_min,
         ));
     }
-    let mut diagnostics = Vec::new();
     if contours == 0 {
         diagnostics.push(Diagnostic::warning(
             None,

@@ -4,7 +4,7 @@
 use glam::{DVec2, DVec3};
 
 use super::Frame;
-use super::stepover::profile;
+use super::envelope::swept_lower;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::tools::dropcutter::{ClPoint, drop_cutter};
@@ -141,24 +141,56 @@ fn boundary(frame: &Frame, w: f64, t_a: f64, t_b: f64, region: &Region) -> f64 {
     tin
 }
 
-/// Cusp heights between two neighbouring passes per grid point: the highest point of the two
-/// tools' envelope in the vertical section across the passes (the instantaneous profiles, an
-/// upper bound of the swept envelope), measured as its distance to the mesh, i.e. the remaining
-/// material thickness there (exact on a plane, and it sees curvature across the passes). None
-/// where either pass has no CL point or the CL rises across the passes more steeply than
-/// `max_slope`.
+/// The cusp between two neighbouring passes at one grid point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cusp {
+    /// Remaining material thickness at the cusp, mm.
+    pub height: f64,
+    /// The grid point ends a run of either pass (the tool does not pass beyond it, so the
+    /// material there is bounded by the run's end, not by the step-over).
+    pub at_end: bool,
+    /// Material at the cusp that a pass right between the two would not remove either (a
+    /// corner or valley narrower than the tool, the foot of a wall), mm.
+    pub unreachable: f64,
+}
+
+/// Sections sampled across the bracket of the two passes when looking for the cusp.
+const SECTION_SAMPLES: usize = 16;
+
+/// Cusps between two neighbouring passes per grid point: the ridges of the lower envelope of
+/// the two passes' swept volumes in the vertical section across the passes (the tools moving
+/// along the passes, `envelope`), each measured as its distance to the mesh, i.e. the
+/// remaining material thickness there (exact on a plane, and it sees curvature across the
+/// passes). The ridge is where one pass's envelope takes over from the other's; it lies between
+/// the two contact points, not between the two tool axes: on a cross slope φ each contact sits
+/// R·sin φ uphill of its axis, so once the step is below 2R·sin φ the ridge is uphill of both
+/// axes (between them the downhill pass's envelope is the lower one everywhere). The section is
+/// therefore searched over the span of both axes and both contacts, and the highest crossing
+/// counts.
+///
+/// Only the part of that thickness the step-over is responsible for is a scallop: the pass
+/// `mid` halfway between the two shows what a pass there would leave at the same point (its
+/// envelope's distance to the mesh), and the cusp height is the ridge's distance to the mesh
+/// less that. On a plane the midway pass touches the plane right under the ridge (by symmetry),
+/// so this is exact; where the tool cannot reach the surface at all (a corner narrower than
+/// the tool, the foot of a vertical wall met along the pass) the material is reported as
+/// [`Cusp::unreachable`] instead of driving the step down. None where either pass has no CL
+/// point or the CL rises across the passes more steeply than `max_slope`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cusps(
     frame: &Frame,
     grid: &[f64],
     a: &CoarsePass,
     b: &CoarsePass,
+    mid: &CoarsePass,
     cutter: &Cutter,
     bvh: &MeshBvh,
     cos_max_slope: f64,
-) -> Vec<Option<f64>> {
+) -> Vec<Option<Cusp>> {
     use rayon::prelude::*;
     let (wa, wb) = (a.w, b.w);
+    let has =
+        |p: &CoarsePass, j: Option<usize>| j.and_then(|j| p.cl.get(j)).is_some_and(Option::is_some);
     (0..grid.len())
         .into_par_iter()
         .map(|j| {
@@ -172,23 +204,75 @@ pub(crate) fn cusps(
             if rise * cos_max_slope > run * (1.0 - cos_max_slope * cos_max_slope).sqrt() {
                 return None; // steeper than the limit across the passes
             }
-            let pa = |x: f64| ca.z + profile(cutter, x - wa);
-            let pb = |x: f64| cb.z + profile(cutter, x - wb);
-            // pa − pb increases from wa to wb: bisection for the crossing.
-            let (mut lo, mut hi) = (wa.min(wb), wa.max(wb));
-            let sign = if wa <= wb { 1.0 } else { -1.0 };
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if sign * (pa(mid) - pb(mid)) < 0.0 {
-                    lo = mid;
+            let at_end = [j.checked_sub(1), j.checked_add(1)]
+                .iter()
+                .any(|&k| !has(a, k) || !has(b, k));
+            let pa = |x: f64| swept_lower(cutter, grid, a, j, x - wa);
+            let pb = |x: f64| swept_lower(cutter, grid, b, j, x - wb);
+            // a − b, with a pass that does not reach counting as far above.
+            let diff = |x: f64| {
+                let (za, zb) = (pa(x), pb(x));
+                match (za.is_finite(), zb.is_finite()) {
+                    (true, true) => Some(za - zb),
+                    (false, true) => Some(1.0e9),
+                    (true, false) => Some(-1.0e9),
+                    (false, false) => None,
+                }
+            };
+            let span = [
+                wa,
+                wb,
+                ca.cc.truncate().dot(frame.c),
+                cb.cc.truncate().dot(frame.c),
+            ];
+            let lo = span.iter().copied().fold(f64::INFINITY, f64::min) - 1.0e-6;
+            let hi = span.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 1.0e-6;
+            let xs: Vec<f64> = (0..=SECTION_SAMPLES)
+                .map(|i| lo + (hi - lo) * i as f64 / SECTION_SAMPLES as f64)
+                .collect();
+            let fs: Vec<Option<f64>> = xs.iter().map(|&x| diff(x)).collect();
+            let mut best: Option<Cusp> = None;
+            for (xw, fw) in xs.windows(2).zip(fs.windows(2)) {
+                let ([x0, x1], [Some(f0), Some(f1)]) = (xw, fw) else {
+                    continue;
+                };
+                if (*f0 > 0.0) == (*f1 > 0.0) {
+                    continue;
+                }
+                let (mut l, mut r) = (*x0, *x1);
+                let left_positive = *f0 > 0.0;
+                for _ in 0..40 {
+                    let mid = 0.5 * (l + r);
+                    match diff(mid) {
+                        Some(f) if (f > 0.0) == left_positive => l = mid,
+                        _ => r = mid,
+                    }
+                }
+                let x = 0.5 * (l + r);
+                let z = pa(x).min(pb(x));
+                if !z.is_finite() {
+                    continue;
+                }
+                let Some(hit) = bvh.closest_point(frame.at(t, x).extend(z)) else {
+                    continue;
+                };
+                let zm = swept_lower(cutter, grid, mid, j, x - mid.w);
+                let left = if zm.is_finite() && zm < z {
+                    bvh.closest_point(frame.at(t, x).extend(zm))
+                        .map_or(0.0, |m| m.distance)
                 } else {
-                    hi = mid;
+                    hit.distance
+                };
+                let c = Cusp {
+                    height: (hit.distance - left).max(0.0),
+                    at_end,
+                    unreachable: left,
+                };
+                if best.is_none_or(|b: Cusp| c.height > b.height) {
+                    best = Some(c);
                 }
             }
-            let x = 0.5 * (lo + hi);
-            let z = pa(x).min(pb(x));
-            let hit = bvh.closest_point(frame.at(t, x).extend(z))?;
-            Some(hit.distance)
+            best
         })
         .collect()
 }
