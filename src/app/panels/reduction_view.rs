@@ -314,9 +314,9 @@ fn length_text(mm: f64) -> String {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ReductionResult {
     /// A regular Z-map (grid nodes).
-    Regular(PartReduction),
+    Regular(Box<PartReduction>),
     /// An XY-dependent Z-map (mesh vertices), reduced matrix by matrix.
-    Xy(PartXyReduction),
+    Xy(Box<PartXyReduction>),
 }
 
 impl ReductionResult {

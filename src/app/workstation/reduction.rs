@@ -116,11 +116,11 @@ impl Workstation {
                 move |progress| match settings.source {
                     ZmapSource::Regular => {
                         reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
-                            .map(ReductionResult::Regular)
+                            .map(|r| ReductionResult::Regular(Box::new(r)))
                     }
                     ZmapSource::XyDependent => {
                         reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
-                            .map(ReductionResult::Xy)
+                            .map(|r| ReductionResult::Xy(Box::new(r)))
                     }
                 },
                 move || ctx.request_repaint(),
