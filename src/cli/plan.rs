@@ -338,8 +338,8 @@ pub fn human(doc: &Value) -> String {
     }
     notes
         + &format!(
-            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed, \
-         predicted max scallop {} mm\nwrote {}\n",
+            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed{}\n\
+             wrote {}\n",
             doc["strategy"].as_str().unwrap_or("?"),
             doc["file"].as_str().unwrap_or("?"),
             face,
@@ -348,9 +348,12 @@ pub fn human(doc: &Value) -> String {
             s["cut_length_mm"].as_f64().unwrap_or(0.0),
             s["other_length_mm"].as_f64().unwrap_or(0.0),
             s["estimated_time_s"].as_f64().unwrap_or(0.0),
+            // Roughing predicts no scallop: say nothing rather than "?".
             s["predicted_max_scallop_mm"]
                 .as_f64()
-                .map_or_else(|| "?".into(), |h| format!("{h:.4}")),
+                .map_or_else(String::new, |h| format!(
+                    ", predicted max scallop {h:.4} mm"
+                )),
             doc["output"].as_str().unwrap_or("?"),
         )
 }
