@@ -13,7 +13,7 @@ fn axis_rows_are_in_the_file_units() {
         (a.travel.0 + 120.0).abs() < 1e-9 && (a.travel.1 - 30.0).abs() < 1e-9,
         "{a:?}"
     );
-    assert!((a.velocity - 9000.0).abs() < 1e-6 && (a.jerk - 200_000.0).abs() < 1e-3);
+    assert!((a.velocity - 150.0).abs() < 1e-6 && (a.jerk - 3333.3).abs() < 1e-3);
     assert!((a.direction + 1.0).abs() < f64::EPSILON);
     let z = rows.iter().find(|r| r.axis == 'Z').unwrap();
     assert!(!z.rotary && (z.travel.0 + 500.0).abs() < 1e-9 && (z.velocity - 833.0).abs() < 1e-9);
