@@ -76,6 +76,42 @@ fn rotary_moves_use_inverse_time_and_tcp_does_not() {
     assert!(text.contains("G43.4 H1") && !text.contains("G93"), "{text}");
 }
 
+/// An inverse-time block lasts the tip's travel over the part at the feed, unless a rotary axis
+/// needs longer at its velocity limit: 5 mm at 500 mm/min with the table tilting 16.7° takes
+/// 0.6 s (the tilt alone needs 0.11 s at trt-ac's 150 deg/s), and a 40° turn on the spot takes
+/// 40° / 150 deg/s.
+#[test]
+fn inverse_time_is_the_tip_travel_at_the_feed_or_the_rotary_limit() {
+    use crate::gcode::{InterpretOptions, interpret};
+    let trt = Machine::builtin("trt-ac").unwrap();
+    let lcnc = Dialect::builtin("linuxcnc").unwrap();
+    let mut tp = path(&[DVec3::Z, DVec3::new(0.0, 0.3, 1.0)]);
+    // A third pose on the spot, the axis turned 40° further about X.
+    let turned = DVec3::new(0.0, (0.3f64.atan() + 40f64.to_radians()).tan(), 1.0);
+    let mut spot = tp.poses[1].clone();
+    spot.axis = turned.normalize();
+    tp.poses.push(spot);
+    let tp = Toolpath::new(tp.tool.clone(), tp.poses);
+    let text = post(&tp, &trt, &lcnc, &PostOptions::default()).unwrap();
+    let program = interpret(&text, &InterpretOptions::default()).unwrap();
+    // The post linearises both moves into small steps: add up each move's blocks (the
+    // travel's blocks move X, the turn's do not).
+    let (mut travel, mut turn) = (0.0, 0.0);
+    for b in &program.blocks {
+        if let Some(t) = b.inverse_time_duration_s() {
+            if (b.end.xyz.x - b.start.xyz.x).abs() > 1e-9 {
+                travel += t;
+            } else {
+                turn += t;
+            }
+        }
+    }
+    assert!((travel - 5.0 / 500.0 * 60.0).abs() < 1e-3, "{travel}");
+    let a_limit_deg_s = trt.axis('A').unwrap().velocity.to_degrees();
+    assert!((a_limit_deg_s - 150.0).abs() < 1e-9);
+    assert!((turn - 40.0 / a_limit_deg_s).abs() < 1e-3, "{turn}");
+}
+
 /// The tip a block puts in part coordinates (forward kinematics of its end joints).
 fn block_tip(machine: &Machine, b: &crate::gcode::MotionBlock) -> glam::DVec3 {
     let tilt = if machine.rotary_names() == Some(('B', 'C')) {
