@@ -88,7 +88,7 @@ fn inverse_time_is_the_tip_travel_at_the_feed_or_the_rotary_limit() {
     let mut tp = path(&[DVec3::Z, DVec3::new(0.0, 0.3, 1.0)]);
     // A third pose on the spot, the axis turned 40° further about X.
     let turned = DVec3::new(0.0, (0.3f64.atan() + 40f64.to_radians()).tan(), 1.0);
-    let mut spot = tp.poses[1].clone();
+    let mut spot = tp.poses[1];
     spot.axis = turned.normalize();
     tp.poses.push(spot);
     let tp = Toolpath::new(tp.tool.clone(), tp.poses);
