@@ -684,3 +684,76 @@ fn stay_down(
             .collect(),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tools::{Cutter, CutterKind};
+
+    /// A plane falling along +X at θ over [0, 40] × [0, 20] mm.
+    fn tilted(theta: f64) -> (TriMesh, MeshBvh) {
+        let z = |x: f64| -x * theta.tan();
+        let p = |x: f64, y: f64| DVec3::new(x, y, z(x));
+        let mesh = TriMesh::new(
+            vec![p(0.0, 0.0), p(40.0, 0.0), p(40.0, 20.0), p(0.0, 20.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        let bvh = MeshBvh::new(&mesh).unwrap();
+        (mesh, bvh)
+    }
+
+    /// On a plane sloping at θ along the passes a ball touches it R·sin θ uphill of its axis:
+    /// with the contact boundary each run starts with its axis R·sin θ inside the upper edge
+    /// (x = 0) and ends R·sin θ beyond the lower one (x = 40), where the contact reaches it;
+    /// with the axis held over the part the runs end at x = 40, the contact R·sin θ short.
+    #[test]
+    fn contact_boundary_runs_until_the_contact_reaches_the_edge() {
+        let theta = 20f64.to_radians();
+        let (mesh, bvh) = tilted(theta);
+        let tool = ToolRecord {
+            spec: "ball:d=6".into(),
+            cutter: Cutter::new(CutterKind::Ball, 6.0).unwrap(),
+        };
+        let reach = 3.0 * theta.sin();
+        for contact in [true, false] {
+            let opts = RasterOptions {
+                scallop_mm: 0.05,
+                contact_boundary: contact,
+                ..RasterOptions::default()
+            };
+            let plan = raster(&mesh, &bvh, &tool, &opts).unwrap();
+            let cuts: Vec<&Pose> = plan
+                .toolpath
+                .poses
+                .iter()
+                .filter(|p| p.kind == MoveKind::Cut && p.tip.y > 0.1 && p.tip.y < 19.9)
+                .collect();
+            assert!(cuts.len() > 20);
+            let (lo, hi) = cuts.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                (lo.min(p.tip.x), hi.max(p.tip.x))
+            });
+            let (want_lo, want_hi) = if contact {
+                (reach, 40.0 + reach)
+            } else {
+                (0.0, 40.0)
+            };
+            assert!(
+                (lo - want_lo).abs() < 0.01 && (hi - want_hi).abs() < 0.01,
+                "contact {contact}: runs over x {lo}..{hi}, want {want_lo}..{want_hi}"
+            );
+            // Where the contact is on the plane, the tip stands R(sec θ − 1) above it (a chord
+            // next to the rim may be lifted by up to half the chord tolerance).
+            for p in cuts
+                .iter()
+                .filter(|p| p.tip.x > reach + 0.01 && p.tip.x < 39.99)
+            {
+                let on_plane = -p.tip.x * theta.tan() + 3.0 * (1.0 / theta.cos() - 1.0);
+                let above = p.tip.z - on_plane;
+                assert!(
+                    (-1e-6..=0.5 * opts.chord_tol_mm + 1e-6).contains(&above),
+                    "{p:?}"
+                );
+            }
+        }
+    }
+}

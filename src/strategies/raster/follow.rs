@@ -9,7 +9,7 @@
 //! tolerance above it. Finally points are dropped where the polyline without them stays within
 //! half the tolerance above them (never below them by more than 1e-7 mm), so straight runs keep
 //! only their ends. Thinning may merge chords whose true CL bulges between the points refined
-//! before, so every final chord is checked again about every half millimetre and both its ends
+//! before, so every final chord is checked again about every quarter millimetre and both its ends
 //! lifted by any excess found.
 
 use glam::{DVec2, DVec3};
@@ -41,7 +41,7 @@ pub(crate) struct Follower<'a> {
 /// Shortest chord the refinement produces, mm.
 const MIN_CHORD: f64 = 1.0e-3;
 /// Spacing of the true-CL checks along a final chord, mm.
-const VERIFY_STEP: f64 = 0.5;
+const VERIFY_STEP: f64 = 0.25;
 /// How far a dropped point may lie above the chord that replaces it, mm.
 const ABOVE_EPS: f64 = 1.0e-7;
 
@@ -112,7 +112,7 @@ impl Follower<'_> {
         out
     }
 
-    /// Check every final chord against the true CL at points about every half millimetre
+    /// Check every final chord against the true CL at points about every quarter millimetre
     /// (thinning may merge chords whose true CL bulges between the points refined before) and
     /// lift both ends of a chord by the largest excess found, so that no chord dips under it.
     fn verify(&self, origin: DVec2, dir: DVec2, pts: &mut [ClSample]) {

@@ -406,7 +406,12 @@ pub(crate) fn cusps(
                     continue;
                 };
                 let zm = swept_lower(cutter, grid, mid, j, x - mid.w);
-                let left = if zm.is_finite() && zm < z {
+                // A midway pass that only rolls over the part's rim there says nothing of what
+                // a pass can reach: all of the ridge's material counts.
+                let mid_on_rim = mid.rim.get(j).copied().unwrap_or(false);
+                let left = if mid_on_rim {
+                    0.0
+                } else if zm.is_finite() && zm < z {
                     bvh.closest_point(frame.at(t, x).extend(zm))
                         .map_or(0.0, |m| m.distance)
                 } else {
