@@ -6,7 +6,10 @@
 //!   next pass is first placed at the step a plane inclined at the steepest cross slope met on
 //!   the current pass allows (`stepover` explains the table; for a ball s = 2√(2Rh − h²)·cos φ),
 //!   then the cusp between the two actual passes is measured at every grid point and the step
-//!   is shrunk until every cusp is ≤ h. The cusp (`passes::cusps`) is the ridge of the lower
+//!   is shrunk until every cusp is ≤ h. Where shrinking overshoots (the worst cusp below 0.9 h)
+//!   the step is grown back once, to where the failing and the passing tries, on a log-log line
+//!   of cusp against step, put the cusp at 0.95 h, and kept if it holds (on bicubic-hills 4 %
+//!   fewer passes and less cut length). The cusp (`passes::cusps`) is the ridge of the lower
 //!   envelope of the two volumes the tool sweeps moving along the passes (`envelope`), found
 //!   between the two contact points (on a cross slope the ridge lies uphill of both axes once
 //!   the step is small), as its distance to the mesh, less what a pass midway between the two
@@ -359,12 +362,19 @@ pub fn raster_progress(
         // reach (a valley narrower than the tool), not a scallop: they stop counting.
         let mut stuck = vec![false; grid.len()];
         let mut last: Option<Vec<Option<Cusp>>> = None;
+        // The last step that left a cusp above h, and the best step found within h (with its
+        // pass and cusps), for one try at growing back a step that the shrinking overshot.
+        let mut failed: Option<(f64, f64)> = None;
+        let mut within: Option<(f64, CoarsePass, Vec<Option<Cusp>>)> = None;
         let (next, cusp) = loop {
             let w = (cur.w + s).min(w_last);
             let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
             let mid = coarse_pass(&frame, 0.5 * (cur.w + w), &grid, &region, bvh, mesh, cutter);
             let cusp = cusps(&frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max);
-            if let Some(prev) = &last {
+            let growing = within.is_some();
+            if let Some(prev) = &last
+                && !growing
+            {
                 for ((st, new), old) in stuck.iter_mut().zip(&cusp).zip(prev) {
                     if let (Some(n), Some(o)) = (new, old)
                         && n.height > h
@@ -383,12 +393,36 @@ pub fn raster_progress(
                 .filter_map(|(c, _)| c.filter(|c| !c.at_end))
                 .fold(0.0_f64, |m, c| m.max(c.height));
             tries += 1;
-            if worst <= h || s <= s_min || tries >= 8 {
-                if worst > h {
-                    over += 1;
+            if growing {
+                // The grown step either holds (take it) or not (back to the one that did).
+                match within.take() {
+                    Some((_, p, c)) if worst > h => break (p, c),
+                    _ => break (next, cusp),
+                }
+            }
+            if worst <= h {
+                // Shrunk too far (the cusp grows about as s², so 0.8 h means a step 10 % short):
+                // try once the step that the two tries bracketing h point to, on a log-log line.
+                if let Some((sf, wf)) = failed
+                    && worst > 0.0
+                    && worst < GROW_BELOW * h
+                    && w < w_last
+                {
+                    let k = (wf / worst).ln() / (sf / s).ln();
+                    let grown = s * (GROW_TARGET * h / worst).powf(1.0 / k.max(1.0));
+                    if grown.is_finite() && grown > 1.02 * s && grown < sf {
+                        within = Some((s, next, cusp));
+                        s = grown;
+                        continue;
+                    }
                 }
                 break (next, cusp);
             }
+            if s <= s_min || tries >= 8 {
+                over += 1;
+                break (next, cusp);
+            }
+            failed = Some((s, worst));
             last = Some(cusp);
             let f = (0.95 * (h / worst).sqrt()).clamp(0.3, 0.9);
             s = (s * f).max(s_min);
@@ -556,6 +590,11 @@ fn drop_outer_rim_passes(passes: &mut [CoarsePass]) {
         }
     }
 }
+
+/// A step whose worst cusp is below this fraction of h after shrinking is grown back once.
+const GROW_BELOW: f64 = 0.9;
+/// The cusp, as a fraction of h, that growing a step aims at.
+const GROW_TARGET: f64 = 0.95;
 
 /// Material above the scallop height that is not a scallop: how many grid points, how thick.
 #[derive(Default)]
