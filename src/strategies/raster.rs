@@ -37,7 +37,8 @@
 //!   between the contact and the edge is cut too (stopping with the axis over the edge left up
 //!   to 0.12 mm on bicubic-hills for h = 0.05 mm). Beyond that point the tool would only roll
 //!   over the rim. Passes alongside an edge that touch nothing but its rim are dropped, all but
-//!   the innermost. `contact_boundary: false` keeps the axis over the outline.
+//!   the innermost. `contact_boundary: false` keeps the axis over the outline, and so do flat
+//!   and bull-nose cutters (their contact on a level area is any point under the flat bottom).
 //! - **Links**: between runs closer than `max_link_mm` the tool stays down, following the CL
 //!   surface along the straight XY link (a fed `Link`, gouge-free by construction); otherwise it
 //!   retracts: rapid up to the clearance plane, rapid across, rapid down to 1 mm above the
@@ -58,6 +59,7 @@ use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
+use crate::tools::CutterKind;
 use crate::tools::dropcutter::{ClPoint, Contact, drop_cutter};
 use follow::{ClSample, Follower};
 use passes::{CoarsePass, Cusp, Region, coarse_pass, contact_normal, cusps};
@@ -112,8 +114,9 @@ pub struct RasterOptions {
     /// With the silhouette boundary: run the passes on past the part's outline until the
     /// contact point reaches the edge (the tool rolls over it), so that the surface is finished
     /// up to the edge where it falls away under the tool (true, the default); false keeps the
-    /// tool axis over the part, which leaves a strip uncut at edges on a slope. A polygon
-    /// boundary always keeps the axis inside the polygon.
+    /// tool axis over the part, which leaves a strip uncut at edges on a slope. Ball end mills
+    /// only (a flat bottom's contact on a level area is ambiguous; flat and bull-nose cutters
+    /// keep the axis over the part). A polygon boundary always keeps the axis inside it.
     #[serde(default = "contact_boundary_default")]
     pub contact_boundary: bool,
 }
@@ -284,7 +287,13 @@ pub fn raster_progress(
         Boundary::Polygon(p) => p.clone(),
     };
     let region = match &opts.boundary {
-        Boundary::Silhouette if opts.contact_boundary => Region::Contact(bvh, top + 1.0),
+        // A flat bottom's contact on a level area is any point under it (often a rim vertex
+        // with the axis well inside), so only ball end mills get the contact boundary.
+        Boundary::Silhouette
+            if opts.contact_boundary && matches!(cutter.kind, CutterKind::Ball) =>
+        {
+            Region::Contact(bvh, top + 1.0)
+        }
         Boundary::Silhouette => Region::Silhouette(bvh, top + 1.0),
         Boundary::Polygon(p) => Region::Polygon(p),
     };
@@ -370,7 +379,9 @@ pub fn raster_progress(
             let w = (cur.w + s).min(w_last);
             let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
             let mid = coarse_pass(&frame, 0.5 * (cur.w + w), &grid, &region, bvh, mesh, cutter);
-            let cusp = cusps(&frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max);
+            let cusp = cusps(
+                &frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max, &region,
+            );
             let growing = within.is_some();
             if let Some(prev) = &last
                 && !growing
@@ -727,7 +738,7 @@ fn stay_down(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::{Cutter, CutterKind};
+    use crate::tools::Cutter;
 
     /// A plane falling along +X at θ over [0, 40] × [0, 20] mm.
     fn tilted(theta: f64) -> (TriMesh, MeshBvh) {
