@@ -379,9 +379,7 @@ pub fn raster_progress(
             let w = (cur.w + s).min(w_last);
             let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
             let mid = coarse_pass(&frame, 0.5 * (cur.w + w), &grid, &region, bvh, mesh, cutter);
-            let cusp = cusps(
-                &frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max, &region,
-            );
+            let cusp = cusps(&frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max);
             let growing = within.is_some();
             if let Some(prev) = &last
                 && !growing

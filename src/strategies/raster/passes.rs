@@ -324,8 +324,7 @@ const SECTION_SAMPLES: usize = 16;
 /// so this is exact; where the tool cannot reach the surface at all (a corner narrower than
 /// the tool, the foot of a vertical wall met along the pass) the material is reported as
 /// [`Cusp::unreachable`] instead of driving the step down. None where either pass has no CL
-/// point or the CL rises across the passes more steeply than `max_slope`. In the contact region
-/// ridges beyond the part's outline do not count (there is no material there).
+/// point or the CL rises across the passes more steeply than `max_slope`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cusps(
     frame: &Frame,
@@ -336,7 +335,6 @@ pub(crate) fn cusps(
     cutter: &Cutter,
     bvh: &MeshBvh,
     cos_max_slope: f64,
-    region: &Region,
 ) -> Vec<Option<Cusp>> {
     use rayon::prelude::*;
     let (wa, wb) = (a.w, b.w);
@@ -400,10 +398,6 @@ pub(crate) fn cusps(
                     }
                 }
                 let x = 0.5 * (l + r);
-                // With the contact boundary a ridge beyond the part's outline is over air.
-                if matches!(region, Region::Contact(..)) && !region.contains(frame.at(t, x)) {
-                    continue;
-                }
                 let z = pa(x).min(pb(x));
                 if !z.is_finite() {
                     continue;
