@@ -139,6 +139,12 @@ pub(crate) fn swept_lower(
             prev = Some(cur);
         }
     }
+    // The moves from the last grid points to the runs' ends off the grid.
+    for [a, b] in &pass.ends {
+        if a.0 <= t + big && b.0 >= t - big {
+            best = best.min(segment_lower(cutter, t, d, *a, *b));
+        }
+    }
     best
 }
 
@@ -162,6 +168,8 @@ mod tests {
                     })
                 })
                 .collect(),
+            rim: vec![false; grid.len()],
+            ends: Vec::new(),
             runs: Vec::new(),
         }
     }

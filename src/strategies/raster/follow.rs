@@ -8,7 +8,9 @@
 //! polyline then lies on or above the true CL at every checked point and at most half the
 //! tolerance above it. Finally points are dropped where the polyline without them stays within
 //! half the tolerance above them (never below them by more than 1e-7 mm), so straight runs keep
-//! only their ends.
+//! only their ends. Thinning may merge chords whose true CL bulges between the points refined
+//! before, so every final chord is checked again about every quarter millimetre and both its ends
+//! lifted by any excess found.
 
 use glam::{DVec2, DVec3};
 
@@ -38,6 +40,8 @@ pub(crate) struct Follower<'a> {
 
 /// Shortest chord the refinement produces, mm.
 const MIN_CHORD: f64 = 1.0e-3;
+/// Spacing of the true-CL checks along a final chord, mm.
+const VERIFY_STEP: f64 = 0.25;
 /// How far a dropped point may lie above the chord that replaces it, mm.
 const ABOVE_EPS: f64 = 1.0e-7;
 
@@ -103,7 +107,38 @@ impl Follower<'_> {
                 }
             })
             .collect();
-        self.thin(lifted)
+        let mut out = self.thin(lifted);
+        self.verify(origin, dir, &mut out);
+        out
+    }
+
+    /// Check every final chord against the true CL at points about every quarter millimetre
+    /// (thinning may merge chords whose true CL bulges between the points refined before) and
+    /// lift both ends of a chord by the largest excess found, so that no chord dips under it.
+    fn verify(&self, origin: DVec2, dir: DVec2, pts: &mut [ClSample]) {
+        let lifts: Vec<f64> = pts
+            .windows(2)
+            .map(|w| {
+                let [a, b] = w else { return 0.0 };
+                let span = b.t - a.t;
+                let n = (span / VERIFY_STEP).ceil().clamp(1.0, 32.0) as usize;
+                (1..n)
+                    .filter_map(|i| {
+                        let t = a.t + span * i as f64 / n as f64;
+                        let cl = self.drop_at(origin, dir, t).cl?;
+                        let chord = a.tip.z + (b.tip.z - a.tip.z) * (t - a.t) / span;
+                        Some(cl.z - chord)
+                    })
+                    .fold(0.0_f64, f64::max)
+            })
+            .collect();
+        for (k, p) in pts.iter_mut().enumerate() {
+            let before = k.checked_sub(1).and_then(|i| lifts.get(i)).copied();
+            let lift = before
+                .unwrap_or(0.0)
+                .max(lifts.get(k).copied().unwrap_or(0.0));
+            p.tip.z += lift;
+        }
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -15,14 +15,18 @@ use crate::tools::{Cutter, CutterKind};
 pub(crate) enum Region<'a> {
     /// Over the part's XY outline: a vertical ray through the tool axis meets the mesh.
     Silhouette(&'a MeshBvh, f64),
+    /// Wherever the tool touches the part, up to where its contact point reaches the part's
+    /// XY outline (the rim): the axis may leave the outline, the contact may not.
+    Contact(&'a MeshBvh, f64),
     /// Inside a closed polygon (even-odd rule).
     Polygon(&'a [DVec2]),
 }
 
 impl Region<'_> {
+    /// Whether `p` lies over the part (silhouette, contact) or inside the polygon.
     pub(crate) fn contains(&self, p: DVec2) -> bool {
         match self {
-            Region::Silhouette(bvh, top) => bvh
+            Region::Silhouette(bvh, top) | Region::Contact(bvh, top) => bvh
                 .ray_cast(p.extend(*top), DVec3::NEG_Z, f64::INFINITY)
                 .is_some(),
             Region::Polygon(poly) => {
@@ -43,7 +47,31 @@ impl Region<'_> {
             }
         }
     }
+
+    /// Whether the tool axis at `p` may stand there (the contact region leaves that to the
+    /// drop-cutter and the contact point).
+    fn axis_allowed(&self, p: DVec2) -> bool {
+        match self {
+            Region::Contact(..) => true,
+            _ => self.contains(p),
+        }
+    }
+
+    /// Whether a contact point at `cc` lies on the rim of the part's XY outline (within
+    /// [`RIM_EPS`]): one of the four points `RIM_EPS` away along and across the passes is off
+    /// the part. Always false outside the contact region.
+    fn on_rim(&self, frame: &Frame, cc: DVec2) -> bool {
+        let Region::Contact(..) = self else {
+            return false;
+        };
+        [frame.u, -frame.u, frame.c, -frame.c]
+            .iter()
+            .any(|d| !self.contains(cc + *d * RIM_EPS))
+    }
 }
+
+/// How close to the part's outline a contact point counts as on its rim, mm.
+const RIM_EPS: f64 = 0.005;
 
 /// One pass sampled on the grid `t_j = t0 + j·dt`.
 pub(crate) struct CoarsePass {
@@ -51,6 +79,12 @@ pub(crate) struct CoarsePass {
     pub w: f64,
     /// Drop-cutter result per grid point (None outside the region or off the mesh).
     pub cl: Vec<Option<ClPoint>>,
+    /// Per grid point: the contact lies on the rim of the part's outline (the tool rolls over
+    /// the edge; only with [`Region::Contact`]).
+    pub rim: Vec<bool>,
+    /// Moves between a run's end off the grid and its nearest grid point, as (t, CL z) pairs
+    /// in ascending t (the contact region's ends, where the contact reaches the rim).
+    pub ends: Vec<[(f64, f64); 2]>,
     /// Runs of the pass inside the region: (t_start, t_end, samples with their t), ascending.
     pub runs: Vec<Vec<(f64, ClPoint)>>,
 }
@@ -67,12 +101,29 @@ pub(crate) fn coarse_pass(
     cutter: &Cutter,
 ) -> CoarsePass {
     let xy: Vec<DVec2> = grid.iter().map(|&t| frame.at(t, w)).collect();
-    let inside: Vec<bool> = xy.iter().map(|p| region.contains(*p)).collect();
-    let cl: Vec<Option<ClPoint>> = drop_cutter(bvh, mesh, cutter, &xy)
+    let inside: Vec<bool> = xy.iter().map(|p| region.axis_allowed(*p)).collect();
+    let mut cl: Vec<Option<ClPoint>> = drop_cutter(bvh, mesh, cutter, &xy)
         .into_iter()
         .zip(&inside)
         .map(|(c, &i)| if i { c } else { None })
         .collect();
+    let rim: Vec<bool> = cl
+        .iter()
+        .map(|c| c.is_some_and(|c| region.on_rim(frame, c.cc.truncate())))
+        .collect();
+    if let Region::Contact(..) = region {
+        let mut ends = Vec::new();
+        let runs = contact_runs(
+            frame, w, grid, &mut cl, &rim, region, bvh, mesh, cutter, &mut ends,
+        );
+        return CoarsePass {
+            w,
+            cl,
+            rim,
+            ends,
+            runs,
+        };
+    }
     // Runs of consecutive grid points with a CL point; their ends are moved to the region's
     // boundary by bisection where the run stops because the boundary was crossed.
     let mut runs = Vec::new();
@@ -111,7 +162,105 @@ pub(crate) fn coarse_pass(
         runs.push(cur);
     }
     runs.retain(|r| r.len() >= 2);
-    CoarsePass { w, cl, runs }
+    CoarsePass {
+        w,
+        cl,
+        rim,
+        ends: Vec::new(),
+        runs,
+    }
+}
+
+/// The runs of a pass in the contact region: each stretch of grid points where the tool
+/// touches the part, with the ends where the tool only rolls over the rim cut off at the first
+/// rim contact (found by bisection): there the contact point has reached the edge, and beyond
+/// it the tool touches nothing else. The cut-off grid points lose their CL point. A stretch
+/// with rim contacts only (a pass hanging over an edge along it) is kept whole.
+#[allow(clippy::too_many_arguments)]
+fn contact_runs(
+    frame: &Frame,
+    w: f64,
+    grid: &[f64],
+    cl: &mut [Option<ClPoint>],
+    rim: &[bool],
+    region: &Region,
+    bvh: &MeshBvh,
+    mesh: &TriMesh,
+    cutter: &Cutter,
+    ends: &mut Vec<[(f64, f64); 2]>,
+) -> Vec<Vec<(f64, ClPoint)>> {
+    let interior = |t: f64| {
+        drop_one(frame, w, t, bvh, mesh, cutter)
+            .map(|c| (!region.on_rim(frame, c.cc.truncate()), c))
+    };
+    // The first rim contact going from the interior contact at `t_in` toward `t_rim`.
+    let edge = |t_in: f64, t_rim: f64| -> Option<(f64, ClPoint)> {
+        let (mut a, mut b) = (t_in, t_rim);
+        let mut at_b = None;
+        for _ in 0..24 {
+            let m = 0.5 * (a + b);
+            match interior(m) {
+                Some((true, _)) => a = m,
+                other => {
+                    b = m;
+                    at_b = other.map(|(_, c)| c);
+                }
+            }
+        }
+        at_b.or_else(|| interior(b).map(|(_, c)| c)).map(|c| (b, c))
+    };
+    let mut runs = Vec::new();
+    let mut j = 0;
+    while j < cl.len() {
+        if cl.get(j).copied().flatten().is_none() {
+            j += 1;
+            continue;
+        }
+        let start = j;
+        while cl.get(j).copied().flatten().is_some() {
+            j += 1;
+        }
+        let end = j - 1; // last grid point of the stretch
+        let is_interior = |k: usize| !rim.get(k).copied().unwrap_or(true);
+        let first = (start..=end).find(|&k| is_interior(k));
+        let last = (start..=end).rev().find(|&k| is_interior(k));
+        let sample = |k: usize, cl: &[Option<ClPoint>]| {
+            Some((grid.get(k).copied()?, cl.get(k).copied().flatten()?))
+        };
+        let (Some(a), Some(b)) = (first, last) else {
+            let run: Vec<(f64, ClPoint)> = (start..=end).filter_map(|k| sample(k, cl)).collect();
+            runs.push(run);
+            continue;
+        };
+        let mut run = Vec::new();
+        if a > start
+            && let (Some(&ti), Some(&tr)) = (grid.get(a), grid.get(a - 1))
+            && let Some(e) = edge(ti, tr)
+        {
+            run.push(e);
+            if let Some((t, c)) = sample(a, cl) {
+                ends.push([(e.0, e.1.z), (t, c.z)]);
+            }
+        }
+        run.extend((a..=b).filter_map(|k| sample(k, cl)));
+        if b < end
+            && let (Some(&ti), Some(&tr)) = (grid.get(b), grid.get(b + 1))
+            && let Some(e) = edge(ti, tr)
+        {
+            run.push(e);
+            if let Some((t, c)) = sample(b, cl) {
+                ends.push([(t, c.z), (e.0, e.1.z)]);
+            }
+        }
+        for k in (start..a).chain(b + 1..=end) {
+            if let Some(c) = cl.get_mut(k) {
+                *c = None;
+            }
+        }
+        runs.push(run);
+    }
+    runs.retain(|r| r.len() >= 2);
+    runs
 }
 
 fn drop_one(
@@ -257,7 +406,12 @@ pub(crate) fn cusps(
                     continue;
                 };
                 let zm = swept_lower(cutter, grid, mid, j, x - mid.w);
-                let left = if zm.is_finite() && zm < z {
+                // A midway pass that only rolls over the part's rim there says nothing of what
+                // a pass can reach: all of the ridge's material counts.
+                let mid_on_rim = mid.rim.get(j).copied().unwrap_or(false);
+                let left = if mid_on_rim {
+                    0.0
+                } else if zm.is_finite() && zm < z {
                     bvh.closest_point(frame.at(t, x).extend(zm))
                         .map_or(0.0, |m| m.distance)
                 } else {
