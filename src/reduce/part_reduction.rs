@@ -79,12 +79,6 @@ impl PartZmap {
     pub fn height_mm(&self) -> f64 {
         self.grid.rows().saturating_sub(1) as f64 * self.step_mm
     }
-
-    /// The Z-map as a triangle mesh (see [`grid_mesh`]).
-    #[must_use]
-    pub fn mesh(&self) -> TriMesh {
-        grid_mesh(&self.grid, self.origin, self.width_mm(), self.height_mm())
-    }
 }
 
 /// Rows and columns of a Z-map at `step_mm` over an XY extent `size` (mm): ⌈size/step⌉ + 1 each

@@ -240,11 +240,13 @@ impl Workstation {
 
     /// The reduced surface to draw instead of the part, and its legend, when visible.
     pub(super) fn reduction_instance(&self) -> Option<(MeshInstance, ScalarMapping)> {
+        let part_id = self.document.as_ref()?.ids[0];
+        // A reduction of another part (one opened since) is not drawn over this one.
         let s = self
             .reductions
             .shown
             .as_ref()
-            .filter(|_| self.reductions.visible)?;
+            .filter(|s| self.reductions.visible && s.part_id == part_id)?;
         Some((
             MeshInstance {
                 id: s.id,
