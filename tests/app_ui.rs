@@ -311,16 +311,21 @@ fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
 }
 
 /// Step frames until the calculation ends.
-fn settle_calculation(h: &mut Harness<'static, Workstation>) {
+/// Step frames while `busy` says a background job runs (at most 30 s), then one more.
+fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Workstation) -> bool) {
     for _ in 0..6000 {
         h.step();
-        if !h.state().is_calculating() {
+        if !busy(h.state()) {
             h.step();
             return;
         }
         std::thread::sleep(Duration::from_millis(5));
     }
-    panic!("the calculation never finished");
+    panic!("the {what} never finished");
+}
+
+fn settle_calculation(h: &mut Harness<'static, Workstation>) {
+    settle_while(h, "calculation", Workstation::is_calculating);
 }
 
 #[test]
@@ -436,13 +441,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     // Simulate from the operation editor's button.
     h.get_by_label("Simulate").click();
     h.run_steps(2);
-    for _ in 0..6000 {
-        h.step();
-        if !h.state().is_simulating() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    settle_while(&mut h, "simulation", Workstation::is_simulating);
     h.run_steps(2);
     let sim = h.state().simulation_of(0).expect("simulated");
     let whole_removed = sim.simulated.report.removed_volume_mm3;
@@ -461,13 +460,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         talas::app::command::PlaybackCommand::Seek(60.0),
     ));
     h.state_mut().apply(Command::SimulateToPlayback);
-    for _ in 0..6000 {
-        h.step();
-        if !h.state().is_simulating() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    settle_while(&mut h, "simulation", Workstation::is_simulating);
     let partial = h
         .state()
         .shown_simulation()
@@ -482,13 +475,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
 
     // F7 posts the path and plans its motion; the G-code pane shows it, Export writes it.
     press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
-    for _ in 0..6000 {
-        h.step();
-        if !h.state().is_posting() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    settle_while(&mut h, "is_posting", Workstation::is_posting);
     h.run_steps(2);
     let text = h.state().program_text(0).expect("posted").to_string();
     assert!(
@@ -562,13 +549,7 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.get_by_label_contains("161 × 121 nodes");
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    for _ in 0..6000 {
-        h.step();
-        if !h.state().is_reducing() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    settle_while(&mut h, "reduction", Workstation::is_reducing);
     h.run_steps(2);
     let Some(talas::app::panels::reduction_view::ReductionResult::Regular(r)) =
         h.state().reduction().cloned()
@@ -653,13 +634,7 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.run_steps(2);
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    for _ in 0..6000 {
-        h.step();
-        if !h.state().is_reducing() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    settle_while(&mut h, "reduction", Workstation::is_reducing);
     h.run_steps(2);
     let Some(talas::app::panels::reduction_view::ReductionResult::Xy(xy)) =
         h.state().reduction().cloned()

@@ -17,6 +17,17 @@ fn talas(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// Run `talas` with `args` (ending in `--json`), require success, and parse its JSON.
+fn talas_json(args: &[&str]) -> serde_json::Value {
+    let out = talas(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 fn temp_file(name: &str, text: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("talas-zmap-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -30,7 +41,7 @@ fn dropcutter_json_keeps_input_order_and_marks_misses() {
     let stl = data("bicubic-hills.stl");
     // The last point is far outside the part: null.
     let pts = temp_file("pts.csv", "x,y\n40,30\n45.5,31\n\n-1000,-1000\n");
-    let out = talas(&[
+    let doc = talas_json(&[
         "dropcutter",
         stl.to_str().unwrap(),
         "--tool",
@@ -39,12 +50,6 @@ fn dropcutter_json_keeps_input_order_and_marks_misses() {
         pts.to_str().unwrap(),
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let cl = doc["cl"].as_array().unwrap();
     assert_eq!(cl.len(), 3);
     assert_eq!(cl[0][0], 40.0);
@@ -86,19 +91,13 @@ fn dropcutter_bad_input_names_the_file_and_line() {
 #[test]
 fn reduce_json_on_example_a() {
     let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
-    let out = talas(&[
+    let doc = talas_json(&[
         "reduce",
         file.to_str().unwrap(),
         "--tolerance",
         "0.1",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let s: Vec<f64> = doc["singular_values"]
         .as_array()
         .unwrap()
@@ -130,7 +129,7 @@ fn reduce_stl_reads_back_within_the_reported_error() {
     let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
     let input = talas::reduce::Grid::parse_csv(&std::fs::read_to_string(&file).unwrap()).unwrap();
     let out_stl = temp_file("reduced-a.stl", "");
-    let out = talas(&[
+    let doc = talas_json(&[
         "reduce",
         file.to_str().unwrap(),
         "--tolerance",
@@ -139,12 +138,6 @@ fn reduce_stl_reads_back_within_the_reported_error() {
         out_stl.to_str().unwrap(),
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let max_error = doc["max_error"].as_f64().unwrap();
     // Spectral rule: σ_6 = 0.330 > 0.2 ≥ σ_7 = 0.194 (Fig. 6.3), so rank 6.
     assert_eq!(doc["rank"], 6);
@@ -180,7 +173,7 @@ fn reduce_a_part_samples_its_exact_zmap() {
     use glam::DVec2;
     use talas::reduce::{Grid, zmap_from_surface};
     let run = |file: &str| -> serde_json::Value {
-        let out = talas(&[
+        talas_json(&[
             "reduce",
             data(file).to_str().unwrap(),
             "--step",
@@ -188,13 +181,7 @@ fn reduce_a_part_samples_its_exact_zmap() {
             "--tolerance",
             "0.01",
             "--json",
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        ])
     };
     let step = run("bicubic-hills.stp");
     assert_eq!(
@@ -260,7 +247,7 @@ fn reduce_a_part_and_machine_the_reduced_model() {
     use talas::toolpath::{MoveKind, Toolpath};
     let out_path =
         std::env::temp_dir().join(format!("talas-zmap-path-{}.json", std::process::id()));
-    let out = talas(&[
+    let doc = talas_json(&[
         "reduce",
         data("bicubic-hills.stp").to_str().unwrap(),
         "--step",
@@ -275,12 +262,6 @@ fn reduce_a_part_and_machine_the_reduced_model() {
         "0.02",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let stepover = doc["path"]["stepover_mm"].as_f64().unwrap();
     assert!((stepover - 2.0 * (2.0 * 3.0 * 0.02 - 0.0004_f64).sqrt()).abs() < 1e-12);
     let tp = Toolpath::from_json(&std::fs::read_to_string(&out_path).unwrap(), "path").unwrap();

@@ -284,16 +284,10 @@ impl Workstation {
                     || self.cancel_reduction()
                 {
                 } else if let Some(job) = self.load_job.take() {
-                    job.cancel();
-                    let t = self.now_s();
-                    self.log
-                        .push(t, Severity::Warning, format!("{} cancelled", job.label));
+                    self.cancel_job(&job);
                 } else if let Some((_, job)) = self.field_job.take() {
-                    job.cancel();
+                    self.cancel_job(&job);
                     self.viewport.scalar_field = None;
-                    let t = self.now_s();
-                    self.log
-                        .push(t, Severity::Warning, format!("{} cancelled", job.label));
                 }
             }
             Command::Quit => self.ctx.send_viewport_cmd(egui::ViewportCommand::Close),
@@ -772,6 +766,14 @@ impl Workstation {
 }
 
 impl Workstation {
+    /// Ask `job`'s worker to stop and say so in the log.
+    fn cancel_job<T: Send + 'static>(&mut self, job: &Job<T>) {
+        job.cancel();
+        let t = self.now_s();
+        self.log
+            .push(t, Severity::Warning, format!("{} cancelled", job.label));
+    }
+
     /// A background job's outcome once it has ended: `Some(Some(result))`, or `Some(None)` when
     /// the worker stopped without one; `None` while it runs (a repaint is then asked for, so the
     /// result is collected soon after it arrives).

@@ -232,13 +232,7 @@ impl Workstation {
         let Some(calc) = self.ops.job.take() else {
             return false;
         };
-        calc.job.cancel();
-        let t = self.now_s();
-        self.log.push(
-            t,
-            Severity::Warning,
-            format!("{} cancelled", calc.job.label),
-        );
+        self.cancel_job(&calc.job);
         true
     }
 

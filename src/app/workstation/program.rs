@@ -220,7 +220,7 @@ impl Workstation {
         let Some((_, _, job)) = self.programs.job.take() else {
             return false;
         };
-        job.cancel();
+        self.cancel_job(&job);
         true
     }
 

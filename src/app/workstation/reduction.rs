@@ -133,10 +133,7 @@ impl Workstation {
         let Some((_, _, job)) = self.reductions.job.take() else {
             return false;
         };
-        job.cancel();
-        let t = self.now_s();
-        self.log
-            .push(t, Severity::Warning, format!("{} cancelled", job.label));
+        self.cancel_job(&job);
         true
     }
 

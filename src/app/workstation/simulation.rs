@@ -157,10 +157,7 @@ impl Workstation {
         let Some((_, job)) = self.sims.job.take() else {
             return false;
         };
-        job.cancel();
-        let t = self.now_s();
-        self.log
-            .push(t, Severity::Warning, format!("{} cancelled", job.label));
+        self.cancel_job(&job);
         true
     }
 
