@@ -1,7 +1,10 @@
 //! Storage: writing files so that a failure never loses work. A save goes to a temporary file in
 //! the same folder, is flushed to disk, then renamed over the target; a reader sees the old file
 //! or the new one, never half of either. Every saver in Talas (projects, tool paths, posted
-//! G-code, STL) goes through [`write_atomic`].
+//! G-code, STL, recent files, CSV samples) goes through [`write_atomic`] or [`AtomicFile`].
+//!
+//! A symbolic link is followed, not replaced: the file it points to is rewritten in its own
+//! folder and the link stays. An existing file keeps its permission bits.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -12,6 +15,112 @@ use std::path::{Path, PathBuf};
 /// # Errors
 /// The I/O error; `path` is then untouched.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(bytes)?;
+    file.commit()
+}
+
+/// A file written in pieces and put in place atomically by [`AtomicFile::commit`]; dropped
+/// without a commit (an error on the way), it leaves the target untouched and removes its
+/// temporary file. Use it for output too large to build in memory first.
+pub struct AtomicFile {
+    target: PathBuf,
+    dir: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+    renamed: bool,
+}
+
+impl AtomicFile {
+    /// Start writing `path` (through a temporary file beside the link's target).
+    ///
+    /// # Errors
+    /// The I/O error of creating the temporary file; `path` is untouched.
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let target = resolve_links(path)?;
+        let (dir, tmp) = temporary_beside(&target)?;
+        let file = std::fs::File::create(&tmp)?;
+        if let Ok(meta) = std::fs::metadata(&target) {
+            // Keep the permission bits of the file being replaced.
+            let _ = file.set_permissions(meta.permissions());
+        }
+        Ok(Self {
+            target,
+            dir,
+            tmp,
+            file: Some(std::io::BufWriter::new(file)),
+            renamed: false,
+        })
+    }
+
+    /// Flush, sync and rename over the target.
+    ///
+    /// # Errors
+    /// The I/O error; the target is then untouched and the temporary file removed.
+    pub fn commit(mut self) -> std::io::Result<()> {
+        let Some(w) = self.file.take() else {
+            return Err(std::io::Error::other("already committed"));
+        };
+        let f = w
+            .into_inner()
+            .map_err(std::io::IntoInnerError::into_error)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&self.tmp, &self.target)?;
+        self.renamed = true;
+        // Make the rename itself durable (best effort: not every platform can open a folder).
+        if let Ok(d) = std::fs::File::open(&self.dir) {
+            let _ = d.sync_all();
+        }
+        Ok(())
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match &mut self.file {
+            Some(f) => f.write(buf),
+            None => Err(std::io::Error::other("already committed")),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match &mut self.file {
+            Some(f) => f.flush(),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        drop(self.file.take());
+        if !self.renamed {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Follow symbolic links (up to 32) to the file a save must replace.
+fn resolve_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut target = path.to_path_buf();
+    for _ in 0..32 {
+        match std::fs::symlink_metadata(&target) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&target)?;
+                target = match target.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(target),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
+/// The folder of `path` and a temporary file name in it unique to this process and thread.
+fn temporary_beside(path: &Path) -> std::io::Result<(PathBuf, PathBuf)> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -32,22 +141,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         name.to_string_lossy(),
         std::process::id()
     ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)?;
-        // Make the rename itself durable (best effort: not every platform can open a folder).
-        if let Ok(d) = std::fs::File::open(&dir) {
-            let _ = d.sync_all();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    Ok((dir, tmp))
 }
 
 #[cfg(test)]
@@ -70,6 +164,36 @@ mod tests {
         assert!(sub.join("x").is_dir());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
         assert!(write_atomic(Path::new("/"), b"z").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_stays_a_link_and_the_mode_is_kept() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("talas-storage-link-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("real")).unwrap();
+        let real = dir.join("real/a.ngc");
+        std::fs::write(&real, "old").unwrap();
+        std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let link = dir.join("a.ngc");
+        std::os::unix::fs::symlink("real/a.ngc", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        let mode = std::fs::metadata(&real).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o640);
+        // Written in pieces; dropped without commit, the old file stays.
+        let mut f = AtomicFile::create(&real).unwrap();
+        f.write_all(b"half").unwrap();
+        drop(f);
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        assert_eq!(std::fs::read_dir(dir.join("real")).unwrap().count(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -193,10 +193,10 @@ fn malformed_files_give_one_error_with_a_place() {
         } => assert_eq!((l, column), (line, 8)),
         e => panic!("{e:?}"),
     }
-    // A missing required field.
-    let e = parse_err("version = 1\nname = \"x\"\n");
+    // A wrongly typed field names it.
+    let e = parse_err("version = 1\nname = \"x\"\nmachine = 3\n");
     assert!(e.to_string().starts_with("bad.talas:"), "{e}");
-    assert!(e.to_string().contains("machine"), "{e}");
+    assert!(e.to_string().contains("line 3"), "{e}");
     // Newer version.
     let text = good.replacen("version = 1", "version = 99", 1);
     assert!(matches!(
@@ -451,4 +451,82 @@ fn operations_keep_their_tools_when_the_library_changes() {
         .expect_err("negative scallop refused");
     assert!(e.to_string().contains("scallop"), "{e}");
     assert_eq!(p, before);
+}
+
+/// A project written by hand or another program: missing fields take their documented
+/// defaults; every value an edit would refuse is refused on load too, naming it.
+#[test]
+fn loading_validates_like_editing_and_fills_defaults() {
+    let p = Project::from_toml("", Path::new("empty.talas")).expect("defaults");
+    assert_eq!(
+        (p.version, p.name.as_str(), p.machine.as_str()),
+        (1, "Untitled", "mill-3axis")
+    );
+    let good = Project::default().to_toml().expect("toml");
+    let with_op = |op: Operation| {
+        let mut p = Project::default();
+        p.operations.push(op);
+        p.to_toml().expect("toml")
+    };
+    let raster = Operation::new(OperationKind::Raster, 0, 0);
+    let nan_scallop = match raster.clone() {
+        Operation::Raster {
+            name,
+            tool,
+            angle_rad,
+            one_way,
+            tolerance_mm,
+            feed_mm_per_min,
+            ..
+        } => Operation::Raster {
+            name,
+            tool,
+            scallop_mm: f64::NAN,
+            angle_rad,
+            one_way,
+            tolerance_mm,
+            feed_mm_per_min,
+        },
+        other => other,
+    };
+    let cases: Vec<(String, &str)> = vec![
+        (
+            good.replacen("work_offset = 1", "work_offset = 200", 1),
+            "work offset",
+        ),
+        (
+            good.replacen(
+                "origin_mm = [0.0, 0.0, 0.0]",
+                "origin_mm = [nan, 0.0, 0.0]",
+                1,
+            ),
+            "origin",
+        ),
+        (
+            good.replacen("machine = \"mill-3axis\"", "machine = \"no-such-mill\"", 1),
+            "no-such-mill",
+        ),
+        (
+            good.replacen("dialect = \"linuxcnc\"", "dialect = \"klingon\"", 1),
+            "klingon",
+        ),
+        (
+            good.replacen("spindle_rpm = 10000.0", "spindle_rpm = nan", 1),
+            "spindle",
+        ),
+        (with_op(raster.with_tool(99)), "tool 100"),
+        (with_op(nan_scallop), "operation 1"),
+    ];
+    for (text, named) in cases {
+        assert_ne!(text, good, "the case {named} changed nothing");
+        let e = parse_err(&text);
+        assert!(matches!(e, ProjectError::Invalid { .. }), "{named}: {e:?}");
+        assert!(e.to_string().contains(named), "{named}: {e}");
+    }
+    let mut p = Project::default();
+    p.operations
+        .push(Operation::new(OperationKind::IsoScallop, 0, 9999));
+    let e = p.check_faces(30).expect_err("face 10000 of 30");
+    assert!(e.contains("face 10000"), "{e}");
+    assert!(p.check_faces(10_000).is_ok());
 }

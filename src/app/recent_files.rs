@@ -59,9 +59,7 @@ impl RecentFiles {
             if let Some(dir) = store.parent() {
                 std::fs::create_dir_all(dir)?;
             }
-            let tmp = store.with_extension("txt.tmp");
-            std::fs::write(&tmp, text)?;
-            std::fs::rename(&tmp, store)
+            crate::storage::write_atomic(store, text.as_bytes())
         };
         write().err().map(|e| {
             format!(

@@ -532,6 +532,15 @@ impl Workstation {
                 self.focus = Focus::Selection;
                 self.viewport.fit_requested = true;
                 self.log.push(t, Severity::Info, summary);
+                if let Some(doc) = &self.document
+                    && let Err(e) = self.session.project.check_faces(doc.part.faces.len())
+                {
+                    self.log.notify(
+                        t,
+                        Severity::Warning,
+                        format!("The project does not fit this part: {e}"),
+                    );
+                }
                 if let Some(edit) = part_edit {
                     self.apply(Command::Edit(edit));
                 }

@@ -3,12 +3,14 @@
 //! jerk-limited motion plan of a G-code program.
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use serde_json::{Map, Value, json};
 
 use crate::feed::{
     AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, naive_time_s, plan,
+    travel_violations,
 };
 use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::ImportError;
@@ -151,21 +153,7 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     };
     let tp = plan(&input).map_err(|e| bad(None, e.to_string()))?;
     if let Some(out) = &args.samples {
-        let mut csv = String::from("t");
-        for (n, _) in &axes {
-            let _ = write!(csv, ",{n}");
-        }
-        csv.push('\n');
-        for s in tp.samples() {
-            let _ = write!(csv, "{:.6}", s.t);
-            for (n, _) in &axes {
-                let k = crate::feed::path::slot_of(*n).unwrap_or(0);
-                let _ = write!(csv, ",{:.6}", s.position.get(k).copied().unwrap_or(0.0));
-            }
-            csv.push('\n');
-        }
-        std::fs::write(out, csv)
-            .map_err(|e| ImportError::new(out, None, format!("cannot write samples: {e}")))?;
+        write_samples(&tp, &axes, out)?;
     }
     let mut limits = Map::new();
     let mut peaks = Map::new();
@@ -182,10 +170,18 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
         );
     }
     let naive = naive_time_s(&prog.blocks);
+    let dwell = prog.dwell_s();
+    let (travel, travel_count) = travel_violations(&prog.blocks, &machine, MAX_TRAVEL_REPORTS);
+    let warnings: Vec<String> = prog.diagnostics.iter().map(ToString::to_string).collect();
     Ok(json!({
-        "cycle_time_s": tp.cycle_time_s,
-        "naive_time_s": naive,
+        "cycle_time_s": tp.cycle_time_s + dwell,
+        "motion_time_s": tp.cycle_time_s,
+        "dwell_s": dwell,
+        "naive_time_s": naive + dwell,
         "blocks": prog.blocks.len(),
+        "warnings": warnings,
+        "travel_violations": travel,
+        "travel_violation_count": travel_count,
         "limits": limits,
         "peaks": peaks,
         "sample_period_s": tp.sample_period_s,
@@ -198,14 +194,76 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     }))
 }
 
+/// At most this many travel violations are listed (all are counted).
+const MAX_TRAVEL_REPORTS: usize = 100;
+
+/// At most this many rows go into `--samples` (10 million rows: about 3 hours at 1 ms, 1 GB).
+const MAX_SAMPLE_ROWS: f64 = 1e7;
+
+/// Stream the samples into an atomically written CSV file, refusing a file beyond
+/// [`MAX_SAMPLE_ROWS`].
+fn write_samples(
+    tp: &crate::feed::TimedPath,
+    axes: &[(char, AxisLimit)],
+    out: &std::path::Path,
+) -> Result<(), ImportError> {
+    let bad = |msg: String| ImportError::new(out, None, msg);
+    let rows = tp.sample_count();
+    if rows > MAX_SAMPLE_ROWS {
+        return Err(bad(format!(
+            "--samples: the planned motion takes {:.0} s, {rows:.0} samples at {} s; at most \
+             {MAX_SAMPLE_ROWS:.0} are written",
+            tp.cycle_time_s, tp.sample_period_s
+        )));
+    }
+    let mut file = crate::storage::AtomicFile::create(out)
+        .map_err(|e| bad(format!("cannot write samples: {e}")))?;
+    let mut header = String::from("t");
+    for (n, _) in axes {
+        let _ = write!(header, ",{n}");
+    }
+    let io = |e: std::io::Error| bad(format!("cannot write samples: {e}"));
+    writeln!(file, "{header}").map_err(io)?;
+    let slots: Vec<usize> = axes
+        .iter()
+        .map(|(n, _)| crate::feed::path::slot_of(*n).unwrap_or(0))
+        .collect();
+    let mut row = String::new();
+    for s in tp.samples() {
+        row.clear();
+        let _ = write!(row, "{:.6}", s.t);
+        for k in &slots {
+            let _ = write!(row, ",{:.6}", s.position.get(*k).copied().unwrap_or(0.0));
+        }
+        writeln!(file, "{row}").map_err(io)?;
+    }
+    file.commit().map_err(io)
+}
+
 /// Human summary.
 #[must_use]
 pub fn human(doc: &Value) -> String {
-    format!(
-        "cycle time {:.4} s (length/feed estimate {:.4} s), {} blocks\npeaks {}\n",
+    let mut s = format!(
+        "cycle time {:.4} s (motion {:.4} s, dwell {:.4} s; length/feed estimate {:.4} s), {} blocks\npeaks {}\n",
         doc["cycle_time_s"].as_f64().unwrap_or(0.0),
+        doc["motion_time_s"].as_f64().unwrap_or(0.0),
+        doc["dwell_s"].as_f64().unwrap_or(0.0),
         doc["naive_time_s"].as_f64().unwrap_or(0.0),
         doc["blocks"],
         doc["peaks"]
-    )
+    );
+    for w in doc["warnings"].as_array().into_iter().flatten() {
+        let _ = writeln!(s, "warning: {}", w.as_str().unwrap_or(""));
+    }
+    for v in doc["travel_violations"].as_array().into_iter().flatten() {
+        let _ = writeln!(
+            s,
+            "travel: line {}: axis {} reaches {:.4}, beyond its limit {:.4}",
+            v["line"],
+            v["axis"].as_str().unwrap_or("?"),
+            v["value"].as_f64().unwrap_or(0.0),
+            v["limit"].as_f64().unwrap_or(0.0)
+        );
+    }
+    s
 }

@@ -33,6 +33,9 @@ pub struct InspectArgs {
     pub json: bool,
 }
 
+/// The finest chord tolerance `--tolerance` accepts, mm.
+const MIN_TOLERANCE_MM: f64 = 1e-4;
+
 /// What `inspect` found, as JSON (the contract's shape).
 ///
 /// # Errors
@@ -47,11 +50,17 @@ pub fn inspect(args: &InspectArgs) -> Result<Value, ImportError> {
             format!("--samples must be between 2 and 1000, got {n}"),
         ));
     }
-    if let Some(t) = args.tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
+    if let Some(t) = args
+        .tolerance
+        .filter(|t| !(MIN_TOLERANCE_MM..=100.0).contains(t))
+    {
         return Err(ImportError::new(
             &args.file,
             None,
-            format!("--tolerance must be a positive length in mm, got {t}"),
+            format!(
+                "--tolerance must be between {MIN_TOLERANCE_MM} mm (0.1 µm, far below any \
+                 machine's resolution) and 100 mm, got {t}"
+            ),
         ));
     }
     if is_stl(&args.file) {

@@ -62,7 +62,10 @@ pub fn post(args: &PostArgs) -> Result<(), String> {
             args.work_offset
         ));
     }
-    let tp = Toolpath::load(&args.file).map_err(|e| e.to_string())?;
+    let (tp, warnings) = Toolpath::load_with_warnings(&args.file).map_err(|e| e.to_string())?;
+    for w in warnings {
+        eprintln!("talas: warning: {w}");
+    }
     let machine = Machine::resolve(&args.machine).map_err(|e| format!("{}: {e}", args.machine))?;
     let dialect = Dialect::resolve(&args.dialect).map_err(|e| e.to_string())?;
     let options = PostOptions {

@@ -145,8 +145,11 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
     let text =
         std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let (toolpath, program) = if is_json {
-        let tp = Toolpath::from_json(&text, &file.display().to_string())
+        let (tp, warnings) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
+        for w in warnings {
+            eprintln!("talas: warning: {w}");
+        }
         (Some(tp), None)
     } else {
         let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(
@@ -242,7 +245,22 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
             })
         })
         .collect();
-    let diagnostics: Vec<String> = plan.diagnostics.iter().map(ToString::to_string).collect();
+    let mut diagnostics: Vec<String> = program
+        .iter()
+        .flat_map(|p| p.diagnostics.iter())
+        .chain(plan.diagnostics.iter())
+        .map(ToString::to_string)
+        .collect();
+    let travel = match (&program, &machine) {
+        (Some(p), Some(m)) => crate::feed::travel_violations(&p.blocks, m, 100).0,
+        _ => Vec::new(),
+    };
+    for v in &travel {
+        diagnostics.push(format!(
+            "line {}: axis {} reaches {:.4}, beyond its travel limit {:.4}",
+            v.line, v.axis, v.value, v.limit
+        ));
+    }
     Ok(json!({
         "units": "mm",
         "input": if is_json { "toolpath" } else { "gcode" },
@@ -259,6 +277,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         "memory_bytes": report.memory_bytes,
         "wall_s": wall_s,
         "collisions": collisions,
+        "travel_violations": travel,
         "deviation": dev,
         "diagnostics": diagnostics,
     }))

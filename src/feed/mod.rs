@@ -24,10 +24,12 @@ pub mod lookahead;
 pub mod path;
 pub mod profile;
 pub mod timed_path;
+pub mod travel;
 
 pub use estimate::naive_time_s;
 pub use profile::{Limits1, PhaseKind, Profile, ProfileError, reachable_velocity};
 pub use timed_path::{AxisPeak, Sample, TimedPath};
+pub use travel::{TravelViolation, travel_violations};
 
 use crate::gcode::MotionBlock;
 use crate::machine::Machine;
@@ -91,8 +93,8 @@ impl Default for PlanOptions {
 /// Why planning failed, grouped by cause.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FeedError {
-    /// A limit is not finite and positive.
-    #[error("axis {axis}: limits must be finite and positive")]
+    /// A limit is not finite and within [`MIN_LIMIT`, `MAX_LIMIT`].
+    #[error("axis {axis}: velocity, acceleration and jerk limits must lie between 1e-6 and 1e12")]
     InvalidLimit {
         /// The axis letter.
         axis: char,
@@ -149,6 +151,12 @@ pub fn machine_limits(machine: &Machine) -> Vec<(char, AxisLimit)> {
         .collect()
 }
 
+/// Smallest axis limit (velocity, acceleration or jerk) the planner accepts, in mm or rad per
+/// s, s², s³.
+pub const MIN_LIMIT: f64 = 1e-6;
+/// Largest axis limit the planner accepts.
+pub const MAX_LIMIT: f64 = 1e12;
+
 /// Plan the whole program.
 ///
 /// # Errors
@@ -160,9 +168,11 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
     }
     let mut slots: path::AxisLimits = [None; path::SLOTS];
     for (name, lim) in &input.axes {
+        // Limits outside this range are typing errors (1e-6 mm/s is 3.6 mm an hour; 1e12 is far
+        // beyond any machine) and would make the planned time or its sampling unbounded.
         let ok = [lim.velocity, lim.acceleration, lim.jerk]
             .iter()
-            .all(|x| x.is_finite() && *x > 0.0);
+            .all(|x| (MIN_LIMIT..=MAX_LIMIT).contains(x));
         if !ok {
             return Err(FeedError::InvalidLimit { axis: *name });
         }

@@ -55,6 +55,9 @@ pub struct AxisPeak {
     pub jerk: f64,
 }
 
+/// The most samples [`TimedPath::peaks`] looks at (about 20 s of work on a slow machine).
+pub const MAX_PEAK_SAMPLES: usize = 20_000_000;
+
 /// A planned program: profiles per block laid end to end in time.
 #[derive(Clone, Debug)]
 pub struct TimedPath {
@@ -100,7 +103,9 @@ impl TimedPath {
         }
     }
 
-    /// Peaks per axis (machine order) over the samples at the period.
+    /// Peaks per axis (machine order) over the samples at the period, or, when the program is
+    /// so long that would exceed [`MAX_PEAK_SAMPLES`], over that many samples evenly spread
+    /// (the work is bounded by the budget, not by the planned time).
     #[must_use]
     pub fn peaks(&self) -> Vec<AxisPeak> {
         let mut peaks: Vec<AxisPeak> = self
@@ -113,7 +118,10 @@ impl TimedPath {
                 jerk: 0.0,
             })
             .collect();
-        for smp in self.samples() {
+        let period = self
+            .sample_period_s
+            .max(self.cycle_time_s / MAX_PEAK_SAMPLES as f64);
+        for smp in self.samples_every(period) {
             for p in &mut peaks {
                 if let Some(k) = super::path::slot_of(p.axis) {
                     p.velocity = p.velocity.max(smp.velocity[k].abs());
@@ -233,10 +241,17 @@ impl TimedPath {
         self.samples_every(self.sample_period_s)
     }
 
+    /// The number of samples [`TimedPath::samples`] gives.
+    #[must_use]
+    pub fn sample_count(&self) -> f64 {
+        (self.cycle_time_s / self.sample_period_s).floor() + 1.0
+    }
+
     /// Samples every `period_s` (a non-positive or non-finite period gives only the end).
     pub fn samples_every(&self, period_s: f64) -> impl Iterator<Item = Sample> + '_ {
-        let n = if period_s.is_finite() && period_s > 0.0 {
-            // The cycle time is finite, so this is bounded.
+        let n = if period_s.is_finite() && period_s > 0.0 && self.cycle_time_s.is_finite() {
+            // Saturating: a caller asking for more samples than memory or time allows must
+            // bound them itself (see `sample_count`).
             (self.cycle_time_s / period_s).floor() as usize
         } else {
             0

@@ -5,7 +5,7 @@ use super::block::Joints;
 use super::arc::Plane;
 use super::lexer::{LexedLine, Word, lex_line};
 use super::motion::{emit_arc, emit_line, g28, target};
-use super::{GcodeError, InterpretOptions, Program, Syntax};
+use super::{Dwell, GcodeError, InterpretOptions, Program, Syntax};
 use crate::diagnostics::Diagnostic;
 
 /// Letters accepted besides G and M (which are collected separately).
@@ -121,7 +121,9 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
             if lexed.block_delete && opts.block_delete {
                 continue;
             }
-            if lexed.words.is_empty() {
+            // A line of keywords alone (`TRAORI`, `MSG("...")`, a mistyped `TRAFOF`) is a
+            // block too: skipping it would drop a mode change or an unknown word silently.
+            if lexed.words.is_empty() && lexed.keywords.is_empty() {
                 continue;
             }
             if let Some(end) = ended_at {
@@ -328,6 +330,20 @@ fn g_words(b: &Block, s: &mut State, syntax: Syntax) -> Result<GWords, GcodeErro
 }
 
 /// Execute one block; returns true at a program end (M2/M30).
+/// Sinumerik keywords that only set messages, dynamics or compressor modes: read with a warning.
+const SIEMENS_NO_GEOMETRY: &[&str] = &[
+    "MSG", "CYCLE832", "SOFT", "BRISK", "FFWON", "FFWOF", "COMPCAD", "COMPCURV", "COMPOF",
+    "COMPON", "FGROUP", "DIAMOF", "WAITM", "STOPRE",
+];
+
+/// Sinumerik keywords that move, turn, mirror or scale the coordinate system, or run a cycle that
+/// moves the tool: refused, since ignoring them would change where the tool goes.
+const SIEMENS_GEOMETRY: &[&str] = &[
+    "CYCLE800", "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE",
+    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE61",
+    "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
+];
+
 fn execute(
     b: &Block,
     s: &mut State,
@@ -347,6 +363,21 @@ fn execute(
         match (opts.syntax, keyword.as_str()) {
             (Syntax::Siemens, "TRAORI") => s.tcp = true,
             (Syntax::Siemens, "TRAFOOF") => s.tcp = false,
+            (Syntax::Siemens, k) if SIEMENS_NO_GEOMETRY.contains(&k) => {
+                out.diagnostics.push(Diagnostic::warning(
+                    format!("line {}, column {col}", b.line),
+                    format!("{k} ignored (it does not change the tool's path here)"),
+                ));
+            }
+            (Syntax::Siemens, k) if SIEMENS_GEOMETRY.contains(&k) => {
+                return Err(b.err(
+                    *col,
+                    format!(
+                        "{k} is not supported: it moves or turns the coordinate system, and \
+                         ignoring it would put the tool somewhere else"
+                    ),
+                ));
+            }
             (syntax, _) => {
                 return Err(b.err(
                     *col,
@@ -403,9 +434,17 @@ fn execute(
                 "G4 dwell cannot share a block with motion",
             ));
         }
-        if b.get('P').is_none() {
+        let Some((seconds, col)) = b.get('P') else {
             return Err(b.err(b.first_column(), "G4 needs a P word (seconds)"));
+        };
+        if !(seconds >= 0.0) {
+            return Err(b.err(col, "G4 P (seconds) must not be negative"));
         }
+        out.dwells.push(Dwell {
+            line: b.line,
+            before_block: out.blocks.len(),
+            seconds,
+        });
         return Ok(ends);
     }
     match non_modal {

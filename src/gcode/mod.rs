@@ -121,6 +121,20 @@ pub struct Program {
     pub blocks: Vec<MotionBlock>,
     /// Warnings and notes (place = `line N, column C`).
     pub diagnostics: Vec<Diagnostic>,
+    /// `G4` dwells in program order: the machine stands still for their time between blocks.
+    pub dwells: Vec<Dwell>,
+}
+
+/// A `G4` dwell: the machine stands still before block `before_block` (or at the end of the
+/// program when that is the block count).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dwell {
+    /// 1-based line of the `G4` block.
+    pub line: usize,
+    /// Index of the motion block the dwell comes before.
+    pub before_block: usize,
+    /// Time standing still, s.
+    pub seconds: f64,
 }
 
 impl Program {
@@ -128,5 +142,11 @@ impl Program {
     #[must_use]
     pub fn length_mm(&self) -> f64 {
         self.blocks.iter().map(MotionBlock::length_mm).sum()
+    }
+
+    /// Sum of the `G4` dwell times, s.
+    #[must_use]
+    pub fn dwell_s(&self) -> f64 {
+        self.dwells.iter().map(|d| d.seconds).sum()
     }
 }

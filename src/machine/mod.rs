@@ -137,7 +137,12 @@ impl Machine {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
-        Self::from_json(&text)
+        let named = |m: String| format!("{}: {m}", path.display());
+        Self::from_json(&text).map_err(|e| match e {
+            MachineError::Parse(m) => MachineError::Parse(named(m)),
+            MachineError::Invalid(m) => MachineError::Invalid(named(m)),
+            other => other,
+        })
     }
 
     /// A built-in name, or else a path to a file (the command line's `NAME_OR_FILE`).

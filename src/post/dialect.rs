@@ -2,6 +2,10 @@
 //! header and footer templates) lives in a JSON file (`assets/posts/*.json`, embedded; any
 //! other file can be loaded by path).
 //!
+//! A dialect file needs only a `name` and what differs from LinuxCNC's
+//! (`assets/posts/linuxcnc.json`): every field it leaves out takes LinuxCNC's value. Unknown
+//! fields are refused (a misspelt key would otherwise change nothing without a word).
+//!
 //! Template lines may use `{program}`, `{machine}`, `{dialect}`, `{tool}`, `{tool_spec}`,
 //! `{rpm}`, `{work_offset}`. A line beginning with `!` is written as it stands: no line number, no block end.
 
@@ -108,12 +112,38 @@ impl Dialect {
     /// # Errors
     /// [`PostError::Dialect`] naming the file, line and column.
     pub fn from_json(text: &str, file: &str) -> Result<Self, PostError> {
-        let d: Self = serde_json::from_str(text).map_err(|e| {
+        let syntax = |e: serde_json::Error| {
             PostError::Dialect(format!(
-                "{file}: line {}, column {}: {e}",
+                "{file}: line {}, column {}: {}",
                 e.line(),
-                e.column()
+                e.column(),
+                crate::toolpath::strip_position(&e.to_string())
             ))
+        };
+        let given: serde_json::Value = serde_json::from_str(text).map_err(syntax)?;
+        let serde_json::Value::Object(given) = given else {
+            return Err(PostError::Dialect(format!(
+                "{file}: a dialect file is one JSON object"
+            )));
+        };
+        if !given.contains_key("name") {
+            return Err(PostError::Dialect(format!(
+                "{file}: a dialect needs a \"name\""
+            )));
+        }
+        // Every field the file leaves out is the LinuxCNC dialect's.
+        let mut merged: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_str(BUILTIN[0].1).map_err(syntax)?;
+        merged.extend(given);
+        let d: Self = serde_json::from_value(serde_json::Value::Object(merged)).map_err(|e| {
+            // Read the file alone for the line and column of a wrong value or key (its
+            // "missing field" errors are not errors here).
+            match serde_json::from_str::<Self>(text) {
+                Err(positioned) if !positioned.to_string().starts_with("missing field") => {
+                    syntax(positioned)
+                }
+                _ => PostError::Dialect(format!("{file}: {e}")),
+            }
         })?;
         if d.decimals_linear > 9 || d.decimals_angle > 9 || d.decimals_feed > 9 {
             return Err(PostError::Dialect(format!(

@@ -262,9 +262,36 @@ fn check(
             "spindle speed and clearance must be finite (speed >= 0)".into(),
         ));
     }
+    check_program_name(&options.program_name)?;
+    if !matches!(
+        options.work_offset.as_str(),
+        "G54" | "G55" | "G56" | "G57" | "G58" | "G59"
+    ) {
+        return Err(PostError::Options(format!(
+            "work offset {:?} is not one of G54 … G59",
+            options.work_offset
+        )));
+    }
     toolpath
         .validate("<tool path>")
         .map_err(|e| PostError::Options(e.to_string()))
+}
+
+/// A program name goes into headers (`%NAME G71 *`, `O` comments, `PROGRAM NAME`) as it is, so
+/// it must not be able to end a block or a comment: 1–32 letters, digits, `_` or `-`.
+fn check_program_name(name: &str) -> Result<(), PostError> {
+    let ok = !name.is_empty()
+        && name.len() <= 32
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        Ok(())
+    } else {
+        Err(PostError::Options(format!(
+            "program name {name:?} must be 1 to 32 letters, digits, '_' or '-'"
+        )))
+    }
 }
 
 /// The move on another solution branch at `from`: its first joints and the linearised joints.

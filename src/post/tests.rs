@@ -238,3 +238,49 @@ fn every_motion_line_maps_to_its_pose() {
         assert!(e < 1e-3, "{dialect}: {e}");
     }
 }
+
+#[test]
+fn a_dialect_file_needs_only_its_name_and_what_differs() {
+    let d = Dialect::from_json(r#"{"name": "shop", "decimals_linear": 4}"#, "shop.json").unwrap();
+    let linuxcnc = Dialect::builtin("linuxcnc").unwrap();
+    assert_eq!(d.name, "shop");
+    assert_eq!(d.decimals_linear, 4);
+    assert_eq!(d.rapid, linuxcnc.rapid);
+    assert_eq!(d.footer, linuxcnc.footer);
+    let e = Dialect::from_json(r#"{"decimals_linear": 4}"#, "shop.json").unwrap_err();
+    assert!(
+        e.to_string().contains("shop.json") && e.to_string().contains("name"),
+        "{e}"
+    );
+    let e =
+        Dialect::from_json(r#"{"name": "shop", "decimal_linear": 4}"#, "shop.json").unwrap_err();
+    assert!(e.to_string().contains("decimal_linear"), "{e}");
+    let e = Dialect::from_json("{\n\"name\": ", "shop.json").unwrap_err();
+    assert!(e.to_string().contains("shop.json: line 2"), "{e}");
+}
+
+#[test]
+fn program_names_and_work_offsets_that_could_inject_blocks_are_refused() {
+    let tp = crate::toolpath::Toolpath::from_json(
+        r#"{"tool": {"spec": "ball:d=6"}, "poses": [{"tip": [0, 0, 5], "kind": "rapid"}]}"#,
+        "t.json",
+    )
+    .unwrap();
+    let m = Machine::builtin("mill-3axis").unwrap();
+    let d = Dialect::builtin("heidenhain").unwrap();
+    for name in ["A\nG0 Z-5", "X *", "", "%X"] {
+        let o = PostOptions {
+            program_name: name.into(),
+            ..PostOptions::default()
+        };
+        assert!(
+            matches!(post(&tp, &m, &d, &o), Err(PostError::Options(_))),
+            "{name:?}"
+        );
+    }
+    let o = PostOptions {
+        work_offset: "G54\nG0 Z-5".into(),
+        ..PostOptions::default()
+    };
+    assert!(matches!(post(&tp, &m, &d, &o), Err(PostError::Options(_))));
+}

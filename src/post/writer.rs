@@ -58,9 +58,9 @@ impl<'a> Writer<'a> {
     fn fill(&self, template: &str) -> String {
         template
             .replace("{program}", &self.options.program_name)
-            .replace("{machine}", &self.machine.name)
-            .replace("{dialect}", &self.d.name)
-            .replace("{tool_spec}", &self.toolpath.tool.spec)
+            .replace("{machine}", &inert(&self.machine.name))
+            .replace("{dialect}", &inert(&self.d.name))
+            .replace("{tool_spec}", &inert(&self.toolpath.tool.spec))
             .replace("{tool}", &self.options.tool_number.to_string())
             .replace("{rpm}", &format!("{:.0}", self.options.spindle_rpm))
             .replace("{work_offset}", &self.options.work_offset)
@@ -337,4 +337,18 @@ fn join(code: Option<String>, words: &[String]) -> String {
         .chain(words.iter().cloned())
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// A name from a file (machine, dialect, tool spec) made inert inside a comment or header: no
+/// control character (a newline would start a block), no comment or block delimiter.
+fn inert(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() || matches!(c, '(' | ')' | ';' | '*' | '%') {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect()
 }

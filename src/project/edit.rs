@@ -165,15 +165,7 @@ impl Project {
                 Edit::SetSetup(std::mem::replace(&mut self.setup, setup))
             }
             Edit::SetPost(post) => {
-                if post.dialect.trim().is_empty() {
-                    return Err(EditError::Invalid("the dialect name is empty".into()));
-                }
-                if !(post.spindle_rpm.is_finite() && post.spindle_rpm >= 0.0) {
-                    return Err(EditError::Invalid(format!(
-                        "spindle speed must be zero or more (rpm), got {}",
-                        post.spindle_rpm
-                    )));
-                }
+                post.validate().map_err(EditError::Invalid)?;
                 Edit::SetPost(std::mem::replace(&mut self.post, post))
             }
             Edit::SetPart(part) => Edit::SetPart(std::mem::replace(&mut self.part, part)),

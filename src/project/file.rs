@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{PROJECT_VERSION, Project};
+use super::{Operation, PROJECT_VERSION, Project};
 
 /// The extension of project files.
 pub const EXTENSION: &str = "talas";
@@ -99,25 +99,81 @@ impl Project {
                 found: project.version,
             });
         }
-        for (i, t) in project.tools.iter().enumerate() {
-            t.cutter
-                .validate()
-                .map_err(|e| invalid(format!("tool {} ('{}'): {e}", i + 1, t.name)))?;
-        }
-        if let Some(s) = project.selected_tool
-            && s >= project.tools.len()
-        {
-            return Err(invalid(format!(
-                "selected_tool = {s} but there are {} tools",
-                project.tools.len()
-            )));
-        }
-        project.stock.validate().map_err(invalid)?;
+        project.check().map_err(invalid)?;
         // Version 1 is the first format: nothing to migrate yet.
         Ok(Self {
             version: PROJECT_VERSION,
             ..project
         })
+    }
+
+    /// Every check an edit would make, applied to the whole document (a file may have been
+    /// written by hand or by another program): tools, selected tool, stock, setup, post
+    /// settings, machine and dialect (resolvable), every operation (its tool and values), the
+    /// view. Face indices are checked against the part with [`Project::check_faces`] once the
+    /// part is read.
+    ///
+    /// # Errors
+    /// What is wrong and where, in words.
+    pub fn check(&self) -> Result<(), String> {
+        for (i, t) in self.tools.iter().enumerate() {
+            t.cutter
+                .validate()
+                .map_err(|e| format!("tool {} ('{}'): {e}", i + 1, t.name))?;
+        }
+        if let Some(s) = self.selected_tool
+            && s >= self.tools.len()
+        {
+            return Err(format!(
+                "selected_tool = {s} but there are {} tools",
+                self.tools.len()
+            ));
+        }
+        self.stock.validate()?;
+        self.setup.validate().map_err(|e| format!("setup: {e}"))?;
+        self.post.validate().map_err(|e| format!("post: {e}"))?;
+        crate::machine::Machine::resolve(&self.machine)
+            .map_err(|e| format!("machine {:?}: {e}", self.machine))?;
+        crate::post::Dialect::resolve(&self.post.dialect)
+            .map_err(|e| format!("post: dialect {:?}: {e}", self.post.dialect))?;
+        for (i, op) in self.operations.iter().enumerate() {
+            let place = format!("operation {} ('{}')", i + 1, op.name());
+            if op.tool() >= self.tools.len() {
+                return Err(format!(
+                    "{place}: tool {} but there are {} tools",
+                    op.tool() + 1,
+                    self.tools.len()
+                ));
+            }
+            op.validate().map_err(|e| format!("{place}: {e}"))?;
+        }
+        let v = &self.view;
+        let finite = v.target_mm.iter().all(|x| x.is_finite())
+            && v.yaw_rad.is_finite()
+            && v.pitch_rad.is_finite();
+        if !(finite && v.distance_mm.is_finite() && v.distance_mm > 0.0) {
+            return Err("view: the camera must be finite with a positive distance (mm)".into());
+        }
+        Ok(())
+    }
+
+    /// Check the operations' face indices against a part with `face_count` faces.
+    ///
+    /// # Errors
+    /// The first operation whose face the part does not have.
+    pub fn check_faces(&self, face_count: usize) -> Result<(), String> {
+        for (i, op) in self.operations.iter().enumerate() {
+            if let Operation::Finish { face, name, .. } = op
+                && *face >= face_count
+            {
+                return Err(format!(
+                    "operation {} ('{name}'): face {} but the part has {face_count} faces",
+                    i + 1,
+                    face + 1
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Read the project file at `path`.

@@ -97,6 +97,25 @@ fn default_rpm() -> f64 {
     10_000.0
 }
 
+impl PostConfig {
+    /// Check the values (the dialect is resolved by [`Project::check`]).
+    ///
+    /// # Errors
+    /// What is wrong, in words.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.dialect.trim().is_empty() {
+            return Err("the dialect name is empty".into());
+        }
+        if !(self.spindle_rpm.is_finite() && (0.0..=1e6).contains(&self.spindle_rpm)) {
+            return Err(format!(
+                "spindle speed must be between 0 and 1 000 000 rpm, got {}",
+                self.spindle_rpm
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for PostConfig {
     fn default() -> Self {
         Self {
@@ -137,9 +156,11 @@ impl Default for ViewState {
 /// The project document.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Project {
-    /// Format version ([`PROJECT_VERSION`] when written by this build).
+    /// Format version ([`PROJECT_VERSION`] when written by this build; 1 when missing).
+    #[serde(default = "first_version")]
     pub version: u32,
-    /// Project name (shown in the title bar).
+    /// Project name (shown in the title bar; "Untitled" when missing).
+    #[serde(default = "untitled")]
     pub name: String,
     /// The part; `None` is the embedded default part.
     #[serde(default)]
@@ -159,7 +180,9 @@ pub struct Project {
     /// Posting: dialect and options.
     #[serde(default)]
     pub post: PostConfig,
-    /// Machine name (one of [`crate::machine::Machine::builtin_names`]) or a machine file path.
+    /// Machine name (one of [`crate::machine::Machine::builtin_names`]) or a machine file path
+    /// (`mill-3axis` when missing).
+    #[serde(default = "default_machine")]
     pub machine: String,
     /// Operations, in machining order.
     #[serde(default)]
@@ -167,6 +190,18 @@ pub struct Project {
     /// The camera.
     #[serde(default)]
     pub view: ViewState,
+}
+
+fn first_version() -> u32 {
+    1
+}
+
+fn untitled() -> String {
+    "Untitled".into()
+}
+
+fn default_machine() -> String {
+    "mill-3axis".into()
 }
 
 impl Default for Project {

@@ -283,6 +283,19 @@ impl DexelStock {
                 resolution_mm,
             });
         }
+        // Ask the allocator up front (nothing is touched, so this costs nothing when it works):
+        // an estimate the limit lets through may still be more than the machine can give, and
+        // a failed allocation later would abort the process instead of giving this error.
+        let probe = usize::try_from(need)
+            .ok()
+            .and_then(|n| Vec::<u8>::new().try_reserve_exact(n).ok());
+        if probe.is_none() {
+            return Err(SimError::Memory {
+                need_bytes: need,
+                limit_bytes: need.saturating_sub(1),
+                resolution_mm,
+            });
+        }
         let axes: &[RayAxis] = match mode {
             DexelMode::Z => &[RayAxis::Z],
             DexelMode::Tri => &[RayAxis::Z, RayAxis::X, RayAxis::Y],

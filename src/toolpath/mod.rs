@@ -5,7 +5,10 @@
 //! toward the spindle, the kind of move that reaches it, the contact point when known, and the
 //! feed. Lengths are mm, feeds mm/min.
 
+mod file;
 mod summary;
+
+pub use file::{ToolpathFile, schema};
 
 pub use summary::{GougeReport, Summary};
 
@@ -15,7 +18,9 @@ use std::path::Path;
 use crate::tools::Cutter;
 
 /// The kind of move that reaches a pose.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum MoveKind {
     /// Cutting move at the pose's feed.
@@ -29,7 +34,9 @@ pub enum MoveKind {
 }
 
 /// Where the cutter touches the part at a pose.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactKind {
     /// On the spherical end of a ball end mill.
@@ -190,25 +197,27 @@ impl Toolpath {
         Ok(())
     }
 
-    /// Parse JSON text (`file` names it in errors); axes are renormalised, the summary
-    /// recomputed.
+    /// Parse JSON text (`file` names it in errors), generously (see [`ToolpathFile`]); axes are
+    /// renormalised, the summary recomputed. Unknown keys are dropped; use
+    /// [`Toolpath::from_json_with_warnings`] to hear about them.
     ///
     /// # Errors
-    /// [`ToolpathError`] with `line L, column C` for malformed JSON, `pose K` for bad poses.
+    /// [`ToolpathError`] with `line L, column C` for malformed JSON, `tool` for a tool that
+    /// is missing or contradicts its spec, `pose K` for bad poses.
     pub fn from_json(text: &str, file: &str) -> Result<Self, ToolpathError> {
-        let mut tp: Self = serde_json::from_str(text).map_err(|e| ToolpathError {
-            file: file.to_string(),
-            place: format!("line {}, column {}", e.line(), e.column()),
-            message: strip_position(&e.to_string()),
-        })?;
-        tp.validate(file)?;
-        for p in &mut tp.poses {
-            p.axis = p.axis.normalize();
-        }
-        let gouge = tp.summary.gouge;
-        tp.summary = Summary::of(&tp.poses);
-        tp.summary.gouge = gouge;
-        Ok(tp)
+        file::read(text, file).map(|(tp, _)| tp)
+    }
+
+    /// As [`Toolpath::from_json`], with one warning (`FILE: unknown key 'PATH' ignored`) per
+    /// key the reader did not use.
+    ///
+    /// # Errors
+    /// As [`Toolpath::from_json`].
+    pub fn from_json_with_warnings(
+        text: &str,
+        file: &str,
+    ) -> Result<(Self, Vec<String>), ToolpathError> {
+        file::read(text, file)
     }
 
     /// Load a tool path file.
@@ -216,13 +225,21 @@ impl Toolpath {
     /// # Errors
     /// As [`Toolpath::from_json`]; unreadable files give place `file`.
     pub fn load(path: &Path) -> Result<Self, ToolpathError> {
+        Self::load_with_warnings(path).map(|(tp, _)| tp)
+    }
+
+    /// Load a tool path file with the warnings of [`Toolpath::from_json_with_warnings`].
+    ///
+    /// # Errors
+    /// As [`Toolpath::load`].
+    pub fn load_with_warnings(path: &Path) -> Result<(Self, Vec<String>), ToolpathError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| ToolpathError {
             file: file.clone(),
             place: "file".into(),
             message: e.to_string(),
         })?;
-        Self::from_json(&text, &file)
+        Self::from_json_with_warnings(&text, &file)
     }
 
     /// Pretty JSON text.
@@ -254,7 +271,7 @@ impl Toolpath {
 }
 
 /// serde_json appends " at line L column C"; the place already says it.
-fn strip_position(message: &str) -> String {
+pub(crate) fn strip_position(message: &str) -> String {
     match message.rfind(" at line ") {
         Some(i) => message[..i].to_string(),
         None => message.to_string(),

@@ -31,7 +31,16 @@ pub struct Summary {
 }
 
 /// The planner's gouge report.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 pub struct GougeReport {
     /// Poses checked.
     pub checked_poses: usize,
@@ -41,6 +50,7 @@ pub struct GougeReport {
     pub max_depth_mm: f64,
     /// Where the deepest gouge is (contact point), when any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<[f64; 3]>")]
     pub worst_at: Option<DVec3>,
     /// The lead (Sturz) was raised to this many degrees to avoid local gouging.
     #[serde(default, skip_serializing_if = "Option::is_none")]

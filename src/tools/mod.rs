@@ -14,7 +14,9 @@ mod spec;
 pub use spec::{parse_tool_spec, tool_spec};
 
 /// The shape of a cutter's cutting end.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum CutterKind {
     /// Ball end mill: a hemisphere of radius d/2.
@@ -35,7 +37,9 @@ pub enum CutterKind {
 }
 
 /// One cylinder of a tool holder, from the bottom up.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct HolderSection {
     /// Diameter, mm.
     pub diameter: f64,

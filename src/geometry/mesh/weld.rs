@@ -92,11 +92,15 @@ fn cell_of(p: DVec3, inv: f64) -> [i64; 3] {
     [c.x as i64, c.y as i64, c.z as i64]
 }
 
+/// Coordinates (in cells) from which a double's spacing exceeds the cell size: 2^53.
+const FAR: f64 = 9_007_199_254_740_992.0;
+
 /// Merge positions within `tol` (> 0) through a grid of cell size `tol`: a match lies in the
 /// point's cell or one of its 26 neighbours.
 fn weld_within(positions: &[DVec3], tol: f64) -> WeldMap {
     let inv = 1.0 / tol;
     let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut far: HashMap<[u64; 3], u32> = HashMap::new();
     let mut remap = Vec::with_capacity(positions.len());
     let mut kept: Vec<usize> = Vec::new();
     for (i, p) in positions.iter().enumerate() {
@@ -104,6 +108,18 @@ fn weld_within(positions: &[DVec3], tol: f64) -> WeldMap {
             // Never within any distance of anything: kept alone, and kept out of the grid.
             remap.push(next_index(&kept));
             kept.push(i);
+            continue;
+        }
+        if (*p * inv).abs().max_element() >= FAR {
+            // So far out that neighbouring doubles are more than `tol` apart (and the cell index
+            // would saturate, putting every such point in one cell): only equal points weld.
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let next = next_index(&kept);
+            let id = *far.entry(key).or_insert(next);
+            if id == next {
+                kept.push(i);
+            }
+            remap.push(id);
             continue;
         }
         let cell = cell_of(*p, inv);

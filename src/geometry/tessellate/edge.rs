@@ -9,6 +9,10 @@ use crate::geometry::curve::CurveGeom;
 /// Deepest midpoint subdivision of one initial segment (2^12 pieces).
 const MAX_DEPTH: u32 = 12;
 
+/// Most points on one edge: a budget against curves whose tolerance test never passes
+/// (non-finite or astronomically large geometry), not a limit real edges reach.
+pub const MAX_EDGE_POINTS: usize = 20_000;
+
 /// Discretise `edge` into a polyline from its start vertex to its end vertex. The first and last
 /// points are the vertices' coordinates; interior points lie on the curve.
 #[must_use]
@@ -96,7 +100,7 @@ fn subdivide(
     depth: u32,
     out: &mut Vec<f64>,
 ) {
-    if depth < MAX_DEPTH && needs_split(curve, a, b, opts) {
+    if depth < MAX_DEPTH && out.len() < MAX_EDGE_POINTS && needs_split(curve, a, b, opts) {
         let m = 0.5 * (a + b);
         subdivide(curve, a, m, opts, depth + 1, out);
         subdivide(curve, m, b, opts, depth + 1, out);

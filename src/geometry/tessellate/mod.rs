@@ -90,6 +90,9 @@ impl TessellationOptions {
     }
 }
 
+/// The finest chord tolerance relative to the part's bounding-box diagonal.
+pub const RELATIVE_TOLERANCE_FLOOR: f64 = 1e-6;
+
 /// One face's triangles inside a [`PartMesh`].
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FaceRange {
@@ -132,13 +135,28 @@ impl PartMesh {
 /// [`PartMesh::diagnostics`] by their source entity id.
 #[must_use]
 pub fn tessellate_part(part: &Part, opts: &TessellationOptions) -> PartMesh {
-    let opts = opts.sanitized();
+    let mut opts = opts.sanitized();
+    let mut out = PartMesh::default();
+    // A budget: never finer than 1e-6 of the part's size (a 250 m part gets 0.25 mm), so a part
+    // in metres or kilometres, or a vertex far out, cannot ask for billions of triangles.
+    let diagonal = part.rough_bbox().diagonal();
+    let floor = RELATIVE_TOLERANCE_FLOOR * diagonal;
+    if floor.is_finite() && floor > opts.chord_tol_mm {
+        out.diagnostics.push(Diagnostic::warning(
+            None,
+            format!(
+                "chord tolerance raised from {} mm to {floor:.4} mm (1e-6 of the part's {diagonal:.0} mm \
+                 size) to keep the mesh within memory",
+                opts.chord_tol_mm
+            ),
+        ));
+        opts.chord_tol_mm = floor;
+    }
     let edge_polylines: Vec<Vec<DVec3>> = part
         .edges
         .iter()
         .map(|e| discretize_edge(e, &part.vertices, &opts))
         .collect();
-    let mut out = PartMesh::default();
     for (fi, face) in part.faces.iter().enumerate() {
         let first = out.mesh.triangles.len();
         let mut area = 0.0;
@@ -167,9 +185,21 @@ pub fn tessellate_part(part: &Part, opts: &TessellationOptions) -> PartMesh {
                 format!("face not tessellated: {msg}"),
             )),
         }
+        let count = out.mesh.triangles.len() - first;
+        let reported = out
+            .diagnostics
+            .iter()
+            .any(|d| d.place.as_deref() == Some(&format!("#{}", face.source_id)));
+        if count == 0 && !reported {
+            // A face may never vanish silently.
+            out.diagnostics.push(Diagnostic::error(
+                Some(format!("#{}", face.source_id)),
+                "face not tessellated: it gave no triangles (degenerate or non-finite geometry)",
+            ));
+        }
         out.faces.push(FaceRange {
             first,
-            count: out.mesh.triangles.len() - first,
+            count,
             area_mm2: area,
         });
     }

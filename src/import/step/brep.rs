@@ -77,6 +77,38 @@ impl BrepError {
     }
 }
 
+/// "no faces found", naming what the file holds instead (the most frequent entity types).
+fn no_faces_message(ex: &Exchange) -> String {
+    let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
+    for inst in ex.instances.values() {
+        for r in &inst.records {
+            *counts.entry(r.name.as_str()).or_default() += 1;
+        }
+    }
+    if counts.is_empty() {
+        return "no faces found: the data section holds no entities".into();
+    }
+    let mut by_count: Vec<(&str, usize)> = counts.into_iter().collect();
+    by_count.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    let shown: Vec<String> = by_count
+        .iter()
+        .take(6)
+        .map(|(name, n)| format!("{n} {name}"))
+        .collect();
+    let more = by_count.len().saturating_sub(6);
+    format!(
+        "no faces found: the file holds {} entities ({}{}), none of them a face of a shape \
+         representation",
+        ex.instances.len(),
+        shown.join(", "),
+        if more > 0 {
+            format!(", {more} more types")
+        } else {
+            String::new()
+        }
+    )
+}
+
 /// Build the part a parsed STEP file describes: every face reachable from the root products (or,
 /// in a file without products, from its shape representations), in mm. Warnings (faces skipped,
 /// units assumed, cycles cut) go to [`Part::diagnostics`] with `place: Some("#id")`, after the
@@ -96,7 +128,7 @@ pub fn build_part(ex: &Exchange) -> Result<Part, BrepError> {
             id: None,
             line: None,
             kind: ErrorKind::NoFaces,
-            message: "no faces found".into(),
+            message: no_faces_message(ex),
         }));
     }
     if builder.faces_skipped > 0 {

@@ -229,6 +229,13 @@ fn build_mesh(
     let triangles = (0..n).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
     let mut mesh = TriMesh::new(positions, triangles);
     let degenerate_facets = mesh.degenerate_triangles(0.0);
+    if facet_count > 0 && degenerate_facets.len() == facet_count {
+        return Err(ImportError::new(
+            file,
+            Some("facet 0".into()),
+            format!("all {facet_count} facets have zero area: the file holds no surface"),
+        ));
+    }
     if !degenerate_facets.is_empty() {
         let first: Vec<String> = degenerate_facets
             .iter()

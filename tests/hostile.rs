@@ -1,0 +1,341 @@
+//! Hostile input through the command line (the files in `tests/data/adversarial/`, found by
+//! mutation fuzzing, and hand-made options): each gives a result or one clear error within
+//! 10 s and 2 GiB of address space; silent wrong results are now reported.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/adversarial")
+        .join(name)
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("talas-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Run `talas ARGS` under a 2 GiB address-space limit; kill it after `limit`. Returns the output
+/// and the wall time, or panics naming the command when it ran past the limit.
+fn talas_bounded(args: &[&str], limit: Duration) -> (Output, Duration) {
+    let mut child = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 2097152; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_talas"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run talas");
+    let started = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            let out = child.wait_with_output().expect("output");
+            return (out, started.elapsed());
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("talas {} ran past {limit:?}", args.join(" "));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// A clean outcome: a result (0) or one error line naming the file (2); never a crash.
+fn assert_clean(args: &[&str], named: &str) -> Output {
+    let (out, took) = talas_bounded(args, Duration::from_secs(10));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let code = out.status.code();
+    assert!(
+        code == Some(0) || code == Some(2),
+        "talas {}: exit {code:?} after {took:?}, stderr {stderr}",
+        args.join(" ")
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    if code == Some(2) {
+        let lines: Vec<&str> = stderr.lines().filter(|l| !l.contains("warning:")).collect();
+        assert_eq!(lines.len(), 1, "one error line: {stderr}");
+        assert!(
+            lines[0].contains(named),
+            "the error names {named}: {stderr}"
+        );
+    }
+    out
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("not JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+#[test]
+fn every_mutated_step_file_gives_a_result_or_an_error_within_bounds() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/adversarial");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "stp"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 15, "{} files", files.len());
+    for f in &files {
+        let name = f.file_name().unwrap().to_str().unwrap();
+        let out = assert_clean(&["inspect", f.to_str().unwrap(), "--json"], name);
+        if out.status.code() == Some(0) {
+            // A face may never vanish silently: every face has triangles or a diagnostic.
+            let doc = json(&out);
+            let faces = doc["faces"].as_array().cloned().unwrap_or_default();
+            let diagnostics = doc["diagnostics"].as_array().map_or(0, Vec::len);
+            for (k, face) in faces.iter().enumerate() {
+                let triangles = face["triangles"].as_u64().unwrap_or(1);
+                assert!(
+                    triangles > 0 || diagnostics > 0,
+                    "{name}: face {k} has no triangles and no diagnostic"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn mutated_five_axis_programs_simulate_or_fail_within_bounds() {
+    for name in ["hang-simulate-00083.nc", "hang-simulate-00279.nc"] {
+        let f = data(name);
+        assert_clean(
+            &[
+                "simulate",
+                f.to_str().unwrap(),
+                "--tool",
+                "ball:d=6",
+                "--stock",
+                "box:0,0,0,100,100,50",
+                "--resolution",
+                "0.5",
+                "--machine",
+                "trt-ac",
+                "--json",
+            ],
+            name,
+        );
+    }
+}
+
+fn simulate_removed(name: &str) -> f64 {
+    let f = data(name);
+    let out = assert_clean(
+        &[
+            "simulate",
+            f.to_str().unwrap(),
+            "--machine",
+            "trt-ac",
+            "--tool",
+            "ball:d=6",
+            "--stock",
+            "box:-50,-50,0,50,50,40",
+            "--resolution",
+            "1",
+            "--json",
+        ],
+        name,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    json(&out)["removed_volume_mm3"].as_f64().unwrap()
+}
+
+#[test]
+fn traori_alone_on_its_line_switches_tool_centre_point_control_on() {
+    let alone = simulate_removed("siemens-traori-alone.nc");
+    let numbered = simulate_removed("siemens-traori-numbered.nc");
+    assert!(
+        (alone - numbered).abs() <= 1e-9 * numbered.max(1.0),
+        "alone {alone} mm³, numbered {numbered} mm³"
+    );
+}
+
+#[test]
+fn feed_reports_travel_violations_dwells_and_warnings() {
+    let f = data("overtravel.nc");
+    let out = assert_clean(
+        &["feed", f.to_str().unwrap(), "--machine", "trt-ac", "--json"],
+        "overtravel.nc",
+    );
+    let doc = json(&out);
+    let v = doc["travel_violations"].as_array().unwrap();
+    let a = v
+        .iter()
+        .find(|v| v["axis"] == "A")
+        .expect("A beyond its travel");
+    assert_eq!(a["line"], 3);
+    assert!((a["value"].as_f64().unwrap() + 200.0).abs() < 1e-9, "{a}");
+    assert!((a["limit"].as_f64().unwrap() + 120.0).abs() < 1e-9, "{a}");
+    // X5000 Y5000 is beyond the linear travel too.
+    assert!(
+        v.iter().any(|v| v["axis"] == "X" && v["line"] == 4),
+        "{v:?}"
+    );
+
+    let cycle = |name: &str| {
+        let f = data(name);
+        let out = assert_clean(
+            &[
+                "feed",
+                f.to_str().unwrap(),
+                "--machine",
+                "mill-3axis",
+                "--json",
+            ],
+            name,
+        );
+        json(&out)
+    };
+    let (d0, d10) = (cycle("dwell0.nc"), cycle("dwell10.nc"));
+    let t0 = d0["cycle_time_s"].as_f64().unwrap();
+    let t10 = d10["cycle_time_s"].as_f64().unwrap();
+    assert!((t10 - t0 - 10.0).abs() < 1e-9, "{t0} s and {t10} s");
+    assert_eq!(d10["dwell_s"], 10.0);
+
+    // The interpreter's warnings reach the JSON (M99 unknown, a feed move without F).
+    let p = temp("warn.nc");
+    std::fs::write(&p, "G21 G90\nG1 X10\nM99\n").unwrap();
+    let doc = json(&assert_clean(
+        &[
+            "feed",
+            p.to_str().unwrap(),
+            "--machine",
+            "mill-3axis",
+            "--json",
+        ],
+        "warn.nc",
+    ));
+    let warnings = doc["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().any(|w| w.as_str().unwrap().contains("M99")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn unknown_keywords_are_errors_and_known_ones_warnings() {
+    let run = |text: &str| {
+        let p = temp("kw.mpf");
+        std::fs::write(&p, text).unwrap();
+        talas_bounded(
+            &[
+                "feed",
+                p.to_str().unwrap(),
+                "--machine",
+                "trt-ac",
+                "--syntax",
+                "siemens",
+                "--json",
+            ],
+            Duration::from_secs(10),
+        )
+        .0
+    };
+    for bad in ["GX1\n", "TRAFOF\n", "CYCLE800(0,\"TC1\",200000,57)\n"] {
+        let out = run(&format!("G71 G90\n{bad}G1 X1 F100\n"));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {stderr}");
+        assert!(stderr.contains("line 2"), "{bad}: {stderr}");
+    }
+    let out = run("G71 G90\nMSG(\"roughing\")\nG1 X1 F100\n");
+    assert_eq!(out.status.code(), Some(0));
+    let doc = json(&out);
+    assert!(doc["warnings"].to_string().contains("MSG"), "{doc}");
+}
+
+#[test]
+fn hostile_options_are_refused_or_bounded() {
+    let hills = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");
+    let hills = hills.to_str().unwrap();
+    // A tessellation tolerance far below any machine's resolution is refused with the reason.
+    let out = assert_clean(&["inspect", hills, "--tolerance", "1e-12"], "tolerance");
+    assert_eq!(out.status.code(), Some(2));
+
+    let prog = temp("slow.nc");
+    std::fs::write(&prog, "G21 G90\nG1 X10 F0.000000001\nM30\n").unwrap();
+    let p = prog.to_str().unwrap();
+    // A program that would take millennia: planned, its peaks bounded, samples refused.
+    let out = assert_clean(&["feed", p, "--machine", "mill-3axis", "--json"], "slow.nc");
+    assert_eq!(out.status.code(), Some(0));
+    let csv = temp("slow.csv");
+    let out = assert_clean(
+        &[
+            "feed",
+            p,
+            "--machine",
+            "mill-3axis",
+            "--samples",
+            csv.to_str().unwrap(),
+        ],
+        "slow.csv",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    // Limits near zero are refused.
+    let out = assert_clean(
+        &[
+            "feed",
+            p,
+            "--machine",
+            "mill-3axis",
+            "--limit",
+            "X=1e-300,1e-300,1e-300",
+        ],
+        "slow.nc",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    // A memory limit that lets a huge allocation through gives an error, not an abort.
+    let out = assert_clean(
+        &[
+            "simulate",
+            p,
+            "--tool",
+            "ball:d=6",
+            "--stock",
+            "box:0,0,0,100,100,50",
+            "--resolution",
+            "0.001",
+            "--memory-limit-mib",
+            "100000000",
+        ],
+        "stock",
+    );
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn a_heidenhain_program_name_cannot_inject_blocks() {
+    let tp = temp("p.json");
+    std::fs::write(
+        &tp,
+        r#"{"tool": {"spec": "ball:d=6"}, "poses": [
+            {"tip": [0, 0, 10], "kind": "rapid"},
+            {"tip": [10, 0, 0], "kind": "cut", "feed_mm_per_min": 500}]}"#,
+    )
+    .unwrap();
+    let out = temp("p.h");
+    let (o, _) = talas_bounded(
+        &[
+            "post",
+            tp.to_str().unwrap(),
+            "--machine",
+            "mill-3axis",
+            "--dialect",
+            "heidenhain",
+            "--program",
+            "P1 G71 *\nG00 Z-500 *",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        Duration::from_secs(10),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("program name"));
+    assert!(!out.exists());
+}
