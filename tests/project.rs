@@ -203,10 +203,10 @@ fn malformed_files_give_one_error_with_a_place() {
         parse_err(&text),
         ProjectError::Version { found: 99, .. }
     ));
-    // A tool with a bad size.
+    // A tool with a bad size: refused where the tool is read, with its line.
     let text = good.replacen("diameter = 6.0", "diameter = -6.0", 1);
     let e = parse_err(&text);
-    assert!(matches!(e, ProjectError::Invalid { .. }), "{e:?}");
+    assert!(matches!(e, ProjectError::Parse { line: 10, .. }), "{e:?}");
     assert!(e.to_string().contains("diameter"), "{e}");
     // Selection past the end.
     let text = good.replacen("selected_tool = 0", "selected_tool = 4", 1);
@@ -525,4 +525,23 @@ fn loading_validates_like_editing_and_fills_defaults() {
     let e = p.check_faces(30).expect_err("face 10000 of 30");
     assert!(e.contains("face 10000"), "{e}");
     assert!(p.check_faces(10_000).is_ok());
+}
+
+/// A tool library or project written by another program may give a tool by its spec alone, or
+/// by kind and diameter; contradictions are refused.
+#[test]
+fn tools_are_read_from_a_spec_or_the_fewest_fields() {
+    let text = "machine = \"mill-3axis\"\n\
+                [[tools]]\nspec = \"bull:d=10,r=2\"\n\
+                [[tools]]\nname = \"Flat 8\"\n[tools.cutter]\nkind = { type = \"flat\" }\ndiameter = 8.0\n";
+    let p = Project::from_toml(text, Path::new("other.talas")).expect("generous");
+    assert_eq!(p.tools.len(), 2);
+    assert_eq!(p.tools[0].name, "bull:d=10,r=2");
+    assert_eq!(p.tools[0].cutter, parse_tool_spec("bull:d=10,r=2").unwrap());
+    assert_eq!(p.tools[1].cutter.diameter, 8.0);
+    assert_eq!(p.tools[1].cutter, parse_tool_spec("flat:d=8").unwrap());
+    let bad = "[[tools]]\nspec = \"ball:d=6\"\n[tools.cutter]\ndiameter = 8.0\n";
+    let e = Project::from_toml(bad, Path::new("other.talas")).expect_err("contradiction");
+    assert!(e.to_string().contains("diameter 8"), "{e}");
+    assert!(e.to_string().contains("other.talas"), "{e}");
 }

@@ -19,7 +19,8 @@ pub const LIBRARY_FILE_NAME: &str = "tools.toml";
 /// A tool library.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ToolLibrary {
-    /// Format version.
+    /// Format version (1 when missing).
+    #[serde(default = "first_version")]
     pub version: u32,
     /// Index of the tool a new project selects (`None`: the first ball end mill, if any).
     #[serde(default)]
@@ -27,6 +28,10 @@ pub struct ToolLibrary {
     /// The tools.
     #[serde(default)]
     pub tools: Vec<ToolEntry>,
+}
+
+fn first_version() -> u32 {
+    1
 }
 
 impl ToolLibrary {

@@ -29,12 +29,45 @@ use crate::tools::Cutter;
 pub const PROJECT_VERSION: u32 = 1;
 
 /// One tool of the library: a name the user chose and the validated cutter.
+///
+/// Read generously (tool libraries and projects from other programs): `spec = "ball:d=6"` alone
+/// defines the cutter; `cutter` may give only `kind` and `diameter` (the rest takes
+/// [`Cutter::new`]'s defaults); when both are given they must agree; `name` defaults to the
+/// spec.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "ToolEntryFile")]
 pub struct ToolEntry {
     /// Name shown in the tree (free text).
     pub name: String,
     /// The cutter (sizes validated by [`Cutter::validate`] before an edit is applied).
     pub cutter: Cutter,
+}
+
+/// A tool entry as written by hand or by another program.
+#[derive(serde::Deserialize)]
+struct ToolEntryFile {
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    spec: Option<String>,
+    #[serde(default)]
+    cutter: Option<crate::toolpath::ToolFile>,
+}
+
+impl TryFrom<ToolEntryFile> for ToolEntry {
+    type Error = String;
+
+    fn try_from(f: ToolEntryFile) -> Result<Self, String> {
+        let mut tool = f.cutter.unwrap_or_default();
+        if f.spec.is_some() {
+            tool.spec = f.spec;
+        }
+        let record = tool.record()?;
+        Ok(Self {
+            name: f.name.unwrap_or_else(|| record.spec.clone()),
+            cutter: record.cutter,
+        })
+    }
 }
 
 /// The setup: where the program's origin (the machine's work offset) sits on the part.

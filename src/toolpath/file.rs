@@ -49,8 +49,8 @@ pub struct SummaryFile {
     pub gouge: Option<GougeReport>,
 }
 
-/// The tool as read.
-#[derive(serde::Deserialize, schemars::JsonSchema)]
+/// The tool as read (also the tool entries of tool libraries and projects).
+#[derive(Default, serde::Deserialize, schemars::JsonSchema)]
 pub struct ToolFile {
     /// Tool SPEC (`ball:d=6`, `flat:d=10,flute=20`, `bull:d=10,r=2`, `cone:d=10,angle=45`, with
     /// optional `shank=`, `length=`, `holder=DxL+DxL`). Defines the cutter on its own.
@@ -135,7 +135,7 @@ pub(super) fn read(text: &str, file: &str) -> Result<(Toolpath, Vec<String>), To
         .map(|k| format!("{file}: unknown key '{k}' ignored"))
         .collect();
     let units = parsed.units.unwrap_or_else(|| "mm".into());
-    let tool = tool_record(&parsed.tool).map_err(|m| err("tool".into(), m))?;
+    let tool = parsed.tool.record().map_err(|m| err("tool".into(), m))?;
     let mut poses = Vec::with_capacity(parsed.poses.len());
     let mut modal_feed: Option<f64> = None;
     for (k, p) in parsed.poses.iter().enumerate() {
@@ -171,8 +171,17 @@ pub(super) fn read(text: &str, file: &str) -> Result<(Toolpath, Vec<String>), To
     Ok((tp, warnings))
 }
 
-/// The cutter from the SPEC, checked against the dimension fields given; or from the fields
-/// alone when there is no SPEC.
+impl ToolFile {
+    /// The cutter from the SPEC, checked against the dimension fields given; or from the
+    /// fields alone when there is no SPEC.
+    ///
+    /// # Errors
+    /// What is missing or contradicts the SPEC, in words.
+    pub fn record(&self) -> Result<ToolRecord, String> {
+        tool_record(self)
+    }
+}
+
 fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
     let Some(spec) = &t.spec else {
         let kind = t
@@ -192,10 +201,11 @@ fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
         if let Some(h) = &t.holder {
             cutter.holder.clone_from(h);
         }
-        let spec = tool_spec(&cutter);
-        // The spec re-parses into a validated cutter (flute, shank and holder sizes checked).
-        let cutter = parse_tool_spec(&spec).map_err(|e| e.to_string())?;
-        return Ok(ToolRecord { spec, cutter });
+        cutter.validate().map_err(|e| e.to_string())?;
+        return Ok(ToolRecord {
+            spec: tool_spec(&cutter),
+            cutter,
+        });
     };
     let cutter = parse_tool_spec(spec).map_err(|e| e.to_string())?;
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
@@ -233,7 +243,7 @@ fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
         }
     }
     Ok(ToolRecord {
-        spec: spec.clone(),
+        spec: spec.trim().to_string(),
         cutter,
     })
 }

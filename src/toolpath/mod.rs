@@ -8,7 +8,7 @@
 mod file;
 mod summary;
 
-pub use file::{ToolpathFile, schema};
+pub use file::{ToolFile, ToolpathFile, schema};
 
 pub use summary::{GougeReport, Summary};
 

@@ -169,7 +169,10 @@ fn the_published_schema_is_the_one_the_reader_uses() {
         std::fs::write(&path, &generated).unwrap();
     }
     let published = std::fs::read_to_string(&path).unwrap();
-    assert_eq!(published, generated, "re-bless with TALAS_BLESS=1");
+    assert!(
+        published == generated,
+        "assets/schema/toolpath.schema.json is stale: re-bless with TALAS_BLESS=1"
+    );
     let v: serde_json::Value = serde_json::from_str(&published).unwrap();
     let required: Vec<&str> = v["required"]
         .as_array()
