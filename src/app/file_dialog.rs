@@ -13,6 +13,16 @@ const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
 /// opens beside it.
 const OFFER_PATH_FIELD_AFTER: Duration = Duration::from_secs(2);
 
+/// Can the system's dialogs (the XDG desktop portal, over the D-Bus session bus) answer at all?
+/// Without a session bus rfd fails only after a delay that looks like a cancel, so the chooser
+/// is used at once.
+#[must_use]
+pub fn portal_reachable() -> bool {
+    std::env::var_os("DBUS_SESSION_BUS_ADDRESS").is_some()
+        || std::env::var_os("XDG_RUNTIME_DIR")
+            .is_some_and(|d| std::path::Path::new(&d).join("bus").exists())
+}
+
 /// State of the Open dialog.
 #[derive(Debug, Default)]
 pub struct OpenDialog {

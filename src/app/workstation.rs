@@ -145,13 +145,14 @@ impl Workstation {
         let (library, library_error) =
             ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
         let project = new_project(&library);
+        let native = config.native_dialogs && super::file_dialog::portal_reachable();
         let mut ws = Self {
             document: None,
             viewport: ViewportState::default(),
             log: MessageLog::default(),
             load_job: None,
             field_job: None,
-            dialog: if config.native_dialogs {
+            dialog: if native {
                 OpenDialog::default()
             } else {
                 OpenDialog::without_native()
@@ -169,7 +170,7 @@ impl Workstation {
             sims: simulation::Simulations::default(),
             reductions: reduction::Reductions::default(),
             programs: program::Programs::default(),
-            save_dialog: if config.native_dialogs {
+            save_dialog: if native {
                 SaveDialog::default()
             } else {
                 SaveDialog::without_native()
