@@ -145,12 +145,21 @@ fn open_select_edit_undo_redo_and_a_malformed_file() {
     press(&mut h, egui::Modifiers::COMMAND, egui::Key::Y);
     assert!((diameter(&h) - 8.0).abs() < 1e-12);
 
-    // Drop a malformed STEP file: an error is shown, the part stays.
+    // Drop a malformed STEP file: first the question about the unsaved change (Discard), then
+    // an error is shown, the part stays.
     let bad = data("bad/bad-enum.stp");
     h.input_mut()
         .dropped_files
         .push(std::sync::Arc::new(DroppedPath(bad.clone())));
-    h.step();
+    h.run_steps(3);
+    assert_eq!(
+        h.state().waiting_for_unsaved_answer(),
+        Some(&Command::Open(bad.clone()))
+    );
+    assert!(!h.state().is_loading(), "nothing opens before the answer");
+    h.get_by_label("Discard").click();
+    h.run_steps(2);
+    assert!(h.state().waiting_for_unsaved_answer().is_none());
     settle(&mut h);
     let doc = h.state().document().expect("the old part stays");
     assert_eq!(doc.part.name, "bicubic-hills");

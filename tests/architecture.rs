@@ -47,6 +47,7 @@ const GUI_CRATES: &[&str] = &[
     "rfd",
     "egui_kittest",
     "egui_plot",
+    "egui_file",
 ];
 
 fn layer_of(module: &str) -> Option<u32> {

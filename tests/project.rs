@@ -544,4 +544,28 @@ fn tools_are_read_from_a_spec_or_the_fewest_fields() {
     let e = Project::from_toml(bad, Path::new("other.talas")).expect_err("contradiction");
     assert!(e.to_string().contains("diameter 8"), "{e}");
     assert!(e.to_string().contains("other.talas"), "{e}");
+
+#[test]
+fn undo_and_redo_labels_name_the_step_the_user_took() {
+    let mut p = Project::default();
+    let mut h = History::new();
+    let operation = Operation::new(OperationKind::Raster, 0, 0);
+    h.apply(
+        &mut p,
+        Edit::AddOperation {
+            index: 0,
+            operation,
+        },
+    )
+    .expect("added");
+    assert_eq!(h.undo_label(), Some("Add operation"));
+    assert_eq!(h.undo(&mut p), Some("Add operation"));
+    assert_eq!(h.redo_label(), Some("Add operation"));
+    assert_eq!(h.redo(&mut p), Some("Add operation"));
+    h.apply(&mut p, Edit::RemoveOperation { index: 0 })
+        .expect("removed");
+    assert_eq!(h.undo_label(), Some("Delete operation"));
+    h.undo(&mut p);
+    assert_eq!(h.redo_label(), Some("Delete operation"));
+    assert_eq!(h.undo_label(), Some("Add operation"));
 }

@@ -89,6 +89,8 @@ pub enum Command {
     ExportProgramTo(PathBuf),
     /// Show the simulated stock (instead of the part) or not.
     SetStockVisible(bool),
+    /// Colour the simulated stock's deviation against a tolerance band of ± this, mm.
+    SetDeviationBand(f64),
     /// Show this pose of the active operation's path in the properties (or none).
     PickPose(Option<usize>),
     /// How tool paths are coloured.

@@ -1,7 +1,7 @@
 //! The Open and Save dialogs: the native dialog (rfd, through the XDG desktop portal) on a worker
 //! thread.
-//! Where no portal answers, rfd returns "no file" at once; then the workstation shows a path
-//! field instead.
+//! Where no portal answers, rfd returns "no file" at once; then the workstation shows its own
+//! file chooser ([`super::file_chooser`]) instead.
 
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -9,21 +9,25 @@ use std::time::{Duration, Instant};
 
 /// A dialog that returns within this time without a file most likely never opened.
 const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
-/// A dialog that has not answered by now may never appear (a portal that hangs): the path field
+/// A dialog that has not answered by now may never appear (a portal that hangs): the chooser
 /// opens beside it.
 const OFFER_PATH_FIELD_AFTER: Duration = Duration::from_secs(2);
+
+/// Can the system's dialogs (the XDG desktop portal, over the D-Bus session bus) answer at all?
+/// Without a session bus rfd fails only after a delay that looks like a cancel, so the chooser
+/// is used at once.
+#[must_use]
+pub fn portal_reachable() -> bool {
+    std::env::var_os("DBUS_SESSION_BUS_ADDRESS").is_some()
+        || std::env::var_os("XDG_RUNTIME_DIR")
+            .is_some_and(|d| std::path::Path::new(&d).join("bus").exists())
+}
 
 /// State of the Open dialog.
 #[derive(Debug, Default)]
 pub struct OpenDialog {
     pending: Option<(Instant, mpsc::Receiver<Option<PathBuf>>)>,
-    /// Show the path field (no native dialog available, or the user asked for it).
-    pub path_field_open: bool,
-    /// Text of the path field.
-    pub path_text: String,
-    /// Give the path field keyboard focus at its next frame (it has just opened).
-    pub focus_path_field: bool,
-    /// The native dialog failed to open before: go straight to the path field.
+    /// The native dialog failed to open before: go straight to the chooser.
     native_unavailable: bool,
 }
 
@@ -36,21 +40,32 @@ pub enum DialogOutcome {
     Picked(PathBuf),
     /// The user cancelled.
     Cancelled,
-    /// No dialog could be shown; the path field is open instead.
+    /// No dialog could be shown: choose the file another way.
     Unavailable,
 }
 
 impl OpenDialog {
-    /// Open the native dialog (or the path field when it is known not to work). `wake` is called
-    /// from the dialog thread when it returns.
-    pub fn open(&mut self, start_dir: Option<PathBuf>, wake: impl FnOnce() + Send + 'static) {
+    /// A dialog that never tries the native one (scripted runs, tests): the chooser is used.
+    #[must_use]
+    pub fn without_native() -> Self {
+        Self {
+            pending: None,
+            native_unavailable: true,
+        }
+    }
+
+    /// Open the native dialog; false when it is known not to work (choose the file another
+    /// way). `wake` is called from the dialog thread when it returns.
+    pub fn open(
+        &mut self,
+        start_dir: Option<PathBuf>,
+        wake: impl FnOnce() + Send + 'static,
+    ) -> bool {
         if self.native_unavailable {
-            self.path_field_open = true;
-            self.focus_path_field = true;
-            return;
+            return false;
         }
         if self.pending.is_some() {
-            return;
+            return true;
         }
         let (sender, receiver) = mpsc::channel();
         let spawned = std::thread::Builder::new()
@@ -71,10 +86,10 @@ impl OpenDialog {
             });
         if spawned.is_ok() {
             self.pending = Some((Instant::now(), receiver));
+            true
         } else {
             self.native_unavailable = true;
-            self.path_field_open = true;
-            self.focus_path_field = true;
+            false
         }
     }
 
@@ -94,25 +109,20 @@ impl OpenDialog {
             Err(mpsc::TryRecvError::Empty) => {
                 if elapsed > OFFER_PATH_FIELD_AFTER && !self.native_unavailable {
                     // The dialog may never appear (a portal that hangs). Keep listening, so a late
-                    // answer is still used, and offer the path field now.
+                    // answer is still used, and offer the chooser now.
                     self.native_unavailable = true;
-                    self.path_field_open = true;
-                    self.focus_path_field = true;
                     return DialogOutcome::Unavailable;
                 }
                 DialogOutcome::Waiting
             }
             Ok(Some(path)) => {
                 self.pending = None;
-                self.path_field_open = false;
                 DialogOutcome::Picked(path)
             }
             Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
                 self.pending = None;
                 if elapsed < NO_DIALOG_WITHIN {
                     self.native_unavailable = true;
-                    self.path_field_open = true;
-                    self.focus_path_field = true;
                     DialogOutcome::Unavailable
                 } else {
                     DialogOutcome::Cancelled
@@ -134,7 +144,7 @@ pub enum SavePurpose {
 }
 
 /// The native Save dialog on a worker thread (as [`OpenDialog`]); when no dialog answers, the
-/// workstation asks for the path in a prompt instead.
+/// workstation shows its own file chooser instead.
 #[derive(Debug, Default)]
 pub struct SaveDialog {
     pending: Option<(Instant, SavePurpose, mpsc::Receiver<Option<PathBuf>>)>,
@@ -155,6 +165,15 @@ pub enum SaveOutcome {
 }
 
 impl SaveDialog {
+    /// A dialog that never tries the native one (scripted runs, tests): the chooser is used.
+    #[must_use]
+    pub fn without_native() -> Self {
+        Self {
+            pending: None,
+            native_unavailable: true,
+        }
+    }
+
     /// Ask where to save for `purpose`, starting at `start` (a suggested file path).
     pub fn open(
         &mut self,

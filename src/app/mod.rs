@@ -4,15 +4,18 @@
 //!   in one place.
 //! - [`panels`]: menu bar, project tree, properties, log, status bar (they return commands).
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
+//! - [`number_field`]: the one widget every numeric property is typed in.
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
 
 pub mod command;
 pub mod crease;
 pub mod document;
 pub mod document_loader;
+pub mod file_chooser;
 pub mod file_dialog;
 pub mod job;
 pub mod message_log;
+pub mod number_field;
 pub mod offscreen_render;
 pub mod panels;
 pub mod project_session;

@@ -10,6 +10,7 @@ use glam::{Mat4, Vec3};
 use super::document::Document;
 use super::document_loader::load_part;
 use super::scalar_field::{ScalarField, curvature_field, mapping_for};
+use super::toolpaths::move_colour;
 use crate::cli::render::RenderArgs;
 use crate::cli::{EXIT_BAD_INPUT, EXIT_INTERNAL};
 use crate::diagnostics::Progress;
@@ -17,21 +18,10 @@ use crate::render::{
     BoundingSphere, Camera, DisplayOptions, LineData, LineInstance, MeshInstance, Projection,
     Rgba8, RgbaImage, Scene, StandardView, render_to_image,
 };
-use crate::toolpath::{MoveKind, Toolpath};
+use crate::toolpath::Toolpath;
 
 /// Colour of the part (sRGB), as in the viewport.
 const PART_COLOUR: Rgba8 = [176, 186, 200, 255];
-
-/// Colour of a tool-path segment by the kind of move that reaches its end (sRGB).
-#[must_use]
-pub fn move_colour(kind: MoveKind) -> Rgba8 {
-    match kind {
-        MoveKind::Cut => [255, 176, 32, 255],
-        MoveKind::Link => [64, 200, 255, 255],
-        MoveKind::Rapid => [240, 64, 64, 255],
-        MoveKind::Plunge => [210, 90, 255, 255],
-    }
-}
 
 /// The tool path's tip polyline, each segment coloured by the kind of its end pose.
 #[must_use]

@@ -34,6 +34,8 @@ pub struct ProjectSession {
     /// How often a dirty project is written to its recovery file.
     pub autosave_every: Duration,
     last_autosave: Instant,
+    /// Has the document changed since it was last written (saved or autosaved)?
+    changed_since_autosave: bool,
 }
 
 impl ProjectSession {
@@ -47,6 +49,7 @@ impl ProjectSession {
             data_dir,
             autosave_every,
             last_autosave: Instant::now(),
+            changed_since_autosave: false,
         }
     }
 
@@ -59,17 +62,23 @@ impl ProjectSession {
             // The autosave interval counts from the first unsaved change.
             self.last_autosave = Instant::now();
         }
-        self.history.apply(&mut self.project, edit)
+        self.history.apply(&mut self.project, edit)?;
+        self.changed_since_autosave = true;
+        Ok(())
     }
 
     /// Undo; the description of what was undone.
     pub fn undo(&mut self) -> Option<&'static str> {
-        self.history.undo(&mut self.project)
+        let label = self.history.undo(&mut self.project);
+        self.changed_since_autosave |= label.is_some();
+        label
     }
 
     /// Redo; the description of what was redone.
     pub fn redo(&mut self) -> Option<&'static str> {
-        self.history.redo(&mut self.project)
+        let label = self.history.redo(&mut self.project);
+        self.changed_since_autosave |= label.is_some();
+        label
     }
 
     /// Has the document unsaved changes?
@@ -103,6 +112,7 @@ impl ProjectSession {
         }
         self.path = path;
         self.last_autosave = Instant::now();
+        self.changed_since_autosave = dirty;
     }
 
     /// A warning about the project's part (changed or missing on disk), if any.
@@ -127,6 +137,7 @@ impl ProjectSession {
         self.project.save(path)?;
         self.path = Some(path.to_path_buf());
         self.history.mark_saved();
+        self.changed_since_autosave = false;
         let _ = std::fs::remove_file(old_recovery);
         let _ = std::fs::remove_file(self.recovery_path());
         Ok(())
@@ -151,10 +162,13 @@ impl ProjectSession {
         recovery_path(self.path.as_deref(), &self.data_dir)
     }
 
-    /// Is an autosave due (unsaved changes, and the interval has passed)?
+    /// Is an autosave due (unsaved changes not yet in the recovery file, and the interval has
+    /// passed)?
     #[must_use]
     pub fn autosave_due(&self) -> bool {
-        self.is_dirty() && self.last_autosave.elapsed() >= self.autosave_every
+        self.is_dirty()
+            && self.changed_since_autosave
+            && self.last_autosave.elapsed() >= self.autosave_every
     }
 
     /// Write the project to its recovery file now (atomically). Returns the file written.
@@ -168,6 +182,7 @@ impl ProjectSession {
             let _ = std::fs::create_dir_all(dir);
         }
         self.project.save(&file)?;
+        self.changed_since_autosave = false;
         Ok(file)
     }
 
@@ -244,6 +259,10 @@ mod tests {
         assert!(s.autosave_due());
         let file = s.autosave().expect("autosaved");
         assert_eq!(file, dir.join("untitled.talas.autosave"));
+        assert!(
+            !s.autosave_due(),
+            "nothing changed since the autosave: no second one"
+        );
         assert_eq!(pending_recovery(None, &dir), Some(file.clone()));
         let recovered = Project::load(&file).expect("recovery file is a project");
         assert_eq!(recovered.name, "Bracket");

@@ -20,6 +20,7 @@ use std::time::{Duration, Instant};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
+use super::file_chooser::{ChooserPurpose, FileChooser};
 use super::file_dialog::{DialogOutcome, OpenDialog, SaveDialog, SavePurpose};
 use super::job::{Job, JobPoll};
 use super::message_log::MessageLog;
@@ -27,7 +28,7 @@ use super::panels::grouped;
 use super::panels::log_panel::log_ui;
 use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui, shortcuts};
 use super::panels::playback::playback_ui;
-use super::panels::project_dialogs::{PathPrompt, recovery_ui};
+use super::panels::project_dialogs::recovery_ui;
 use super::panels::project_tree::project_tree_ui;
 use super::panels::properties::{Focus, Forms, PropertiesView, properties_ui};
 use super::panels::status_bar::{StatusInfo, status_bar_ui};
@@ -59,6 +60,8 @@ pub struct WorkstationConfig {
     pub data_dir: PathBuf,
     /// Autosave interval of a project with unsaved changes.
     pub autosave_every: Duration,
+    /// Try the system's file dialogs (false: always the in-window chooser).
+    pub native_dialogs: bool,
 }
 
 impl WorkstationConfig {
@@ -71,10 +74,12 @@ impl WorkstationConfig {
             recent: RecentFiles::load(),
             data_dir: default_data_dir(),
             autosave_every: AUTOSAVE_EVERY,
+            native_dialogs: true,
         }
     }
 
-    /// Folders under `data_dir` only, an unsaved recent-files list (tests, scripted runs).
+    /// Folders under `data_dir` only, an unsaved recent-files list, the in-window file chooser
+    /// only (tests, scripted runs).
     #[must_use]
     pub fn isolated(file: Option<PathBuf>, data_dir: PathBuf) -> Self {
         Self {
@@ -82,6 +87,7 @@ impl WorkstationConfig {
             recent: RecentFiles::in_memory(),
             data_dir,
             autosave_every: AUTOSAVE_EVERY,
+            native_dialogs: false,
         }
     }
 }
@@ -109,10 +115,21 @@ pub struct Workstation {
     programs: program::Programs,
     save_dialog: SaveDialog,
     pick: Option<SurfacePick>,
-    prompt: Option<PathPrompt>,
+    /// The in-window file chooser, while it is open.
+    chooser: Option<FileChooser>,
     /// A recovery file to offer (Recover / Discard).
     recovery: Option<PathBuf>,
     title: String,
+    /// A command that would discard unsaved changes, waiting for Save / Discard / Cancel.
+    unsaved: Option<Command>,
+    /// The command to run once the project is saved (Save answered, Save As asked for a path).
+    after_save: Option<Command>,
+    /// The command being applied was confirmed (no unsaved-changes question).
+    confirmed: bool,
+    /// Closing the window was confirmed (or nothing was unsaved).
+    quit_confirmed: bool,
+    /// The camera of an opened project, applied once its part is loaded.
+    restore_view: Option<crate::project::ViewState>,
 }
 
 impl Workstation {
@@ -128,13 +145,18 @@ impl Workstation {
         let (library, library_error) =
             ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
         let project = new_project(&library);
+        let native = config.native_dialogs && super::file_dialog::portal_reachable();
         let mut ws = Self {
             document: None,
             viewport: ViewportState::default(),
             log: MessageLog::default(),
             load_job: None,
             field_job: None,
-            dialog: OpenDialog::default(),
+            dialog: if native {
+                OpenDialog::default()
+            } else {
+                OpenDialog::without_native()
+            },
             recent: config.recent,
             started: Instant::now(),
             next_data_id: 1,
@@ -148,11 +170,20 @@ impl Workstation {
             sims: simulation::Simulations::default(),
             reductions: reduction::Reductions::default(),
             programs: program::Programs::default(),
-            save_dialog: SaveDialog::default(),
+            save_dialog: if native {
+                SaveDialog::default()
+            } else {
+                SaveDialog::without_native()
+            },
             pick: None,
-            prompt: None,
+            chooser: None,
             recovery: None,
             title: String::new(),
+            unsaved: None,
+            after_save: None,
+            confirmed: false,
+            quit_confirmed: false,
+            restore_view: None,
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -210,6 +241,12 @@ impl Workstation {
         self.focus
     }
 
+    /// The viewport's camera.
+    #[must_use]
+    pub fn camera(&self) -> &crate::render::Camera {
+        &self.viewport.camera
+    }
+
     /// The surface point last clicked in the viewport.
     #[must_use]
     pub fn pick(&self) -> Option<&SurfacePick> {
@@ -257,6 +294,10 @@ impl Workstation {
 
     /// Apply one command. The only place where the document and the workstation state change.
     pub fn apply(&mut self, command: Command) {
+        if self.must_ask_first(&command) {
+            self.unsaved = Some(command);
+            return;
+        }
         match command {
             Command::OpenDialog => {
                 let start = self
@@ -264,7 +305,12 @@ impl Workstation {
                     .as_ref()
                     .and_then(|d| d.part.path.parent().map(Path::to_path_buf));
                 let ctx = self.ctx.clone();
-                self.dialog.open(start, move || ctx.request_repaint());
+                if !self
+                    .dialog
+                    .open(start.clone(), move || ctx.request_repaint())
+                {
+                    self.open_chooser(ChooserPurpose::OpenPart, start);
+                }
             }
             Command::Open(path) => {
                 if path
@@ -290,7 +336,10 @@ impl Workstation {
                     self.viewport.scalar_field = None;
                 }
             }
-            Command::Quit => self.ctx.send_viewport_cmd(egui::ViewportCommand::Close),
+            Command::Quit => {
+                self.quit_confirmed = true;
+                self.ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
             Command::FitAll => self.viewport.fit(self.document.as_ref()),
             Command::StandardView(v) => self.viewport.set_view(v, self.document.as_ref()),
             Command::SetProjection(p) => self.viewport.set_projection(p),
@@ -303,6 +352,14 @@ impl Workstation {
                         Selection::Face(i) if i >= doc.part.faces.len() => Selection::Part,
                         s => s,
                     };
+                    // A surface point picked on another face no longer describes the selection.
+                    if self
+                        .pick
+                        .as_ref()
+                        .is_some_and(|p| doc.selection != Selection::Face(p.face))
+                    {
+                        self.pick = None;
+                    }
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
@@ -341,6 +398,7 @@ impl Workstation {
             | Command::ExportProgramDialog
             | Command::ExportProgramTo(_)
             | Command::SetStockVisible(_)
+            | Command::SetDeviationBand(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
             | Command::SetShowAllPaths(_)
@@ -353,6 +411,26 @@ impl Workstation {
             | Command::ExportReductionDialog
             | Command::ExportReductionTo(_) => self.apply_reduction(command),
         }
+    }
+
+    /// Forget everything derived from the project or part being replaced: computed paths,
+    /// playback, simulations, posted programs and reductions (their jobs are cancelled). View
+    /// preferences (path colouring, all paths, axis vectors, playback speed) stay.
+    fn reset_derived(&mut self) {
+        self.ops.cancel_silently();
+        self.sims.cancel_silently();
+        self.programs.cancel_silently();
+        self.reductions.cancel_silently();
+        let old = std::mem::replace(&mut self.ops, operations::Operations::new());
+        self.ops.colouring = old.colouring;
+        self.ops.show_all = old.show_all;
+        self.ops.show_axes = old.show_axes;
+        self.ops.speed = old.speed;
+        self.ops.next_id = old.next_id;
+        self.sims = simulation::Simulations::default();
+        self.programs = program::Programs::default();
+        self.reductions.forget_result();
+        self.pick = None;
     }
 
     /// Show `field` on the part, computing the curvatures first when needed.
@@ -441,11 +519,17 @@ impl Workstation {
             self.ctx.request_repaint_after(Duration::from_millis(250));
         }
         match self.dialog.poll() {
-            DialogOutcome::Picked(path) => self.apply(Command::Open(path)),
+            // The question about unsaved changes was asked before the dialog opened.
+            DialogOutcome::Picked(path) => self.apply_confirmed(Command::Open(path)),
             DialogOutcome::Unavailable => {
                 self.log_info(
-                    "The system file dialog did not open (no XDG desktop portal?): type the path instead",
+                    "The system file dialog did not open (no XDG desktop portal?): using Talas's own file chooser",
                 );
+                let start = self
+                    .document
+                    .as_ref()
+                    .and_then(|d| d.part.path.parent().map(Path::to_path_buf));
+                self.open_chooser(ChooserPurpose::OpenPart, start);
             }
             DialogOutcome::Waiting | DialogOutcome::Cancelled => {}
         }
@@ -527,10 +611,17 @@ impl Workstation {
                 if let Some((_, job)) = self.field_job.take() {
                     job.cancel();
                 }
+                if self.document.is_some() {
+                    // Paths, simulations and programs of the old part go with it.
+                    self.reset_derived();
+                }
                 self.document = Some(Document::new(part, id));
                 self.pick = None;
                 self.focus = Focus::Selection;
                 self.viewport.fit_requested = true;
+                if let Some(view) = self.restore_view.take() {
+                    self.apply_view(view);
+                }
                 self.log.push(t, Severity::Info, summary);
                 if let Some(doc) = &self.document
                     && let Err(e) = self.session.project.check_faces(doc.part.faces.len())
@@ -590,6 +681,7 @@ impl Workstation {
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
         self.ctx = ctx.clone();
+        self.on_close_request(&ctx);
         shortcuts(&ctx, &mut commands);
         let title = self.session.title();
         if title != self.title {
@@ -694,13 +786,10 @@ impl Workstation {
         }
         let (paths, legend) = self.path_instances();
         let mut viewport = std::mem::take(&mut self.viewport);
-        // The tool stands at the playback pose (or the picked one); the marker at program zero.
+        // The tool stands at the pose under the pointer in a plot, else the picked one, else the
+        // playback's (playback clears the pick); the marker at program zero.
         viewport.tool_pose = self.active_result().and_then(|r| {
-            let i = self
-                .ops
-                .hover_pose
-                .or(self.playback_pose())
-                .or(self.ops.picked_pose)?;
+            let i = self.tool_pose_index()?;
             let p = r.toolpath().poses.get(i)?;
             Some(super::viewport::ToolPose {
                 tip: p.tip,
@@ -754,15 +843,10 @@ impl Workstation {
             );
         });
         self.viewport = viewport;
-        self.path_field_ui(&ctx, &mut commands);
         self.compare_ui(&ctx, &mut commands);
         self.reduction_ui(&ctx, &mut commands);
-        if let Some(prompt) = &mut self.prompt
-            && let Some(outcome) = prompt.ui(&ctx)
-        {
-            self.prompt = None;
-            commands.extend(outcome);
-        }
+        self.chooser_ui(&ctx);
+        self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.recovery
             && let Some(answer) = recovery_ui(&ctx, recovery, self.session.path.as_deref())
         {

@@ -8,10 +8,10 @@ use super::{Edit, EditError, Project};
 /// saved, so undoing back to the saved state makes the document clean again.
 #[derive(Debug, Default)]
 pub struct History {
-    /// (edit that undoes a step, state number before the step).
-    undo: Vec<(Edit, u64)>,
-    /// (edit that redoes a step, state number after the step).
-    redo: Vec<(Edit, u64)>,
+    /// (edit that undoes a step, state number before the step, description of the step).
+    undo: Vec<(Edit, u64, &'static str)>,
+    /// (edit that redoes a step, state number after the step, description of the step).
+    redo: Vec<(Edit, u64, &'static str)>,
     state: u64,
     next_state: u64,
     saved_state: Option<u64>,
@@ -33,8 +33,10 @@ impl History {
     /// # Errors
     /// The [`EditError`] of a refused edit; nothing changes then.
     pub fn apply(&mut self, project: &mut Project, edit: Edit) -> Result<(), EditError> {
+        // The step is described by what the user did, not by the inverse that undoes it.
+        let label = edit.describe();
         let inverse = project.apply(edit)?;
-        self.undo.push((inverse, self.state));
+        self.undo.push((inverse, self.state, label));
         self.redo.clear();
         self.state = self.next_state;
         self.next_state += 1;
@@ -43,11 +45,10 @@ impl History {
 
     /// Undo the last step. Returns its description, or `None` when there is nothing to undo.
     pub fn undo(&mut self, project: &mut Project) -> Option<&'static str> {
-        let (edit, before) = self.undo.pop()?;
-        let label = edit.describe();
+        let (edit, before, label) = self.undo.pop()?;
         match project.apply(edit) {
             Ok(redo) => {
-                self.redo.push((redo, self.state));
+                self.redo.push((redo, self.state, label));
                 self.state = before;
                 Some(label)
             }
@@ -63,11 +64,10 @@ impl History {
 
     /// Redo the last undone step. Returns its description, or `None` when there is none.
     pub fn redo(&mut self, project: &mut Project) -> Option<&'static str> {
-        let (edit, after) = self.redo.pop()?;
-        let label = edit.describe();
+        let (edit, after, label) = self.redo.pop()?;
         match project.apply(edit) {
             Ok(undo) => {
-                self.undo.push((undo, self.state));
+                self.undo.push((undo, self.state, label));
                 self.state = after;
                 Some(label)
             }
@@ -94,13 +94,13 @@ impl History {
     /// Description of the step [`History::undo`] would undo.
     #[must_use]
     pub fn undo_label(&self) -> Option<&'static str> {
-        self.undo.last().map(|(e, _)| e.describe())
+        self.undo.last().map(|(_, _, label)| *label)
     }
 
     /// Description of the step [`History::redo`] would redo.
     #[must_use]
     pub fn redo_label(&self) -> Option<&'static str> {
-        self.redo.last().map(|(e, _)| e.describe())
+        self.redo.last().map(|(_, _, label)| *label)
     }
 
     /// Has the document changed since it was last saved?

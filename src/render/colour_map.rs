@@ -11,14 +11,24 @@ pub enum ColourMap {
     Turbo,
     /// Diverging blue → white → red, for signed values (deviation).
     CoolWarm,
+    /// A tolerance band for signed values mapped over ±2 × the tolerance: the middle half (within
+    /// tolerance) runs light blue → white → light orange; the outer quarters are flat, saturated
+    /// out-of-band colours (violet below, red above), so anything out of tolerance stands out
+    /// however little it is out.
+    Band,
 }
+
+/// Out-of-band colour below the band of [`ColourMap::Band`] (sRGB).
+pub const BAND_BELOW: [u8; 3] = [110, 40, 200];
+/// Out-of-band colour above the band of [`ColourMap::Band`] (sRGB).
+pub const BAND_ABOVE: [u8; 3] = [215, 30, 40];
 
 /// Texels across a colour-map texture.
 pub const COLOUR_MAP_TEXELS: usize = 256;
 
 impl ColourMap {
     /// Every map, texture row order.
-    pub const ALL: [Self; 3] = [Self::Viridis, Self::Turbo, Self::CoolWarm];
+    pub const ALL: [Self; 4] = [Self::Viridis, Self::Turbo, Self::CoolWarm, Self::Band];
 
     /// Control points (sRGB), evenly spaced over 0..1.
     fn stops(self) -> &'static [[u8; 3]] {
@@ -53,6 +63,8 @@ impl ColourMap {
                 [244, 154, 123],
                 [180, 4, 38],
             ],
+            // The in-band part of the band map (see `sample`).
+            Self::Band => &[[120, 175, 250], [235, 235, 235], [250, 185, 110]],
         }
     }
 
@@ -61,6 +73,17 @@ impl ColourMap {
     pub fn sample(self, t: f32) -> [u8; 3] {
         let stops = self.stops();
         let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+        let t = if self == Self::Band {
+            if t < 0.25 {
+                return BAND_BELOW;
+            }
+            if t > 0.75 {
+                return BAND_ABOVE;
+            }
+            2.0 * (t - 0.25)
+        } else {
+            t
+        };
         let x = t * (stops.len() - 1) as f32;
         let i = (x.floor() as usize).min(stops.len() - 2);
         let f = x - i as f32;
@@ -88,6 +111,7 @@ impl ColourMap {
             Self::Viridis => 0,
             Self::Turbo => 1,
             Self::CoolWarm => 2,
+            Self::Band => 3,
         }
     }
 }
@@ -103,5 +127,21 @@ mod tests {
         assert_eq!(ColourMap::Turbo.sample(2.0), [122, 4, 3]);
         assert_eq!(ColourMap::CoolWarm.sample(0.5), [221, 221, 221]);
         assert_eq!(ColourMap::Viridis.texels().len(), 4 * COLOUR_MAP_TEXELS);
+    }
+
+    #[test]
+    fn the_band_map_is_flat_out_of_band_and_graded_inside() {
+        let m = ColourMap::Band;
+        // Mapped over ±2 tol: t = 0.25 and 0.75 are −tol and +tol.
+        assert_eq!(m.sample(0.0), BAND_BELOW);
+        assert_eq!(m.sample(0.24), BAND_BELOW);
+        assert_eq!(m.sample(0.76), BAND_ABOVE);
+        assert_eq!(m.sample(1.0), BAND_ABOVE);
+        assert_eq!(m.sample(0.25), [120, 175, 250]);
+        assert_eq!(m.sample(0.5), [235, 235, 235]);
+        assert_eq!(m.sample(0.75), [250, 185, 110]);
+        for (i, map) in ColourMap::ALL.iter().enumerate() {
+            assert_eq!(map.row() as usize, i);
+        }
     }
 }

@@ -107,6 +107,12 @@ impl GcodeView {
         self.selected = line.filter(|&l| l < self.line_count());
     }
 
+    /// The rows drawn in the last frame (0-based lines).
+    #[must_use]
+    pub fn visible_lines(&self) -> std::ops::Range<usize> {
+        self.visible.clone()
+    }
+
     /// Select `line` and bring it into view on the next frame (when the user picks a path
     /// point in the viewport).
     pub fn scroll_to_line(&mut self, line: usize) {

@@ -98,7 +98,7 @@ pub fn menu_bar_ui(
             if shortcut_button(ui, "Open…", &OPEN) {
                 commands.push(Command::OpenDialog);
             }
-            if ui.button("Open Project by Path…").clicked() {
+            if ui.button("Open Project…").clicked() {
                 commands.push(Command::OpenProjectDialog);
             }
             if shortcut_button(ui, "Save Project", &SAVE) {

@@ -2,13 +2,15 @@
 //! units, Calculate with progress and Cancel, the computed path's summary (lengths, poses, time at
 //! feed, predicted scallop, gouge report) and the pose picked in the viewport.
 //!
-//! Numbers are dragged or typed; a value is applied (one undo step) when the drag ends or the
-//! typing is confirmed. Values are shown in mm, mm/min and degrees; the document keeps rad.
+//! Numbers are typed in [`NumberField`]s: a value is applied (one undo step) when the typing is
+//! confirmed, and refused with the reason when out of range. Values are shown in mm, mm/min and
+//! degrees; the document keeps rad.
 
 use glam::DVec3;
 
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
+use super::super::number_field::NumberField;
 use super::super::theme;
 use super::super::toolpaths::ComputedOp;
 use super::super::workstation::ShownSimulation;
@@ -62,8 +64,7 @@ pub fn operation_editor_ui(
         ui.weak("No such operation.");
         return;
     };
-    let editing = ui.ctx().dragged_id().is_some();
-    if form.source.as_ref() != Some(&(view.index, current.clone())) && !editing {
+    if form.source.as_ref() != Some(&(view.index, current.clone())) {
         form.source = Some((view.index, current.clone()));
         form.draft = Some(current.clone());
         form.name = current.name().to_string();
@@ -81,7 +82,7 @@ pub fn operation_editor_ui(
     });
     ui.weak(current.kind().label());
     ui.add_space(4.0);
-    egui::Grid::new("operation fields")
+    egui::Grid::new(("operation fields", view.index))
         .num_columns(2)
         .spacing([10.0, 6.0])
         .show(ui, |ui| {
@@ -150,33 +151,30 @@ pub fn operation_editor_ui(
     }
 }
 
-/// A number field: `value` in internal units shown × `scale` with `suffix`; true when a change
-/// should be applied now.
+/// A number field named by the label `label` (see [`NumberField`]): `value` in internal units
+/// shown × `scale` in `unit`, values outside `range` (shown units) refused; true when a typed
+/// value was accepted (apply it now: one undo step).
 fn number(
     ui: &mut egui::Ui,
+    label: egui::Id,
     value: &mut f64,
     scale: f64,
     range: std::ops::RangeInclusive<f64>,
-    speed: f64,
     decimals: usize,
-    suffix: &str,
+    unit: &str,
 ) -> bool {
-    let mut shown = *value * scale;
-    let r = ui.add(
-        egui::DragValue::new(&mut shown)
-            .range(range)
-            .speed(speed)
-            .max_decimals(decimals)
-            .suffix(suffix),
-    );
-    if r.changed() {
-        *value = shown / scale;
-    }
-    r.drag_stopped() || (r.changed() && !r.dragged())
+    NumberField::new(label, value)
+        .labelled_by(label)
+        .scale(scale)
+        .range(range)
+        .decimals(decimals)
+        .unit(unit)
+        .show(ui)
 }
 
-fn label(ui: &mut egui::Ui, text: &str, hint: &str) {
-    ui.label(text).on_hover_text(hint);
+/// A field's label with its hint; its id names the field that follows.
+fn label(ui: &mut egui::Ui, text: &str, hint: &str) -> egui::Id {
+    ui.label(text).on_hover_text(hint).id
 }
 
 fn tool_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) -> bool {
@@ -215,15 +213,15 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
         } => {
             commit |= face_row(ui, document, face);
             commit |= strategy_rows(ui, strategy);
-            label(ui, "Scallop height", "Largest cusp left between passes");
-            commit |= number(ui, &mut options.scallop, 1.0, 1e-4..=5.0, 0.001, 4, " mm");
+            let l = label(ui, "Scallop height", "Largest cusp left between passes");
+            commit |= number(ui, l, &mut options.scallop, 1.0, 1e-4..=5.0, 4, "mm");
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Chord tolerance",
                 "Largest deviation of the straight tool-tip moves from the true tip curve",
             );
-            commit |= number(ui, &mut options.tolerance, 1.0, 1e-4..=2.0, 0.001, 4, " mm");
+            commit |= number(ui, l, &mut options.tolerance, 1.0, 1e-4..=2.0, 4, "mm");
             ui.end_row();
             commit |= axis_rows(ui, &mut options.axis);
             label(ui, "Direction", "Parameter the passes run along");
@@ -237,7 +235,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 options.direction = d;
                 commit = true;
             }
-            label(
+            let l = label(
                 ui,
                 "Clearance plane",
                 "Height of retracts between passes (z)",
@@ -249,31 +247,31 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                     commit = true;
                 }
                 if let Some(c) = options.clearance.as_mut() {
-                    commit |= number(ui, c, 1.0, -1e4..=1e4, 0.5, 3, " mm");
+                    commit |= number(ui, l, c, 1.0, -1e4..=1e4, 3, "mm");
                 }
             });
             ui.end_row();
-            label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, &mut options.feed, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            let l = label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, l, &mut options.feed, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Lead-in/out arc",
                 "Radius of the tangential arcs into and out of each pass (0: none)",
             );
-            commit |= number(ui, &mut options.lead_arc_mm, 1.0, 0.0..=50.0, 0.1, 2, " mm");
+            commit |= number(ui, l, &mut options.lead_arc_mm, 1.0, 0.0..=50.0, 2, "mm");
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Largest axis step",
                 "Largest tool-axis change between poses",
             );
             commit |= number(
                 ui,
+                l,
                 &mut options.max_axis_step,
                 1f64.to_degrees(),
                 0.1..=45.0,
-                0.1,
                 2,
                 "°",
             );
@@ -294,36 +292,28 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             feed_mm_per_min,
             ..
         } => {
-            label(
+            let l = label(
                 ui,
                 "Scallop height",
                 "Largest cusp between passes on slopes",
             );
-            commit |= number(ui, scallop_mm, 1.0, 1e-4..=5.0, 0.001, 4, " mm");
+            commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
             ui.end_row();
-            label(ui, "Angle", "Direction of the passes from +X");
-            commit |= number(
-                ui,
-                angle_rad,
-                1f64.to_degrees(),
-                -180.0..=180.0,
-                0.5,
-                2,
-                "°",
-            );
+            let l = label(ui, "Angle", "Direction of the passes from +X");
+            commit |= number(ui, l, angle_rad, 1f64.to_degrees(), -180.0..=180.0, 2, "°");
             ui.end_row();
             label(ui, "One way", "Cut every pass in the same direction");
             commit |= ui.checkbox(one_way, "").changed();
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Chord tolerance",
                 "Deviation of the cutter-location polyline",
             );
-            commit |= number(ui, tolerance_mm, 1.0, 1e-4..=2.0, 0.001, 4, " mm");
+            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
             ui.end_row();
-            label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, feed_mm_per_min, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            let l = label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
         }
         Operation::Rough {
@@ -334,28 +324,28 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             feed_mm_per_min,
             ..
         } => {
-            label(ui, "Step-down", "Depth of each level");
-            commit |= number(ui, step_down_mm, 1.0, 0.01..=100.0, 0.05, 3, " mm");
+            let l = label(ui, "Step-down", "Depth of each level");
+            commit |= number(ui, l, step_down_mm, 1.0, 0.01..=100.0, 3, "mm");
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Step-over",
                 "Distance between contours, % of the tool diameter",
             );
-            commit |= number(ui, step_over_fraction, 100.0, 1.0..=100.0, 0.5, 1, " %");
+            commit |= number(ui, l, step_over_fraction, 100.0, 1.0..=100.0, 1, "%");
             ui.end_row();
-            label(
+            let l = label(
                 ui,
                 "Stock to leave",
                 "Material left for finishing, radial and axial",
             );
-            commit |= number(ui, stock_to_leave_mm, 1.0, 0.0..=20.0, 0.01, 3, " mm");
+            commit |= number(ui, l, stock_to_leave_mm, 1.0, 0.0..=20.0, 3, "mm");
             ui.end_row();
-            label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
-            commit |= number(ui, tolerance_mm, 1.0, 1e-3..=5.0, 0.005, 3, " mm");
+            let l = label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
+            commit |= number(ui, l, tolerance_mm, 1.0, 1e-3..=5.0, 3, "mm");
             ui.end_row();
-            label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, feed_mm_per_min, 1.0, 1.0..=1e5, 10.0, 0, " mm/min");
+            let l = label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
         }
     }
@@ -422,12 +412,12 @@ fn strategy_rows(ui: &mut egui::Ui, strategy: &mut Strategy) -> bool {
             commit |= before != *pattern;
         }
         Strategy::IsoPlanar { angle } => {
-            label(
+            let l = label(
                 ui,
                 "Plane angle",
                 "Angle of the cutting planes' normal from +X",
             );
-            commit |= number(ui, angle, 1f64.to_degrees(), -180.0..=180.0, 0.5, 2, "°");
+            commit |= number(ui, l, angle, 1f64.to_degrees(), -180.0..=180.0, 2, "°");
             ui.end_row();
         }
         Strategy::IsoScallop => {}
@@ -458,15 +448,15 @@ fn axis_rows(ui: &mut egui::Ui, axis: &mut AxisMode) -> bool {
         commit = true;
     }
     if let AxisMode::Normal { lead, tilt } = axis {
-        label(
+        let l = label(
             ui,
             "Lead",
             "Tilt of the axis toward the feed (raised when needed against gouging)",
         );
-        commit |= number(ui, lead, 1f64.to_degrees(), -60.0..=60.0, 0.25, 2, "°");
+        commit |= number(ui, l, lead, 1f64.to_degrees(), -60.0..=60.0, 2, "°");
         ui.end_row();
-        label(ui, "Tilt", "Sideways tilt of the axis");
-        commit |= number(ui, tilt, 1f64.to_degrees(), -60.0..=60.0, 0.25, 2, "°");
+        let l = label(ui, "Tilt", "Sideways tilt of the axis");
+        commit |= number(ui, l, tilt, 1f64.to_degrees(), -60.0..=60.0, 2, "°");
         ui.end_row();
     }
     commit
@@ -597,6 +587,13 @@ fn simulation_ui(
         "simulation",
         &[
             (
+                "Path cut",
+                sim.up_to_pose().map_or_else(
+                    || "whole".to_string(),
+                    |p| format!("up to pose {} (Stock here)", grouped(p + 1)),
+                ),
+            ),
+            (
                 "Dexel spacing",
                 format!("{:.3} mm (Z rays)", s.resolution_mm),
             ),
@@ -614,6 +611,21 @@ fn simulation_ui(
             ("Simulated in", format!("{:.1} s", sim.elapsed_s)),
         ],
     );
+    ui.horizontal(|ui| {
+        let l = ui
+            .label("Tolerance band ±")
+            .on_hover_text("Deviation within ± this is graded blue → white → orange; gouges beyond it are violet, material left beyond it red");
+        let mut band = sim.band_mm;
+        if NumberField::new("deviation band", &mut band)
+            .labelled_by(l.id)
+            .range(0.001..=50.0)
+            .decimals(4)
+            .unit("mm")
+            .show(ui)
+        {
+            commands.push(Command::SetDeviationBand(band));
+        }
+    });
     if !r.collisions.is_empty() {
         egui::ScrollArea::vertical()
             .id_salt("collisions")

@@ -139,37 +139,65 @@ fn part_ui(
     if part.faces.is_empty() {
         return;
     }
+    // A face selected elsewhere (picked in the viewport) is brought into view: the list opens
+    // and scrolls to it when it is not among the rows drawn last frame.
+    let memory = ui.scope_id().with("face list rows");
+    let (last_selection, shown_rows): (Option<Selection>, std::ops::Range<usize>) =
+        ui.data(|d| d.get_temp(memory)).unwrap_or((None, 0..0));
+    let reveal = match doc.selection {
+        Selection::Face(i) if last_selection != Some(doc.selection) => {
+            (!shown_rows.contains(&i)).then_some(i)
+        }
+        _ => None,
+    };
+    let header_id = ui.make_persistent_id("faces");
+    if reveal.is_some() {
+        let mut state = egui::collapsing_header::CollapsingState::load_with_default_open(
+            ui.ctx(),
+            header_id,
+            part.faces.len() <= 30,
+        );
+        state.set_open(true);
+        state.store(ui.ctx());
+    }
+    let mut drawn = 0..0;
     egui::CollapsingHeader::new(format!("Faces ({})", part.faces.len()))
         .id_salt("faces")
         .default_open(part.faces.len() <= 30)
         .show(ui, |ui| {
             let row_height = ui.spacing().interact_size.y;
-            egui::ScrollArea::vertical()
+            let mut scroll = egui::ScrollArea::vertical()
                 .id_salt("face list")
-                .max_height(240.0)
-                .auto_shrink([false, true])
-                .show_rows(ui, row_height, part.faces.len(), |ui, rows| {
-                    for i in rows {
-                        let Some(face) = part.faces.get(i) else {
-                            continue;
-                        };
-                        let id = if face.source_id > 0 {
-                            format!("  #{}", face.source_id)
-                        } else {
-                            String::new()
-                        };
-                        let selected =
-                            focus == Focus::Selection && doc.selection == Selection::Face(i);
-                        if ui
-                            .selectable_label(
-                                selected,
-                                format!("Face {}  {}{id}", i + 1, face.kind),
-                            )
-                            .clicked()
-                        {
-                            commands.push(Command::Select(Selection::Face(i)));
-                        }
+                .max_height(FACE_LIST_HEIGHT)
+                .auto_shrink([false, true]);
+            if let Some(i) = reveal {
+                let step = row_height + ui.spacing().item_spacing.y;
+                let top = i as f32 * step - 0.5 * (FACE_LIST_HEIGHT - step);
+                scroll = scroll.vertical_scroll_offset(top.max(0.0));
+            }
+            scroll.show_rows(ui, row_height, part.faces.len(), |ui, rows| {
+                drawn = rows.clone();
+                for i in rows {
+                    let Some(face) = part.faces.get(i) else {
+                        continue;
+                    };
+                    let id = if face.source_id > 0 {
+                        format!("  #{}", face.source_id)
+                    } else {
+                        String::new()
+                    };
+                    let selected = focus == Focus::Selection && doc.selection == Selection::Face(i);
+                    if ui
+                        .selectable_label(selected, format!("Face {}  {}{id}", i + 1, face.kind))
+                        .clicked()
+                    {
+                        commands.push(Command::Select(Selection::Face(i)));
                     }
-                });
+                }
+            });
         });
+    ui.data_mut(|d| d.insert_temp(memory, (Some(doc.selection), drawn)));
 }
+
+/// Height of the face list, points.
+const FACE_LIST_HEIGHT: f32 = 240.0;

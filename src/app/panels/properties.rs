@@ -6,6 +6,7 @@ use glam::DVec3;
 
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
+use super::super::number_field::NumberField;
 use super::super::viewport::picking::SurfacePick;
 use super::grouped;
 use super::machine_panel::{MachinePanel, MachinePanelEvent, PostSettings};
@@ -161,8 +162,8 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
                 for (name, v) in [("Min", min_mm), ("Max", max_mm)] {
                     ui.label(name);
                     ui.horizontal(|ui| {
-                        for x in v.iter_mut() {
-                            length_field(ui, x);
+                        for (k, x) in v.iter_mut().enumerate() {
+                            length_field(ui, (name, k), x, LENGTH_RANGE_MM, 60.0);
                         }
                     });
                     ui.end_row();
@@ -178,16 +179,16 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
                 ui.end_row();
                 ui.label("Base centre");
                 ui.horizontal(|ui| {
-                    for x in base_mm.iter_mut() {
-                        length_field(ui, x);
+                    for (k, x) in base_mm.iter_mut().enumerate() {
+                        length_field(ui, ("Base", k), x, LENGTH_RANGE_MM, 60.0);
                     }
                 });
                 ui.end_row();
                 ui.label("Radius");
-                length_field(ui, radius_mm);
+                length_field(ui, "Radius", radius_mm, SIZE_RANGE_MM, 80.0);
                 ui.end_row();
                 ui.label("Height");
-                length_field(ui, height_mm);
+                length_field(ui, "Height", height_mm, SIZE_RANGE_MM, 80.0);
                 ui.end_row();
             }
         });
@@ -246,7 +247,13 @@ fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
             for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(format!("Origin {name}"))
                     .on_hover_text("Where the program's zero sits in part coordinates");
-                length_field(ui, &mut next.origin_mm[axis]);
+                length_field(
+                    ui,
+                    ("Origin", axis),
+                    &mut next.origin_mm[axis],
+                    LENGTH_RANGE_MM,
+                    80.0,
+                );
                 ui.end_row();
             }
             ui.label("Tool axis");
@@ -349,15 +356,14 @@ fn machine_ui(
     ui.add_space(6.0);
     let mut rpm = project.post.spindle_rpm;
     ui.horizontal(|ui| {
-        ui.label("Spindle speed");
-        let r = ui.add(
-            egui::DragValue::new(&mut rpm)
-                .range(0.0..=100_000.0)
-                .speed(0.0)
-                .update_while_editing(false)
-                .suffix(" rpm"),
-        );
-        if r.changed() && rpm != project.post.spindle_rpm {
+        let l = ui.label("Spindle speed");
+        let typed = NumberField::new("Spindle speed", &mut rpm)
+            .labelled_by(l.id)
+            .range(0.0..=100_000.0)
+            .decimals(0)
+            .unit("rpm")
+            .show(ui);
+        if typed && rpm != project.post.spindle_rpm {
             commands.push(Command::Edit(Edit::SetPost(crate::project::PostConfig {
                 spindle_rpm: rpm,
                 ..project.post.clone()
@@ -366,20 +372,26 @@ fn machine_ui(
     });
 }
 
-/// A length in mm, typed (click the field) and applied when confirmed with Enter or by leaving
-/// the field: one undo step per value.
-pub fn length_field(ui: &mut egui::Ui, value: &mut f64) {
-    let mut v = *value;
-    let r = ui.add(
-        egui::DragValue::new(&mut v)
-            .speed(0.0)
-            .update_while_editing(false)
-            .max_decimals(4)
-            .suffix(" mm"),
-    );
-    if r.changed() && v.is_finite() {
-        *value = v;
-    }
+/// Coordinates accepted for the stock and the work offset, mm (±100 m).
+pub const LENGTH_RANGE_MM: std::ops::RangeInclusive<f64> = -1e5..=1e5;
+/// Sizes accepted for the stock, mm (1 µm to 100 m).
+pub const SIZE_RANGE_MM: std::ops::RangeInclusive<f64> = 1e-3..=1e5;
+
+/// A length in mm typed in a [`NumberField`] `width` points wide: applied (true) when confirmed
+/// with Enter or by leaving the field, refused with the reason outside `range`.
+pub fn length_field(
+    ui: &mut egui::Ui,
+    salt: impl std::hash::Hash + std::fmt::Debug,
+    value: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    width: f32,
+) -> bool {
+    NumberField::new(salt, value)
+        .range(range)
+        .decimals(4)
+        .unit("mm")
+        .width(width)
+        .show(ui)
 }
 
 /// Rows of (name, value) in two columns, the values monospaced.

@@ -9,6 +9,7 @@ use egui_plot::{HLine, LineStyle, MarkerShape, Plot, Points, VLine};
 use glam::DVec2;
 
 use super::super::command::Command;
+use super::super::number_field::NumberField;
 use super::super::theme;
 use crate::reduce::{
     MAX_PART_ZMAP_NODES, PartReduction, PartXyReduction, RankRule, ReduceOptions, Reduction,
@@ -213,13 +214,11 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
                 ZmapSource::Regular => "Grid step",
                 ZmapSource::XyDependent => "Reference step",
             });
-            ui.add(
-                egui::DragValue::new(&mut s.step_mm)
-                    .range(0.001..=100.0)
-                    .speed(0.01)
-                    .max_decimals(3)
-                    .suffix(" mm"),
-            );
+            NumberField::new("step", &mut s.step_mm)
+                .range(0.001..=100.0)
+                .decimals(3)
+                .unit("mm")
+                .show(ui);
             ui.end_row();
             let (rows, cols) = zmap_size(size, s.step_mm);
             let nodes = rows.saturating_mul(cols);
@@ -240,14 +239,13 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
                 ui.label(text);
             }
             ui.end_row();
-            ui.label("Tolerance");
-            ui.add(
-                egui::DragValue::new(&mut s.tolerance_mm)
-                    .range(1e-6..=10.0)
-                    .speed(0.0005)
-                    .max_decimals(5)
-                    .suffix(" mm"),
-            );
+            let l = ui.label("Tolerance");
+            NumberField::new("tolerance", &mut s.tolerance_mm)
+                .labelled_by(l.id)
+                .range(1e-6..=10.0)
+                .decimals(6)
+                .unit("mm")
+                .show(ui);
             ui.end_row();
             ui.label("Rank");
             ui.vertical(|ui| {
@@ -263,26 +261,33 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut ReductionSettings, size: DVec2) {
                 .on_hover_text("Yurtsever's loop; it bounds nothing (terms are not monotone)");
                 ui.horizontal(|ui| {
                     ui.radio_value(&mut s.rank, RankChoice::Fixed, "Fixed");
-                    ui.add_enabled(
-                        s.rank == RankChoice::Fixed,
-                        egui::DragValue::new(&mut s.fixed_rank)
-                            .range(1..=10_000)
-                            .suffix(" terms"),
-                    );
+                    ui.add_enabled_ui(s.rank == RankChoice::Fixed, |ui| {
+                        let mut terms = s.fixed_rank as f64;
+                        if NumberField::new("terms", &mut terms)
+                            .range(1.0..=10_000.0)
+                            .decimals(0)
+                            .unit("terms")
+                            .width(60.0)
+                            .show(ui)
+                        {
+                            // In range and rounded: a whole number from 1 to 10 000.
+                            s.fixed_rank = terms.round() as usize;
+                        }
+                    });
                 });
             });
             ui.end_row();
             ui.label("Resample");
             ui.horizontal(|ui| {
                 ui.checkbox(&mut s.resample, "for a ball of radius");
-                ui.add_enabled(
-                    s.resample,
-                    egui::DragValue::new(&mut s.ball_radius_mm)
+                ui.add_enabled_ui(s.resample, |ui| {
+                    NumberField::new("ball radius", &mut s.ball_radius_mm)
                         .range(0.01..=100.0)
-                        .speed(0.05)
-                        .max_decimals(3)
-                        .suffix(" mm"),
-                );
+                        .decimals(3)
+                        .unit("mm")
+                        .width(60.0)
+                        .show(ui);
+                });
             });
             ui.end_row();
             if s.resample {

@@ -1,10 +1,13 @@
 //! The tool library: the list of tools (in the project tree, with add, duplicate and delete) and
-//! the editor of one tool (in the properties panel). Values are typed as text and applied when
-//! the field loses focus (Enter, Tab or a click elsewhere): one undo step per field. An invalid
-//! value is shown in red with the reason and is not applied. Every change is a
+//! the editor of one tool (in the properties panel). Sizes are typed in [`NumberField`]s, the
+//! name and holder as text, and applied when the field loses focus (Enter, Tab or a click
+//! elsewhere): one undo step per field. An invalid value (out of range, or a tool that is not
+//! valid, such as a corner radius above the tool radius) is shown in red with the reason and is
+//! not applied. Every change is a
 //! [`Command::Edit`].
 
 use super::super::command::Command;
+use super::super::number_field::NumberField;
 use super::super::theme;
 use super::properties::Focus;
 use crate::project::{Edit, Project, ToolEntry};
@@ -100,21 +103,19 @@ pub fn tool_list_ui(
     }
 }
 
-/// The text of every field of the tool being edited.
+/// The text fields of the tool being edited (the numbers are [`NumberField`]s).
 #[derive(Clone, Debug, Default)]
 pub struct ToolForm {
     /// The tool the texts were filled from (index and value).
     source: Option<(usize, ToolEntry)>,
     name: String,
-    diameter: String,
-    corner: String,
-    flute: String,
-    shank: String,
-    overall: String,
     holder: String,
     /// Why the last typed value was refused.
     pub error: Option<String>,
 }
+
+/// Sizes accepted for a tool, mm.
+const TOOL_SIZE_MM: std::ops::RangeInclusive<f64> = 0.01..=1000.0;
 
 fn number(text: &str, what: &str) -> Result<f64, String> {
     text.trim()
@@ -157,47 +158,42 @@ fn tidy(v: f64) -> String {
 
 impl ToolForm {
     fn fill(&mut self, index: usize, tool: &ToolEntry) {
-        let c = &tool.cutter;
         self.name.clone_from(&tool.name);
-        self.diameter = tidy(c.diameter);
-        self.corner = match c.kind {
-            CutterKind::BullNose { corner_radius } => tidy(corner_radius),
-            CutterKind::Cone { half_angle } => tidy(half_angle.to_degrees()),
-            _ => String::new(),
-        };
-        self.flute = tidy(c.flute_length);
-        self.shank = tidy(c.shank_diameter);
-        self.overall = tidy(c.overall_length);
-        self.holder = holder_text(&c.holder);
+        self.holder = holder_text(&tool.cutter.holder);
         self.error = None;
         self.source = Some((index, tool.clone()));
     }
+}
 
-    /// The tool the texts describe, or why they do not describe a valid one.
-    fn parse(&self, base: &ToolEntry) -> Result<ToolEntry, String> {
-        let mut t = base.clone();
-        t.name = self.name.trim().to_string();
-        if t.name.is_empty() {
-            return Err("name: empty".into());
+/// The numeric fields of `cutter` (label, value in internal units, unit, × scale), each typed in
+/// a [`NumberField`].
+fn size_fields(cutter: &mut Cutter) -> Vec<(&'static str, &mut f64, &'static str, f64)> {
+    let mut out = vec![("Diameter", &mut cutter.diameter, "mm", 1.0)];
+    match &mut cutter.kind {
+        CutterKind::BullNose { corner_radius } => {
+            out.push(("Corner radius", corner_radius, "mm", 1.0));
         }
-        let c = &mut t.cutter;
-        c.diameter = number(&self.diameter, "diameter")?;
-        c.kind = match c.kind {
-            CutterKind::BullNose { .. } => CutterKind::BullNose {
-                corner_radius: number(&self.corner, "corner radius")?,
-            },
-            CutterKind::Cone { .. } => CutterKind::Cone {
-                half_angle: number(&self.corner, "half-angle")?.to_radians(),
-            },
-            k => k,
-        };
-        c.flute_length = number(&self.flute, "flute length")?;
-        c.shank_diameter = number(&self.shank, "shank diameter")?;
-        c.overall_length = number(&self.overall, "overall length")?;
-        c.holder = parse_holder(&self.holder)?;
-        c.validate().map_err(|e| e.to_string())?;
-        Ok(t)
+        CutterKind::Cone { half_angle } => {
+            out.push(("Half-angle", half_angle, "°", 1f64.to_degrees()));
+        }
+        _ => {}
     }
+    out.push(("Flute length", &mut cutter.flute_length, "mm", 1.0));
+    out.push(("Shank diameter", &mut cutter.shank_diameter, "mm", 1.0));
+    out.push(("Overall length", &mut cutter.overall_length, "mm", 1.0));
+    out
+}
+
+/// `tool` (its sizes as typed) with the name and holder of `form`, if it is a valid tool; else
+/// why not.
+fn complete_tool(mut tool: ToolEntry, form: &ToolForm) -> Result<ToolEntry, String> {
+    tool.name = form.name.trim().to_string();
+    if tool.name.is_empty() {
+        return Err("name: empty".into());
+    }
+    tool.cutter.holder = parse_holder(&form.holder)?;
+    tool.cutter.validate().map_err(|e| e.to_string())?;
+    Ok(tool)
 }
 
 /// The same tool with another cutting-end kind, sizes kept where they still fit.
@@ -261,39 +257,55 @@ pub fn tool_editor_ui(
     {
         commands.push(Command::Edit(Edit::SetTool { index, tool: new }));
     }
+    let mut next = tool.clone();
     let mut commit = false;
-    egui::Grid::new("tool editor")
-        .num_columns(3)
+    ui.horizontal(|ui| {
+        let l = ui.label("Name");
+        let r = ui
+            .add(
+                egui::TextEdit::singleline(&mut form.name)
+                    .desired_width(f32::INFINITY)
+                    .id_salt("tool name"),
+            )
+            .labelled_by(l.id);
+        commit |= r.lost_focus();
+    });
+    egui::Grid::new(("tool editor", index))
+        .num_columns(2)
         .spacing([8.0, 4.0])
         .striped(true)
         .show(ui, |ui| {
-            let mut row = |ui: &mut egui::Ui, label: &str, text: &mut String, unit: &str| {
+            for (label, value, unit, scale) in size_fields(&mut next.cutter) {
                 let l = ui.label(label);
-                let r = ui
-                    .add(
-                        egui::TextEdit::singleline(text)
-                            .desired_width(120.0)
-                            .id_salt(("tool field", label)),
-                    )
-                    .labelled_by(l.id);
-                commit |= r.lost_focus();
-                ui.label(unit);
+                let range = if unit == "°" {
+                    0.1..=89.9
+                } else {
+                    TOOL_SIZE_MM
+                };
+                commit |= NumberField::new(("tool field", label), value)
+                    .labelled_by(l.id)
+                    .scale(scale)
+                    .range(range)
+                    .decimals(4)
+                    .unit(unit)
+                    .show(ui);
                 ui.end_row();
-            };
-            row(ui, "Name", &mut form.name, "");
-            row(ui, "Diameter", &mut form.diameter, "mm");
-            match tool.cutter.kind {
-                CutterKind::BullNose { .. } => row(ui, "Corner radius", &mut form.corner, "mm"),
-                CutterKind::Cone { .. } => row(ui, "Half-angle", &mut form.corner, "°"),
-                _ => {}
             }
-            row(ui, "Flute length", &mut form.flute, "mm");
-            row(ui, "Shank diameter", &mut form.shank, "mm");
-            row(ui, "Overall length", &mut form.overall, "mm");
-            row(ui, "Holder (Ø×length)", &mut form.holder, "mm");
         });
+    ui.horizontal(|ui| {
+        let l = ui.label("Holder (Ø×length, mm)");
+        let r = ui
+            .add(
+                egui::TextEdit::singleline(&mut form.holder)
+                    .desired_width(f32::INFINITY)
+                    .id_salt("tool holder"),
+            )
+            .labelled_by(l.id)
+            .on_hover_text("Sections from the bottom up, e.g. 20×30, 40×20");
+        commit |= r.lost_focus();
+    });
     if commit {
-        match form.parse(tool) {
+        match complete_tool(next, form) {
             Ok(new) if new != *tool => {
                 form.error = None;
                 commands.push(Command::Edit(Edit::SetTool { index, tool: new }));

@@ -1,7 +1,7 @@
 //! The colour-map legend over the viewport: a vertical bar with the field's name, unit, and the
 //! values at its ends and middle.
 
-use crate::render::ScalarMapping;
+use crate::render::{ColourMap, ScalarMapping};
 
 /// Height of the colour bar, points.
 const BAR_HEIGHT: f32 = 180.0;
@@ -61,25 +61,36 @@ pub fn legend_ui(
             egui::Color32::from_rgb(r, g, b),
         );
     }
-    let label = |y: f32, v: f32| {
+    let text = |y: f32, t: String| {
         painter.text(
             egui::pos2(origin.x + BAR_WIDTH + 6.0, y),
             egui::Align2::LEFT_CENTER,
-            legend_value(v),
+            t,
             egui::FontId::monospace(11.0),
             egui::Color32::from_gray(220),
         );
     };
-    label(origin.y, mapping.max);
-    label(
-        origin.y + 0.5 * BAR_HEIGHT,
-        0.5 * (mapping.min + mapping.max),
-    );
-    label(origin.y + BAR_HEIGHT, mapping.min);
+    let label = |y: f32, v: f32| text(y, legend_value(v));
+    let mid = 0.5 * (mapping.min + mapping.max);
+    let note = if mapping.map == ColourMap::Band {
+        // The band's edges are at the quarter marks; beyond them the colours are flat.
+        let band = 0.25 * (mapping.max - mapping.min);
+        text(origin.y + 0.125 * BAR_HEIGHT, "above band".into());
+        label(origin.y + 0.25 * BAR_HEIGHT, mid + band);
+        label(origin.y + 0.5 * BAR_HEIGHT, mid);
+        label(origin.y + 0.75 * BAR_HEIGHT, mid - band);
+        text(origin.y + 0.875 * BAR_HEIGHT, "below band".into());
+        format!("tolerance band ±{}", legend_value(band))
+    } else {
+        label(origin.y, mapping.max);
+        label(origin.y + 0.5 * BAR_HEIGHT, mid);
+        label(origin.y + BAR_HEIGHT, mapping.min);
+        "values beyond the ends are clamped".into()
+    };
     painter.text(
         egui::pos2(origin.x, origin.y + BAR_HEIGHT + 6.0),
         egui::Align2::LEFT_TOP,
-        "values beyond the ends are clamped",
+        note,
         egui::FontId::proportional(10.0),
         egui::Color32::from_gray(160),
     );

@@ -27,8 +27,8 @@ pub use tool_model::ToolPose;
 
 /// Colour of the part (sRGB): a light steel grey-blue.
 const PART_COLOUR: [u8; 4] = [176, 186, 200, 255];
-/// Colour of the selected face.
-const SELECTED_COLOUR: [u8; 4] = [255, 160, 40, 255];
+/// Colour of the selected face: green, a colour no move kind of a tool path has.
+const SELECTED_COLOUR: [u8; 4] = [90, 215, 120, 255];
 
 /// The viewport's own state (view settings; not part of the document).
 #[derive(Debug)]

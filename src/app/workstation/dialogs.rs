@@ -1,58 +1,48 @@
-//! The dialogs and overlays of the workstation: the path field (no native Open dialog), the
-//! native Save dialog for projects and programs with the path prompt as fallback, and the
-//! notifications and drop hint over the viewport.
+//! The dialogs and overlays of the workstation: the in-window file chooser where the native
+//! Open and Save dialogs are unavailable, the
+//! unsaved-changes question before New, Open and Quit (the window's close button included), and
+//! the notifications and drop hint over the viewport.
 
 use std::path::{Path, PathBuf};
 
 use super::super::command::Command;
+use super::super::file_chooser::{ChooserPurpose, FileChooser};
 use super::super::file_dialog::{SaveOutcome, SavePurpose};
 use super::super::message_log::MessageLog;
-use super::super::panels::project_dialogs::PathPrompt;
+use super::super::panels::project_dialogs::{UnsavedAnswer, unsaved_changes_ui};
 use super::super::theme;
 use super::Workstation;
 use crate::diagnostics::Severity;
 
 impl Workstation {
-    /// The path field, when there is no native dialog.
-    pub(super) fn path_field_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
-        if !self.dialog.path_field_open {
+    /// Open the in-window file chooser for `purpose` at `start` (a folder or a file).
+    pub(super) fn open_chooser(&mut self, purpose: ChooserPurpose, start: Option<PathBuf>) {
+        let start = start.or_else(|| std::env::current_dir().ok());
+        self.chooser = Some(FileChooser::new(purpose, start, &self.recent.paths));
+    }
+
+    /// The in-window file chooser: the chosen file is used at once (the question about unsaved
+    /// changes was asked before it opened).
+    pub(super) fn chooser_ui(&mut self, ctx: &egui::Context) {
+        let Some(chooser) = &mut self.chooser else {
             return;
+        };
+        let Some(outcome) = chooser.ui(ctx) else {
+            return;
+        };
+        let purpose = chooser.purpose();
+        self.chooser = None;
+        match outcome {
+            Some(path) => self.apply_confirmed(purpose.command(path)),
+            // Save As was cancelled: what waited for the save does not happen.
+            None => self.after_save = None,
         }
-        let mut open = true;
-        let mut submit = false;
-        egui::Window::new("Open part")
-            .collapsible(false)
-            .resizable(false)
-            .open(&mut open)
-            .show(ctx, |ui| {
-                ui.label("Path of a STEP (.stp, .step) or STL file:");
-                let edit = ui.add(
-                    egui::TextEdit::singleline(&mut self.dialog.path_text)
-                        .desired_width(420.0)
-                        .hint_text("/path/to/part.stp"),
-                );
-                if std::mem::take(&mut self.dialog.focus_path_field) {
-                    edit.request_focus();
-                }
-                if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
-                    submit = true;
-                }
-                ui.horizontal(|ui| {
-                    if ui.button("Open").clicked() {
-                        submit = true;
-                    }
-                    if ui.button("Cancel").clicked() {
-                        self.dialog.path_field_open = false;
-                    }
-                });
-            });
-        if submit && !self.dialog.path_text.trim().is_empty() {
-            commands.push(Command::Open(PathBuf::from(self.dialog.path_text.trim())));
-            self.dialog.path_field_open = false;
-        }
-        if !open {
-            self.dialog.path_field_open = false;
-        }
+    }
+
+    /// The file chooser while it is open (what it is for).
+    #[must_use]
+    pub fn chooser(&self) -> Option<&FileChooser> {
+        self.chooser.as_ref()
     }
 
     /// Act on what the save dialog returned.
@@ -68,32 +58,128 @@ impl Workstation {
                 self.apply(Command::ExportReductionTo(path));
             }
             SaveOutcome::Unavailable(purpose) => {
-                self.prompt = Some(match purpose {
-                    SavePurpose::Project => PathPrompt::save_as(self.session.path.as_deref()),
-                    SavePurpose::Program => PathPrompt::export(&self.program_suggestion()),
-                    SavePurpose::ReducedStl => PathPrompt::export_stl(&self.reduction_suggestion()),
-                });
+                let start = self.save_suggestion(purpose);
+                self.open_chooser(ChooserPurpose::Save(purpose), start);
             }
-            SaveOutcome::Waiting | SaveOutcome::Cancelled => {}
+            SaveOutcome::Cancelled => self.after_save = None,
+            SaveOutcome::Waiting => {}
         }
+    }
+
+    /// Would `command` discard unsaved changes without having been confirmed?
+    pub(super) fn must_ask_first(&self, command: &Command) -> bool {
+        let discards = matches!(
+            command,
+            Command::NewProject
+                | Command::OpenDialog
+                | Command::OpenProjectDialog
+                | Command::Open(_)
+                | Command::OpenProject(_)
+                | Command::Quit
+        );
+        discards && !self.confirmed && self.session.is_dirty()
+    }
+
+    /// Apply `command` without asking about unsaved changes (the user answered already).
+    pub(super) fn apply_confirmed(&mut self, command: Command) {
+        let was = std::mem::replace(&mut self.confirmed, true);
+        self.apply(command);
+        self.confirmed = was;
+    }
+
+    /// The window's close button: with unsaved changes the close is held back and the question
+    /// asked (as for Quit).
+    pub(super) fn on_close_request(&mut self, ctx: &egui::Context) {
+        let requested = ctx.input(|i| i.viewport().close_requested());
+        if requested && !self.quit_confirmed && self.session.is_dirty() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.unsaved = Some(Command::Quit);
+        }
+    }
+
+    /// The question about unsaved changes, while a command waits for its answer.
+    pub(super) fn unsaved_ui(&mut self, ctx: &egui::Context) {
+        let Some(waiting) = &self.unsaved else { return };
+        let action = match waiting {
+            Command::NewProject => "A new project",
+            Command::Quit => "Quitting",
+            _ => "Opening another file",
+        };
+        let Some(answer) = unsaved_changes_ui(ctx, &self.session.project.name, action) else {
+            return;
+        };
+        let Some(command) = self.unsaved.take() else {
+            return;
+        };
+        match answer {
+            UnsavedAnswer::Save => match self.session.path.clone() {
+                Some(path) => {
+                    self.apply(Command::SaveProjectAs(path));
+                    if !self.session.is_dirty() {
+                        self.apply_confirmed(command);
+                    }
+                }
+                None => {
+                    // Ask where to save; the command follows a successful save.
+                    self.after_save = Some(command);
+                    self.apply(Command::SaveProjectAsDialog);
+                }
+            },
+            UnsavedAnswer::Discard => {
+                self.session.discard_recovery();
+                self.log_info("Unsaved changes discarded");
+                let opens_part = match &command {
+                    Command::OpenDialog => true,
+                    Command::Open(path) => !path
+                        .extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case(crate::project::file::EXTENSION)),
+                    _ => false,
+                };
+                if opens_part {
+                    // A part opens into the open project: its unsaved changes go first (back to
+                    // the saved file, or a new project).
+                    match self.session.path.clone() {
+                        Some(path) => self.apply_confirmed(Command::OpenProject(path)),
+                        None => self.apply_confirmed(Command::NewProject),
+                    }
+                }
+                self.apply_confirmed(command);
+            }
+            UnsavedAnswer::Cancel => {}
+        }
+    }
+
+    /// Is a command waiting for the answer to "Save the changes?" (the command)?
+    #[must_use]
+    pub fn waiting_for_unsaved_answer(&self) -> Option<&Command> {
+        self.unsaved.as_ref()
     }
 
     /// Open the native save dialog for `purpose` (or the path prompt without one).
     pub(super) fn save_dialog_for(&mut self, purpose: SavePurpose) {
-        let start = match purpose {
-            SavePurpose::Project => self.session.path.clone().or_else(|| {
-                std::env::current_dir()
-                    .ok()
-                    .map(|d| d.join("untitled.talas"))
-            }),
-            SavePurpose::Program => Some(self.program_suggestion()),
-            SavePurpose::ReducedStl => Some(self.reduction_suggestion()),
-        };
+        let start = self.save_suggestion(purpose);
         let ctx = self.ctx.clone();
         let outcome = self
             .save_dialog
             .open(purpose, start, move || ctx.request_repaint());
         self.after_save_dialog(outcome);
+    }
+
+    /// Where a save dialog for `purpose` starts: the project's file (or `NAME.talas` in the
+    /// working folder), or the suggested export file.
+    fn save_suggestion(&self, purpose: SavePurpose) -> Option<PathBuf> {
+        match purpose {
+            SavePurpose::Project => self.session.path.clone().or_else(|| {
+                let name = format!(
+                    "{}.{}",
+                    self.session.project.name,
+                    crate::project::file::EXTENSION
+                );
+                std::env::current_dir().ok().map(|d| d.join(name))
+            }),
+            SavePurpose::Program => Some(self.program_suggestion()),
+            SavePurpose::ReducedStl => Some(self.reduction_suggestion()),
+        }
     }
 
     /// A file name for the exported program: next to the project, named after it and the

@@ -74,6 +74,13 @@ impl Operations {
             ..Self::default()
         }
     }
+
+    /// Stop the running calculation without a word (its project is going away).
+    pub fn cancel_silently(&mut self) {
+        if let Some(calc) = self.job.take() {
+            calc.job.cancel();
+        }
+    }
 }
 
 /// Index of the last pose reached at time `t_s` on `clock` (non-decreasing times).
@@ -100,6 +107,16 @@ impl Workstation {
     #[must_use]
     pub fn playback_position(&self) -> Option<usize> {
         self.playback_pose()
+    }
+
+    /// The pose the tool is drawn at: the one under the pointer in a motion plot, else the
+    /// picked one, else the playback's (playback commands clear the pick).
+    #[must_use]
+    pub fn tool_pose_index(&self) -> Option<usize> {
+        self.ops
+            .hover_pose
+            .or(self.ops.picked_pose)
+            .or(self.playback_pose())
     }
 
     /// Apply an operation command (see [`Workstation::apply`]).
@@ -139,6 +156,14 @@ impl Workstation {
             Command::PickPose(pose) => {
                 self.ops.picked_pose = pose;
                 if let Some(p) = pose {
+                    // With playback in use, its clock moves to the picked pose too: the path is
+                    // drawn up to it and stepping goes on from it.
+                    if self.ops.t_s.is_some()
+                        && let Some(t) = self.active_clock().and_then(|c| c.get(p).copied())
+                    {
+                        self.ops.t_s = Some(t);
+                        self.ops.playing = false;
+                    }
                     self.follow_pose(p);
                 }
             }
@@ -149,8 +174,11 @@ impl Workstation {
             Command::ExportProgramDialog => self.save_dialog_for(super::SavePurpose::Program),
             Command::ExportProgramTo(path) => self.export_program(path),
             Command::OpenMachineFileDialog => {
-                self.prompt =
-                    Some(super::super::panels::project_dialogs::PathPrompt::machine_file());
+                let start = std::env::current_dir().ok();
+                self.open_chooser(
+                    super::super::file_chooser::ChooserPurpose::MachineFile,
+                    start,
+                );
             }
             Command::Simulate(index) => self.start_simulation(index, None),
             Command::SimulateToPlayback => match (self.ops.active, self.playback_pose()) {
@@ -158,6 +186,7 @@ impl Workstation {
                 _ => self.log_info("Play back or step the path to a pose first"),
             },
             Command::SetStockVisible(on) => self.sims.visible = on,
+            Command::SetDeviationBand(band_mm) => self.set_deviation_band(band_mm),
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
             Command::SetShowAxisVectors(on) => self.ops.show_axes = on,
@@ -388,10 +417,16 @@ impl Workstation {
         };
         let clock = clock.to_vec();
         let duration = clock.last().copied().unwrap_or(0.0);
-        let pose = self
-            .ops
-            .t_s
-            .map_or(clock.len().saturating_sub(1), |t| pose_at(&clock, t));
+        // Playback takes over from a picked pose (stepping starts from it).
+        let picked = match command {
+            PlaybackCommand::Speed(_) => None,
+            _ => self.ops.picked_pose.take(),
+        };
+        let pose = picked.unwrap_or_else(|| {
+            self.ops
+                .t_s
+                .map_or(clock.len().saturating_sub(1), |t| pose_at(&clock, t))
+        });
         match command {
             PlaybackCommand::Play => {
                 if self.ops.t_s.is_none_or(|t| t >= duration) {
@@ -412,7 +447,12 @@ impl Workstation {
                 self.ops.playing = false;
                 self.ops.t_s = None;
             }
-            PlaybackCommand::Seek(t) => self.ops.t_s = Some(t.clamp(0.0, duration)),
+            PlaybackCommand::Seek(t) => {
+                self.ops.t_s = Some(t.clamp(0.0, duration));
+                if let Some(p) = self.playback_pose() {
+                    self.follow_pose(p);
+                }
+            }
             PlaybackCommand::Step(n) => {
                 self.ops.playing = false;
                 let target = if n < 0 {
@@ -422,6 +462,7 @@ impl Workstation {
                 };
                 let target = target.min(clock.len().saturating_sub(1));
                 self.ops.t_s = clock.get(target).copied();
+                self.follow_pose(target);
             }
             PlaybackCommand::Speed(s) if s.is_finite() && s > 0.0 => self.ops.speed = s,
             PlaybackCommand::Speed(_) => {}

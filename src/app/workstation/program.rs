@@ -80,6 +80,15 @@ pub(super) struct Programs {
     pub dock: DockTab,
 }
 
+impl Programs {
+    /// Stop the running post without a word (its project is going away).
+    pub fn cancel_silently(&mut self) {
+        if let Some((_, _, job)) = self.job.take() {
+            job.cancel();
+        }
+    }
+}
+
 impl Workstation {
     fn program_key(&self, index: usize) -> Option<ProgramKey> {
         let project = &self.session.project;
@@ -333,6 +342,25 @@ impl Workstation {
                 "Posting failed: the worker stopped unexpectedly",
             ),
         }
+    }
+
+    /// The posted program's pane: its selected line and the lines it drew in the last frame.
+    #[must_use]
+    pub fn gcode_pane(&self) -> Option<(Option<usize>, std::ops::Range<usize>)> {
+        let p = self.programs.current.as_ref()?;
+        Some((p.view.selected_line(), p.view.visible_lines()))
+    }
+
+    /// The G-code line (0-based) that moves the tool to pose `pose` of the posted program.
+    #[must_use]
+    pub fn gcode_line_of_pose(&self, pose: usize) -> Option<usize> {
+        self.programs
+            .current
+            .as_ref()?
+            .line_of_pose
+            .get(pose)
+            .copied()
+            .flatten()
     }
 
     /// Bring the G-code line and the plot cursor to pose `pose` of the active path.

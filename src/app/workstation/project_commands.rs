@@ -1,16 +1,18 @@
 //! The project commands: document edits through the undo history, new/open/save/save as,
 //! autosave and crash recovery, and keeping the tool library file in step with the tools.
 
+use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use super::super::command::Command;
-use super::super::panels::project_dialogs::PathPrompt;
+use super::super::file_chooser::ChooserPurpose;
 use super::super::panels::properties::Focus;
 use super::super::project_session::{ProjectSession, part_file, pending_recovery};
 use super::super::tool_library::library_path;
 use super::{Workstation, new_project};
 use crate::diagnostics::Severity;
-use crate::project::{Project, ToolEntry};
+use crate::project::{Edit, Project, ToolEntry, ViewState};
+use crate::render::Projection;
 
 impl Workstation {
     /// Apply a project command (see [`Workstation::apply`]).
@@ -46,10 +48,27 @@ impl Workstation {
                 let every = self.session.autosave_every;
                 self.session = ProjectSession::new(new_project(&self.library), data_dir, every);
                 self.focus = Focus::Selection;
+                self.reset_derived();
                 self.log_info("New project");
                 self.load_project_part();
+                // A new project starts from the default view of its part.
+                self.viewport
+                    .set_view(crate::render::StandardView::Iso, self.document.as_ref());
             }
-            Command::OpenProjectDialog => self.prompt = Some(PathPrompt::open()),
+            Command::OpenProjectDialog => {
+                let start = self
+                    .session
+                    .path
+                    .as_ref()
+                    .and_then(|p| p.parent().map(Path::to_path_buf));
+                let ctx = self.ctx.clone();
+                if !self
+                    .dialog
+                    .open(start.clone(), move || ctx.request_repaint())
+                {
+                    self.open_chooser(ChooserPurpose::OpenProject, start);
+                }
+            }
             Command::SaveProjectAsDialog => {
                 self.save_dialog_for(super::SavePurpose::Project);
             }
@@ -58,20 +77,7 @@ impl Workstation {
                 Some(path) => self.apply(Command::SaveProjectAs(path)),
                 None => self.apply(Command::SaveProjectAsDialog),
             },
-            Command::SaveProjectAs(path) => match self.session.save_as(&path) {
-                Ok(()) => {
-                    self.log_info(format!("Saved {}", path.display()));
-                    if let Some(e) = self.recent.add(&path) {
-                        let t = self.now_s();
-                        self.log.push(t, Severity::Warning, e);
-                    }
-                }
-                Err(e) => {
-                    let t = self.now_s();
-                    self.log
-                        .notify(t, Severity::Error, format!("Not saved: {e}"));
-                }
-            },
+            Command::SaveProjectAs(path) => self.save_project_as(&path),
             Command::Recover(file) => {
                 self.recovery = None;
                 match Project::load(&file) {
@@ -81,6 +87,7 @@ impl Workstation {
                         let path = self.session.path.clone();
                         self.session.replace(project, path, true);
                         self.focus = Focus::Selection;
+                        self.reset_derived();
                         self.log_info(format!("Recovered unsaved changes from {}", file.display()));
                         self.load_project_part();
                     }
@@ -103,12 +110,81 @@ impl Workstation {
         }
     }
 
+    /// Save to `path`: an untitled project takes the file's name, the current camera is written,
+    /// and a command waiting for the save runs once it succeeded.
+    fn save_project_as(&mut self, path: &Path) {
+        let untitled = Project::default().name;
+        if self.session.project.name == untitled
+            && let Some(stem) = path.file_stem().map(|s| s.to_string_lossy().into_owned())
+            && !stem.is_empty()
+        {
+            let _ = self.session.edit(Edit::Rename(stem));
+        }
+        self.session.project.view = self.view_state();
+        let waiting = self.after_save.take();
+        match self.session.save_as(path) {
+            Ok(()) => {
+                self.log_info(format!("Saved {}", path.display()));
+                if let Some(e) = self.recent.add(path) {
+                    let t = self.now_s();
+                    self.log.push(t, Severity::Warning, e);
+                }
+                if let Some(command) = waiting {
+                    self.apply_confirmed(command);
+                }
+            }
+            Err(e) => {
+                let t = self.now_s();
+                self.log
+                    .notify(t, Severity::Error, format!("Not saved: {e}"));
+            }
+        }
+    }
+
+    /// The camera as the project keeps it.
+    fn view_state(&self) -> ViewState {
+        let c = &self.viewport.camera;
+        ViewState {
+            target_mm: c.target.as_dvec3().to_array(),
+            distance_mm: f64::from(c.distance),
+            yaw_rad: f64::from(c.yaw_rad),
+            pitch_rad: f64::from(c.pitch_rad),
+            orthographic: c.projection == Projection::Orthographic,
+        }
+    }
+
+    /// Show the part from the project's camera (a project saved with the default camera, or with
+    /// one that is not finite, is fitted instead).
+    pub(super) fn apply_view(&mut self, v: ViewState) {
+        self.viewport.fit(self.document.as_ref());
+        let finite = v.target_mm.iter().all(|x| x.is_finite())
+            && [v.distance_mm, v.yaw_rad, v.pitch_rad]
+                .iter()
+                .all(|x| x.is_finite())
+            && v.distance_mm > 0.0;
+        if v == ViewState::default() || !finite {
+            return;
+        }
+        let c = &mut self.viewport.camera;
+        c.target = glam::DVec3::from_array(v.target_mm).as_vec3();
+        c.distance = v.distance_mm as f32;
+        c.yaw_rad = v.yaw_rad as f32;
+        c.pitch_rad = (v.pitch_rad as f32).clamp(-FRAC_PI_2, FRAC_PI_2);
+        c.projection = if v.orthographic {
+            Projection::Orthographic
+        } else {
+            Projection::Perspective
+        };
+    }
+
     fn open_project(&mut self, path: &Path) {
         match ProjectSession::read(path) {
             Ok(project) => {
+                self.restore_view = Some(project.view);
                 self.session
                     .replace(project, Some(path.to_path_buf()), false);
                 self.focus = Focus::Selection;
+                self.reset_derived();
                 self.log_info(format!("Opened project {}", path.display()));
                 if let Some(e) = self.recent.add(path) {
                     let t = self.now_s();
@@ -141,6 +217,9 @@ impl Workstation {
             .as_ref()
             .and_then(|d| part_file(&d.part.path).map(Path::to_path_buf));
         if wanted == loaded && self.document.is_some() {
+            if let Some(view) = self.restore_view.take() {
+                self.apply_view(view);
+            }
             return;
         }
         match wanted {

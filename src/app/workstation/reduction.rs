@@ -54,6 +54,21 @@ pub(super) struct Reductions {
     pub visible: bool,
 }
 
+impl Reductions {
+    /// Stop the running reduction without a word (its part is going away).
+    pub fn cancel_silently(&mut self) {
+        if let Some((_, _, job)) = self.job.take() {
+            job.cancel();
+        }
+    }
+
+    /// Forget the reduced surface (the window and its settings stay).
+    pub fn forget_result(&mut self) {
+        self.shown = None;
+        self.visible = false;
+    }
+}
+
 impl Workstation {
     /// Act on a data-reduction command.
     pub(super) fn apply_reduction(&mut self, command: Command) {

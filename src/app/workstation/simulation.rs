@@ -1,7 +1,8 @@
 //! Stock simulation of the active operation's path: a background job (progress, Cancel) through
 //! [`crate::project::simulate::simulate_toolpath`], the cut stock drawn coloured by its signed
-//! deviation from the part (blue: gouge, white: on size, red: material left), its legend, and
-//! the report in the operation editor.
+//! deviation from the part against a tolerance band (graded blue → white → orange within the
+//! band; violet for gouges and red for material left beyond it), its legend, and the report in
+//! the operation editor.
 
 use std::sync::Arc;
 
@@ -36,6 +37,20 @@ impl SimKey {
     fn name(&self) -> &str {
         self.operations.last().map_or("", |(o, _)| o.name())
     }
+
+    /// The same operations, tools, part and stock (cut whole or up to any pose).
+    fn same_run(&self, other: &Self) -> bool {
+        (&self.operations, self.part_id, &self.stock)
+            == (&other.operations, other.part_id, &other.stock)
+    }
+}
+
+impl ShownSimulation {
+    /// The last operation's path was cut up to this pose ("Stock here"), or whole (`None`).
+    #[must_use]
+    pub fn up_to_pose(&self) -> Option<usize> {
+        self.key.upto
+    }
 }
 
 /// A finished simulation with its render data.
@@ -49,8 +64,47 @@ pub struct ShownSimulation {
     mesh: Arc<MeshData>,
     /// Red crosses at the collisions, with their render id.
     markers: (DataId, Arc<LineData>),
-    /// Colour mapping of the deviation.
-    pub mapping: ScalarMapping,
+    /// Half-width of the tolerance band the deviation is coloured against, mm (by default the
+    /// operation's scallop height, or its stock to leave for roughing).
+    pub band_mm: f64,
+}
+
+impl ShownSimulation {
+    /// Colour mapping of the deviation: the tolerance band ±`band_mm` graded, out-of-band
+    /// colours beyond it.
+    #[must_use]
+    pub fn mapping(&self) -> ScalarMapping {
+        band_mapping(self.band_mm)
+    }
+}
+
+/// Smallest tolerance band, mm (1 µm).
+pub const MIN_BAND_MM: f64 = 1e-3;
+
+/// The deviation mapping for a tolerance band of ±`band_mm` (mapped over ±2 × band, see
+/// [`ColourMap::Band`]).
+#[must_use]
+pub fn band_mapping(band_mm: f64) -> ScalarMapping {
+    let b = band_mm.max(MIN_BAND_MM) as f32;
+    ScalarMapping {
+        map: ColourMap::Band,
+        min: -2.0 * b,
+        max: 2.0 * b,
+    }
+}
+
+/// The default tolerance band of `operation`'s stock: its scallop height (finishing, raster) or
+/// its stock to leave (roughing), at least [`MIN_BAND_MM`].
+#[must_use]
+pub fn default_band_mm(operation: &Operation) -> f64 {
+    let band = match operation {
+        Operation::Finish { options, .. } => options.scallop,
+        Operation::Raster { scallop_mm, .. } => *scallop_mm,
+        Operation::Rough {
+            stock_to_leave_mm, ..
+        } => *stock_to_leave_mm,
+    };
+    band.max(MIN_BAND_MM)
 }
 
 /// The simulation state of the workstation.
@@ -61,6 +115,15 @@ pub(super) struct Simulations {
     pub shown: Option<ShownSimulation>,
     /// Draw the simulated stock.
     pub visible: bool,
+}
+
+impl Simulations {
+    /// Stop the running simulation without a word (its project is going away).
+    pub fn cancel_silently(&mut self) {
+        if let Some((_, job)) = self.job.take() {
+            job.cancel();
+        }
+    }
 }
 
 impl Workstation {
@@ -167,12 +230,12 @@ impl Workstation {
         self.sims.job.is_some()
     }
 
-    /// The simulation shown for operation `index`, when it matches the operation, tool, part
-    /// and stock as they are now.
+    /// The simulation shown for operation `index` (whole, or up to a playback pose), when it
+    /// matches the operation, tool, part and stock as they are now.
     #[must_use]
     pub fn simulation_of(&self, index: usize) -> Option<&ShownSimulation> {
         let key = self.sim_key(index)?;
-        self.sims.shown.as_ref().filter(|s| s.key == key)
+        self.sims.shown.as_ref().filter(|s| s.key.same_run(&key))
     }
 
     /// The simulation on display (whole or up to a playback pose), if any.
@@ -227,7 +290,11 @@ impl Workstation {
                     );
                 }
                 self.ops.next_id += 1;
-                let (mesh, mapping) = deviation_mesh(&simulated);
+                let mesh = deviation_mesh(&simulated);
+                let band_mm = key
+                    .operations
+                    .last()
+                    .map_or(MIN_BAND_MM, |(o, _)| default_band_mm(o));
                 let id = self.ops.next_id;
                 self.ops.next_id += 1;
                 let size = self
@@ -246,7 +313,7 @@ impl Workstation {
                     id,
                     mesh: Arc::new(mesh),
                     markers,
-                    mapping,
+                    band_mm,
                 });
                 self.sims.visible = true;
             }
@@ -276,22 +343,32 @@ impl Workstation {
     /// The stock mesh to draw and its legend, when visible.
     pub(super) fn stock_instance(&self) -> Option<(MeshInstance, ScalarMapping)> {
         let s = self.sims.shown.as_ref().filter(|_| self.sims.visible)?;
+        let mapping = s.mapping();
         Some((
             MeshInstance {
                 id: s.id,
                 data: Arc::clone(&s.mesh),
                 world_from_mesh: Mat4::IDENTITY,
                 colour: STOCK_COLOUR,
-                scalar_map: Some(s.mapping),
+                scalar_map: Some(mapping),
             },
-            s.mapping,
+            mapping,
         ))
+    }
+
+    /// Colour the shown stock's deviation against a tolerance band of ±`band_mm`.
+    pub(super) fn set_deviation_band(&mut self, band_mm: f64) {
+        if let Some(s) = &mut self.sims.shown
+            && band_mm.is_finite()
+            && band_mm >= MIN_BAND_MM
+        {
+            s.band_mm = band_mm;
+        }
     }
 }
 
-/// The stock mesh with the deviation as its scalar, mapped symmetrically about zero over the
-/// larger of the deepest gouge and the 99th percentile of the material left (at least 1 µm).
-fn deviation_mesh(s: &Simulated) -> (MeshData, ScalarMapping) {
+/// The stock mesh with the signed deviation from the part as its scalar (mm).
+fn deviation_mesh(s: &Simulated) -> MeshData {
     let m = &s.stock_mesh;
     let f = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32];
     let normals = if m.normals.len() == m.positions.len() {
@@ -299,20 +376,12 @@ fn deviation_mesh(s: &Simulated) -> (MeshData, ScalarMapping) {
     } else {
         vec![[0.0, 0.0, 1.0]; m.positions.len()]
     };
-    let range = s.max_gouge_mm.max(s.remaining_p99_mm).max(1e-3) as f32;
-    (
-        MeshData {
-            positions: m.positions.iter().map(|&p| f(p)).collect(),
-            normals,
-            scalars: s.deviation_mm.iter().map(|&d| d as f32).collect(),
-            indices: m.triangles.iter().flatten().copied().collect(),
-        },
-        ScalarMapping {
-            map: ColourMap::CoolWarm,
-            min: -range,
-            max: range,
-        },
-    )
+    MeshData {
+        positions: m.positions.iter().map(|&p| f(p)).collect(),
+        normals,
+        scalars: s.deviation_mm.iter().map(|&d| d as f32).collect(),
+        indices: m.triangles.iter().flatten().copied().collect(),
+    }
 }
 
 /// Colour of the collision markers (sRGB).
