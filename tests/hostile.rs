@@ -339,3 +339,73 @@ fn a_heidenhain_program_name_cannot_inject_blocks() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("program name"));
     assert!(!out.exists());
 }
+
+#[test]
+fn a_part_in_metres_or_kilometres_tessellates_within_a_budget() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp"),
+    )
+    .unwrap();
+    for (unit, name) in [("SI_UNIT($,.METRE.)", "m.stp"), ("SI_UNIT(.KILO.,.METRE.)", "km.stp")] {
+        let scaled = text.replacen("SI_UNIT(.MILLI.,.METRE.)", unit, 1);
+        assert_ne!(scaled, text);
+        let p = temp(name);
+        std::fs::write(&p, scaled).unwrap();
+        let out = assert_clean(&["inspect", p.to_str().unwrap(), "--json"], name);
+        assert_eq!(out.status.code(), Some(0));
+        let doc = json(&out);
+        let triangles = doc["triangles"].as_u64().unwrap();
+        assert!(triangles < 2_000_000, "{name}: {triangles} triangles");
+        assert!(
+            doc["diagnostics"].to_string().contains("chord tolerance raised"),
+            "{name}: {}",
+            doc["diagnostics"]
+        );
+    }
+}
+
+#[test]
+fn meshes_far_out_or_without_area_and_files_without_faces_are_reported() {
+    // 30 000 facets a petametre out: welding stays linear.
+    let mut stl = String::from("solid far\n");
+    for k in 0..30_000 {
+        let x = 1e15 + f64::from(k) * 8.0;
+        stl.push_str(&format!(
+            "facet normal 0 0 1\nouter loop\nvertex {x} 0 0\nvertex {} 0 0\nvertex {x} 8 0\nendloop\nendfacet\n",
+            x + 8.0
+        ));
+    }
+    stl.push_str("endsolid far\n");
+    let far = temp("far.stl");
+    std::fs::write(&far, stl).unwrap();
+    assert_clean(&["inspect", far.to_str().unwrap(), "--json"], "far.stl");
+
+    let flat = temp("flat.stl");
+    std::fs::write(
+        &flat,
+        "solid z\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 2 0 0\n\
+         endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0 0 0\n\
+         vertex 0 0 0\nendloop\nendfacet\nendsolid z\n",
+    )
+    .unwrap();
+    let out = assert_clean(&["inspect", flat.to_str().unwrap()], "flat.stl");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("all 2 facets have zero area"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let points = temp("points.stp");
+    std::fs::write(
+        &points,
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('p','',(''),(''),'','','');\n\
+         FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n#1=CARTESIAN_POINT('',(0.,0.,0.));\n\
+         #2=CARTESIAN_POINT('',(1.,0.,0.));\n#3=DIRECTION('',(0.,0.,1.));\nENDSEC;\nEND-ISO-10303-21;\n",
+    )
+    .unwrap();
+    let out = assert_clean(&["inspect", points.to_str().unwrap()], "points.stp");
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("2 CARTESIAN_POINT") && stderr.contains("1 DIRECTION"), "{stderr}");
+}
