@@ -409,3 +409,65 @@ fn meshes_far_out_or_without_area_and_files_without_faces_are_reported() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("2 CARTESIAN_POINT") && stderr.contains("1 DIRECTION"), "{stderr}");
 }
+
+/// The done-when of "reading what other programs write": a path with only the spec, null rapid
+/// feeds and no summary posts and simulates exactly like the same path written by Talas.
+#[test]
+fn a_foreign_path_posts_and_simulates_like_the_path_talas_writes() {
+    let foreign = temp("foreign.json");
+    std::fs::write(
+        &foreign,
+        r#"{"tool": {"spec": "ball:d=6"}, "generator": "other", "poses": [
+            {"tip": [0, 0, 20], "kind": "rapid", "feed_mm_per_min": null},
+            {"tip": [0, 0, 8], "kind": "plunge", "feed_mm_per_min": 300},
+            {"tip": [30, 0, 8], "kind": "cut", "feed_mm_per_min": 800},
+            {"tip": [30, 10, 8], "kind": "cut"},
+            {"tip": [0, 10, 8], "kind": "cut"},
+            {"tip": [0, 10, 20], "kind": "rapid"}]}"#,
+    )
+    .unwrap();
+    // Written by Talas: read and saved through the library's own writer.
+    let tp = talas::toolpath::Toolpath::load(&foreign).unwrap();
+    let native = temp("native.json");
+    tp.save(&native).unwrap();
+    let post = |input: &Path, out: &str| {
+        let out = temp(out);
+        let (o, _) = talas_bounded(
+            &[
+                "post",
+                input.to_str().unwrap(),
+                "--machine",
+                "mill-3axis",
+                "--dialect",
+                "fanuc",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            Duration::from_secs(10),
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        (std::fs::read_to_string(out).unwrap(), String::from_utf8_lossy(&o.stderr).to_string())
+    };
+    let (a, warnings) = post(&foreign, "foreign.nc");
+    let (b, none) = post(&native, "native.nc");
+    assert_eq!(a, b);
+    assert!(warnings.contains("unknown key 'generator' ignored"), "{warnings}");
+    assert!(none.is_empty(), "{none}");
+    let removed = |input: &Path| {
+        let out = assert_clean(
+            &[
+                "simulate",
+                input.to_str().unwrap(),
+                "--stock",
+                "box:-5,-5,0,35,15,10",
+                "--resolution",
+                "0.5",
+                "--json",
+            ],
+            "json",
+        );
+        json(&out)["removed_volume_mm3"].as_f64().unwrap()
+    };
+    let (va, vb) = (removed(&foreign), removed(&native));
+    assert!(va > 100.0 && va == vb, "{va} mm³ and {vb} mm³");
+}
