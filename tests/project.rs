@@ -544,6 +544,7 @@ fn tools_are_read_from_a_spec_or_the_fewest_fields() {
     let e = Project::from_toml(bad, Path::new("other.talas")).expect_err("contradiction");
     assert!(e.to_string().contains("diameter 8"), "{e}");
     assert!(e.to_string().contains("other.talas"), "{e}");
+}
 
 #[test]
 fn undo_and_redo_labels_name_the_step_the_user_took() {
