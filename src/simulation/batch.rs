@@ -11,8 +11,8 @@
 //!   bound, tightened after each batch): a body whose extent along the ray misses it skips
 //!   the whole tile (holders and shanks above the stock, rapids through air).
 //! - Per ray, the material already below the body's lowest point (or, for a ball end mill
-//!   on Z rays, a top outside the swept sphere by a test without square roots) is passed over
-//!   before any interval is computed.
+//!   on Z rays, a top that the swept sphere would lower by less than `REJECT_MM`, by a test
+//!   without square roots) is passed over before any interval is computed.
 
 use std::ops::Range;
 
@@ -29,9 +29,13 @@ use crate::geometry::Aabb;
 /// Rays per side of a culling tile.
 const CULL: usize = 16;
 /// Rays per side of a parallel task (a multiple of `CULL`).
-const TASK: usize = 64;
+const TASK: usize = 32;
 /// Culling tiles per task side.
 const CPT: usize = TASK / CULL;
+/// A ball end mill's step that would take less than this off a Z ray's top passes the ray
+/// over (the quick test of `ray`; it spares the exact interval on the rays the previous
+/// step already cut to the same surface), mm.
+const REJECT_MM: f64 = 1e-4;
 
 /// A body of one step, ready for the rays.
 #[derive(Clone, Copy, Debug)]
@@ -42,7 +46,8 @@ struct PBody {
     /// Whether it removes material.
     cuts: bool,
     bbox: Aabb,
-    /// Ball end mill: the segment of sphere centres and the radius, for the quick test.
+    /// Ball end mill whose top is out of the stock's box (nothing above it to cut): the
+    /// segment of sphere centres and the radius, for the quick tests.
     ball: Option<(DVec3, DVec3, f64)>,
 }
 
@@ -51,6 +56,9 @@ struct PBody {
 struct PStep {
     step: SweepStep,
     vertical: bool,
+    /// The step before it, in this run, ended at this step's start with the same axis (so a
+    /// ball's rear half-disc was cut to the sphere at the start: see `rear_chord`).
+    chained: bool,
     move_index: usize,
     bodies: Range<usize>,
 }
@@ -109,6 +117,7 @@ impl Batch {
     pub(super) fn fill(
         &mut self,
         chunk: &[Step],
+        before: Option<&Step>,
         plan: &MovePlan,
         cutting: &Body,
         guards: &[(Body, CollisionKind)],
@@ -117,7 +126,10 @@ impl Batch {
         self.steps.clear();
         self.bodies.clear();
         self.bbox = Aabb::EMPTY;
+        let mut prev = before;
         for s in chunk {
+            let chained = prev.is_some_and(|q| q.to == s.from && q.axis == s.axis);
+            prev = Some(s);
             let step = SweepStep {
                 p0: s.from,
                 p1: s.to,
@@ -139,6 +151,7 @@ impl Batch {
                 };
                 let bbox = step.bbox(&body);
                 self.bbox.union(&bbox);
+                // Only when the tool's top is out of the box (no material above it).
                 let ball = match body {
                     Body::Cutting {
                         radius,
@@ -151,7 +164,8 @@ impl Batch {
                         Some((step.p0 + lift, step.p1 + lift, radius))
                     }
                     _ => None,
-                };
+                }
+                .filter(|_| body.top() < cutting.top());
                 self.bodies.push(PBody {
                     body,
                     kind,
@@ -163,6 +177,7 @@ impl Batch {
             if self.bodies.len() > first {
                 self.steps.push(PStep {
                     vertical: step.is_vertical(),
+                    chained,
                     step,
                     move_index: s.move_index,
                     bodies: first..self.bodies.len(),
@@ -367,6 +382,18 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
                     ) else {
                         continue;
                     };
+                    let (x0, x1) = match (b.ball.is_some() && p.chained)
+                        .then(|| rear_chord(&p.step, b.body.radius(), y))
+                        .flatten()
+                    {
+                        // The rear half-disc touches one end of the span: the rest remains.
+                        Some((r0, r1)) if r0 <= x0 => (x0.max(r1), x1),
+                        Some((r0, r1)) if r1 >= x1 => (x0, x1.min(r0)),
+                        _ => (x0, x1),
+                    };
+                    if x0 > x1 {
+                        continue;
+                    }
                     let (a, c) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1);
                     (a.max(ia), c.min(ib))
                 } else {
@@ -446,9 +473,9 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
     let step = &c.p.step;
     let interval = if c.vertical {
         if let Some((c0, c1, r)) = c.b.ball {
-            // The top is below every sphere centre and outside the swept sphere: the sweep
-            // starts above it.
-            let q = DVec3::new(o.x, o.y, f64::from(top) + ow);
+            // REJECT_MM below the top is below every sphere centre and outside the swept
+            // sphere: the sweep starts above it (it would take less than REJECT_MM off).
+            let q = DVec3::new(o.x, o.y, f64::from(top) + ow - REJECT_MM);
             if q.z < c0.z.min(c1.z) && dist2_segment(q, c0, c1) > r * r {
                 return false;
             }
@@ -484,6 +511,34 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         }
     }
     c.b.cuts && dexel.subtract(a, b)
+}
+
+/// The chord of row `y` through the half-disc of radius `r` at the start of a vertical step
+/// that lies behind it (`(q − p₀)·d ≤ 0` in XY), when the step does not descend. There the
+/// swept ball's lowest point is the start sphere's (the distance to the centre and the
+/// centre's height both grow with t), which the step before already cut: nothing changes.
+fn rear_chord(step: &SweepStep, r: f64, y: f64) -> Option<(f64, f64)> {
+    let d = step.p1 - step.p0;
+    if d.z < 0.0 {
+        return None;
+    }
+    let dy = y - step.p0.y;
+    let h2 = r * r - dy * dy;
+    if h2 < 0.0 {
+        return None;
+    }
+    let h = h2.sqrt();
+    let (mut lo, mut hi) = (step.p0.x - h, step.p0.x + h);
+    // d.x·(x − x₀) + d.y·(y − y₀) ≤ 0
+    let k = -d.y * dy;
+    if d.x > 0.0 {
+        hi = hi.min(step.p0.x + k / d.x);
+    } else if d.x < 0.0 {
+        lo = lo.max(step.p0.x + k / d.x);
+    } else if k < 0.0 {
+        return None;
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 /// Squared distance from `q` to the segment [a, b].

@@ -64,7 +64,7 @@ impl Default for SimOptions {
         Self {
             contact_tolerance_mm: 1e-3,
             check_holder: true,
-            batch_steps: 256,
+            batch_steps: 1024,
         }
     }
 }
@@ -197,7 +197,8 @@ pub fn simulate_moves(
     let bounds = stock.bounds;
     for (b, chunk) in steps.chunks(batch).enumerate() {
         progress.check().map_err(|_| SimError::Cancelled)?;
-        prepared.fill(chunk, plan, &cutting, &guards, &bounds);
+        let before = (b * batch).checked_sub(1).and_then(|k| steps.get(k));
+        prepared.fill(chunk, before, plan, &cutting, &guards, &bounds);
         for (f, (fam, cull)) in stock.families.iter_mut().zip(&mut culls).enumerate() {
             for hit in apply_batch(fam, f, &prepared, cull, opts.contact_tolerance_mm) {
                 let key = (hit.move_index, hit.kind);
