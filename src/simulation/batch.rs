@@ -83,11 +83,7 @@ impl Default for Batch {
 /// Axial heights `[lo, hi]` at which a body of radius `r` on the step can touch the box `b`
 /// (a conservative range: outside it the body is in air); `None` when it never can.
 fn heights_in_box(step: &SweepStep, r: f64, b: &Aabb) -> Option<(f64, f64)> {
-    let (a, p0, p1) = (
-        step.axis.to_array(),
-        step.p0.to_array(),
-        step.p1.to_array(),
-    );
+    let (a, p0, p1) = (step.axis.to_array(), step.p0.to_array(), step.p1.to_array());
     let (lo_b, hi_b) = (b.min.to_array(), b.max.to_array());
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
     for k in 0..3 {
@@ -415,8 +411,8 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
                             }
                         }
                         if changed
-                            && let Some(slot) = dirty
-                                .get_mut((cj - t.j0 / CULL) * CPT + (ci - t.i0 / CULL))
+                            && let Some(slot) =
+                                dirty.get_mut((cj - t.j0 / CULL) * CPT + (ci - t.i0 / CULL))
                         {
                             *slot = true;
                         }

@@ -238,4 +238,3 @@ pub fn simulate_moves(
         memory_bytes: stock.memory_bytes(),
     })
 }
-

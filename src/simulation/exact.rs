@@ -35,10 +35,7 @@ impl Slab {
     fn lines(&self) -> [(DVec2, DVec2); 2] {
         let nn = self.n.length_squared();
         let v = DVec2::new(-self.n.y, self.n.x);
-        [
-            (self.n * (self.lo / nn), v),
-            (self.n * (self.hi / nn), v),
-        ]
+        [(self.n * (self.lo / nn), v), (self.n * (self.hi / nn), v)]
     }
 }
 
@@ -118,18 +115,26 @@ impl Candidates {
     }
 }
 
-/// Interval of s on the line `o + s·e` (unit e) inside the cylinder of radius `rho` between
-/// heights `z0` and `z1` along the unit axis `a`, its base tip swept from `p0` to `p0 + d`.
+/// A finite cylinder around the unit axis `a` through the tip: radius `rho`, heights
+/// `z0…z1` above the tip.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Cyl {
+    pub a: DVec3,
+    pub rho: f64,
+    pub z0: f64,
+    pub z1: f64,
+}
+
+/// Interval of s on the line `o + s·e` (unit e) inside the cylinder `cyl`, its tip swept from
+/// `p0` to `p0 + d`.
 pub(super) fn swept_cylinder(
     o: DVec3,
     e: DVec3,
     p0: DVec3,
     d: DVec3,
-    a: DVec3,
-    rho: f64,
-    z0: f64,
-    z1: f64,
+    cyl: Cyl,
 ) -> Option<(f64, f64)> {
+    let Cyl { a, rho, z0, z1 } = cyl;
     if !(z1 > z0) {
         return None;
     }
@@ -342,16 +347,8 @@ mod tests {
     use super::*;
 
     /// Brute force: the s-range of sampled line points inside the swept cylinder.
-    fn brute_cylinder(
-        o: DVec3,
-        e: DVec3,
-        p0: DVec3,
-        d: DVec3,
-        a: DVec3,
-        rho: f64,
-        z0: f64,
-        z1: f64,
-    ) -> Option<(f64, f64)> {
+    fn brute_cylinder(o: DVec3, e: DVec3, p0: DVec3, d: DVec3, cyl: Cyl) -> Option<(f64, f64)> {
+        let Cyl { a, rho, z0, z1 } = cyl;
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
         for k in 0..=4000 {
@@ -392,14 +389,26 @@ mod tests {
         ];
         let step = 60.0 / 4000.0;
         for a in axes {
+            let cyl = Cyl {
+                a,
+                rho: 2.5,
+                z0: 0.5,
+                z1: 6.0,
+            };
             for d in moves {
                 for (o, e) in rays {
-                    let got = swept_cylinder(o, e, DVec3::ZERO, d, a, 2.5, 0.5, 6.0);
-                    let want = brute_cylinder(o, e, DVec3::ZERO, d, a, 2.5, 0.5, 6.0);
+                    let got = swept_cylinder(o, e, DVec3::ZERO, d, cyl);
+                    let want = brute_cylinder(o, e, DVec3::ZERO, d, cyl);
                     match (got, want) {
                         (Some(g), Some(w)) => {
-                            assert!((g.0 - w.0).abs() < 2.0 * step, "{a} {d} {o} {e}: {g:?} {w:?}");
-                            assert!((g.1 - w.1).abs() < 2.0 * step, "{a} {d} {o} {e}: {g:?} {w:?}");
+                            assert!(
+                                (g.0 - w.0).abs() < 2.0 * step,
+                                "{a} {d} {o} {e}: {g:?} {w:?}"
+                            );
+                            assert!(
+                                (g.1 - w.1).abs() < 2.0 * step,
+                                "{a} {d} {o} {e}: {g:?} {w:?}"
+                            );
                         }
                         (None, None) => {}
                         // A graze thinner than the sampling step.
@@ -430,7 +439,10 @@ mod tests {
             }
             match got {
                 Some((g0, g1)) => {
-                    assert!((g0 - lo).abs() < 1e-3 && (g1 - hi).abs() < 1e-3, "{y}: {got:?}");
+                    assert!(
+                        (g0 - lo).abs() < 1e-3 && (g1 - hi).abs() < 1e-3,
+                        "{y}: {got:?}"
+                    );
                 }
                 None => assert!(lo > hi, "{y}"),
             }

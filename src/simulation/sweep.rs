@@ -23,7 +23,7 @@ use parry3d_f64::query::Ray;
 use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
 
-use super::exact::{capsule_entry, capsule_interval, hull, swept_cylinder};
+use super::exact::{Cyl, capsule_entry, capsule_interval, hull, swept_cylinder};
 use crate::geometry::Aabb;
 use crate::tools::{Cutter, CutterKind};
 
@@ -292,23 +292,62 @@ impl Body {
 
     /// The interval (offsets `s` along the line `o + s·e`, unit `e`) inside the body swept
     /// along `step`, in closed form; only for bodies with [`Body::has_closed_form`].
-    pub(super) fn exact_interval(&self, step: &SweepStep, o: DVec3, e: DVec3) -> Option<(f64, f64)> {
+    pub(super) fn exact_interval(
+        &self,
+        step: &SweepStep,
+        o: DVec3,
+        e: DVec3,
+    ) -> Option<(f64, f64)> {
         let d = step.p1 - step.p0;
         let a = step.axis;
         match *self {
-            Self::Cylinder { radius, z0, z1 } => {
-                swept_cylinder(o, e, step.p0, d, a, radius, z0, z1)
-            }
+            Self::Cylinder { radius, z0, z1 } => swept_cylinder(
+                o,
+                e,
+                step.p0,
+                d,
+                Cyl {
+                    a,
+                    rho: radius,
+                    z0,
+                    z1,
+                },
+            ),
             Self::Cutting {
-                radius, corner, top, ..
+                radius,
+                corner,
+                top,
+                ..
             } => {
                 if corner == 0.0 {
-                    return swept_cylinder(o, e, step.p0, d, a, radius, 0.0, top);
+                    return swept_cylinder(
+                        o,
+                        e,
+                        step.p0,
+                        d,
+                        Cyl {
+                            a,
+                            rho: radius,
+                            z0: 0.0,
+                            z1: top,
+                        },
+                    );
                 }
                 let c0 = step.p0 + a * radius;
                 let ball = capsule_interval(o, e, c0, c0 + d, radius);
                 let shaft = if top > radius {
-                    swept_cylinder(o, e, step.p0, d, a, radius, radius, top)
+                    swept_cylinder(
+                        o,
+                        e,
+                        step.p0,
+                        d,
+                        Cyl {
+                            a,
+                            rho: radius,
+                            z0: radius,
+                            z1: top,
+                        },
+                    )
                 } else {
                     None
                 };
