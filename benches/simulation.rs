@@ -6,6 +6,14 @@
 //! cutrail's "a few milliseconds per segment"); then criterion on the first 2 000 moves.
 //! `TALAS_SIM_BENCH_MOVES=N` changes the program size. The peer comparison on the same
 //! program is `benches/simulation_peer.sh` (cutrail from crates.io).
+//!
+//! Then the README's 5-axis example: iso-scallop finishing of `bicubic-hills.stp` (6 mm ball,
+//! 0.05 mm scallop, axis along the normal), simulated as the workstation does it
+//! (`project::simulate::simulate_toolpaths`: the part's box + 2 mm, Z dexels, at most 250 000
+//! rays, deviation included), and the removal alone on a tri-dexel stock at the same
+//! resolution (what `talas simulate` does with a tilted path), in moves per second.
+//! `TALAS_SIM_BENCH_FIVE=0` leaves it out, `TALAS_SIM_BENCH_FIVE_POSES=N` simulates only the
+//! first N poses.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -114,7 +122,115 @@ fn full_run(tp: &Toolpath, plan: &MovePlan, res: f64) {
     );
 }
 
+/// The README's 5-axis example, as the workstation and `talas simulate` run it.
+fn five_axis() {
+    use std::path::Path;
+    use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
+    use talas::import::step::read_step;
+    use talas::project::Stock;
+    use talas::project::simulate::{SimulationSettings, simulate_toolpath};
+    use talas::strategies::face::FacePatch;
+    use talas::strategies::finish::plan_finish;
+    use talas::strategies::{FinishOptions, Strategy};
+    use talas::tools::parse_tool_spec;
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");
+    let part = read_step(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = tessellate_part(&part, &TessellationOptions::default()).mesh;
+    let face = part.faces.first().unwrap_or_else(|| panic!("no face"));
+    let patch = FacePatch::from_face(face).unwrap_or_else(|e| panic!("{e}"));
+    let cutter = parse_tool_spec("ball:d=6").unwrap_or_else(|e| panic!("{e}"));
+    let opts = FinishOptions {
+        scallop: 0.05,
+        ..FinishOptions::default()
+    };
+    let started = Instant::now();
+    let plan = plan_finish(patch, &cutter, "ball:d=6", Strategy::IsoScallop, &opts)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut tp = plan.toolpath;
+    let all = tp.poses.len();
+    if let Some(n) = std::env::var("TALAS_SIM_BENCH_FIVE_POSES")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        tp = Toolpath::new(tp.tool.clone(), tp.poses.into_iter().take(n).collect());
+    }
+    let tp = &tp;
+    println!(
+        "5-axis path: {all} poses planned, the first {} simulated",
+        tp.poses.len()
+    );
+    println!(
+        "5-axis iso-scallop bicubic-hills h 0.05 ball d6: {} poses, planned in {:.2} s",
+        tp.poses.len(),
+        started.elapsed().as_secs_f64()
+    );
+    let settings = SimulationSettings {
+        max_rays: 250_000,
+        ..SimulationSettings::default()
+    };
+    let started = Instant::now();
+    let sim = simulate_toolpath(
+        &Stock::None,
+        &mesh,
+        tp,
+        &cutter,
+        &settings,
+        &Progress::new(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let secs = started.elapsed().as_secs_f64();
+    println!(
+        "  workstation (Z dexels, {} mm, deviation included): {secs:.2} s, {} moves in {} steps \
+         = {:.0} moves/s, removed {:.1} mm³, max gouge {:.4} mm, remaining p99 {:.4} mm",
+        sim.resolution_mm,
+        sim.report.moves,
+        sim.report.steps,
+        sim.report.moves as f64 / secs,
+        sim.report.removed_volume_mm3,
+        sim.max_gouge_mm,
+        sim.remaining_p99_mm,
+    );
+    let res = sim.resolution_mm;
+    let step = StepOptions {
+        reach_mm: cutter.flute_length,
+        chord_tolerance_mm: (0.05 * res).clamp(1e-4, 0.01),
+        axis_tolerance_mm: (0.1 * res).clamp(1e-4, 0.02),
+        ..StepOptions::default()
+    };
+    let moves = plan_toolpath(tp, &step).unwrap_or_else(|e| panic!("{e}"));
+    let b = mesh.bbox();
+    let shape = StockShape::Box {
+        min: b.min - DVec3::splat(2.0),
+        max: b.max + DVec3::splat(2.0),
+    };
+    let mut s = DexelStock::new(vec![shape], res, DexelMode::Tri, 8 << 30)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let started = Instant::now();
+    let report = simulate(
+        &mut s,
+        &cutter,
+        &moves,
+        &SimOptions::default(),
+        &Progress::new(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let secs = started.elapsed().as_secs_f64();
+    println!(
+        "  tri-dexel {res} mm (removal only): {} moves in {} steps, {secs:.2} s = {:.0} moves/s, \
+         removed {:.1} mm³, stock {:.1} MiB",
+        report.moves,
+        report.steps,
+        report.moves as f64 / secs,
+        report.removed_volume_mm3,
+        report.memory_bytes as f64 / f64::from(1 << 20),
+    );
+}
+
 fn main() {
+    if std::env::var("TALAS_SIM_BENCH_FIVE").map_or(true, |v| v != "0") {
+        five_axis();
+    }
     let moves = std::env::var("TALAS_SIM_BENCH_MOVES")
         .ok()
         .and_then(|v| v.parse().ok())

@@ -377,10 +377,18 @@ fn holder_crash_and_rapid_through_material_name_their_lines() {
 
 #[test]
 fn same_input_same_stock_bit_for_bit() {
-    let cutter = Cutter::new(CutterKind::BullNose { corner_radius: 1.0 }, 6.0).expect("cutter");
+    for cutter in [
+        Cutter::new(CutterKind::BullNose { corner_radius: 1.0 }, 6.0),
+        Cutter::new(CutterKind::Ball, 6.0),
+    ] {
+        same_stock_at_any_thread_count(&cutter.expect("cutter"));
+    }
+}
+
+fn same_stock_at_any_thread_count(cutter: &Cutter) {
     let text =
         "G21 G90\nG0 X2 Y2 Z5\nG1 Z-1 F300\nG1 X12 Y9 Z-2.5\nG2 X14 Y3 R4\nG1 X3 Y4 Z-0.5\nM30\n";
-    let plan = gcode_plan(text, &cutter);
+    let plan = gcode_plan(text, cutter);
     let fresh = || {
         DexelStock::new(
             vec![boxed([0.0, 0.0, -5.0], [16.0, 12.0, 0.0])],
@@ -394,7 +402,7 @@ fn same_input_same_stock_bit_for_bit() {
     let mut b = fresh();
     simulate(
         &mut a,
-        &cutter,
+        cutter,
         &plan,
         &SimOptions::default(),
         &Progress::new(),
@@ -408,7 +416,7 @@ fn same_input_same_stock_bit_for_bit() {
         batch_steps: 1,
         ..SimOptions::default()
     };
-    one.install(|| simulate(&mut b, &cutter, &plan, &opts, &Progress::new()))
+    one.install(|| simulate(&mut b, cutter, &plan, &opts, &Progress::new()))
         .expect("b");
     assert!(a.volume_mm3() < fresh().volume_mm3());
     for (fa, fb) in a.families.iter().zip(&b.families) {

@@ -15,9 +15,11 @@
 //! step is exact per ray (the ray's interval inside the swept tool body, see `sweep`); arcs
 //! and axis changes are cut into steps with stated bounds (see [`StepOptions`]).
 
+mod batch;
 mod deviation;
 mod dexel;
 mod engine;
+mod exact;
 mod motion;
 mod stock;
 mod surface;

@@ -11,6 +11,11 @@
 //! - rotary moves of a table-tilting machine bend the tip path in part coordinates; the joint
 //!   step is also bounded so that the chord sagitta of a point `arm` mm from the rotary axes
 //!   stays below `chord_tolerance_mm`.
+//!
+//! The number of steps is bounded per move (`max_steps_per_move`: a warning, the move is cut
+//! coarser) and over the whole program (`max_steps_total`: an error before anything is
+//! simulated), so a program that turns a rotary axis thousands of times fails at once with
+//! the block named instead of running for hours.
 
 use glam::DVec3;
 
@@ -34,6 +39,9 @@ pub struct StepOptions {
     pub rapid_mm_per_min: f64,
     /// At most this many steps per move (more: a warning, and the move is cut coarser).
     pub max_steps_per_move: usize,
+    /// At most this many steps over the whole program (more: an error naming the block where
+    /// the budget ran out, before anything is simulated).
+    pub max_steps_total: usize,
 }
 
 impl Default for StepOptions {
@@ -44,6 +52,7 @@ impl Default for StepOptions {
             reach_mm: 30.0,
             rapid_mm_per_min: 10_000.0,
             max_steps_per_move: 100_000,
+            max_steps_total: 2_000_000,
         }
     }
 }
@@ -112,7 +121,7 @@ impl MovePlan {
         n: usize,
         opts: &StepOptions,
         pose_at: impl Fn(f64) -> ToolPose,
-    ) {
+    ) -> Result<(), SimError> {
         let n = if n > opts.max_steps_per_move {
             self.diagnostics.push(Diagnostic::warning(
                 format!("block {}", m.block),
@@ -125,6 +134,17 @@ impl MovePlan {
         } else {
             n.max(1)
         };
+        if self.steps.len().saturating_add(n) > opts.max_steps_total {
+            return Err(SimError::Program {
+                block: m.block,
+                message: format!(
+                    "the program needs more than {} simulation steps in total (this move \
+                     alone {n}: rotary turns and arcs are cut into steps of the stated \
+                     tolerances); simulate a coarser resolution or a shorter program",
+                    opts.max_steps_total
+                ),
+            });
+        }
         m.first_step = self.steps.len();
         let index = self.moves.len();
         let mut prev = m.start;
@@ -142,6 +162,7 @@ impl MovePlan {
             prev = next;
         }
         self.moves.push(m);
+        Ok(())
     }
 }
 
@@ -205,7 +226,8 @@ fn machine_joints(j: &crate::gcode::Joints, kind: KinematicsKind) -> MachineJoin
 ///
 /// # Errors
 /// [`SimError::Program`] naming the line of a block that moves a rotary axis the machine does
-/// not have (or when no 5-axis machine was given), [`SimError::Options`] for bad tolerances.
+/// not have (or when no 5-axis machine was given) or where the program runs past
+/// `max_steps_total`, [`SimError::Options`] for bad tolerances.
 pub fn plan_program(
     program: &Program,
     machine: Option<&Machine>,
@@ -293,7 +315,7 @@ pub fn plan_program(
             duration_s: duration_s.unwrap_or(0.0),
             first_step: 0,
         };
-        plan.push_move(m, n, opts, pose_at);
+        plan.push_move(m, n, opts, pose_at)?;
     }
     Ok(plan)
 }
@@ -311,7 +333,7 @@ fn block_duration(b: &MotionBlock) -> Option<f64> {
 ///
 /// # Errors
 /// [`SimError::Options`] for bad tolerances, [`SimError::Program`] for a pose with a
-/// non-finite position or a zero axis.
+/// non-finite position or a zero axis, or where the path runs past `max_steps_total`.
 pub fn plan_toolpath(tp: &Toolpath, opts: &StepOptions) -> Result<MovePlan, SimError> {
     check_options(opts)?;
     let mut plan = MovePlan::default();
@@ -359,7 +381,7 @@ pub fn plan_toolpath(tp: &Toolpath, opts: &StepOptions) -> Result<MovePlan, SimE
         plan.push_move(m, n, opts, |t| ToolPose {
             tip: a.tip.lerp(b.tip, t),
             axis: a.axis.slerp(b.axis, t),
-        });
+        })?;
     }
     Ok(plan)
 }

@@ -23,6 +23,7 @@ use parry3d_f64::query::Ray;
 use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
 
+use super::exact::{Cyl, capsule_entry, capsule_interval, hull, swept_cylinder};
 use crate::geometry::Aabb;
 use crate::tools::{Cutter, CutterKind};
 
@@ -232,10 +233,126 @@ impl Body {
         }
     }
 
-    fn top(&self) -> f64 {
+    pub(super) fn top(&self) -> f64 {
         match *self {
             Self::Cutting { top, .. } => top,
             Self::Cylinder { z1, .. } => z1,
+        }
+    }
+
+    /// Lowest height of the body above the tip.
+    pub(super) fn bottom(&self) -> f64 {
+        match *self {
+            Self::Cutting { .. } => 0.0,
+            Self::Cylinder { z0, .. } => z0,
+        }
+    }
+
+    /// The body with its top lowered to `top` (and its bottom raised to `bottom` for a
+    /// cylinder); `None` when nothing is left.
+    pub(super) fn clipped(&self, bottom: f64, top: f64) -> Option<Self> {
+        match *self {
+            Self::Cutting {
+                radius,
+                flat,
+                corner,
+                cone_tan,
+                top: t,
+            } => {
+                let top = t.min(top);
+                (top > 0.0).then_some(Self::Cutting {
+                    radius,
+                    flat,
+                    corner,
+                    cone_tan,
+                    top,
+                })
+            }
+            Self::Cylinder { radius, z0, z1 } => {
+                let (z0, z1) = (z0.max(bottom), z1.min(top));
+                (z1 > z0).then_some(Self::Cylinder { radius, z0, z1 })
+            }
+        }
+    }
+
+    /// Whether [`Body::exact_interval`] has a closed form for this body (cylinders, flat and
+    /// ball end mills).
+    pub(super) fn has_closed_form(&self) -> bool {
+        match *self {
+            Self::Cylinder { .. } => true,
+            Self::Cutting {
+                radius,
+                flat,
+                corner,
+                cone_tan,
+                ..
+            } => cone_tan == 0.0 && (corner == 0.0 || (flat == 0.0 && corner == radius)),
+        }
+    }
+
+    /// The interval (offsets `s` along the line `o + s·e`, unit `e`) inside the body swept
+    /// along `step`, in closed form; only for bodies with [`Body::has_closed_form`].
+    pub(super) fn exact_interval(
+        &self,
+        step: &SweepStep,
+        o: DVec3,
+        e: DVec3,
+    ) -> Option<(f64, f64)> {
+        let d = step.p1 - step.p0;
+        let a = step.axis;
+        match *self {
+            Self::Cylinder { radius, z0, z1 } => swept_cylinder(
+                o,
+                e,
+                step.p0,
+                d,
+                Cyl {
+                    a,
+                    rho: radius,
+                    z0,
+                    z1,
+                },
+            ),
+            Self::Cutting {
+                radius,
+                corner,
+                top,
+                ..
+            } => {
+                if corner == 0.0 {
+                    return swept_cylinder(
+                        o,
+                        e,
+                        step.p0,
+                        d,
+                        Cyl {
+                            a,
+                            rho: radius,
+                            z0: 0.0,
+                            z1: top,
+                        },
+                    );
+                }
+                let c0 = step.p0 + a * radius;
+                let ball = capsule_interval(o, e, c0, c0 + d, radius);
+                let shaft = if top > radius {
+                    swept_cylinder(
+                        o,
+                        e,
+                        step.p0,
+                        d,
+                        Cyl {
+                            a,
+                            rho: radius,
+                            z0: radius,
+                            z1: top,
+                        },
+                    )
+                } else {
+                    None
+                };
+                hull(ball, shaft)
+            }
         }
     }
 }
@@ -281,47 +398,6 @@ fn disc_interval(w: DVec2, d: DVec2, r: f64) -> Option<(f64, f64)> {
     let sq = disc.sqrt();
     let (t0, t1) = (((b - sq) / a).max(0.0), ((b + sq) / a).min(1.0));
     (t0 <= t1).then_some((t0, t1))
-}
-
-/// Entry of the line `o + s·e` (unit e) into the ball of radius r at c.
-fn sphere_entry(o: DVec3, e: DVec3, c: DVec3, r: f64) -> Option<f64> {
-    let oc = o - c;
-    let b = e.dot(oc);
-    let h = b * b - (oc.length_squared() - r * r);
-    (h >= 0.0).then(|| -b - h.sqrt())
-}
-
-/// Entry of the line `o + s·e` (unit e) into the capsule of radius r around segment [a, b].
-fn capsule_entry(o: DVec3, e: DVec3, pa: DVec3, pb: DVec3, r: f64) -> Option<f64> {
-    let ba = pb - pa;
-    let oa = o - pa;
-    let baba = ba.length_squared();
-    let bard = ba.dot(e);
-    let baoa = ba.dot(oa);
-    let rdoa = e.dot(oa);
-    let oaoa = oa.length_squared();
-    let a = baba - bard * bard;
-    let mut best: Option<f64> = None;
-    let mut keep = |s: f64| best = Some(best.map_or(s, |b: f64| b.min(s)));
-    if a > 1e-12 * baba.max(1e-300) {
-        let b = baba * rdoa - baoa * bard;
-        let c = baba * oaoa - baoa * baoa - r * r * baba;
-        let h = b * b - a * c;
-        if h >= 0.0 {
-            let s = (-b - h.sqrt()) / a;
-            let y = baoa + s * bard;
-            if y > 0.0 && y < baba {
-                keep(s);
-            }
-        }
-    }
-    if let Some(s) = sphere_entry(o, e, pa, r) {
-        keep(s);
-    }
-    if let Some(s) = sphere_entry(o, e, pb, r) {
-        keep(s);
-    }
-    best
 }
 
 /// The z-interval of the vertical line through `q` inside `body` (axis +Z) swept from `p0` to
@@ -472,6 +548,17 @@ mod tests {
                     // GJK runs on rings rounded by ROUND: sharp edges move by ≤ 3e-4 mm along
                     // their normal, more along a ray that meets them at a grazing angle.
                     let general = general_interval(&body, &step, o, DVec3::Z, -50.0, 50.0);
+                    if body.has_closed_form() {
+                        let exact = body.exact_interval(&step, o, DVec3::Z);
+                        match (exact, fast) {
+                            (Some(x), Some(f)) => assert!(
+                                (x.0 - f.0).abs() < 1e-6 && (x.1 - f.1).abs() < 1e-6,
+                                "{c:?} {p0} {p1} {q}: exact {x:?} fast {f:?}"
+                            ),
+                            (None, None) => {}
+                            other => panic!("{c:?} {p0} {p1} {q}: {other:?}"),
+                        }
+                    }
                     match (fast, want, general) {
                         (Some(f), Some(w), Some(g)) => {
                             assert!((f.0 - w.0).abs() < 2e-3, "{c:?} {p0} {p1} {q} {f:?} {w:?}");

@@ -1,0 +1,564 @@
+//! One batch of steps applied to one ray family: the hot path of the removal.
+//!
+//! - Each step's bodies are prepared once per batch (no allocation per step: the batch's
+//!   buffers are reused): clipped to the part of the tool that can reach the stock's box
+//!   (the rest of a long tool only meets air), their boxes, and for a vertical tool over Z
+//!   rays the footprint's row spans (the stadium of the tool radius around the tip's path).
+//! - The grid is cut into square tasks of `TASK` rays; rayon runs the tasks in parallel, each
+//!   applying every step of the batch, in order, to its own rays (disjoint slices, no locks).
+//!   A ray's result depends only on the steps in order, never on the thread count.
+//! - Every `CULL` × `CULL` tile keeps the extent of its material along the ray (an outer
+//!   bound, tightened after each batch): a body whose extent along the ray misses it skips
+//!   the whole tile (holders and shanks above the stock, rapids through air).
+//! - Per ray, the material already below the body's lowest point (or, for a ball end mill
+//!   on Z rays, a top that the swept sphere would lower by less than `REJECT_MM`, by a test
+//!   without square roots) is passed over before any interval is computed.
+
+use std::ops::Range;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::dexel::{Dexel, DexelFamily};
+use super::engine::{CollisionKind, Hit};
+use super::exact::stadium_span;
+use super::motion::{MovePlan, Step};
+use super::sweep::{Body, SweepStep, general_interval, vertical_interval};
+use crate::geometry::Aabb;
+
+/// Rays per side of a culling tile.
+const CULL: usize = 16;
+/// Rays per side of a parallel task (a multiple of `CULL`).
+const TASK: usize = 32;
+/// Culling tiles per task side.
+const CPT: usize = TASK / CULL;
+/// A ball end mill's step that would take less than this off a Z ray's top passes the ray
+/// over (the quick test of `ray`; it spares the exact interval on the rays the previous
+/// step already cut to the same surface), mm.
+const REJECT_MM: f64 = 1e-4;
+
+/// A body of one step, ready for the rays.
+#[derive(Clone, Copy, Debug)]
+struct PBody {
+    body: Body,
+    /// Collision kind checked (None: the cutting end on a feed move).
+    kind: Option<CollisionKind>,
+    /// Whether it removes material.
+    cuts: bool,
+    bbox: Aabb,
+    /// Ball end mill whose top is out of the stock's box (nothing above it to cut): the
+    /// segment of sphere centres and the radius, for the quick tests.
+    ball: Option<(DVec3, DVec3, f64)>,
+}
+
+/// A step of the batch.
+#[derive(Clone, Debug)]
+struct PStep {
+    step: SweepStep,
+    vertical: bool,
+    /// The step before it, in this run, ended at this step's start with the same axis (so a
+    /// ball's rear half-disc was cut to the sphere at the start: see `rear_chord`).
+    chained: bool,
+    move_index: usize,
+    bodies: Range<usize>,
+}
+
+/// The steps of one batch and their bodies (buffers reused from batch to batch).
+pub(super) struct Batch {
+    steps: Vec<PStep>,
+    bodies: Vec<PBody>,
+    bbox: Aabb,
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Self {
+            steps: Vec::new(),
+            bodies: Vec::new(),
+            bbox: Aabb::EMPTY,
+        }
+    }
+}
+
+/// Axial heights `[lo, hi]` at which a body of radius `r` on the step can touch the box `b`
+/// (a conservative range: outside it the body is in air); `None` when it never can.
+fn heights_in_box(step: &SweepStep, r: f64, b: &Aabb) -> Option<(f64, f64)> {
+    let (a, p0, p1) = (step.axis.to_array(), step.p0.to_array(), step.p1.to_array());
+    let (lo_b, hi_b) = (b.min.to_array(), b.max.to_array());
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..3 {
+        let ak = a[k];
+        let ext = r * (1.0 - ak * ak).max(0.0).sqrt() + 1e-3;
+        let (t_min, t_max) = (p0[k].min(p1[k]), p0[k].max(p1[k]));
+        // Some tip puts the section's centre within [lo_b − ext, hi_b + ext]:
+        // t_min + h·a ≤ hi_b + ext and t_max + h·a ≥ lo_b − ext.
+        let (up, down) = (hi_b[k] + ext - t_min, lo_b[k] - ext - t_max);
+        if ak.abs() < 1e-12 {
+            if up < 0.0 || down > 0.0 {
+                return None;
+            }
+        } else if ak > 0.0 {
+            hi = hi.min(up / ak);
+            lo = lo.max(down / ak);
+        } else {
+            lo = lo.max(up / ak);
+            hi = hi.min(down / ak);
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+impl Batch {
+    /// Prepare `chunk`'s steps: bodies clipped to the stock's box `bounds`, their boxes.
+    pub(super) fn fill(
+        &mut self,
+        chunk: &[Step],
+        before: Option<&Step>,
+        plan: &MovePlan,
+        cutting: &Body,
+        guards: &[(Body, CollisionKind)],
+        bounds: &Aabb,
+    ) {
+        self.steps.clear();
+        self.bodies.clear();
+        self.bbox = Aabb::EMPTY;
+        let mut prev = before;
+        for s in chunk {
+            let chained = prev.is_some_and(|q| q.to == s.from && q.axis == s.axis);
+            prev = Some(s);
+            let step = SweepStep {
+                p0: s.from,
+                p1: s.to,
+                axis: s.axis,
+            };
+            let rapid = plan.moves.get(s.move_index).is_some_and(|m| m.rapid);
+            let first = self.bodies.len();
+            let all = std::iter::once((*cutting, rapid.then_some(CollisionKind::Rapid)))
+                .chain(guards.iter().map(|(g, k)| (*g, Some(*k))));
+            for (body, kind) in all {
+                let Some((lo, hi)) = heights_in_box(&step, body.radius(), bounds) else {
+                    continue;
+                };
+                if hi < body.bottom() || lo > body.top() {
+                    continue;
+                }
+                let Some(body) = body.clipped(lo, hi) else {
+                    continue;
+                };
+                let bbox = step.bbox(&body);
+                self.bbox.union(&bbox);
+                // Only when the tool's top is out of the box (no material above it).
+                let ball = match body {
+                    Body::Cutting {
+                        radius,
+                        flat,
+                        corner,
+                        cone_tan,
+                        ..
+                    } if flat == 0.0 && cone_tan == 0.0 && corner == radius => {
+                        let lift = step.axis * radius;
+                        Some((step.p0 + lift, step.p1 + lift, radius))
+                    }
+                    _ => None,
+                }
+                .filter(|_| body.top() < cutting.top());
+                self.bodies.push(PBody {
+                    body,
+                    kind,
+                    cuts: kind.is_none() || kind == Some(CollisionKind::Rapid),
+                    bbox,
+                    ball,
+                });
+            }
+            if self.bodies.len() > first {
+                self.steps.push(PStep {
+                    vertical: step.is_vertical(),
+                    chained,
+                    step,
+                    move_index: s.move_index,
+                    bodies: first..self.bodies.len(),
+                });
+            }
+        }
+    }
+}
+
+/// Per culling tile of a family: the material's extent along the ray, `[lo, hi]` (an outer
+/// bound; `[∞, −∞]` when the tile holds nothing).
+pub(super) struct Cull {
+    /// Tiles along u.
+    nu: usize,
+    ranges: Vec<[f32; 2]>,
+}
+
+fn tile_extent<'a>(rays: impl Iterator<Item = &'a Dexel>) -> [f32; 2] {
+    let mut e = [f32::INFINITY, f32::NEG_INFINITY];
+    for d in rays {
+        if let (Some([a, _]), Some([_, b])) = (d.intervals().first(), d.intervals().last()) {
+            e = [e[0].min(*a), e[1].max(*b)];
+        }
+    }
+    e
+}
+
+impl Cull {
+    /// The tiles of `fam` as it is now.
+    pub(super) fn new(fam: &DexelFamily) -> Self {
+        let (nu, nv) = (fam.nu.div_ceil(CULL), fam.nv.div_ceil(CULL));
+        let ranges = (0..nu * nv)
+            .into_par_iter()
+            .map(|k| {
+                let (ci, cj) = (k % nu, k / nu);
+                let (i0, i1) = (ci * CULL, ((ci + 1) * CULL).min(fam.nu));
+                let rows = cj * CULL..((cj + 1) * CULL).min(fam.nv);
+                tile_extent(rows.flat_map(|j| {
+                    fam.dexels
+                        .get(j * fam.nu + i0..j * fam.nu + i1)
+                        .unwrap_or(&[])
+                        .iter()
+                }))
+            })
+            .collect();
+        Self { nu, ranges }
+    }
+}
+
+/// The family's grid, copied for the tasks.
+#[derive(Clone, Copy)]
+struct Grid {
+    o: [f64; 3],
+    spacing: f64,
+    nu: usize,
+    nv: usize,
+    uvw: (usize, usize, usize),
+    dir: DVec3,
+    z_family: bool,
+    family: usize,
+    tol: f64,
+}
+
+impl Grid {
+    fn ray_origin(&self, i: usize, j: usize) -> DVec3 {
+        let (u, v, _) = self.uvw;
+        let mut p = self.o;
+        #[allow(clippy::cast_precision_loss)]
+        let (fi, fj) = (i as f64 + 0.5, j as f64 + 0.5);
+        if let Some(x) = p.get_mut(u) {
+            *x += fi * self.spacing;
+        }
+        if let Some(x) = p.get_mut(v) {
+            *x += fj * self.spacing;
+        }
+        DVec3::from_array(p)
+    }
+}
+
+/// A square of the grid owned by one parallel task: its rows, each a slice of `i0..i1`.
+struct Task<'a> {
+    i0: usize,
+    j0: usize,
+    rows: Vec<&'a mut [Dexel]>,
+}
+
+/// What a task gives back: collision hits and the new extents of the tiles it changed.
+type TaskOut = (Vec<Hit>, Vec<(usize, [f32; 2])>);
+
+/// Apply a batch to one family (index `f`); returns the collision hits (deepest per move and
+/// kind within each task, by the same rule as the final merge).
+pub(super) fn apply_batch(
+    fam: &mut DexelFamily,
+    f: usize,
+    batch: &Batch,
+    cull: &mut Cull,
+    tol: f64,
+) -> Vec<Hit> {
+    let (nu, nv) = (fam.nu, fam.nv);
+    if nu == 0 || nv == 0 || batch.steps.is_empty() {
+        return Vec::new();
+    }
+    let (u, v, w) = fam.axis.axes();
+    let grid = Grid {
+        o: fam.origin.to_array(),
+        spacing: fam.spacing,
+        nu,
+        nv,
+        uvw: (u, v, w),
+        dir: fam.axis.direction(),
+        z_family: fam.axis == super::dexel::RayAxis::Z,
+        family: f,
+        tol,
+    };
+    let (lo, hi) = (batch.bbox.min.to_array(), batch.bbox.max.to_array());
+    let (ja, jb) = DexelFamily::cell_range(grid.o[v], grid.spacing, nv, lo[v], hi[v]);
+    let (ia, ib) = DexelFamily::cell_range(grid.o[u], grid.spacing, nu, lo[u], hi[u]);
+    if ja >= jb || ia >= ib {
+        return Vec::new();
+    }
+    let (tja, tjb) = (ja / TASK, jb.div_ceil(TASK));
+    let (tia, tib) = (ia / TASK, ib.div_ceil(TASK));
+    let ncols = tib - tia;
+    let mut tasks: Vec<Task> = (tja..tjb)
+        .flat_map(|tj| {
+            (tia..tib).map(move |ti| Task {
+                i0: ti * TASK,
+                j0: tj * TASK,
+                rows: Vec::with_capacity(TASK),
+            })
+        })
+        .collect();
+    let (c0, c1) = (tia * TASK, (tib * TASK).min(nu));
+    for (r, row) in fam
+        .dexels
+        .chunks_mut(nu)
+        .enumerate()
+        .skip(tja * TASK)
+        .take((tjb - tja) * TASK)
+    {
+        let Some(part) = row.get_mut(c0..c1) else {
+            continue;
+        };
+        let base = (r / TASK - tja) * ncols;
+        for (c, piece) in part.chunks_mut(TASK).enumerate() {
+            if let Some(t) = tasks.get_mut(base + c) {
+                t.rows.push(piece);
+            }
+        }
+    }
+    let ranges = &cull.ranges;
+    let cnu = cull.nu;
+    let outs: Vec<TaskOut> = tasks
+        .into_par_iter()
+        .map(|mut t| run_task(&mut t, batch, &grid, ranges, cnu))
+        .collect();
+    let mut hits = Vec::new();
+    for (h, updates) in outs {
+        hits.extend(h);
+        for (k, e) in updates {
+            if let Some(slot) = cull.ranges.get_mut(k) {
+                *slot = e;
+            }
+        }
+    }
+    hits
+}
+
+/// Apply every step of the batch to the task's rays.
+fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usize) -> TaskOut {
+    let mut hits = Vec::new();
+    let mut dirty = [false; CPT * CPT];
+    let (u, v, w) = g.uvw;
+    let i1 = t.i0 + t.rows.first().map_or(0, |r| r.len());
+    let j1 = t.j0 + t.rows.len();
+    for p in &batch.steps {
+        for b in batch.bodies.get(p.bodies.clone()).unwrap_or(&[]) {
+            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
+            let (ja, jb) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
+            let (ja, jb) = (ja.max(t.j0), jb.min(j1));
+            let (ia, ib) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
+            let (ia, ib) = (ia.max(t.i0), ib.min(i1));
+            if ja >= jb || ia >= ib {
+                continue;
+            }
+            let ctx = BodyCtx {
+                p,
+                b,
+                w_lo: lo[w] - g.o[w],
+                w_hi: hi[w] - g.o[w],
+                vertical: g.z_family && p.vertical,
+            };
+            for j in ja..jb {
+                let (sa, sb) = if ctx.vertical {
+                    #[allow(clippy::cast_precision_loss)]
+                    let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
+                    let Some((x0, x1)) = stadium_span(
+                        p.step.p0.truncate(),
+                        p.step.p1.truncate(),
+                        b.body.radius(),
+                        y,
+                    ) else {
+                        continue;
+                    };
+                    let (x0, x1) = match (b.ball.is_some() && p.chained)
+                        .then(|| rear_chord(&p.step, b.body.radius(), y))
+                        .flatten()
+                    {
+                        // The rear half-disc touches one end of the span: the rest remains.
+                        Some((r0, r1)) if r0 <= x0 => (x0.max(r1), x1),
+                        Some((r0, r1)) if r1 >= x1 => (x0, x1.min(r0)),
+                        _ => (x0, x1),
+                    };
+                    if x0 > x1 {
+                        continue;
+                    }
+                    let (a, c) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1);
+                    (a.max(ia), c.min(ib))
+                } else {
+                    (ia, ib)
+                };
+                let Some(row) = t.rows.get_mut(j - t.j0) else {
+                    continue;
+                };
+                let mut i = sa;
+                while i < sb {
+                    let (ci, cj) = (i / CULL, j / CULL);
+                    let end = ((ci + 1) * CULL).min(sb);
+                    let e = ranges.get(cj * cnu + ci).copied().unwrap_or([0.0, 0.0]);
+                    if f64::from(e[1]) > ctx.w_lo && f64::from(e[0]) < ctx.w_hi {
+                        let mut changed = false;
+                        for k in i..end {
+                            if let Some(d) = row.get_mut(k - t.i0) {
+                                changed |= ray(d, k, j, &ctx, g, &mut hits);
+                            }
+                        }
+                        if changed
+                            && let Some(slot) =
+                                dirty.get_mut((cj - t.j0 / CULL) * CPT + (ci - t.i0 / CULL))
+                        {
+                            *slot = true;
+                        }
+                    }
+                    i = end;
+                }
+            }
+        }
+    }
+    let mut updates = Vec::new();
+    for (k, _) in dirty.iter().enumerate().filter(|(_, d)| **d) {
+        let (ci, cj) = (t.i0 / CULL + k % CPT, t.j0 / CULL + k / CPT);
+        let (a, c) = (ci * CULL - t.i0, (ci * CULL - t.i0 + CULL).min(i1 - t.i0));
+        let rows = (cj * CULL - t.j0)..((cj * CULL - t.j0 + CULL).min(j1 - t.j0));
+        let e = tile_extent(
+            t.rows
+                .get(rows)
+                .unwrap_or(&[])
+                .iter()
+                .flat_map(|r| r.get(a..c).unwrap_or(&[]).iter()),
+        );
+        updates.push((cj * cnu + ci, e));
+    }
+    (hits, updates)
+}
+
+/// A body of a step as the rays of a task see it.
+struct BodyCtx<'a> {
+    p: &'a PStep,
+    b: &'a PBody,
+    /// The body's extent along the ray (offsets), from its box.
+    w_lo: f64,
+    w_hi: f64,
+    /// Vertical tool over Z rays: the closed forms of `vertical_interval`.
+    vertical: bool,
+}
+
+/// Apply one body to ray (i, j); returns whether its material changed.
+fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut Vec<Hit>) -> bool {
+    let (first, top) = match dexel {
+        Dexel::Empty => return false,
+        Dexel::One([a, b]) => (*a, *b),
+        Dexel::Many(v) => match (v.first(), v.last()) {
+            (Some([a, _]), Some([_, b])) => (*a, *b),
+            _ => return false,
+        },
+    };
+    if f64::from(top) <= c.w_lo || f64::from(first) >= c.w_hi {
+        return false;
+    }
+    let o = g.ray_origin(i, j);
+    let (_, _, w) = g.uvw;
+    let ow = g.o[w];
+    let step = &c.p.step;
+    let interval = if c.vertical {
+        if let Some((c0, c1, r)) = c.b.ball {
+            // REJECT_MM below the top is below every sphere centre and outside the swept
+            // sphere: the sweep starts above it (it would take less than REJECT_MM off).
+            let q = DVec3::new(o.x, o.y, f64::from(top) + ow - REJECT_MM);
+            if q.z < c0.z.min(c1.z) && dist2_segment(q, c0, c1) > r * r {
+                return false;
+            }
+        }
+        vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
+            .map(|(a, b)| (a - ow, b - ow))
+    } else if c.b.body.has_closed_form() {
+        c.b.body.exact_interval(step, o, g.dir)
+    } else {
+        general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
+    };
+    let Some((a, b)) = interval else {
+        return false;
+    };
+    #[allow(clippy::cast_possible_truncation)]
+    let (a, b) = (a as f32, b as f32);
+    if let Some(kind) = c.b.kind {
+        let depth = dexel.overlap(a, b);
+        if depth > g.tol
+            && let Some([x, y]) = dexel.first_overlap(a, b)
+        {
+            let s = 0.5 * (f64::from(x) + f64::from(y));
+            record(
+                hits,
+                Hit {
+                    move_index: c.p.move_index,
+                    kind,
+                    depth,
+                    key: (g.family, j * g.nu + i),
+                    position: o + g.dir * s,
+                },
+            );
+        }
+    }
+    c.b.cuts && dexel.subtract(a, b)
+}
+
+/// The chord of row `y` through the half-disc of radius `r` at the start of a vertical step
+/// that lies behind it (`(q − p₀)·d ≤ 0` in XY), when the step does not descend. There the
+/// swept ball's lowest point is the start sphere's (the distance to the centre and the
+/// centre's height both grow with t), which the step before already cut: nothing changes.
+fn rear_chord(step: &SweepStep, r: f64, y: f64) -> Option<(f64, f64)> {
+    let d = step.p1 - step.p0;
+    if d.z < 0.0 {
+        return None;
+    }
+    let dy = y - step.p0.y;
+    let h2 = r * r - dy * dy;
+    if h2 < 0.0 {
+        return None;
+    }
+    let h = h2.sqrt();
+    let (mut lo, mut hi) = (step.p0.x - h, step.p0.x + h);
+    // d.x·(x − x₀) + d.y·(y − y₀) ≤ 0
+    let k = -d.y * dy;
+    if d.x > 0.0 {
+        hi = hi.min(step.p0.x + k / d.x);
+    } else if d.x < 0.0 {
+        lo = lo.max(step.p0.x + k / d.x);
+    } else if k < 0.0 {
+        return None;
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// Squared distance from `q` to the segment [a, b].
+fn dist2_segment(q: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let dd = d.length_squared();
+    let t = if dd > 0.0 {
+        ((q - a).dot(d) / dd).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (q - a - d * t).length_squared()
+}
+
+/// Keep the better of `hit` and the last record when they share move and kind.
+fn record(hits: &mut Vec<Hit>, hit: Hit) {
+    if let Some(last) = hits.last_mut()
+        && last.move_index == hit.move_index
+        && last.kind == hit.kind
+    {
+        if hit.better_than(last) {
+            *last = hit;
+        }
+        return;
+    }
+    hits.push(hit);
+}
