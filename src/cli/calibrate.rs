@@ -34,6 +34,9 @@ pub struct CalibrateArgs {
     /// Write the coefficients as a library file (TOML).
     #[arg(short = 'o', long = "output", value_name = "COEFFICIENTS")]
     pub output: Option<PathBuf>,
+    /// Use only the tests of this mode (`up`, `down` or `slot`).
+    #[arg(long, value_name = "MODE")]
+    pub mode: Option<String>,
     /// Work material recorded in the library entry.
     #[arg(long, value_name = "NAME", default_value = "unknown")]
     pub material: String,
@@ -72,8 +75,16 @@ pub fn calibrate(args: &CalibrateArgs) -> Result<Value, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let rows = parse_forces_csv(&text)
+    let mut rows = parse_forces_csv(&text)
         .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
+    if let Some(name) = &args.mode {
+        let mode = Mode::parse(name)
+            .ok_or_else(|| bad(None, format!("--mode {name} is not up, down or slot")))?;
+        rows.retain(|r| r.mode == mode);
+        if rows.is_empty() {
+            return Err(bad(None, format!("no tests in {} milling", mode.name())));
+        }
+    }
     let cal: Calibration = match args.model {
         Model::Linear => calibrate_linear(&rows),
         Model::Exponential => calibrate_exponential(&rows),
@@ -146,10 +157,4 @@ pub fn human(doc: &Value) -> String {
         let _ = writeln!(s, "wrote {o}");
     }
     s
-}
-
-/// The mode a library entry is chosen for (re-exported for `talas forces`).
-#[must_use]
-pub fn mode_name(m: Mode) -> &'static str {
-    m.name()
 }
