@@ -210,8 +210,8 @@ impl ExpProblem {
             let h = lnh.exp();
             let (kt, kr, ka) = (lt.at(h), lr.at(h), la.at(h));
             let [ct, cr, ca] = cols.map(|c| Self::components(&c));
-            for q in 0..3 {
-                let Some(m) = meas[q] else { continue };
+            for (q, m) in meas.iter().enumerate() {
+                let Some(m) = *m else { continue };
                 let s = scale(m);
                 let pred = kt * (ct[q] + kr * cr[q] + ka * ca[q]);
                 r.push((pred - m) / s);

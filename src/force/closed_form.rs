@@ -186,8 +186,8 @@ pub fn mean_load(mill: &EndMill, coefficients: &Coefficients, engagement: &Engag
             for &(s, e) in disk.arcs.as_slice() {
                 let pe = primitive(e, &k, chip, l.sin_kappa, l.cos_kappa);
                 let ps = primitive(s, &k, chip, l.sin_kappa, l.cos_kappa);
-                for q in 0..3 {
-                    acc[q] += (pe[q] - ps[q]) * ds;
+                for ((a, e), s) in acc.iter_mut().zip(pe).zip(ps).take(3) {
+                    *a += (e - s) * ds;
                 }
                 acc[3] += (pe[3] - ps[3]) * ds * l.radius;
             }

@@ -19,6 +19,8 @@
 //!   revolution; peak (signed value of largest magnitude) and mean.
 //! - [`deflection`]: the tool as a stepped cantilever and the wall error at the
 //!   surface-generation points.
+//! - [`stock`]: engagement read from the material (the Z-dexel stock) for a tool at a position
+//!   moving in a direction: per disk, the front-half angles whose edge points are in material.
 //! - [`calibrate`]: mean-force regression (linear model, `nalgebra`), nonlinear least squares
 //!   for the exponential model (`levenberg-marquardt`), and the thesis's cutting-force
 //!   distribution method; [`measurements`] reads FORCES.csv; [`library`] the TOML coefficient
@@ -39,6 +41,7 @@ pub mod library;
 pub mod measurements;
 pub mod mill;
 pub mod revolution;
+pub mod stock;
 
 pub use coefficients::{Coefficients, ExponentialCoefficients, LinearCoefficients};
 pub use cut::{Arcs, Engagement, Mode, StraightCut};
