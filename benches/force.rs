@@ -23,12 +23,22 @@ fn bench_disks(c: &mut Criterion) {
         (
             "flat_d12_up_half",
             EndMill::new(Profile::Flat, 12.0, 2, 30f64.to_radians(), 0.0).expect("mill"),
-            StraightCut { radial_depth: 6.0, axial_depth: 18.0, feed_per_tooth: 0.08, mode: Mode::Up },
+            StraightCut {
+                radial_depth: 6.0,
+                axial_depth: 18.0,
+                feed_per_tooth: 0.08,
+                mode: Mode::Up,
+            },
         ),
         (
             "ball_d10_down_3mm",
             EndMill::new(Profile::Ball, 10.0, 3, 30f64.to_radians(), 0.0).expect("mill"),
-            StraightCut { radial_depth: 3.0, axial_depth: 8.0, feed_per_tooth: 0.05, mode: Mode::Down },
+            StraightCut {
+                radial_depth: 3.0,
+                axial_depth: 8.0,
+                feed_per_tooth: 0.05,
+                mode: Mode::Down,
+            },
         ),
     ];
     let mut group = c.benchmark_group("force_disk_evaluations");

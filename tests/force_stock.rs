@@ -15,12 +15,22 @@ use talas::simulation::{DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, Stock
 const RES: f64 = 0.1;
 
 fn stock(min: [f64; 3], max: [f64; 3]) -> DexelStock {
-    let shapes = vec![StockShape::Box { min: DVec3::from_array(min), max: DVec3::from_array(max) }];
+    let shapes = vec![StockShape::Box {
+        min: DVec3::from_array(min),
+        max: DVec3::from_array(max),
+    }];
     DexelStock::new(shapes, RES, DexelMode::Z, DEFAULT_MEMORY_LIMIT_BYTES).expect("stock")
 }
 
 fn coefficients() -> Coefficients {
-    Coefficients::Linear(LinearCoefficients { ktc: 900.0, krc: 350.0, kac: 120.0, kte: 15.0, kre: 10.0, kae: 2.0 })
+    Coefficients::Linear(LinearCoefficients {
+        ktc: 900.0,
+        krc: 350.0,
+        kac: 120.0,
+        kte: 15.0,
+        kre: 10.0,
+        kae: 2.0,
+    })
 }
 
 #[test]
@@ -30,24 +40,55 @@ fn straight_cuts_match_the_analytic_immersion() {
     let opts = SampleOptions::default();
     // Feed along +x; the tool's centre at the origin, its tip at z = −ap, the top at z = 0.
     let cases = [
-        (Mode::Up, 3.0, stock([-40.0, r - 3.0, -30.0], [40.0, 40.0, 0.0])),
-        (Mode::Down, 4.5, stock([-40.0, -40.0, -30.0], [40.0, -(r - 4.5), 0.0])),
-        (Mode::Slot, 12.0, stock([-40.0, -40.0, -30.0], [40.0, 40.0, 0.0])),
+        (
+            Mode::Up,
+            3.0,
+            stock([-40.0, r - 3.0, -30.0], [40.0, 40.0, 0.0]),
+        ),
+        (
+            Mode::Down,
+            4.5,
+            stock([-40.0, -40.0, -30.0], [40.0, -(r - 4.5), 0.0]),
+        ),
+        (
+            Mode::Slot,
+            12.0,
+            stock([-40.0, -40.0, -30.0], [40.0, 40.0, 0.0]),
+        ),
     ];
     for (mode, ae, material) in &cases {
-        let eng = engagement_at(material, &mill, DVec3::new(0.0, 0.0, -ap), DVec3::X, 20.0, ft, &opts)
-            .expect("engagement");
-        let cut = StraightCut { radial_depth: *ae, axial_depth: ap, feed_per_tooth: ft, mode: *mode };
+        let eng = engagement_at(
+            material,
+            &mill,
+            DVec3::new(0.0, 0.0, -ap),
+            DVec3::X,
+            20.0,
+            ft,
+            &opts,
+        )
+        .expect("engagement");
+        let cut = StraightCut {
+            radial_depth: *ae,
+            axial_depth: ap,
+            feed_per_tooth: ft,
+            mode: *mode,
+        };
         let (st, ex) = cut.immersion(r);
         // Within the stock's resolution (a cell seen from the edge) plus the angular step.
         let tol = 1.5 * RES / r + opts.angle_step;
         let top = eng.disks.last().expect("disks").z1;
-        assert!((top - ap).abs() <= opts.disk_height + 1e-9, "{mode:?}: engaged up to {top}");
+        assert!(
+            (top - ap).abs() <= opts.disk_height + 1e-9,
+            "{mode:?}: engaged up to {top}"
+        );
         for d in eng.disks.iter().filter(|d| d.z1 <= ap - 1e-9) {
             let arcs = d.arcs.as_slice();
             assert_eq!(arcs.len(), 1, "{mode:?} disk {}: {arcs:?}", d.z0);
             let (s, e) = arcs[0];
-            assert!((s - st).abs() <= tol && (e - ex).abs() <= tol, "{mode:?}: [{s}, {e}] vs [{st}, {ex}]");
+            assert!(
+                (s - st).abs() <= tol && (e - ex).abs() <= tol,
+                "{mode:?}: [{s}, {e}] vs [{st}, {ex}]"
+            );
         }
         // Forces from the stock's engagement against the analytic cut (same disks up to ap).
         let analytic = cut.engagement(&mill, opts.disk_height).expect("analytic");
@@ -76,29 +117,74 @@ fn slot_half_immersion_and_pocket_corner_forces_are_plausible() {
     // 2 mm ahead of the tool's centre (material at x ≥ 2 across the whole width).
     let corner = {
         let shapes = vec![
-            StockShape::Box { min: DVec3::new(-30.0, 0.0, -20.0), max: DVec3::new(30.0, 30.0, 0.0) },
-            StockShape::Box { min: DVec3::new(2.0, -30.0, -20.0), max: DVec3::new(30.0, 30.0, 0.0) },
+            StockShape::Box {
+                min: DVec3::new(-30.0, 0.0, -20.0),
+                max: DVec3::new(30.0, 30.0, 0.0),
+            },
+            StockShape::Box {
+                min: DVec3::new(2.0, -30.0, -20.0),
+                max: DVec3::new(30.0, 30.0, 0.0),
+            },
         ];
-        let m = DexelStock::new(shapes, RES, DexelMode::Z, DEFAULT_MEMORY_LIMIT_BYTES).expect("stock");
+        let m =
+            DexelStock::new(shapes, RES, DexelMode::Z, DEFAULT_MEMORY_LIMIT_BYTES).expect("stock");
         let eng = engagement_at(&m, &mill, tip, DVec3::X, 15.0, 0.05, &opts).expect("engagement");
         let arcs = eng.disks[0].arcs.as_slice().to_vec();
         // Engaged from φ = 0 to π/2 (the wall on the left) and on to where x ≥ 2 ends,
         // φ = π − asin(2/5).
         assert_eq!(arcs.len(), 1, "{arcs:?}");
-        assert!(arcs[0].0 < 0.02 && (arcs[0].1 - (PI - (0.4f64).asin())).abs() < 0.05, "{arcs:?}");
+        assert!(
+            arcs[0].0 < 0.02 && (arcs[0].1 - (PI - (0.4f64).asin())).abs() < 0.05,
+            "{arcs:?}"
+        );
         revolution(&mill, &k, &eng, &rev).expect("revolution")
     };
     // More engagement, more load: the torque (every engaged edge adds to it) orders slot >
     // corner > half immersion, per revolution and at its peak; up milling pulls the tool
     // against the feed (F_x < 0) and into the wall (F_y > 0).
-    assert!(slot.mean_torque_nm > corner.mean_torque_nm, "{} {}", slot.mean_torque_nm, corner.mean_torque_nm);
-    assert!(corner.mean_torque_nm > 1.3 * half.mean_torque_nm, "{} {}", corner.mean_torque_nm, half.mean_torque_nm);
-    assert!(slot.peak_torque_nm >= corner.peak_torque_nm && corner.peak_torque_nm > half.peak_torque_nm);
-    assert!(half.mean.fx < 0.0 && half.mean.fy > 0.0, "up milling: {:?}", half.mean);
+    assert!(
+        slot.mean_torque_nm > corner.mean_torque_nm,
+        "{} {}",
+        slot.mean_torque_nm,
+        corner.mean_torque_nm
+    );
+    assert!(
+        corner.mean_torque_nm > 1.3 * half.mean_torque_nm,
+        "{} {}",
+        corner.mean_torque_nm,
+        half.mean_torque_nm
+    );
+    assert!(
+        slot.peak_torque_nm >= corner.peak_torque_nm && corner.peak_torque_nm > half.peak_torque_nm
+    );
+    assert!(
+        half.mean.fx < 0.0 && half.mean.fy > 0.0,
+        "up milling: {:?}",
+        half.mean
+    );
     assert!(slot.mean.fx < 0.0, "slot: {:?}", slot.mean);
     // Outside the stock: nothing engaged.
-    let empty = engagement_at(&stock([50.0, 50.0, -20.0], [60.0, 60.0, 0.0]), &mill, tip, DVec3::X, 15.0, 0.05, &opts)
-        .expect("engagement");
+    let empty = engagement_at(
+        &stock([50.0, 50.0, -20.0], [60.0, 60.0, 0.0]),
+        &mill,
+        tip,
+        DVec3::X,
+        15.0,
+        0.05,
+        &opts,
+    )
+    .expect("engagement");
     assert!(empty.disks.is_empty());
-    assert!(engagement_at(&stock([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]), &mill, tip, DVec3::Z, 15.0, 0.05, &opts).is_err());
+    assert!(
+        engagement_at(
+            &stock([0.0, 0.0, 0.0], [1.0, 1.0, 1.0]),
+            &mill,
+            tip,
+            DVec3::Z,
+            15.0,
+            0.05,
+            &opts
+        )
+        .is_err()
+    );
 }

@@ -23,10 +23,23 @@ const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/force/");
 
 fn table(name: &str) -> Vec<BTreeMap<String, String>> {
     let text = std::fs::read_to_string(format!("{DATA}{name}")).expect("table");
-    let mut lines = text.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty());
-    let header: Vec<String> = lines.next().expect("header").split(',').map(str::to_string).collect();
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty());
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
     lines
-        .map(|l| header.iter().cloned().zip(l.split(',').map(str::to_string)).collect())
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(str::to_string))
+                .collect()
+        })
         .collect()
 }
 
@@ -50,7 +63,9 @@ fn table_8_5_peaks_and_table_8_8_form_errors() {
     let peaks = table("table_8_5_peaks.csv");
     let form = table("table_8_8_form_error.csv");
     let (mut ex, mut ey, mut mx, mut my, mut ef) = (0.0, 0.0, 0.0, 0.0, Vec::new());
-    eprintln!(" # mode  Fx mean meas/pred   Fy mean meas/pred   Fx peak meas/pred (err%)   Fy peak meas/pred (err%)   wall error meas/pred µm (err%)");
+    eprintln!(
+        " # mode  Fx mean meas/pred   Fy mean meas/pred   Fx peak meas/pred (err%)   Fy peak meas/pred (err%)   wall error meas/pred µm (err%)"
+    );
     for (i, m) in rows.iter().enumerate() {
         let k = if m.mode == Mode::Up { up } else { down };
         let mill = m.mill().expect("mill");
@@ -84,14 +99,38 @@ fn table_8_5_peaks_and_table_8_8_form_errors() {
         ef.push(e);
         eprintln!(
             "{:2} {:5} {:8.1} {:8.1}   {:7.1} {:7.1}   {:8.1} {:8.1} ({:5.1})   {:7.1} {:7.1} ({:5.1})   {:7.1} {:7.1} ({:5.1})",
-            i + 1, m.mode.name(), m.fx, rev.mean.fx, m.fy, rev.mean.fy, px, rev.peak.fx, epx, py,
-            rev.peak.fy, epy, meas, pred, e
+            i + 1,
+            m.mode.name(),
+            m.fx,
+            rev.mean.fx,
+            m.fy,
+            rev.mean.fy,
+            px,
+            rev.peak.fx,
+            epx,
+            py,
+            rev.peak.fy,
+            epy,
+            meas,
+            pred,
+            e
         );
         // Overcut in up milling, undercut in down milling (Table 8.8's signs).
-        assert_eq!(pred.signum(), meas.signum(), "test {}: wall error sign", i + 1);
+        assert_eq!(
+            pred.signum(),
+            meas.signum(),
+            "test {}: wall error sign",
+            i + 1
+        );
     }
-    let down_form: Vec<f64> = (0..12).filter(|&i| rows[i].mode == Mode::Down).map(|i| ef[i]).collect();
-    let up_form: Vec<f64> = (0..12).filter(|&i| rows[i].mode == Mode::Up).map(|i| ef[i]).collect();
+    let down_form: Vec<f64> = (0..12)
+        .filter(|&i| rows[i].mode == Mode::Down)
+        .map(|i| ef[i])
+        .collect();
+    let up_form: Vec<f64> = (0..12)
+        .filter(|&i| rows[i].mode == Mode::Up)
+        .map(|i| ef[i])
+        .collect();
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     eprintln!("mean errors: mean force F_x {mx:.1} %, F_y {my:.1} %");
     eprintln!("mean errors: peak F_x {ex:.1} % (thesis 9.2 %), peak F_y {ey:.1} % (thesis 8.4 %)");
@@ -105,6 +144,13 @@ fn table_8_5_peaks_and_table_8_8_form_errors() {
     // the signature of runout, which the model does not have).
     assert!(ey <= 8.4, "peak F_y mean error {ey:.1} %");
     assert!(ex <= 20.0, "peak F_x mean error {ex:.1} %");
-    assert!(mx <= 20.0 && my <= 8.0, "mean-force fit {mx:.1} % {my:.1} %");
-    assert!(mean(&down_form) <= 40.0, "down-milling wall error {:.1} %", mean(&down_form));
+    assert!(
+        mx <= 20.0 && my <= 8.0,
+        "mean-force fit {mx:.1} % {my:.1} %"
+    );
+    assert!(
+        mean(&down_form) <= 40.0,
+        "down-milling wall error {:.1} %",
+        mean(&down_form)
+    );
 }

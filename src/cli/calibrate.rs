@@ -75,8 +75,8 @@ pub fn calibrate(args: &CalibrateArgs) -> Result<Value, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let mut rows = parse_forces_csv(&text)
-        .map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
+    let mut rows =
+        parse_forces_csv(&text).map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;
     if let Some(name) = &args.mode {
         let mode = Mode::parse(name)
             .ok_or_else(|| bad(None, format!("--mode {name} is not up, down or slot")))?;
@@ -91,12 +91,22 @@ pub fn calibrate(args: &CalibrateArgs) -> Result<Value, ImportError> {
     }
     .map_err(|e| bad(None, e.to_string()))?;
     let first = rows[0].mode;
-    let mode = if rows.iter().all(|r| r.mode == first) { first.name() } else { "any" };
+    let mode = if rows.iter().all(|r| r.mode == first) {
+        first.name()
+    } else {
+        "any"
+    };
     if let Some(out) = &args.output {
         let mut entry = Entry::new(&args.material, &args.tool, mode, &cal.coefficients);
-        entry.source = format!("talas calibrate {} --model {:?}", file_name(&args.file), args.model)
-            .to_lowercase();
-        let lib = Library { entries: vec![entry] };
+        entry.source = format!(
+            "talas calibrate {} --model {:?}",
+            file_name(&args.file),
+            args.model
+        )
+        .to_lowercase();
+        let lib = Library {
+            entries: vec![entry],
+        };
         let text = lib
             .to_toml()
             .map_err(|e| ImportError::new(out, None, format!("cannot write: {e}")))?;
@@ -128,7 +138,8 @@ pub fn calibrate(args: &CalibrateArgs) -> Result<Value, ImportError> {
 }
 
 fn file_name(p: &Path) -> String {
-    p.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+    p.file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
 }
 
 /// A short human summary.
@@ -136,7 +147,12 @@ fn file_name(p: &Path) -> String {
 pub fn human(doc: &Value) -> String {
     let mut s = String::new();
     let c = &doc["coefficients"];
-    let _ = writeln!(s, "{} tests, model {}", doc["tests"], c["model"].as_str().unwrap_or("?"));
+    let _ = writeln!(
+        s,
+        "{} tests, model {}",
+        doc["tests"],
+        c["model"].as_str().unwrap_or("?")
+    );
     if let Some(map) = c.as_object() {
         for (k, v) in map.iter().filter(|(k, _)| *k != "model") {
             let _ = writeln!(s, "  {k:<12} {:.4}", v.as_f64().unwrap_or(f64::NAN));

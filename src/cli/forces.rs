@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::force::cut::DEFAULT_DISK_HEIGHT;
-use crate::force::deflection::{BeamSpec, CARBIDE_E, Cantilever, FLUTE_DIAMETER_RATIO, wall_profile};
+use crate::force::deflection::{
+    BeamSpec, CARBIDE_E, Cantilever, FLUTE_DIAMETER_RATIO, wall_profile,
+};
 use crate::force::library::Library;
 use crate::force::{EndMill, Force, Mode, RevolutionOptions, StraightCut, revolution};
 use crate::import::ImportError;
@@ -64,7 +66,9 @@ fn parse_cut(text: &str, diameter: f64) -> Result<StraightCut, String> {
             "ap" => ap = Some(num()?),
             "ft" => ft = Some(num()?),
             "mode" => {
-                mode = Some(Mode::parse(v).ok_or_else(|| format!("mode={v} is not up, down or slot"))?);
+                mode = Some(
+                    Mode::parse(v).ok_or_else(|| format!("mode={v} is not up, down or slot"))?,
+                );
             }
             other => return Err(format!("unknown key '{other}' (keys: ae, ap, ft, mode)")),
         }
@@ -103,7 +107,11 @@ pub fn forces(args: &ForcesArgs) -> Result<Value, ImportError> {
     let library = Library::load(&args.coefficients).map_err(|m| {
         // `Library::load` names the file first; keep the rest as the message.
         let prefix = format!("{}: ", args.coefficients.display());
-        ImportError::new(&args.coefficients, None, m.strip_prefix(&prefix).unwrap_or(&m).to_string())
+        ImportError::new(
+            &args.coefficients,
+            None,
+            m.strip_prefix(&prefix).unwrap_or(&m).to_string(),
+        )
     })?;
     let entry = library
         .select(cut.mode, args.material.as_deref())
@@ -114,7 +122,9 @@ pub fn forces(args: &ForcesArgs) -> Result<Value, ImportError> {
                 format!(
                     "no entry for mode {}{}",
                     cut.mode.name(),
-                    args.material.as_ref().map_or(String::new(), |m| format!(" and material {m}"))
+                    args.material
+                        .as_ref()
+                        .map_or(String::new(), |m| format!(" and material {m}"))
                 ),
             )
         })?;
@@ -192,7 +202,11 @@ pub fn human(doc: &Value) -> String {
         num(&doc["peak_torque_nm"])
     );
     if let Some(p) = doc["mean_power_w"].as_f64() {
-        let _ = writeln!(s, "spindle power mean {p:.1} W, peak {:.1} W", num(&doc["peak_power_w"]));
+        let _ = writeln!(
+            s,
+            "spindle power mean {p:.1} W, peak {:.1} W",
+            num(&doc["peak_power_w"])
+        );
     }
     if let Some(e) = doc["form_error_um"].as_f64() {
         let _ = writeln!(s, "wall error at the tool tip {e:.1} µm");

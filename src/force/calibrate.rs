@@ -94,7 +94,11 @@ fn row_fits(rows: &[Measurement], predict: impl Fn(usize) -> Force) -> (Vec<RowF
         sum[1] += err[1];
         fits.push(RowFit {
             line: m.line,
-            measured: Force { fx: m.fx, fy: m.fy, fz: m.fz.unwrap_or(0.0) },
+            measured: Force {
+                fx: m.fx,
+                fy: m.fy,
+                fz: m.fz.unwrap_or(0.0),
+            },
             predicted: p,
             error_pct: err,
         });
@@ -134,7 +138,11 @@ pub fn calibrate_linear(rows: &[Measurement]) -> Result<Calibration, ForceError>
     let axial = check_rows(rows)?;
     let cols = unit_columns(rows)?;
     // Unknowns: K_tc, K_rc, K_te, K_re (and K_ac, K_ae with F_z).
-    let unknowns: &[usize] = if axial { &[0, 1, 3, 4, 2, 5] } else { &[0, 1, 3, 4] };
+    let unknowns: &[usize] = if axial {
+        &[0, 1, 3, 4, 2, 5]
+    } else {
+        &[0, 1, 3, 4]
+    };
     let mut a_rows: Vec<Vec<f64>> = Vec::new();
     let mut b = Vec::new();
     for (m, col) in rows.iter().zip(&cols) {
@@ -193,7 +201,14 @@ impl ExpProblem {
         } else {
             PowerLaw::constant(0.0)
         };
-        [PowerLaw { k: x[0].exp(), p: x[1] }, PowerLaw { k: x[2], p: x[3] }, ka]
+        [
+            PowerLaw {
+                k: x[0].exp(),
+                p: x[1],
+            },
+            PowerLaw { k: x[2], p: x[3] },
+            ka,
+        ]
     }
 
     fn components(f: &Force) -> [f64; 3] {
@@ -266,7 +281,11 @@ fn initial_guess(problem: &ExpProblem) -> Result<DVector<f64>, ForceError> {
     for (lnh, cols, meas) in &problem.tests {
         let comps = cols.map(|c| ExpProblem::components(&c));
         let used: Vec<usize> = (0..3).filter(|&q| meas[q].is_some()).collect();
-        let vars = if problem.axial && meas[2].is_some() { 3 } else { 2 };
+        let vars = if problem.axial && meas[2].is_some() {
+            3
+        } else {
+            2
+        };
         let a = DMatrix::from_fn(used.len(), vars, |i, j| comps[j][used[i]]);
         let b = DVector::from_fn(used.len(), |i, _| meas[used[i]].unwrap_or(0.0));
         let Ok(x) = solve(a, b, "exponential start values") else {
@@ -295,8 +314,7 @@ fn initial_guess(problem: &ExpProblem) -> Result<DVector<f64>, ForceError> {
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     if sxx < 1e-12 {
         return Err(ForceError::Calibration(
-            "the exponential model needs tests at two or more mean chip thicknesses (feeds)"
-                .into(),
+            "the exponential model needs tests at two or more mean chip thicknesses (feeds)".into(),
         ));
     }
     let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx;

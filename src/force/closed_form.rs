@@ -125,7 +125,11 @@ pub fn flute_integrals(
         if kb == 0.0 {
             if arcs.contains(wrap(tip)) {
                 let g = element(wrap(tip), k, feed_per_tooth);
-                load.force += Force { fx: g[0] * a, fy: g[1] * a, fz: g[2] * a };
+                load.force += Force {
+                    fx: g[0] * a,
+                    fy: g[1] * a,
+                    fz: g[2] * a,
+                };
                 load.torque += g[3] * a * mill.radius;
             }
             continue;
@@ -194,7 +198,11 @@ pub fn mean_load(mill: &EndMill, coefficients: &Coefficients, engagement: &Engag
         });
         let f = n / TAU;
         total += Load {
-            force: Force { fx: f * acc[0], fy: f * acc[1], fz: f * acc[2] },
+            force: Force {
+                fx: f * acc[0],
+                fy: f * acc[1],
+                fz: f * acc[2],
+            },
             torque: f * acc[3],
         };
     }

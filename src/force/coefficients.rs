@@ -125,9 +125,7 @@ impl Coefficients {
     /// # Errors
     /// [`ForceError::Input`] naming the first bad coefficient.
     pub fn validate(&self) -> Result<(), ForceError> {
-        let check = |name: &str, v: f64, bound: f64| {
-            super::check_range(name, v, -bound, bound, "")
-        };
+        let check = |name: &str, v: f64, bound: f64| super::check_range(name, v, -bound, bound, "");
         match self {
             Self::Linear(l) => {
                 let names = ["K_tc", "K_rc", "K_ac", "K_te", "K_re", "K_ae"];

@@ -153,7 +153,13 @@ impl StraightCut {
     pub fn validate(&self, mill: &EndMill) -> Result<(), ForceError> {
         super::check_range("feed per tooth", self.feed_per_tooth, 1e-6, 2.0, "mm")?;
         super::check_range("axial depth", self.axial_depth, 1e-6, 500.0, "mm")?;
-        super::check_range("radial depth", self.radial_depth, 1e-6, mill.diameter(), "mm")?;
+        super::check_range(
+            "radial depth",
+            self.radial_depth,
+            1e-6,
+            mill.diameter(),
+            "mm",
+        )?;
         if self.mode == Mode::Slot && (self.radial_depth - mill.diameter()).abs() > 1e-9 {
             return Err(ForceError::Input(format!(
                 "a slot is cut at a radial depth equal to the diameter {} mm, got {} mm",

@@ -70,7 +70,13 @@ impl Cantilever {
         check_range("flute length", spec.flute_length, 1e-3, 2000.0, "mm")?;
         check_range("shank diameter", spec.shank_diameter, 1e-3, 1000.0, "mm")?;
         check_range("Young's modulus", spec.youngs_modulus, 1e3, 2e6, "N/mm²")?;
-        check_range("flute diameter ratio", spec.flute_diameter_ratio, 0.3, 1.0, "")?;
+        check_range(
+            "flute diameter ratio",
+            spec.flute_diameter_ratio,
+            0.3,
+            1.0,
+            "",
+        )?;
         let ei = |d: f64| spec.youngs_modulus * PI * d.powi(4) / 64.0;
         let flute_top = spec.flute_length.min(spec.overhang);
         let mut segments = vec![(flute_top, ei(spec.flute_diameter_ratio * spec.diameter))];

@@ -206,7 +206,8 @@ impl Library {
             return Err("line 1: the library has no [[entry]]".into());
         }
         for (i, e) in lib.entries.iter().enumerate() {
-            e.coefficients().map_err(|m| format!("entry {}: {m}", i + 1))?;
+            e.coefficients()
+                .map_err(|m| format!("entry {}: {m}", i + 1))?;
         }
         Ok(lib)
     }

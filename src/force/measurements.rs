@@ -45,7 +45,13 @@ impl Measurement {
     /// # Errors
     /// [`super::ForceError`] if the geometry is out of range (the reader has checked it).
     pub fn mill(&self) -> Result<EndMill, super::ForceError> {
-        EndMill::new(Profile::Flat, self.diameter, self.flutes, self.helix, self.rake)
+        EndMill::new(
+            Profile::Flat,
+            self.diameter,
+            self.flutes,
+            self.helix,
+            self.rake,
+        )
     }
 
     /// The cut of this test.
@@ -71,7 +77,16 @@ pub struct MeasurementError {
 }
 
 const COLUMNS: [&str; 10] = [
-    "d_mm", "flutes", "helix_deg", "rake_deg", "mode", "ae_mm", "ap_mm", "ft_mm", "fx_n", "fy_n",
+    "d_mm",
+    "flutes",
+    "helix_deg",
+    "rake_deg",
+    "mode",
+    "ae_mm",
+    "ap_mm",
+    "ft_mm",
+    "fx_n",
+    "fy_n",
 ];
 
 /// Parse FORCES.csv text.
@@ -102,7 +117,10 @@ pub fn parse_forces_csv(text: &str) -> Result<Vec<Measurement>, MeasurementError
     for (slot, name) in idx.iter_mut().zip(COLUMNS) {
         *slot = find(name).ok_or_else(|| MeasurementError {
             line: hline,
-            message: format!("header has no column '{name}' (needs {})", COLUMNS.join(",")),
+            message: format!(
+                "header has no column '{name}' (needs {})",
+                COLUMNS.join(",")
+            ),
         })?;
     }
     let fz_col = find("fz_n");
@@ -128,7 +146,10 @@ fn parse_row(
     width: usize,
 ) -> Result<Measurement, MeasurementError> {
     let bad = |message: String| MeasurementError { line, message };
-    let fields: Vec<&str> = text.split(sep).map(|f| f.trim().trim_matches('"')).collect();
+    let fields: Vec<&str> = text
+        .split(sep)
+        .map(|f| f.trim().trim_matches('"'))
+        .collect();
     if fields.len() < width {
         return Err(bad(format!(
             "{} fields, the header has {width}",
@@ -161,7 +182,9 @@ fn parse_row(
     let fz = match fz_col {
         Some(c) if !fields.get(c).is_none_or(|f| f.is_empty()) => {
             let f = fields[c];
-            let v: f64 = f.parse().map_err(|_| bad(format!("fz_n '{f}' is not a number")))?;
+            let v: f64 = f
+                .parse()
+                .map_err(|_| bad(format!("fz_n '{f}' is not a number")))?;
             if !(v.is_finite() && v.abs() <= 1e6) {
                 return Err(bad(format!("fz_n = {v} is outside [-1e6, 1e6]")));
             }

@@ -127,8 +127,7 @@ impl EndMill {
     pub fn from_cutter(cutter: &Cutter) -> Result<Self, ForceError> {
         let flutes = cutter.flutes.ok_or_else(|| {
             ForceError::Tool(
-                "the tool SPEC needs flutes=N (and helix=DEG, rake=DEG) for cutting forces"
-                    .into(),
+                "the tool SPEC needs flutes=N (and helix=DEG, rake=DEG) for cutting forces".into(),
             )
         })?;
         let profile = match cutter.kind {

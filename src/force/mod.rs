@@ -63,7 +63,13 @@ pub enum ForceError {
 }
 
 /// `Err(ForceError::Input)` unless `v` is finite and in `[lo, hi]`.
-pub(crate) fn check_range(what: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ForceError> {
+pub(crate) fn check_range(
+    what: &str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    unit: &str,
+) -> Result<(), ForceError> {
     if v.is_finite() && v >= lo && v <= hi {
         Ok(())
     } else {

@@ -122,7 +122,10 @@ pub fn revolution(
             power_w: omega.map(|w| torque_nm * w),
         });
     }
-    let Load { force: mean, torque } = mean_load(mill, coefficients, engagement);
+    let Load {
+        force: mean,
+        torque,
+    } = mean_load(mill, coefficients, engagement);
     let mean_torque_nm = torque * 1e-3;
     Ok(Revolution {
         samples,

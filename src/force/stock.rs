@@ -28,7 +28,10 @@ impl Material for DexelStock {
         let Some(fam) = self.families.iter().find(|f| f.axis == RayAxis::Z) else {
             return false;
         };
-        let (u, v) = ((p.x - fam.origin.x) / fam.spacing, (p.y - fam.origin.y) / fam.spacing);
+        let (u, v) = (
+            (p.x - fam.origin.x) / fam.spacing,
+            (p.y - fam.origin.y) / fam.spacing,
+        );
         if !(u >= 0.0 && v >= 0.0) {
             return false;
         }
@@ -89,7 +92,13 @@ pub fn engagement_at(
         ));
     }
     super::check_range("disk height", options.disk_height, 1e-3, 100.0, "mm")?;
-    super::check_range("angle step", options.angle_step.to_degrees(), 0.01, 10.0, "degrees")?;
+    super::check_range(
+        "angle step",
+        options.angle_step.to_degrees(),
+        0.01,
+        10.0,
+        "degrees",
+    )?;
     super::check_range("flute length", flute_length, 1e-3, 2000.0, "mm")?;
     let x = x.normalize();
     let y = DVec3::Z.cross(x);

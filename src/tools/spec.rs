@@ -31,9 +31,15 @@ pub fn parse_tool_spec(spec: &str) -> Result<Cutter, ToolError> {
         fields.push((k, v.trim()));
     }
     let allowed: &[&str] = match kind.trim() {
-        "ball" | "flat" => &["d", "flute", "shank", "length", "holder", "flutes", "helix", "rake"],
-        "bull" => &["d", "r", "flute", "shank", "length", "holder", "flutes", "helix", "rake"],
-        "cone" => &["d", "angle", "flute", "shank", "length", "holder", "flutes", "helix", "rake"],
+        "ball" | "flat" => &[
+            "d", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
+        "bull" => &[
+            "d", "r", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
+        "cone" => &[
+            "d", "angle", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
         other => {
             return Err(err(format!(
                 "unknown tool kind '{other}' (kinds: ball, flat, bull, cone)"
@@ -84,7 +90,9 @@ pub fn parse_tool_spec(spec: &str) -> Result<Cutter, ToolError> {
     }
     cutter.flutes = parse_flutes(&number)?;
     if cutter.flutes.is_some() && matches!(cutter.kind, CutterKind::Cone { .. }) {
-        return Err(err("flutes=, helix=, rake= are for flat, ball and bull cutters".into()));
+        return Err(err(
+            "flutes=, helix=, rake= are for flat, ball and bull cutters".into(),
+        ));
     }
     cutter.validate()?;
     Ok(cutter)

@@ -63,7 +63,9 @@ fn quadratic_integral(points: &[(f64, f64)], a: f64) -> Result<f64, ForceError> 
         .svd(true, true)
         .solve(&b, 1e-12)
         .map_err(|e| err(&format!("quadratic fit failed: {e}")))?;
-    Ok((0..=degree).map(|j| c[j] * a.powi(j as i32 + 1) / (j as f64 + 1.0)).sum())
+    Ok((0..=degree)
+        .map(|j| c[j] * a.powi(j as i32 + 1) / (j as f64 + 1.0))
+        .sum())
 }
 
 /// Distinct values of `key` (to 1e-9).
@@ -76,7 +78,9 @@ fn distinct(values: impl Iterator<Item = f64>) -> Vec<f64> {
 
 fn check(t: &DistributionTests) -> Result<f64, ForceError> {
     if t.mode == Mode::Slot {
-        return Err(err("the CFD inversion is for half-immersion up or down milling"));
+        return Err(err(
+            "the CFD inversion is for half-immersion up or down milling",
+        ));
     }
     if !(t.axial_depth > 0.0 && t.axial_depth.is_finite()) || t.flutes == 0 {
         return Err(err("axial depth and flutes must be positive"));
@@ -92,12 +96,19 @@ pub fn linear(t: &DistributionTests) -> Result<LinearCoefficients, ForceError> {
     let na = check(t)?;
     let mut parts: [Vec<(f64, f64)>; 4] = Default::default(); // xc, yc, xe, ye
     for z in distinct(t.disks.iter().map(|d| d.z_mm)) {
-        let on: Vec<&DiskMean> = t.disks.iter().filter(|d| (d.z_mm - z).abs() < 1e-9).collect();
+        let on: Vec<&DiskMean> = t
+            .disks
+            .iter()
+            .filter(|d| (d.z_mm - z).abs() < 1e-9)
+            .collect();
         if distinct(on.iter().map(|d| d.ft_mm)).len() < 2 {
             return Err(err(&format!("disk at z = {z} mm needs two or more feeds")));
         }
         let m = DMatrix::from_fn(on.len(), 2, |i, j| if j == 0 { 1.0 } else { on[i].ft_mm });
-        for (q, pick) in [|d: &DiskMean| d.fx_n, |d: &DiskMean| d.fy_n].iter().enumerate() {
+        for (q, pick) in [|d: &DiskMean| d.fx_n, |d: &DiskMean| d.fy_n]
+            .iter()
+            .enumerate()
+        {
             let b = DVector::from_fn(on.len(), |i, _| pick(on[i]) / on[i].height_mm);
             let c = m
                 .clone()
@@ -118,13 +129,30 @@ pub fn linear(t: &DistributionTests) -> Result<LinearCoefficients, ForceError> {
     let (ktc, krc, kte, kre) = if t.mode == Mode::Up {
         let ktc = 8.0 * PI / na * (-2.0 * vxc + PI * vyc) / (PI * PI + 4.0);
         let kte = PI * (-vxe + vye) / na;
-        (ktc, -2.0 * (ktc / PI + 4.0 * vxc / na), kte, -kte - 2.0 * PI * vxe / na)
+        (
+            ktc,
+            -2.0 * (ktc / PI + 4.0 * vxc / na),
+            kte,
+            -kte - 2.0 * PI * vxe / na,
+        )
     } else {
         let ktc = 8.0 * PI / na * (2.0 * vxc + PI * vyc) / (PI * PI + 4.0);
         let kte = PI * (vxe + vye) / na;
-        (ktc, 2.0 * (ktc / PI - 4.0 * vxc / na), kte, kte - 2.0 * PI * vxe / na)
+        (
+            ktc,
+            2.0 * (ktc / PI - 4.0 * vxc / na),
+            kte,
+            kte - 2.0 * PI * vxe / na,
+        )
     };
-    Ok(LinearCoefficients { ktc, krc, kac: 0.0, kte, kre, kae: 0.0 })
+    Ok(LinearCoefficients {
+        ktc,
+        krc,
+        kac: 0.0,
+        kte,
+        kre,
+        kae: 0.0,
+    })
 }
 
 /// Exponential-model coefficients by the CFD method (Eqs. 5.20, 5.5).
@@ -140,7 +168,11 @@ pub fn exponential(t: &DistributionTests) -> Result<ExponentialCoefficients, For
     let mut kts = Vec::new();
     let mut krs = Vec::new();
     for &f in &feeds {
-        let on: Vec<&DiskMean> = t.disks.iter().filter(|d| (d.ft_mm - f).abs() < 1e-9).collect();
+        let on: Vec<&DiskMean> = t
+            .disks
+            .iter()
+            .filter(|d| (d.ft_mm - f).abs() < 1e-9)
+            .collect();
         let px: Vec<(f64, f64)> = on.iter().map(|d| (d.z_mm, d.fx_n / d.height_mm)).collect();
         let py: Vec<(f64, f64)> = on.iter().map(|d| (d.z_mm, d.fy_n / d.height_mm)).collect();
         let (vx, vy) = (
@@ -168,11 +200,18 @@ pub fn exponential(t: &DistributionTests) -> Result<ExponentialCoefficients, For
         let sign = krs[0].1.signum();
         let logs: Vec<(f64, f64)> = krs.iter().map(|p| (p.0, (p.1 * sign).ln())).collect();
         let law = power_fit(&logs);
-        PowerLaw { k: sign * law.k, p: law.p }
+        PowerLaw {
+            k: sign * law.k,
+            p: law.p,
+        }
     } else {
         PowerLaw::constant(krs.iter().map(|p| p.1).sum::<f64>() / krs.len() as f64)
     };
-    Ok(ExponentialCoefficients { kt, kr, ka: PowerLaw::constant(0.0) })
+    Ok(ExponentialCoefficients {
+        kt,
+        kr,
+        ka: PowerLaw::constant(0.0),
+    })
 }
 
 /// `ln K = ln k − p·ln h` by linear regression over (ln h, ln K).
@@ -186,5 +225,8 @@ fn power_fit(points: &[(f64, f64)]) -> PowerLaw {
     } else {
         0.0
     };
-    PowerLaw { k: (my - slope * mx).exp(), p: -slope }
+    PowerLaw {
+        k: (my - slope * mx).exp(),
+        p: -slope,
+    }
 }
