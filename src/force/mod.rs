@@ -15,7 +15,7 @@
 //!   angle).
 //! - [`disks`]: the numerical disk sums (Gauss–Legendre inside each disk, split where the edge
 //!   enters or leaves the cut) for any profile and any per-disk engagement.
-//! - [`revolution`]: forces, resultant, torque and power against the rotation angle over one
+//! - [`mod@revolution`]: forces, resultant, torque and power against the rotation angle over one
 //!   revolution; peak (signed value of largest magnitude) and mean.
 //! - [`deflection`]: the tool as a stepped cantilever and the wall error at the
 //!   surface-generation points.
