@@ -188,3 +188,48 @@ fn slot_half_immersion_and_pocket_corner_forces_are_plausible() {
         .is_err()
     );
 }
+
+#[test]
+fn feed_for_a_target_peak_force() {
+    use talas::force::schedule::feed_for_peak_force;
+    let mill = EndMill::new(Profile::Flat, 10.0, 3, 30f64.to_radians(), 0.0).expect("mill");
+    let opts = RevolutionOptions::default();
+    let m = stock([-30.0, 0.0, -20.0], [30.0, 30.0, 0.0]);
+    let eng = engagement_at(
+        &m,
+        &mill,
+        DVec3::new(0.0, 0.0, -5.0),
+        DVec3::X,
+        15.0,
+        0.05,
+        &SampleOptions::default(),
+    )
+    .expect("engagement");
+    let k = coefficients();
+    let exp = Coefficients::Exponential(talas::force::ExponentialCoefficients {
+        kt: talas::force::coefficients::PowerLaw { k: 500.0, p: 0.3 },
+        kr: talas::force::coefficients::PowerLaw { k: 0.3, p: 0.2 },
+        ka: talas::force::coefficients::PowerLaw::constant(0.1),
+    });
+    for coeffs in [k, exp] {
+        let mut last = 0.0;
+        for target in [150.0, 300.0, 600.0] {
+            let ft = feed_for_peak_force(&mill, &coeffs, &eng, target, &opts).expect("feed");
+            let e = talas::force::Engagement {
+                feed_per_tooth: ft,
+                ..eng.clone()
+            };
+            let peak = revolution(&mill, &coeffs, &e, &opts)
+                .expect("rev")
+                .peak_resultant_n;
+            assert!(
+                (peak - target).abs() < 1e-6 * target,
+                "{target}: {peak} at {ft}"
+            );
+            assert!(ft > last, "a higher target allows a higher feed");
+            last = ft;
+        }
+    }
+    assert!(feed_for_peak_force(&mill, &k, &eng, 1e6, &opts).is_err());
+    assert!(feed_for_peak_force(&mill, &k, &eng, 0.5, &opts).is_err());
+}

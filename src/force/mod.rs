@@ -19,6 +19,7 @@
 //!   revolution; peak (signed value of largest magnitude) and mean.
 //! - [`deflection`]: the tool as a stepped cantilever and the wall error at the
 //!   surface-generation points.
+//! - [`schedule`]: the feed per tooth that holds the peak resultant force at a target.
 //! - [`stock`]: engagement read from the material (the Z-dexel stock) for a tool at a position
 //!   moving in a direction: per disk, the front-half angles whose edge points are in material.
 //! - [`calibrate`]: mean-force regression (linear model, `nalgebra`), nonlinear least squares
@@ -41,6 +42,7 @@ pub mod library;
 pub mod measurements;
 pub mod mill;
 pub mod revolution;
+pub mod schedule;
 pub mod stock;
 
 pub use coefficients::{Coefficients, ExponentialCoefficients, LinearCoefficients};
