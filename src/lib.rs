@@ -26,7 +26,7 @@
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
 //! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
-//! | L4 | [`post`], [`feed`] |
+//! | L4 | [`post`], [`feed`], [`simulation`], [`force`] |
 //! | L5 | [`project`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
@@ -41,6 +41,7 @@
 pub mod checks;
 pub mod diagnostics;
 pub mod feed;
+pub mod force;
 pub mod gcode;
 pub mod geometry;
 pub mod import;

@@ -36,6 +36,7 @@ const SAME_LAYER: &[(&str, &str)] = &[
     ("geometry", "units"),
     ("geometry", "diagnostics"),
     ("strategies", "checks"),
+    ("force", "simulation"),
 ];
 
 const GUI_CRATES: &[&str] = &[

@@ -1,8 +1,10 @@
 //! The command line: each subcommand is a thin shell over engine calls. Errors go to stderr as one
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
+pub mod calibrate;
 pub mod dropcutter;
 pub mod feed;
+pub mod forces;
 pub mod inspect;
 pub mod plan;
 pub mod plan_mesh;
@@ -55,6 +57,12 @@ pub enum Command {
     /// Material removal on a dexel stock: removed volume, deviation from the part,
     /// collisions, time.
     Simulate(simulate::SimulateArgs),
+    /// Cutting forces of one straight cut: mean and peak F_x, F_y, F_z (N), torque, power, and
+    /// the wall error at the tool tip for a given overhang.
+    Forces(forces::ForcesArgs),
+    /// Cutting-force coefficients from measured mean forces (FORCES.csv), optionally written
+    /// as a coefficient library.
+    Calibrate(calibrate::CalibrateArgs),
     /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
     /// renderer (builds with the `gui` feature).
     Render(render::RenderArgs),
@@ -119,6 +127,10 @@ pub fn run(command: Command) -> i32 {
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
         Command::Simulate(args) => {
             report(simulate::simulate_cmd(&args), args.json, simulate::human)
+        }
+        Command::Forces(args) => report(forces::forces(&args), args.json, forces::human),
+        Command::Calibrate(args) => {
+            report(calibrate::calibrate(&args), args.json, calibrate::human)
         }
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),

@@ -63,6 +63,53 @@ pub struct Cutter {
     pub overall_length: f64,
     /// Holder cylinders from the holder face upward (may be empty).
     pub holder: Vec<HolderSection>,
+    /// Flute count, helix and rake (what the cutting-force model needs); `None` when the spec
+    /// did not give them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flutes: Option<Flutes>,
+}
+
+/// The cutting edges of a helical end mill: what the cutting-force model needs beyond the
+/// profile.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Flutes {
+    /// Number of flutes (1 to 16), evenly pitched.
+    pub count: u32,
+    /// Helix angle, rad (0 ≤ β < 60°).
+    pub helix: f64,
+    /// Normal rake angle, rad (−30° to 45°).
+    pub rake: f64,
+}
+
+impl Flutes {
+    /// Default helix when a spec gives `flutes=` but no `helix=`, rad (30°).
+    pub const DEFAULT_HELIX: f64 = std::f64::consts::FRAC_PI_6;
+
+    /// Check the ranges: 1–16 flutes, helix in [0°, 60°), rake in [−30°, 45°].
+    ///
+    /// # Errors
+    /// [`ToolError::Dimension`] naming the value out of range.
+    pub fn validate(&self) -> Result<(), ToolError> {
+        if !(1..=16).contains(&self.count) {
+            return Err(ToolError::Dimension(format!(
+                "flute count must be 1 to 16, got {}",
+                self.count
+            )));
+        }
+        if !(self.helix >= 0.0 && self.helix < 60f64.to_radians()) {
+            return Err(ToolError::Dimension(format!(
+                "helix must be at least 0 and below 60 degrees, got {} degrees",
+                self.helix.to_degrees()
+            )));
+        }
+        if !(self.rake >= -30f64.to_radians() && self.rake <= 45f64.to_radians()) {
+            return Err(ToolError::Dimension(format!(
+                "rake must be between -30 and 45 degrees, got {} degrees",
+                self.rake.to_degrees()
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// Why a cutter or a tool spec is invalid.
@@ -96,6 +143,7 @@ impl Cutter {
             shank_diameter: diameter,
             overall_length: 0.0,
             holder: Vec::new(),
+            flutes: None,
         };
         c.validate_profile()?;
         c.flute_length = (3.0 * diameter).max(c.profile_height());
@@ -130,6 +178,9 @@ impl Cutter {
         for (i, h) in self.holder.iter().enumerate() {
             positive(&format!("holder section {} diameter", i + 1), h.diameter)?;
             positive(&format!("holder section {} length", i + 1), h.length)?;
+        }
+        if let Some(f) = &self.flutes {
+            f.validate()?;
         }
         Ok(())
     }

@@ -1,8 +1,10 @@
 //! The command line's tool SPEC: `ball:d=6`, `flat:d=10`, `bull:d=10,r=2`,
 //! `cone:d=10,angle=45` (half-angle in degrees), each optionally followed by `,flute=20`,
-//! `,shank=8`, `,length=60` (overall) and `,holder=DxL+DxL` (holder cylinders, bottom up).
+//! `,shank=8`, `,length=60` (overall) and `,holder=DxL+DxL` (holder cylinders, bottom up), and
+//! for the cutting-force model `,flutes=N`, `,helix=DEG`, `,rake=DEG` (any of them given makes
+//! the cutter carry [`Flutes`]; helix defaults to 30°, rake to 0°, flutes must be given).
 
-use super::{Cutter, CutterKind, HolderSection, ToolError};
+use super::{Cutter, CutterKind, Flutes, HolderSection, ToolError};
 
 /// Parse a tool SPEC into a validated [`Cutter`].
 ///
@@ -29,9 +31,15 @@ pub fn parse_tool_spec(spec: &str) -> Result<Cutter, ToolError> {
         fields.push((k, v.trim()));
     }
     let allowed: &[&str] = match kind.trim() {
-        "ball" | "flat" => &["d", "flute", "shank", "length", "holder"],
-        "bull" => &["d", "r", "flute", "shank", "length", "holder"],
-        "cone" => &["d", "angle", "flute", "shank", "length", "holder"],
+        "ball" | "flat" => &[
+            "d", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
+        "bull" => &[
+            "d", "r", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
+        "cone" => &[
+            "d", "angle", "flute", "shank", "length", "holder", "flutes", "helix", "rake",
+        ],
         other => {
             return Err(err(format!(
                 "unknown tool kind '{other}' (kinds: ball, flat, bull, cone)"
@@ -80,8 +88,41 @@ pub fn parse_tool_spec(spec: &str) -> Result<Cutter, ToolError> {
     if let Some((_, h)) = fields.iter().find(|(k, _)| *k == "holder") {
         cutter.holder = parse_holder(h).map_err(err)?;
     }
+    cutter.flutes = parse_flutes(&number)?;
+    if cutter.flutes.is_some() && matches!(cutter.kind, CutterKind::Cone { .. }) {
+        return Err(err(
+            "flutes=, helix=, rake= are for flat, ball and bull cutters".into(),
+        ));
+    }
     cutter.validate()?;
     Ok(cutter)
+}
+
+/// `flutes=N,helix=DEG,rake=DEG` into [`Flutes`]; `None` when none of them is given.
+fn parse_flutes(
+    number: &dyn Fn(&str) -> Result<Option<f64>, ToolError>,
+) -> Result<Option<Flutes>, ToolError> {
+    let (count, helix, rake) = (number("flutes")?, number("helix")?, number("rake")?);
+    if count.is_none() && helix.is_none() && rake.is_none() {
+        return Ok(None);
+    }
+    let count = count.ok_or_else(|| {
+        ToolError::Dimension("helix= or rake= needs flutes=N (the number of flutes)".into())
+    })?;
+    if !(count.fract() == 0.0 && (1.0..=16.0).contains(&count)) {
+        return Err(ToolError::Dimension(format!(
+            "flutes must be a whole number from 1 to 16, got {count}"
+        )));
+    }
+    let flutes = Flutes {
+        // Exact: a whole number in 1..=16.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        count: count as u32,
+        helix: helix.map_or(Flutes::DEFAULT_HELIX, f64::to_radians),
+        rake: rake.unwrap_or(0.0).to_radians(),
+    };
+    flutes.validate()?;
+    Ok(Some(flutes))
 }
 
 /// The spec string of `cutter` (`bull:d=10,r=2,flute=20,shank=10,length=70,holder=40x60`):
@@ -113,6 +154,14 @@ pub fn tool_spec(cutter: &Cutter) -> String {
             .map(|h| format!("{}x{}", h.diameter, h.length))
             .collect();
         s.push_str(&format!(",holder={}", sections.join("+")));
+    }
+    if let Some(f) = &cutter.flutes {
+        s.push_str(&format!(
+            ",flutes={},helix={},rake={}",
+            f.count,
+            f.helix.to_degrees(),
+            f.rake.to_degrees()
+        ));
     }
     s
 }
@@ -178,6 +227,34 @@ mod tests {
             assert_eq!(back.shank_diameter, c.shank_diameter, "{written}");
             assert_eq!(back.overall_length, c.overall_length, "{written}");
             assert_eq!(back.holder, c.holder, "{written}");
+            assert_eq!(back.flutes, None, "{written}");
+            assert!(!written.contains("flutes"), "{written}");
+        }
+    }
+
+    #[test]
+    fn flute_geometry() {
+        let c = parse_tool_spec("flat:d=12,flutes=2,helix=30,rake=15").expect("flat");
+        let f = c.flutes.expect("flutes");
+        assert_eq!(f.count, 2);
+        assert!((f.helix - 30f64.to_radians()).abs() < 1e-15);
+        assert!((f.rake - 15f64.to_radians()).abs() < 1e-15);
+        let back = parse_tool_spec(&tool_spec(&c)).expect("round trip");
+        let g = back.flutes.expect("flutes back");
+        assert_eq!(g.count, 2);
+        assert!((g.helix - f.helix).abs() < 1e-12 && (g.rake - f.rake).abs() < 1e-12);
+        let d = parse_tool_spec("ball:d=6,flutes=3").expect("defaults");
+        let f = d.flutes.expect("flutes");
+        assert!((f.helix - 30f64.to_radians()).abs() < 1e-15 && f.rake == 0.0);
+        for bad in [
+            "flat:d=12,helix=30",
+            "flat:d=12,flutes=2.5",
+            "flat:d=12,flutes=0",
+            "flat:d=12,flutes=2,helix=70",
+            "flat:d=12,flutes=2,rake=50",
+            "cone:d=10,angle=45,flutes=2",
+        ] {
+            assert!(parse_tool_spec(bad).is_err(), "{bad}");
         }
     }
 

@@ -1,0 +1,264 @@
+//! `talas forces --cut` and `talas calibrate`: the JSON contracts, the seeded coefficient
+//! library, and bad input (one line naming the file or option, exit 2).
+
+use std::process::Command;
+
+use serde_json::Value;
+
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/force/");
+const LIBRARY: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/force/coefficients.toml"
+);
+
+fn talas(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(args)
+        .output()
+        .expect("run talas");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn talas_json(args: &[&str]) -> Value {
+    let (code, out, err) = talas(args);
+    assert_eq!(code, 0, "talas {args:?}: {err}");
+    serde_json::from_str(&out).expect("one JSON document")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().expect("number")
+}
+
+#[test]
+fn seeded_library_is_the_table_8_4_calibration() {
+    let table = format!("{DATA}table_8_4.csv");
+    let lib = talas::force::library::Library::load(std::path::Path::new(LIBRARY)).expect("asset");
+    for mode in ["up", "down"] {
+        let doc = talas_json(&[
+            "calibrate",
+            &table,
+            "--model",
+            "linear",
+            "--mode",
+            mode,
+            "--json",
+        ]);
+        assert_eq!(doc["tests"], 6);
+        let entry = lib.entries.iter().find(|e| e.mode == mode).expect("entry");
+        let c = &doc["coefficients"];
+        for (key, stored) in [
+            ("ktc_n_mm2", entry.ktc_n_mm2),
+            ("krc_n_mm2", entry.krc_n_mm2),
+            ("kte_n_mm", entry.kte_n_mm),
+            ("kre_n_mm", entry.kre_n_mm),
+        ] {
+            let (a, b) = (f(&c[key]), stored.expect(key));
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "{mode} {key}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn forces_of_table_8_4_test_1() {
+    // Test 1 of Table 8.4/8.5: D = 12, 2 flutes, helix 30°, rake 15°, up milling, a_r = 6,
+    // a_a = 18, f_t = 0.04; measured mean F_x −130.6, F_y 277 N; peaks −343.4, 525.4 N.
+    let doc = talas_json(&[
+        "forces",
+        "--cut",
+        "ae=6,ap=18,ft=0.04,mode=up",
+        "--tool",
+        "flat:d=12,flutes=2,helix=30,rake=15,flute=48,length=60",
+        "--coefficients",
+        LIBRARY,
+        "--overhang",
+        "48",
+        "--rpm",
+        "795.8",
+        "--json",
+    ]);
+    let (mx, my) = (f(&doc["mean"]["fx"]), f(&doc["mean"]["fy"]));
+    assert!((mx + 130.6).abs() < 0.15 * 130.6, "mean fx {mx}");
+    assert!((my - 277.0).abs() < 0.1 * 277.0, "mean fy {my}");
+    let (px, py) = (f(&doc["peak"]["fx"]), f(&doc["peak"]["fy"]));
+    assert!(px < mx && px > -343.4, "peak fx {px}");
+    assert!((py - 525.4).abs() < 0.1 * 525.4, "peak fy {py}");
+    assert!(f(&doc["form_error_um"]) < 0.0, "up milling overcuts");
+    assert!(f(&doc["mean_power_w"]) > 0.0);
+    // Without --overhang there is no form error; down milling undercuts.
+    let doc = talas_json(&[
+        "forces",
+        "--cut",
+        "ae=6,ap=18,ft=0.04,mode=down",
+        "--tool",
+        "flat:d=12,flutes=2,helix=30,rake=5",
+        "--coefficients",
+        LIBRARY,
+        "--json",
+    ]);
+    assert!(doc["form_error_um"].is_null());
+    let doc = talas_json(&[
+        "forces",
+        "--cut",
+        "ae=6,ap=18,ft=0.04,mode=down",
+        "--tool",
+        "flat:d=12,flutes=2,helix=30,rake=5",
+        "--coefficients",
+        LIBRARY,
+        "--overhang",
+        "48",
+        "--json",
+    ]);
+    assert!(f(&doc["form_error_um"]) > 0.0, "down milling undercuts");
+    // The human summary carries units.
+    let (code, out, _) = talas(&[
+        "forces",
+        "--cut",
+        "mode=slot,ap=5,ft=0.05",
+        "--tool",
+        "flat:d=12,flutes=3",
+        "--coefficients",
+        LIBRARY,
+        "--material",
+        "al7075-t651",
+    ]);
+    assert_eq!(code, 2, "no slot entry in the library: {out}");
+}
+
+#[test]
+fn calibrate_writes_a_library_forces_reads() {
+    let dir = std::env::temp_dir().join(format!("talas-force-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = dir.join("coef.toml");
+    let table = format!("{DATA}table_8_4.csv");
+    let doc = talas_json(&[
+        "calibrate",
+        &table,
+        "--model",
+        "exponential",
+        "--mode",
+        "down",
+        "-o",
+        out.to_str().expect("path"),
+        "--material",
+        "Al7075-T651",
+        "--json",
+    ]);
+    assert_eq!(doc["coefficients"]["model"], "exponential");
+    assert!(f(&doc["mean_error_pct"]["fy"]) < 15.0, "{doc}");
+    let forces = talas_json(&[
+        "forces",
+        "--cut",
+        "ae=4,ap=12,ft=0.08,mode=down",
+        "--tool",
+        "flat:d=8,flutes=2,helix=30,rake=15",
+        "--coefficients",
+        out.to_str().expect("path"),
+        "--json",
+    ]);
+    assert_eq!(forces["model"], "exponential");
+    // Test 11: measured mean F_y 373 N.
+    assert!(
+        (f(&forces["mean"]["fy"]) - 373.0).abs() < 0.2 * 373.0,
+        "{forces}"
+    );
+    let (code, human, _) = talas(&["calibrate", &table, "--model", "linear"]);
+    assert_eq!(code, 0);
+    assert!(
+        human.contains("ktc_n_mm2") && human.contains('%'),
+        "{human}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_input_is_one_line_and_exit_2() {
+    let dir = std::env::temp_dir().join(format!("talas-force-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let csv = dir.join("bad.csv");
+    std::fs::write(&csv, "d_mm,flutes,helix_deg,rake_deg,mode,ae_mm,ap_mm,ft_mm,fx_n,fy_n\n12,2,30,15,up,6,18,0.04,-130,277\n12,2,30,15,up,6,x,0.08,-260,520\n").expect("write");
+    let lib = dir.join("lib.toml");
+    std::fs::write(
+        &lib,
+        "[[entry]]\nmaterial = \"x\"\nmodel = \"linear\"\nktc_n_mm2 = \"a\"\n",
+    )
+    .expect("write");
+    let csv_s = csv.to_str().expect("path");
+    let lib_s = lib.to_str().expect("path");
+    for (args, needle) in [
+        (vec!["calibrate", csv_s, "--model", "linear"], "line 3"),
+        (
+            vec![
+                "forces",
+                "--cut",
+                "ae=6,ap=18,ft=0.04",
+                "--tool",
+                "flat:d=12,flutes=2",
+                "--coefficients",
+                LIBRARY,
+            ],
+            "--cut",
+        ),
+        (
+            vec![
+                "forces",
+                "--cut",
+                "ae=16,ap=18,ft=0.04,mode=up",
+                "--tool",
+                "flat:d=12,flutes=2",
+                "--coefficients",
+                LIBRARY,
+            ],
+            "radial depth",
+        ),
+        (
+            vec![
+                "forces",
+                "--cut",
+                "ae=6,ap=18,ft=0.04,mode=up",
+                "--tool",
+                "flat:d=12",
+                "--coefficients",
+                LIBRARY,
+            ],
+            "flutes=N",
+        ),
+        (
+            vec![
+                "forces",
+                "--cut",
+                "ae=6,ap=18,ft=0.04,mode=up",
+                "--tool",
+                "flat:d=12,flutes=2",
+                "--coefficients",
+                lib_s,
+            ],
+            "line 4",
+        ),
+        (
+            vec![
+                "forces",
+                "--cut",
+                "ae=6,ap=18,ft=0.04,mode=up",
+                "--tool",
+                "flat:d=12,flutes=2",
+                "--coefficients",
+                LIBRARY,
+                "--overhang=-3",
+            ],
+            "overhang",
+        ),
+    ] {
+        let (code, out, err) = talas(&args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
