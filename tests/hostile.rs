@@ -346,7 +346,10 @@ fn a_part_in_metres_or_kilometres_tessellates_within_a_budget() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp"),
     )
     .unwrap();
-    for (unit, name) in [("SI_UNIT($,.METRE.)", "m.stp"), ("SI_UNIT(.KILO.,.METRE.)", "km.stp")] {
+    for (unit, name) in [
+        ("SI_UNIT($,.METRE.)", "m.stp"),
+        ("SI_UNIT(.KILO.,.METRE.)", "km.stp"),
+    ] {
         let scaled = text.replacen("SI_UNIT(.MILLI.,.METRE.)", unit, 1);
         assert_ne!(scaled, text);
         let p = temp(name);
@@ -357,7 +360,9 @@ fn a_part_in_metres_or_kilometres_tessellates_within_a_budget() {
         let triangles = doc["triangles"].as_u64().unwrap();
         assert!(triangles < 2_000_000, "{name}: {triangles} triangles");
         assert!(
-            doc["diagnostics"].to_string().contains("chord tolerance raised"),
+            doc["diagnostics"]
+                .to_string()
+                .contains("chord tolerance raised"),
             "{name}: {}",
             doc["diagnostics"]
         );
@@ -407,7 +412,10 @@ fn meshes_far_out_or_without_area_and_files_without_faces_are_reported() {
     let out = assert_clean(&["inspect", points.to_str().unwrap()], "points.stp");
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("2 CARTESIAN_POINT") && stderr.contains("1 DIRECTION"), "{stderr}");
+    assert!(
+        stderr.contains("2 CARTESIAN_POINT") && stderr.contains("1 DIRECTION"),
+        "{stderr}"
+    );
 }
 
 /// The done-when of "reading what other programs write": a path with only the spec, null rapid
@@ -445,13 +453,24 @@ fn a_foreign_path_posts_and_simulates_like_the_path_talas_writes() {
             ],
             Duration::from_secs(10),
         );
-        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-        (std::fs::read_to_string(out).unwrap(), String::from_utf8_lossy(&o.stderr).to_string())
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        (
+            std::fs::read_to_string(out).unwrap(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
     };
     let (a, warnings) = post(&foreign, "foreign.nc");
     let (b, none) = post(&native, "native.nc");
     assert_eq!(a, b);
-    assert!(warnings.contains("unknown key 'generator' ignored"), "{warnings}");
+    assert!(
+        warnings.contains("unknown key 'generator' ignored"),
+        "{warnings}"
+    );
     assert!(none.is_empty(), "{none}");
     let removed = |input: &Path| {
         let out = assert_clean(

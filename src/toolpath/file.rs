@@ -20,7 +20,7 @@
 use glam::DVec3;
 
 use super::{ContactKind, GougeReport, MoveKind, Pose, ToolRecord, Toolpath, ToolpathError};
-use crate::tools::{Cutter, CutterKind, HolderSection, parse_tool_spec, tool_spec};
+use crate::tools::{Cutter, CutterKind, Flutes, HolderSection, parse_tool_spec, tool_spec};
 
 /// A tool path file as read (everything optional that has an obvious default).
 #[derive(serde::Deserialize, schemars::JsonSchema)]
@@ -74,6 +74,9 @@ pub struct ToolFile {
     /// Holder cylinders from the bottom up.
     #[serde(default)]
     pub holder: Option<Vec<HolderSection>>,
+    /// Flute count, helix and rake (rad), for the cutting-force model.
+    #[serde(default)]
+    pub flutes: Option<Flutes>,
 }
 
 /// One pose as read.
@@ -201,6 +204,7 @@ fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
         if let Some(h) = &t.holder {
             cutter.holder.clone_from(h);
         }
+        cutter.flutes = t.flutes;
         cutter.validate().map_err(|e| e.to_string())?;
         return Ok(ToolRecord {
             spec: tool_spec(&cutter),
@@ -232,6 +236,14 @@ fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
             "kind {kind:?} disagrees with the spec '{spec}' ({:?})",
             cutter.kind
         ));
+    }
+    if let Some(f) = t.flutes {
+        let agree = cutter
+            .flutes
+            .is_some_and(|c| c.count == f.count && same(c.helix, f.helix) && same(c.rake, f.rake));
+        if !agree {
+            return Err(format!("flutes disagree with the spec '{spec}'"));
+        }
     }
     if let Some(h) = &t.holder {
         let agree = h.len() == cutter.holder.len()

@@ -182,3 +182,26 @@ fn the_published_schema_is_the_one_the_reader_uses() {
         .collect();
     assert_eq!(required, ["tool", "poses"]);
 }
+
+#[test]
+fn a_tool_with_flutes_round_trips_without_warnings() {
+    let spec = "flat:d=12,flutes=2,helix=30,rake=15";
+    let cutter = parse_tool_spec(spec).unwrap();
+    let tp = Toolpath::new(
+        ToolRecord {
+            spec: spec.into(),
+            cutter,
+        },
+        vec![Pose::new(MoveKind::Rapid, DVec3::Z, DVec3::Z, 0.0)],
+    );
+    let (again, warnings) =
+        Toolpath::from_json_with_warnings(&tp.to_json().unwrap(), "f.json").unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(again, tp);
+    let e = Toolpath::from_json(
+        r#"{"tool": {"spec": "flat:d=12,flutes=2", "flutes": {"count": 3, "helix": 0.5, "rake": 0}}, "poses": []}"#,
+        "f.json",
+    )
+    .unwrap_err();
+    assert!(e.message.contains("flutes"), "{e}");
+}

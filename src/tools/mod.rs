@@ -71,7 +71,9 @@ pub struct Cutter {
 
 /// The cutting edges of a helical end mill: what the cutting-force model needs beyond the
 /// profile.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct Flutes {
     /// Number of flutes (1 to 16), evenly pitched.
     pub count: u32,
