@@ -46,6 +46,7 @@ pub mod geometry;
 pub mod import;
 pub mod machine;
 pub mod post;
+pub mod profile;
 pub mod project;
 pub mod reduce;
 pub mod simulation;

@@ -7,6 +7,7 @@ pub mod inspect;
 pub mod plan;
 pub mod plan_mesh;
 pub mod post;
+pub mod profile;
 pub mod reduce;
 pub mod render;
 pub mod simulate;
@@ -55,6 +56,9 @@ pub enum Command {
     /// Material removal on a dexel stock: removed volume, deviation from the part,
     /// collisions, time.
     Simulate(simulate::SimulateArgs),
+    /// Ball-electrode (EDM) path of a 2D profile: exact offset, plunges and side collisions
+    /// of the per-point method, largest gouge-free radius, G-code.
+    Profile(profile::ProfileArgs),
     /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
     /// renderer (builds with the `gui` feature).
     Render(render::RenderArgs),
@@ -120,6 +124,20 @@ pub fn run(command: Command) -> i32 {
         Command::Simulate(args) => {
             report(simulate::simulate_cmd(&args), args.json, simulate::human)
         }
+        Command::Profile(args) => match profile::profile(&args) {
+            Ok(doc) => {
+                if args.json {
+                    println!("{doc}");
+                } else {
+                    print!("{}", profile::human(&doc));
+                }
+                0
+            }
+            Err(e) => {
+                eprintln!("talas: {e}");
+                EXIT_BAD_INPUT
+            }
+        },
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),
     }
