@@ -202,7 +202,14 @@ fn from_pline(
         .collect();
     // Elements shorter than the matching tolerance are slivers the library left where slices
     // meet (a few 1e-6 of the size): the vertex after one is dropped.
-    raw.dedup_by(|b, a| (b.0 - a.0).length() <= eps);
+    // The kept vertex takes the dropped one's bulge: the element leaving it is the real one.
+    raw.dedup_by(|b, a| {
+        let close = (b.0 - a.0).length() <= eps;
+        if close {
+            a.1 = b.1;
+        }
+        close
+    });
     if r.is_closed() && raw.len() > 1 && raw.first().zip(raw.last()).is_some_and(|(f, l)| (f.0 - l.0).length() <= eps) {
         raw.pop();
     }
