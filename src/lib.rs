@@ -26,7 +26,7 @@
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
 //! | L2 | [`toolpath`] |
 //! | L3 | [`reduce`] |
-//! | L4 | [`post`], [`feed`] |
+//! | L4 | [`post`], [`feed`], [`profile`] |
 //! | L5 | [`project`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |

@@ -108,16 +108,26 @@ pub fn profile(args: &ProfileArgs) -> Result<serde_json::Value, ProfileError> {
         side: args.side.into(),
         gouge_tolerance_mm: args.gouge_tolerance,
     };
-    let result = compute_opt(&prof, &opts).map_err(|e| ProfileError { file: file.clone(), ..e })?;
+    let result = compute_opt(&prof, &opts).map_err(|e| ProfileError {
+        file: file.clone(),
+        ..e
+    })?;
     if result.paths.is_empty() {
         return Err(ProfileError::new(
             &file,
             "radius",
-            format!("an electrode of radius {} mm fits nowhere on the free side", args.radius),
+            format!(
+                "an electrode of radius {} mm fits nowhere on the free side",
+                args.radius
+            ),
         ));
     }
     if !(args.feed > 0.0 && args.feed.is_finite()) {
-        return Err(ProfileError::new(&file, "--feed", format!("{} mm/min must be positive", args.feed)));
+        return Err(ProfileError::new(
+            &file,
+            "--feed",
+            format!("{} mm/min must be positive", args.feed),
+        ));
     }
     if let Some(out) = &args.output {
         let dialect = Dialect::resolve(&args.dialect)
@@ -189,7 +199,11 @@ pub fn document(r: &ProfileResult) -> serde_json::Value {
 #[must_use]
 pub fn human(doc: &serde_json::Value) -> String {
     let n = |k: &str| doc[k].as_array().map_or(0, Vec::len);
-    let radius = |k: &str| doc[k].as_f64().map_or("none".to_string(), |v| format!("{v:.6} mm"));
+    let radius = |k: &str| {
+        doc[k]
+            .as_f64()
+            .map_or("none".to_string(), |v| format!("{v:.6} mm"))
+    };
     format!(
         "centre path: {} vertices in {} piece(s), side {}\nplunges of the per-point path: {}\nside collisions of the per-point path: {}\nlargest gouge-free radius: {}\nsmallest sampled concave radius: {}\nlargest |distance - R| of the path: {:.3e} mm\n",
         n("cl"),

@@ -107,7 +107,11 @@ pub struct ProfileResult {
 ///
 /// # Errors
 /// As [`compute_opt`].
-pub fn compute(profile: &Profile, radius_mm: f64, side: Side) -> Result<ProfileResult, ProfileError> {
+pub fn compute(
+    profile: &Profile,
+    radius_mm: f64,
+    side: Side,
+) -> Result<ProfileResult, ProfileError> {
     compute_opt(profile, &ProfileOptions::new(radius_mm, side))
 }
 
@@ -118,7 +122,10 @@ pub fn compute(profile: &Profile, radius_mm: f64, side: Side) -> Result<ProfileR
 /// [`ProfileError`] for an invalid profile, a radius outside (0, 10⁶] mm, a negative or
 /// non-finite tolerance, a side that does not fit the profile, or duplicate neighbours that
 /// leave a point without a normal.
-pub fn compute_opt(profile: &Profile, opts: &ProfileOptions) -> Result<ProfileResult, ProfileError> {
+pub fn compute_opt(
+    profile: &Profile,
+    opts: &ProfileOptions,
+) -> Result<ProfileResult, ProfileError> {
     profile.validate("<memory>")?;
     let r = opts.radius_mm;
     if !(r > 0.0 && r <= super::MAX_COORD_MM) {
@@ -192,7 +199,11 @@ fn naive_path(
             // The profile turns back on itself here (the tip of a zero-width slit): the free
             // side is straight ahead, so the tangent is turned from the incoming direction.
             let incoming = (pos(i) - pos(prev)).normalize_or_zero();
-            t = if left { -incoming.perp() } else { incoming.perp() };
+            t = if left {
+                -incoming.perp()
+            } else {
+                incoming.perp()
+            };
         }
         if t == DVec2::ZERO {
             return Err(ProfileError::new(
@@ -252,7 +263,15 @@ fn turn(a: DVec2, b: DVec2) -> f64 {
 /// True when the profile from point `i` to parameter `t` of element `j` turns only toward the
 /// free side and by less than π in all: the gouged part belongs to the concave neighbourhood
 /// of the point (a plunge). Both directions are tried on a closed profile.
-fn is_local(profile: &Profile, elements: &[Element], tangent: DVec2, i: usize, j: usize, t: f64, left: bool) -> bool {
+fn is_local(
+    profile: &Profile,
+    elements: &[Element],
+    tangent: DVec2,
+    i: usize,
+    j: usize,
+    t: f64,
+    left: bool,
+) -> bool {
     let n = elements.len();
     let mut walks: Vec<(bool, usize)> = Vec::new();
     if profile.closed {
@@ -301,7 +320,13 @@ fn concave_walk(
             (false, false) => (1.0, 0.0),
             (false, true) => (1.0, t_end),
         };
-        let oriented = |t: f64| if forward { e.tangent_at(t) } else { -e.tangent_at(t) };
+        let oriented = |t: f64| {
+            if forward {
+                e.tangent_at(t)
+            } else {
+                -e.tangent_at(t)
+            }
+        };
         let corner = sign * turn(dir, oriented(t0));
         let along = sign * turn_along(e, t0, t1, forward);
         if corner < -eps || along < -eps {
@@ -347,7 +372,11 @@ fn flags(
             continue;
         }
         // The naïve tangent the normal was turned from.
-        let tangent = if left { -np.normal.perp() } else { np.normal.perp() };
+        let tangent = if left {
+            -np.normal.perp()
+        } else {
+            np.normal.perp()
+        };
         let mut by_kind: [Option<Flag>; 2] = [None, None];
         for (j, e) in elements.iter().enumerate() {
             let (q, t) = e.closest(np.centre);
@@ -356,13 +385,19 @@ fn flags(
                 continue;
             }
             let local = is_local(profile, elements, tangent, i, j, t, left);
-            let kind = if local { FlagKind::Plunge } else { FlagKind::Collision };
+            let kind = if local {
+                FlagKind::Plunge
+            } else {
+                FlagKind::Collision
+            };
             let base = starts.get(j).copied().unwrap_or(0.0);
             let len = lengths.get(j).copied().unwrap_or(0.0);
             let spans = e.inside_disc(np.centre, r, tol);
-            let (s0, s1) = spans.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |acc, &(a, b)| {
-                (acc.0.min(base + a * len), acc.1.max(base + b * len))
-            });
+            let (s0, s1) = spans
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |acc, &(a, b)| {
+                    (acc.0.min(base + a * len), acc.1.max(base + b * len))
+                });
             let slot = &mut by_kind[usize::from(!local)];
             match slot {
                 Some(f) => {

@@ -140,11 +140,7 @@ impl Element {
     /// Parameter t ∈ [0, 1] of the angle `ang` on an arc, when the angle is within the sweep.
     fn arc_param(start_rad: f64, sweep_rad: f64, ang: f64) -> Option<f64> {
         let d = (ang - start_rad).rem_euclid(TAU);
-        let d = if sweep_rad >= 0.0 {
-            d
-        } else {
-            (TAU - d) % TAU
-        };
+        let d = if sweep_rad >= 0.0 { d } else { (TAU - d) % TAU };
         let t = d / sweep_rad.abs();
         (t <= 1.0).then_some(t)
     }

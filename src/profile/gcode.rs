@@ -9,8 +9,8 @@
 use glam::{DVec2, DVec3};
 
 use super::element::{Element, closest_on};
-use super::{Profile, ProfileError};
 use super::offset::ClPath;
+use super::{Profile, ProfileError};
 use crate::gcode::Plane;
 use crate::post::Dialect;
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
@@ -139,7 +139,13 @@ impl Blocks<'_> {
     fn comment(&mut self, text: &str) {
         let clean: String = text
             .chars()
-            .map(|c| if matches!(c, '(' | ')' | '\n' | '\r' | ';') { ' ' } else { c })
+            .map(|c| {
+                if matches!(c, '(' | ')' | '\n' | '\r' | ';') {
+                    ' '
+                } else {
+                    c
+                }
+            })
             .collect();
         let line = format!("{}{}{}", self.d.comment_open, clean, self.d.comment_close);
         self.lines.push(line);
@@ -229,7 +235,11 @@ pub fn write_gcode(paths: &[ClPath], dialect: &Dialect, o: &GcodeOptions) -> Str
         let s = b.fill(t, o);
         b.block(&s);
     }
-    let arc_codes = if dialect.linear.len() > 2 { ("G02", "G03") } else { ("G2", "G3") };
+    let arc_codes = if dialect.linear.len() > 2 {
+        ("G02", "G03")
+    } else {
+        ("G2", "G3")
+    };
     for path in paths {
         piece(&mut b, path, o, arc_codes);
     }
@@ -254,7 +264,10 @@ fn piece(b: &mut Blocks<'_>, path: &ClPath, o: &GcodeOptions, arc_codes: (&str, 
     // Up to the clearance where we are, across at the clearance, down at the feed.
     if cur.iter().any(Option::is_some) {
         let here = DVec3::from_array(std::array::from_fn(|i| {
-            cur.get(i).and_then(|s| s.as_deref()).and_then(|s| s.parse().ok()).unwrap_or(0.0)
+            cur.get(i)
+                .and_then(|s| s.as_deref())
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(0.0)
         }));
         b.motion(&rapid, clear(here), &[], None);
     } else {
@@ -266,7 +279,12 @@ fn piece(b: &mut Blocks<'_>, path: &ClPath, o: &GcodeOptions, arc_codes: (&str, 
         let end = o.plane.to_machine(e.end(), o.fixed_mm);
         match e {
             Element::Line { .. } => b.motion(&linear, end, &[], Some(o.feed_mm_per_min)),
-            Element::Arc { a, centre, sweep_rad, .. } => {
+            Element::Arc {
+                a,
+                centre,
+                sweep_rad,
+                ..
+            } => {
                 let ccw = (sweep_rad > 0.0) == o.plane.keeps_sense();
                 let code = if ccw { arc_codes.1 } else { arc_codes.0 };
                 let off = o.plane.to_machine(centre - a, 0.0);
@@ -291,7 +309,10 @@ fn piece(b: &mut Blocks<'_>, path: &ClPath, o: &GcodeOptions, arc_codes: (&str, 
     }
     let end = b.last.clone();
     let here = DVec3::from_array(std::array::from_fn(|i| {
-        end.get(i).and_then(|s| s.as_deref()).and_then(|s| s.parse().ok()).unwrap_or(0.0)
+        end.get(i)
+            .and_then(|s| s.as_deref())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0.0)
     }));
     b.motion(&rapid, clear(here), &[], None);
 }
@@ -310,7 +331,11 @@ pub fn to_toolpath(
 ) -> Result<Toolpath, ProfileError> {
     let r = o.radius_mm;
     if !(o.feed_mm_per_min > 0.0 && o.feed_mm_per_min.is_finite()) {
-        return Err(ProfileError::new("<memory>", "feed", format!("{} mm/min must be positive", o.feed_mm_per_min)));
+        return Err(ProfileError::new(
+            "<memory>",
+            "feed",
+            format!("{} mm/min must be positive", o.feed_mm_per_min),
+        ));
     }
     let cutter = crate::tools::Cutter::new(crate::tools::CutterKind::Ball, 2.0 * r)
         .map_err(|e| ProfileError::new("<memory>", "radius", e.to_string()))?;
@@ -324,13 +349,23 @@ pub fn to_toolpath(
             continue;
         };
         let start = tip_of(first.centre);
-        poses.push(Pose::new(MoveKind::Rapid, DVec3::new(start.x, start.y, o.clearance_z_mm), DVec3::Z, 0.0));
+        poses.push(Pose::new(
+            MoveKind::Rapid,
+            DVec3::new(start.x, start.y, o.clearance_z_mm),
+            DVec3::Z,
+            0.0,
+        ));
         let cc0 = o.plane.to_machine(first.contact, o.fixed_mm);
-        poses.push(Pose::new(MoveKind::Plunge, start, DVec3::Z, o.feed_mm_per_min).with_contact(cc0, ContactKind::Ball));
+        poses.push(
+            Pose::new(MoveKind::Plunge, start, DVec3::Z, o.feed_mm_per_min)
+                .with_contact(cc0, ContactKind::Ball),
+        );
         for (k, e) in els.iter().enumerate() {
             let steps = match *e {
                 Element::Line { .. } => 1,
-                Element::Arc { radius, sweep_rad, .. } => {
+                Element::Arc {
+                    radius, sweep_rad, ..
+                } => {
                     let tol = chord_tol_mm.clamp(1e-9, radius);
                     let step = 2.0 * (1.0 - tol / radius).clamp(-1.0, 1.0).acos();
                     ((sweep_rad.abs() / step.max(1e-6)).ceil() as usize).clamp(1, 100_000)
@@ -346,11 +381,19 @@ pub fn to_toolpath(
                     closest_on(&profile_elements, c).map_or(c, |q| q.2)
                 };
                 let cc = o.plane.to_machine(contact, o.fixed_mm);
-                poses.push(Pose::new(MoveKind::Cut, tip_of(c), DVec3::Z, o.feed_mm_per_min).with_contact(cc, ContactKind::Ball));
+                poses.push(
+                    Pose::new(MoveKind::Cut, tip_of(c), DVec3::Z, o.feed_mm_per_min)
+                        .with_contact(cc, ContactKind::Ball),
+                );
             }
         }
         if let Some(last) = poses.last().copied() {
-            poses.push(Pose::new(MoveKind::Rapid, DVec3::new(last.tip.x, last.tip.y, o.clearance_z_mm), DVec3::Z, 0.0));
+            poses.push(Pose::new(
+                MoveKind::Rapid,
+                DVec3::new(last.tip.x, last.tip.y, o.clearance_z_mm),
+                DVec3::Z,
+                0.0,
+            ));
         }
     }
     let tool = ToolRecord {

@@ -31,7 +31,9 @@ mod read;
 mod read_svg;
 mod write;
 
-pub use analysis::{Flag, FlagKind, NaivePoint, ProfileOptions, ProfileResult, compute, compute_opt};
+pub use analysis::{
+    Flag, FlagKind, NaivePoint, ProfileOptions, ProfileResult, compute, compute_opt,
+};
 pub use element::{Element, distance_to_profile};
 pub use gcode::{GcodeOptions, ProfilePlane, to_toolpath, write_gcode};
 pub use offset::{ClPath, ClVertex, Side};

@@ -12,9 +12,9 @@ use cavalier_contours::polyline::{
 };
 use glam::DVec2;
 
+use super::Profile;
 use super::element::{Element, closest_on};
 use super::polish::polish;
-use super::Profile;
 
 /// Extent the profile is scaled to before offsetting.
 const NORMALISED_EXTENT: f64 = 100.0;
@@ -173,7 +173,12 @@ pub fn offset_paths(profile: &Profile, radius_mm: f64, left: bool) -> Vec<ClPath
 }
 
 /// The exact offsets of an open profile's end points (none for a closed profile).
-fn end_offsets(profile: &Profile, elements: &[Element], radius: f64, left: bool) -> [Option<DVec2>; 2] {
+fn end_offsets(
+    profile: &Profile,
+    elements: &[Element],
+    radius: f64,
+    left: bool,
+) -> [Option<DVec2>; 2] {
     if profile.closed {
         return [None, None];
     }
@@ -210,7 +215,13 @@ fn from_pline(
         }
         close
     });
-    if r.is_closed() && raw.len() > 1 && raw.first().zip(raw.last()).is_some_and(|(f, l)| (f.0 - l.0).length() <= eps) {
+    if r.is_closed()
+        && raw.len() > 1
+        && raw
+            .first()
+            .zip(raw.last())
+            .is_some_and(|(f, l)| (f.0 - l.0).length() <= eps)
+    {
         raw.pop();
     }
     polish(&mut raw, r.is_closed(), elements, radius_mm, ends, eps);

@@ -30,7 +30,11 @@ impl Carrier {
             Self::Line { p, d } => p + d * (q - p).dot(d),
             Self::Circle { c, r } => {
                 let v = q - c;
-                if v.length() > 0.0 { c + v.normalize() * r } else { q }
+                if v.length() > 0.0 {
+                    c + v.normalize() * r
+                } else {
+                    q
+                }
             }
         }
     }
@@ -56,9 +60,16 @@ fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Ca
                 ((mid - off).perp_dot(pd).abs() <= eps).then_some(Carrier::Line { p: off, d: pd })
             })
         }
-        Element::Arc { centre, radius: r, .. } => {
+        Element::Arc {
+            centre, radius: r, ..
+        } => {
             let arc = profile.iter().find_map(|pe| {
-                let Element::Arc { centre: pc, radius: pr, .. } = *pe else {
+                let Element::Arc {
+                    centre: pc,
+                    radius: pr,
+                    ..
+                } = *pe
+                else {
                     return None;
                 };
                 if (pc - centre).length() > eps {
@@ -70,10 +81,13 @@ fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Ca
                     .map(|rr| Carrier::Circle { c: pc, r: rr })
             });
             arc.or_else(|| {
-                profile.iter().flat_map(|pe| [pe.start(), pe.end()]).find_map(|v| {
-                    ((v - centre).length() <= eps && (r - radius).abs() <= eps)
-                        .then_some(Carrier::Circle { c: v, r: radius })
-                })
+                profile
+                    .iter()
+                    .flat_map(|pe| [pe.start(), pe.end()])
+                    .find_map(|v| {
+                        ((v - centre).length() <= eps && (r - radius).abs() <= eps)
+                            .then_some(Carrier::Circle { c: v, r: radius })
+                    })
             })
         }
     }
@@ -106,7 +120,11 @@ fn meet(a: Carrier, b: Carrier, q: DVec2, eps: f64) -> Option<DVec2> {
                 } else {
                     let p1 = big_c + u * big_r;
                     let p2 = big_c - u * big_r;
-                    if (p1 - q).length() <= (p2 - q).length() { p1 } else { p2 }
+                    if (p1 - q).length() <= (p2 - q).length() {
+                        p1
+                    } else {
+                        p2
+                    }
                 }
             }
             (Carrier::Line { .. }, Carrier::Line { .. }) => a.project(q),
@@ -127,7 +145,8 @@ fn crossing(a: Carrier, b: Carrier, q: DVec2) -> Option<DVec2> {
             }
             vec![p + d * ((p2 - p).perp_dot(d2) / den)]
         }
-        (Carrier::Line { p, d }, Carrier::Circle { c, r }) | (Carrier::Circle { c, r }, Carrier::Line { p, d }) => {
+        (Carrier::Line { p, d }, Carrier::Circle { c, r })
+        | (Carrier::Circle { c, r }, Carrier::Line { p, d }) => {
             let foot = p + d * (c - p).dot(d);
             let h2 = r * r - (foot - c).length_squared();
             if h2 < 0.0 {
@@ -153,7 +172,9 @@ fn crossing(a: Carrier, b: Carrier, q: DVec2) -> Option<DVec2> {
             vec![base + u.perp() * h, base - u.perp() * h]
         }
     };
-    roots.into_iter().min_by(|x, y| (*x - q).length().total_cmp(&(*y - q).length()))
+    roots
+        .into_iter()
+        .min_by(|x, y| (*x - q).length().total_cmp(&(*y - q).length()))
 }
 
 /// Snaps the vertices `(position, bulge)` of one path piece onto the exact offset of
@@ -178,15 +199,34 @@ pub(super) fn polish(
             Some(Element::from_bulge(a, b, bulge))
         })
         .collect();
-    let carriers: Vec<Option<Carrier>> = elements.iter().map(|e| carrier(e, profile, radius, eps)).collect();
+    let carriers: Vec<Option<Carrier>> = elements
+        .iter()
+        .map(|e| carrier(e, profile, radius, eps))
+        .collect();
     for k in 0..n {
-        let Some(&(q, _)) = verts.get(k) else { continue };
-        let before = if k > 0 { carriers.get(k - 1).copied().flatten() } else if closed { carriers.get(m - 1).copied().flatten() } else { None };
-        let after = if k < m { carriers.get(k).copied().flatten() } else { None };
+        let Some(&(q, _)) = verts.get(k) else {
+            continue;
+        };
+        let before = if k > 0 {
+            carriers.get(k - 1).copied().flatten()
+        } else if closed {
+            carriers.get(m - 1).copied().flatten()
+        } else {
+            None
+        };
+        let after = if k < m {
+            carriers.get(k).copied().flatten()
+        } else {
+            None
+        };
         let snapped = match (before, after) {
             (Some(a), Some(b)) => meet(a, b, q, eps),
             (None, Some(c)) | (Some(c), None) => {
-                let end = ends.iter().flatten().copied().find(|e| (*e - q).length() <= eps);
+                let end = ends
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .find(|e| (*e - q).length() <= eps);
                 end.or_else(|| Some(c.project(q)).filter(|p| (*p - q).length() <= eps))
             }
             (None, None) => None,
@@ -196,7 +236,9 @@ pub(super) fn polish(
         }
     }
     for (i, c) in carriers.iter().enumerate() {
-        let Some(Carrier::Circle { c, .. }) = *c else { continue };
+        let Some(Carrier::Circle { c, .. }) = *c else {
+            continue;
+        };
         let (Some(&(a, bulge)), Some(&(b, _))) = (verts.get(i), verts.get((i + 1) % n)) else {
             continue;
         };

@@ -54,7 +54,11 @@ pub fn max_gouge_free_radius(profile: &Profile, left: bool) -> f64 {
     }
     let mut features: Vec<Feature> = (0..elements.len()).map(Feature::Elem).collect();
     let m = elements.len();
-    let joints = if profile.closed { m } else { m.saturating_sub(1) };
+    let joints = if profile.closed {
+        m
+    } else {
+        m.saturating_sub(1)
+    };
     for k in 0..joints {
         let (Some(a), Some(b)) = (elements.get(k), elements.get((k + 1) % m)) else {
             continue;
@@ -186,7 +190,10 @@ fn elem_elem(e: &Element, f: &Element) -> Vec<(DVec2, DVec2)> {
             if w == DVec2::ZERO {
                 return Vec::new();
             }
-            arc_points_along(f, w).into_iter().map(|q| (ft, q)).collect()
+            arc_points_along(f, w)
+                .into_iter()
+                .map(|q| (ft, q))
+                .collect()
         }
         (Element::Arc { .. }, Element::Line { .. }) => {
             elem_elem(f, e).into_iter().map(|(p, q)| (q, p)).collect()
@@ -245,8 +252,12 @@ fn concentric(e: &Element, f: &Element) -> Vec<(DVec2, DVec2)> {
     dirs.into_iter()
         .filter(|w| *w != DVec2::ZERO)
         .filter_map(|w| {
-            let p = arc_points_along(e, w).into_iter().find(|p| (*p - centre).dot(w) > 0.0)?;
-            let q = arc_points_along(f, w).into_iter().find(|q| (*q - centre).dot(w) > 0.0)?;
+            let p = arc_points_along(e, w)
+                .into_iter()
+                .find(|p| (*p - centre).dot(w) > 0.0)?;
+            let q = arc_points_along(f, w)
+                .into_iter()
+                .find(|q| (*q - centre).dot(w) > 0.0)?;
             Some((p, q))
         })
         .take(1)

@@ -43,14 +43,22 @@ impl ProfileFormat {
 pub fn read_profile(path: &Path, tolerance_mm: f64) -> Result<Profile, ProfileError> {
     let file = path.display().to_string();
     let format = ProfileFormat::of_path(path).ok_or_else(|| {
-        ProfileError::new(&file, "name", "unknown extension (expected .csv, .dxf or .svg)")
+        ProfileError::new(
+            &file,
+            "name",
+            "unknown extension (expected .csv, .dxf or .svg)",
+        )
     })?;
     let bytes = std::fs::read(path).map_err(|e| ProfileError::new(&file, "file", e.to_string()))?;
     let profile = match format {
         ProfileFormat::Dxf => parse_dxf(&bytes, &file)?,
         ProfileFormat::Csv | ProfileFormat::Svg => {
             let text = String::from_utf8(bytes).map_err(|e| {
-                ProfileError::new(&file, format!("byte {}", e.utf8_error().valid_up_to()), "not UTF-8 text")
+                ProfileError::new(
+                    &file,
+                    format!("byte {}", e.utf8_error().valid_up_to()),
+                    "not UTF-8 text",
+                )
             })?;
             if format == ProfileFormat::Csv {
                 parse_csv(&text, &file)?
@@ -73,7 +81,11 @@ fn push_to(vertices: &mut Vec<Vertex>, b: DVec2, bulge: f64) {
             let half = (bulge.atan() / 2.0).tan();
             last.bulge = half;
             let m = e.point_at(0.5);
-            vertices.push(Vertex { x: m.x, y: m.y, bulge: half });
+            vertices.push(Vertex {
+                x: m.x,
+                y: m.y,
+                bulge: half,
+            });
         } else {
             last.bulge = bulge;
         }
@@ -139,17 +151,28 @@ pub fn parse_csv(text: &str, file: &str) -> Result<Profile, ProfileError> {
             return Err(ProfileError::new(
                 file,
                 place,
-                format!("expected x, y or x, y, bulge; found {} fields", fields.len()),
+                format!(
+                    "expected x, y or x, y, bulge; found {} fields",
+                    fields.len()
+                ),
             ));
         }
         let mut vals = [0.0; 3];
         for (i, (f, n)) in fields.iter().zip(&numbers).enumerate() {
             let name = ["x", "y", "bulge"].get(i).copied().unwrap_or("?");
             let v = n.ok_or_else(|| {
-                ProfileError::new(file, place.clone(), format!("{name} {:?} is not a number", f.trim()))
+                ProfileError::new(
+                    file,
+                    place.clone(),
+                    format!("{name} {:?} is not a number", f.trim()),
+                )
             })?;
             if !v.is_finite() {
-                return Err(ProfileError::new(file, place, format!("{name} is not finite")));
+                return Err(ProfileError::new(
+                    file,
+                    place,
+                    format!("{name} is not finite"),
+                ));
             }
             if let Some(slot) = vals.get_mut(i) {
                 *slot = v;
@@ -157,7 +180,11 @@ pub fn parse_csv(text: &str, file: &str) -> Result<Profile, ProfileError> {
         }
         let [x, y, bulge] = vals;
         if x.abs() > MAX_COORD_MM || y.abs() > MAX_COORD_MM {
-            return Err(ProfileError::new(file, place, format!("coordinate beyond ±{MAX_COORD_MM} mm")));
+            return Err(ProfileError::new(
+                file,
+                place,
+                format!("coordinate beyond ±{MAX_COORD_MM} mm"),
+            ));
         }
         if bulge.abs() > 1.0 {
             return Err(ProfileError::new(
@@ -201,11 +228,17 @@ pub fn parse_dxf(bytes: &[u8], file: &str) -> Result<Profile, ProfileError> {
             )),
             dxf::entities::EntityType::Arc(a) => {
                 if a.normal.z < 0.0 {
-                    return Err(ProfileError::new(file, format!("entity {n}"), "ARC with a downward normal (mirrored) is not supported"));
+                    return Err(ProfileError::new(
+                        file,
+                        format!("entity {n}"),
+                        "ARC with a downward normal (mirrored) is not supported",
+                    ));
                 }
                 let c = DVec2::new(a.center.x, a.center.y);
                 let s = a.start_angle.to_radians();
-                let mut sweep = (a.end_angle - a.start_angle).to_radians().rem_euclid(std::f64::consts::TAU);
+                let mut sweep = (a.end_angle - a.start_angle)
+                    .to_radians()
+                    .rem_euclid(std::f64::consts::TAU);
                 if sweep == 0.0 {
                     sweep = std::f64::consts::TAU;
                 }
@@ -222,7 +255,11 @@ pub fn parse_dxf(bytes: &[u8], file: &str) -> Result<Profile, ProfileError> {
             lwpolyline(&pl, file, n)
         }
         (0, false) => chain(&pieces, file),
-        (0, true) => Err(ProfileError::new(file, "drawing", "no LWPOLYLINE, LINE or ARC")),
+        (0, true) => Err(ProfileError::new(
+            file,
+            "drawing",
+            "no LWPOLYLINE, LINE or ARC",
+        )),
         _ => Err(ProfileError::new(
             file,
             "drawing",
@@ -231,11 +268,19 @@ pub fn parse_dxf(bytes: &[u8], file: &str) -> Result<Profile, ProfileError> {
     }
 }
 
-fn lwpolyline(pl: &dxf::entities::LwPolyline, file: &str, n: usize) -> Result<Profile, ProfileError> {
+fn lwpolyline(
+    pl: &dxf::entities::LwPolyline,
+    file: &str,
+    n: usize,
+) -> Result<Profile, ProfileError> {
     let mut vertices: Vec<Vertex> = Vec::new();
     for (i, v) in pl.vertices.iter().enumerate() {
         if !(v.x.is_finite() && v.y.is_finite() && v.bulge.is_finite()) {
-            return Err(ProfileError::new(file, format!("entity {n}, vertex {}", i + 1), "non-finite number"));
+            return Err(ProfileError::new(
+                file,
+                format!("entity {n}, vertex {}", i + 1),
+                "non-finite number",
+            ));
         }
         if vertices.is_empty() {
             vertices.push(Vertex::point(v.x, v.y));
@@ -275,11 +320,16 @@ fn chain(pieces: &[(usize, Element)], file: &str) -> Result<Profile, ProfileErro
     let same = |a: DVec2, b: DVec2| (a - b).length() <= eps;
     let reverse = |e: &Element| match *e {
         Element::Line { a, b } => Element::Line { a: b, b: a },
-        Element::Arc { a, b, sweep_rad, .. } => Element::from_bulge(b, a, -(sweep_rad / 4.0).tan()),
+        Element::Arc {
+            a, b, sweep_rad, ..
+        } => Element::from_bulge(b, a, -(sweep_rad / 4.0).tan()),
     };
     // Start at a piece whose start no other piece touches (an open chain), else the first.
     let touches = |p: DVec2, skip: usize| {
-        pieces.iter().enumerate().any(|(k, (_, e))| k != skip && (same(e.start(), p) || same(e.end(), p)))
+        pieces
+            .iter()
+            .enumerate()
+            .any(|(k, (_, e))| k != skip && (same(e.start(), p) || same(e.end(), p)))
     };
     let mut used = vec![false; pieces.len()];
     let mut order: Vec<Element> = Vec::new();
@@ -401,7 +451,11 @@ fn attribute(tag: &str, name: &str) -> Option<String> {
 /// [`ProfileError`] naming the line of the `<path>` and the segment number.
 pub fn parse_svg(text: &str, file: &str, tolerance_mm: f64) -> Result<Profile, ProfileError> {
     if !(tolerance_mm > 0.0 && tolerance_mm.is_finite()) {
-        return Err(ProfileError::new(file, "tolerance", format!("{tolerance_mm} mm must be positive")));
+        return Err(ProfileError::new(
+            file,
+            "tolerance",
+            format!("{tolerance_mm} mm must be positive"),
+        ));
     }
     let paths = path_data(text);
     let [(line, d)] = paths.as_slice() else {

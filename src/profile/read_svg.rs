@@ -37,10 +37,20 @@ impl Builder<'_> {
         self.cur = p;
     }
 
-    fn arc(&mut self, seg: usize, r: (f64, f64), large: bool, sweep: bool, p: DVec2) -> Result<(), ProfileError> {
+    fn arc(
+        &mut self,
+        seg: usize,
+        r: (f64, f64),
+        large: bool,
+        sweep: bool,
+        p: DVec2,
+    ) -> Result<(), ProfileError> {
         let (rx, ry) = (r.0.abs(), r.1.abs());
         if (rx - ry).abs() > 1e-9 * rx.max(ry) {
-            return Err(self.err(seg, format!("elliptical arc (rx {rx}, ry {ry}) is not supported; only circular arcs")));
+            return Err(self.err(
+                seg,
+                format!("elliptical arc (rx {rx}, ry {ry}) is not supported; only circular arcs"),
+            ));
         }
         let chord = (p - self.cur).length();
         if chord == 0.0 {
@@ -53,10 +63,14 @@ impl Builder<'_> {
         // SVG scales a radius that is too small up to half the chord.
         let r = rx.max(chord / 2.0);
         let minor = 2.0 * (chord / (2.0 * r)).clamp(-1.0, 1.0).asin();
-        let mag = if large { std::f64::consts::TAU - minor } else { minor };
-        // In SVG's y-down frame the sweep flag 1 turns clockwise on screen, which is
-        // counter-clockwise once y is mirrored to point up.
-        let signed = if sweep { mag } else { -mag };
+        let mag = if large {
+            std::f64::consts::TAU - minor
+        } else {
+            minor
+        };
+        // The sweep flag 1 turns toward increasing angle in SVG's y-down frame, which is
+        // clockwise once y is mirrored to point up.
+        let signed = if sweep { -mag } else { mag };
         self.to(p, (signed / 4.0).tan());
         Ok(())
     }
@@ -89,7 +103,12 @@ fn de_casteljau(ctrl: &[DVec2], t: f64) -> DVec2 {
 }
 
 /// Parses the path data `d` (from the `<path>` on `line` of `file`).
-pub(super) fn parse_path(d: &str, file: &str, line: usize, tolerance: f64) -> Result<Profile, ProfileError> {
+pub(super) fn parse_path(
+    d: &str,
+    file: &str,
+    line: usize,
+    tolerance: f64,
+) -> Result<Profile, ProfileError> {
     let mut b = Builder {
         file,
         line,
@@ -106,7 +125,13 @@ pub(super) fn parse_path(d: &str, file: &str, line: usize, tolerance: f64) -> Re
         if b.closed {
             return Err(b.err(n, "more than one subpath (one contour per file)"));
         }
-        let abs_pt = |abs: bool, x: f64, y: f64, cur: DVec2| if abs { DVec2::new(x, y) } else { cur + DVec2::new(x, y) };
+        let abs_pt = |abs: bool, x: f64, y: f64, cur: DVec2| {
+            if abs {
+                DVec2::new(x, y)
+            } else {
+                cur + DVec2::new(x, y)
+            }
+        };
         let (cubic, quad) = (b.last_cubic.take(), b.last_quad.take());
         match seg {
             PathSegment::MoveTo { abs, x, y } => {
@@ -124,9 +149,21 @@ pub(super) fn parse_path(d: &str, file: &str, line: usize, tolerance: f64) -> Re
                 let p = DVec2::new(b.cur.x, if abs { y } else { b.cur.y + y });
                 b.to(p, 0.0);
             }
-            PathSegment::CurveTo { abs, x1, y1, x2, y2, x, y } => {
+            PathSegment::CurveTo {
+                abs,
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+            } => {
                 let c = b.cur;
-                let (p1, p2, p) = (abs_pt(abs, x1, y1, c), abs_pt(abs, x2, y2, c), abs_pt(abs, x, y, c));
+                let (p1, p2, p) = (
+                    abs_pt(abs, x1, y1, c),
+                    abs_pt(abs, x2, y2, c),
+                    abs_pt(abs, x, y, c),
+                );
                 b.flatten(&[c, p1, p2, p]);
                 b.last_cubic = Some(p2);
             }
@@ -150,12 +187,22 @@ pub(super) fn parse_path(d: &str, file: &str, line: usize, tolerance: f64) -> Re
                 b.flatten(&[c, p1, p]);
                 b.last_quad = Some(p1);
             }
-            PathSegment::EllipticalArc { abs, rx, ry, x_axis_rotation: _, large_arc, sweep, x, y } => {
+            PathSegment::EllipticalArc {
+                abs,
+                rx,
+                ry,
+                x_axis_rotation: _,
+                large_arc,
+                sweep,
+                x,
+                y,
+            } => {
                 let p = abs_pt(abs, x, y, b.cur);
                 b.arc(n, (rx, ry), large_arc, sweep, p)?;
             }
             PathSegment::ClosePath { .. } => {
-                if let (Some(first), Some(last)) = (b.vertices.first().copied(), b.vertices.last().copied())
+                if let (Some(first), Some(last)) =
+                    (b.vertices.first().copied(), b.vertices.last().copied())
                     && first.pos() == last.pos()
                     && b.vertices.len() > 1
                 {
@@ -168,5 +215,8 @@ pub(super) fn parse_path(d: &str, file: &str, line: usize, tolerance: f64) -> Re
     if !b.closed {
         b.closed = super::read::close_if_repeated_pub(&mut b.vertices);
     }
-    Ok(Profile { vertices: b.vertices, closed: b.closed })
+    Ok(Profile {
+        vertices: b.vertices,
+        closed: b.closed,
+    })
 }

@@ -12,7 +12,9 @@ use super::{Profile, ProfileError};
 /// its first point at the end. Numbers are written with Rust's shortest round-trip form.
 #[must_use]
 pub fn profile_to_csv(profile: &Profile) -> String {
-    let mut s = String::from("# Talas profile, mm; bulge = tan(sweep/4) of the element to the next point\nx,y,bulge\n");
+    let mut s = String::from(
+        "# Talas profile, mm; bulge = tan(sweep/4) of the element to the next point\nx,y,bulge\n",
+    );
     for v in &profile.vertices {
         let _ = writeln!(s, "{},{},{}", v.x, v.y, v.bulge);
     }
@@ -40,7 +42,11 @@ pub fn profile_to_dxf(profile: &Profile) -> Result<Vec<u8>, ProfileError> {
     }
     pl.set_is_closed(profile.closed);
     let mut drawing = dxf::Drawing::new();
-    drawing.add_entity(dxf::entities::Entity::new(dxf::entities::EntityType::LwPolyline(pl)));
+    // LWPOLYLINE exists from R14 on.
+    drawing.header.version = dxf::enums::AcadVersion::R2000;
+    drawing.add_entity(dxf::entities::Entity::new(
+        dxf::entities::EntityType::LwPolyline(pl),
+    ));
     let mut out = Vec::new();
     drawing
         .save(&mut out)
@@ -63,10 +69,12 @@ pub fn profile_to_svg(profile: &Profile) -> String {
             Element::Line { .. } => {
                 let _ = write!(d, " L {} {}", b.x, -b.y);
             }
-            Element::Arc { radius, sweep_rad, .. } => {
+            Element::Arc {
+                radius, sweep_rad, ..
+            } => {
                 let large = u8::from(sweep_rad.abs() > std::f64::consts::PI);
-                // Counter-clockwise with y up is SVG's sweep flag 1 once y is mirrored.
-                let sweep = u8::from(sweep_rad > 0.0);
+                // Counter-clockwise with y up is SVG's sweep flag 0 once y is mirrored.
+                let sweep = u8::from(sweep_rad < 0.0);
                 let _ = write!(d, " A {radius} {radius} 0 {large} {sweep} {} {}", b.x, -b.y);
             }
         }
@@ -95,8 +103,13 @@ pub fn write_profile(profile: &Profile, path: &Path) -> Result<(), ProfileError>
         Some(ProfileFormat::Svg) => profile_to_svg(profile).into_bytes(),
         Some(ProfileFormat::Dxf) => profile_to_dxf(profile)?,
         None => {
-            return Err(ProfileError::new(&file, "name", "unknown extension (expected .csv, .dxf or .svg)"));
+            return Err(ProfileError::new(
+                &file,
+                "name",
+                "unknown extension (expected .csv, .dxf or .svg)",
+            ));
         }
     };
-    crate::storage::write_atomic(path, &bytes).map_err(|e| ProfileError::new(&file, "file", e.to_string()))
+    crate::storage::write_atomic(path, &bytes)
+        .map_err(|e| ProfileError::new(&file, "file", e.to_string()))
 }

@@ -27,7 +27,11 @@ pub fn seg(a: DVec2, b: DVec2, bulge: f64) -> Seg {
     let left = DVec2::new(-dir.y, dir.x);
     let off = (r * r - half * half).max(0.0).sqrt();
     // The centre lies left of the chord for a CCW minor arc or a CW major arc.
-    let c = if (sweep > 0.0) == (sweep.abs() < PI) { m + left * off } else { m - left * off };
+    let c = if (sweep > 0.0) == (sweep.abs() < PI) {
+        m + left * off
+    } else {
+        m - left * off
+    };
     let a0 = (a - c).y.atan2((a - c).x);
     Seg::Arc(a, b, c, r, a0, sweep)
 }
@@ -94,7 +98,8 @@ fn crossings(s: &Seg, t: &Seg) -> Vec<DVec2> {
             let u = (c - a).perp_dot(q) / den;
             vec![a + r * u]
         }
-        (Seg::Line(a, b), Seg::Arc(_, _, c, rad, ..)) | (Seg::Arc(_, _, c, rad, ..), Seg::Line(a, b)) => {
+        (Seg::Line(a, b), Seg::Arc(_, _, c, rad, ..))
+        | (Seg::Arc(_, _, c, rad, ..), Seg::Line(a, b)) => {
             let d = b - a;
             let f = a - c;
             let qa = d.dot(d);
@@ -105,7 +110,10 @@ fn crossings(s: &Seg, t: &Seg) -> Vec<DVec2> {
                 return vec![];
             }
             let sq = disc.sqrt();
-            vec![a + d * ((-qb - sq) / (2.0 * qa)), a + d * ((-qb + sq) / (2.0 * qa))]
+            vec![
+                a + d * ((-qb - sq) / (2.0 * qa)),
+                a + d * ((-qb + sq) / (2.0 * qa)),
+            ]
         }
         (Seg::Arc(_, _, c1, r1, ..), Seg::Arc(_, _, c2, r2, ..)) => {
             let d = (c2 - c1).length();
@@ -131,10 +139,15 @@ pub fn seg_dist(s: &Seg, t: &Seg) -> f64 {
     }
     let (sa, sb) = ends(s);
     let (ta, tb) = ends(t);
-    let mut best = point_dist(t, sa).min(point_dist(t, sb)).min(point_dist(s, ta)).min(point_dist(s, tb));
+    let mut best = point_dist(t, sa)
+        .min(point_dist(t, sb))
+        .min(point_dist(s, ta))
+        .min(point_dist(s, tb));
     // Interior-interior critical points: the arc point nearest the other element's carrier.
     let arc_candidates = |arc: &Seg, other: &Seg| -> Vec<DVec2> {
-        let Seg::Arc(_, _, c, r, ..) = *arc else { return vec![] };
+        let Seg::Arc(_, _, c, r, ..) = *arc else {
+            return vec![];
+        };
         let dirs: Vec<DVec2> = match *other {
             Seg::Line(a, b) => {
                 let d = (b - a).normalize();
@@ -146,7 +159,10 @@ pub fn seg_dist(s: &Seg, t: &Seg) -> f64 {
                 vec![u, -u]
             }
         };
-        dirs.into_iter().map(|u| c + u * r).filter(|p| on_seg(arc, *p, 1e-9 * r.max(1.0))).collect()
+        dirs.into_iter()
+            .map(|u| c + u * r)
+            .filter(|p| on_seg(arc, *p, 1e-9 * r.max(1.0)))
+            .collect()
     };
     for p in arc_candidates(s, t) {
         best = best.min(point_dist(t, p));
@@ -171,7 +187,9 @@ pub fn segs(v: &[(f64, f64, f64)], closed: bool) -> Vec<Seg> {
 }
 
 pub fn dist_to(segs: &[Seg], p: DVec2) -> f64 {
-    segs.iter().map(|s| point_dist(s, p)).fold(f64::INFINITY, f64::min)
+    segs.iter()
+        .map(|s| point_dist(s, p))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// splitmix64.
