@@ -138,7 +138,7 @@ pub fn parse_csv(text: &str, file: &str) -> Result<Profile, ProfileError> {
             continue;
         }
         let fields: Vec<&str> = line
-            .split(|c: char| c == ',' || c == ';' || c == '\t' || c == ' ')
+            .split([',', ';', '\t', ' '])
             .filter(|f| !f.trim().is_empty())
             .collect();
         let numbers: Vec<Option<f64>> = fields.iter().map(|f| parse_number(f)).collect();
