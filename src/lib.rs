@@ -25,8 +25,8 @@
 //! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] |
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
 //! | L2 | [`toolpath`] |
-//! | L3 | [`reduce`] |
-//! | L4 | [`post`], [`feed`], [`simulation`], [`force`] |
+//! | L3 | [`strategies`], [`checks`], [`reduce`] |
+//! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] |
 //! | L5 | [`project`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
@@ -47,6 +47,7 @@ pub mod geometry;
 pub mod import;
 pub mod machine;
 pub mod post;
+pub mod profile;
 pub mod project;
 pub mod reduce;
 pub mod simulation;

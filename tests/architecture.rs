@@ -24,6 +24,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("feed", 4),
     ("simulation", 4),
     ("force", 4),
+    ("profile", 4),
     ("project", 5),
     ("cli", 6),
     ("render", 7),
@@ -37,6 +38,7 @@ const SAME_LAYER: &[(&str, &str)] = &[
     ("geometry", "diagnostics"),
     ("strategies", "checks"),
     ("force", "simulation"),
+    ("profile", "post"),
 ];
 
 const GUI_CRATES: &[&str] = &[

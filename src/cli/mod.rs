@@ -9,6 +9,7 @@ pub mod inspect;
 pub mod plan;
 pub mod plan_mesh;
 pub mod post;
+pub mod profile;
 pub mod reduce;
 pub mod render;
 pub mod simulate;
@@ -63,6 +64,9 @@ pub enum Command {
     /// Cutting-force coefficients from measured mean forces (FORCES.csv), optionally written
     /// as a coefficient library.
     Calibrate(calibrate::CalibrateArgs),
+    /// Ball-electrode (EDM) path of a 2D profile: exact offset, plunges and side collisions
+    /// of the per-point method, largest gouge-free radius, G-code.
+    Profile(profile::ProfileArgs),
     /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
     /// renderer (builds with the `gui` feature).
     Render(render::RenderArgs),
@@ -132,6 +136,20 @@ pub fn run(command: Command) -> i32 {
         Command::Calibrate(args) => {
             report(calibrate::calibrate(&args), args.json, calibrate::human)
         }
+        Command::Profile(args) => match profile::profile(&args) {
+            Ok(doc) => {
+                if args.json {
+                    println!("{doc}");
+                } else {
+                    print!("{}", profile::human(&doc));
+                }
+                0
+            }
+            Err(e) => {
+                eprintln!("talas: {e}");
+                EXIT_BAD_INPUT
+            }
+        },
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),
     }

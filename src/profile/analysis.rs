@@ -1,0 +1,427 @@
+//! One computation for a profile and an electrode radius: the exact centre path, the naïve
+//! per-point path of the seed's method with every gouge it would make, the largest gouge-free
+//! radius, and a certificate of the exact path's distance to the profile.
+
+use glam::DVec2;
+use std::f64::consts::PI;
+
+use super::element::{Element, closest_on};
+use super::offset::{ClPath, Side, offset_paths};
+use super::reach::max_gouge_free_radius;
+use super::{Profile, ProfileError};
+
+/// Settings of [`compute_opt`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProfileOptions {
+    /// Electrode (ball) radius, mm.
+    pub radius_mm: f64,
+    /// The material-free side.
+    pub side: Side,
+    /// Gouges of the naïve path up to this depth are not flagged, mm.
+    pub gouge_tolerance_mm: f64,
+}
+
+impl ProfileOptions {
+    /// Options for radius `radius_mm` on `side`, with a 1 µm gouge tolerance.
+    #[must_use]
+    pub fn new(radius_mm: f64, side: Side) -> Self {
+        Self {
+            radius_mm,
+            side,
+            gouge_tolerance_mm: 1e-3,
+        }
+    }
+}
+
+/// The centre of the naïve path at one profile point: point + R · normal, the normal taken
+/// from the neighbouring points (one-sided at the ends of an open profile).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct NaivePoint {
+    /// The profile point, mm.
+    pub point: DVec2,
+    /// Unit normal toward the free side.
+    pub normal: DVec2,
+    /// Electrode centre, mm.
+    pub centre: DVec2,
+    /// How far the electrode at this centre cuts into the profile (R − distance), mm; 0 when
+    /// it does not.
+    pub gouge_mm: f64,
+}
+
+/// What a flagged gouge is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FlagKind {
+    /// The profile next to the point turns concavely into the electrode (concave radius < R).
+    Plunge,
+    /// Another part of the profile enters the electrode.
+    Collision,
+}
+
+/// One gouge of the naïve path.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Flag {
+    /// Plunge or side collision.
+    pub kind: FlagKind,
+    /// Index of the profile point (0-based).
+    pub point_index: usize,
+    /// The profile point, mm.
+    pub point: DVec2,
+    /// The naïve electrode centre, mm.
+    pub centre: DVec2,
+    /// Depth of the gouge (R − distance from the centre to the gouged part), mm.
+    pub depth_mm: f64,
+    /// The deepest gouged profile point, mm.
+    pub deepest: DVec2,
+    /// The gouged span of the profile, as arc-length positions from its start, mm.
+    pub span_mm: (f64, f64),
+    /// Radius of the circle through the point and its neighbours when the profile turns
+    /// concavely there, mm.
+    pub concave_radius_mm: Option<f64>,
+}
+
+/// Everything [`compute`] finds.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ProfileResult {
+    /// Electrode radius, mm.
+    pub radius_mm: f64,
+    /// The side resolved to left (true) or right of the direction of travel.
+    pub left: bool,
+    /// The exact centre path in pieces.
+    pub paths: Vec<ClPath>,
+    /// The naïve path, one centre per profile point.
+    pub naive: Vec<NaivePoint>,
+    /// Gouges of the naïve path deeper than the tolerance.
+    pub flags: Vec<Flag>,
+    /// Largest radius that touches every profile point from the free side, mm.
+    pub max_gouge_free_radius_mm: f64,
+    /// Smallest radius of the circles through concave points and their neighbours (the
+    /// seed's reading of a point profile as a sampled curve), mm; `None` without concave
+    /// points.
+    pub min_concave_radius_sampled_mm: Option<f64>,
+    /// Largest |distance − R| of the exact path's vertices and element midpoints, mm.
+    pub max_distance_error_mm: f64,
+}
+
+/// [`compute_opt`] with a 1 µm gouge tolerance.
+///
+/// # Errors
+/// As [`compute_opt`].
+pub fn compute(
+    profile: &Profile,
+    radius_mm: f64,
+    side: Side,
+) -> Result<ProfileResult, ProfileError> {
+    compute_opt(profile, &ProfileOptions::new(radius_mm, side))
+}
+
+/// Validates the profile and options and computes the exact path, the naïve path and its
+/// flags, and the largest gouge-free radius.
+///
+/// # Errors
+/// [`ProfileError`] for an invalid profile, a radius outside (0, 10⁶] mm, a negative or
+/// non-finite tolerance, a side that does not fit the profile, or duplicate neighbours that
+/// leave a point without a normal.
+pub fn compute_opt(
+    profile: &Profile,
+    opts: &ProfileOptions,
+) -> Result<ProfileResult, ProfileError> {
+    profile.validate("<memory>")?;
+    let r = opts.radius_mm;
+    if !(r > 0.0 && r <= super::MAX_COORD_MM) {
+        return Err(ProfileError::new(
+            "<memory>",
+            "radius",
+            format!("electrode radius {r} mm must be in (0, 1e6] mm"),
+        ));
+    }
+    if !(opts.gouge_tolerance_mm >= 0.0 && opts.gouge_tolerance_mm.is_finite()) {
+        return Err(ProfileError::new(
+            "<memory>",
+            "gouge tolerance",
+            format!("{} mm must be ≥ 0", opts.gouge_tolerance_mm),
+        ));
+    }
+    let left = opts
+        .side
+        .is_left(profile)
+        .map_err(|m| ProfileError::new("<memory>", "side", m))?;
+    let paths = offset_paths(profile, r, left);
+    let elements = profile.elements();
+    let naive = naive_path(profile, &elements, r, left)?;
+    let flags = flags(profile, &elements, &naive, r, left, opts.gouge_tolerance_mm);
+    let max_distance_error_mm = certify(&paths, &elements, r);
+    Ok(ProfileResult {
+        radius_mm: r,
+        left,
+        paths,
+        naive,
+        flags,
+        max_gouge_free_radius_mm: max_gouge_free_radius(profile, left),
+        min_concave_radius_sampled_mm: min_concave_radius_sampled(profile, left),
+        max_distance_error_mm,
+    })
+}
+
+/// Largest |distance to the profile − R| over the path's vertices and element midpoints.
+fn certify(paths: &[ClPath], elements: &[Element], r: f64) -> f64 {
+    let mut worst: f64 = 0.0;
+    for p in paths {
+        let mids = p.elements().into_iter().map(|e| e.point_at(0.5));
+        for q in p.vertices.iter().map(|v| v.centre).chain(mids) {
+            if let Some((d, _, _)) = closest_on(elements, q) {
+                worst = worst.max((d - r).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// The naïve (per-point normal) path: for every profile point the normal of the chord between
+/// its neighbours (the tangent of the first or last element at the ends of an open profile).
+fn naive_path(
+    profile: &Profile,
+    elements: &[Element],
+    r: f64,
+    left: bool,
+) -> Result<Vec<NaivePoint>, ProfileError> {
+    let n = profile.vertices.len();
+    let pos = |i: usize| profile.vertices.get(i).map_or(DVec2::ZERO, |v| v.pos());
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let (prev, next) = if profile.closed {
+            ((i + n - 1) % n, (i + 1) % n)
+        } else {
+            (i.saturating_sub(1), (i + 1).min(n - 1))
+        };
+        let mut t = (pos(next) - pos(prev)).normalize_or_zero();
+        if t == DVec2::ZERO {
+            // The profile turns back on itself here (the tip of a zero-width slit): the free
+            // side is straight ahead, so the tangent is turned from the incoming direction.
+            let incoming = (pos(i) - pos(prev)).normalize_or_zero();
+            t = if left {
+                -incoming.perp()
+            } else {
+                incoming.perp()
+            };
+        }
+        if t == DVec2::ZERO {
+            return Err(ProfileError::new(
+                "<memory>",
+                format!("vertex {}", i + 1),
+                "its neighbours coincide with it, so the point has no normal",
+            ));
+        }
+        let normal = if left { t.perp() } else { -t.perp() };
+        let point = pos(i);
+        let centre = point + normal * r;
+        let d = closest_on(elements, centre).map_or(r, |c| c.0);
+        out.push(NaivePoint {
+            point,
+            normal,
+            centre,
+            gouge_mm: (r - d).max(0.0),
+        });
+    }
+    Ok(out)
+}
+
+/// Radius of the circle through `a`, `b`, `c` and the signed turn at `b` (positive: left).
+fn circumradius(a: DVec2, b: DVec2, c: DVec2) -> (f64, f64) {
+    let cross = (b - a).perp_dot(c - b);
+    let r = (b - a).length() * (c - b).length() * (c - a).length() / (2.0 * cross.abs());
+    (r, cross)
+}
+
+/// The three-point concave radius at vertex `i`, when the profile turns toward the free side.
+fn concave_radius_at(profile: &Profile, i: usize, left: bool) -> Option<f64> {
+    let n = profile.vertices.len();
+    let (prev, next) = if profile.closed {
+        ((i + n - 1) % n, (i + 1) % n)
+    } else if i == 0 || i + 1 >= n {
+        return None;
+    } else {
+        (i - 1, i + 1)
+    };
+    let p = |k: usize| profile.vertices.get(k).map(|v| v.pos());
+    let (r, cross) = circumradius(p(prev)?, p(i)?, p(next)?);
+    let concave = if left { cross > 0.0 } else { cross < 0.0 };
+    (concave && r.is_finite()).then_some(r)
+}
+
+fn min_concave_radius_sampled(profile: &Profile, left: bool) -> Option<f64> {
+    (0..profile.vertices.len())
+        .filter_map(|i| concave_radius_at(profile, i, left))
+        .min_by(f64::total_cmp)
+}
+
+/// Signed angle from direction `a` to `b`, rad (positive: left).
+fn turn(a: DVec2, b: DVec2) -> f64 {
+    a.perp_dot(b).atan2(a.dot(b))
+}
+
+/// True when the profile from point `i` to parameter `t` of element `j` turns only toward the
+/// free side and by less than π in all: the gouged part belongs to the concave neighbourhood
+/// of the point (a plunge). Both directions are tried on a closed profile.
+fn is_local(
+    profile: &Profile,
+    elements: &[Element],
+    tangent: DVec2,
+    i: usize,
+    j: usize,
+    t: f64,
+    left: bool,
+) -> bool {
+    let n = elements.len();
+    let mut walks: Vec<(bool, usize)> = Vec::new();
+    if profile.closed {
+        walks.push((true, (j + n - i) % n));
+        walks.push((false, (i + n - 1 - j) % n));
+    } else if j >= i {
+        walks.push((true, j - i));
+    } else {
+        walks.push((false, i - 1 - j));
+    }
+    walks
+        .into_iter()
+        .any(|(forward, steps)| concave_walk(elements, tangent, i, steps, forward, t, left))
+}
+
+/// Walks `steps` elements past the first one from vertex `i` (forward or backward), ending at
+/// parameter `t_end` of the last, and checks that every turn is concave and the total below π.
+fn concave_walk(
+    elements: &[Element],
+    tangent: DVec2,
+    i: usize,
+    steps: usize,
+    forward: bool,
+    t_end: f64,
+    left: bool,
+) -> bool {
+    let n = elements.len();
+    // Concave turns are toward the free side, which flips when walking backward.
+    let sign = if forward == left { 1.0 } else { -1.0 };
+    let eps = 1e-12;
+    let mut dir = if forward { tangent } else { -tangent };
+    let mut total = 0.0;
+    for k in 0..=steps {
+        let idx = if forward {
+            (i + k) % n
+        } else {
+            (i + n - 1 - k) % n
+        };
+        let Some(e) = elements.get(idx) else {
+            return false;
+        };
+        // Traversal parameters of this element: from its near end to the far end (or t_end).
+        let (t0, t1) = match (forward, k == steps) {
+            (true, false) => (0.0, 1.0),
+            (true, true) => (0.0, t_end),
+            (false, false) => (1.0, 0.0),
+            (false, true) => (1.0, t_end),
+        };
+        let oriented = |t: f64| {
+            if forward {
+                e.tangent_at(t)
+            } else {
+                -e.tangent_at(t)
+            }
+        };
+        let corner = sign * turn(dir, oriented(t0));
+        let along = sign * turn_along(e, t0, t1, forward);
+        if corner < -eps || along < -eps {
+            return false;
+        }
+        total += corner + along;
+        dir = oriented(t1);
+    }
+    total < PI - eps
+}
+
+/// Signed turn of the travel direction along an element from `t0` to `t1`.
+fn turn_along(e: &Element, t0: f64, t1: f64, forward: bool) -> f64 {
+    match *e {
+        Element::Line { .. } => 0.0,
+        Element::Arc { sweep_rad, .. } => {
+            let s = sweep_rad * (t1 - t0).abs();
+            if forward { s } else { -s }
+        }
+    }
+}
+
+fn flags(
+    profile: &Profile,
+    elements: &[Element],
+    naive: &[NaivePoint],
+    r: f64,
+    left: bool,
+    tol: f64,
+) -> Vec<Flag> {
+    let lengths: Vec<f64> = elements.iter().map(Element::length).collect();
+    let starts: Vec<f64> = lengths
+        .iter()
+        .scan(0.0, |s, l| {
+            let here = *s;
+            *s += l;
+            Some(here)
+        })
+        .collect();
+    let mut out = Vec::new();
+    for (i, np) in naive.iter().enumerate() {
+        if np.gouge_mm <= tol {
+            continue;
+        }
+        // The naïve tangent the normal was turned from.
+        let tangent = if left {
+            -np.normal.perp()
+        } else {
+            np.normal.perp()
+        };
+        let mut by_kind: [Option<Flag>; 2] = [None, None];
+        for (j, e) in elements.iter().enumerate() {
+            let (q, t) = e.closest(np.centre);
+            let depth = r - (q - np.centre).length();
+            if depth <= tol {
+                continue;
+            }
+            let local = is_local(profile, elements, tangent, i, j, t, left);
+            let kind = if local {
+                FlagKind::Plunge
+            } else {
+                FlagKind::Collision
+            };
+            let base = starts.get(j).copied().unwrap_or(0.0);
+            let len = lengths.get(j).copied().unwrap_or(0.0);
+            let spans = e.inside_disc(np.centre, r, tol);
+            let (s0, s1) = spans
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |acc, &(a, b)| {
+                    (acc.0.min(base + a * len), acc.1.max(base + b * len))
+                });
+            let slot = &mut by_kind[usize::from(!local)];
+            match slot {
+                Some(f) => {
+                    if depth > f.depth_mm {
+                        f.depth_mm = depth;
+                        f.deepest = q;
+                    }
+                    f.span_mm = (f.span_mm.0.min(s0), f.span_mm.1.max(s1));
+                }
+                None => {
+                    *slot = Some(Flag {
+                        kind,
+                        point_index: i,
+                        point: np.point,
+                        centre: np.centre,
+                        depth_mm: depth,
+                        deepest: q,
+                        span_mm: (s0, s1),
+                        concave_radius_mm: concave_radius_at(profile, i, left),
+                    });
+                }
+            }
+        }
+        out.extend(by_kind.into_iter().flatten());
+    }
+    out
+}
