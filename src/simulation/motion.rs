@@ -12,9 +12,8 @@
 //!   step is also bounded so that the chord sagitta of a point `arm` mm from the rotary axes
 //!   stays below `chord_tolerance_mm`.
 //!
-//! The number of steps is bounded per move (`max_steps_per_move`: a warning, the move is cut
-//! coarser) and over the whole program (`max_steps_total`: an error before anything is
-//! simulated), so a program that turns a rotary axis thousands of times fails at once with
+//! The number of steps is bounded per move (`max_steps_per_move`) and over the whole program
+//! (`max_steps_total`): past either, an error naming the block before anything is simulated, so a program that turns a rotary axis thousands of times fails at once with
 //! the block named instead of running for hours.
 
 use glam::DVec3;
@@ -37,7 +36,8 @@ pub struct StepOptions {
     pub reach_mm: f64,
     /// Feed of rapid moves in a tool path (G-code rapids carry the interpreter's), mm/min.
     pub rapid_mm_per_min: f64,
-    /// At most this many steps per move (more: a warning, and the move is cut coarser).
+    /// At most this many steps per move (more: an error naming the block, before anything is
+    /// simulated).
     pub max_steps_per_move: usize,
     /// At most this many steps over the whole program (more: an error naming the block where
     /// the budget ran out, before anything is simulated).
@@ -122,18 +122,19 @@ impl MovePlan {
         opts: &StepOptions,
         pose_at: impl Fn(f64) -> ToolPose,
     ) -> Result<(), SimError> {
-        let n = if n > opts.max_steps_per_move {
-            self.diagnostics.push(Diagnostic::warning(
-                format!("block {}", m.block),
-                format!(
-                    "move needs {n} steps for the stated tolerances; cut into {} (coarser)",
+        if n > opts.max_steps_per_move {
+            // Cutting it coarser would leave the sweep's chord error far beyond the stated
+            // tolerances without a word (a rotary turned thousands of times in one move).
+            return Err(SimError::Program {
+                block: m.block,
+                message: format!(
+                    "this move needs {n} simulation steps for the stated tolerances, more than \
+                     the {} a move may take (a rotary turned many times, or a very long arc)",
                     opts.max_steps_per_move
                 ),
-            ));
-            opts.max_steps_per_move
-        } else {
-            n.max(1)
-        };
+            });
+        }
+        let n = n.max(1);
         if self.steps.len().saturating_add(n) > opts.max_steps_total {
             return Err(SimError::Program {
                 block: m.block,
