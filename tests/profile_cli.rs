@@ -2,39 +2,14 @@
 //! interpreter reads back onto the path, and bad input giving exit code 2 with one line naming
 //! the file and the row.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn talas(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_talas"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn talas_json(args: &[&str]) -> serde_json::Value {
-    let out = talas(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn temp_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("talas-profile-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+mod cli_common;
+use cli_common::{talas, talas_json, temp_file};
 
 const V_NOTCH: &str = "# a V notch\nx,y\n-6,4\n-3,4\n0,0\n3,4\n6,4\n";
 
 #[test]
 fn json_has_the_contract_keys_and_the_v_notch_plunge() {
-    let f = temp_file("v.csv", V_NOTCH);
+    let f = temp_file("profile-cli", "v.csv", V_NOTCH);
     let doc = talas_json(&["profile", f.to_str().unwrap(), "--radius", "1", "--json"]);
     let cl = doc["cl"].as_array().unwrap();
     assert!(cl.len() >= 4);
@@ -60,7 +35,7 @@ fn json_has_the_contract_keys_and_the_v_notch_plunge() {
 #[test]
 fn gcode_arcs_read_back_onto_the_path_in_every_plane() {
     // A closed rounded shape: the outside path has arcs at every corner.
-    let f = temp_file("sq.csv", "0,0\n10,0\n10,10\n0,10\n0,0\n");
+    let f = temp_file("profile-cli", "sq.csv", "0,0\n10,0\n10,10\n0,10\n0,0\n");
     let doc = talas_json(&[
         "profile",
         f.to_str().unwrap(),
@@ -78,7 +53,7 @@ fn gcode_arcs_read_back_onto_the_path_in_every_plane() {
         ("g19", "grbl"),
         ("g18", "siemens"),
     ] {
-        let out = temp_file(&format!("sq-{plane}-{dialect}.ngc"), "");
+        let out = temp_file("profile-cli", &format!("sq-{plane}-{dialect}.ngc"), "");
         let o = talas(&[
             "profile",
             f.to_str().unwrap(),
@@ -124,7 +99,7 @@ fn gcode_arcs_read_back_onto_the_path_in_every_plane() {
             .count();
         assert_eq!(arcs, 4, "{plane} {dialect}");
         // Deterministic bytes.
-        let again = temp_file(&format!("sq-{plane}-{dialect}-2.ngc"), "");
+        let again = temp_file("profile-cli", &format!("sq-{plane}-{dialect}-2.ngc"), "");
         let _ = talas(&[
             "profile",
             f.to_str().unwrap(),
@@ -145,7 +120,7 @@ fn gcode_arcs_read_back_onto_the_path_in_every_plane() {
 
 #[test]
 fn bad_rows_name_the_file_and_row() {
-    let f = temp_file("bad.csv", "x,y\n0,0\n1,abc\n2,0\n");
+    let f = temp_file("profile-cli", "bad.csv", "x,y\n0,0\n1,abc\n2,0\n");
     let o = talas(&["profile", f.to_str().unwrap(), "--radius", "1"]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -155,12 +130,12 @@ fn bad_rows_name_the_file_and_row() {
     );
     assert_eq!(err.lines().count(), 1);
 
-    let f = temp_file("dup.csv", "0,0\n1,1\n1,1\n");
+    let f = temp_file("profile-cli", "dup.csv", "0,0\n1,1\n1,1\n");
     let o = talas(&["profile", f.to_str().unwrap(), "--radius", "1"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("row 3: repeats the previous point"));
 
-    let f = temp_file("ok.csv", V_NOTCH);
+    let f = temp_file("profile-cli", "ok.csv", V_NOTCH);
     for r in ["0", "-1", "nan", "1e9"] {
         let o = talas(&["profile", f.to_str().unwrap(), &format!("--radius={r}")]);
         assert_eq!(o.status.code(), Some(2), "radius {r}");
@@ -182,6 +157,7 @@ fn bad_rows_name_the_file_and_row() {
 fn dxf_and_svg_inputs() {
     // SVG: a slot drawn with a circular arc (y down in SVG).
     let svg = temp_file(
+        "profile-cli",
         "slot.svg",
         "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<path d=\"M -10 0 H -1 V 8 A 1 1 0 0 0 1 8 V 0 H 10\"/>\n</svg>\n",
     );

@@ -1,46 +1,18 @@
 //! `talas dropcutter` and `talas reduce` through the command line: the contract's JSON, and bad
 //! input giving exit code 2 with one line naming the file and the line.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn data(p: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(p)
-}
-
-fn talas(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_talas"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// Run `talas` with `args` (ending in `--json`), require success, and parse its JSON.
-fn talas_json(args: &[&str]) -> serde_json::Value {
-    let out = talas(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn temp_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("talas-zmap-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+mod cli_common;
+use cli_common::{data, talas, talas_json, temp_file};
 
 #[test]
 fn dropcutter_json_keeps_input_order_and_marks_misses() {
     let stl = data("bicubic-hills.stl");
     // The last point is far outside the part: null.
-    let pts = temp_file("pts.csv", "x,y\n40,30\n45.5,31\n\n-1000,-1000\n");
+    let pts = temp_file(
+        "zmap-cli",
+        "pts.csv",
+        "x,y\n40,30\n45.5,31\n\n-1000,-1000\n",
+    );
     let doc = talas_json(&[
         "dropcutter",
         stl.to_str().unwrap(),
@@ -61,7 +33,7 @@ fn dropcutter_json_keeps_input_order_and_marks_misses() {
 #[test]
 fn dropcutter_bad_input_names_the_file_and_line() {
     let stl = data("bicubic-hills.stl");
-    let bad = temp_file("bad.csv", "x,y\n1,2\n3,oops\n");
+    let bad = temp_file("zmap-cli", "bad.csv", "x,y\n1,2\n3,oops\n");
     let out = talas(&[
         "dropcutter",
         stl.to_str().unwrap(),
@@ -75,7 +47,7 @@ fn dropcutter_bad_input_names_the_file_and_line() {
     assert!(err.contains("bad.csv") && err.contains("line 3"), "{err}");
     assert_eq!(err.trim().lines().count(), 1);
 
-    let ok = temp_file("ok.csv", "x,y\n1,2\n");
+    let ok = temp_file("zmap-cli", "ok.csv", "x,y\n1,2\n");
     let out = talas(&[
         "dropcutter",
         stl.to_str().unwrap(),
@@ -111,7 +83,7 @@ fn reduce_json_on_example_a() {
     assert!(doc["mean_error"].as_f64().unwrap() > 0.0);
     assert_eq!(doc["reduced_rows"], 20);
 
-    let bad = temp_file("bad-zmap.csv", "1,2,3\n4,5\n");
+    let bad = temp_file("zmap-cli", "bad-zmap.csv", "1,2,3\n4,5\n");
     let out = talas(&["reduce", bad.to_str().unwrap(), "--tolerance", "0.1"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
@@ -128,7 +100,7 @@ fn reduce_stl_reads_back_within_the_reported_error() {
     use talas::import::stl::{StlOptions, read_stl};
     let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
     let input = talas::reduce::Grid::parse_csv(&std::fs::read_to_string(&file).unwrap()).unwrap();
-    let out_stl = temp_file("reduced-a.stl", "");
+    let out_stl = temp_file("zmap-cli", "reduced-a.stl", "");
     let doc = talas_json(&[
         "reduce",
         file.to_str().unwrap(),
