@@ -386,3 +386,100 @@ fn roughing_then_finishing_on_one_stock_leaves_the_allowance_then_the_scallop() 
     let sum: f64 = both.reports.iter().map(|r| r.removed_volume_mm3).sum();
     assert!((both.report.removed_volume_mm3 - sum).abs() < 1e-6);
 }
+
+#[test]
+fn the_workstation_simulation_and_talas_simulate_report_the_same_deviation() {
+    use talas::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
+    use talas::project::Stock;
+    use talas::project::simulate::{SimulationSettings, simulate_toolpath};
+    let part = hills();
+    let mut op = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut op {
+        *scallop_mm = 0.2;
+    }
+    // Flutes longer than the part is deep, so the cutter clears everything above the surface.
+    let mut project = project_with("ball:d=6,flute=40,length=60", op);
+    let tp = compute(&project, 0, &part, &Progress::new())
+        .expect("plans")
+        .toolpath;
+    let dir = std::env::temp_dir().join(format!("talas-pipeline-dev-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (stl, path) = (dir.join("hills.stl"), dir.join("raster.json"));
+    // The part both measure against: the same STL file (single precision, welded on reading).
+    save_stl(&stl, &part.mesh, StlFormat::Binary).unwrap();
+    let mesh = read_stl(&stl, &StlOptions::default()).unwrap().mesh;
+    tp.save(&path).unwrap();
+    let b = mesh.bbox();
+    let (min, max) = (
+        [b.min.x - 2.0, b.min.y - 2.0, b.min.z - 2.0],
+        [b.max.x + 2.0, b.max.y + 2.0, b.max.z + 2.0],
+    );
+    project.stock = Stock::Box {
+        min_mm: min,
+        max_mm: max,
+    };
+    let settings = SimulationSettings {
+        resolution_mm: Some(0.5),
+        ..SimulationSettings::default()
+    };
+    let sim = simulate_toolpath(
+        &project.stock,
+        &mesh,
+        &tp,
+        &project.tools[0].cutter,
+        &settings,
+        &Progress::new(),
+    )
+    .expect("simulates");
+    let stock = format!(
+        "box:{},{},{},{},{},{}",
+        min[0], min[1], min[2], max[0], max[1], max[2]
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(["simulate", path.to_str().unwrap(), "--stock", &stock])
+        .args([
+            "--resolution",
+            "0.5",
+            "--part",
+            stl.to_str().unwrap(),
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let top = &doc["top_deviation"];
+    // The bicubic hills are an open sheet: the side is the normal's.
+    assert_eq!(top["closed_part"].as_bool(), Some(false));
+    assert_eq!(top["points"].as_u64(), Some(sim.deviation_mm.len() as u64));
+    // Equal up to the last digit JSON keeps.
+    let same = |json: &serde_json::Value, v: f64| {
+        let j = json.as_f64().expect("a number");
+        (j - v).abs() <= 1e-14 * v.abs().max(1e-300)
+    };
+    assert!(same(&top["max_gouge_mm"], sim.max_gouge_mm), "{top}");
+    assert!(
+        same(&top["remaining_p99_mm"], sim.remaining_p99_mm),
+        "{top}"
+    );
+    assert!(same(
+        &doc["removed_volume_mm3"],
+        sim.report.removed_volume_mm3
+    ));
+    // And both are plausible: scallops below the 0.2 mm asked plus tolerances, no gouge.
+    assert!(
+        sim.remaining_p99_mm > 0.02 && sim.remaining_p99_mm < 0.25,
+        "{}",
+        sim.remaining_p99_mm
+    );
+    assert!(sim.max_gouge_mm < 0.02, "{}", sim.max_gouge_mm);
+    // The whole-surface statistics of an open sheet measure only points above or below it.
+    let dev = &doc["deviation"];
+    assert_eq!(dev["closed_part"].as_bool(), Some(false));
+    assert!(dev["max_gouge_mm"].as_f64().unwrap() < 0.02, "{dev}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -118,7 +118,12 @@ pub fn run(command: Command) -> i32 {
         }
         Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
         Command::Post(args) => match post::post(&args) {
-            Ok(()) => 0,
+            Ok(doc) => {
+                if let Some(doc) = doc {
+                    println!("{doc}");
+                }
+                0
+            }
             Err(e) => {
                 eprintln!("talas: {e}");
                 EXIT_BAD_INPUT

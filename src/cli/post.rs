@@ -1,10 +1,13 @@
-//! `talas post PATH.json --machine NAME_OR_FILE --dialect NAME_OR_FILE [--tcp] -o OUT.ngc` and
-//! `talas machines`.
+//! `talas post PATH.json --machine NAME_OR_FILE --dialect NAME_OR_FILE [--tcp] -o OUT.ngc
+//! [--json]` and `talas machines`. With `--json` the posted program is also planned on the
+//! machine (the engine's machining run) and the planned cycle time and the time each pose is
+//! reached are printed.
 
 use std::path::PathBuf;
 
 use crate::machine::Machine;
-use crate::post::{Dialect, PostOptions, post as run_post};
+use crate::post::{Dialect, PostOptions, post_mapped};
+use crate::project::MachiningRun;
 use crate::toolpath::Toolpath;
 
 /// Options of `talas post`.
@@ -45,13 +48,26 @@ pub struct PostArgs {
     /// Output file (written atomically).
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: PathBuf,
+    /// Corner blending tolerance of the motion plan (`--json`), mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.01)]
+    pub corner_tolerance: f64,
+    /// Print one JSON document: lines, planned cycle time, and per pose the planned time it is
+    /// reached and the (1-based) line that reaches it.
+    #[arg(long)]
+    pub json: bool,
 }
 
-/// Post the file; `Err` is the one line to print.
+/// Post the file; with `--json`, the document to print. `Err` is the one line to print.
 ///
 /// # Errors
 /// A line naming the file and the place.
-pub fn post(args: &PostArgs) -> Result<(), String> {
+pub fn post(args: &PostArgs) -> Result<Option<serde_json::Value>, String> {
+    if args.json && !(args.corner_tolerance.is_finite() && args.corner_tolerance > 0.0) {
+        return Err(format!(
+            "--corner-tolerance: {} is not a positive length in mm",
+            args.corner_tolerance
+        ));
+    }
     let offset = args.work_offset.trim().to_ascii_uppercase();
     if !matches!(
         offset.as_str(),
@@ -79,10 +95,34 @@ pub fn post(args: &PostArgs) -> Result<(), String> {
         work_offset: offset,
         ..PostOptions::default()
     };
-    let text = run_post(&tp, &machine, &dialect, &options)
+    let posted = post_mapped(&tp, &machine, &dialect, &options)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;
     let out = args.output.display().to_string();
-    crate::storage::write_atomic(&args.output, text.as_bytes()).map_err(|e| format!("{out}: {e}"))
+    crate::storage::write_atomic(&args.output, posted.text.as_bytes())
+        .map_err(|e| format!("{out}: {e}"))?;
+    if !args.json {
+        return Ok(None);
+    }
+    let run = MachiningRun::from_posted(posted, tp.poses.len(), &machine, args.corner_tolerance);
+    Ok(Some(run_json(&run, &out)))
+}
+
+/// The `--json` document of a run.
+fn run_json(run: &MachiningRun, output: &str) -> serde_json::Value {
+    let lines: Vec<Option<usize>> = run.line_of_pose.iter().map(|l| l.map(|l| l + 1)).collect();
+    let (cycle, times, error) = match &run.motion {
+        Ok(m) => (Some(m.cycle_time_s()), Some(m.pose_time_s.clone()), None),
+        Err(e) => (None, None, Some(e.to_string())),
+    };
+    serde_json::json!({
+        "output": output,
+        "lines": run.text.lines().count(),
+        "poses": run.line_of_pose.len(),
+        "cycle_time_s": cycle,
+        "motion_error": error,
+        "pose_time_s": times,
+        "line_of_pose": lines,
+    })
 }
 
 /// The lines of `talas machines`: name and description.

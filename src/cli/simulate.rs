@@ -19,6 +19,7 @@ use crate::machine::Machine;
 use crate::simulation::{
     DEFAULT_MEMORY_LIMIT_BYTES, DeviationOptions, DexelMode, DexelStock, MovePlan, SimError,
     SimOptions, StepOptions, StockShape, deviation, plan_program, plan_toolpath, simulate,
+    top_deviation,
 };
 use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
@@ -220,14 +221,16 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
     )
     .map_err(|e| sim_err(file, &e, is_json))?;
     let wall_s = started.elapsed().as_secs_f64();
-    let dev = match &args.part {
+    let (dev, top) = match &args.part {
         Some(p) => {
             let mesh = read_part(p)?;
             let d = deviation(&stock, &mesh, &DeviationOptions::default(), &progress)
                 .map_err(|e| ImportError::new(p, None, e.to_string()))?;
-            Some(d)
+            let top = top_deviation(&stock, &mesh, &progress)
+                .map_err(|e| ImportError::new(p, None, e.to_string()))?;
+            (Some(d), Some(top))
         }
-        None => None,
+        None => (None, None),
     };
     if let Some(out) = &args.stl {
         save_stl(out, &stock.closed_mesh(), StlFormat::Binary)?;
@@ -279,6 +282,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         "collisions": collisions,
         "travel_violations": travel,
         "deviation": dev,
+        "top_deviation": top,
         "diagnostics": diagnostics,
     }))
 }
@@ -306,6 +310,14 @@ pub fn human(doc: &Value) -> String {
             g("max_gouge_mm"),
             g("max_remaining_mm"),
             g("mean_remaining_mm")
+        ));
+    }
+    if let Some(d) = doc.get("top_deviation").filter(|d| !d.is_null()) {
+        let g = |k: &str| d.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        s.push_str(&format!(
+            "top of the stock over the part: max gouge {:.4} mm, remaining p99 {:.4} mm\n",
+            g("max_gouge_mm"),
+            g("remaining_p99_mm")
         ));
     }
     let cols = doc

@@ -152,6 +152,13 @@ impl TimedPath {
         &self.segments
     }
 
+    /// Start and end time of planned segment `k` (see [`TimedPath::segments`]), s.
+    #[must_use]
+    pub fn segment_span_s(&self, k: usize) -> Option<(f64, f64)> {
+        let t0 = *self.start_times.get(k)?;
+        Some((t0, t0 + self.profiles.get(k)?.duration_s()))
+    }
+
     /// The 1-DoF profile of planned block `k` (along its path length).
     #[must_use]
     pub fn profile(&self, k: usize) -> Option<&Profile> {

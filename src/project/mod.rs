@@ -12,6 +12,7 @@ pub mod operation;
 mod part;
 pub mod pipeline;
 pub mod posting;
+pub mod run;
 pub mod simulate;
 mod stock;
 
@@ -20,6 +21,7 @@ pub use file::ProjectError;
 pub use history::History;
 pub use operation::{Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
+pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
 pub use stock::Stock;
 
 use crate::tools::Cutter;

@@ -4,6 +4,7 @@
 use glam::DVec3;
 
 use super::Project;
+use super::run::{MachiningRun, RunError};
 use crate::machine::Machine;
 use crate::post::{Dialect, PostOptions, Posted, post_mapped};
 use crate::toolpath::Toolpath;
@@ -21,22 +22,27 @@ pub fn to_program_coordinates(toolpath: &Toolpath, origin: DVec3) -> Toolpath {
     Toolpath::new(out.tool, out.poses)
 }
 
-/// Post `toolpath` (in part coordinates) with the project's machine and post settings, as tool
-/// `tool_number`, with the line ↔ pose map.
+/// The machine and dialect the project names, resolved.
 ///
 /// # Errors
-/// A message naming the machine or dialect that cannot be found, or the post's error.
-pub fn post_operation(
-    project: &Project,
-    toolpath: &Toolpath,
-    tool_number: u32,
-) -> Result<Posted, String> {
-    let machine = Machine::resolve(&project.machine)
-        .map_err(|e| format!("machine '{}': {e}", project.machine))?;
-    let dialect = Dialect::resolve(&project.post.dialect)
-        .map_err(|e| format!("dialect '{}': {e}", project.post.dialect))?;
-    let program = to_program_coordinates(toolpath, DVec3::from_array(project.setup.origin_mm));
-    // The safe height stays 10 mm above the highest tip of the program (100 mm at least).
+/// [`RunError::Machine`] or [`RunError::Dialect`] naming what cannot be found or read.
+pub fn resolve(project: &Project) -> Result<(Machine, Dialect), RunError> {
+    let machine = Machine::resolve(&project.machine).map_err(|e| RunError::Machine {
+        name: project.machine.clone(),
+        message: e.to_string(),
+    })?;
+    let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
+        name: project.post.dialect.clone(),
+        message: e.to_string(),
+    })?;
+    Ok((machine, dialect))
+}
+
+/// The post options the project gives `program` (a tool path in program coordinates) as tool
+/// `tool_number`: TCP, spindle speed, work offset, the program name from the project's name,
+/// and a safe height 10 mm above the highest tip (100 mm at least).
+#[must_use]
+pub fn post_options(project: &Project, program: &Toolpath, tool_number: u32) -> PostOptions {
     let top = program
         .poses
         .iter()
@@ -53,7 +59,7 @@ pub fn post_operation(
         .filter(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-')
         .take(24)
         .collect();
-    let options = PostOptions {
+    PostOptions {
         tcp: project.post.tcp,
         program_name: if name.is_empty() {
             "TALAS".into()
@@ -65,37 +71,57 @@ pub fn post_operation(
         clearance_z_mm: clearance,
         work_offset: project.setup.work_offset_code(),
         ..PostOptions::default()
-    };
-    post_mapped(&program, &machine, &dialect, &options)
-        .map_err(|e| format!("post ({}, {}): {e}", project.machine, project.post.dialect))
+    }
 }
 
-/// The posted program planned on the project's machine with jerk-limited motion (corners
-/// blended within `corner_tolerance_mm`): the true cycle time and the motion over time.
+/// Post `toolpath` (in part coordinates) with the project's machine and post settings, as tool
+/// `tool_number`, with the line ↔ pose map.
 ///
 /// # Errors
-/// A message with the line of a block the interpreter or the planner refuses.
-pub fn plan_motion(
+/// The machine or dialect that cannot be found, or the post's error.
+pub fn post_operation(
     project: &Project,
-    text: &str,
+    toolpath: &Toolpath,
+    tool_number: u32,
+) -> Result<Posted, RunError> {
+    let (machine, dialect) = resolve(project)?;
+    post_with(project, toolpath, tool_number, &machine, &dialect)
+}
+
+fn post_with(
+    project: &Project,
+    toolpath: &Toolpath,
+    tool_number: u32,
+    machine: &Machine,
+    dialect: &Dialect,
+) -> Result<Posted, RunError> {
+    let program = to_program_coordinates(toolpath, DVec3::from_array(project.setup.origin_mm));
+    let options = post_options(project, &program, tool_number);
+    post_mapped(&program, machine, dialect, &options).map_err(|source| RunError::Post {
+        machine: project.machine.clone(),
+        dialect: project.post.dialect.clone(),
+        source,
+    })
+}
+
+/// The machining run of `toolpath` (in part coordinates) as the project posts it, as tool
+/// `tool_number`, its motion planned with corners blended within `corner_tolerance_mm`: the
+/// program, the true cycle time, and the line ↔ pose ↔ time maps.
+///
+/// # Errors
+/// As [`post_operation`]; interpretation and planning errors are kept in the run.
+pub fn run_operation(
+    project: &Project,
+    toolpath: &Toolpath,
+    tool_number: u32,
     corner_tolerance_mm: f64,
-) -> Result<crate::feed::TimedPath, String> {
-    use crate::feed::{CornerPolicy, PlanInput, PlanOptions, machine_limits, plan};
-    use crate::gcode::{InterpretOptions, Syntax, interpret};
-    let machine = Machine::resolve(&project.machine)
-        .map_err(|e| format!("machine '{}': {e}", project.machine))?;
-    let options = InterpretOptions::for_syntax(Syntax::detect(text));
-    let program = interpret(text, &options)
-        .map_err(|e| format!("posted program, line {}: {}", e.line, e.message))?;
-    let input = PlanInput {
-        blocks: &program.blocks,
-        axes: machine_limits(&machine),
-        options: PlanOptions {
-            corner: CornerPolicy::Blend {
-                tolerance_mm: corner_tolerance_mm,
-            },
-            ..PlanOptions::default()
-        },
-    };
-    plan(&input).map_err(|e| format!("feed planning: {e}"))
+) -> Result<MachiningRun, RunError> {
+    let (machine, dialect) = resolve(project)?;
+    let posted = post_with(project, toolpath, tool_number, &machine, &dialect)?;
+    Ok(MachiningRun::from_posted(
+        posted,
+        toolpath.poses.len(),
+        &machine,
+        corner_tolerance_mm,
+    ))
 }

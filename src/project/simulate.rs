@@ -1,16 +1,16 @@
 //! Material removal for a computed operation, as the workstation shows it: the project's stock
 //! (or a box 2 mm around the part when none is defined) on a Z-dexel grid sized to a ray budget,
 //! the operation's path swept through it, and the signed deviation of the cut stock's top from
-//! the part at every vertex of the stock's height-field mesh (+ material left, − gouge).
+//! the part at every vertex of the stock's height-field mesh (+ material left, − gouge), measured
+//! by [`crate::simulation::top_deviation`] as `talas simulate --part` measures it.
 
 use super::Stock;
 use crate::diagnostics::Progress;
 use crate::geometry::Aabb;
-use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::simulation::{
     DexelMode, DexelStock, SimError, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
-    simulate,
+    simulate, top_deviation,
 };
 use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
@@ -149,47 +149,15 @@ pub fn simulate_toolpaths(
     }
     let report = merged(&reports);
     let stock_mesh = dexels.height_field_mesh();
-    let bvh = MeshBvh::new(part).map_err(|e| SimError::Part(e.to_string()))?;
-    let mut deviation_mm = Vec::with_capacity(stock_mesh.positions.len());
-    let mut over_part = Vec::new();
-    for p in &stock_mesh.positions {
-        let Some(hit) = bvh.closest_point(*p) else {
-            deviation_mm.push(0.0);
-            continue;
-        };
-        let n = part
-            .triangles
-            .get(hit.triangle)
-            .map_or(glam::DVec3::Z, |t| triangle_normal(part, *t));
-        let along = (*p - hit.point).dot(n);
-        // Straight above or below the part: signed; beside its boundary: material left.
-        let signed = if along.abs() >= 0.9 * hit.distance {
-            over_part.push(along);
-            along
-        } else {
-            hit.distance
-        };
-        deviation_mm.push(signed);
-    }
-    let max_gouge_mm = deviation_mm
-        .iter()
-        .fold(0.0_f64, |g, &d| if d < 0.0 { g.max(-d) } else { g });
-    over_part.retain(|d| *d >= 0.0);
-    over_part.sort_by(f64::total_cmp);
-    let remaining_p99_mm = if over_part.is_empty() {
-        0.0
-    } else {
-        let k = ((over_part.len() - 1) as f64 * 0.99).round() as usize;
-        over_part.get(k).copied().unwrap_or(0.0)
-    };
+    let top = top_deviation(&dexels, part, progress)?;
     Ok(Simulated {
         report,
         reports,
         resolution_mm: resolution,
         stock_mesh,
-        deviation_mm,
-        max_gouge_mm,
-        remaining_p99_mm,
+        deviation_mm: top.values_mm,
+        max_gouge_mm: top.max_gouge_mm,
+        remaining_p99_mm: top.remaining_p99_mm,
     })
 }
 
@@ -216,14 +184,4 @@ fn merged(reports: &[SimReport]) -> SimReport {
         out.time_s += r.time_s;
     }
     out
-}
-
-/// Unit normal of triangle `t` of `mesh` (+Z when degenerate).
-fn triangle_normal(mesh: &TriMesh, t: [u32; 3]) -> glam::DVec3 {
-    let p = |i: u32| mesh.positions.get(i as usize).copied().unwrap_or_default();
-    let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
-    (b - a)
-        .cross(c - a)
-        .try_normalize()
-        .unwrap_or(glam::DVec3::Z)
 }

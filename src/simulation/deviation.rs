@@ -1,6 +1,15 @@
-//! Deviation of the simulated stock from the design part: a signed distance at every stock
-//! surface point over the region the part covers (positive: material left, negative: gouge)
-//! and its statistics (max gouge, max remaining, scallop height distribution).
+//! Deviation of the simulated stock from the design part, for closed parts and open sheets
+//! (a surface model, one face of a part) alike; the command line and the workstation both
+//! measure here, so they report the same numbers for the same run:
+//! - [`deviation`]: a signed distance at every stock surface point over the region the part
+//!   covers (positive: material left, negative: gouge) and its statistics (max gouge, max
+//!   remaining, scallop height distribution);
+//! - [`top_deviation`]: the signed distance of the cut stock's top, one value per vertex of
+//!   [`DexelStock::height_field_mesh`] (what the workstation colours), with the deepest gouge
+//!   and the 99th percentile of the material left over the part.
+//!
+//! Inside a closed part is decided by ray crossings; an open sheet has no inside, so there the
+//! side is the one the closest triangle's normal points to.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -65,6 +74,9 @@ pub struct DeviationReport {
     pub remaining_percentiles_mm: [f64; 3],
     /// Histogram of remaining material over points outside the part.
     pub remaining_histogram: Histogram,
+    /// Whether the part is closed (sign by inside/outside) or an open sheet (sign by the
+    /// closest triangle's normal).
+    pub closed_part: bool,
     /// The measured points.
     #[serde(skip)]
     pub samples: Vec<SurfacePoint>,
@@ -86,6 +98,7 @@ pub fn deviation(
 ) -> Result<DeviationReport, SimError> {
     let bvh = MeshBvh::new(part).map_err(|e| SimError::Part(e.to_string()))?;
     let bounds = part.bbox();
+    let closed = is_closed(part);
     let mut samples = Vec::new();
     let mut values = Vec::new();
     let mut uncut = 0usize;
@@ -108,7 +121,7 @@ pub fn deviation(
                 let (i, j) = (k % fam.nu, k / fam.nu);
                 let origin = fam.ray_origin(i, j);
                 let inside = mesh_intervals(&bvh, &bounds, origin, fam.axis);
-                if inside.is_empty() {
+                if closed && inside.is_empty() {
                     return (out, skipped);
                 }
                 for [a, b] in d.intervals() {
@@ -123,9 +136,19 @@ pub fn deviation(
                         let Some(hit) = bvh.closest_point(p) else {
                             continue;
                         };
-                        let x = p.to_array()[w];
-                        let is_in = inside.iter().any(|[lo, hi]| x > *lo && x < *hi);
-                        let value = if is_in { -hit.distance } else { hit.distance };
+                        let value = if closed {
+                            let x = p.to_array()[w];
+                            let is_in = inside.iter().any(|[lo, hi]| x > *lo && x < *hi);
+                            if is_in { -hit.distance } else { hit.distance }
+                        } else {
+                            // Only points straight above or below the sheet, on stock faces
+                            // turned the way the sheet faces, count: a sheet bounds material
+                            // on one side only, and the stock's far side is not its surface.
+                            match sheet_side(part, p, &hit, Some(n)) {
+                                Some(v) => v,
+                                None => continue,
+                            }
+                        };
                         out.push((
                             SurfacePoint {
                                 position: p,
@@ -151,7 +174,145 @@ pub fn deviation(
         progress.set((f + 1) as f64 / families as f64);
     }
     progress.check().map_err(|_| SimError::Cancelled)?;
-    Ok(statistics(samples, values, uncut, opts.histogram_bins))
+    let mut report = statistics(samples, values, uncut, opts.histogram_bins);
+    report.closed_part = closed;
+    Ok(report)
+}
+
+/// The signed distance of `p` from an open sheet when `p` lies straight above or below it
+/// (along the closest triangle's normal, within 25°) and, when `facing` (the stock surface's
+/// outward normal at `p`) is given, the stock surface faces the way the sheet does:
+/// positive on the normal's side.
+fn sheet_side(
+    part: &TriMesh,
+    p: DVec3,
+    hit: &crate::geometry::bvh::ClosestHit,
+    facing: Option<DVec3>,
+) -> Option<f64> {
+    let n = part
+        .triangles
+        .get(hit.triangle)
+        .map_or(DVec3::Z, |t| triangle_normal(part, *t));
+    if facing.is_some_and(|f| f.dot(n) <= 0.0) {
+        return None;
+    }
+    let along = (p - hit.point).dot(n);
+    (along.abs() >= 0.9 * hit.distance).then_some(along)
+}
+
+/// Whether `mesh` bounds a solid: every edge (by vertex index) is shared by exactly two
+/// triangles. Meshes read from STL are welded, so this holds for closed STL parts.
+#[must_use]
+pub fn is_closed(mesh: &TriMesh) -> bool {
+    let mut edges: std::collections::HashMap<(u32, u32), u32> =
+        std::collections::HashMap::with_capacity(mesh.triangles.len() * 3);
+    for t in &mesh.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    !edges.is_empty() && edges.values().all(|&n| n == 2)
+}
+
+/// Unit normal of triangle `t` of `mesh` (+Z when degenerate).
+fn triangle_normal(mesh: &TriMesh, t: [u32; 3]) -> DVec3 {
+    let p = |i: u32| mesh.positions.get(i as usize).copied().unwrap_or_default();
+    let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+    (b - a).cross(c - a).try_normalize().unwrap_or(DVec3::Z)
+}
+
+/// The deviation of the cut stock's top from the part (see [`top_deviation`]).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct TopDeviation {
+    /// Signed distance of each top point from the part, mm, in the order of the vertices of
+    /// [`DexelStock::height_field_mesh`]: positive where material is left, negative where the
+    /// part was cut into. Points beside the part's outline get their (positive) distance.
+    #[serde(skip)]
+    pub values_mm: Vec<f64>,
+    /// Top points measured (Z rays holding material).
+    pub points: usize,
+    /// Of these, the points straight above or below the part.
+    pub over_part: usize,
+    /// Deepest cut into the part, mm (≥ 0).
+    pub max_gouge_mm: f64,
+    /// 99th percentile of the material left over the part, mm.
+    pub remaining_p99_mm: f64,
+    /// Whether the part is closed (see [`is_closed`]).
+    pub closed_part: bool,
+}
+
+/// The signed deviation of the top of every Z ray holding material from `part`: straight above
+/// or below the part (along the closest triangle's normal, within 25°) the distance signed by
+/// the side (inside/outside for a closed part, the normal's side for an open sheet); beside
+/// the part's outline, the distance as material left.
+///
+/// # Errors
+/// [`SimError::Part`] when the part has no usable triangle, [`SimError::Cancelled`].
+pub fn top_deviation(
+    stock: &DexelStock,
+    part: &TriMesh,
+    progress: &Progress,
+) -> Result<TopDeviation, SimError> {
+    let bvh = MeshBvh::new(part).map_err(|e| SimError::Part(e.to_string()))?;
+    let bounds = part.bbox();
+    let closed = is_closed(part);
+    let Some(fam) = stock.families.first() else {
+        return Ok(TopDeviation::default());
+    };
+    let tops: Vec<DVec3> = fam
+        .dexels
+        .iter()
+        .enumerate()
+        .filter_map(|(k, d)| {
+            let [_, top] = d.intervals().last()?;
+            Some(fam.point(k % fam.nu, k / fam.nu, f64::from(*top)))
+        })
+        .collect();
+    let measured: Vec<(f64, bool)> = tops
+        .par_iter()
+        .map(|p| {
+            let Some(hit) = bvh.closest_point(*p) else {
+                return (0.0, false);
+            };
+            match sheet_side(part, *p, &hit, None) {
+                Some(_) if closed => {
+                    let inside = signed_distance(&bvh, &bounds, *p).is_some_and(|d| d < 0.0);
+                    (if inside { -hit.distance } else { hit.distance }, true)
+                }
+                Some(along) => (along, true),
+                None => (hit.distance, false),
+            }
+        })
+        .collect();
+    progress.check().map_err(|_| SimError::Cancelled)?;
+    let values_mm: Vec<f64> = measured.iter().map(|(v, _)| *v).collect();
+    let max_gouge_mm = values_mm
+        .iter()
+        .fold(0.0_f64, |g, &d| if d < 0.0 { g.max(-d) } else { g });
+    let mut over: Vec<f64> = measured
+        .iter()
+        .filter(|(v, over)| *over && *v >= 0.0)
+        .map(|(v, _)| *v)
+        .collect();
+    over.sort_by(f64::total_cmp);
+    #[allow(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        clippy::cast_precision_loss
+    )]
+    let remaining_p99_mm = over
+        .len()
+        .checked_sub(1)
+        .and_then(|n| over.get((n as f64 * 0.99).round() as usize).copied())
+        .unwrap_or(0.0);
+    Ok(TopDeviation {
+        points: values_mm.len(),
+        over_part: measured.iter().filter(|(_, o)| *o).count(),
+        values_mm,
+        max_gouge_mm,
+        remaining_p99_mm,
+        closed_part: closed,
+    })
 }
 
 fn statistics(

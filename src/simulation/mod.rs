@@ -25,7 +25,10 @@ mod stock;
 mod surface;
 mod sweep;
 
-pub use deviation::{DeviationOptions, DeviationReport, Histogram, deviation, signed_distance};
+pub use deviation::{
+    DeviationOptions, DeviationReport, Histogram, TopDeviation, deviation, is_closed,
+    signed_distance, top_deviation,
+};
 pub use dexel::{Dexel, DexelFamily, RayAxis};
 pub use engine::{Collision, CollisionKind, SimOptions, SimReport, simulate, simulate_moves};
 pub use motion::{MovePlan, SimMove, Step, StepOptions, plan_program, plan_toolpath};

@@ -1,6 +1,7 @@
-//! The posted program of the active operation: posting and jerk-limited motion planning on a
-//! worker thread, the G-code pane and the motion plots in the bottom dock, export through a save
-//! dialog, and the links between a G-code line, a path pose, the playback and a plot time.
+//! The posted program of the active operation: the engine's machining run (posting and
+//! jerk-limited motion planning, [`crate::project::run`]) made on a worker thread, the G-code
+//! pane and the motion plots in the bottom dock, export through a save dialog, and the links
+//! between a G-code line, a path pose, the playback and a plot time (read off the run's maps).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -11,7 +12,8 @@ use super::super::panels::gcode_view::{GcodeEvent, GcodeView};
 use super::super::panels::motion_plots::{MotionPlots, PlotEvent};
 use super::Workstation;
 use crate::diagnostics::Severity;
-use crate::project::posting::{plan_motion, post_operation};
+use crate::project::MachiningRun;
+use crate::project::posting::run_operation;
 use crate::project::{Operation, PostConfig, Setup};
 use crate::render::{ColourMap, DataId, LineData, ScalarMapping};
 use crate::tools::Cutter;
@@ -42,13 +44,10 @@ struct ProgramKey {
     post: PostConfig,
 }
 
-/// What the worker produces.
+/// What the worker produces: the run and, when its motion is planned, the plots of it.
 struct ProgramOutput {
-    text: String,
-    pose_of_line: Vec<Option<usize>>,
-    motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
-    /// Mean planned path speed of each line's blocks, mm/min (NaN where none).
-    feed_of_line: Vec<f32>,
+    run: MachiningRun,
+    plots: Result<MotionPlots, String>,
 }
 
 /// A posted program and its views.
@@ -56,15 +55,11 @@ pub(super) struct Program {
     key: ProgramKey,
     index: usize,
     view: GcodeView,
-    pose_of_line: Vec<Option<usize>>,
-    line_of_pose: Vec<Option<usize>>,
-    /// Motion plots and (start time, 0-based line) of each motion block, by time.
-    motion: Result<(MotionPlots, Vec<(f64, usize)>), String>,
+    /// The engine's run: line ↔ pose ↔ planned time.
+    run: MachiningRun,
+    /// The motion plots, or why the program has no motion plan.
+    plots: Result<MotionPlots, String>,
     elapsed_s: f64,
-    /// Planned feed at each pose of the path, mm/min (NaN where unknown).
-    pose_feed: Vec<f32>,
-    /// Planned time at which each pose is reached, s (non-decreasing; empty without a plan).
-    pose_time: Vec<f64>,
     /// The path coloured by planned feed (render id, lines, mapping in mm/min), built once.
     feed_lines: Option<(DataId, Arc<LineData>, ScalarMapping)>,
 }
@@ -135,49 +130,14 @@ impl Workstation {
             Job::spawn(
                 label,
                 move |progress| {
-                    let posted = post_operation(&project, &toolpath, tool_number)?;
-                    progress.set(0.3);
-                    let mut sums = vec![(0.0f64, 0u32); posted.pose_of_line.len()];
-                    let motion =
-                        plan_motion(&project, &posted.text, CORNER_TOLERANCE_MM).map(|timed| {
-                            let plots = MotionPlots::new(&timed);
-                            let mut lines = Vec::new();
-                            let mut last = usize::MAX;
-                            for s in timed.samples_every(0.005) {
-                                let line = timed
-                                    .blocks()
-                                    .get(s.block)
-                                    .map(|b| b.source_line.saturating_sub(1));
-                                if s.block != last {
-                                    last = s.block;
-                                    if let Some(l) = line {
-                                        lines.push((s.t, l));
-                                    }
-                                }
-                                if let Some(slot) = line.and_then(|l| sums.get_mut(l)) {
-                                    slot.0 += s.feed;
-                                    slot.1 += 1;
-                                }
-                            }
-                            (plots, lines)
-                        });
-                    // Mean planned path speed of each line, mm/s → mm/min.
-                    let feed_of_line = sums
-                        .iter()
-                        .map(|&(sum, n)| {
-                            if n > 0 {
-                                (60.0 * sum / f64::from(n)) as f32
-                            } else {
-                                f32::NAN
-                            }
-                        })
-                        .collect();
-                    Ok(ProgramOutput {
-                        text: posted.text,
-                        pose_of_line: posted.pose_of_line,
-                        motion,
-                        feed_of_line,
-                    })
+                    let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
+                        .map_err(|e| e.to_string())?;
+                    progress.set(0.8);
+                    let plots = match &run.motion {
+                        Ok(m) => Ok(MotionPlots::new(&m.timed)),
+                        Err(e) => Err(e.to_string()),
+                    };
+                    Ok(ProgramOutput { run, plots })
                 },
                 move || ctx.request_repaint(),
             ),
@@ -208,8 +168,9 @@ impl Workstation {
         self.programs
             .current
             .as_ref()
-            .filter(|p| p.key == key && !p.pose_time.is_empty())
-            .map(|p| p.pose_time.as_slice())
+            .filter(|p| p.key == key)
+            .and_then(|p| p.run.motion.as_ref().ok())
+            .map(|m| m.pose_time_s.as_slice())
     }
 
     /// The planned feed at each pose of operation `index`'s path, mm/min (NaN where unknown),
@@ -221,7 +182,8 @@ impl Workstation {
             .current
             .as_ref()
             .filter(|p| p.key == key)
-            .map(|p| p.pose_feed.as_slice())
+            .and_then(|p| p.run.motion.as_ref().ok())
+            .map(|m| m.pose_feed_mm_min.as_slice())
     }
 
     /// Cancel the running post; true when there was one.
@@ -256,51 +218,9 @@ impl Workstation {
         let t = self.now_s();
         match outcome {
             Some(Ok(out)) => {
-                let poses = self
-                    .operation_result(index)
-                    .map_or(0, |(r, _)| r.toolpath().poses.len());
-                let mut line_of_pose = vec![None; poses];
-                for (line, pose) in out.pose_of_line.iter().enumerate() {
-                    if let Some(slot) = pose.and_then(|p| line_of_pose.get_mut(p)) {
-                        *slot = Some(line);
-                    }
-                }
-                // Planned time of each pose: when the last block of its line ends (the next
-                // block starts), carried over poses without a line of their own.
-                let pose_time: Vec<f64> = match &out.motion {
-                    Ok((plots, lines)) => {
-                        let mut start = vec![f64::NAN; out.pose_of_line.len()];
-                        for (k, (_, l)) in lines.iter().enumerate() {
-                            let end = lines.get(k + 1).map_or(plots.cycle_time_s, |n| n.0);
-                            if let Some(s) = start.get_mut(*l) {
-                                *s = end;
-                            }
-                        }
-                        let mut last = 0.0f64;
-                        line_of_pose
-                            .iter()
-                            .map(|l| {
-                                let t = l
-                                    .and_then(|l| start.get(l).copied())
-                                    .filter(|t| t.is_finite())
-                                    .unwrap_or(last);
-                                last = last.max(t);
-                                last
-                            })
-                            .collect()
-                    }
-                    Err(_) => Vec::new(),
-                };
-                let pose_feed: Vec<f32> = line_of_pose
-                    .iter()
-                    .map(|l| {
-                        l.and_then(|l| out.feed_of_line.get(l).copied())
-                            .unwrap_or(f32::NAN)
-                    })
-                    .collect();
-                let lines = out.text.lines().count();
-                match &out.motion {
-                    Ok((plots, _)) => self.log.push(
+                let lines = out.run.text.lines().count();
+                match &out.plots {
+                    Ok(plots) => self.log.push(
                         t,
                         Severity::Info,
                         format!(
@@ -321,13 +241,10 @@ impl Workstation {
                 self.programs.current = Some(Program {
                     key,
                     index,
-                    view: GcodeView::new(out.text),
-                    pose_of_line: out.pose_of_line,
-                    line_of_pose,
-                    motion: out.motion,
+                    view: GcodeView::new(out.run.text.clone()),
+                    run: out.run,
+                    plots: out.plots,
                     elapsed_s,
-                    pose_feed,
-                    pose_time,
                     feed_lines: None,
                 });
                 // The playback now runs on the planned clock.
@@ -357,6 +274,7 @@ impl Workstation {
         self.programs
             .current
             .as_ref()?
+            .run
             .line_of_pose
             .get(pose)
             .copied()
@@ -372,14 +290,14 @@ impl Workstation {
         if Some(p.index) != active {
             return;
         }
-        let Some(line) = p.line_of_pose.get(pose).copied().flatten() else {
+        let Some(line) = p.run.line_of_pose.get(pose).copied().flatten() else {
             return;
         };
         p.view.scroll_to_line(line);
-        if let Ok((plots, lines)) = &mut p.motion
-            && let Some((t, _)) = line_start(lines, line)
+        if let (Ok(plots), Ok(m)) = (&mut p.plots, &p.run.motion)
+            && let Some(t) = m.line_start_s(line)
         {
-            plots.set_cursor_time(Some(*t));
+            plots.set_cursor_time(Some(t));
         }
     }
 
@@ -452,12 +370,12 @@ impl Workstation {
             return;
         };
         if let Some(GcodeEvent::LineClicked(line)) = p.view.ui(ui)
-            && let Some(pose) = p.pose_of_line.get(line).copied().flatten()
+            && let Some(pose) = p.run.pose_of_line.get(line).copied().flatten()
         {
-            if let Ok((plots, lines)) = &mut p.motion
-                && let Some((t, _)) = line_start(lines, line)
+            if let (Ok(plots), Ok(m)) = (&mut p.plots, &p.run.motion)
+                && let Some(t) = m.line_start_s(line)
             {
-                plots.set_cursor_time(Some(*t));
+                plots.set_cursor_time(Some(t));
             }
             if Some(p.index) == self.ops.active {
                 commands.push(Command::PickPose(Some(pose)));
@@ -471,21 +389,20 @@ impl Workstation {
             ui.weak("No program yet: calculate an operation, then Post (F7).");
             return;
         };
-        match &mut p.motion {
+        match &mut p.plots {
             Err(e) => {
                 ui.colored_label(super::super::theme::WARNING, format!("No motion plan: {e}"));
             }
-            Ok((plots, lines)) => {
+            Ok(plots) => {
                 let event = plots.ui(ui);
                 let (t, clicked) = match event {
                     Some(PlotEvent::TimeClicked(t)) => (t, true),
                     Some(PlotEvent::TimeHovered(t)) => (t, false),
                     None => return,
                 };
-                let k = lines.partition_point(|(s, _)| *s <= t).saturating_sub(1);
-                let pose = lines
-                    .get(k)
-                    .and_then(|(_, line)| p.pose_of_line.get(*line).copied().flatten())
+                let pose = p
+                    .run
+                    .pose_at_time(t)
                     .filter(|_| Some(p.index) == self.ops.active);
                 if clicked {
                     plots.set_cursor_time(Some(t));
@@ -512,8 +429,8 @@ impl Workstation {
         let p = self.programs.current.as_mut().filter(|p| p.key == key)?;
         if p.feed_lines.is_none() {
             let r = store.get(k)?;
-            let max = p
-                .pose_feed
+            let pose_feed = &p.run.motion.as_ref().ok()?.pose_feed_mm_min;
+            let max = pose_feed
                 .iter()
                 .copied()
                 .filter(|f| f.is_finite())
@@ -525,7 +442,7 @@ impl Workstation {
                 max,
             };
             next_id += 1;
-            let lines = crate::app::toolpaths::path_lines_by(r.toolpath(), &p.pose_feed, mapping);
+            let lines = crate::app::toolpaths::path_lines_by(r.toolpath(), pose_feed, mapping);
             p.feed_lines = Some((next_id, Arc::new(lines), mapping));
         }
         self.ops.next_id = next_id;
@@ -533,11 +450,4 @@ impl Workstation {
             .as_ref()
             .map(|(id, l, m)| (*id, Arc::clone(l), *m))
     }
-}
-
-/// The start time of `line`'s first block in `lines` ((start time, line) by time; a program runs
-/// its lines in order, so the lines are non-decreasing and a binary search finds it).
-fn line_start(lines: &[(f64, usize)], line: usize) -> Option<&(f64, usize)> {
-    let k = lines.partition_point(|(_, l)| *l < line);
-    lines.get(k).filter(|(_, l)| *l == line)
 }
