@@ -602,3 +602,30 @@ fn posted_five_axis_program_goes_through_the_machine_kinematics() {
 
 #[path = "simulation/finish.rs"]
 mod finish;
+
+#[test]
+fn closed_parts_and_open_sheets_are_told_apart() {
+    use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
+    use talas::import::step::read_step;
+    use talas::import::stl::{StlOptions, read_stl};
+    use talas::simulation::is_closed;
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    // A solid tessellated face by face: the seams meet, so it bounds material.
+    let solid = read_step(&data.join("pocket-fillets.stp")).unwrap();
+    let mesh = tessellate_part(&solid, &TessellationOptions::default()).mesh;
+    assert!(is_closed(&mesh), "pocket-fillets.stp is a solid");
+    assert!(is_closed(
+        &read_stl(&data.join("pocket-fillets.stl"), &StlOptions::default())
+            .unwrap()
+            .mesh
+    ));
+    // A single surface is a sheet.
+    let sheet = read_step(&data.join("bicubic-hills.stp")).unwrap();
+    assert!(!is_closed(
+        &tessellate_part(&sheet, &TessellationOptions::default()).mesh
+    ));
+    // The solid less one triangle is open.
+    let mut holed = mesh.clone();
+    holed.triangles.pop();
+    assert!(!is_closed(&holed));
+}

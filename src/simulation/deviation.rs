@@ -200,14 +200,30 @@ fn sheet_side(
     (along.abs() >= 0.9 * hit.distance).then_some(along)
 }
 
-/// Whether `mesh` bounds a solid: every edge (by vertex index) is shared by exactly two
-/// triangles. Meshes read from STL are welded, so this holds for closed STL parts.
+/// Whether `mesh` bounds a solid: every edge is shared by exactly two triangles, vertices
+/// being the same where their positions are equal (so face-by-face tessellations and meshes
+/// split at creases for display count as closed when their seams meet).
 #[must_use]
 pub fn is_closed(mesh: &TriMesh) -> bool {
-    let mut edges: std::collections::HashMap<(u32, u32), u32> =
-        std::collections::HashMap::with_capacity(mesh.triangles.len() * 3);
+    use std::collections::HashMap;
+    let key = |p: DVec3| (p + DVec3::ZERO).to_array().map(f64::to_bits);
+    let mut ids: HashMap<[u64; 3], u32> = HashMap::with_capacity(mesh.positions.len());
+    let canonical: Vec<u32> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let next = u32::try_from(ids.len()).unwrap_or(u32::MAX);
+            *ids.entry(key(*p)).or_insert(next)
+        })
+        .collect();
+    let id = |v: u32| canonical.get(v as usize).copied().unwrap_or(u32::MAX);
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.triangles.len() * 3);
     for t in &mesh.triangles {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+        let [a, b, c] = t.map(id);
+        if a == b || b == c || c == a {
+            continue;
+        }
+        for (a, b) in [(a, b), (b, c), (c, a)] {
             *edges.entry((a.min(b), a.max(b))).or_default() += 1;
         }
     }
