@@ -3,30 +3,27 @@
 //! against itself.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 use talas::diagnostics::Progress;
 use talas::geometry::bvh::MeshBvh;
-use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
-use talas::import::step::read_step;
-use talas::project::pipeline::{ComputeError, PartGeometry, compute, cutting_runs};
+use talas::import::{OpenOptions, Workpiece, open};
+use talas::project::pipeline::{ComputeError, compute, cutting_runs};
 use talas::project::{Operation, OperationKind, Project, ToolEntry};
 use talas::toolpath::MoveKind;
 use talas::tools::dropcutter::drop_cutter;
 use talas::tools::parse_tool_spec;
 
-fn hills() -> PartGeometry {
-    let part = read_step(Path::new("tests/data/bicubic-hills.stp")).expect("bicubic-hills reads");
-    let mesh = tessellate_part(&part, &TessellationOptions::with_chord_tol(0.01)).mesh;
-    PartGeometry {
-        mesh,
-        faces: part
-            .faces
-            .iter()
-            .map(|f| Some(Arc::new(f.surface.clone())))
-            .collect(),
-    }
+fn hills() -> Workpiece {
+    let options = OpenOptions {
+        chord_tol_mm: Some(0.01),
+    };
+    open(
+        Path::new("tests/data/bicubic-hills.stp"),
+        &options,
+        &Progress::new(),
+    )
+    .expect("bicubic-hills reads")
 }
 
 fn project_with(tool: &str, op: Operation) -> Project {
@@ -54,7 +51,7 @@ fn finishing_a_face_puts_the_ball_centre_one_radius_off_the_exact_surface() {
     let tp = &out.toolpath;
     assert!(out.passes >= 5, "{} passes", out.passes);
     assert_eq!(cutting_runs(tp), out.passes, "one cutting run per pass");
-    let surface = part.faces[0].as_ref().expect("surface");
+    let surface = part.surface(0).expect("surface");
     let rect = surface.domain();
     let r = 3.0;
     // tolerance 0.02 mm: poses are raised by 0.01 mm.
@@ -184,10 +181,7 @@ fn bad_operations_give_errors_naming_the_operation() {
         }
         other => panic!("expected a face error, got {other:?}"),
     }
-    let mesh_only = PartGeometry {
-        mesh: part.mesh.clone(),
-        faces: vec![None],
-    };
+    let mesh_only = Workpiece::from_mesh(Path::new("hills.stl"), part.mesh.clone(), Vec::new());
     let project = project_with("ball:d=6", Operation::new(OperationKind::IsoScallop, 0, 0));
     let e = compute(&project, 0, &mesh_only, &Progress::new()).expect_err("no surface");
     assert!(e.to_string().contains("STEP"), "{e}");

@@ -252,7 +252,17 @@ mod tests {
             DVec3::new(0.0, 0.0, 2.0),
             DVec3::new(0.0, 1.0, 2.0),
         ];
+        let mesh = TriMesh {
+            positions: positions.clone(),
+            normals: Vec::new(),
+            triangles: vec![[0, 1, 2], [0, 2, 3], [0, 3, 5], [0, 5, 4]],
+        };
         LoadedPart {
+            workpiece: std::sync::Arc::new(crate::import::Workpiece::from_mesh(
+                std::path::Path::new("test.stl"),
+                mesh,
+                Vec::new(),
+            )),
             path: "test.stl".into(),
             name: "t".into(),
             product_name: String::new(),

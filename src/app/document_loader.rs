@@ -1,23 +1,19 @@
-//! The ONE adapter between the workstation and the engine's importers: every file the workstation
-//! opens goes through [`load_part`], on a worker thread. The rest of the app sees only
-//! [`LoadedPart`] and [`LoadError`]; a new file kind or importer option changes this file only.
+//! The ONE adapter between the workstation and the engine's reader: every file the workstation
+//! opens goes through [`load_part`], on a worker thread, which calls [`crate::import::open`] (the
+//! reader the command line uses too) and keeps its [`Workpiece`] for planning. The rest of the
+//! app sees only [`LoadedPart`] and [`LoadError`].
 //!
-//! STEP: [`crate::import::step::read_step`] then [`crate::geometry::tessellate::tessellate_part`].
-//! STL: [`crate::import::stl::read_stl`], then the mesh's creases are split for display
-//! ([`super::crease`]).
+//! For display, an STL mesh's creases are split ([`super::crease`]); the workpiece keeps the
+//! mesh as read.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::crease::split_creases;
 use crate::diagnostics::{Diagnostic, Progress};
-use crate::geometry::brep::Part;
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::surface::SurfaceGeom;
-use crate::geometry::tessellate::{PartMesh, TessellationOptions, tessellate_part};
-use crate::import::ImportError;
-use crate::import::step::{read_step, read_step_bytes};
-use crate::import::stl::{StlOptions, read_stl};
+use crate::import::{FileFormat, ImportError, OpenOptions, Workpiece, open, open_step_bytes};
 
 /// Folds sharper than this are drawn as creases in meshes from STL files, rad (35°).
 const STL_CREASE_ANGLE_RAD: f64 = 0.610_865_238_198_015_2;
@@ -54,35 +50,54 @@ pub struct LoadedPart {
     pub diagnostics: Vec<Diagnostic>,
     /// What kind of file this was (`STEP`, `STL`).
     pub format: &'static str,
+    /// The engine's workpiece (the mesh as read, exact faces, one shared BVH): what operations
+    /// are planned on.
+    pub workpiece: Arc<Workpiece>,
 }
 
 impl LoadedPart {
-    /// Summarise an imported B-rep part and its tessellation.
+    /// Summarise a workpiece for display (an STL mesh has its creases split).
     #[must_use]
-    pub fn from_part(path: &Path, part: &Part, tessellation: PartMesh) -> Self {
-        let faces = part
-            .faces
-            .iter()
-            .map(|f| FaceSummary {
-                kind: f.surface.kind().to_string(),
-                source_id: f.source_id,
-                surface: Some(Arc::new(f.surface.clone())),
-                same_sense: f.same_sense,
-            })
-            .collect();
-        let mut diagnostics = part.diagnostics.clone();
-        diagnostics.extend(tessellation.diagnostics);
+    pub fn from_workpiece(workpiece: Workpiece) -> Self {
+        let path = workpiece.source.clone();
+        let (mesh, faces, product_name) = match &workpiece.part {
+            Some(part) => (
+                workpiece.mesh.clone(),
+                part.faces
+                    .iter()
+                    .zip(&workpiece.surfaces)
+                    .map(|(f, surface)| FaceSummary {
+                        kind: f.surface.kind().to_string(),
+                        source_id: f.source_id,
+                        surface: surface.clone(),
+                        same_sense: f.same_sense,
+                    })
+                    .collect(),
+                // Product names are often the exporter's ("Open CASCADE STEP translator"):
+                // the file's name reads better; the product name is kept beside it.
+                part.name.trim().to_string(),
+            ),
+            None => (
+                split_creases(&workpiece.mesh, STL_CREASE_ANGLE_RAD),
+                Vec::new(),
+                String::new(),
+            ),
+        };
+        let triangles = mesh.triangles.len();
         Self {
-            path: path.to_path_buf(),
-            // Product names are often the exporter's ("Open CASCADE STEP translator"): the
-            // file's name reads better; the product name is kept beside it.
-            name: file_stem(path),
-            product_name: part.name.trim().to_string(),
-            mesh: tessellation.mesh,
-            face_of_triangle: tessellation.face_of_triangle,
+            name: file_stem(&path),
+            path,
+            product_name,
+            face_of_triangle: if workpiece.part.is_some() {
+                workpiece.face_of_triangle.clone()
+            } else {
+                vec![0; triangles]
+            },
+            mesh,
             faces,
-            diagnostics,
-            format: "STEP",
+            diagnostics: workpiece.diagnostics.clone(),
+            format: workpiece.format.name(),
+            workpiece: Arc::new(workpiece),
         }
     }
 }
@@ -104,20 +119,22 @@ pub enum LoadError {
 /// # Errors
 /// [`LoadError::Import`] for unreadable or malformed files, [`LoadError::Cancelled`] on cancel.
 pub fn load_part(path: &Path, progress: &Progress) -> Result<LoadedPart, LoadError> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
-        Some("stp" | "step") => load_step(path, None, progress),
-        Some("stl") => load_stl(path, progress),
-        _ => Err(ImportError::new(
-            path,
-            None,
-            "unknown file type: Talas opens .stp, .step and .stl files",
-        )
-        .into()),
-    }
+    let cancelled = |_| LoadError::Cancelled;
+    progress.check().map_err(cancelled)?;
+    FileFormat::of(path)?;
+    progress.set(0.05);
+    let workpiece = open(path, &OpenOptions::default(), progress).map_err(|e| {
+        if progress.is_cancelled() {
+            LoadError::Cancelled
+        } else {
+            LoadError::Import(e)
+        }
+    })?;
+    progress.check().map_err(cancelled)?;
+    progress.set(0.9);
+    let part = LoadedPart::from_workpiece(workpiece);
+    progress.set(1.0);
+    Ok(part)
 }
 
 /// Where the embedded default part says it comes from (in messages and the properties panel).
@@ -130,54 +147,17 @@ const DEFAULT_PART_STEP: &[u8] = include_bytes!("../../assets/bicubic-hills.stp"
 /// # Errors
 /// As [`load_part`] (only [`LoadError::Cancelled`] in practice: the file is tested).
 pub fn load_default_part(progress: &Progress) -> Result<LoadedPart, LoadError> {
-    load_step(
+    let cancelled = |_| LoadError::Cancelled;
+    progress.check().map_err(cancelled)?;
+    progress.set(0.05);
+    let workpiece = open_step_bytes(
         Path::new(DEFAULT_PART_PATH),
-        Some(DEFAULT_PART_STEP),
-        progress,
-    )
-}
-
-/// STEP from `bytes` when given (`path` then only names the source), else from the file.
-fn load_step(
-    path: &Path,
-    bytes: Option<&[u8]>,
-    progress: &Progress,
-) -> Result<LoadedPart, LoadError> {
-    let cancelled = |_| LoadError::Cancelled;
-    progress.check().map_err(cancelled)?;
-    progress.set(0.05);
-    let part = match bytes {
-        Some(bytes) => read_step_bytes(path, bytes)?,
-        None => read_step(path)?,
-    };
-    progress.check().map_err(cancelled)?;
-    progress.set(0.5);
-    let tessellation = tessellate_part(&part, &TessellationOptions::default());
+        DEFAULT_PART_STEP,
+        &OpenOptions::default(),
+    )?;
     progress.check().map_err(cancelled)?;
     progress.set(1.0);
-    Ok(LoadedPart::from_part(path, &part, tessellation))
-}
-
-fn load_stl(path: &Path, progress: &Progress) -> Result<LoadedPart, LoadError> {
-    let cancelled = |_| LoadError::Cancelled;
-    progress.check().map_err(cancelled)?;
-    progress.set(0.05);
-    let stl = read_stl(path, &StlOptions::default())?;
-    progress.check().map_err(cancelled)?;
-    progress.set(0.7);
-    let mesh = split_creases(&stl.mesh, STL_CREASE_ANGLE_RAD);
-    progress.set(1.0);
-    let triangles = mesh.triangles.len();
-    Ok(LoadedPart {
-        path: path.to_path_buf(),
-        name: file_stem(path),
-        product_name: String::new(),
-        mesh,
-        face_of_triangle: vec![0; triangles],
-        faces: Vec::new(),
-        diagnostics: stl.diagnostics,
-        format: "STL",
-    })
+    Ok(LoadedPart::from_workpiece(workpiece))
 }
 
 fn file_stem(path: &Path) -> String {

@@ -6,10 +6,7 @@ use std::path::Path;
 use crate::diagnostics::Diagnostic;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
-use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
-use crate::import::step::read_step;
-use crate::import::stl::{StlOptions, read_stl};
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
 use crate::strategies::zlevel::{Stock, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{ToolRecord, Toolpath};
@@ -69,25 +66,16 @@ impl Default for MeshPlanOptions {
     }
 }
 
-/// Read an STL or STEP file as a mesh (STEP tessellated at `tol` mm).
+/// Read an STL or STEP file (through [`crate::import::open`]) as a mesh, STEP tessellated at
+/// `tol` mm (a non-positive `tol`: the reader's size-relative default).
 ///
 /// # Errors
-/// The reader's [`ImportError`], or one for a part that tessellates to nothing.
+/// The reader's [`ImportError`].
 pub fn read_mesh(file: &Path, tol: f64) -> Result<TriMesh, ImportError> {
-    let is_stl = file
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("stl"));
-    if is_stl {
-        return Ok(read_stl(file, &StlOptions::default())?.mesh);
-    }
-    let part = read_step(file)?;
-    let opts = if tol > 0.0 && tol.is_finite() {
-        TessellationOptions::with_chord_tol(tol)
-    } else {
-        TessellationOptions::for_size(part.rough_bbox().diagonal())
+    let options = crate::import::OpenOptions {
+        chord_tol_mm: (tol > 0.0 && tol.is_finite()).then_some(tol),
     };
-    Ok(tessellate_part(&part, &opts).mesh)
+    Ok(crate::import::open(file, &options, &crate::diagnostics::Progress::new())?.mesh)
 }
 
 /// Plan `strategy` (`raster` or `zlevel-rough`) on the part in `file` with the tool `tool_spec`.

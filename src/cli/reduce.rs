@@ -7,16 +7,12 @@
 //! view does.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
-use crate::geometry::bvh::MeshBvh;
-use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
-use crate::import::step::read_step;
-use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
+use crate::import::stl::{StlFormat, save_stl};
 use crate::reduce::{
     ExactFaces, Grid, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, ZmapPathOptions,
     cl_zmap, grid_mesh, part_zmap, point_spacing, reduce as run_reduce, zmap_raster,
@@ -92,18 +88,13 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
             ));
         }
     };
-    let part = part_kind(&args.file);
-    let (grid, zmap) = match part {
-        Some(is_stl) => {
-            let z = sample_part(&args.file, is_stl, args.step)?;
-            (z.grid.clone(), Some(z))
-        }
-        None => {
-            let text = std::fs::read_to_string(&args.file).map_err(|e| {
-                ImportError::new(&args.file, None, format!("cannot read file: {e}"))
-            })?;
-            (Grid::parse_csv(&text).map_err(file_err)?, None)
-        }
+    let (grid, zmap) = if is_part(&args.file) {
+        let z = sample_part(&args.file, args.step)?;
+        (z.grid.clone(), Some(z))
+    } else {
+        let text = std::fs::read_to_string(&args.file)
+            .map_err(|e| ImportError::new(&args.file, None, format!("cannot read file: {e}")))?;
+        (Grid::parse_csv(&text).map_err(file_err)?, None)
     };
     let opts = ReduceOptions {
         tolerance_mm: args.tolerance,
@@ -166,37 +157,25 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
     }))
 }
 
-/// `Some(true)` for an STL part, `Some(false)` for a STEP part, `None` for a Z-map CSV.
-fn part_kind(file: &Path) -> Option<bool> {
-    let ext = file.extension()?.to_str()?.to_ascii_lowercase();
-    match ext.as_str() {
-        "stl" => Some(true),
-        "stp" | "step" => Some(false),
-        _ => None,
-    }
+/// Whether `file` is a part the reader opens (STEP or STL) rather than a Z-map CSV.
+fn is_part(file: &Path) -> bool {
+    crate::import::FileFormat::of(file).is_ok()
 }
 
-/// The Z-map of the part in `file` at `step` mm (STEP heights refined onto the exact faces).
-fn sample_part(file: &Path, is_stl: bool, step: f64) -> Result<PartZmap, ImportError> {
-    let (mesh, exact) = if is_stl {
-        (read_stl(file, &StlOptions::default())?.mesh, None)
-    } else {
-        let part = read_step(file)?;
-        let t = tessellate_part(
-            &part,
-            &TessellationOptions::for_size(part.rough_bbox().diagonal()),
-        );
-        let exact = ExactFaces {
-            face_of_triangle: t.face_of_triangle,
-            surfaces: part
-                .faces
-                .iter()
-                .map(|f| Some(Arc::new(f.surface.clone())))
-                .collect(),
-        };
-        (t.mesh, Some(exact))
-    };
-    let bvh = MeshBvh::new(&mesh)
+/// The Z-map of the part in `file` at `step` mm (read by [`crate::import::open`]; STEP heights
+/// refined onto the exact faces).
+fn sample_part(file: &Path, step: f64) -> Result<PartZmap, ImportError> {
+    let w = crate::import::open(
+        file,
+        &crate::import::OpenOptions::default(),
+        &Progress::new(),
+    )?;
+    let exact = w.part.is_some().then(|| ExactFaces {
+        face_of_triangle: w.face_of_triangle.clone(),
+        surfaces: w.surfaces.clone(),
+    });
+    let bvh = w
+        .bvh()
         .map_err(|e| ImportError::new(file, None, format!("no surface to sample: {e}")))?;
     part_zmap(&bvh, exact.as_ref(), step, &Progress::new())
         .map_err(|e| ImportError::new(file, Some("--step".into()), e.to_string()))

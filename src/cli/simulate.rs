@@ -11,9 +11,7 @@ use serde_json::{Value, json};
 use crate::diagnostics::Progress;
 use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::geometry::mesh::TriMesh;
-use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
-use crate::import::step::read_step;
 use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
 use crate::machine::Machine;
 use crate::simulation::{
@@ -104,22 +102,13 @@ fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
     }
 }
 
-/// The part as a mesh: STL directly, STEP tessellated.
+/// The part as a mesh (through [`crate::import::open`]), a B-rep tessellated at 1 µm so the
+/// deviation measures the stock, not the tessellation.
 fn read_part(path: &Path) -> Result<TriMesh, ImportError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if matches!(ext.as_deref(), Some("stp" | "step")) {
-        let part = read_step(path)?;
-        let opts = TessellationOptions {
-            chord_tol_mm: 0.001,
-            ..TessellationOptions::default()
-        };
-        Ok(tessellate_part(&part, &opts).mesh)
-    } else {
-        Ok(read_stl(path, &StlOptions::default())?.mesh)
-    }
+    let options = crate::import::OpenOptions {
+        chord_tol_mm: Some(0.001),
+    };
+    Ok(crate::import::open(path, &options, &Progress::new())?.mesh)
 }
 
 fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {

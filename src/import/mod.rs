@@ -1,8 +1,13 @@
 //! L1 importers: STEP (ISO 10303-21) to a [`crate::geometry::brep::Part`], STL to a
-//! [`crate::geometry::mesh::TriMesh`]. Every error names the file and the place in it.
+//! [`crate::geometry::mesh::TriMesh`], and the one reader of parts, [`open`], which decides a
+//! file's kind and gives a [`Workpiece`] (B-rep, mesh, exact faces, one shared BVH). Every error
+//! names the file and the place in it.
 
 pub mod step;
 pub mod stl;
+pub mod workpiece;
+
+pub use workpiece::{FileFormat, OpenOptions, Workpiece, open, open_step_bytes};
 
 use std::path::{Path, PathBuf};
 

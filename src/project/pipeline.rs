@@ -3,29 +3,16 @@
 //! [`Toolpath`] with diagnostics. The workstation runs it on a worker thread; the command line
 //! and the tests call it directly.
 
-use std::sync::Arc;
-
 use super::{Operation, Project, Stock};
 use crate::diagnostics::{Diagnostic, Progress};
-use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
-use crate::geometry::surface::SurfaceGeom;
+use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
 use crate::strategies::finish::plan_finish;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
 use crate::strategies::zlevel::{self, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
 use crate::tools::tool_spec;
-
-/// The part as the pipeline needs it: the mesh (for 3-axis strategies) and each face's exact
-/// surface (for finishing; `None` for a mesh part or a face without one).
-#[derive(Clone, Debug)]
-pub struct PartGeometry {
-    /// Triangles of the whole part, mm.
-    pub mesh: TriMesh,
-    /// The carrier surface of each face, in the part's face order.
-    pub faces: Vec<Option<Arc<SurfaceGeom>>>,
-}
 
 /// What running an operation produced.
 #[derive(Clone, Debug)]
@@ -88,7 +75,7 @@ pub enum ComputeError {
 pub fn compute(
     project: &Project,
     index: usize,
-    part: &PartGeometry,
+    part: &Workpiece,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let op = project
@@ -135,11 +122,17 @@ pub fn compute(
                 operation: name.clone(),
                 message,
             };
-            let surface = match part.faces.get(*face) {
+            let surface = match part.surfaces.get(*face) {
+                None if part.part.is_none() => {
+                    return Err(face_err(format!(
+                        "the part {} is a mesh without exact faces (finishing needs a STEP part)",
+                        part.source.display()
+                    )));
+                }
                 None => {
                     return Err(face_err(format!(
                         "no face number {face} (the part has {})",
-                        part.faces.len()
+                        part.surfaces.len()
                     )));
                 }
                 Some(None) => {
@@ -168,7 +161,7 @@ pub fn compute(
             feed_mm_per_min,
             ..
         } => {
-            let bvh = MeshBvh::new(&part.mesh).map_err(|e| plan_err(e.to_string()))?;
+            let bvh = part.bvh().map_err(plan_err)?;
             cancelled(progress)?;
             let opts = RasterOptions {
                 angle_rad: *angle_rad,
@@ -202,7 +195,7 @@ pub fn compute(
             feed_mm_per_min,
             ..
         } => {
-            let bvh = MeshBvh::new(&part.mesh).map_err(|e| plan_err(e.to_string()))?;
+            let bvh = part.bvh().map_err(plan_err)?;
             let stock = roughing_stock(&project.stock, &part.mesh);
             let grid = roughing_grid_mm(
                 &stock,

@@ -15,7 +15,7 @@ use super::super::panels::properties::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
 use crate::diagnostics::Severity;
-use crate::project::pipeline::{ComputeError, Computed, PartGeometry, compute};
+use crate::project::pipeline::{ComputeError, Computed, compute};
 use crate::project::{Edit, Operation};
 use crate::render::{DataId, LineInstance, ScalarMapping};
 use crate::tools::Cutter;
@@ -234,10 +234,8 @@ impl Workstation {
         if let Some(old) = self.ops.job.take() {
             old.job.cancel();
         }
-        let part = PartGeometry {
-            mesh: doc.part.mesh.clone(),
-            faces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
-        };
+        // The engine's workpiece, shared: its BVH is built once per part, not per Calculate.
+        let part = std::sync::Arc::clone(&doc.part.workpiece);
         let project = project.clone();
         let ctx = self.ctx.clone();
         let part_id = doc.ids[0];
