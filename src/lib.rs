@@ -4,18 +4,15 @@
 //! workstation (feature `gui`) and the command line (`cli`).
 //!
 //! ```text
-//! part ──import──▶ Part ──┐
-//! tool library ──▶ Tool ──┼─▶ strategy ─▶ Toolpath (CL poses) ─▶ checks (gouge, collision)
-//! machine file ─▶ Machine ┘                     │
-//!                                               ▼
-//!                           post (kinematics + dialect) ─▶ G-code text ─▶ gcode::interpret
-//!                                                                             │
-//!                                               MotionBlocks (joint space) ◀──┘
-//!                                                      │
-//!                                     feed planner (jerk-limited, look-ahead)
-//!                                                      │
-//!                                                TimedPath ─▶ simulation (stock) ─▶ deviation
-//!                                                      └────▶ force model ─▶ forces, form error
+//! file ─import::open─▶ Workpiece (B-rep, mesh, exact faces, one shared BVH)
+//!                          │
+//! Operation + Tool ────────┼─▶ project::pipeline::compute ─▶ strategy ─▶ Toolpath ─▶ checks
+//!                          ▼
+//! project::run::MachiningRun: post ─▶ G-code + line ↔ pose ─▶ gcode::interpret ─▶ Program
+//!                          ─▶ feed::plan (jerk-limited) ─▶ TimedPath ─▶ pose ↔ line ↔ time
+//!                          │
+//!                          ├─▶ simulation (moves with planned times) ─▶ deviation
+//!                          └─▶ force model (engagement from the stock) ─▶ forces, form error
 //! ```
 //!
 //! Layers (a module may use only layers below it; `tests/architecture.rs` enforces this):

@@ -508,9 +508,13 @@ fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
     assert!(rough.summary.cut_length_mm > 500.0);
     // Levels 27, 22, 17, 12, ...: the top (30) and the floor (15) get their own levels.
     assert!(
-        notes
-            .iter()
-            .any(|d| d.message.contains("z = 15.300, 30.300")),
+        notes.iter().any(|d| d
+            .message
+            .contains("top of the part: level added at z = 30.300")),
+        "{notes:?}"
+    );
+    assert!(
+        notes.iter().any(|d| d.message.contains("z = 15.300")),
         "{notes:?}"
     );
     assert!(rough.poses.iter().any(|p| p.kind == MoveKind::Plunge));

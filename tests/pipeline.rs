@@ -344,6 +344,21 @@ fn roughing_then_finishing_on_one_stock_leaves_the_allowance_then_the_scallop() 
         &Progress::new(),
     )
     .expect("simulates roughing");
+    {
+        let (k, v) = roughed
+            .deviation_mm
+            .iter()
+            .enumerate()
+            .fold(
+                (0, 0.0),
+                |acc, (k, v)| if *v < acc.1 { (k, *v) } else { acc },
+            );
+        eprintln!(
+            "WORST {v} at {} bbox {:?}",
+            roughed.stock_mesh.positions[k],
+            part.mesh.bbox()
+        );
+    }
     let both = simulate_toolpaths(
         &project.stock,
         &part.mesh,
@@ -363,6 +378,25 @@ fn roughing_then_finishing_on_one_stock_leaves_the_allowance_then_the_scallop() 
         roughed.max_gouge_mm <= 0.012,
         "roughing gouge {}",
         roughed.max_gouge_mm
+    );
+    // With no stock defined, roughing and simulation start from the same default stock (the
+    // part's box grown by 2 mm), so roughing leaves no uncut rim around the part and nothing
+    // above it.
+    let b = part.mesh.bbox();
+    let mut ring = 0;
+    for p in &roughed.stock_mesh.positions {
+        assert!(
+            p.z <= b.max.z + 0.5 + 1e-6,
+            "material at {p} stands above the part's top {} + allowance",
+            b.max.z
+        );
+        if p.x < b.min.x || p.x > b.max.x || p.y < b.min.y || p.y > b.max.y {
+            ring += 1;
+        }
+    }
+    assert!(
+        ring > 100,
+        "the default stock's margin is simulated ({ring} rays)"
     );
     // Finishing the roughed stock leaves the raster's scallop.
     let predicted = f

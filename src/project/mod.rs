@@ -22,7 +22,7 @@ pub use history::History;
 pub use operation::{Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
 pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
-pub use stock::Stock;
+pub use stock::{DEFAULT_MARGIN_MM, Stock};
 
 use crate::tools::Cutter;
 

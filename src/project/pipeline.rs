@@ -237,12 +237,9 @@ pub fn compute(
 }
 
 /// The roughing stock: the project's, or the part's bounding box when none is defined.
+/// The roughing stock: the project's, or the one default stock (see [`Stock::or_default_for`]).
 fn roughing_stock(stock: &Stock, mesh: &TriMesh) -> zlevel::Stock {
-    match *stock {
-        Stock::Box { min_mm, max_mm } => zlevel::Stock::Box {
-            min: min_mm.into(),
-            max: max_mm.into(),
-        },
+    match stock.or_default_for(&mesh.bbox()) {
         Stock::Cylinder {
             base_mm,
             radius_mm,
@@ -253,6 +250,11 @@ fn roughing_stock(stock: &Stock, mesh: &TriMesh) -> zlevel::Stock {
             z0: base_mm[2],
             z1: base_mm[2] + height_mm,
         },
+        Stock::Box { min_mm, max_mm } => zlevel::Stock::Box {
+            min: min_mm.into(),
+            max: max_mm.into(),
+        },
+        // `or_default_for` never gives `None`; the part's box is the safe reading.
         Stock::None => {
             let b = mesh.bbox();
             zlevel::Stock::Box {

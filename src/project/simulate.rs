@@ -57,14 +57,11 @@ pub struct Simulated {
     pub remaining_p99_mm: f64,
 }
 
-/// The stock shape of the project, or the part's box grown by 2 mm when none is defined.
+/// The stock shape of the project, or the one default stock when none is defined (see
+/// [`Stock::or_default_for`]: the same one roughing clears).
 #[must_use]
 pub fn stock_shape(stock: &Stock, part_bounds: &Aabb) -> StockShape {
-    match *stock {
-        Stock::Box { min_mm, max_mm } => StockShape::Box {
-            min: min_mm.into(),
-            max: max_mm.into(),
-        },
+    match stock.or_default_for(part_bounds) {
         Stock::Cylinder {
             base_mm,
             radius_mm,
@@ -74,13 +71,15 @@ pub fn stock_shape(stock: &Stock, part_bounds: &Aabb) -> StockShape {
             radius: radius_mm,
             height: height_mm,
         },
-        Stock::None => {
-            let m = glam::DVec3::splat(2.0);
-            StockShape::Box {
-                min: part_bounds.min - m,
-                max: part_bounds.max + m,
-            }
-        }
+        Stock::Box { min_mm, max_mm } => StockShape::Box {
+            min: min_mm.into(),
+            max: max_mm.into(),
+        },
+        // `or_default_for` never gives `None`; the part's box is the safe reading.
+        Stock::None => StockShape::Box {
+            min: part_bounds.min,
+            max: part_bounds.max,
+        },
     }
 }
 

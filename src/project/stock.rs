@@ -27,7 +27,33 @@ pub enum Stock {
     },
 }
 
+/// Margin of the default stock around the part's box on the sides and the top, mm (see
+/// [`Stock::or_default_for`]).
+pub const DEFAULT_MARGIN_MM: f64 = 2.0;
+
 impl Stock {
+    /// This stock, or, when none is defined, the one default every stage uses (roughing clears
+    /// it, the simulation starts from it): the part's box (`part_bounds`) grown by
+    /// [`DEFAULT_MARGIN_MM`] on the four sides and the top, its bottom flush with the part's
+    /// bottom (where the part sits on the fixture: no tool reaches below it).
+    #[must_use]
+    pub fn or_default_for(&self, part_bounds: &Aabb) -> Self {
+        match self {
+            Self::None => {
+                let m = DEFAULT_MARGIN_MM;
+                Self::Box {
+                    min_mm: [
+                        part_bounds.min.x - m,
+                        part_bounds.min.y - m,
+                        part_bounds.min.z,
+                    ],
+                    max_mm: (part_bounds.max + glam::DVec3::splat(m)).to_array(),
+                }
+            }
+            other => *other,
+        }
+    }
+
     /// The box around `bounds` grown by `margin_mm` on every side (the top included).
     #[must_use]
     pub fn box_around(bounds: &Aabb, margin_mm: f64) -> Self {

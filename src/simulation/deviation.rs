@@ -144,7 +144,7 @@ pub fn deviation(
                             // Only points straight above or below the sheet, on stock faces
                             // turned the way the sheet faces, count: a sheet bounds material
                             // on one side only, and the stock's far side is not its surface.
-                            match sheet_side(part, p, &hit, Some(n)) {
+                            match sheet_side(part, &bvh, p, dir, &hit, Some(n)) {
                                 Some(v) => v,
                                 None => continue,
                             }
@@ -179,13 +179,17 @@ pub fn deviation(
     Ok(report)
 }
 
-/// The signed distance of `p` from an open sheet when `p` lies straight above or below it
-/// (along the closest triangle's normal, within 25°) and, when `facing` (the stock surface's
-/// outward normal at `p`) is given, the stock surface faces the way the sheet does:
-/// positive on the normal's side.
+/// The signed distance of `p` from an open sheet when `p` lies straight above or below it:
+/// the line through `p` along `ray` (the dexel's direction) crosses the sheet, and `p` lies
+/// along the closest triangle's normal (within 25°); positive on the normal's side. When
+/// `facing` (the stock surface's outward normal at `p`) is given, the stock surface must face
+/// the way the sheet does (a sheet bounds material on one side only, and the stock's far side
+/// is not its surface).
 fn sheet_side(
     part: &TriMesh,
+    bvh: &MeshBvh,
     p: DVec3,
+    ray: DVec3,
     hit: &crate::geometry::bvh::ClosestHit,
     facing: Option<DVec3>,
 ) -> Option<f64> {
@@ -197,7 +201,13 @@ fn sheet_side(
         return None;
     }
     let along = (p - hit.point).dot(n);
-    (along.abs() >= 0.9 * hit.distance).then_some(along)
+    if along.abs() < 0.9 * hit.distance {
+        return None;
+    }
+    // Beside the sheet's outline, the line misses it both ways.
+    let crosses = bvh.ray_cast(p, ray, f64::INFINITY).is_some()
+        || bvh.ray_cast(p, -ray, f64::INFINITY).is_some();
+    crosses.then_some(along)
 }
 
 /// Whether `mesh` bounds a solid: every edge is shared by exactly two triangles, vertices
@@ -290,7 +300,7 @@ pub fn top_deviation(
             let Some(hit) = bvh.closest_point(*p) else {
                 return (0.0, false);
             };
-            match sheet_side(part, *p, &hit, None) {
+            match sheet_side(part, &bvh, *p, DVec3::Z, &hit, None) {
                 Some(_) if closed => {
                     let inside = signed_distance(&bvh, &bounds, *p).is_some_and(|d| d < 0.0);
                     (if inside { -hit.distance } else { hit.distance }, true)

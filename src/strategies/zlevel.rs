@@ -424,6 +424,22 @@ pub fn zlevel_rough(
         levels.push(floor);
     }
     let mut diagnostics = Vec::new();
+    // Stock above the part's highest point is faced off to the allowance: without a level
+    // there, a slab up to a whole step-down would stay on the part's top.
+    let skim = bvh.bbox().max.z + lift;
+    if skim < top - 1e-6
+        && skim > floor
+        && !levels
+            .iter()
+            .any(|l| *l >= skim - 1e-9 && *l <= skim + 1e-3)
+    {
+        diagnostics.push(Diagnostic::info(
+            None,
+            format!("top of the part: level added at z = {skim:.3}"),
+        ));
+        levels.push(skim);
+        levels.sort_by(|a, b| b.total_cmp(a));
+    }
     if opts.detect_flats {
         // On a flat floor the offset cutter's tip touches it, so the lowest allowed tip is the
         // floor plus the larger stock to leave (the radial stock is kept in every direction).

@@ -210,8 +210,10 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
     ui.add_enabled_ui(bounds.is_some(), |ui| {
         ui.horizontal_wrapped(|ui| {
             if let Some(b) = bounds {
-                if ui.button("Box around part +2 mm").clicked() {
-                    commands.push(Command::Edit(Edit::SetStock(Stock::box_around(&b, 2.0))));
+                if ui.button("Box around part +2 mm (sides, top)").clicked() {
+                    commands.push(Command::Edit(Edit::SetStock(
+                        Stock::None.or_default_for(&b),
+                    )));
                 }
                 if ui.button("Cylinder around part +2 mm").clicked() {
                     commands.push(Command::Edit(Edit::SetStock(Stock::cylinder_around(
