@@ -344,21 +344,6 @@ fn roughing_then_finishing_on_one_stock_leaves_the_allowance_then_the_scallop() 
         &Progress::new(),
     )
     .expect("simulates roughing");
-    {
-        let (k, v) = roughed
-            .deviation_mm
-            .iter()
-            .enumerate()
-            .fold(
-                (0, 0.0),
-                |acc, (k, v)| if *v < acc.1 { (k, *v) } else { acc },
-            );
-        eprintln!(
-            "WORST {v} at {} bbox {:?}",
-            roughed.stock_mesh.positions[k],
-            part.mesh.bbox()
-        );
-    }
     let both = simulate_toolpaths(
         &project.stock,
         &part.mesh,
