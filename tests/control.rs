@@ -57,7 +57,11 @@ impl Recorder {
     fn check_limits(&self, m: &Machine) {
         let s = &self.samples;
         for (i, ax) in m.axes.iter().enumerate() {
-            let unit = if ax.is_rotary() { 180.0 / std::f64::consts::PI } else { 1.0 };
+            let unit = if ax.is_rotary() {
+                180.0 / std::f64::consts::PI
+            } else {
+                1.0
+            };
             let (v, a, j) = (ax.velocity * unit, ax.acceleration * unit, ax.jerk * unit);
             let (lo, hi) = (ax.min * unit, ax.max * unit);
             let x: Vec<f64> = s.iter().map(|p| p[i]).collect();
@@ -134,24 +138,44 @@ fn incremental_jogs_and_mpg_land_exactly_on_linear_and_rotary_axes() {
     for (axis, i) in [('X', 0), ('Z', 2), ('A', 3), ('C', 4)] {
         for inc in [0.001, 0.01, 0.1, 1.0] {
             c.apply(Action::SetIncrement(inc)).unwrap();
-            c.apply(Action::JogIncrement { axis, direction: -1.0 }).unwrap();
+            c.apply(Action::JogIncrement {
+                axis,
+                direction: -1.0,
+            })
+            .unwrap();
             rec.until_idle(&mut c, 10.0);
             expect[i] -= inc;
             let got = c.snapshot().machine_position[i];
-            assert!((got - expect[i]).abs() < 1e-9, "{axis} -{inc}: {got} vs {}", expect[i]);
+            assert!(
+                (got - expect[i]).abs() < 1e-9,
+                "{axis} -{inc}: {got} vs {}",
+                expect[i]
+            );
         }
     }
     // The handwheel: 7 detents at ×10 (0.01 mm), then 3 back.
     c.apply(Action::SetMode(Mode::Mpg)).unwrap();
     c.apply(Action::SetIncrement(0.01)).unwrap();
-    c.apply(Action::Mpg { axis: 'Y', detents: 7 }).unwrap();
+    c.apply(Action::Mpg {
+        axis: 'Y',
+        detents: 7,
+    })
+    .unwrap();
     // Turned on while the axis moves: counts are kept (position mode).
     rec.step(&mut c, 0.002);
-    c.apply(Action::Mpg { axis: 'Y', detents: -3 }).unwrap();
+    c.apply(Action::Mpg {
+        axis: 'Y',
+        detents: -3,
+    })
+    .unwrap();
     rec.until_idle(&mut c, 10.0);
     expect[1] += 0.04;
     let got = c.snapshot().machine_position[1];
-    assert!((got - expect[1]).abs() < 1e-9, "MPG Y: {got} vs {}", expect[1]);
+    assert!(
+        (got - expect[1]).abs() < 1e-9,
+        "MPG Y: {got} vs {}",
+        expect[1]
+    );
     assert!(c.alarms().is_empty());
     rec.check_limits(c.machine());
 }
@@ -161,10 +185,18 @@ fn continuous_jog_stops_exactly_at_the_soft_limit_with_an_alarm_and_brakes_on_re
     let mut c = control("mill-3axis");
     let mut rec = Recorder::new(&c);
     c.apply(Action::JogFeed(6000.0)).unwrap();
-    c.apply(Action::JogStart { axis: 'X', direction: 1.0 }).unwrap();
+    c.apply(Action::JogStart {
+        axis: 'X',
+        direction: 1.0,
+    })
+    .unwrap();
     // Auto-repeat of the held key: nothing queues.
     for _ in 0..5 {
-        c.apply(Action::JogStart { axis: 'X', direction: 1.0 }).unwrap();
+        c.apply(Action::JogStart {
+            axis: 'X',
+            direction: 1.0,
+        })
+        .unwrap();
         rec.step(&mut c, 0.01);
     }
     rec.until_idle(&mut c, 30.0);
@@ -174,13 +206,21 @@ fn continuous_jog_stops_exactly_at_the_soft_limit_with_an_alarm_and_brakes_on_re
     assert_eq!(snap.alarms[0].code, codes::SOFT_LIMIT);
     assert_eq!(snap.alarms[0].axis, Some('X'));
     // Pressing on at the limit moves nothing and says so again.
-    c.apply(Action::JogStart { axis: 'X', direction: 1.0 }).unwrap();
+    c.apply(Action::JogStart {
+        axis: 'X',
+        direction: 1.0,
+    })
+    .unwrap();
     rec.step(&mut c, 0.05);
     assert_eq!(c.snapshot().machine_position[0], 300.0);
     assert_eq!(c.alarms().len(), 2);
     // Released half-way: it brakes within the limits and stays inside the travel.
     c.apply(Action::Reset).unwrap();
-    c.apply(Action::JogStart { axis: 'Y', direction: -1.0 }).unwrap();
+    c.apply(Action::JogStart {
+        axis: 'Y',
+        direction: -1.0,
+    })
+    .unwrap();
     rec.step(&mut c, 0.5);
     let at_release = c.snapshot().machine_position[1];
     c.apply(Action::JogStop).unwrap();
@@ -191,7 +231,10 @@ fn continuous_jog_stops_exactly_at_the_soft_limit_with_an_alarm_and_brakes_on_re
     // A = 2000 mm/s²): jerk −J then +J, each sqrt(v/J) long, covering v·sqrt(v/J) = 6.3246 mm.
     let want = 100.0 * (100.0f64 / 25000.0).sqrt();
     let d = at_release - stopped;
-    assert!((d - want).abs() < 1e-6, "braking distance {d} mm, closed form {want} mm");
+    assert!(
+        (d - want).abs() < 1e-6,
+        "braking distance {d} mm, closed form {want} mm"
+    );
     assert!(c.alarms().is_empty());
     rec.check_limits(c.machine());
 }
@@ -238,7 +281,10 @@ fn mdi_lines_land_where_the_interpreter_says_with_modal_state_kept() {
     let snap = c.snapshot();
     assert_eq!(snap.machine_position[0], 50.0 - 10.0);
     let a = snap.alarms.last().unwrap();
-    assert_eq!((a.code, a.axis, a.line), (codes::TRAVEL, Some('X'), Some(8)));
+    assert_eq!(
+        (a.code, a.axis, a.line),
+        (codes::TRAVEL, Some('X'), Some(8))
+    );
     rec.check_limits(c.machine());
 }
 
@@ -265,7 +311,11 @@ fn stock() -> DexelStock {
 fn cutting_control() -> Control {
     let m = Machine::builtin("mill-3axis").unwrap();
     let mut cfg = ControlConfig::new(m);
-    cfg.stock = Some(LiveStock::new(stock(), parse_tool_spec("flat:d=6").unwrap(), RES));
+    cfg.stock = Some(LiveStock::new(
+        stock(),
+        parse_tool_spec("flat:d=6").unwrap(),
+        RES,
+    ));
     Control::new(cfg).unwrap()
 }
 
@@ -281,9 +331,15 @@ fn reference_removed() -> f64 {
     };
     let plan = plan_program(&prog, None, &steps).unwrap();
     let mut s = stock();
-    simulate(&mut s, &cutter, &plan, &SimOptions::default(), &Progress::new())
-        .unwrap()
-        .removed_volume_mm3
+    simulate(
+        &mut s,
+        &cutter,
+        &plan,
+        &SimOptions::default(),
+        &Progress::new(),
+    )
+    .unwrap()
+    .removed_volume_mm3
 }
 
 fn run_auto(c: &mut Control, rec: &mut Recorder, hold_at: Option<f64>) -> f64 {
@@ -352,7 +408,10 @@ fn feed_hold_brakes_within_the_limits_and_resume_gives_the_same_final_state() {
     }
     let (va, vb) = (a.removed_volume_mm3, b.removed_volume_mm3);
     assert!(((va - vb) / va).abs() < 1e-3, "{va} vs {vb} mm³");
-    assert!(t_held > t_plain, "the hold took time: {t_held} vs {t_plain} s");
+    assert!(
+        t_held > t_plain,
+        "the hold took time: {t_held} vs {t_plain} s"
+    );
     assert!(b.alarms.is_empty());
     rec.check_limits(held.machine());
 }
@@ -410,32 +469,56 @@ fn overrides_change_the_time_as_expected() {
     let mut rec = Recorder::new(&c);
     home(&mut c, &mut rec);
     c.apply(Action::SetMode(Mode::Mdi)).unwrap();
-    c.apply(Action::Override(OverrideKind::Rapid, 25.0)).unwrap();
+    c.apply(Action::Override(OverrideKind::Rapid, 25.0))
+        .unwrap();
     c.apply(Action::Mdi("G0 X-250".into())).unwrap();
     rec.until_idle(&mut c, 60.0);
     let peak = c.peaks()[0].velocity;
     assert!((peak - 125.0).abs() < 1e-6, "rapid at 25 %: {peak} mm/s");
     rec.check_limits(c.machine());
     // Out-of-range overrides are refused.
-    assert!(c.apply(Action::Override(OverrideKind::Feed, 151.0)).is_err());
-    assert!(c.apply(Action::Override(OverrideKind::Rapid, 30.0)).is_err());
-    assert!(c.apply(Action::Override(OverrideKind::Spindle, 40.0)).is_err());
+    assert!(
+        c.apply(Action::Override(OverrideKind::Feed, 151.0))
+            .is_err()
+    );
+    assert!(
+        c.apply(Action::Override(OverrideKind::Rapid, 30.0))
+            .is_err()
+    );
+    assert!(
+        c.apply(Action::Override(OverrideKind::Spindle, 40.0))
+            .is_err()
+    );
 }
 
 #[test]
 fn estop_brakes_latches_and_reset_clears_it() {
     let mut c = control("mill-3axis");
     let mut rec = Recorder::new(&c);
-    c.apply(Action::JogStart { axis: 'Z', direction: -1.0 }).unwrap();
+    c.apply(Action::JogStart {
+        axis: 'Z',
+        direction: -1.0,
+    })
+    .unwrap();
     rec.step(&mut c, 0.3);
     c.apply(Action::EStop).unwrap();
     rec.until_idle(&mut c, 5.0);
     assert_eq!(c.run_state(), RunState::EStop);
-    assert!(c.apply(Action::JogStart { axis: 'Z', direction: 1.0 }).is_err());
+    assert!(
+        c.apply(Action::JogStart {
+            axis: 'Z',
+            direction: 1.0
+        })
+        .is_err()
+    );
     assert_eq!(c.alarms()[0].code, codes::ESTOP);
     c.apply(Action::Reset).unwrap();
     assert!(c.alarms().is_empty());
-    c.apply(Action::JogDistance { axis: 'Z', distance: 1.0 }).unwrap();
+    c.apply(Action::JogDistance {
+        axis: 'Z',
+        distance: 1.0,
+    })
+    .unwrap();
     rec.until_idle(&mut c, 5.0);
     rec.check_limits(c.machine());
 }
@@ -446,5 +529,11 @@ fn mdi_and_auto_need_homing() {
     c.apply(Action::SetMode(Mode::Mdi)).unwrap();
     c.apply(Action::Mdi("G0 X1".into())).unwrap();
     assert_eq!(c.alarms()[0].code, codes::NOT_HOMED);
-    assert!(c.apply(Action::JogStart { axis: 'X', direction: 1.0 }).is_err());
+    assert!(
+        c.apply(Action::JogStart {
+            axis: 'X',
+            direction: 1.0
+        })
+        .is_err()
+    );
 }

@@ -318,7 +318,13 @@ impl ControlConfig {
                 home_order.push(a.name);
             }
         }
-        home_order.extend(machine.axes.iter().filter(|a| a.is_rotary()).map(|a| a.name));
+        home_order.extend(
+            machine
+                .axes
+                .iter()
+                .filter(|a| a.is_rotary())
+                .map(|a| a.name),
+        );
         Self {
             machine,
             stock: None,

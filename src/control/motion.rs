@@ -126,7 +126,9 @@ impl Run {
             seg_s0.push(s);
             seg_t0.push(t);
             s += seg.length;
-            t += path.profile(k).map_or(0.0, crate::feed::Profile::duration_s);
+            t += path
+                .profile(k)
+                .map_or(0.0, crate::feed::Profile::duration_s);
         }
         Ok(Self {
             path,
@@ -181,10 +183,7 @@ impl Run {
 
     /// The planned segment holding path position `s` and the position inside it.
     fn segment_at(&self, s: f64) -> (usize, f64) {
-        let k = self
-            .seg_s0
-            .partition_point(|&s0| s0 <= s)
-            .saturating_sub(1);
+        let k = self.seg_s0.partition_point(|&s0| s0 <= s).saturating_sub(1);
         (k, s - self.seg_s0.get(k).copied().unwrap_or(0.0))
     }
 
@@ -194,10 +193,7 @@ impl Run {
             return b.state(b.t);
         }
         let t = self.t.clamp(0.0, self.path.cycle_time_s);
-        let k = self
-            .seg_t0
-            .partition_point(|&t0| t0 <= t)
-            .saturating_sub(1);
+        let k = self.seg_t0.partition_point(|&t0| t0 <= t).saturating_sub(1);
         let Some(p) = self.path.profile(k) else {
             return (self.total_length, 0.0, 0.0, 0.0);
         };

@@ -247,7 +247,11 @@ impl Control {
             .iter()
             .filter_map(|a| {
                 let k = slot_of(a.name)?;
-                let s = if a.is_rotary() { 180.0 / std::f64::consts::PI } else { 1.0 };
+                let s = if a.is_rotary() {
+                    180.0 / std::f64::consts::PI
+                } else {
+                    1.0
+                };
                 let p = self.peaks.get(k)?;
                 Some(Peak {
                     axis: a.name,
@@ -346,7 +350,8 @@ impl Control {
                 self.stop_all();
                 self.estop = true;
                 let p = self.position();
-                self.alarm(codes::ESTOP, "emergency stop".into()).position = Some([p[0], p[1], p[2]]);
+                self.alarm(codes::ESTOP, "emergency stop".into()).position =
+                    Some([p[0], p[1], p[2]]);
                 Ok(())
             }
             Action::Override(kind, pct) => self.set_override(kind, pct),
@@ -459,7 +464,11 @@ impl Control {
     }
 
     /// The target of a jog by `d` (mm or deg) clamped to the travel, and the limit it stops at.
-    fn jog_target(&self, axis: char, d: f64) -> Result<(JointVector, Option<(char, f64)>), ControlError> {
+    fn jog_target(
+        &self,
+        axis: char,
+        d: f64,
+    ) -> Result<(JointVector, Option<(char, f64)>), ControlError> {
         let (Some(ax), Some(k)) = (self.cfg.machine.axis(axis), slot_of(axis)) else {
             return refuse(format!("the machine has no axis {axis}"));
         };
@@ -470,7 +479,11 @@ impl Control {
         let mut target = self.pos;
         let want = self.pos[k] + d;
         target[k] = want.clamp(ax.min, ax.max);
-        let scale = if ax.is_rotary() { 180.0 / std::f64::consts::PI } else { 1.0 };
+        let scale = if ax.is_rotary() {
+            180.0 / std::f64::consts::PI
+        } else {
+            1.0
+        };
         let limit = (target[k] != want).then_some((axis, target[k] * scale));
         Ok((target, limit))
     }
@@ -489,7 +502,13 @@ impl Control {
         Ok(())
     }
 
-    fn start_jog(&mut self, axis: char, target: JointVector, limit: Option<(char, f64)>, kind: Kind) {
+    fn start_jog(
+        &mut self,
+        axis: char,
+        target: JointVector,
+        limit: Option<(char, f64)>,
+        kind: Kind,
+    ) {
         let Some(k) = slot_of(axis) else {
             return;
         };
@@ -505,7 +524,11 @@ impl Control {
     }
 
     fn soft_limit_alarm(&mut self, axis: char, limit: f64) {
-        let unit = if matches!(axis, 'A' | 'B' | 'C') { "°" } else { " mm" };
+        let unit = if matches!(axis, 'A' | 'B' | 'C') {
+            "°"
+        } else {
+            " mm"
+        };
         let p = self.position();
         let a = self.alarm(
             codes::SOFT_LIMIT,
@@ -606,7 +629,11 @@ impl Control {
         let Some(v) = v.first() else {
             return true;
         };
-        let unit = if matches!(v.axis, 'A' | 'B' | 'C') { "°" } else { " mm" };
+        let unit = if matches!(v.axis, 'A' | 'B' | 'C') {
+            "°"
+        } else {
+            " mm"
+        };
         let a = self.alarm(
             codes::TRAVEL,
             format!(
@@ -845,7 +872,10 @@ impl Control {
     fn fastest_mm_per_min(&self, b: &MotionBlock) -> f64 {
         let (s, e) = (joint_vector(&b.start), joint_vector(&b.end));
         let xyz = b.length_mm();
-        let rot = (3..SLOTS).map(|k| (e[k] - s[k]).powi(2)).sum::<f64>().sqrt();
+        let rot = (3..SLOTS)
+            .map(|k| (e[k] - s[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let len = if xyz > 1e-12 { xyz } else { rot };
         let mut v = f64::INFINITY;
         for (name, lim) in &self.axes {
@@ -934,6 +964,21 @@ impl Control {
         if self.active.as_ref().is_some_and(|a| a.run.finished()) {
             self.finish_active();
         }
+    }
+
+    /// Run the clock in steps of a millisecond until the control is idle (or `max_s` has
+    /// passed); returns the time run.
+    pub fn advance_until_idle(&mut self, max_s: f64) -> f64 {
+        let t0 = self.clock;
+        while !self.is_idle() && self.clock - t0 < max_s {
+            self.advance(SUB_STEP_S);
+        }
+        self.clock - t0
+    }
+
+    /// Cut whatever motion has not been cut into the stock yet (the stock is otherwise cut
+    /// every 20 ms of motion and at the end of each motion).
+    pub fn flush_cutting(&mut self) {
         self.cut_pending();
     }
 
@@ -952,9 +997,19 @@ impl Control {
             Ok(collisions) => {
                 for c in collisions {
                     let (code, body, what) = match c.kind {
-                        CollisionKind::Rapid => (codes::COLLISION_RAPID, "tool", "the tool went through the stock on a rapid move"),
-                        CollisionKind::Shank => (codes::COLLISION_SHANK, "shank", "the shank hit the stock"),
-                        CollisionKind::Holder => (codes::COLLISION_HOLDER, "holder", "the holder hit the stock"),
+                        CollisionKind::Rapid => (
+                            codes::COLLISION_RAPID,
+                            "tool",
+                            "the tool went through the stock on a rapid move",
+                        ),
+                        CollisionKind::Shank => {
+                            (codes::COLLISION_SHANK, "shank", "the shank hit the stock")
+                        }
+                        CollisionKind::Holder => (
+                            codes::COLLISION_HOLDER,
+                            "holder",
+                            "the holder hit the stock",
+                        ),
                     };
                     let line = (c.block > 0).then_some(c.block);
                     let where_ = line.map_or(String::new(), |l| format!("line {l}: "));
@@ -1067,21 +1122,35 @@ impl Control {
             distance_to_go: Vec::new(),
             homed: Vec::new(),
             active_codes: modal.codes(),
-            feed_programmed_mm_per_min: block.map_or(modal.feed.unwrap_or(0.0), |b| b.feed_mm_per_min),
+            feed_programmed_mm_per_min: block
+                .map_or(modal.feed.unwrap_or(0.0), |b| b.feed_mm_per_min),
             feed_actual_mm_per_min: self.kinematics().feed * 60.0,
             spindle_programmed_rpm: modal.spindle_rpm,
-            spindle_actual_rpm: modal.spindle_rpm * self.overrides[2] / 100.0 * self.spindle_dir,
+            spindle_actual_rpm: modal.spindle_rpm * self.overrides[2] / 100.0
+                * if self.auto.is_some() {
+                    modal.spindle_direction
+                } else {
+                    self.spindle_dir
+                },
             overrides_pct: self.overrides,
             line,
             alarms: self.alarms.clone(),
             increment: self.increment,
-            removed_volume_mm3: self.cfg.stock.as_ref().map_or(0.0, super::LiveStock::removed_mm3),
+            removed_volume_mm3: self
+                .cfg
+                .stock
+                .as_ref()
+                .map_or(0.0, super::LiveStock::removed_mm3),
         };
         for a in &self.cfg.machine.axes {
             let Some(k) = slot_of(a.name) else {
                 continue;
             };
-            let s = if a.is_rotary() { 180.0 / std::f64::consts::PI } else { 1.0 };
+            let s = if a.is_rotary() {
+                180.0 / std::f64::consts::PI
+            } else {
+                1.0
+            };
             let off = if k < 3 { offset[k] } else { 0.0 };
             snap.axes.push(a.name);
             snap.machine_position.push(p[k] * s);

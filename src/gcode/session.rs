@@ -5,9 +5,7 @@
 
 use super::arc::Plane;
 use super::block::Joints;
-use super::interpreter::{
-    Motion, State, blocks_of_line, execute, program_frame, sort_words,
-};
+use super::interpreter::{Motion, State, blocks_of_line, execute, program_frame, sort_words};
 use super::{GcodeError, InterpretOptions, Program};
 
 /// What one line did besides its motion.
