@@ -266,8 +266,7 @@ fn mdi_lines_land_where_the_interpreter_says_with_modal_state_kept() {
         let want = prog
             .blocks
             .iter()
-            .filter(|b| b.source_line == n + 1)
-            .next_back()
+            .rfind(|b| b.source_line == n + 1)
             .unwrap()
             .end
             .xyz;
@@ -536,4 +535,39 @@ fn mdi_and_auto_need_homing() {
         })
         .is_err()
     );
+}
+
+#[test]
+fn a_rapid_into_the_stock_stops_the_machine_with_a_collision_alarm() {
+    let mut c = cutting_control();
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+    c.apply(Action::Mdi("G0 X-150 Y0 Z-2".into())).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    c.apply(Action::Mdi("G0 X150".into())).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    let snap = c.snapshot();
+    let a = snap
+        .alarms
+        .iter()
+        .find(|a| a.code == codes::COLLISION_RAPID)
+        .expect("a rapid collision alarm");
+    assert_eq!(a.line, Some(2));
+    assert_eq!(a.bodies, vec!["tool".to_string(), "stock".to_string()]);
+    // Found within 20 ms of motion after entering the stock at X −33 mm (tool radius 3 mm),
+    // then braked within the limits: short of the programmed end.
+    let x = a.position.unwrap()[0];
+    assert!((-36.0..=-20.0).contains(&x), "collision at X {x}");
+    assert!(
+        snap.machine_position[0] < 150.0,
+        "{:?}",
+        snap.machine_position
+    );
+    assert!(c.apply(Action::Mdi("G0 Z20".into())).is_err());
+    c.apply(Action::Reset).unwrap();
+    c.apply(Action::Mdi("G0 Z20".into())).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    assert_eq!(c.snapshot().machine_position[2], 20.0);
+    rec.check_limits(c.machine());
 }

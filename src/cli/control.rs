@@ -218,10 +218,10 @@ fn parse_line(raw: &str, line: usize) -> Result<Option<Step>, String> {
         }
         other => return Err(format!("unknown action '{other}'")),
     }
-    if verb != "mdi" {
-        if let Some(extra) = words.next() {
-            return Err(format!("unexpected '{extra}' after the action"));
-        }
+    if verb != "mdi"
+        && let Some(extra) = words.next()
+    {
+        return Err(format!("unexpected '{extra}' after the action"));
     }
     Ok(Some(step))
 }

@@ -237,6 +237,8 @@ impl Run {
             feed: v,
             ..Kinematics::default()
         };
+        // One index walks several parallel arrays; an iterator chain would hide that.
+        #[allow(clippy::needless_range_loop)]
         for i in 0..SLOTS {
             out.velocity[i] = d[1][i] * v;
             out.acceleration[i] = d[1][i] * a + d[2][i] * v * v;

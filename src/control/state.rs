@@ -299,11 +299,11 @@ impl Control {
             Action::Home => self.home(),
             Action::JogStart { axis, direction } => self.jog_start(axis, direction),
             Action::JogStop => {
-                if let Some(a) = &mut self.active {
-                    if a.kind == (Kind::Jog { continuous: true }) {
-                        a.after_brake = AfterBrake::Discard;
-                        a.run.start_brake();
-                    }
+                if let Some(a) = &mut self.active
+                    && a.kind == (Kind::Jog { continuous: true })
+                {
+                    a.after_brake = AfterBrake::Discard;
+                    a.run.start_brake();
                 }
                 Ok(())
             }
@@ -797,13 +797,15 @@ impl Control {
         self.overrides[i] = pct;
         if i < 2 && pct <= 0.0 {
             self.hold(true);
-        } else if i < 2 && self.overrides[0] > 0.0 && self.overrides[1] > 0.0 {
-            if let Some(h) = self.held.take() {
-                if h.by_override && self.active.is_none() {
-                    self.start_run(h.blocks, h.kind, None);
-                } else {
-                    self.held = Some(h);
-                }
+        } else if i < 2
+            && self.overrides[0] > 0.0
+            && self.overrides[1] > 0.0
+            && let Some(h) = self.held.take()
+        {
+            if h.by_override && self.active.is_none() {
+                self.start_run(h.blocks, h.kind, None);
+            } else {
+                self.held = Some(h);
             }
         }
         Ok(())
@@ -1076,10 +1078,10 @@ impl Control {
                 }
             }
             Kind::Mpg(axis) => {
-                if let Some((_, d)) = self.mpg_pending.take() {
-                    if let Ok((target, limit)) = self.jog_target(axis, d) {
-                        self.start_jog(axis, target, limit, Kind::Mpg(axis));
-                    }
+                if let Some((_, d)) = self.mpg_pending.take()
+                    && let Ok((target, limit)) = self.jog_target(axis, d)
+                {
+                    self.start_jog(axis, target, limit, Kind::Mpg(axis));
                 }
             }
             Kind::Jog { .. } | Kind::Mdi => {}
