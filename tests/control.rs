@@ -571,3 +571,39 @@ fn a_rapid_into_the_stock_stops_the_machine_with_a_collision_alarm() {
     assert_eq!(c.snapshot().machine_position[2], 20.0);
     rec.check_limits(c.machine());
 }
+
+#[test]
+fn run_from_line_has_the_modal_state_of_a_full_run() {
+    let mut c = control("mill-3axis");
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+    c.apply(Action::Mdi("G0 X20 Y-20 Z-2".into())).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    c.apply(Action::SetMode(Mode::Auto)).unwrap();
+    c.apply(Action::LoadProgram {
+        name: "pocket.ngc".into(),
+        text: PROGRAM.into(),
+    })
+    .unwrap();
+    // Line 7 is `Y0`: G1 and F1200 from line 6, M3 S8000 from line 4.
+    c.apply(Action::RunFromLine(7)).unwrap();
+    rec.step(&mut c, 0.5);
+    let codes_now = c.snapshot().active_codes;
+    for code in ["G1", "G17", "G21", "G90", "M3", "F1200", "S8000"] {
+        assert!(
+            codes_now.iter().any(|k| k == code),
+            "{code} in {codes_now:?}"
+        );
+    }
+    assert_eq!(c.snapshot().line, Some(7));
+    // Y0 at F1200 from Y −20: cruising at 20 mm/s.
+    assert!((c.snapshot().feed_actual_mm_per_min - 1200.0).abs() < 1e-6);
+    rec.until_idle(&mut c, 120.0);
+    let prog = interpret(PROGRAM, &InterpretOptions::default()).unwrap();
+    let end = prog.blocks.last().unwrap().end.xyz;
+    let p = c.snapshot().machine_position;
+    assert!(DVec3::new(p[0], p[1], p[2]).distance(end) < 1e-9);
+    assert!(c.alarms().is_empty());
+    rec.check_limits(c.machine());
+}

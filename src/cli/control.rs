@@ -4,7 +4,7 @@
 //!
 //! Script actions (`#` starts a comment): `home`, `mode ref|jog|mpg|mdi|auto`,
 //! `jog AXIS ±DIST`, `jog-continuous AXIS +|- SECONDS`, `increment MM`, `mpg AXIS STEPS`,
-//! `mdi LINE`, `override feed|rapid|spindle PCT`, `cycle-start`, `hold`, `resume`, `stop`,
+//! `mdi LINE`, `override feed|rapid|spindle PCT`, `cycle-start`, `run-from LINE`, `hold`, `resume`, `stop`,
 //! `reset`, `estop`, `wait SECONDS`, `wait-idle`, `spindle cw|ccw|stop`,
 //! `single-block on|off`, `optional-stop on|off`, `block-delete on|off`, `jog-feed MM_PER_MIN`.
 //! `home`, `jog`, `jog-continuous`, `mpg` and `mdi` return when the machine is at rest;
@@ -189,6 +189,15 @@ fn parse_line(raw: &str, line: usize) -> Result<Option<Step>, String> {
             ));
         }
         "cycle-start" => step.actions = one(Action::CycleStart),
+        "run-from" => {
+            let n = number(words.next(), "line", 1.0, 1e9)?;
+            if n.fract() != 0.0 {
+                return Err(format!("line {n} must be a whole number"));
+            }
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let n = n as usize;
+            step.actions = one(Action::RunFromLine(n));
+        }
         "hold" => step.actions = one(Action::FeedHold),
         "resume" => step.actions = one(Action::Resume),
         "stop" => step.actions = one(Action::Stop),

@@ -155,6 +155,9 @@ pub enum Action {
     },
     /// Cycle start (AUTO: run or continue; after a hold: resume).
     CycleStart,
+    /// Cycle start of the loaded program from a line (1-based), with the modal state the lines
+    /// before it leave; its first block starts at the present position.
+    RunFromLine(usize),
     /// Feed hold.
     FeedHold,
     /// Resume after a feed hold.

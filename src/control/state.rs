@@ -330,7 +330,15 @@ impl Control {
                 self.program = Some((name, text));
                 Ok(())
             }
-            Action::CycleStart | Action::Resume => self.cycle_start(),
+            Action::CycleStart | Action::Resume => self.cycle_start(1),
+            Action::RunFromLine(line) => {
+                if self.auto.is_some() || self.held.is_some() {
+                    return refuse(
+                        "run from line starts a program at rest: stop the one running first",
+                    );
+                }
+                self.cycle_start(line)
+            }
             Action::FeedHold => {
                 self.hold(false);
                 Ok(())
@@ -647,7 +655,7 @@ impl Control {
         false
     }
 
-    fn cycle_start(&mut self) -> Result<(), ControlError> {
+    fn cycle_start(&mut self, from_line: usize) -> Result<(), ControlError> {
         self.can_move()?;
         if let Some(h) = self.held.take() {
             if self.active.is_some() {
@@ -681,7 +689,7 @@ impl Control {
         let Some((name, text)) = self.program.clone() else {
             return refuse("no program loaded");
         };
-        if let Some(run) = self.interpret_program(&name, &text) {
+        if let Some(run) = self.interpret_program(&name, &text, from_line.max(1)) {
             self.auto = Some(run);
             self.stopped = false;
             self.auto_next();
@@ -690,7 +698,11 @@ impl Control {
     }
 
     /// The whole program interpreted from the present position, checked against the travel.
-    fn interpret_program(&mut self, name: &str, text: &str) -> Option<AutoRun> {
+    ///
+    /// Run from line: the lines before `from_line` are interpreted for their modal state only
+    /// (units, plane, distance mode, offsets, feed, spindle, tool, TCP), without motion; the
+    /// first block from `from_line` on starts at the present position.
+    fn interpret_program(&mut self, name: &str, text: &str, from_line: usize) -> Option<AutoRun> {
         let Ok(mut session) = Session::new(self.interp_options()) else {
             return None;
         };
@@ -708,6 +720,20 @@ impl Control {
                     return None;
                 }
             };
+            if i + 2 == from_line {
+                session.set_position(self.joints(&self.pos));
+            }
+            if r.program_end && i + 1 < from_line {
+                let text = format!(
+                    "{name}: the program ends at line {} before line {from_line}",
+                    i + 1
+                );
+                self.alarm(codes::GCODE, text).line = Some(from_line);
+                return None;
+            }
+            if i + 1 < from_line {
+                continue;
+            }
             run.modal.insert(i + 1, session.modal());
             all.extend(r.program.blocks.iter().cloned());
             run.items.push_back(Item {
