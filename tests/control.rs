@@ -607,3 +607,51 @@ fn run_from_line_has_the_modal_state_of_a_full_run() {
     assert!(c.alarms().is_empty());
     rec.check_limits(c.machine());
 }
+
+#[test]
+fn optional_stop_single_block_and_block_delete() {
+    let text = "G0 X10\nM1\n/G0 Y10\nG0 Z10\nG4 P0.5\nG0 X20\nM30\n";
+    let start = |c: &mut Control, rec: &mut Recorder| {
+        home(c, rec);
+        c.apply(Action::SetMode(Mode::Auto)).unwrap();
+        c.apply(Action::LoadProgram {
+            name: "p".into(),
+            text: text.into(),
+        })
+        .unwrap();
+    };
+    // Optional stop on, block delete on (the default).
+    let mut c = control("mill-3axis");
+    let mut rec = Recorder::new(&c);
+    start(&mut c, &mut rec);
+    c.apply(Action::OptionalStop(true)).unwrap();
+    c.apply(Action::CycleStart).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    assert_eq!(c.run_state(), RunState::Stopped);
+    assert_eq!(c.snapshot().machine_position, vec![10.0, 200.0, 100.0]);
+    c.apply(Action::CycleStart).unwrap();
+    let t0 = c.time_s();
+    rec.until_idle(&mut c, 60.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(c.snapshot().machine_position, vec![20.0, 200.0, 10.0]);
+    assert!(c.time_s() - t0 > 0.5, "the dwell stood still");
+    // Block delete off, single block: one stop per line that moves.
+    let mut c = control("mill-3axis");
+    let mut rec = Recorder::new(&c);
+    start(&mut c, &mut rec);
+    c.apply(Action::BlockDelete(false)).unwrap();
+    c.apply(Action::SingleBlock(true)).unwrap();
+    c.apply(Action::CycleStart).unwrap();
+    let mut stops = 0;
+    for _ in 0..10 {
+        rec.until_idle(&mut c, 60.0);
+        if c.run_state() != RunState::Stopped {
+            break;
+        }
+        stops += 1;
+        c.apply(Action::CycleStart).unwrap();
+    }
+    assert_eq!(stops, 4);
+    assert_eq!(c.snapshot().machine_position, vec![20.0, 10.0, 10.0]);
+    rec.check_limits(c.machine());
+}
