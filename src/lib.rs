@@ -24,7 +24,7 @@
 //! | L2 | [`toolpath`] |
 //! | L3 | [`strategies`], [`checks`], [`reduce`] |
 //! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] |
-//! | L5 | [`project`] |
+//! | L5 | [`project`], [`control`] |
 //! | CLI | [`cli`] (thin shells over engine calls) |
 //! | GUI | `render`, `app` (feature `gui` only) |
 //!
@@ -36,6 +36,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod checks;
+pub mod control;
 pub mod diagnostics;
 pub mod feed;
 pub mod force;

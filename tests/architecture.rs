@@ -26,6 +26,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("force", 4),
     ("profile", 4),
     ("project", 5),
+    ("control", 5),
     ("cli", 6),
     ("render", 7),
     ("app", 8),

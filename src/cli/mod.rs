@@ -2,6 +2,7 @@
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
 pub mod calibrate;
+pub mod control;
 pub mod dropcutter;
 pub mod feed;
 pub mod forces;
@@ -67,6 +68,9 @@ pub enum Command {
     /// Ball-electrode (EDM) path of a 2D profile: exact offset, plunges and side collisions
     /// of the per-point method, largest gouge-free radius, G-code.
     Profile(profile::ProfileArgs),
+    /// The virtual machine control run headless from a script of operator actions (home,
+    /// jog, MPG, MDI, AUTO, hold, overrides): positions, time, alarms, removed volume, peaks.
+    Control(control::ControlArgs),
     /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
     /// renderer (builds with the `gui` feature).
     Render(render::RenderArgs),
@@ -155,6 +159,7 @@ pub fn run(command: Command) -> i32 {
                 EXIT_BAD_INPUT
             }
         },
+        Command::Control(args) => report(control::control(&args), args.json, control::human),
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),
     }

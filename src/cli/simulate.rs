@@ -67,7 +67,7 @@ fn parse_numbers(text: &str, n: usize) -> Option<Vec<f64>> {
     (v.len() == n).then_some(v)
 }
 
-fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
+pub(crate) fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
     let bad = |msg: String| ImportError::new(Path::new("--stock"), None, msg);
     let (kind, rest) = spec
         .split_once(':')

@@ -82,24 +82,7 @@ impl Block {
 /// The first [`GcodeError`] met (line and column of the offending word). Warnings go to
 /// [`Program::diagnostics`].
 pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeError> {
-    let mut state = State {
-        pos: opts.start,
-        motion: None,
-        plane: Plane::Xy,
-        inch: false,
-        absolute: true,
-        arc_absolute: false,
-        inverse_time: false,
-        feed: None,
-        work_offset: opts.initial_work_offset.min(5),
-        tool: 0,
-        tool_length_h: None,
-        spindle_speed: 0.0,
-        spindle_dir: 0.0,
-        coolant: false,
-        warned_no_feed: false,
-        tcp: false,
-    };
+    let mut state = State::new(opts);
     if !opts.start.is_finite() {
         return Err(GcodeError {
             line: 0,
@@ -143,10 +126,34 @@ pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeEr
     Ok(program)
 }
 
+impl State {
+    /// The state at the start of a program.
+    pub(super) fn new(opts: &InterpretOptions) -> Self {
+        Self {
+            pos: opts.start,
+            motion: None,
+            plane: Plane::Xy,
+            inch: false,
+            absolute: true,
+            arc_absolute: false,
+            inverse_time: false,
+            feed: None,
+            work_offset: opts.initial_work_offset.min(5),
+            tool: 0,
+            tool_length_h: None,
+            spindle_speed: 0.0,
+            spindle_dir: 0.0,
+            coolant: false,
+            warned_no_feed: false,
+            tcp: false,
+        }
+    }
+}
+
 /// Heidenhain's program frame `%NAME G71 *` (start) and `N99999999 %NAME G71 *` (end): the
 /// unit code in it is applied and the frame is removed from the line; other syntaxes keep the
 /// line as it is.
-fn program_frame<'a>(raw: &'a str, syntax: Syntax, state: &mut State) -> &'a str {
+pub(super) fn program_frame<'a>(raw: &'a str, syntax: Syntax, state: &mut State) -> &'a str {
     if syntax != Syntax::HeidenhainIso {
         return raw;
     }
@@ -167,7 +174,7 @@ fn program_frame<'a>(raw: &'a str, syntax: Syntax, state: &mut State) -> &'a str
 
 /// The blocks of one line: one, or with a block-end character (`;` in the thesis's samples,
 /// Heidenhain's `*`), one per separated piece (columns stay those of the whole line).
-fn blocks_of_line(
+pub(super) fn blocks_of_line(
     raw: &str,
     line: usize,
     separator: Option<char>,
@@ -191,7 +198,7 @@ fn blocks_of_line(
     Ok(out)
 }
 
-fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<Block, GcodeError> {
+pub(super) fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<Block, GcodeError> {
     let mut block = Block {
         line,
         g: Vec::new(),
@@ -344,7 +351,7 @@ const SIEMENS_GEOMETRY: &[&str] = &[
     "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
 ];
 
-fn execute(
+pub(super) fn execute(
     b: &Block,
     s: &mut State,
     opts: &InterpretOptions,

@@ -32,12 +32,14 @@ mod block;
 mod interpreter;
 mod lexer;
 mod motion;
+mod session;
 mod syntax;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
 pub use interpreter::interpret;
 pub use lexer::{LexedLine, Word, lex_line};
+pub use session::{LineResult, Modal, Session};
 pub use syntax::Syntax;
 
 use glam::DVec3;
