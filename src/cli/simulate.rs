@@ -68,7 +68,7 @@ fn parse_numbers(text: &str, n: usize) -> Option<Vec<f64>> {
     (v.len() == n).then_some(v)
 }
 
-fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
+pub(crate) fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
     let bad = |msg: String| ImportError::new(Path::new("--stock"), None, msg);
     let (kind, rest) = spec
         .split_once(':')
@@ -121,7 +121,7 @@ fn read_part(path: &Path) -> Result<TriMesh, ImportError> {
     }
 }
 
-fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
+pub(crate) fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
     match e {
         SimError::Program { block, message } => {
             let place = if json { "pose" } else { "line" };
