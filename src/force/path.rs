@@ -317,7 +317,22 @@ fn signed_max(a: f64, b: f64) -> f64 {
     if b.abs() > a.abs() { b } else { a }
 }
 
-/// Forces of one engagement at feed per tooth `ft`, in the machine frame.
+/// The forces of one engagement over a revolution, machine frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PieceResult {
+    /// Mean force, N.
+    pub mean: Force,
+    /// Signed peaks per component, N.
+    pub peak: Force,
+    /// Largest resultant, N.
+    pub peak_resultant_n: f64,
+    /// Mean torque, N·m.
+    pub mean_torque_nm: f64,
+    /// Largest torque, N·m.
+    pub peak_torque_nm: f64,
+}
+
+/// Forces of one engagement at its feed per tooth, in the machine frame (x̂ = `x_dir`).
 ///
 /// # Errors
 /// As [`revolution`].
@@ -327,7 +342,7 @@ pub fn piece_forces(
     engagement: &Engagement,
     x_dir: DVec3,
     steps: usize,
-) -> Result<(Force, Force, f64, f64, f64), ForceError> {
+) -> Result<PieceResult, ForceError> {
     let rev = revolution(
         mill,
         coefficients,
@@ -346,13 +361,13 @@ pub fn piece_forces(
             fz: signed_max(peak.fz, m.fz),
         };
     }
-    Ok((
-        to_machine(rev.mean, x_dir),
+    Ok(PieceResult {
+        mean: to_machine(rev.mean, x_dir),
         peak,
-        rev.peak_resultant_n,
-        rev.mean_torque_nm,
-        rev.peak_torque_nm,
-    ))
+        peak_resultant_n: rev.peak_resultant_n,
+        mean_torque_nm: rev.mean_torque_nm,
+        peak_torque_nm: rev.peak_torque_nm,
+    })
 }
 
 fn check_options(o: &PathOptions) -> Result<(), ForceError> {
@@ -409,7 +424,7 @@ struct Evaluator<'a> {
     mill: &'a EndMill,
     coefficients: &'a ModeCoefficients,
     steps: usize,
-    last: Option<(Engagement, DVec3, Mode, Force, Force, f64, f64, f64)>,
+    last: Option<(Engagement, DVec3, Mode, PieceResult)>,
 }
 
 impl Evaluator<'_> {
@@ -417,19 +432,20 @@ impl Evaluator<'_> {
         &mut self,
         e: &Engagement,
         x_dir: DVec3,
-    ) -> Result<Option<(Mode, Force, Force, f64, f64, f64)>, ForceError> {
+    ) -> Result<Option<(Mode, PieceResult)>, ForceError> {
         let Some(mode) = classify(e, 2.0 * std::f64::consts::PI / 180.0) else {
             return Ok(None);
         };
-        if let Some((le, lx, lm, a, b, c, d, f)) = &self.last {
-            if le == e && *lx == x_dir && *lm == mode {
-                return Ok(Some((mode, *a, *b, *c, *d, *f)));
-            }
+        if let Some((le, lx, lm, r)) = &self.last
+            && le == e
+            && *lx == x_dir
+            && *lm == mode
+        {
+            return Ok(Some((mode, *r)));
         }
-        let (mean, peak, pr, mt, pt) =
-            piece_forces(self.mill, self.coefficients.get(mode), e, x_dir, self.steps)?;
-        self.last = Some((e.clone(), x_dir, mode, mean, peak, pr, mt, pt));
-        Ok(Some((mode, mean, peak, pr, mt, pt)))
+        let r = piece_forces(self.mill, self.coefficients.get(mode), e, x_dir, self.steps)?;
+        self.last = Some((e.clone(), x_dir, mode, r));
+        Ok(Some((mode, r)))
     }
 }
 
@@ -562,10 +578,17 @@ fn move_forces(
         }
         e.feed_per_tooth = ft;
         let result = if engaged { eval.eval(&e, x_dir)? } else { None };
-        let (mode, pm, pp, pr, mt, pt) = match result {
-            Some((mode, pm, pp, pr, mt, pt)) => (Some(mode), pm, pp, pr, mt, pt),
-            None => (None, Force::default(), Force::default(), 0.0, 0.0, 0.0),
+        let (mode, r) = match result {
+            Some((mode, r)) => (Some(mode), r),
+            None => (None, PieceResult::default()),
         };
+        let (pm, pp, pr, mt, pt) = (
+            r.mean,
+            r.peak,
+            r.peak_resultant_n,
+            r.mean_torque_nm,
+            r.peak_torque_nm,
+        );
         let w = a.distance(b);
         wsum += w;
         mean += Force {

@@ -123,7 +123,7 @@ impl PeakCurve {
         if coefficients.is_exponential() {
             return Ok(Self::General {
                 engagement: engagement.clone(),
-                coefficients: coefficients.clone(),
+                coefficients: *coefficients,
                 steps,
             });
         }
