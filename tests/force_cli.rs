@@ -191,7 +191,68 @@ fn bad_input_is_one_line_and_exit_2() {
     .expect("write");
     let csv_s = csv.to_str().expect("path");
     let lib_s = lib.to_str().expect("path");
+    // A program cutting the stock with a feed but no spindle speed (no S, no --rpm).
+    let ngc = dir.join("no-s.ngc");
+    std::fs::write(
+        &ngc,
+        "G21 G90 G94\nG0 Z5\nG0 X-20 Y0\nG1 Z-3 F500\nG1 X20\nM30\n",
+    )
+    .expect("write");
+    let ngc_s = ngc.to_str().expect("path");
+    let tool = "flat:d=10,flutes=2,helix=30";
+    let stock = "box:-10,-10,-10,10,10,0";
     for (args, needle) in [
+        (
+            vec![
+                "forces",
+                ngc_s,
+                "--tool",
+                tool,
+                "--coefficients",
+                LIBRARY,
+                "--stock",
+                stock,
+            ],
+            "line 5",
+        ),
+        (
+            vec!["forces", ngc_s, "--tool", tool, "--coefficients", LIBRARY],
+            "--stock",
+        ),
+        (
+            vec![
+                "forces",
+                ngc_s,
+                "--tool",
+                tool,
+                "--coefficients",
+                LIBRARY,
+                "--stock",
+                stock,
+                "--rpm",
+                "3000",
+                "--schedule-force",
+                "100",
+            ],
+            "-o OUT.json",
+        ),
+        (
+            vec![
+                "forces",
+                ngc_s,
+                "--tool",
+                tool,
+                "--coefficients",
+                LIBRARY,
+                "--stock",
+                stock,
+                "--rpm",
+                "3000",
+                "--sample-spacing",
+                "0",
+            ],
+            "sample spacing",
+        ),
         (vec!["calibrate", csv_s, "--model", "linear"], "line 3"),
         (
             vec![
@@ -260,5 +321,53 @@ fn bad_input_is_one_line_and_exit_2() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `talas forces PROGRAM`: a slot along x through a box, with the spindle speed from `--rpm`:
+/// the per-move JSON (machine frame) and the totals.
+#[test]
+fn forces_along_a_program() {
+    let dir = std::env::temp_dir().join(format!("talas-force-path-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let ngc = dir.join("slot.ngc");
+    std::fs::write(
+        &ngc,
+        "G21 G90 G94\nG0 Z5\nG0 X-20 Y0\nG1 Z-3 F600\nG1 X20\nG0 Z5\nM30\n",
+    )
+    .expect("write");
+    let doc = talas_json(&[
+        "forces",
+        ngc.to_str().expect("path"),
+        "--tool",
+        "flat:d=10,flute=20,flutes=2,helix=30,rake=10",
+        "--coefficients",
+        LIBRARY,
+        "--stock",
+        "box:-10,-10,-10,10,10,0",
+        "--rpm",
+        "3000",
+        "--max-power",
+        "1",
+        "--json",
+    ]);
+    let moves = doc["moves"].as_array().expect("moves");
+    let slot = moves.iter().find(|m| m["line"] == 5).expect("line 5");
+    assert_eq!(slot["class"], "cut");
+    assert!((f(&slot["feed_per_tooth_mm"]) - 0.1).abs() < 1e-12);
+    // Up to 3 mm deep: six disks of 0.5 mm engaged at the heaviest piece, on the front half.
+    let imm = slot["immersion"].as_array().expect("immersion");
+    assert_eq!(imm.len(), 6, "{imm:?}");
+    assert!(imm.iter().all(|d| {
+        let (a, b) = (f(&d["entry_deg"]), f(&d["exit_deg"]));
+        (0.0..b).contains(&a) && b <= 180.0 + 1e-9
+    }));
+    assert!(f(&slot["peak_resultant_n"]) > 0.0);
+    assert!(f(&slot["mean_power_w"]) > 0.0);
+    assert_eq!(slot["limits_exceeded"][0], "power");
+    let plunge = moves.iter().find(|m| m["line"] == 4).expect("line 4");
+    assert_eq!(plunge["class"], "plunge");
+    assert_eq!(doc["totals"]["cutting_moves"], 1);
+    assert_eq!(doc["totals"]["peak_resultant_block"], 5);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,5 +1,7 @@
 //! `talas forces --cut ae=MM,ap=MM,ft=MM,mode=up|down|slot --tool SPEC --coefficients FILE
 //! [--overhang MM] [--rpm N] [--material NAME] [--json]`: cutting forces of one straight cut.
+//! With a program or tool path instead of `--cut`, the forces along it
+//! ([`super::forces_path`]).
 //! JSON: `{"mean": {"fx","fy","fz"}, "peak": {"fx","fy","fz"}, "form_error_um", ...}` in N
 //! (x along the feed, y normal to it, forces on the tool); a peak is the value of largest
 //! magnitude over a revolution, with its sign; `form_error_um` is the wall error at the tool
@@ -22,13 +24,18 @@ use crate::tools::parse_tool_spec;
 /// Options of `talas forces`.
 #[derive(Debug, clap::Args)]
 pub struct ForcesArgs {
+    /// A program (G-code) or tool path (`.json`): forces along it, move by move (instead of
+    /// `--cut`).
+    #[arg(value_name = "PROGRAM|PATH.json", conflicts_with = "cut")]
+    pub file: Option<PathBuf>,
     /// One straight cut: `ae=MM,ap=MM,ft=MM,mode=up|down|slot` (radial depth, axial depth,
     /// feed per tooth; a slot's ae is the diameter and may be left out).
+    #[arg(long, value_name = "SPEC", required_unless_present = "file")]
+    pub cut: Option<String>,
+    /// The tool, with its flutes: e.g. `flat:d=12,flutes=2,helix=30,rake=15` (a tool path
+    /// JSON brings its own when this is left out).
     #[arg(long, value_name = "SPEC")]
-    pub cut: String,
-    /// The tool, with its flutes: e.g. `flat:d=12,flutes=2,helix=30,rake=15`.
-    #[arg(long, value_name = "SPEC")]
-    pub tool: String,
+    pub tool: Option<String>,
     /// Coefficient library (TOML), e.g. assets/force/coefficients.toml.
     #[arg(long, value_name = "FILE")]
     pub coefficients: PathBuf,
@@ -44,6 +51,41 @@ pub struct ForcesArgs {
     /// Spindle speed, rev/min: adds the spindle power.
     #[arg(long, value_name = "N")]
     pub rpm: Option<f64>,
+    /// Stock for a program (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cyl:X,Y,Z,R,H`,
+    /// `mesh:FILE.stl`, mm.
+    #[arg(long, value_name = "SHAPE")]
+    pub stock: Vec<String>,
+    /// Dexel spacing of the stock, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.2)]
+    pub resolution: f64,
+    /// Machine (`talas machines`) or machine JSON: rotary programs, and the feed limits and
+    /// timing of `--schedule-force` (default mill-3axis).
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: Option<String>,
+    /// Longest piece of a move whose engagement is read once, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.5)]
+    pub sample_spacing: f64,
+    /// Flag moves whose peak resultant force exceeds this, N.
+    #[arg(long, value_name = "N")]
+    pub max_force: Option<f64>,
+    /// Flag moves whose peak torque exceeds this, N·m.
+    #[arg(long, value_name = "NM")]
+    pub max_torque: Option<f64>,
+    /// Flag moves whose peak spindle power exceeds this, W.
+    #[arg(long, value_name = "W")]
+    pub max_power: Option<f64>,
+    /// Rewrite the feeds so the peak resultant force stays at this target, N (needs -o).
+    #[arg(long, value_name = "N")]
+    pub schedule_force: Option<f64>,
+    /// Lowest feed the schedule may set, mm/min.
+    #[arg(long, value_name = "MM_PER_MIN", default_value_t = 10.0)]
+    pub min_feed: f64,
+    /// Highest feed the schedule may set, mm/min (default and cap: the machine's X/Y limit).
+    #[arg(long, value_name = "MM_PER_MIN")]
+    pub max_feed: Option<f64>,
+    /// Where the scheduled tool path is written (tool path JSON).
+    #[arg(short = 'o', long = "output", value_name = "OUT.json")]
+    pub output: Option<PathBuf>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -98,9 +140,19 @@ fn force_json(f: &Force) -> Value {
 /// (with line and column) for bad input.
 pub fn forces(args: &ForcesArgs) -> Result<Value, ImportError> {
     let opt = |name: &str, msg: String| ImportError::new(Path::new(name), None, msg);
-    let cutter = parse_tool_spec(&args.tool).map_err(|e| opt("--tool", e.to_string()))?;
+    let (Some(cut_spec), None) = (&args.cut, &args.file) else {
+        return match &args.file {
+            Some(file) => super::forces_path::path_cmd(args, file),
+            None => Err(opt("--cut", "give --cut SPEC or a program".into())),
+        };
+    };
+    let tool = args
+        .tool
+        .as_deref()
+        .ok_or_else(|| opt("--tool", "--cut needs --tool SPEC".into()))?;
+    let cutter = parse_tool_spec(tool).map_err(|e| opt("--tool", e.to_string()))?;
     let mill = EndMill::from_cutter(&cutter).map_err(|e| opt("--tool", e.to_string()))?;
-    let cut = parse_cut(&args.cut, cutter.diameter).map_err(|m| opt("--cut", m))?;
+    let cut = parse_cut(cut_spec, cutter.diameter).map_err(|m| opt("--cut", m))?;
     let engagement = cut
         .engagement(&mill, DEFAULT_DISK_HEIGHT)
         .map_err(|e| opt("--cut", e.to_string()))?;
@@ -182,6 +234,9 @@ pub fn forces(args: &ForcesArgs) -> Result<Value, ImportError> {
 /// A short human summary.
 #[must_use]
 pub fn human(doc: &Value) -> String {
+    if doc.get("totals").is_some() {
+        return super::forces_path::human(doc);
+    }
     let num = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
     let mut s = String::new();
     for key in ["mean", "peak"] {

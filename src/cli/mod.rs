@@ -6,6 +6,7 @@ pub mod control;
 pub mod dropcutter;
 pub mod feed;
 pub mod forces;
+pub mod forces_path;
 pub mod inspect;
 pub mod plan;
 pub mod plan_mesh;
@@ -59,8 +60,8 @@ pub enum Command {
     /// Material removal on a dexel stock: removed volume, deviation from the part,
     /// collisions, time.
     Simulate(simulate::SimulateArgs),
-    /// Cutting forces of one straight cut: mean and peak F_x, F_y, F_z (N), torque, power, and
-    /// the wall error at the tool tip for a given overhang.
+    /// Cutting forces of one straight cut (mean and peak F_x, F_y, F_z in N, torque, power,
+    /// wall error) or along a program or tool path, with feed scheduling to a target force.
     Forces(forces::ForcesArgs),
     /// Cutting-force coefficients from measured mean forces (FORCES.csv), optionally written
     /// as a coefficient library.

@@ -111,7 +111,7 @@ fn read_part(path: &Path) -> Result<TriMesh, ImportError> {
     Ok(crate::import::open(path, &options, &Progress::new())?.mesh)
 }
 
-fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
+pub(crate) fn sim_err(file: &Path, e: &SimError, json: bool) -> ImportError {
     match e {
         SimError::Program { block, message } => {
             let place = if json { "pose" } else { "line" };

@@ -19,6 +19,8 @@
 //!   revolution; peak (signed value of largest magnitude) and mean.
 //! - [`deflection`]: the tool as a stepped cantilever and the wall error at the
 //!   surface-generation points.
+//! - [`path`]: forces along a tool path or program, move by move, with the engagement read
+//!   from the material before each move and the move then removed from it.
 //! - [`schedule`]: the feed per tooth that holds the peak resultant force at a target.
 //! - [`stock`]: engagement read from the material (the Z-dexel stock) for a tool at a position
 //!   moving in a direction: per disk, the front-half angles whose edge points are in material.
@@ -41,6 +43,7 @@ pub mod disks;
 pub mod library;
 pub mod measurements;
 pub mod mill;
+pub mod path;
 pub mod revolution;
 pub mod schedule;
 pub mod stock;
@@ -59,6 +62,14 @@ pub enum ForceError {
     /// The tool cannot be modelled (no flute geometry, cone cutter, ...).
     #[error("tool: {0}")]
     Tool(String),
+    /// A move of a path cannot be modelled (`block`: its G-code line or tool-path pose).
+    #[error("block {block}: {message}")]
+    Move {
+        /// G-code line or tool-path pose index.
+        block: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// The measurements do not determine the coefficients.
     #[error("calibration: {0}")]
     Calibration(String),

@@ -7,14 +7,19 @@
 //!
 //! The frame is the force model's: x along the feed, y = z × x (left of the feed), φ clockwise
 //! from +y seen from above, so material on the left of the feed is up milling. The query
-//! reaches the simulation only through [`Material`], implemented for the Z-dexel stock.
+//! reaches the simulation only through [`Material`], implemented for the Z-dexel stock, and
+//! [`Workpiece`] (removing a move), implemented for [`SimulatedStock`]: the dexel stock cut by
+//! the simulation's own move removal.
 
 use glam::DVec3;
 
 use super::ForceError;
 use super::cut::{Arcs, DiskEngagement, Engagement};
 use super::mill::EndMill;
-use crate::simulation::{DexelStock, RayAxis};
+use super::path::{PathMove, PathStep, Workpiece};
+use crate::diagnostics::Progress;
+use crate::simulation::{DexelStock, MovePlan, RayAxis, SimOptions};
+use crate::tools::Cutter;
 
 /// Whether a point holds material.
 pub trait Material {
@@ -141,4 +146,90 @@ pub fn engagement_at(
         disks: out,
         feed_per_tooth,
     })
+}
+
+/// The dexel stock with the moves of a simulation plan, removed one at a time by the
+/// simulation's own material removal (holder and shank checks off: forces only).
+pub struct SimulatedStock<'a> {
+    /// The stock as cut so far.
+    pub stock: DexelStock,
+    cutter: &'a Cutter,
+    plan: &'a MovePlan,
+    progress: Progress,
+}
+
+impl<'a> SimulatedStock<'a> {
+    /// `stock` before the first move of `plan`, cut by `cutter`.
+    #[must_use]
+    pub fn new(stock: DexelStock, cutter: &'a Cutter, plan: &'a MovePlan) -> Self {
+        Self {
+            stock,
+            cutter,
+            plan,
+            progress: Progress::new(),
+        }
+    }
+}
+
+impl Material for SimulatedStock<'_> {
+    fn material_at(&self, p: DVec3) -> bool {
+        self.stock.material_at(p)
+    }
+}
+
+impl Workpiece for SimulatedStock<'_> {
+    fn cut_move(&mut self, index: usize) -> Result<(), ForceError> {
+        let opts = SimOptions {
+            check_holder: false,
+            ..SimOptions::default()
+        };
+        crate::simulation::simulate_moves(
+            &mut self.stock,
+            self.cutter,
+            self.plan,
+            index..index + 1,
+            &opts,
+            &self.progress,
+        )
+        .map(|_| ())
+        .map_err(|e| ForceError::Input(e.to_string()))
+    }
+}
+
+/// The moves of a simulation plan for the force model; `spindle_rpm(i)` gives move `i`'s
+/// spindle speed (rev/min).
+#[must_use]
+pub fn path_moves(plan: &MovePlan, spindle_rpm: impl Fn(usize) -> f64) -> Vec<PathMove> {
+    plan.moves
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let end = plan
+                .moves
+                .get(i + 1)
+                .map_or(plan.steps.len(), |n| n.first_step);
+            let steps = plan
+                .steps
+                .get(m.first_step..end)
+                .unwrap_or(&[])
+                .iter()
+                .map(|s| PathStep {
+                    from: s.from,
+                    to: s.to,
+                    axis: s.axis,
+                })
+                .collect();
+            PathMove {
+                block: m.block,
+                rapid: m.rapid,
+                feed_mm_per_min: if m.duration_s > 0.0 {
+                    m.length_mm / m.duration_s * 60.0
+                } else {
+                    0.0
+                },
+                spindle_rpm: spindle_rpm(i),
+                steps,
+            }
+        })
+        .collect()
 }

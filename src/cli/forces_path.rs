@@ -1,0 +1,556 @@
+//! `talas forces PROGRAM.ngc|PATH.json --tool SPEC --coefficients FILE --stock SHAPE
+//! [--machine NAME_OR_FILE] [--rpm N] [--max-force N] [--max-torque NM] [--max-power W]
+//! [--schedule-force N -o OUT.json] [--json]`: cutting forces along a program or tool path,
+//! move by move, with the engagement read from the simulated stock before each move; with
+//! `--schedule-force`, the feeds rewritten so that the peak resultant force stays at the
+//! target, written as a tool path, and the cycle time (jerk-limited feed planner) and the
+//! force spread before and after.
+
+use std::path::Path;
+
+use glam::DVec3;
+use serde_json::{Value, json};
+
+use super::forces::ForcesArgs;
+use crate::feed::{CornerPolicy, PlanInput, PlanOptions, TimedPath, machine_limits, plan};
+use crate::force::library::Library;
+use crate::force::path::{
+    Limits, ModeCoefficients, MoveClass, PathForces, PathMove, PathOptions, path_forces,
+};
+use crate::force::schedule::{ScheduleOptions, Spread, TimeSample, schedule_feeds, spread};
+use crate::force::stock::{SampleOptions, SimulatedStock, path_moves};
+use crate::force::{EndMill, Force, ForceError, Mode};
+use crate::gcode::{InterpretOptions, Joints, MotionBlock, MotionKind, Syntax, interpret};
+use crate::import::ImportError;
+use crate::machine::Machine;
+use crate::simulation::{
+    DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, MovePlan, StepOptions, plan_program,
+    plan_toolpath,
+};
+use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
+use crate::tools::parse_tool_spec;
+
+/// The program or tool path as read.
+struct Input {
+    plan: MovePlan,
+    moves: Vec<PathMove>,
+    tool: ToolRecord,
+    is_json: bool,
+}
+
+fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
+    let bad = |place: Option<String>, msg: String| ImportError::new(file, place, msg);
+    let is_json = file
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let text =
+        std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let (toolpath, program) = if is_json {
+        let (tp, _) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())
+            .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
+        (Some(tp), None)
+    } else {
+        let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(
+            |e| {
+                bad(
+                    Some(format!("line {}, column {}", e.line, e.column)),
+                    e.message,
+                )
+            },
+        )?;
+        (None, Some(prog))
+    };
+    let tool = match (&args.tool, &toolpath) {
+        (Some(spec), _) => ToolRecord {
+            spec: spec.clone(),
+            cutter: parse_tool_spec(spec)
+                .map_err(|e| ImportError::new(Path::new("--tool"), None, e.to_string()))?,
+        },
+        (None, Some(tp)) => tp.tool.clone(),
+        (None, None) => {
+            return Err(ImportError::new(
+                Path::new("--tool"),
+                None,
+                "a G-code program needs --tool SPEC",
+            ));
+        }
+    };
+    let machine = match &args.machine {
+        Some(m) => Some(
+            Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
+        ),
+        None => None,
+    };
+    let step_opts = StepOptions {
+        reach_mm: tool.cutter.flute_length,
+        chord_tolerance_mm: (0.05 * args.resolution).clamp(1e-4, 0.01),
+        axis_tolerance_mm: (0.1 * args.resolution).clamp(1e-4, 0.02),
+        ..StepOptions::default()
+    };
+    let plan = match (&toolpath, &program) {
+        (Some(tp), _) => plan_toolpath(tp, &step_opts),
+        (None, Some(p)) => plan_program(p, machine.as_ref(), &step_opts),
+        (None, None) => Ok(MovePlan::default()),
+    }
+    .map_err(|e| super::simulate::sim_err(file, &e, is_json))?;
+    let rpm = args.rpm.unwrap_or(0.0);
+    let moves = path_moves(&plan, |i| {
+        program
+            .as_ref()
+            .and_then(|p| p.blocks.get(i))
+            .map(|b| b.spindle_rpm.abs())
+            .filter(|s| *s > 0.0)
+            .unwrap_or(rpm)
+    });
+    Ok(Input {
+        plan,
+        moves,
+        tool,
+        is_json,
+    })
+}
+
+/// The coefficients per mode from the library: a slot uses the slot (or any-mode) entry, else
+/// the up one, else the down one.
+fn mode_coefficients(args: &ForcesArgs) -> Result<(ModeCoefficients, String), ImportError> {
+    let file = &args.coefficients;
+    let library = Library::load(file).map_err(|m| {
+        let prefix = format!("{}: ", file.display());
+        ImportError::new(
+            file,
+            None,
+            m.strip_prefix(&prefix).unwrap_or(&m).to_string(),
+        )
+    })?;
+    let material = args.material.as_deref();
+    let pick = |mode: Mode| library.select(mode, material);
+    let (up, down) = (pick(Mode::Up), pick(Mode::Down));
+    let slot = pick(Mode::Slot).or(up).or(down);
+    let (Some(up), Some(down), Some(slot)) = (up.or(down), down.or(up), slot) else {
+        return Err(ImportError::new(
+            file,
+            None,
+            format!(
+                "no entry{}",
+                material.map_or(String::new(), |m| format!(" for material {m}"))
+            ),
+        ));
+    };
+    let get = |e: &crate::force::library::Entry| {
+        e.coefficients()
+            .map_err(|m| ImportError::new(file, None, m))
+    };
+    Ok((
+        ModeCoefficients {
+            up: get(up)?,
+            down: get(down)?,
+            slot: get(slot)?,
+        },
+        up.material.clone(),
+    ))
+}
+
+fn force_json(f: &Force) -> Value {
+    json!({"fx": f.fx, "fy": f.fy, "fz": f.fz})
+}
+
+fn force_err(file: &Path, is_json: bool, e: ForceError) -> ImportError {
+    match e {
+        ForceError::Move { block, message } => {
+            let place = if is_json { "pose" } else { "line" };
+            ImportError::new(file, Some(format!("{place} {block}")), message)
+        }
+        other => ImportError::new(file, None, other.to_string()),
+    }
+}
+
+/// Forces along the program or tool path `file`, and the feed schedule when asked.
+///
+/// # Errors
+/// An [`ImportError`] naming the file and place, or the option, for bad input.
+pub fn path_cmd(args: &ForcesArgs, file: &Path) -> Result<Value, ImportError> {
+    let input = read_input(args, file)?;
+    let mill = EndMill::from_cutter(&input.tool.cutter)
+        .map_err(|e| ImportError::new(Path::new("--tool"), None, e.to_string()))?;
+    let (coefficients, material) = mode_coefficients(args)?;
+    if args.stock.is_empty() {
+        return Err(ImportError::new(
+            Path::new("--stock"),
+            None,
+            "forces along a program need the stock (--stock box:X0,Y0,Z0,X1,Y1,Z1 ...)",
+        ));
+    }
+    let shapes = args
+        .stock
+        .iter()
+        .map(|s| super::simulate::parse_stock(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mode = if input.plan.tilted() {
+        DexelMode::Tri
+    } else {
+        DexelMode::Z
+    };
+    let stock = DexelStock::new(shapes, args.resolution, mode, DEFAULT_MEMORY_LIMIT_BYTES)
+        .map_err(|e| ImportError::new(Path::new("--stock"), None, e.to_string()))?;
+    let options = PathOptions {
+        sample_spacing_mm: args.sample_spacing,
+        flute_length_mm: input.tool.cutter.flute_length,
+        sample: SampleOptions::default(),
+        limits: Limits {
+            max_force_n: args.max_force,
+            max_torque_nm: args.max_torque,
+            max_power_w: args.max_power,
+        },
+        ..PathOptions::default()
+    };
+    let mut work = SimulatedStock::new(stock, &input.tool.cutter, &input.plan);
+    let forces = path_forces(&mut work, &mill, &coefficients, &input.moves, &options)
+        .map_err(|e| force_err(file, input.is_json, e))?;
+    let mut doc = forces_json(&forces, &input, &options, &material);
+    if let Some(target) = args.schedule_force {
+        let out = args.output.as_deref().ok_or_else(|| {
+            ImportError::new(
+                Path::new("--schedule-force"),
+                None,
+                "feed scheduling writes a tool path: give -o OUT.json",
+            )
+        })?;
+        doc["schedule"] = schedule(args, &input, &mill, &coefficients, &forces, target, out)?;
+    }
+    Ok(doc)
+}
+
+fn forces_json(f: &PathForces, input: &Input, o: &PathOptions, material: &str) -> Value {
+    let place = if input.is_json { "pose" } else { "line" };
+    let moves: Vec<Value> = f
+        .moves
+        .iter()
+        .filter(|m| m.class != MoveClass::Rapid)
+        .map(|m| {
+            json!({
+                "move": m.move_index,
+                place: m.block,
+                "class": m.class,
+                "length_mm": m.length_mm,
+                "time_s": m.time_s,
+                "feed_per_tooth_mm": m.feed_per_tooth_mm,
+                "mean": force_json(&m.mean),
+                "peak": force_json(&m.peak),
+                "mean_resultant_n": m.mean_resultant_n,
+                "peak_resultant_n": m.peak_resultant_n,
+                "mean_torque_nm": m.mean_torque_nm,
+                "peak_torque_nm": m.peak_torque_nm,
+                "mean_power_w": m.mean_power_w,
+                "peak_power_w": m.peak_power_w,
+                "axial_depth_mm": m.axial_depth_mm,
+                "immersion": m.immersion.iter().filter(|d| d.arcs > 0).collect::<Vec<_>>(),
+                "limits_exceeded": m.limits_exceeded,
+            })
+        })
+        .collect();
+    json!({
+        "units": {"force": "N", "torque": "N·m", "power": "W", "length": "mm", "time": "s",
+                  "angle": "deg"},
+        "frame": "machine: forces on the tool along X, Y, Z; immersion angles clockwise from \
+                  the left normal of the feed",
+        "input": if input.is_json { "toolpath" } else { "gcode" },
+        "tool": input.tool.spec,
+        "material": material,
+        "sample_spacing_mm": o.sample_spacing_mm,
+        "disk_height_mm": o.sample.disk_height,
+        "limits": o.limits,
+        "totals": f.totals,
+        "moves": moves,
+    })
+}
+
+/// A straight segment of the rewritten path: the pieces it covers (consecutive, collinear).
+struct Segment {
+    from: DVec3,
+    to: DVec3,
+    feed: f64,
+    kind: MoveKind,
+    rpm: f64,
+    pieces: Vec<usize>,
+}
+
+/// Segments of the path with `feed[piece]` on the pieces of modelled moves and the programmed
+/// feed elsewhere; collinear neighbours of one move whose feeds agree within 0.5 % merge (at
+/// the lower feed).
+fn segments(input: &Input, forces: &PathForces, feed: &[f64]) -> Vec<Segment> {
+    let mut out: Vec<Segment> = Vec::new();
+    let mut k = 0;
+    for (i, m) in input.moves.iter().enumerate() {
+        let kind = match forces.moves.get(i).map(|f| f.class) {
+            Some(MoveClass::Rapid) => MoveKind::Rapid,
+            Some(MoveClass::Plunge) => MoveKind::Plunge,
+            _ => MoveKind::Cut,
+        };
+        let start = k;
+        while forces.pieces.get(k).is_some_and(|p| p.move_index == i) {
+            k += 1;
+        }
+        if start == k {
+            for s in &m.steps {
+                out.push(Segment {
+                    from: s.from,
+                    to: s.to,
+                    feed: m.feed_mm_per_min,
+                    kind,
+                    rpm: m.spindle_rpm,
+                    pieces: Vec::new(),
+                });
+            }
+            continue;
+        }
+        for (j, p) in forces.pieces.iter().enumerate().take(k).skip(start) {
+            let f = feed.get(j).copied().unwrap_or(m.feed_mm_per_min);
+            if let Some(last) = out.last_mut() {
+                let (a, b) = (
+                    (last.to - last.from).normalize_or_zero(),
+                    (p.to - p.from).normalize_or_zero(),
+                );
+                let mergeable = last
+                    .pieces
+                    .last()
+                    .is_some_and(|q| forces.pieces.get(*q).is_some_and(|q| q.move_index == i))
+                    && a.dot(b) > 1.0 - 1e-12
+                    && last.to.distance(p.from) < 1e-9
+                    && (last.feed - f).abs() <= 0.005 * last.feed.max(f);
+                if mergeable {
+                    last.to = p.to;
+                    last.feed = last.feed.min(f);
+                    last.pieces.push(j);
+                    continue;
+                }
+            }
+            out.push(Segment {
+                from: p.from,
+                to: p.to,
+                feed: f,
+                kind,
+                rpm: m.spindle_rpm,
+                pieces: vec![j],
+            });
+        }
+    }
+    out
+}
+
+fn blocks(segs: &[Segment], rapid_feed: f64) -> Vec<MotionBlock> {
+    segs.iter()
+        .enumerate()
+        .map(|(i, s)| MotionBlock {
+            kind: if s.kind == MoveKind::Rapid {
+                MotionKind::Rapid
+            } else {
+                MotionKind::Linear
+            },
+            start: Joints::xyz(s.from.x, s.from.y, s.from.z),
+            end: Joints::xyz(s.to.x, s.to.y, s.to.z),
+            feed_mm_per_min: if s.kind == MoveKind::Rapid {
+                rapid_feed
+            } else {
+                s.feed
+            },
+            inverse_time: false,
+            source_line: i + 1,
+            tool: 1,
+            tool_length_h: None,
+            spindle_rpm: s.rpm,
+            coolant: false,
+            tcp: false,
+        })
+        .collect()
+}
+
+/// The time samples of `timed` mapped to the pieces (by projecting the position on the
+/// block's segment), every 2 ms.
+fn time_samples(timed: &TimedPath, segs: &[Segment], forces: &PathForces) -> Vec<TimeSample> {
+    let period = 2e-3;
+    timed
+        .samples_every(period)
+        .filter_map(|s| {
+            let seg = segs.get(s.block)?;
+            let first = *seg.pieces.first()?;
+            let pos = DVec3::new(s.position[0], s.position[1], s.position[2]);
+            let d = seg.to - seg.from;
+            let len = d.length();
+            let t = if len > 0.0 {
+                ((pos - seg.from).dot(d) / len).clamp(0.0, len)
+            } else {
+                0.0
+            };
+            let mut piece = first;
+            for &j in &seg.pieces {
+                let p = forces.pieces.get(j)?;
+                if p.from.distance(seg.from) <= t + 1e-9 {
+                    piece = j;
+                }
+            }
+            Some(TimeSample {
+                dt_s: period,
+                piece,
+                feed_mm_per_min: s.feed * 60.0,
+                programmed_mm_per_min: seg.feed,
+            })
+        })
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn schedule(
+    args: &ForcesArgs,
+    input: &Input,
+    mill: &EndMill,
+    coefficients: &ModeCoefficients,
+    forces: &PathForces,
+    target: f64,
+    out: &Path,
+) -> Result<Value, ImportError> {
+    let opt = |e: String| ImportError::new(Path::new("--schedule-force"), None, e);
+    if input.plan.tilted() {
+        return Err(opt(
+            "feed scheduling handles 3-axis paths (a vertical tool) only".into(),
+        ));
+    }
+    let name = args.machine.clone().unwrap_or_else(|| "mill-3axis".into());
+    let machine = Machine::resolve(&name)
+        .map_err(|e| ImportError::new(Path::new(&name), None, e.to_string()))?;
+    let axes = machine_limits(&machine);
+    let vmax = axes
+        .iter()
+        .filter(|(n, _)| matches!(n, 'X' | 'Y'))
+        .map(|(_, l)| l.velocity * 60.0)
+        .fold(f64::INFINITY, f64::min);
+    let max_feed = args.max_feed.unwrap_or(vmax).min(vmax);
+    let steps = PathOptions::default().revolution_steps;
+    let feeds = schedule_feeds(
+        mill,
+        coefficients,
+        &forces.pieces,
+        |i| input.moves.get(i).map_or(0.0, |m| m.feed_mm_per_min),
+        &ScheduleOptions {
+            target_n: target,
+            min_feed_mm_per_min: args.min_feed,
+            max_feed_mm_per_min: max_feed,
+            revolution_steps: steps,
+        },
+    )
+    .map_err(|e| opt(e.to_string()))?;
+    let programmed: Vec<f64> = forces
+        .pieces
+        .iter()
+        .map(|p| {
+            input
+                .moves
+                .get(p.move_index)
+                .map_or(0.0, |m| m.feed_mm_per_min)
+        })
+        .collect();
+    let mut report = Vec::new();
+    for (label, f) in [("before", &programmed), ("after", &feeds)] {
+        let segs = segments(input, forces, f);
+        let bl = blocks(&segs, max_feed);
+        let timed = plan(&PlanInput {
+            blocks: &bl,
+            axes: axes.clone(),
+            options: PlanOptions {
+                corner: CornerPolicy::Blend { tolerance_mm: 0.05 },
+                ..PlanOptions::default()
+            },
+        })
+        .map_err(|e| opt(e.to_string()))?;
+        let samples = time_samples(&timed, &segs, forces);
+        let sp: Spread = spread(mill, coefficients, &forces.pieces, target, steps, samples)
+            .map_err(|e| opt(e.to_string()))?;
+        if label == "after" {
+            write_toolpath(input, &segs, out)?;
+        }
+        report.push((label, timed.cycle_time_s, segs.len(), sp));
+    }
+    let part = |i: usize| {
+        report.get(i).map_or(
+            Value::Null,
+            |(_, t, n, sp)| json!({"cycle_time_s": t, "blocks": n, "force_spread": sp}),
+        )
+    };
+    Ok(json!({
+        "target_n": target,
+        "machine": machine.name,
+        "corner_tolerance_mm": 0.05,
+        "feed_range_mm_per_min": [args.min_feed, max_feed],
+        "before": part(0),
+        "after": part(1),
+        "output": out.display().to_string(),
+    }))
+}
+
+fn write_toolpath(input: &Input, segs: &[Segment], out: &Path) -> Result<(), ImportError> {
+    let Some(first) = segs.first() else {
+        return Err(ImportError::new(out, None, "the path has no moves"));
+    };
+    let mut poses = vec![Pose::new(MoveKind::Rapid, first.from, DVec3::Z, 0.0)];
+    for s in segs {
+        let feed = if s.kind == MoveKind::Rapid {
+            0.0
+        } else {
+            s.feed
+        };
+        poses.push(Pose::new(s.kind, s.to, DVec3::Z, feed));
+    }
+    let tp = Toolpath::new(input.tool.clone(), poses);
+    tp.save(out)
+        .map_err(|e| ImportError::new(out, None, e.message))
+}
+
+/// A short human summary of the path forces (and the schedule).
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    use std::fmt::Write as _;
+    let t = &doc["totals"];
+    let num = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{} cutting moves, {:.2} s in material at the programmed feeds",
+        t["cutting_moves"].as_u64().unwrap_or(0),
+        num(&t["cutting_time_s"])
+    );
+    let _ = writeln!(
+        s,
+        "peak resultant {:.1} N (block {}), peak torque {:.3} N·m, peak power {:.1} W, mean \
+         power {:.1} W, energy {:.1} J",
+        num(&t["peak_resultant_n"]),
+        t["peak_resultant_block"].as_u64().unwrap_or(0),
+        num(&t["peak_torque_nm"]),
+        num(&t["peak_power_w"]),
+        num(&t["mean_power_w"]),
+        num(&t["energy_j"])
+    );
+    let _ = writeln!(
+        s,
+        "{} moves over a limit, {} moves not modelled (plunges, tilted axes)",
+        t["moves_over_limits"].as_u64().unwrap_or(0),
+        t["moves_not_modelled"].as_u64().unwrap_or(0)
+    );
+    if let Some(sc) = doc.get("schedule") {
+        for key in ["before", "after"] {
+            let p = &sc[key];
+            let sp = &p["force_spread"];
+            let _ = writeln!(
+                s,
+                "{key:<6} cycle {:.2} s, peak force within ±5 % of {:.1} N for {:.1} % of the \
+                 cutting time (median {:.1} N, 5–95 % {:.1}–{:.1} N)",
+                num(&p["cycle_time_s"]),
+                num(&sc["target_n"]),
+                100.0 * num(&sp["within_5_percent"]),
+                num(&sp["p50_n"]),
+                num(&sp["p05_n"]),
+                num(&sp["p95_n"])
+            );
+        }
+    }
+    s
+}
