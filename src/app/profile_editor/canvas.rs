@@ -72,8 +72,7 @@ impl View {
     #[must_use]
     pub fn to_world(&self, rect: Rect, s: Pos2) -> DVec2 {
         let c = rect.center();
-        self.centre
-            + DVec2::new(f64::from(s.x - c.x), f64::from(c.y - s.y)) / self.px_per_mm
+        self.centre + DVec2::new(f64::from(s.x - c.x), f64::from(c.y - s.y)) / self.px_per_mm
     }
 
     /// The minor grid step, mm: 1, 2 or 5 × 10ⁿ, at least 16 pixels.
@@ -372,10 +371,7 @@ fn draw_result(painter: &egui::Painter, rect: Rect, view: &View, drawn: &Drawn<'
         let arm = if selected { 7.0 } else { 5.0 };
         let stroke = Stroke::new(2.0, colour);
         painter.line_segment([d - Vec2::splat(arm), d + Vec2::splat(arm)], stroke);
-        painter.line_segment(
-            [d + Vec2::new(-arm, arm), d + Vec2::new(arm, -arm)],
-            stroke,
-        );
+        painter.line_segment([d + Vec2::new(-arm, arm), d + Vec2::new(arm, -arm)], stroke);
     }
 }
 
@@ -481,7 +477,13 @@ fn interact(
         if snap { view.snap(w) } else { w }
     };
     if response.hovered() {
-        let (scroll, zoom, pos) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta(), i.pointer.hover_pos()));
+        let (scroll, zoom, pos) = ui.input(|i| {
+            (
+                i.smooth_scroll_delta.y,
+                i.zoom_delta(),
+                i.pointer.hover_pos(),
+            )
+        });
         if let Some(at) = pos {
             let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
             if (factor - 1.0).abs() > 1e-6 {

@@ -9,7 +9,10 @@ use crate::app::file_chooser::{ChooserPurpose, FileChooser, FileType};
 use crate::post::Dialect;
 use crate::profile::{GcodeOptions, read_profile, write_gcode, write_profile};
 
-const PROFILES: FileType = ("Profiles (CSV, DXF, SVG)", &["csv", "txt", "xy", "dxf", "svg"]);
+const PROFILES: FileType = (
+    "Profiles (CSV, DXF, SVG)",
+    &["csv", "txt", "xy", "dxf", "svg"],
+);
 const CSV: FileType = ("CSV (.csv)", &["csv"]);
 const DXF: FileType = ("DXF (.dxf)", &["dxf"]);
 const SVG: FileType = ("SVG (.svg)", &["svg"]);
@@ -87,8 +90,7 @@ impl ProfileEditor {
         let profile = read_profile(path, SVG_TOLERANCE_MM).map_err(|e| e.to_string())?;
         let rows: Vec<Row> = profile.vertices.iter().map(Row::from_vertex).collect();
         self.closed = profile.closed;
-        self.function_rule =
-            !profile.closed && !check_rows(&rows, false, true).has_errors();
+        self.function_rule = !profile.closed && !check_rows(&rows, false, true).has_errors();
         self.file = Some(path.to_path_buf());
         self.set_rows(rows);
         let text = format!(
@@ -115,7 +117,11 @@ impl ProfileEditor {
         };
         write_profile(p, path).map_err(|e| e.to_string())?;
         self.file = Some(path.to_path_buf());
-        Ok(format!("Wrote {} points to {}", p.vertices.len(), path.display()))
+        Ok(format!(
+            "Wrote {} points to {}",
+            p.vertices.len(),
+            path.display()
+        ))
     }
 
     /// Write the computed path as G-code through the chosen dialect, plane and feed.

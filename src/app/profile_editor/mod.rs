@@ -116,7 +116,10 @@ impl ProfileEditor {
     /// The editor on the example profile (closed window), electrode radius 1.5 mm.
     #[must_use]
     pub fn new() -> Self {
-        let rows = EXAMPLE.iter().map(|&(x, y)| Row::at(DVec2::new(x, y))).collect();
+        let rows = EXAMPLE
+            .iter()
+            .map(|&(x, y)| Row::at(DVec2::new(x, y)))
+            .collect();
         let mut ed = Self {
             open: false,
             rows,
@@ -207,13 +210,18 @@ impl ProfileEditor {
     pub fn is_computing(&self) -> bool {
         self.job.is_some()
             || (self.checked.profile.is_some()
-                && self.computed.as_ref().is_none_or(|c| c.revision != self.revision))
+                && self
+                    .computed
+                    .as_ref()
+                    .is_none_or(|c| c.revision != self.revision))
     }
 
     /// Is the shown result the one for the table as it is?
     #[must_use]
     pub fn is_current(&self) -> bool {
-        self.computed.as_ref().is_some_and(|c| c.revision == self.revision)
+        self.computed
+            .as_ref()
+            .is_some_and(|c| c.revision == self.revision)
     }
 
     /// The view of the canvas.
@@ -286,7 +294,11 @@ impl ProfileEditor {
             }
             self.job = None;
         }
-        if self.computed.as_ref().is_some_and(|c| c.revision == self.revision) {
+        if self
+            .computed
+            .as_ref()
+            .is_some_and(|c| c.revision == self.revision)
+        {
             return;
         }
         let Some(profile) = self.checked.profile.clone() else {
@@ -398,7 +410,10 @@ impl ProfileEditor {
             CanvasAction::Move(row, p) => {
                 if let Some(r) = self.rows.get_mut(row) {
                     let bulge = std::mem::take(&mut r.bulge);
-                    *r = Row { bulge, ..Row::at(p) };
+                    *r = Row {
+                        bulge,
+                        ..Row::at(p)
+                    };
                 }
                 self.selected_row = Some(row);
             }
@@ -444,7 +459,11 @@ impl ProfileEditor {
 
     fn toolbar_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            if ui.button("Import…").on_hover_text("A profile: CSV, DXF or SVG").clicked() {
+            if ui
+                .button("Import…")
+                .on_hover_text("A profile: CSV, DXF or SVG")
+                .clicked()
+            {
                 self.choose(FileAction::Import);
             }
             if ui.button("Export profile…").clicked() {
@@ -532,7 +551,13 @@ impl ProfileEditor {
             egui::ComboBox::from_id_salt("profile side")
                 .selected_text(side_name(self.side))
                 .show_ui(ui, |ui| {
-                    for s in [Side::Above, Side::Left, Side::Right, Side::Outside, Side::Inside] {
+                    for s in [
+                        Side::Above,
+                        Side::Left,
+                        Side::Right,
+                        Side::Outside,
+                        Side::Inside,
+                    ] {
                         ui.selectable_value(&mut self.side, s, side_name(s));
                     }
                 });

@@ -50,47 +50,49 @@ impl ProfileEditor {
     fn table_ui(&mut self, ui: &mut egui::Ui) {
         let mut edited = false;
         let mut delete = None;
-        egui::Grid::new("profile table")
-            .num_columns(5)
-            .striped(true)
-            .spacing([6.0, 3.0])
-            .show(ui, |ui| {
-                ui.strong("#");
-                ui.strong("x (mm)");
-                ui.strong("y (mm)");
-                ui.strong("bulge");
-                ui.label("");
-                ui.end_row();
-                for i in 0..self.rows.len() {
-                    let selected = self.selected_row == Some(i);
-                    let n = ui.selectable_label(selected, format!("{}", i + 1));
-                    if n.clicked() {
-                        self.selected_row = Some(i);
+        let cell = egui::vec2(82.0, 18.0);
+        ui.horizontal(|ui| {
+            ui.add_sized(
+                [28.0, 18.0],
+                egui::Label::new(egui::RichText::new("#").strong()),
+            );
+            for head in ["x (mm)", "y (mm)", "bulge"] {
+                ui.add_sized(cell, egui::Label::new(egui::RichText::new(head).strong()));
+            }
+        });
+        for i in 0..self.rows.len() {
+            ui.horizontal(|ui| {
+                let selected = self.selected_row == Some(i);
+                let n = ui.add_sized(
+                    [28.0, 18.0],
+                    egui::Button::selectable(selected, format!("{}", i + 1)),
+                );
+                if n.clicked() {
+                    self.selected_row = Some(i);
+                }
+                if let Some(row) = self.rows.get_mut(i) {
+                    for (text, name) in [
+                        (&mut row.x, "x"),
+                        (&mut row.y, "y"),
+                        (&mut row.bulge, "bulge"),
+                    ] {
+                        let r = ui
+                            .add_sized(cell, egui::TextEdit::singleline(text))
+                            .accessible_name(format!("{name}, row {}", i + 1));
+                        edited |= r.changed();
                     }
-                    if let Some(row) = self.rows.get_mut(i) {
-                        for (text, name) in [
-                            (&mut row.x, "x"),
-                            (&mut row.y, "y"),
-                            (&mut row.bulge, "bulge"),
-                        ] {
-                            let r = ui
-                                .add(egui::TextEdit::singleline(text).desired_width(78.0))
-                                .accessible_name(format!("{name}, row {}", i + 1));
-                            edited |= r.changed();
-                        }
-                    }
-                    if ui
-                        .small_button("✕")
-                        .accessible_name(format!("delete row {}", i + 1))
-                        .on_hover_text("Delete this row")
-                        .clicked()
-                    {
-                        delete = Some(i);
-                    }
-                    ui.end_row();
-                    self.row_notes_ui(ui, i);
+                }
+                if ui
+                    .small_button("×")
+                    .accessible_name(format!("delete row {}", i + 1))
+                    .on_hover_text("Delete this row")
+                    .clicked()
+                {
+                    delete = Some(i);
                 }
             });
+            self.row_notes_ui(ui, i);
+        }
         if let Some(i) = delete {
             self.delete_row(i);
             edited = true;
@@ -100,7 +102,7 @@ impl ProfileEditor {
         }
     }
 
-    /// The messages of row `i` and, once computed, its flags, on a line of their own.
+    /// The messages of row `i` and, once computed, its flags, under the row.
     fn row_notes_ui(&self, ui: &mut egui::Ui, i: usize) {
         let mut notes: Vec<(egui::Color32, String)> = self
             .checked
@@ -124,9 +126,10 @@ impl ProfileEditor {
             }
         }
         for (colour, text) in notes {
-            ui.label("");
-            ui.colored_label(colour, text);
-            ui.end_row();
+            ui.horizontal(|ui| {
+                ui.add_space(34.0);
+                ui.add(egui::Label::new(egui::RichText::new(text).color(colour)).wrap());
+            });
         }
     }
 
@@ -182,35 +185,37 @@ impl ProfileEditor {
 
     fn gcode_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("G-code");
-        egui::Grid::new("profile gcode").num_columns(2).show(ui, |ui| {
-            ui.label("Dialect");
-            egui::ComboBox::from_id_salt("profile dialect")
-                .selected_text(self.gcode.dialect.clone())
-                .show_ui(ui, |ui| {
-                    for name in Dialect::builtin_names() {
-                        ui.selectable_value(&mut self.gcode.dialect, name.to_string(), name);
+        egui::Grid::new("profile gcode")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Dialect");
+                egui::ComboBox::from_id_salt("profile dialect")
+                    .selected_text(self.gcode.dialect.clone())
+                    .show_ui(ui, |ui| {
+                        for name in Dialect::builtin_names() {
+                            ui.selectable_value(&mut self.gcode.dialect, name.to_string(), name);
+                        }
+                    });
+                ui.end_row();
+                ui.label("Plane");
+                ui.horizontal(|ui| {
+                    for (p, text) in [
+                        (ProfilePlane::G17, "G17 (x on X, y on Y)"),
+                        (ProfilePlane::G18, "G18 (x on X, y on Z)"),
+                        (ProfilePlane::G19, "G19 (x on Y, y on Z)"),
+                    ] {
+                        ui.radio_value(&mut self.gcode.plane, p, text);
                     }
                 });
-            ui.end_row();
-            ui.label("Plane");
-            ui.horizontal(|ui| {
-                for (p, text) in [
-                    (ProfilePlane::G17, "G17 (x→X, y→Y)"),
-                    (ProfilePlane::G18, "G18 (x→X, y→Z)"),
-                    (ProfilePlane::G19, "G19 (x→Y, y→Z)"),
-                ] {
-                    ui.radio_value(&mut self.gcode.plane, p, text);
-                }
+                ui.end_row();
+                let label = ui.label("Feed");
+                NumberField::new("profile feed", &mut self.gcode.feed_mm_per_min)
+                    .unit("mm/min")
+                    .range(0.001..=100_000.0)
+                    .labelled_by(label.id)
+                    .show(ui);
+                ui.end_row();
             });
-            ui.end_row();
-            let label = ui.label("Feed");
-            NumberField::new("profile feed", &mut self.gcode.feed_mm_per_min)
-                .unit("mm/min")
-                .range(0.001..=100_000.0)
-                .labelled_by(label.id)
-                .show(ui);
-            ui.end_row();
-        });
     }
 }
 
@@ -257,7 +262,11 @@ fn summary_ui(ui: &mut egui::Ui, r: &ProfileResult, elapsed_s: f64, current: boo
             mm(s)
         ));
     }
-    let plunges = r.flags.iter().filter(|f| f.kind == FlagKind::Plunge).count();
+    let plunges = r
+        .flags
+        .iter()
+        .filter(|f| f.kind == FlagKind::Plunge)
+        .count();
     let collisions = r.flags.len() - plunges;
     ui.label(format!(
         "Per-point path: {plunges} plunge(s), {collisions} side collision(s)"

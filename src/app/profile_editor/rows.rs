@@ -188,10 +188,15 @@ pub fn check_rows(rows: &[Row], closed: bool, function_of_x: bool) -> Checked {
 /// A point that repeats the point before it (the last and the first of a closed profile too).
 fn repeated_points(out: &mut Checked, closed: bool) {
     let n = out.points.len();
-    let pairs = if closed && n > 2 { n } else { n.saturating_sub(1) };
+    let pairs = if closed && n > 2 {
+        n
+    } else {
+        n.saturating_sub(1)
+    };
     let mut found = Vec::new();
     for k in 0..pairs {
-        let (Some(&(ra, a, _)), Some(&(rb, b, _))) = (out.points.get(k), out.points.get((k + 1) % n))
+        let (Some(&(ra, a, _)), Some(&(rb, b, _))) =
+            (out.points.get(k), out.points.get((k + 1) % n))
         else {
             continue;
         };
@@ -300,7 +305,11 @@ mod tests {
 
     #[test]
     fn a_clean_table_gives_the_profile() {
-        let c = check_rows(&rows(&[("0", "0"), ("1", "2 mm"), ("3", "-1")]), false, true);
+        let c = check_rows(
+            &rows(&[("0", "0"), ("1", "2 mm"), ("3", "-1")]),
+            false,
+            true,
+        );
         assert!(c.messages.is_empty(), "{:?}", c.messages);
         let p = c.profile.expect("profile");
         assert_eq!(p.vertices.len(), 3);
@@ -322,20 +331,30 @@ mod tests {
             false,
             true,
         );
-        let texts: Vec<(usize, &str)> = c.messages.iter().map(|m| (m.row, m.text.as_str())).collect();
+        let texts: Vec<(usize, &str)> = c
+            .messages
+            .iter()
+            .map(|m| (m.row, m.text.as_str()))
+            .collect();
         assert!(c.profile.is_none());
         assert!(texts.contains(&(1, "x 'abc' is not a number")), "{texts:?}");
         assert!(texts.contains(&(2, "y is empty")), "{texts:?}");
         assert!(
-            texts.iter().any(|(r, t)| *r == 4 && t.contains("repeats row 4: a vertical wall")),
+            texts
+                .iter()
+                .any(|(r, t)| *r == 4 && t.contains("repeats row 4: a vertical wall")),
             "{texts:?}"
         );
         assert!(
-            texts.iter().any(|(r, t)| *r == 5 && t.contains("goes back past row 5")),
+            texts
+                .iter()
+                .any(|(r, t)| *r == 5 && t.contains("goes back past row 5")),
             "{texts:?}"
         );
         assert!(
-            texts.iter().any(|(r, t)| *r == 6 && t.contains("beyond ±1000000 mm")),
+            texts
+                .iter()
+                .any(|(r, t)| *r == 6 && t.contains("beyond ±1000000 mm")),
             "{texts:?}"
         );
         // Without the rule a wall is fine.
@@ -356,11 +375,18 @@ mod tests {
             bulge: "1.5".into(),
         };
         let c = check_rows(&r, false, false);
-        assert!(c.messages[0].text.contains("half circle"), "{:?}", c.messages);
+        assert!(
+            c.messages[0].text.contains("half circle"),
+            "{:?}",
+            c.messages
+        );
         let c = check_rows(&rows(&[("0", "0")]), false, false);
         assert!(c.profile_message.is_some_and(|m| m.contains("at least 2")));
         let c = check_rows(&rows(&[("0", "0"), ("1", "0"), ("0", "1")]), true, true);
-        assert!(c.profile_message.is_some_and(|m| m.contains("closed contour")));
+        assert!(
+            c.profile_message
+                .is_some_and(|m| m.contains("closed contour"))
+        );
         let c = check_rows(&rows(&[("0", "0"), ("1", "0"), ("0", "1")]), true, false);
         assert!(c.profile.is_some_and(|p| p.closed));
     }
