@@ -17,7 +17,7 @@ pub const PROFILE: Color32 = Color32::from_rgb(225, 228, 235);
 /// Colour of the exact centre path.
 pub const PATH: Color32 = Color32::from_rgb(40, 190, 255);
 /// Colour of the electrode outlines.
-pub const ELECTRODE: Color32 = Color32::from_rgba_premultiplied(60, 120, 160, 90);
+pub const ELECTRODE: Color32 = Color32::from_rgba_premultiplied(45, 90, 120, 70);
 /// Colour of the per-point path.
 pub const NAIVE: Color32 = Color32::from_rgb(130, 134, 145);
 /// Colour of a plunge.
@@ -376,10 +376,11 @@ fn draw_result(painter: &egui::Painter, rect: Rect, view: &View, drawn: &Drawn<'
 }
 
 /// Centres at which the electrode is drawn: every path vertex and points between them about
-/// R apart, at most `max` in all.
+/// 1.25 R apart, about `max` in all.
 fn electrode_positions(r: &ProfileResult, max: usize) -> Vec<DVec2> {
     let total: f64 = r.paths.iter().map(crate::profile::ClPath::length_mm).sum();
-    let spacing = (r.radius_mm * 0.75).max(total / max.max(1) as f64);
+    #[allow(clippy::cast_precision_loss)]
+    let spacing = (r.radius_mm * 1.25).max(total / max.max(1) as f64);
     let mut out = Vec::new();
     for p in &r.paths {
         for e in p.elements() {
@@ -402,7 +403,7 @@ fn legend(painter: &egui::Painter, rect: Rect, drawn: &Drawn<'_>) {
         items.push((PATH, "electrode centre path (exact offset)".into()));
         if drawn.electrodes {
             items.push((
-                ELECTRODE.gamma_multiply(2.5),
+                Color32::from_rgb(90, 160, 205),
                 format!("electrode, R {} mm", format_number(r.radius_mm, 4)),
             ));
         }

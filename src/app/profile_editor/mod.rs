@@ -344,7 +344,8 @@ impl ProfileEditor {
         egui::Window::new("Profile editor · ball electrode (EDM)")
             .id(egui::Id::unique("talas profile editor"))
             .open(&mut open)
-            .default_size([1180.0, 740.0])
+            .default_pos([30.0, 40.0])
+            .default_size([1480.0, 860.0])
             .min_size([700.0, 420.0])
             .resizable(true)
             .show(ctx, |ui| self.ui(ui));
