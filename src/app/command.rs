@@ -105,6 +105,8 @@ pub enum Command {
     Playback(PlaybackCommand),
     /// Open the data-reduction window.
     OpenReductionView,
+    /// Show the profile editor (2D profiles and ball electrodes).
+    OpenProfileEditor,
     /// Reduce the part's Z-map with these settings (in the background).
     Reduce(ReductionSettings),
     /// Draw the reduced surface (instead of the part) or not.

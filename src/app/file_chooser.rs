@@ -26,6 +26,16 @@ pub enum ChooserPurpose {
     MachineFile,
     /// Where to save (a project, the program, the reduced surface).
     Save(SavePurpose),
+    /// A file for a feature that uses the chosen path itself (the profile editor): its title,
+    /// file types, and whether it is saved.
+    Feature {
+        /// The chooser's title.
+        title: &'static str,
+        /// The file types offered, the default first.
+        types: &'static [FileType],
+        /// A file to save (else one to open).
+        save: bool,
+    },
 }
 
 /// A file type the chooser can show: its name and extensions (lower case; empty: every file).
@@ -56,7 +66,14 @@ impl ChooserPurpose {
             Self::Save(SavePurpose::Project) => &[PROJECT],
             Self::Save(SavePurpose::Program) => &[GCODE, ALL_FILES],
             Self::Save(SavePurpose::ReducedStl) => &[STL],
+            Self::Feature { types, .. } => types,
         }
+    }
+
+    /// Is a file to be saved (else opened)?
+    #[must_use]
+    pub fn is_save(self) -> bool {
+        matches!(self, Self::Save(_) | Self::Feature { save: true, .. })
     }
 
     fn title(self) -> &'static str {
@@ -67,13 +84,16 @@ impl ChooserPurpose {
             Self::Save(SavePurpose::Project) => "Save project as",
             Self::Save(SavePurpose::Program) => "Export G-code",
             Self::Save(SavePurpose::ReducedStl) => "Export reduced surface (STL)",
+            Self::Feature { title, .. } => title,
         }
     }
 
-    /// The command that uses the chosen `path`.
+    /// The command that uses the chosen `path` (none for a [`Self::Feature`]: the feature
+    /// takes the path itself).
     #[must_use]
-    pub fn command(self, mut path: PathBuf) -> Command {
-        match self {
+    pub fn command(self, mut path: PathBuf) -> Option<Command> {
+        Some(match self {
+            Self::Feature { .. } => return None,
             Self::OpenPart => Command::Open(path),
             Self::OpenProject => Command::OpenProject(path),
             Self::MachineFile => Command::Edit(Edit::SetMachine(path.display().to_string())),
@@ -90,7 +110,7 @@ impl ChooserPurpose {
                 }
                 Command::ExportReductionTo(path)
             }
-        }
+        })
     }
 }
 
@@ -148,16 +168,17 @@ impl FileChooser {
     fn build(&self, start: Option<PathBuf>) -> FileDialog {
         let (_, extensions) = self.file_type();
         let filter = move |p: &Path| p.is_dir() || matches_type(p, extensions);
-        let mut dialog = match self.purpose {
-            ChooserPurpose::Save(_) => FileDialog::save_file(),
-            _ => FileDialog::open_file(),
+        let mut dialog = if self.purpose.is_save() {
+            FileDialog::save_file()
+        } else {
+            FileDialog::open_file()
         }
         .title(self.purpose.title())
         .id(egui::Id::unique(WINDOW_ID))
         .default_size([620.0, 420.0])
         .anchor(egui::Align2::CENTER_CENTER, [110.0, 0.0])
         .show_rename(false)
-        .show_new_folder(matches!(self.purpose, ChooserPurpose::Save(_)))
+        .show_new_folder(self.purpose.is_save())
         .show_files_filter(Box::new(filter));
         if let Some(start) = start {
             if start.is_dir() {
@@ -166,7 +187,7 @@ impl FileChooser {
                 if let Some(dir) = start.parent().filter(|d| d.is_dir()) {
                     dialog = dialog.initial_path(dir);
                 }
-                if let (ChooserPurpose::Save(_), Some(name)) = (self.purpose, start.file_name()) {
+                if let (true, Some(name)) = (self.purpose.is_save(), start.file_name()) {
                     dialog = dialog.default_filename(name.to_string_lossy());
                 }
             }
@@ -254,11 +275,11 @@ mod tests {
         let save = ChooserPurpose::Save(SavePurpose::Project);
         assert_eq!(
             save.command(PathBuf::from("/tmp/bracket")),
-            Command::SaveProjectAs(PathBuf::from("/tmp/bracket.talas"))
+            Some(Command::SaveProjectAs(PathBuf::from("/tmp/bracket.talas")))
         );
         assert_eq!(
             ChooserPurpose::OpenPart.command(PathBuf::from("/p.stp")),
-            Command::Open(PathBuf::from("/p.stp"))
+            Some(Command::Open(PathBuf::from("/p.stp")))
         );
     }
 }

@@ -6,6 +6,8 @@
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
 //! - [`number_field`]: the one widget every numeric property is typed in.
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
+//! - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths, in a window
+//!   of its own.
 
 pub mod command;
 pub mod crease;
@@ -18,6 +20,7 @@ pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;
 pub mod panels;
+pub mod profile_editor;
 pub mod project_session;
 pub mod recent_files;
 pub mod scalar_field;

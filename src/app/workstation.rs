@@ -130,6 +130,8 @@ pub struct Workstation {
     quit_confirmed: bool,
     /// The camera of an opened project, applied once its part is loaded.
     restore_view: Option<crate::project::ViewState>,
+    /// The profile editor's window.
+    profile_editor: super::profile_editor::ProfileEditor,
 }
 
 impl Workstation {
@@ -184,6 +186,7 @@ impl Workstation {
             confirmed: false,
             quit_confirmed: false,
             restore_view: None,
+            profile_editor: super::profile_editor::ProfileEditor::new(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -215,6 +218,12 @@ impl Workstation {
             }
         }
         ws
+    }
+
+    /// The profile editor (2D profiles and ball electrodes).
+    #[must_use]
+    pub fn profile_editor(&mut self) -> &mut super::profile_editor::ProfileEditor {
+        &mut self.profile_editor
     }
 
     /// The loaded part.
@@ -363,6 +372,7 @@ impl Workstation {
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
+            Command::OpenProfileEditor => self.profile_editor.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -845,6 +855,7 @@ impl Workstation {
         self.viewport = viewport;
         self.compare_ui(&ctx, &mut commands);
         self.reduction_ui(&ctx, &mut commands);
+        self.profile_editor.window(&ctx);
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.recovery

@@ -40,57 +40,72 @@ impl Carrier {
     }
 }
 
-/// The exact carrier of path element `e`, found among the profile's offset curves.
+/// The exact carrier of path element `e` among the profile's offset curves: the one that
+/// passes closest to the element's two ends and its midpoint, within `eps`. Matching by points
+/// rather than by the element's direction or arc centre keeps short elements, whose direction
+/// and centre the library's vertices fix only roughly, on their curves.
 fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Carrier> {
-    match *e {
+    let probes = [e.start(), e.end(), e.point_at(0.5)];
+    let fit = |c: Carrier| {
+        probes
+            .iter()
+            .map(|q| (c.project(*q) - *q).length())
+            .fold(0.0_f64, f64::max)
+    };
+    let candidates: Vec<Carrier> = match *e {
         Element::Line { a, b } => {
-            let d = (b - a).normalize_or_zero();
             let mid = (a + b) / 2.0;
-            profile.iter().find_map(|pe| {
-                let Element::Line { a: pa, b: pb } = *pe else {
-                    return None;
-                };
-                let pd = (pb - pa).normalize_or_zero();
-                if pd.perp_dot(d).abs() > 1e-7 {
-                    return None;
-                }
-                let side = (mid - pa).perp_dot(pd);
-                let n = DVec2::new(-pd.y, pd.x) * side.signum();
-                let off = pa + n * radius;
-                ((mid - off).perp_dot(pd).abs() <= eps).then_some(Carrier::Line { p: off, d: pd })
-            })
+            profile
+                .iter()
+                .filter_map(|pe| {
+                    let Element::Line { a: pa, b: pb } = *pe else {
+                        return None;
+                    };
+                    let pd = (pb - pa).normalize_or_zero();
+                    let side = (mid - pa).perp_dot(pd);
+                    let n = DVec2::new(-pd.y, pd.x) * side.signum();
+                    Some(Carrier::Line {
+                        p: pa + n * radius,
+                        d: pd,
+                    })
+                })
+                .collect()
         }
-        Element::Arc {
-            centre, radius: r, ..
-        } => {
-            let arc = profile.iter().find_map(|pe| {
-                let Element::Arc {
+        Element::Arc { .. } => profile
+            .iter()
+            .flat_map(|pe| {
+                let mut out: Vec<Carrier> = Vec::new();
+                if let Element::Arc {
                     centre: pc,
                     radius: pr,
                     ..
                 } = *pe
-                else {
-                    return None;
-                };
-                if (pc - centre).length() > eps {
-                    return None;
+                {
+                    out.extend(
+                        [pr + radius, pr - radius]
+                            .into_iter()
+                            .filter(|rr| *rr > 0.0)
+                            .map(|rr| Carrier::Circle { c: pc, r: rr }),
+                    );
                 }
-                [pr + radius, pr - radius]
-                    .into_iter()
-                    .find(|rr| *rr > 0.0 && (rr - r).abs() <= eps)
-                    .map(|rr| Carrier::Circle { c: pc, r: rr })
-            });
-            arc.or_else(|| {
-                profile
-                    .iter()
-                    .flat_map(|pe| [pe.start(), pe.end()])
-                    .find_map(|v| {
-                        ((v - centre).length() <= eps && (r - radius).abs() <= eps)
-                            .then_some(Carrier::Circle { c: v, r: radius })
-                    })
+                out.push(Carrier::Circle {
+                    c: pe.start(),
+                    r: radius,
+                });
+                out.push(Carrier::Circle {
+                    c: pe.end(),
+                    r: radius,
+                });
+                out
             })
-        }
-    }
+            .collect(),
+    };
+    candidates
+        .into_iter()
+        .map(|c| (fit(c), c))
+        .filter(|(f, _)| *f <= eps)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
 }
 
 /// The unit tangent of a carrier at a point on it (up to sign).
@@ -220,7 +235,14 @@ pub(super) fn polish(
             None
         };
         let snapped = match (before, after) {
-            (Some(a), Some(b)) => meet(a, b, q, eps),
+            // Where the meeting point is not found within eps, the vertex goes onto the
+            // nearer of its curves: on an offset curve it is at distance R all the same.
+            (Some(a), Some(b)) => meet(a, b, q, eps).or_else(|| {
+                [a.project(q), b.project(q)]
+                    .into_iter()
+                    .filter(|p| (*p - q).length() <= eps)
+                    .min_by(|x, y| (*x - q).length().total_cmp(&(*y - q).length()))
+            }),
             (None, Some(c)) | (Some(c), None) => {
                 let end = ends
                     .iter()

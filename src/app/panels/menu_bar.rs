@@ -289,6 +289,14 @@ pub fn menu_bar_ui(
                 ui.close();
             }
             if ui
+                .button("2D profile / EDM electrode…")
+                .on_hover_text("Profile editor: the path of a ball electrode along a 2D section")
+                .clicked()
+            {
+                commands.push(Command::OpenProfileEditor);
+                ui.close();
+            }
+            if ui
                 .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
                 .clicked()
             {

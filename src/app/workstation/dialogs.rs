@@ -33,7 +33,11 @@ impl Workstation {
         let purpose = chooser.purpose();
         self.chooser = None;
         match outcome {
-            Some(path) => self.apply_confirmed(purpose.command(path)),
+            Some(path) => {
+                if let Some(command) = purpose.command(path) {
+                    self.apply_confirmed(command);
+                }
+            }
             // Save As was cancelled: what waited for the save does not happen.
             None => self.after_save = None,
         }
