@@ -299,3 +299,47 @@ fn bspline_face_with_a_hole_has_no_contact_outside_its_region() {
         }
     }
 }
+
+/// Is `p` inside the closed mesh? Parity of the crossings of a ray (skewed off the axes so it
+/// misses edges and vertices).
+fn inside_solid(bvh: &MeshBvh, p: DVec3) -> bool {
+    let dir = DVec3::new(0.0123, 0.0371, 1.0).normalize();
+    let mut origin = p;
+    let mut crossings = 0;
+    while let Some(hit) = bvh.ray_cast(origin, dir, 1e6) {
+        crossings += 1;
+        origin = hit.point + dir * 1e-7;
+        assert!(crossings < 1000, "ray parity did not end");
+    }
+    crossings % 2 == 1
+}
+
+/// pocket-fillets: every curved face, reversed (`.F.`) ones included (the concave spherical
+/// fillet Face 15 among them), is machined from the air side: the ball's centre of every cut
+/// pose lies outside the solid, a radius from it (parity of ray crossings on the part's mesh,
+/// independent of the face's sense).
+#[test]
+fn reversed_faces_put_the_tool_on_the_air_side() {
+    let p = part("pocket-fillets.stp");
+    let mesh = talas::geometry::tessellate::tessellate_part(&p, &TessellationOptions::default());
+    let bvh = MeshBvh::new(&mesh.mesh).expect("bvh");
+    let curved: Vec<usize> = (0..p.faces.len())
+        .filter(|&i| !matches!(p.faces[i].surface, SurfaceGeom::Plane(_)))
+        .collect();
+    assert!(curved.contains(&14) && !p.faces[14].same_sense);
+    for i in curved {
+        let r = plan(&p, i, Strategy::IsoScallop).expect("plan");
+        let mut n = 0;
+        for pose in r.toolpath.poses.iter().filter(|q| q.kind == MoveKind::Cut) {
+            let centre = pose.tip + pose.axis * 3.0;
+            assert!(
+                !inside_solid(&bvh, centre),
+                "face {i}: ball centre {centre} inside the material"
+            );
+            let d = bvh.closest_point(centre).map_or(0.0, |h| h.distance);
+            assert!(d >= 3.0 - 0.02, "face {i}: ball centre {centre} only {d} mm from the part");
+            n += 1;
+        }
+        assert!(n > 0, "face {i}: no cut poses");
+    }
+}
