@@ -99,7 +99,11 @@ fn curved_faces(p: &Part) -> Vec<usize> {
 fn all_faces_on_their_face(file: &str, expected_faces: usize) {
     let p = part(file);
     let faces = curved_faces(&p);
-    assert_eq!(faces.len(), expected_faces, "{file}: curved faces ≥ 100 mm²");
+    assert_eq!(
+        faces.len(),
+        expected_faces,
+        "{file}: curved faces ≥ 100 mm²"
+    );
     let mut failures = Vec::new();
     for &i in &faces {
         let bvh = face_bvh(&p, i);
@@ -151,7 +155,10 @@ fn schenkel_sphere_face_stays_on_the_face() {
     for s in [Strategy::IsoScallop, Strategy::IsoPlanar { angle: 0.0 }] {
         let r = plan(&p, 291, s).expect("plan");
         let (worst, n) = worst_contact(&r, &bvh);
-        assert!(n > 0 && worst <= ON_FACE_MM, "{n} contacts, worst {worst} mm");
+        assert!(
+            n > 0 && worst <= ON_FACE_MM,
+            "{n} contacts, worst {worst} mm"
+        );
         for pose in r.toolpath.poses.iter().filter(|q| q.kind == MoveKind::Cut) {
             let cc = pose.cc.expect("contact");
             assert!(
@@ -273,7 +280,12 @@ fn bspline_face_with_a_hole_has_no_contact_outside_its_region() {
         // Independently in parameter space: no contact inside the hole or beyond the outline
         // (each contact inverted onto the surface; 0.002 in uv is about 0.3 mm here).
         let rect = s.domain();
-        for pose in res.toolpath.poses.iter().filter(|q| q.kind == MoveKind::Cut) {
+        for pose in res
+            .toolpath
+            .poses
+            .iter()
+            .filter(|q| q.kind == MoveKind::Cut)
+        {
             let cc = pose.cc.expect("contact");
             let uv = s.closest_point(cc, rect, None).uv;
             assert!(
@@ -337,7 +349,10 @@ fn reversed_faces_put_the_tool_on_the_air_side() {
                 "face {i}: ball centre {centre} inside the material"
             );
             let d = bvh.closest_point(centre).map_or(0.0, |h| h.distance);
-            assert!(d >= 3.0 - 0.02, "face {i}: ball centre {centre} only {d} mm from the part");
+            assert!(
+                d >= 3.0 - 0.02,
+                "face {i}: ball centre {centre} only {d} mm from the part"
+            );
             n += 1;
         }
         assert!(n > 0, "face {i}: no cut poses");

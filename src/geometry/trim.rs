@@ -200,7 +200,11 @@ impl TrimRegion {
                 if ina != inside {
                     let x = self.crossing(a, p);
                     let len = (p - a).length();
-                    let t = if len > 0.0 { (x - a).length() / len } else { 0.0 };
+                    let t = if len > 0.0 {
+                        (x - a).length() / len
+                    } else {
+                        0.0
+                    };
                     cur.push((x, (k - 1) as f64 + t.clamp(0.0, 1.0)));
                     if ina {
                         runs.push(std::mem::take(&mut cur));

@@ -29,7 +29,8 @@ pub fn unreachable_axes(toolpath: &Toolpath, machine: &Machine) -> Option<Diagno
         };
         let theta = a.z.clamp(-1.0, 1.0).acos();
         // A tilt of ±θ reaches the axis (the table turns it about z).
-        let ok = theta <= VERTICAL || (theta >= lo && theta <= hi) || (-theta >= lo && -theta <= hi);
+        let ok =
+            theta <= VERTICAL || (theta >= lo && theta <= hi) || (-theta >= lo && -theta <= hi);
         if !ok {
             count += 1;
             first.get_or_insert(k);
@@ -97,7 +98,7 @@ mod tests {
     fn a_tilted_path_is_flagged_on_three_axes_and_not_on_five() {
         let tilted = path(DVec3::new(0.5, 0.0, 1.0).normalize());
         let names = Machine::builtin_names();
-        for name in names {
+        for &name in &names {
             let m = Machine::builtin(name).expect("machine");
             let flagged = unreachable_axes(&tilted, &m);
             if m.kinematics == KinematicsKind::ThreeAxis {

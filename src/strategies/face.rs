@@ -81,9 +81,16 @@ impl<'a> FacePatch<'a> {
     ///
     /// # Errors
     /// [`PlanError::Face`] for a missing face or one without a defined normal in its region.
-    pub fn trimmed(part: &'a Part, index: usize, region: &'a TrimRegion) -> Result<Self, PlanError> {
+    pub fn trimmed(
+        part: &'a Part,
+        index: usize,
+        region: &'a TrimRegion,
+    ) -> Result<Self, PlanError> {
         let face = part.faces.get(index).ok_or_else(|| {
-            PlanError::Face(format!("no face {index} (the part has {})", part.faces.len()))
+            PlanError::Face(format!(
+                "no face {index} (the part has {})",
+                part.faces.len()
+            ))
         })?;
         let mut patch = Self::new(&face.surface, region.bounds(), 1.0)?;
         patch.region = Some(region);
@@ -166,7 +173,12 @@ impl<'a> FacePatch<'a> {
     pub fn clip(&self, pts: &[DVec2]) -> Vec<Vec<(DVec2, f64)>> {
         match self.region {
             Some(r) => r.clip(pts),
-            None => vec![pts.iter().enumerate().map(|(k, p)| (*p, k as f64)).collect()],
+            None => vec![
+                pts.iter()
+                    .enumerate()
+                    .map(|(k, p)| (*p, k as f64))
+                    .collect(),
+            ],
         }
     }
 

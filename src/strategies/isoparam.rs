@@ -25,19 +25,19 @@ fn across_step(setup: &Setup<'_>, reversed_next: bool) -> Option<f64> {
     let mut best = f64::INFINITY;
     for k in 0..GRID_LINES {
         for pass in setup.iso_runs(k as f64 / (GRID_LINES - 1) as f64) {
-        for i in 0..pass.uv.len() {
-            let Some(g) = setup.guide(&pass, i) else {
-                continue;
-            };
-            let Some(sec) = setup.section(&g, reversed_next) else {
-                continue;
-            };
-            let (w, _) = sec.step();
-            let perp = across_speed(setup, &g);
-            if perp > 0.0 {
-                best = best.min(w / perp / len);
+            for i in 0..pass.uv.len() {
+                let Some(g) = setup.guide(&pass, i) else {
+                    continue;
+                };
+                let Some(sec) = setup.section(&g, reversed_next) else {
+                    continue;
+                };
+                let (w, _) = sec.step();
+                let perp = across_speed(setup, &g);
+                if perp > 0.0 {
+                    best = best.min(w / perp / len);
+                }
             }
-        }
         }
     }
     (best.is_finite() && best > 0.0).then_some(best)
