@@ -304,7 +304,7 @@ fn bspline_face_with_a_hole_has_no_contact_outside_its_region() {
                 .iter()
                 .filter(|q| {
                     q.uv.first().is_some_and(|a| (a.x - c.x).abs() < 0.5 * r)
-                        && q.uv.iter().all(|a| a.y < c.y || a.y > c.y)
+                        && (q.uv.iter().all(|a| a.y < c.y) || q.uv.iter().all(|a| a.y > c.y))
                 })
                 .count();
             assert!(crossing >= 2, "no pass was split by the hole");

@@ -196,19 +196,19 @@ impl TrimRegion {
         let mut prev: Option<(DVec2, bool)> = None;
         for (k, &p) in pts.iter().enumerate() {
             let inside = self.contains(p);
-            if let Some((a, ina)) = prev {
-                if ina != inside {
-                    let x = self.crossing(a, p);
-                    let len = (p - a).length();
-                    let t = if len > 0.0 {
-                        (x - a).length() / len
-                    } else {
-                        0.0
-                    };
-                    cur.push((x, (k - 1) as f64 + t.clamp(0.0, 1.0)));
-                    if ina {
-                        runs.push(std::mem::take(&mut cur));
-                    }
+            if let Some((a, ina)) = prev
+                && ina != inside
+            {
+                let x = self.crossing(a, p);
+                let len = (p - a).length();
+                let t = if len > 0.0 {
+                    (x - a).length() / len
+                } else {
+                    0.0
+                };
+                cur.push((x, (k - 1) as f64 + t.clamp(0.0, 1.0)));
+                if ina {
+                    runs.push(std::mem::take(&mut cur));
                 }
             }
             if inside {
