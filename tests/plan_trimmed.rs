@@ -358,3 +358,50 @@ fn reversed_faces_put_the_tool_on_the_air_side() {
         assert!(n > 0, "face {i}: no cut poses");
     }
 }
+
+/// A 5-axis finishing operation planned for a 3-axis machine is flagged when it is planned
+/// (the post refuses it later); for a table-tilting machine it is not.
+#[test]
+fn a_five_axis_path_is_flagged_at_planning_on_a_three_axis_machine() {
+    use std::sync::Arc;
+    use talas::diagnostics::Progress;
+    use talas::project::pipeline::{PartGeometry, compute};
+    use talas::project::{Operation, OperationKind, Project, ToolEntry};
+    let p = part("bicubic-hills.stp");
+    let geometry = PartGeometry {
+        mesh: talas::geometry::tessellate::tessellate_part(&p, &TessellationOptions::default())
+            .mesh,
+        faces: p
+            .faces
+            .iter()
+            .map(|f| Some(Arc::new(f.surface.clone())))
+            .collect(),
+    };
+    let mut op = Operation::new(OperationKind::IsoScallop, 0, 0);
+    if let Operation::Finish { options, .. } = &mut op {
+        options.scallop = 0.1;
+        options.tolerance = 0.02;
+    }
+    let mut project = Project {
+        tools: vec![ToolEntry {
+            name: "T1".into(),
+            cutter: parse_tool_spec("ball:d=6").expect("tool"),
+        }],
+        selected_tool: Some(0),
+        operations: vec![op],
+        ..Project::default()
+    };
+    let flagged = |project: &Project| {
+        compute(project, 0, &geometry, &Progress::new())
+            .expect("plans")
+            .diagnostics
+            .iter()
+            .any(|d| d.message.contains("cannot reach"))
+    };
+    for name in talas::machine::Machine::builtin_names() {
+        let m = talas::machine::Machine::builtin(name).expect("machine");
+        project.machine = name.to_string();
+        let three = m.rotary_names().is_none();
+        assert_eq!(flagged(&project), three, "machine {name}");
+    }
+}
