@@ -9,6 +9,7 @@ use glam::DVec3;
 use serde_json::{Value, json};
 
 use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_noted};
+use crate::geometry::trim::TrimRegion;
 use crate::import::ImportError;
 use crate::import::step::read_step;
 use crate::strategies::axis::AxisMode;
@@ -17,6 +18,10 @@ use crate::strategies::finish::plan_finish;
 use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 use crate::tools::parse_tool_spec;
+
+/// Chord tolerance of the edges that bound a face's trimmed region, mm: a contact on the
+/// region's boundary is this close to the face's true edge.
+pub const REGION_CHORD_MM: f64 = 0.002;
 
 /// Options of `talas plan`.
 #[derive(Debug, clap::Args)]
@@ -264,7 +269,12 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     let face_err = |e: crate::strategies::PlanError| {
         ImportError::new(&args.file, place.clone(), e.to_string())
     };
-    let patch = FacePatch::from_face(face).map_err(face_err)?;
+    let region = TrimRegion::of_face(face, &part, REGION_CHORD_MM).map_err(|e| {
+        face_err(crate::strategies::PlanError::Face(format!(
+            "its trimming loops: {e}"
+        )))
+    })?;
+    let patch = FacePatch::trimmed(&part, args.face, &region).map_err(face_err)?;
     let result = plan_finish(patch, &cutter, &args.tool, strategy, &opts).map_err(face_err)?;
     result
         .toolpath

@@ -14,6 +14,7 @@ pub mod minimize;
 pub mod nurbs;
 pub mod surface;
 pub mod tessellate;
+pub mod trim;
 
 pub use glam::{DVec2, DVec3};
 

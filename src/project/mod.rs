@@ -12,6 +12,7 @@ pub mod operation;
 mod part;
 pub mod pipeline;
 pub mod posting;
+pub mod reach;
 pub mod run;
 pub mod simulate;
 mod stock;

@@ -111,7 +111,7 @@ pub fn compute(
     };
     cancelled(progress)?;
     progress.set(0.02);
-    let computed = match op {
+    let mut computed = match op {
         Operation::Finish {
             face,
             strategy,
@@ -232,6 +232,12 @@ pub fn compute(
         }
     };
     cancelled(progress)?;
+    // Flag tool axes the project's machine cannot hold now, not only when posting.
+    if let Ok(machine) = crate::machine::Machine::resolve(&project.machine)
+        && let Some(d) = super::reach::unreachable_axes(&computed.toolpath, &machine)
+    {
+        computed.diagnostics.push(d);
+    }
     progress.set(1.0);
     Ok(computed)
 }

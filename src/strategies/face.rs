@@ -1,23 +1,27 @@
-//! One face to finish: its carrier surface, the parameter rectangle to cover and the side the
-//! tool comes from; local frames, curvature on the tool side and marching along the surface.
+//! One face to finish: its carrier surface, the parameter region to cover (a rectangle, or a
+//! face's trimmed region inside the rectangle that bounds it) and the side the tool comes from;
+//! local frames, curvature on the tool side and marching along the surface.
 
 use glam::{DVec2, DVec3};
 
 use super::PlanError;
-use crate::geometry::brep::Face;
+use crate::geometry::brep::{Face, Part};
 use crate::geometry::diffgeom::SurfaceDerivs;
 use crate::geometry::surface::{ParamRect, SurfaceGeom};
+use crate::geometry::trim::TrimRegion;
 
-/// A face patch: a surface, a finite parameter rectangle and the tool side (+1: the tool is on
-/// the `S_u × S_v` side, −1: the opposite side).
+/// A face patch: a surface, a finite parameter rectangle, optionally the trimmed region inside
+/// it, and the tool side (+1: the tool is on the `S_u × S_v` side, −1: the opposite side).
 #[derive(Clone, Copy, Debug)]
 pub struct FacePatch<'a> {
     /// The carrier surface.
     pub surface: &'a SurfaceGeom,
-    /// The parameter rectangle to machine (finite).
+    /// The parameter rectangle to machine (finite): the whole patch, or the bounds of `region`.
     pub domain: ParamRect,
     /// +1 or −1: which side of `S_u × S_v` the tool is on.
     pub side: f64,
+    /// The face's trimmed region (`None`: the whole rectangle).
+    pub region: Option<&'a TrimRegion>,
 }
 
 /// Point, tool-side unit normal and derivatives at a parameter point.
@@ -65,7 +69,117 @@ impl<'a> FacePatch<'a> {
             surface,
             domain,
             side: if side < 0.0 { -1.0 } else { 1.0 },
+            region: None,
         })
+    }
+
+    /// The patch of face `index` of `part` inside its trimmed `region` (from
+    /// [`TrimRegion::of_face`]). The tool side is the material's outside: the face normal
+    /// (`S_u × S_v`, reversed for a `.F.` face) when the face bounds a solid (a closed shell);
+    /// for a face of an open shell, which has no material side, the side whose normal points up
+    /// (+z) on average over the region.
+    ///
+    /// # Errors
+    /// [`PlanError::Face`] for a missing face or one without a defined normal in its region.
+    pub fn trimmed(
+        part: &'a Part,
+        index: usize,
+        region: &'a TrimRegion,
+    ) -> Result<Self, PlanError> {
+        let face = part.faces.get(index).ok_or_else(|| {
+            PlanError::Face(format!(
+                "no face {index} (the part has {})",
+                part.faces.len()
+            ))
+        })?;
+        let mut patch = Self::new(&face.surface, region.bounds(), 1.0)?;
+        patch.region = Some(region);
+        let solid = part
+            .shells
+            .iter()
+            .any(|s| s.closed && s.faces.contains(&index));
+        if solid {
+            patch.side = if face.same_sense { 1.0 } else { -1.0 };
+        } else {
+            patch.side = patch.upward_side()?;
+        }
+        Ok(patch)
+    }
+
+    /// The side (+1/−1) whose normal points up on average over the patch (its region).
+    fn upward_side(&self) -> Result<f64, PlanError> {
+        let mut z = 0.0;
+        let mut count = 0;
+        for uv in self.samples(8) {
+            if let Some(n) = self.surface.derivs(uv.x, uv.y).normal() {
+                z += n.z;
+                count += 1;
+            }
+        }
+        if count == 0 {
+            return Err(PlanError::Face(
+                "the face has no defined normal anywhere".into(),
+            ));
+        }
+        Ok(if z < 0.0 { -1.0 } else { 1.0 })
+    }
+
+    /// Sample parameters of the patch: an `(n + 1)²` grid of the rectangle, keeping the points
+    /// inside the region, plus points along the region's loops (so a thin region is sampled).
+    #[must_use]
+    pub fn samples(&self, n: u32) -> Vec<DVec2> {
+        let n = n.max(1);
+        let mut out = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                let uv = self.at(f64::from(i) / f64::from(n), f64::from(j) / f64::from(n));
+                if self.contains(uv) {
+                    out.push(uv);
+                }
+            }
+        }
+        if let Some(r) = self.region {
+            out.extend(r.boundary_samples(4 * n as usize));
+        }
+        out
+    }
+
+    /// The patch without its trimmed region (the whole bounding rectangle).
+    #[must_use]
+    pub fn untrimmed(&self) -> Self {
+        Self {
+            region: None,
+            ..*self
+        }
+    }
+
+    /// Closed polylines around the patch: the region's loops, or the rectangle's four sides.
+    #[must_use]
+    pub fn boundary_loops(&self) -> Vec<Vec<DVec2>> {
+        match self.region {
+            Some(r) => r.loops().to_vec(),
+            None => vec![vec![
+                self.at(0.0, 0.0),
+                self.at(1.0, 0.0),
+                self.at(1.0, 1.0),
+                self.at(0.0, 1.0),
+            ]],
+        }
+    }
+
+    /// Clip a parameter polyline to the region: the runs inside (the whole polyline when the
+    /// patch has no region), each as its points and their fractional indices along `pts`.
+    #[must_use]
+    pub fn clip(&self, pts: &[DVec2]) -> Vec<Vec<(DVec2, f64)>> {
+        match self.region {
+            Some(r) => r.clip(pts),
+            None => vec![
+                pts.iter()
+                    .enumerate()
+                    .map(|(k, p)| (*p, k as f64))
+                    .collect(),
+            ],
+        }
     }
 
     /// The patch of a B-rep face over its surface's natural domain (trimming loops are not
@@ -85,23 +199,7 @@ impl<'a> FacePatch<'a> {
     /// [`PlanError::Face`] for unbounded surfaces or surfaces without a defined normal.
     pub fn from_surface(surface: &'a SurfaceGeom) -> Result<Self, PlanError> {
         let mut patch = Self::new(surface, surface.domain(), 1.0)?;
-        let mut z = 0.0;
-        let mut count = 0;
-        for i in 0..=8 {
-            for j in 0..=8 {
-                let uv = patch.at(f64::from(i) / 8.0, f64::from(j) / 8.0);
-                if let Some(n) = patch.surface.derivs(uv.x, uv.y).normal() {
-                    z += n.z;
-                    count += 1;
-                }
-            }
-        }
-        if count == 0 {
-            return Err(PlanError::Face(
-                "the face has no defined normal anywhere".into(),
-            ));
-        }
-        patch.side = if z < 0.0 { -1.0 } else { 1.0 };
+        patch.side = patch.upward_side()?;
         Ok(patch)
     }
 
@@ -111,7 +209,7 @@ impl<'a> FacePatch<'a> {
         DVec2::new(self.domain.u.lerp(s), self.domain.v.lerp(t))
     }
 
-    /// Is `uv` inside the domain (with a relative slack)?
+    /// Is `uv` inside the domain (the rectangle with a relative slack, and the region)?
     #[must_use]
     pub fn contains(&self, uv: DVec2) -> bool {
         let su = 1e-9 * self.domain.u.len();
@@ -120,6 +218,7 @@ impl<'a> FacePatch<'a> {
             && uv.x <= self.domain.u.t1 + su
             && uv.y >= self.domain.v.t0 - sv
             && uv.y <= self.domain.v.t1 + sv
+            && self.region.is_none_or(|r| r.contains(uv))
     }
 
     /// Clamp into the domain.

@@ -131,6 +131,17 @@ impl<'a> Setup<'a> {
         Pass::new(uv).resampled(&self.patch, self.guide_spacing)
     }
 
+    /// The runs of the iso-parametric pass at `across` fraction `s` inside the trimmed region,
+    /// each resampled to the guide spacing.
+    #[must_use]
+    pub fn iso_runs(&self, s: f64) -> Vec<Pass> {
+        self.iso_pass(s)
+            .clipped(&self.patch)
+            .into_iter()
+            .map(|p| p.resampled(&self.patch, self.guide_spacing))
+            .collect()
+    }
+
     /// The pass along the edge at `along` fraction `s` (the iso-curve across the passes),
     /// resampled to the guide spacing.
     #[must_use]
@@ -332,17 +343,21 @@ pub fn plan_finish(
             pattern: Pattern::Spiral
         }
     );
-    let ordered: Vec<Pass> = passes
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            if zigzag && !spiral && k % 2 == 1 {
-                p.reversed()
-            } else {
-                p.clone()
-            }
-        })
-        .collect();
+    let ordered: Vec<Pass> = if setup.patch.region.is_some() {
+        orient_greedy(&setup.patch, &passes, zigzag && !spiral)
+    } else {
+        passes
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                if zigzag && !spiral && k % 2 == 1 {
+                    p.reversed()
+                } else {
+                    p.clone()
+                }
+            })
+            .collect()
+    };
     let planned = repair::plan_passes(&setup, &ordered, opts.exact_check, true);
     note_repairs(&planned, used.axis.lead(), &mut report, &mut diags);
     let runs: Vec<Vec<Pose>> = planned.into_iter().map(|r| r.poses).collect();
@@ -367,6 +382,23 @@ pub fn plan_finish(
         used,
         diagnostics: diags,
     })
+}
+
+/// Two-way order on a trimmed face, where an iso-line may give several runs: each pass starts
+/// at whichever of its ends is nearer (3D) to where the previous pass ended. One-way (`two_way`
+/// false): every pass as given.
+fn orient_greedy(patch: &FacePatch<'_>, passes: &[Pass], two_way: bool) -> Vec<Pass> {
+    let point = |uv: Option<&DVec2>| uv.map(|q| patch.surface.point(q.x, q.y));
+    let mut out: Vec<Pass> = Vec::with_capacity(passes.len());
+    for p in passes {
+        let prev_end = out.last().and_then(|q| point(q.uv.last()));
+        let flip = match (two_way, prev_end, point(p.uv.first()), point(p.uv.last())) {
+            (true, Some(e), Some(a), Some(b)) => e.distance(b) < e.distance(a),
+            _ => false,
+        };
+        out.push(if flip { p.reversed() } else { p.clone() });
+    }
+    out
 }
 
 /// The repair's totals into the report and the diagnostics.
@@ -455,16 +487,14 @@ fn exact_check(
 /// Unfixed gouges listed one by one in the diagnostics (then a count).
 const MAX_GOUGE_DIAGNOSTICS: usize = 10;
 
-/// Largest concave curvature over a 41×41 grid of the face, 1/mm (≥ 0).
+/// Largest concave curvature over a 41×41 grid of the face (the points inside its trimmed
+/// region, and points along the region's loops), 1/mm (≥ 0).
 #[must_use]
 pub fn max_concave(patch: &FacePatch<'_>) -> f64 {
     let mut k: f64 = 0.0;
-    for i in 0..=40 {
-        for j in 0..=40 {
-            let uv = patch.at(f64::from(i) / 40.0, f64::from(j) / 40.0);
-            if let Some(f) = patch.frame(uv) {
-                k = k.max(patch.max_concave(&f));
-            }
+    for uv in patch.samples(40) {
+        if let Some(f) = patch.frame(uv) {
+            k = k.max(patch.max_concave(&f));
         }
     }
     k

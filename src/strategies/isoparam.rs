@@ -2,7 +2,9 @@
 //! parametric side step, and the rectangular spiral. The thesis takes the step from the chord
 //! at the minimum convex radius; here it is the smallest step, over a grid of the face, that
 //! keeps the scallop (from the same cross-feed section as iso-scallop) within h everywhere, so
-//! both strategies meet the same maximum scallop.
+//! both strategies meet the same maximum scallop. On a trimmed face every iso-line is clipped
+//! to the region: a line that leaves and re-enters it (a hole, a notch) gives several runs,
+//! each ending on the boundary, and the step is chosen over the runs only.
 
 use super::finish::Setup;
 use super::pass::Pass;
@@ -22,18 +24,19 @@ fn across_step(setup: &Setup<'_>, reversed_next: bool) -> Option<f64> {
     };
     let mut best = f64::INFINITY;
     for k in 0..GRID_LINES {
-        let pass = setup.iso_pass(k as f64 / (GRID_LINES - 1) as f64);
-        for i in 0..pass.uv.len() {
-            let Some(g) = setup.guide(&pass, i) else {
-                continue;
-            };
-            let Some(sec) = setup.section(&g, reversed_next) else {
-                continue;
-            };
-            let (w, _) = sec.step();
-            let perp = across_speed(setup, &g);
-            if perp > 0.0 {
-                best = best.min(w / perp / len);
+        for pass in setup.iso_runs(k as f64 / (GRID_LINES - 1) as f64) {
+            for i in 0..pass.uv.len() {
+                let Some(g) = setup.guide(&pass, i) else {
+                    continue;
+                };
+                let Some(sec) = setup.section(&g, reversed_next) else {
+                    continue;
+                };
+                let (w, _) = sec.step();
+                let perp = across_speed(setup, &g);
+                if perp > 0.0 {
+                    best = best.min(w / perp / len);
+                }
             }
         }
     }
@@ -86,9 +89,13 @@ pub fn passes(
     let actual = 1.0 / count as f64;
     let mut out = Vec::with_capacity(count + 1);
     for k in 0..=count {
-        let mut p = setup.iso_pass(k as f64 * actual);
-        predict(setup, &mut p, actual, reversed);
-        out.push(p);
+        for mut p in setup.iso_runs(k as f64 * actual) {
+            if p.length(&setup.patch) < 0.05 * setup.min_pass_length {
+                continue;
+            }
+            predict(setup, &mut p, actual, reversed);
+            out.push(p);
+        }
     }
     diags.push(Diagnostic::info(
         None,
@@ -125,7 +132,9 @@ fn spiral(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass>, P
         p.closed = true;
         let h = setup.opts.scallop;
         p.scallop.iter_mut().for_each(|s| *s = h);
-        out.push(p);
+        for run in p.clipped(&setup.patch) {
+            out.push(run.resampled(&setup.patch, setup.guide_spacing));
+        }
         k += 1;
         if k > 100_000 {
             break;
@@ -141,8 +150,10 @@ fn spiral(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass>, P
             vec![setup.patch.at(a, 0.5), setup.patch.at(1.0 - a, 0.5)]
         };
         let p = Pass::new(uv).resampled(&setup.patch, setup.guide_spacing);
-        if p.length(&setup.patch) >= setup.min_pass_length {
-            out.push(p);
+        for run in p.clipped(&setup.patch) {
+            if run.length(&setup.patch) >= setup.min_pass_length {
+                out.push(run.resampled(&setup.patch, setup.guide_spacing));
+            }
         }
     }
     diags.push(Diagnostic::info(

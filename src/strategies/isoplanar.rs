@@ -19,6 +19,10 @@ use super::finish::{Guide, Setup};
 use super::pass::Pass;
 use crate::diagnostics::Diagnostic;
 
+/// Samples whose surface gradient of the plane level is below this fraction of the largest
+/// do not set the plane spacing.
+const GRADIENT_FLOOR: f64 = 0.25;
+
 /// Boundary samples per side when looking for contour ends.
 const BOUNDARY_SAMPLES: usize = 400;
 
@@ -34,27 +38,42 @@ pub fn passes(
     let m = DVec3::new(angle.cos(), angle.sin(), 0.0);
     let patch = &setup.patch;
     let (mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY);
-    let mut dc = f64::INFINITY;
-    for i in 0..=40 {
-        for j in 0..=40 {
-            let uv = patch.at(f64::from(i) / 40.0, f64::from(j) / 40.0);
-            let Some(frame) = patch.frame(uv) else {
-                continue;
-            };
-            let c = frame.p.dot(m);
-            cmin = cmin.min(c);
-            cmax = cmax.max(c);
-            let grad = m - frame.n * m.dot(frame.n);
-            let g = grad.length();
-            let Some(tau) = grad.try_normalize() else {
-                continue;
-            };
-            let f = frame.n.cross(tau);
-            let guide = Guide { frame, f, tau };
-            if let Some(sec) = setup.section(&guide, true) {
-                dc = dc.min(sec.step().0 * g);
-            }
+    // (side step w, |∇_S c|) at each sample.
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    for uv in patch.samples(40) {
+        let Some(frame) = patch.frame(uv) else {
+            continue;
+        };
+        let c = frame.p.dot(m);
+        cmin = cmin.min(c);
+        cmax = cmax.max(c);
+        let grad = m - frame.n * m.dot(frame.n);
+        let g = grad.length();
+        let Some(tau) = grad.try_normalize() else {
+            continue;
+        };
+        let f = frame.n.cross(tau);
+        let guide = Guide { frame, f, tau };
+        if let Some(sec) = setup.section(&guide, true) {
+            steps.push((sec.step().0, g));
         }
+    }
+    // Where the face stands nearly square to the planes (|∇_S c| → 0 at critical points of c:
+    // extremes and saddles) the contours spread apart and no finite spacing keeps the scallop
+    // there; those samples would ask for spacings of micrometres. The spacing is taken over the
+    // samples whose gradient is at least GRADIENT_FLOOR of the largest, and the local excess is
+    // reported through the predicted scallop.
+    let g_max = steps.iter().fold(0.0_f64, |a, s| a.max(s.1));
+    let dc = steps
+        .iter()
+        .filter(|s| s.1 >= GRADIENT_FLOOR * g_max)
+        .fold(f64::INFINITY, |a, s| a.min(s.0 * s.1));
+    if steps.iter().any(|s| s.1 < GRADIENT_FLOOR * g_max) {
+        diags.push(Diagnostic::info(
+            None,
+            "the face stands nearly square to the planes somewhere: the plane spacing ignores \
+             those places, where the predicted scallop may exceed the target",
+        ));
     }
     if !(dc.is_finite() && dc > 0.0 && cmax > cmin) {
         return Err(PlanError::Face(
@@ -161,18 +180,11 @@ fn edge_stretches(
         }
         d2.sqrt()
     };
-    let corners = [
-        patch.at(0.0, 0.0),
-        patch.at(1.0, 0.0),
-        patch.at(1.0, 1.0),
-        patch.at(0.0, 1.0),
-    ];
     let mut out = Vec::new();
-    for s in 0..4 {
-        let (a, b) = (corners[s], corners[(s + 1) % 4]);
-        let samples: Vec<(DVec2, bool)> = (0..=EDGE_SAMPLES)
-            .map(|k| {
-                let uv = a.lerp(b, k as f64 / EDGE_SAMPLES as f64);
+    for side in boundary_sides(patch) {
+        let samples: Vec<(DVec2, bool)> = side
+            .into_iter()
+            .map(|uv| {
                 let Some(frame) = patch.frame(uv) else {
                     return (uv, false);
                 };
@@ -213,23 +225,90 @@ fn edge_stretches(
     out
 }
 
+/// The patch's boundary as polylines of samples: the rectangle's four sides
+/// ([`EDGE_SAMPLES`] + 1 points each), or each loop of the trimmed region resampled to about
+/// four times as many points (closed: the first point repeated at the end).
+fn boundary_sides(patch: &FacePatch<'_>) -> Vec<Vec<DVec2>> {
+    if patch.region.is_none() {
+        let corners = [
+            patch.at(0.0, 0.0),
+            patch.at(1.0, 0.0),
+            patch.at(1.0, 1.0),
+            patch.at(0.0, 1.0),
+        ];
+        return (0..4)
+            .map(|s| {
+                let (a, b) = (corners[s], corners[(s + 1) % 4]);
+                (0..=EDGE_SAMPLES)
+                    .map(|k| a.lerp(b, k as f64 / EDGE_SAMPLES as f64))
+                    .collect()
+            })
+            .collect();
+    }
+    patch
+        .boundary_loops()
+        .iter()
+        .map(|l| resample_closed(l, 4 * EDGE_SAMPLES))
+        .collect()
+}
+
+/// A closed polygon as a polyline of about `n` points evenly spaced in parameter length (every
+/// vertex kept, long sides subdivided), ending on its first point.
+fn resample_closed(l: &[DVec2], n: usize) -> Vec<DVec2> {
+    let len: f64 = (0..l.len())
+        .map(|k| l[k].distance(l[(k + 1) % l.len()]))
+        .sum();
+    let ds = len / n.max(1) as f64;
+    let mut out = Vec::with_capacity(n + l.len() + 1);
+    for k in 0..l.len() {
+        let (a, b) = (l[k], l[(k + 1) % l.len()]);
+        let pieces = if ds > 0.0 {
+            ((a.distance(b) / ds).ceil() as usize).clamp(1, 10 * n.max(1))
+        } else {
+            1
+        };
+        for j in 0..pieces {
+            out.push(a.lerp(b, j as f64 / pieces as f64));
+        }
+    }
+    if let Some(&f) = out.first() {
+        out.push(f);
+    }
+    out
+}
+
 /// All open contours of `S·m = c` that start on the domain boundary.
 fn trace_level(patch: &FacePatch<'_>, m: DVec3, c: f64, spacing: f64) -> Vec<Vec<DVec2>> {
     let g = |uv: DVec2| patch.surface.point(uv.x, uv.y).dot(m) - c;
-    // Boundary walk (counter-clockwise), sign changes → seeds.
-    let corners = [
-        patch.at(0.0, 0.0),
-        patch.at(1.0, 0.0),
-        patch.at(1.0, 1.0),
-        patch.at(0.0, 1.0),
-    ];
+    // Boundary walk, sign changes → seeds.
+    let sides: Vec<Vec<DVec2>> = if patch.region.is_none() {
+        let corners = [
+            patch.at(0.0, 0.0),
+            patch.at(1.0, 0.0),
+            patch.at(1.0, 1.0),
+            patch.at(0.0, 1.0),
+        ];
+        (0..4)
+            .map(|s| {
+                let (a, b) = (corners[s], corners[(s + 1) % 4]);
+                (0..=BOUNDARY_SAMPLES)
+                    .map(|k| a.lerp(b, k as f64 / BOUNDARY_SAMPLES as f64))
+                    .collect()
+            })
+            .collect()
+    } else {
+        patch
+            .boundary_loops()
+            .iter()
+            .map(|l| resample_closed(l, 4 * BOUNDARY_SAMPLES))
+            .collect()
+    };
     let mut seeds: Vec<DVec2> = Vec::new();
-    for s in 0..4 {
-        let (a, b) = (corners[s], corners[(s + 1) % 4]);
+    for side in &sides {
+        let Some(&a) = side.first() else { continue };
         let mut prev = a;
         let mut gp = g(a);
-        for k in 1..=BOUNDARY_SAMPLES {
-            let q = a.lerp(b, k as f64 / BOUNDARY_SAMPLES as f64);
+        for &q in side.iter().skip(1) {
             let gq = g(q);
             if (gp <= 0.0) != (gq <= 0.0) {
                 let (mut lo, mut hi) = (prev, q);

@@ -16,6 +16,10 @@
 //! terminates. Each new front is trimmed of its swallowtails and smoothed (see `successors`),
 //! and the scan is closed by passes along the far edge and the two edges where passes start
 //! and end, which the fronts meet obliquely.
+//!
+//! Trimmed faces: the scan runs over the rectangle that bounds the face's region (so the
+//! fronts stay smooth across holes and notches) and every pass is clipped to the region: a pass
+//! that leaves and re-enters it gives several runs, each ending on the boundary.
 
 use glam::DVec2;
 
@@ -37,6 +41,27 @@ const SWALLOWTAIL: f64 = 0.98;
 /// # Errors
 /// [`PlanError`] when the face has no usable normal at the start.
 pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass>, PlanError> {
+    if setup.patch.region.is_none() {
+        return scan(setup, diags);
+    }
+    // A trimmed face: the fronts march over the rectangle that bounds the region, and each
+    // pass is clipped to the region.
+    let mut open = setup.clone();
+    open.patch = setup.patch.untrimmed();
+    let mut out = Vec::new();
+    for p in scan(&open, diags)? {
+        for run in p.clipped(&setup.patch) {
+            let run = run.resampled(&setup.patch, setup.guide_spacing);
+            if run.uv.len() >= 2 && run.length(&setup.patch) >= 0.05 * setup.min_pass_length {
+                out.push(run);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The scan over the whole patch.
+fn scan(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass>, PlanError> {
     let first = setup.iso_pass(0.0);
     if first.uv.len() < 2 {
         return Err(PlanError::Face(

@@ -3,8 +3,9 @@
 //! part (or face), a cutter and its parameters, and returns a [`crate::toolpath::Toolpath`] plus
 //! diagnostics.
 //!
-//! Finishing on one face ([`finish::plan_finish`]): the face's parameter rectangle is covered
-//! by passes (polylines in parameter space), each pass is turned into poses by forward steps on
+//! Finishing on one face ([`finish::plan_finish`]): the face's parameter rectangle, or its
+//! trimmed region inside that rectangle ([`face::FacePatch::trimmed`]), is covered by passes
+//! (polylines in parameter space, clipped to the region), each pass is turned into poses by forward steps on
 //! the tool-tip curve ([`stepping`]), with the exact check its gouges are repaired and its axes
 //! smoothed ([`repair`]), and the passes are joined by links with optional lead-in/lead-out arcs
 //! ([`linking`]).

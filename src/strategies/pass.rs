@@ -48,6 +48,48 @@ impl Pass {
         p
     }
 
+    /// The runs of the pass inside the patch's trimmed region (the pass itself when the patch
+    /// has none, or when it lies wholly inside): a run starts and ends where the pass crosses a
+    /// loop; predicted scallops are interpolated there. A closed pass that is cut becomes open
+    /// runs.
+    #[must_use]
+    pub fn clipped(&self, patch: &FacePatch<'_>) -> Vec<Self> {
+        if patch.region.is_none() {
+            return vec![self.clone()];
+        }
+        let mut pts = self.uv.clone();
+        if self.closed
+            && let Some(&first) = self.uv.first()
+        {
+            pts.push(first);
+        }
+        let runs = patch.clip(&pts);
+        if let [run] = runs.as_slice()
+            && run.len() == pts.len()
+            && run.iter().zip(&pts).all(|(a, b)| a.0 == *b)
+        {
+            return vec![self.clone()];
+        }
+        let h = |x: f64| {
+            let n = self.scallop.len();
+            if n == 0 {
+                return 0.0;
+            }
+            let k = (x.floor().max(0.0) as usize).min(n - 1);
+            let t = x - k as f64;
+            let a = self.scallop.get(k % n).copied().unwrap_or(0.0);
+            let b = self.scallop.get((k + 1) % n).copied().unwrap_or(a);
+            a + (b - a) * t.clamp(0.0, 1.0)
+        };
+        runs.into_iter()
+            .map(|r| Self {
+                uv: r.iter().map(|x| x.0).collect(),
+                scallop: r.iter().map(|x| h(x.1)).collect(),
+                closed: false,
+            })
+            .collect()
+    }
+
     /// Resample so consecutive guides are about `spacing` mm apart on the surface (at least
     /// 2 guides), interpolating in parameter space.
     #[must_use]

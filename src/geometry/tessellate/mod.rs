@@ -25,6 +25,36 @@ use crate::diagnostics::Diagnostic;
 pub use edge::discretize_edge;
 pub use face::{FaceMesh, tessellate_face};
 
+/// A face's boundary loops in its surface's parameter plane, as the tessellator triangulates
+/// them: each loop's edges discretised to `opts`, inverted onto the surface, unwrapped across
+/// periodic seams (all loops in one period window), expanded at poles, and loops that run once
+/// around a periodic direction closed into bands or caps. Closed polygons (last joins first);
+/// the face is their even-odd interior. Empty for a face without loops.
+///
+/// # Errors
+/// A message when the loops cannot be mapped to the parameter plane.
+pub fn face_param_loops(
+    face: &super::brep::Face,
+    part: &Part,
+    opts: &TessellationOptions,
+) -> Result<Vec<Vec<super::DVec2>>, String> {
+    let opts = opts.sanitized();
+    let mut polylines: Vec<Vec<DVec3>> = vec![Vec::new(); part.edges.len()];
+    for lp in &face.loops {
+        if let super::brep::Loop::Edges(oes) = lp {
+            for oe in oes {
+                if let (Some(slot), Some(e)) = (polylines.get_mut(oe.edge), part.edges.get(oe.edge))
+                    && slot.is_empty()
+                {
+                    *slot = discretize_edge(e, &part.vertices, &opts);
+                }
+            }
+        }
+    }
+    let loops = loops::face_uv_loops(face, part, &polylines)?;
+    Ok(loops.into_iter().map(|l| l.uv).collect())
+}
+
 /// How finely to tessellate.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TessellationOptions {
