@@ -363,20 +363,15 @@ fn reversed_faces_put_the_tool_on_the_air_side() {
 /// (the post refuses it later); for a table-tilting machine it is not.
 #[test]
 fn a_five_axis_path_is_flagged_at_planning_on_a_three_axis_machine() {
-    use std::sync::Arc;
     use talas::diagnostics::Progress;
-    use talas::project::pipeline::{PartGeometry, compute};
+    use talas::import::{OpenOptions, Workpiece};
+    use talas::project::pipeline::compute;
     use talas::project::{Operation, OperationKind, Project, ToolEntry};
-    let p = part("bicubic-hills.stp");
-    let geometry = PartGeometry {
-        mesh: talas::geometry::tessellate::tessellate_part(&p, &TessellationOptions::default())
-            .mesh,
-        faces: p
-            .faces
-            .iter()
-            .map(|f| Some(Arc::new(f.surface.clone())))
-            .collect(),
-    };
+    let geometry = Workpiece::from_part(
+        std::path::Path::new("bicubic-hills.stp"),
+        part("bicubic-hills.stp"),
+        &OpenOptions::default(),
+    );
     let mut op = Operation::new(OperationKind::IsoScallop, 0, 0);
     if let Operation::Finish { options, .. } = &mut op {
         options.scallop = 0.1;

@@ -19,9 +19,8 @@ use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 use crate::tools::parse_tool_spec;
 
-/// Chord tolerance of the edges that bound a face's trimmed region, mm: a contact on the
-/// region's boundary is this close to the face's true edge.
-pub const REGION_CHORD_MM: f64 = 0.002;
+/// Chord tolerance of the edges that bound a face's trimmed region, mm (the engine's).
+pub const REGION_CHORD_MM: f64 = crate::geometry::trim::REGION_CHORD_MM;
 
 /// Options of `talas plan`.
 #[derive(Debug, clap::Args)]

@@ -17,6 +17,10 @@ use super::{DVec2, Interval};
 /// Most slabs of the index.
 const MAX_SLABS: usize = 512;
 
+/// Chord tolerance of the edges that bound a face's trimmed region, mm: a contact on the
+/// region's boundary is this close to the face's true edge.
+pub const REGION_CHORD_MM: f64 = 0.002;
+
 /// The trimmed parameter region of a face.
 #[derive(Clone, Debug)]
 pub struct TrimRegion {

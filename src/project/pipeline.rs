@@ -6,6 +6,7 @@
 use super::{Operation, Project, Stock};
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::mesh::TriMesh;
+use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
 use crate::strategies::finish::plan_finish;
@@ -142,8 +143,23 @@ pub fn compute(
                 }
                 Some(Some(s)) => s.as_ref(),
             };
-            let patch = FacePatch::from_surface(surface)
-                .map_err(|e| face_err(format!("face {face}: {e}")))?;
+            // A face of a B-rep is planned inside its trimming loops, on the material's side
+            // (the face's sense); a bare surface over its natural domain.
+            let region = match (
+                &part.part,
+                part.part.as_ref().and_then(|p| p.faces.get(*face)),
+            ) {
+                (Some(brep), Some(f)) => Some(
+                    TrimRegion::of_face(f, brep, REGION_CHORD_MM)
+                        .map_err(|e| face_err(format!("face {face}: its trimming loops: {e}")))?,
+                ),
+                _ => None,
+            };
+            let patch = match (&part.part, &region) {
+                (Some(brep), Some(region)) => FacePatch::trimmed(brep, *face, region),
+                _ => FacePatch::from_surface(surface),
+            }
+            .map_err(|e| face_err(format!("face {face}: {e}")))?;
             let r = plan_finish(patch, &tool.cutter, &tool.spec, *strategy, options)
                 .map_err(|e| plan_err(format!("face {face}: {e}")))?;
             Computed {
