@@ -22,6 +22,7 @@ pub mod raster_check;
 pub mod repair;
 pub mod scallop;
 pub mod stepping;
+pub mod waterline;
 pub mod zlevel;
 
 /// Which parameter the passes run along.
