@@ -8,21 +8,20 @@ fibres the same distance apart. Reported: the two-way distance between the conto
 Talas contour point to the nearest segment of OCL's closed loops at that level, and each OCL
 point to Talas's loops; max and 99.9 % quantile), the number of loops of each, and both
 planning times in the same run: Talas's is the BVH build plus all levels (timed inside
-`benches/waterline.rs`, all cores), OCL's is STLSurf construction plus Waterline.run() for all
+`talas contours`, all cores), OCL's is STLSurf construction plus Waterline.run() for all
 levels (OpenMP, all cores).
 
 Usage (from the repository root):
     python3 -m venv .venv && .venv/bin/pip install opencamlib numpy
-    cargo bench --no-default-features --bench waterline --no-run   # prints the binary's path
-    .venv/bin/python benches/waterline_ocl.py --talas target/release/deps/waterline-HASH
+    cargo build --release --no-default-features
+    .venv/bin/python benches/waterline_ocl.py [--sampling 0.02] [--levels 5] [--only ball]
 """
 
 import argparse
-import glob
+import json
 import os
 import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -76,28 +75,21 @@ def run_ocl(tris, make_cutter, levels, sampling):
 
 
 def run_talas(binary, stl, spec, levels, sampling):
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "c.csv")
-        res = subprocess.run([binary, stl, spec, str(sampling), ",".join(map(str, levels)), path],
-                             check=True, capture_output=True, text=True)
-        t = float(res.stdout.split("time_s=")[1].split()[0])
-        data = np.loadtxt(path, delimiter=",", ndmin=2)
-    out = []
-    for k in range(len(levels)):
-        rows = data[data[:, 0] == k] if len(data) else data
-        loops = [rows[rows[:, 1] == l][:, 2:4] for l in np.unique(rows[:, 1])] if len(rows) else []
-        out.append(loops)
-    return out, t
+    res = subprocess.run([binary, "contours", stl, "--tool", spec, "--levels", ",".join(map(str, levels)),
+                          "--sampling", str(sampling), "--json"], check=True, capture_output=True, text=True)
+    doc = json.loads(res.stdout)
+    out = [[np.array(lp, dtype=float) for lp in lv["loops"] if len(lp) >= 3] for lv in doc["levels"]]
+    return out, doc["time_s"]
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--talas", default="")
+    ap.add_argument("--talas", default="target/release/talas")
     ap.add_argument("--sampling", type=float, default=0.02)
     ap.add_argument("--levels", type=int, default=5)
     ap.add_argument("--only", default="")
     args = ap.parse_args()
-    binary = args.talas or sorted(glob.glob("target/release/deps/waterline-*"), key=os.path.getmtime)[-1]
+    binary = args.talas
     print(f"sampling {args.sampling} mm, {args.levels} levels per part, {os.cpu_count()} cores")
     print("mesh | tool | loops talas/ocl | talas->ocl max, q99.9 (mm) | ocl->talas max, q99.9 (mm) | talas s | ocl s | ocl/talas")
     for mesh in MESHES:

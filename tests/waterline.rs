@@ -8,9 +8,7 @@ use glam::{DVec2, DVec3};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
 use talas::import::stl::{StlOptions, read_stl};
-use talas::strategies::waterline::{
-    ContourPoint, Cut, WaterlineOptions, contours_at, waterline,
-};
+use talas::strategies::waterline::{ContourPoint, Cut, WaterlineOptions, contours_at, waterline};
 use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::dropcutter::drop_cutter_at;
 use talas::tools::{Cutter, CutterKind, parse_tool_spec};
@@ -60,7 +58,12 @@ fn one_loop(loops: &[Vec<ContourPoint>]) -> &[ContourPoint] {
 fn area(lp: &[ContourPoint]) -> f64 {
     let n = lp.len();
     (0..n)
-        .map(|i| lp[i].tip.truncate().perp_dot(lp[(i + 1) % n].tip.truncate()))
+        .map(|i| {
+            lp[i]
+                .tip
+                .truncate()
+                .perp_dot(lp[(i + 1) % n].tip.truncate())
+        })
         .sum::<f64>()
         * 0.5
 }
@@ -81,7 +84,10 @@ fn every_cutter_around_a_box_is_the_box_offset_with_round_corners() {
         for (z, want) in [
             (5.0, r),
             (20.0 - c.profile_height() - 1.0, r),
-            (20.0 - 0.5 * c.profile_height(), c.radius_at_height(0.5 * c.profile_height()).unwrap_or(r)),
+            (
+                20.0 - 0.5 * c.profile_height(),
+                c.radius_at_height(0.5 * c.profile_height()).unwrap_or(r),
+            ),
         ] {
             let loops = contours_at(&mesh, &bvh, c, z, 0.37);
             let lp = one_loop(&loops);
@@ -229,7 +235,10 @@ fn contours_on_bicubic_hills_sit_on_the_drop_cutter_surface() {
         let mut n = 0;
         let mut worst = 0.0f64;
         for p in loops.iter().flatten() {
-            let inside = p.tip.x > bb.min.x && p.tip.x < bb.max.x && p.tip.y > bb.min.y && p.tip.y < bb.max.y;
+            let inside = p.tip.x > bb.min.x
+                && p.tip.x < bb.max.x
+                && p.tip.y > bb.min.y
+                && p.tip.y < bb.max.y;
             if !inside {
                 continue;
             }
@@ -238,7 +247,11 @@ fn contours_on_bicubic_hills_sit_on_the_drop_cutter_surface() {
             n += 1;
         }
         assert!(n > 50, "{:?}: {n} points", c.kind);
-        assert!(worst < 1e-7, "{:?}: drop-cutter differs by {worst} mm", c.kind);
+        assert!(
+            worst < 1e-7,
+            "{:?}: drop-cutter differs by {worst} mm",
+            c.kind
+        );
     }
 }
 
@@ -269,16 +282,28 @@ fn plan_on_a_hemisphere_steps_down_by_the_wall_slope_and_cuts_climb() {
     // Slopes under the threshold set no limit.
     let limit = |z: f64| {
         let slope = ((z + r) / (rs + r)).clamp(-1.0, 1.0).acos();
-        if slope >= min_slope { s * slope.sin() } else { opts.max_step_down_mm }
+        if slope >= min_slope {
+            s * slope.sin()
+        } else {
+            opts.max_step_down_mm
+        }
     };
     for w in plan.levels.windows(2) {
         let dz = w[0] - w[1];
         assert!(dz > 0.0);
         let allowed = limit(w[0]).min(limit(w[1]));
-        assert!(dz <= allowed * 1.03 + 1e-6, "dz {dz} allowed {allowed} at {}", w[0]);
+        assert!(
+            dz <= allowed * 1.03 + 1e-6,
+            "dz {dz} allowed {allowed} at {}",
+            w[0]
+        );
     }
     // Steep near the equator: the step there is close to s.
-    let dz_max = plan.levels.windows(2).map(|w| w[0] - w[1]).fold(0.0, f64::max);
+    let dz_max = plan
+        .levels
+        .windows(2)
+        .map(|w| w[0] - w[1])
+        .fold(0.0, f64::max);
     assert!(dz_max > 0.8 * s, "largest step {dz_max} vs {s}");
     // Every cut is on a level, clockwise around the dome.
     let cuts: Vec<_> = plan
@@ -287,7 +312,10 @@ fn plan_on_a_hemisphere_steps_down_by_the_wall_slope_and_cuts_climb() {
         .iter()
         .filter(|p| p.kind == MoveKind::Cut)
         .collect();
-    assert!(cuts.iter().all(|p| plan.levels.iter().any(|z| (p.tip.z - z).abs() < 1e-12)));
+    assert!(
+        cuts.iter()
+            .all(|p| plan.levels.iter().any(|z| (p.tip.z - z).abs() < 1e-12))
+    );
     let first = &cuts[..20];
     let turn: f64 = first
         .windows(2)

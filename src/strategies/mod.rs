@@ -21,6 +21,7 @@ pub mod raster;
 pub mod raster_check;
 pub mod repair;
 pub mod scallop;
+pub mod steep_shallow;
 pub mod stepping;
 pub mod waterline;
 pub mod zlevel;

@@ -150,7 +150,10 @@ fn check_options(o: &WaterlineOptions) -> Result<(), WaterlineError> {
             "fibre spacing must be 0.001 to 10 mm, got {s} mm"
         )));
     }
-    let angles = [("threshold angle", o.min_slope_rad), ("overlap", o.overlap_rad)];
+    let angles = [
+        ("threshold angle", o.min_slope_rad),
+        ("overlap", o.overlap_rad),
+    ];
     for (what, a) in angles {
         if !(a >= 0.0 && a < 89.5f64.to_radians()) {
             return Err(WaterlineError::Option(format!(
@@ -280,7 +283,15 @@ pub fn waterline_progress(
         cur = nxt;
     }
     let mut diagnostics = Vec::new();
-    let plan = link(mesh, bvh, &prof, tool, opts, &levels, top + opts.clearance_mm);
+    let plan = link(
+        mesh,
+        bvh,
+        &prof,
+        tool,
+        opts,
+        &levels,
+        top + opts.clearance_mm,
+    );
     if plan.1 == 0 {
         return Err(WaterlineError::Empty);
     }
@@ -422,7 +433,11 @@ fn link(
 fn nearest_run(pending: &[Vec<ContourPoint>], here: DVec2, closed: bool) -> (usize, usize) {
     let mut best = (0, 0, f64::MAX);
     for (k, run) in pending.iter().enumerate() {
-        let cands: &[ContourPoint] = if closed { &run[..run.len() - 1] } else { &run[..1] };
+        let cands: &[ContourPoint] = if closed {
+            &run[..run.len() - 1]
+        } else {
+            &run[..1]
+        };
         for (i, p) in cands.iter().enumerate() {
             let d = p.tip.truncate().distance_squared(here);
             if d < best.2 {
@@ -454,7 +469,12 @@ fn enter(
                 poses.push(Pose::new(MoveKind::Link, b.extend(last.tip.z), axis, feed));
             }
             if last.tip.z - to.z > 1e-9 {
-                poses.push(Pose::new(MoveKind::Link, to, axis, opts.plunge_feed_mm_per_min));
+                poses.push(Pose::new(
+                    MoveKind::Link,
+                    to,
+                    axis,
+                    opts.plunge_feed_mm_per_min,
+                ));
             }
             return;
         }

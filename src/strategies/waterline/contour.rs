@@ -54,27 +54,54 @@ pub(crate) fn fibre_intervals(
         min: (a.min(b) - pad).extend(fibre.z),
         max: (a.max(b) + pad).extend(top + 1.0),
     };
-    let mut raw: Vec<(End, End)> = bvh
+    // Highest triangles first: their intervals are the widest, and a triangle whose reach
+    // (its extent along the fibre widened by the radius) lies inside what is already blocked
+    // cannot change the union.
+    let mut cands: Vec<([DVec3; 3], f64, f64, f64)> = bvh
         .triangles_in_aabb(&bx)
         .into_iter()
         .filter_map(|t| mesh.triangle_corners(t))
-        .filter_map(|tri| push_triangle(prof, fibre, &tri))
-        .filter(|(lo, hi)| hi.s > 0.0 && lo.s < len)
+        .map(|tri| {
+            let al = tri.map(|p| (p.truncate() - fibre.origin).dot(fibre.dir));
+            let lo = al[0].min(al[1]).min(al[2]) - big;
+            let hi = al[0].max(al[1]).max(al[2]) + big;
+            let top = tri[0].z.max(tri[1].z).max(tri[2].z);
+            (tri, lo, hi, top)
+        })
+        .filter(|c| c.2 > 0.0 && c.1 < len && c.3 >= fibre.z)
         .collect();
-    raw.sort_by(|x, y| x.0.s.total_cmp(&y.0.s));
+    cands.sort_by(|a, b| b.3.total_cmp(&a.3).then(a.1.total_cmp(&b.1)));
     let mut out: Intervals = Vec::new();
-    for (lo, hi) in raw {
-        if let Some(last) = out.last_mut()
-            && lo.s <= last.1.s
-        {
-            if hi.s > last.1.s {
-                last.1 = hi;
-            }
+    for (tri, lo_b, hi_b, _) in cands {
+        let k = out.partition_point(|iv| iv.1.s < hi_b);
+        if k < out.len() && out[k].0.s <= lo_b {
             continue;
         }
-        out.push((lo, hi));
+        if let Some(iv) = push_triangle(prof, fibre, &tri)
+            && iv.1.s > 0.0
+            && iv.0.s < len
+        {
+            insert(&mut out, iv);
+        }
     }
     out
+}
+
+/// Add an interval to sorted disjoint ones, merging what overlaps.
+fn insert(out: &mut Intervals, iv: (End, End)) {
+    let first = out.partition_point(|x| x.1.s < iv.0.s);
+    let mut last = first;
+    let (mut lo, mut hi) = iv;
+    while last < out.len() && out[last].0.s <= hi.s {
+        if out[last].0.s < lo.s {
+            lo = out[last].0;
+        }
+        if out[last].1.s > hi.s {
+            hi = out[last].1;
+        }
+        last += 1;
+    }
+    out.splice(first..last, [(lo, hi)]);
 }
 
 fn blocked_at(iv: &Intervals, s: f64) -> bool {
@@ -85,13 +112,13 @@ fn blocked_at(iv: &Intervals, s: f64) -> bool {
 /// a tangency), the end nearest to the edge.
 fn crossing(iv: &Intervals, a: f64, b: f64) -> Option<End> {
     let mid = 0.5 * (a + b);
-    iv.iter()
-        .flat_map(|(lo, hi)| [*lo, *hi])
-        .min_by(|x, y| {
-            let dx = (x.s - mid).abs() - 0.5 * (b - a);
-            let dy = (y.s - mid).abs() - 0.5 * (b - a);
-            dx.max(0.0).total_cmp(&dy.max(0.0)).then((x.s - mid).abs().total_cmp(&(y.s - mid).abs()))
-        })
+    iv.iter().flat_map(|(lo, hi)| [*lo, *hi]).min_by(|x, y| {
+        let dx = (x.s - mid).abs() - 0.5 * (b - a);
+        let dy = (y.s - mid).abs() - 0.5 * (b - a);
+        dx.max(0.0)
+            .total_cmp(&dy.max(0.0))
+            .then((x.s - mid).abs().total_cmp(&(y.s - mid).abs()))
+    })
 }
 
 /// The sampling grid of a level.

@@ -91,9 +91,7 @@ impl Profile {
             return Some(std::f64::consts::FRAC_PI_2);
         }
         match self.kind {
-            CutterKind::Ball => {
-                Some((rho / self.big).clamp(0.0, 1.0).asin())
-            }
+            CutterKind::Ball => Some((rho / self.big).clamp(0.0, 1.0).asin()),
             CutterKind::BullNose { corner_radius: r } => {
                 let q = rho - (self.big - r);
                 (q > eps).then(|| (q / r).clamp(0.0, 1.0).asin())
@@ -230,7 +228,13 @@ pub(crate) fn push_triangle(prof: &Profile, fibre: &Fibre, tri: &[DVec3; 3]) -> 
         }
     }
     for i in 0..poly.len() {
-        edge_extremes(prof, poly[i], poly[(i + 1) % poly.len()], tri_slope, &mut ext);
+        edge_extremes(
+            prof,
+            poly[i],
+            poly[(i + 1) % poly.len()],
+            tri_slope,
+            &mut ext,
+        );
     }
     facet_extreme(prof, &local, tri_slope, &mut ext);
     let (lo, hi) = (ext.lo?, ext.hi?);
