@@ -9,7 +9,7 @@
 //!   where the contact is on its rim), clamped to [0.005, 1] mm (or `sampling_mm`).
 //! - **Levels** run from the top of the part down to its lowest point. The step-down is set by
 //!   the scallop height on the local wall slope θ of every contact on the level (and on the next
-//!   level; when that asks for less, the next level is moved up): ball and bull-nose cutters
+//!   level; when that asks for less, the next level is moved up, up to eight times): ball and bull-nose cutters
 //!   leave a cusp of height h between levels whose contacts lie s = 2√(2ρh − h²) apart along
 //!   the wall (ρ the ball or corner radius), so Δz = s·sin θ; flat and cone cutters touch a
 //!   slope with a sharp rim or tip, which leaves steps of height Δz·cos θ, so Δz = h / cos θ.
@@ -264,7 +264,17 @@ pub fn waterline_progress(
         Level { z, loops, step }
     };
     let mut levels: Vec<Level> = Vec::new();
-    let mut cur = level((top - opts.max_step_down_mm.min(0.5 * (top - bottom))).max(bottom));
+    // The first level lies one step below the top, the step of the flattest slope that
+    // counts (a rounded rim under the top is steep within that depth).
+    let first = step_for_slope(
+        cutter.kind,
+        cutter.radius(),
+        opts.scallop_mm,
+        opts.min_slope_rad.max(5f64.to_radians()),
+    )
+    .min(opts.max_step_down_mm)
+    .min(0.5 * (top - bottom));
+    let mut cur = level((top - first).max(bottom));
     loop {
         progress.check().map_err(|_| WaterlineError::Cancelled)?;
         progress.set(((top - cur.z) / (top - bottom).max(1e-9)).clamp(0.0, 1.0));
@@ -276,7 +286,11 @@ pub fn waterline_progress(
         }
         let mut nz = (z - step).max(bottom);
         let mut nxt = level(nz);
-        if nxt.step < 0.999 * step && nz > bottom {
+        // Move the next level up until its own slopes allow the step (a few tries).
+        for _ in 0..8 {
+            if nxt.step >= 0.999 * (z - nz) {
+                break;
+            }
             nz = (z - nxt.step).max(bottom);
             nxt = level(nz);
         }
