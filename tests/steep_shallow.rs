@@ -74,6 +74,9 @@ fn steep_shallow_on_pocket_fillets_holds_the_scallop_on_walls_and_floors() {
     assert!(rep.samples() > 5000);
     // The target is 99 %; measured 98.65 %: the rest is material along the rounded top rim of
     // the pocket at z ≈ 17 mm (up to 0.17 mm), between the raster and the first waterline level.
-    assert!(within >= 0.985, "only {within} of the surface within h + tol");
+    assert!(
+        within >= 0.985,
+        "only {within} of the surface within h + tol"
+    );
     assert!(rep.max_gouge_mm <= 1e-3, "gouge {} mm", rep.max_gouge_mm);
 }

@@ -42,7 +42,7 @@ pub struct ContoursArgs {
 pub fn contours(args: &ContoursArgs) -> Result<Value, ImportError> {
     let bad = |what: &str, msg: String| ImportError::new(&args.file, Some(what.to_string()), msg);
     let cutter = parse_tool_spec(&args.tool).map_err(|e| bad("--tool", e.to_string()))?;
-    if !(args.sampling >= 1e-3 && args.sampling <= 10.0) {
+    if !(1e-3..=10.0).contains(&args.sampling) {
         return Err(bad(
             "--sampling",
             format!("must be 0.001 to 10 mm, got {}", args.sampling),

@@ -144,7 +144,7 @@ fn check_options(o: &WaterlineOptions) -> Result<(), WaterlineError> {
         }
     }
     if let Some(s) = o.sampling_mm
-        && !(s >= 1e-3 && s <= 10.0)
+        && !(1e-3..=10.0).contains(&s)
     {
         return Err(WaterlineError::Option(format!(
             "fibre spacing must be 0.001 to 10 mm, got {s} mm"
