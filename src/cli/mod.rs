@@ -2,6 +2,7 @@
 //! line naming the file and the place; exit code 2 for bad input, 1 for internal failure.
 
 pub mod calibrate;
+pub mod contours;
 pub mod control;
 pub mod dropcutter;
 pub mod feed;
@@ -48,6 +49,8 @@ pub enum Command {
     Plan(plan::PlanArgs),
     /// Drop-cutter against an STL mesh: the tool-tip height at every XY point of a CSV.
     Dropcutter(dropcutter::DropcutterArgs),
+    /// Waterline contours of a cutter on an STL mesh at given tool-tip heights.
+    Contours(contours::ContoursArgs),
     /// SVD data reduction of a Z-map (CSV of heights): singular values, rank, reduced sizes,
     /// max and mean error.
     Reduce(reduce::ReduceArgs),
@@ -121,6 +124,7 @@ pub fn run(command: Command) -> i32 {
         Command::Dropcutter(args) => {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
         }
+        Command::Contours(args) => report(contours::contours(&args), args.json, contours::human),
         Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
         Command::Post(args) => match post::post(&args) {
             Ok(doc) => {

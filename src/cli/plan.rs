@@ -1,7 +1,7 @@
 //! `talas plan FILE --tool SPEC --strategy NAME --scallop H --tolerance E [options] -o PATH.json`:
 //! a finishing tool path on one face of a STEP part (iso-parametric, iso-planar, iso-scallop), or
-//! on the whole part's mesh (raster finishing, Z-level roughing; see [`super::plan_mesh`]),
-//! written as the contract's tool-path JSON.
+//! on the whole part's mesh (raster, waterline and steep-and-shallow finishing, Z-level
+//! roughing; see [`super::plan_mesh`]), written as the contract's tool-path JSON.
 
 use std::path::{Path, PathBuf};
 
@@ -31,7 +31,9 @@ pub struct PlanArgs {
     #[arg(long, value_name = "SPEC")]
     pub tool: String,
     /// Strategy: `iso-parametric`, `iso-planar`, `iso-scallop` (5-axis finishing of one exact
-    /// face), `raster` (3-axis drop-cutter finishing of the whole part) or `zlevel-rough`
+    /// face), `raster` (3-axis drop-cutter finishing of the whole part), `waterline` (Z-level
+    /// finishing; `--angle`: slopes flatter than it set no limit on the step-down, default 30),
+    /// `steep-shallow` (waterline above `--angle`, default 45, raster below) or `zlevel-rough`
     /// (Z-level roughing from a stock).
     #[arg(long, value_name = "NAME")]
     pub strategy: String,
@@ -91,7 +93,8 @@ pub struct PlanArgs {
     /// Parameter the passes run along: `u` or `v`.
     #[arg(long, value_name = "u|v", default_value = "v")]
     pub direction: String,
-    /// Pattern: `zigzag` (two-way), `oneway` or (iso-parametric) `spiral`.
+    /// Pattern: `zigzag` (two-way), `oneway` or (iso-parametric) `spiral`; waterline and
+    /// steep-shallow: `climb` (default) or `conventional`.
     #[arg(long, value_name = "PATTERN", default_value = "zigzag")]
     pub pattern: String,
     /// Iso-planar: angle of the planes' normal from +x about +z; raster: direction of the
@@ -223,7 +226,7 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
         other => Err(opt_err(
             "--strategy",
             format!(
-                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, zlevel-rough)"
+                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, waterline, steep-shallow, zlevel-rough)"
             ),
         )),
     }
@@ -234,7 +237,7 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
 /// # Errors
 /// An [`ImportError`] naming the file (and the face) or the bad option.
 pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
-    if matches!(args.strategy.as_str(), "raster" | "zlevel-rough") {
+    if super::plan_mesh::MESH_STRATEGIES.contains(&args.strategy.as_str()) {
         return plan_on_mesh(args);
     }
     let cutter = parse_tool_spec(&args.tool).map_err(|e| opt_err("--tool", e.to_string()))?;

@@ -1,4 +1,5 @@
-//! Planning on meshes for `talas plan`: raster finishing and Z-level roughing of an STL file or
+//! Planning on meshes for `talas plan`: raster, waterline and steep-and-shallow finishing and
+//! Z-level roughing of an STL file or
 //! of a STEP part tessellated at the chord tolerance. The `plan` subcommand calls [`plan_mesh`].
 
 use std::path::Path;
@@ -8,6 +9,8 @@ use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::import::ImportError;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
+use crate::strategies::steep_shallow::{SteepShallowOptions, steep_shallow};
+use crate::strategies::waterline::{Cut, WaterlineOptions, waterline};
 use crate::strategies::zlevel::{Stock, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
@@ -66,6 +69,69 @@ impl Default for MeshPlanOptions {
     }
 }
 
+/// The strategies [`plan_mesh`] plans.
+pub const MESH_STRATEGIES: [&str; 4] = ["raster", "zlevel-rough", "waterline", "steep-shallow"];
+
+/// Waterline (`--angle`: slopes flatter than it set no limit on the step-down, 30° when 0)
+/// and steep-and-shallow (`--angle`: the threshold, 45° when 0) finishing.
+fn plan_finish_3axis(
+    file: &Path,
+    strategy: &str,
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    tool: &ToolRecord,
+    opts: &MeshPlanOptions,
+) -> Result<(Toolpath, Vec<Diagnostic>), ImportError> {
+    let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
+    let cut = match opts.pattern.as_str() {
+        "zigzag" | "zig-zag" | "climb" => Cut::Climb,
+        "conventional" => Cut::Conventional,
+        other => {
+            return Err(bad(
+                "--pattern",
+                format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
+            ));
+        }
+    };
+    let angle = |default: f64| {
+        if opts.angle_deg == 0.0 {
+            default
+        } else {
+            opts.angle_deg
+        }
+    };
+    let wopts = WaterlineOptions {
+        scallop_mm: opts.scallop_mm,
+        chord_tol_mm: opts.tolerance_mm,
+        min_slope_rad: angle(30.0).to_radians(),
+        cut,
+        clearance_mm: opts.clearance_mm,
+        feed_mm_per_min: opts.feed_mm_per_min,
+        plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
+        ..WaterlineOptions::default()
+    };
+    if strategy == "waterline" {
+        let plan =
+            waterline(mesh, bvh, tool, &wopts).map_err(|e| bad("waterline", e.to_string()))?;
+        return Ok((plan.toolpath, plan.diagnostics));
+    }
+    let sopts = SteepShallowOptions {
+        threshold_rad: angle(45.0).to_radians(),
+        raster: RasterOptions {
+            scallop_mm: opts.scallop_mm,
+            chord_tol_mm: opts.tolerance_mm,
+            clearance_mm: opts.clearance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
+            ..RasterOptions::default()
+        },
+        waterline: wopts,
+        ..SteepShallowOptions::default()
+    };
+    let plan = steep_shallow(mesh, bvh, tool, &sopts).map_err(|e| bad("steep-shallow", e))?;
+    Ok((plan.toolpath, plan.diagnostics))
+}
+
 /// Read an STL or STEP file (through [`crate::import::open`]) as a mesh, STEP tessellated at
 /// `tol` mm (a non-positive `tol`: the reader's size-relative default).
 ///
@@ -78,7 +144,7 @@ pub fn read_mesh(file: &Path, tol: f64) -> Result<TriMesh, ImportError> {
     Ok(crate::import::open(file, &options, &crate::diagnostics::Progress::new())?.mesh)
 }
 
-/// Plan `strategy` (`raster` or `zlevel-rough`) on the part in `file` with the tool `tool_spec`.
+/// Plan `strategy` (one of [`MESH_STRATEGIES`]) on the part in `file` with the tool `tool_spec`.
 ///
 /// # Errors
 /// An [`ImportError`] naming the file for unreadable input, and naming the option for a bad
@@ -109,14 +175,20 @@ pub fn plan_mesh_noted(
         spec: tool_spec.to_string(),
         cutter,
     };
-    if strategy != "raster" && strategy != "zlevel-rough" {
+    if !MESH_STRATEGIES.contains(&strategy) {
         return Err(bad(
             "--strategy",
-            format!("mesh strategies are 'raster' and 'zlevel-rough', got '{strategy}'"),
+            format!(
+                "mesh strategies are {}, got '{strategy}'",
+                MESH_STRATEGIES.join(", ")
+            ),
         ));
     }
     let mesh = read_mesh(file, opts.tolerance_mm)?;
     let bvh = MeshBvh::new(&mesh).map_err(|e| ImportError::new(file, None, e.to_string()))?;
+    if strategy == "waterline" || strategy == "steep-shallow" {
+        return plan_finish_3axis(file, strategy, &mesh, &bvh, &tool, opts);
+    }
     if strategy == "raster" {
         let pattern = match opts.pattern.as_str() {
             "zigzag" | "zig-zag" => RasterPattern::ZigZag,

@@ -22,7 +22,9 @@ pub mod raster;
 pub mod raster_check;
 pub mod repair;
 pub mod scallop;
+pub mod steep_shallow;
 pub mod stepping;
+pub mod waterline;
 pub mod zlevel;
 
 /// Which parameter the passes run along.

@@ -1,0 +1,376 @@
+//! Waterline contours against closed forms (a box, a pyramid frustum, a hemisphere) and against
+//! the drop-cutter on `bicubic-hills.stl`; the planned path's levels, directions and links.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use glam::{DVec2, DVec3};
+use talas::geometry::bvh::MeshBvh;
+use talas::geometry::mesh::TriMesh;
+use talas::import::stl::{StlOptions, read_stl};
+use talas::strategies::waterline::{ContourPoint, Cut, WaterlineOptions, contours_at, waterline};
+use talas::toolpath::{MoveKind, ToolRecord};
+use talas::tools::dropcutter::drop_cutter_at;
+use talas::tools::{Cutter, CutterKind, parse_tool_spec};
+
+fn cone45() -> Cutter {
+    Cutter::new(
+        CutterKind::Cone {
+            half_angle: 45f64.to_radians(),
+        },
+        10.0,
+    )
+    .unwrap()
+}
+
+/// A closed frustum: square base [−a, a]² at z = 0, top [−b, b]² at z = hgt (b = a: a box).
+fn frustum(a: f64, b: f64, hgt: f64) -> TriMesh {
+    let mut pos = Vec::new();
+    for (s, z) in [(a, 0.0), (b, hgt)] {
+        pos.extend([
+            DVec3::new(-s, -s, z),
+            DVec3::new(s, -s, z),
+            DVec3::new(s, s, z),
+            DVec3::new(-s, s, z),
+        ]);
+    }
+    let mut tris = vec![[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7]];
+    for i in 0..4u32 {
+        let j = (i + 1) % 4;
+        tris.push([i, j, 4 + j]);
+        tris.push([i, 4 + j, 4 + i]);
+    }
+    TriMesh::new(pos, tris)
+}
+
+/// Distance outside the square [−c, c]² (its offset by r has rounded corners of radius r).
+fn square_distance(p: DVec2, c: f64) -> f64 {
+    let d = p.abs() - DVec2::splat(c);
+    d.max(DVec2::ZERO).length() + d.max_element().min(0.0)
+}
+
+fn one_loop(loops: &[Vec<ContourPoint>]) -> &[ContourPoint] {
+    assert_eq!(loops.len(), 1, "one loop expected, got {}", loops.len());
+    &loops[0]
+}
+
+/// Signed area of a loop's tip polygon (positive counter-clockwise).
+fn area(lp: &[ContourPoint]) -> f64 {
+    let n = lp.len();
+    (0..n)
+        .map(|i| {
+            lp[i]
+                .tip
+                .truncate()
+                .perp_dot(lp[(i + 1) % n].tip.truncate())
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+#[test]
+fn every_cutter_around_a_box_is_the_box_offset_with_round_corners() {
+    let mesh = frustum(10.0, 10.0, 20.0);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let cutters = [
+        Cutter::new(CutterKind::Ball, 6.0).unwrap(),
+        Cutter::new(CutterKind::Flat, 10.0).unwrap(),
+        Cutter::new(CutterKind::BullNose { corner_radius: 2.0 }, 10.0).unwrap(),
+        cone45(),
+    ];
+    for c in &cutters {
+        let r = c.radius();
+        // Far enough below the top that the full radius meets the wall's top edge.
+        for (z, want) in [
+            (5.0, r),
+            (20.0 - c.profile_height() - 1.0, r),
+            (
+                20.0 - 0.5 * c.profile_height(),
+                c.radius_at_height(0.5 * c.profile_height()).unwrap_or(r),
+            ),
+        ] {
+            let loops = contours_at(&mesh, &bvh, c, z, 0.37);
+            let lp = one_loop(&loops);
+            for p in lp {
+                let d = square_distance(p.tip.truncate(), 10.0);
+                assert!(
+                    (d - want).abs() < 1e-9,
+                    "{:?} at z {z}: {} is {d} from the box, want {want}",
+                    c.kind,
+                    p.tip
+                );
+                assert!((p.tip.z - z).abs() < 1e-12);
+            }
+            // Climb: the part on the right, so an outside loop runs clockwise.
+            assert!(area(lp) < 0.0, "{:?}: loop not clockwise", c.kind);
+            assert!(lp.len() > 100);
+        }
+    }
+}
+
+/// On a frustum face of slope θ the contact is a facet contact at the cutter's support point:
+/// tip offset from the face x = d0 − z/tan θ by ρ_s − h_s/tan θ (ρ_s, h_s the support point).
+#[test]
+fn facet_contacts_on_a_frustum_match_the_support_point() {
+    let (a, b, hgt): (f64, f64, f64) = (20.0, 8.0, 18.0);
+    let tan_t = hgt / (a - b);
+    let theta = tan_t.atan();
+    let mesh = frustum(a, b, hgt);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let support = |c: &Cutter| -> (f64, f64) {
+        let r = c.radius();
+        match c.kind {
+            CutterKind::Ball => (r * theta.sin(), r * (1.0 - theta.cos())),
+            CutterKind::Flat => (r, 0.0),
+            CutterKind::BullNose { corner_radius: cr } => {
+                (r - cr + cr * theta.sin(), cr * (1.0 - theta.cos()))
+            }
+            CutterKind::Cone { .. } => (r, c.profile_height()),
+        }
+    };
+    let cutters = [
+        Cutter::new(CutterKind::Ball, 6.0).unwrap(),
+        Cutter::new(CutterKind::Flat, 10.0).unwrap(),
+        Cutter::new(CutterKind::BullNose { corner_radius: 2.0 }, 10.0).unwrap(),
+        cone45(),
+    ];
+    for c in &cutters {
+        let (rs, hs) = support(c);
+        let z = 3.0;
+        let want = a - (z + hs) / tan_t + rs;
+        let loops = contours_at(&mesh, &bvh, c, z, 0.29);
+        let lp = one_loop(&loops);
+        let mut checked = 0;
+        for p in lp {
+            let t = p.tip.truncate();
+            // Points on the straight side x > 0 (away from the corners).
+            if t.x > 0.0 && t.y.abs() < 0.5 * want - c.radius() {
+                checked += 1;
+                assert!(
+                    (t.x - want).abs() < 1e-9,
+                    "{:?}: x {} want {want}",
+                    c.kind,
+                    t.x
+                );
+                assert!((p.slope - theta).abs() < 1e-9 || !matches!(c.kind, CutterKind::Ball));
+            }
+        }
+        assert!(checked > 10, "{:?}: {checked} points on the side", c.kind);
+    }
+}
+
+/// The upper half of a UV sphere of radius `rs` centred at the origin (vertices on the sphere).
+fn hemisphere(rs: f64, nu: usize, nv: usize) -> TriMesh {
+    let mut pos = Vec::new();
+    for j in 0..=nv {
+        let phi = 0.5 * PI * j as f64 / nv as f64;
+        for i in 0..nu {
+            let th = 2.0 * PI * i as f64 / nu as f64;
+            pos.push(rs * DVec3::new(phi.sin() * th.cos(), phi.sin() * th.sin(), phi.cos()));
+        }
+    }
+    let mut tris = Vec::new();
+    let id = |i: usize, j: usize| (j * nu + i % nu) as u32;
+    for j in 0..nv {
+        for i in 0..nu {
+            tris.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+        }
+    }
+    TriMesh::new(pos, tris)
+}
+
+#[test]
+fn ball_on_a_hemisphere_is_a_circle_of_the_offset_sphere() {
+    let (rs, r) = (20.0, 3.0);
+    let (nu, nv) = (512, 128);
+    let mesh = hemisphere(rs, nu, nv);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let ball = Cutter::new(CutterKind::Ball, 2.0 * r).unwrap();
+    // The mesh is inscribed: it lies within the sagitta of its longest chord inside the sphere.
+    let dth = 2.0 * PI / nu as f64;
+    let dphi = 0.5 * PI / nv as f64;
+    let chord = rs * (dth * dth + dphi * dphi).sqrt();
+    let sagitta = rs - (rs * rs - chord * chord / 4.0).sqrt();
+    for z in [2.0, 8.0, 15.0] {
+        let want = ((rs + r).powi(2) - (z + r).powi(2)).sqrt();
+        let loops = contours_at(&mesh, &bvh, &ball, z, 0.25);
+        let lp = one_loop(&loops);
+        for p in lp {
+            let rad = p.tip.truncate().length();
+            assert!(
+                rad <= want + 1e-9 && rad >= want - 2.0 * sagitta,
+                "z {z}: radius {rad} want {want} (sagitta {sagitta})"
+            );
+            // The contact lies on the ball: R from its centre.
+            let centre = p.tip + DVec3::Z * r;
+            assert!((p.cc.distance(centre) - r).abs() < 1e-7);
+        }
+    }
+}
+
+fn hills() -> (TriMesh, MeshBvh) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl");
+    let mesh = read_stl(&path, &StlOptions::default()).unwrap().mesh;
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    (mesh, bvh)
+}
+
+/// At every contour point the drop-cutter (an independent solver: it lowers the cutter
+/// instead of pushing it) lands at the level's height.
+#[test]
+fn contours_on_bicubic_hills_sit_on_the_drop_cutter_surface() {
+    let (mesh, bvh) = hills();
+    let bb = bvh.bbox();
+    let cutters = [
+        Cutter::new(CutterKind::Ball, 6.0).unwrap(),
+        Cutter::new(CutterKind::BullNose { corner_radius: 2.0 }, 10.0).unwrap(),
+        Cutter::new(CutterKind::Flat, 10.0).unwrap(),
+        cone45(),
+    ];
+    for c in &cutters {
+        let z = bb.min.z + 0.55 * (bb.max.z - bb.min.z);
+        let loops = contours_at(&mesh, &bvh, c, z, 0.5);
+        assert!(!loops.is_empty());
+        let mut n = 0;
+        let mut worst = 0.0f64;
+        for p in loops.iter().flatten() {
+            let inside = p.tip.x > bb.min.x
+                && p.tip.x < bb.max.x
+                && p.tip.y > bb.min.y
+                && p.tip.y < bb.max.y;
+            if !inside {
+                continue;
+            }
+            let cl = drop_cutter_at(&bvh, &mesh, c, p.tip.truncate()).expect("over the part");
+            worst = worst.max((cl.z - z).abs());
+            n += 1;
+        }
+        assert!(n > 50, "{:?}: {n} points", c.kind);
+        assert!(
+            worst < 1e-7,
+            "{:?}: drop-cutter differs by {worst} mm",
+            c.kind
+        );
+    }
+}
+
+fn tool(spec: &str) -> ToolRecord {
+    ToolRecord {
+        spec: spec.into(),
+        cutter: parse_tool_spec(spec).unwrap(),
+    }
+}
+
+#[test]
+fn plan_on_a_hemisphere_steps_down_by_the_wall_slope_and_cuts_climb() {
+    let (rs, r) = (10.0, 3.0);
+    let mesh = hemisphere(rs, 256, 64);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let h = 0.05;
+    let min_slope = 30f64.to_radians();
+    let opts = WaterlineOptions {
+        scallop_mm: h,
+        chord_tol_mm: 0.02,
+        min_slope_rad: min_slope,
+        ..WaterlineOptions::default()
+    };
+    let plan = waterline(&mesh, &bvh, &tool("ball:d=6"), &opts).unwrap();
+    let s = 2.0 * (2.0 * r * h - h * h).sqrt();
+    // Between consecutive levels, the step is at most what the steeper of the two slopes
+    // allows: on the offset sphere the contact's slope at tip height z is acos((z+R)/(Rs+R)).
+    // Slopes under the threshold set no limit.
+    let limit = |z: f64| {
+        let slope = ((z + r) / (rs + r)).clamp(-1.0, 1.0).acos();
+        if slope >= min_slope {
+            s * slope.sin()
+        } else {
+            opts.max_step_down_mm
+        }
+    };
+    for w in plan.levels.windows(2) {
+        let dz = w[0] - w[1];
+        assert!(dz > 0.0);
+        let allowed = limit(w[0]).min(limit(w[1]));
+        assert!(
+            dz <= allowed * 1.03 + 1e-6,
+            "dz {dz} allowed {allowed} at {}",
+            w[0]
+        );
+    }
+    // Steep near the equator: the step there is close to s.
+    let dz_max = plan
+        .levels
+        .windows(2)
+        .map(|w| w[0] - w[1])
+        .fold(0.0, f64::max);
+    assert!(dz_max > 0.8 * s, "largest step {dz_max} vs {s}");
+    // Every cut is on a level, clockwise around the dome.
+    let cuts: Vec<_> = plan
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .collect();
+    assert!(
+        cuts.iter()
+            .all(|p| plan.levels.iter().any(|z| (p.tip.z - z).abs() < 1e-12))
+    );
+    let first = &cuts[..20];
+    let turn: f64 = first
+        .windows(2)
+        .map(|w| w[0].tip.truncate().perp_dot(w[1].tip.truncate()))
+        .sum();
+    assert!(turn < 0.0, "climb runs clockwise around the part");
+    let conv = waterline(
+        &mesh,
+        &bvh,
+        &tool("ball:d=6"),
+        &WaterlineOptions {
+            cut: Cut::Conventional,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    let c2: Vec<_> = conv
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .take(20)
+        .collect();
+    let turn2: f64 = c2
+        .windows(2)
+        .map(|w| w[0].tip.truncate().perp_dot(w[1].tip.truncate()))
+        .sum();
+    assert!(turn2 > 0.0, "conventional runs counter-clockwise");
+    // The same inputs give the same path.
+    let again = waterline(&mesh, &bvh, &tool("ball:d=6"), &opts).unwrap();
+    assert_eq!(again.toolpath, plan.toolpath);
+}
+
+#[test]
+fn bad_options_are_refused() {
+    let mesh = frustum(10.0, 10.0, 20.0);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    for bad in [
+        WaterlineOptions {
+            scallop_mm: 0.0,
+            ..WaterlineOptions::default()
+        },
+        WaterlineOptions {
+            chord_tol_mm: f64::NAN,
+            ..WaterlineOptions::default()
+        },
+        WaterlineOptions {
+            sampling_mm: Some(1e-6),
+            ..WaterlineOptions::default()
+        },
+        WaterlineOptions {
+            min_slope_rad: 2.0,
+            ..WaterlineOptions::default()
+        },
+    ] {
+        assert!(waterline(&mesh, &bvh, &tool("ball:d=6"), &bad).is_err());
+    }
+}

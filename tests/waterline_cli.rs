@@ -1,0 +1,91 @@
+//! `talas plan --strategy waterline|steep-shallow` on a box written as an ASCII STL: every cut
+//! pose of a flat end mill lies on the box offset by its radius; bad options exit with code 2
+//! and one line.
+
+mod cli_common;
+
+use cli_common::{talas, temp_file};
+use talas::toolpath::{MoveKind, Toolpath};
+
+/// A 20 × 20 × 10 mm box at the origin as ASCII STL.
+fn box_stl() -> String {
+    let c = |i: u32| {
+        [
+            if i & 1 == 0 { -10.0 } else { 10.0 },
+            if i & 2 == 0 { -10.0 } else { 10.0 },
+            if i & 4 == 0 { 0.0 } else { 10.0 },
+        ]
+    };
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let mut s = String::from("solid box\n");
+    for q in quads {
+        for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+            s.push_str("facet normal 0 0 0\nouter loop\n");
+            for v in t {
+                let p = c(v);
+                s.push_str(&format!("vertex {} {} {}\n", p[0], p[1], p[2]));
+            }
+            s.push_str("endloop\nendfacet\n");
+        }
+    }
+    s.push_str("endsolid box\n");
+    s
+}
+
+#[test]
+fn waterline_from_the_command_line_offsets_a_box() {
+    let stl = temp_file("waterline-cli", "box.stl", &box_stl());
+    let out = stl.with_file_name("wl.json");
+    let (stl_s, out_s) = (stl.to_str().unwrap(), out.to_str().unwrap());
+    let o = talas(&[
+        "plan",
+        stl_s,
+        "--tool",
+        "flat:d=10",
+        "--strategy",
+        "waterline",
+        "--scallop",
+        "0.05",
+        "--json",
+        "-o",
+        out_s,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let tp = Toolpath::load(&out).unwrap();
+    let cuts: Vec<_> = tp
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .collect();
+    assert!(cuts.len() > 50);
+    for p in &cuts {
+        let d = (p.tip.truncate().abs() - glam::DVec2::splat(10.0)).max(glam::DVec2::ZERO);
+        assert!(
+            (d.length() - 5.0).abs() < 1e-9,
+            "{} off the offset box",
+            p.tip
+        );
+        assert!(p.tip.z >= -1e-9 && p.tip.z < 10.0);
+    }
+    let bad: [&[&str]; 3] = [
+        &["--strategy", "waterline", "--pattern", "spiral"],
+        &["--strategy", "waterline", "--angle", "95"],
+        &["--strategy", "steep-shallow", "--angle", "88"],
+    ];
+    for b in bad {
+        let mut args = vec!["plan", stl_s, "--tool", "ball:d=6", "-o", out_s];
+        args.extend_from_slice(b);
+        let o = talas(&args);
+        assert_eq!(o.status.code(), Some(2), "{b:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{b:?}: {err}");
+        assert!(err.contains("box.stl"), "{err}");
+    }
+}
