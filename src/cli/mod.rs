@@ -89,9 +89,9 @@ fn report(
     match result {
         Ok(doc) => {
             if json {
-                println!("{doc}");
+                emit(&format!("{doc}\n"));
             } else {
-                print!("{}", human(&doc));
+                emit(&human(&doc));
             }
             0
         }
@@ -109,9 +109,9 @@ pub fn run(command: Command) -> i32 {
         Command::Inspect(args) => match inspect::inspect(&args) {
             Ok(doc) => {
                 if args.json {
-                    println!("{doc}");
+                    emit(&format!("{doc}\n"));
                 } else {
-                    print!("{}", inspect::human(&doc));
+                    emit(&inspect::human(&doc));
                 }
                 0
             }
@@ -129,7 +129,7 @@ pub fn run(command: Command) -> i32 {
         Command::Post(args) => match post::post(&args) {
             Ok(doc) => {
                 if let Some(doc) = doc {
-                    println!("{doc}");
+                    emit(&format!("{doc}\n"));
                 }
                 0
             }
@@ -139,7 +139,7 @@ pub fn run(command: Command) -> i32 {
             }
         },
         Command::Machines => {
-            print!("{}", post::machines());
+            emit(&post::machines());
             0
         }
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
@@ -153,9 +153,9 @@ pub fn run(command: Command) -> i32 {
         Command::Profile(args) => match profile::profile(&args) {
             Ok(doc) => {
                 if args.json {
-                    println!("{doc}");
+                    emit(&format!("{doc}\n"));
                 } else {
-                    print!("{}", profile::human(&doc));
+                    emit(&profile::human(&doc));
                 }
                 0
             }
@@ -168,4 +168,12 @@ pub fn run(command: Command) -> i32 {
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),
     }
+}
+
+/// Write `text` to standard output. A reader that went away (`talas … --json | head`) is not an
+/// error of ours: the rest is dropped quietly instead of panicking as `print!` would.
+fn emit(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }
