@@ -115,7 +115,10 @@ fn same_path(tag: &str, part: &Path, strategy: &str, op: Operation, angle: f64, 
             a.tip,
             b.tip
         );
-        assert_eq!(a.feed_mm_per_min, b.feed_mm_per_min, "{strategy}: pose {i} feed");
+        assert_eq!(
+            a.feed_mm_per_min, b.feed_mm_per_min,
+            "{strategy}: pose {i} feed"
+        );
     }
     // The same cutter; the pipeline names it by its full spec (flute, shank, length), the CLI
     // by the spec typed. With the CLI's name, the saved files are the same bytes.
@@ -135,7 +138,10 @@ fn same_path(tag: &str, part: &Path, strategy: &str, op: Operation, angle: f64, 
         .enumerate()
         .find(|(_, (x, y))| x != y)
     {
-        panic!("{strategy}: saved JSON differs at line {}: {x} | {y}", i + 1);
+        panic!(
+            "{strategy}: saved JSON differs at line {}: {x} | {y}",
+            i + 1
+        );
     }
     assert_eq!(a.len(), b.len(), "{strategy}: saved JSON lengths");
 }
@@ -176,7 +182,10 @@ fn operations_keep_their_settings_through_json_and_refuse_bad_numbers() {
     );
     // A steep/shallow threshold of 2° leaves no room for the 5° overlap band; 95° is no slope.
     let bad = [
-        (op(OperationKind::SteepShallow, 2.0, Cut::Climb), "threshold"),
+        (
+            op(OperationKind::SteepShallow, 2.0, Cut::Climb),
+            "threshold",
+        ),
         (op(OperationKind::Waterline, 95.0, Cut::Climb), "slope"),
     ];
     for (o, word) in bad {

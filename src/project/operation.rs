@@ -288,9 +288,7 @@ impl Operation {
             | Self::Raster { name, .. }
             | Self::Rough { name, .. }
             | Self::Waterline { name, .. }
-            | Self::SteepShallow { name, .. } => {
-                name
-            }
+            | Self::SteepShallow { name, .. } => name,
         }
     }
 
@@ -302,9 +300,7 @@ impl Operation {
             | Self::Raster { tool, .. }
             | Self::Rough { tool, .. }
             | Self::Waterline { tool, .. }
-            | Self::SteepShallow { tool, .. } => {
-                *tool
-            }
+            | Self::SteepShallow { tool, .. } => *tool,
         }
     }
 

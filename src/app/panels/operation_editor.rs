@@ -18,8 +18,8 @@ use super::grouped;
 use super::properties::{Focus, grid, mm3};
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
-use crate::strategies::waterline::Cut;
 use crate::strategies::axis::AxisMode;
+use crate::strategies::waterline::Cut;
 use crate::strategies::{Direction, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 
@@ -431,7 +431,11 @@ fn finish_3axis_rows(
     let l = label(ui, angle.0, angle.1);
     commit |= number(ui, l, f.angle_rad, 1f64.to_degrees(), angle.2, 1, "°");
     ui.end_row();
-    label(ui, "Direction", "Climb: the part on the right of the travel");
+    label(
+        ui,
+        "Direction",
+        "Climb: the part on the right of the travel",
+    );
     let mut c = *f.cut;
     ui.horizontal(|ui| {
         ui.selectable_value(&mut c, Cut::Climb, "climb");
