@@ -170,6 +170,12 @@ fn operations_keep_their_settings_through_json_and_refuse_bad_numbers() {
         assert_eq!(&back, o, "{text}");
         assert!(o.validate().is_ok());
     }
+    // And through the project file (TOML).
+    let mut project = project_with(wl.clone());
+    project.operations.push(ss.clone());
+    let text = project.to_toml().expect("writes");
+    let back = Project::from_toml(&text, Path::new("p.talas")).expect("reads");
+    assert_eq!(back.operations, vec![wl.clone(), ss.clone()], "{text}");
     assert!(
         serde_json::to_string(&wl)
             .unwrap()
