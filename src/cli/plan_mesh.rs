@@ -9,8 +9,10 @@ use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::import::ImportError;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
-use crate::strategies::steep_shallow::{SteepShallowOptions, steep_shallow};
-use crate::strategies::waterline::{Cut, WaterlineOptions, waterline};
+use crate::strategies::steep_shallow::{
+    Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG, steep_shallow,
+};
+use crate::strategies::waterline::{Cut, waterline};
 use crate::strategies::zlevel::{Stock, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
@@ -100,34 +102,26 @@ fn plan_finish_3axis(
             opts.angle_deg
         }
     };
-    let wopts = WaterlineOptions {
+    let waterline_mode = strategy == "waterline";
+    let settings = Finish3Settings {
         scallop_mm: opts.scallop_mm,
-        chord_tol_mm: opts.tolerance_mm,
-        min_slope_rad: angle(30.0).to_radians(),
+        tolerance_mm: opts.tolerance_mm,
+        angle_rad: if waterline_mode {
+            angle(WATERLINE_DEFAULT_ANGLE_DEG)
+        } else {
+            angle(STEEP_SHALLOW_DEFAULT_ANGLE_DEG)
+        }
+        .to_radians(),
         cut,
-        clearance_mm: opts.clearance_mm,
         feed_mm_per_min: opts.feed_mm_per_min,
-        plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
-        ..WaterlineOptions::default()
+        clearance_mm: opts.clearance_mm,
     };
-    if strategy == "waterline" {
-        let plan =
-            waterline(mesh, bvh, tool, &wopts).map_err(|e| bad("waterline", e.to_string()))?;
+    if waterline_mode {
+        let plan = waterline(mesh, bvh, tool, &settings.waterline_options())
+            .map_err(|e| bad("waterline", e.to_string()))?;
         return Ok((plan.toolpath, plan.diagnostics));
     }
-    let sopts = SteepShallowOptions {
-        threshold_rad: angle(45.0).to_radians(),
-        raster: RasterOptions {
-            scallop_mm: opts.scallop_mm,
-            chord_tol_mm: opts.tolerance_mm,
-            clearance_mm: opts.clearance_mm,
-            feed_mm_per_min: opts.feed_mm_per_min,
-            plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
-            ..RasterOptions::default()
-        },
-        waterline: wopts,
-        ..SteepShallowOptions::default()
-    };
+    let sopts = settings.steep_shallow_options();
     let plan = steep_shallow(mesh, bvh, tool, &sopts).map_err(|e| bad("steep-shallow", e))?;
     Ok((plan.toolpath, plan.diagnostics))
 }

@@ -20,7 +20,7 @@ mod stock;
 pub use edit::{Edit, EditError};
 pub use file::ProjectError;
 pub use history::History;
-pub use operation::{Operation, OperationKind};
+pub use operation::{FINISH_3AXIS_CLEARANCE_MM, Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
 pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
 pub use stock::{DEFAULT_MARGIN_MM, Stock};

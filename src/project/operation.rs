@@ -1,6 +1,10 @@
 //! Machining operations as the document stores them: which tool, what it cuts, and the
 //! strategy's parameters (mm, rad, mm/min), with defaults a machinist would start from.
 
+use crate::strategies::steep_shallow::{
+    Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
+};
+use crate::strategies::waterline::Cut;
 use crate::strategies::{FinishOptions, Pattern, Strategy};
 
 /// A machining operation. Each kind names the engine strategy that runs it
@@ -61,7 +65,46 @@ pub enum Operation {
         /// Cutting feed, mm/min.
         feed_mm_per_min: f64,
     },
+    /// Waterline (Z-level) finishing of the whole part (3-axis), the step-down set by the
+    /// scallop height on the local wall slope.
+    Waterline {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Scallop height between levels, mm.
+        scallop_mm: f64,
+        /// Chord tolerance of the contours, mm.
+        tolerance_mm: f64,
+        /// Contacts flatter than this set no limit on the step-down, rad from horizontal.
+        angle_rad: f64,
+        /// Climb or conventional.
+        cut: Cut,
+        /// Cutting feed, mm/min.
+        feed_mm_per_min: f64,
+    },
+    /// Steep-and-shallow finishing of the whole part (3-axis): waterline above the threshold
+    /// angle, raster below it, overlapping in a band around it.
+    SteepShallow {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Scallop height, mm.
+        scallop_mm: f64,
+        /// Chord tolerance of the contours and raster polylines, mm.
+        tolerance_mm: f64,
+        /// Threshold slope between raster and waterline, rad from horizontal.
+        angle_rad: f64,
+        /// Climb or conventional along the waterline contours.
+        cut: Cut,
+        /// Cutting feed, mm/min.
+        feed_mm_per_min: f64,
+    },
 }
+
+/// Clearance plane of the project's 3-axis finishing operations above the part, mm.
+pub const FINISH_3AXIS_CLEARANCE_MM: f64 = 5.0;
 
 fn default_scallop_mm() -> f64 {
     0.01
@@ -88,15 +131,21 @@ pub enum OperationKind {
     Raster,
     /// [`Operation::Rough`].
     Rough,
+    /// [`Operation::Waterline`].
+    Waterline,
+    /// [`Operation::SteepShallow`].
+    SteepShallow,
 }
 
 impl OperationKind {
     /// Every kind, in menu order.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 7] = [
         Self::IsoScallop,
         Self::IsoParametric,
         Self::IsoPlanar,
         Self::Raster,
+        Self::Waterline,
+        Self::SteepShallow,
         Self::Rough,
     ];
 
@@ -109,6 +158,8 @@ impl OperationKind {
             Self::IsoPlanar => "Iso-planar finishing",
             Self::Raster => "Raster finishing",
             Self::Rough => "Z-level roughing",
+            Self::Waterline => "Waterline finishing",
+            Self::SteepShallow => "Steep-and-shallow finishing",
         }
     }
 
@@ -160,6 +211,56 @@ impl Operation {
                 tolerance_mm: 0.05,
                 feed_mm_per_min: default_feed(),
             },
+            OperationKind::Waterline => Self::Waterline {
+                name,
+                tool,
+                scallop_mm: default_scallop_mm(),
+                tolerance_mm: default_tolerance_mm(),
+                angle_rad: WATERLINE_DEFAULT_ANGLE_DEG.to_radians(),
+                cut: Cut::Climb,
+                feed_mm_per_min: default_feed(),
+            },
+            OperationKind::SteepShallow => Self::SteepShallow {
+                name,
+                tool,
+                scallop_mm: default_scallop_mm(),
+                tolerance_mm: default_tolerance_mm(),
+                angle_rad: STEEP_SHALLOW_DEFAULT_ANGLE_DEG.to_radians(),
+                cut: Cut::Climb,
+                feed_mm_per_min: default_feed(),
+            },
+        }
+    }
+
+    /// For waterline and steep-and-shallow: the settings the planners' options are mapped from
+    /// (with the clearance [`FINISH_3AXIS_CLEARANCE_MM`]).
+    #[must_use]
+    pub fn finish_3axis_settings(&self) -> Option<Finish3Settings> {
+        match self {
+            Self::Waterline {
+                scallop_mm,
+                tolerance_mm,
+                angle_rad,
+                cut,
+                feed_mm_per_min,
+                ..
+            }
+            | Self::SteepShallow {
+                scallop_mm,
+                tolerance_mm,
+                angle_rad,
+                cut,
+                feed_mm_per_min,
+                ..
+            } => Some(Finish3Settings {
+                scallop_mm: *scallop_mm,
+                tolerance_mm: *tolerance_mm,
+                angle_rad: *angle_rad,
+                cut: *cut,
+                feed_mm_per_min: *feed_mm_per_min,
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+            }),
+            _ => None,
         }
     }
 
@@ -174,6 +275,8 @@ impl Operation {
             },
             Self::Raster { .. } => OperationKind::Raster,
             Self::Rough { .. } => OperationKind::Rough,
+            Self::Waterline { .. } => OperationKind::Waterline,
+            Self::SteepShallow { .. } => OperationKind::SteepShallow,
         }
     }
 
@@ -181,9 +284,11 @@ impl Operation {
     #[must_use]
     pub fn name(&self) -> &str {
         match self {
-            Self::Finish { name, .. } | Self::Raster { name, .. } | Self::Rough { name, .. } => {
-                name
-            }
+            Self::Finish { name, .. }
+            | Self::Raster { name, .. }
+            | Self::Rough { name, .. }
+            | Self::Waterline { name, .. }
+            | Self::SteepShallow { name, .. } => name,
         }
     }
 
@@ -191,9 +296,11 @@ impl Operation {
     #[must_use]
     pub fn tool(&self) -> usize {
         match self {
-            Self::Finish { tool, .. } | Self::Raster { tool, .. } | Self::Rough { tool, .. } => {
-                *tool
-            }
+            Self::Finish { tool, .. }
+            | Self::Raster { tool, .. }
+            | Self::Rough { tool, .. }
+            | Self::Waterline { tool, .. }
+            | Self::SteepShallow { tool, .. } => *tool,
         }
     }
 
@@ -201,7 +308,11 @@ impl Operation {
     #[must_use]
     pub fn with_tool(mut self, new_tool: usize) -> Self {
         match &mut self {
-            Self::Finish { tool, .. } | Self::Raster { tool, .. } | Self::Rough { tool, .. } => {
+            Self::Finish { tool, .. }
+            | Self::Raster { tool, .. }
+            | Self::Rough { tool, .. }
+            | Self::Waterline { tool, .. }
+            | Self::SteepShallow { tool, .. } => {
                 *tool = new_tool;
             }
         }
@@ -212,7 +323,11 @@ impl Operation {
     #[must_use]
     pub fn with_name(mut self, new_name: impl Into<String>) -> Self {
         match &mut self {
-            Self::Finish { name, .. } | Self::Raster { name, .. } | Self::Rough { name, .. } => {
+            Self::Finish { name, .. }
+            | Self::Raster { name, .. }
+            | Self::Rough { name, .. }
+            | Self::Waterline { name, .. }
+            | Self::SteepShallow { name, .. } => {
                 *name = new_name.into();
             }
         }
@@ -300,6 +415,35 @@ impl Operation {
                 }
                 Ok(())
             }
+            Self::Waterline { .. } | Self::SteepShallow { .. } => self.validate_finish_3axis(),
+        }
+    }
+
+    fn validate_finish_3axis(&self) -> Result<(), String> {
+        let Some(s) = self.finish_3axis_settings() else {
+            return Ok(());
+        };
+        for (what, v) in [
+            ("scallop height (mm)", s.scallop_mm),
+            ("chord tolerance (mm)", s.tolerance_mm),
+            ("feed (mm/min)", s.feed_mm_per_min),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{what} must be a positive number, got {v}"));
+            }
+        }
+        let deg = s.angle_rad.to_degrees();
+        let (lo, hi, what) = if matches!(self, Self::Waterline { .. }) {
+            (0.0, 89.0, "the slope angle")
+        } else {
+            (5.0, 80.0, "the steep/shallow threshold")
+        };
+        if deg.is_finite() && (lo..=hi).contains(&deg) {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} must lie between {lo}° and {hi}°, got {deg:.2}°"
+            ))
         }
     }
 }

@@ -11,6 +11,8 @@ use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
 use crate::strategies::finish::plan_finish;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
+use crate::strategies::steep_shallow::steep_shallow;
+use crate::strategies::waterline::{WaterlineError, waterline_progress};
 use crate::strategies::zlevel::{self, ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
 use crate::tools::tool_spec;
@@ -246,6 +248,12 @@ pub fn compute(
                 diagnostics,
             }
         }
+        Operation::Waterline { .. } | Operation::SteepShallow { .. } => {
+            finish_3axis(op, part, &tool, progress).map_err(|e| match e {
+                ComputeError::Plan { message, .. } => plan_err(message),
+                other => other,
+            })?
+        }
     };
     cancelled(progress)?;
     // Flag tool axes the project's machine cannot hold now, not only when posting.
@@ -258,7 +266,54 @@ pub fn compute(
     Ok(computed)
 }
 
-/// The roughing stock: the project's, or the part's bounding box when none is defined.
+/// Waterline or steep-and-shallow finishing of the whole part, with the options mapped by
+/// [`crate::strategies::steep_shallow::Finish3Settings`] (as `talas plan` maps them).
+fn finish_3axis(
+    op: &Operation,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: op.name().to_string(),
+        message,
+    };
+    let settings = op
+        .finish_3axis_settings()
+        .ok_or_else(|| plan_err("not a 3-axis finishing operation".into()))?;
+    let bvh = part.bvh().map_err(plan_err)?;
+    if progress.is_cancelled() {
+        return Err(ComputeError::Cancelled);
+    }
+    if matches!(op, Operation::Waterline { .. }) {
+        let plan = waterline_progress(
+            &part.mesh,
+            &bvh,
+            tool,
+            &settings.waterline_options(),
+            progress,
+        )
+        .map_err(|e| match e {
+            WaterlineError::Cancelled => ComputeError::Cancelled,
+            e => plan_err(e.to_string()),
+        })?;
+        return Ok(Computed {
+            passes: plan.loops,
+            lead_rad: None,
+            toolpath: plan.toolpath,
+            diagnostics: plan.diagnostics,
+        });
+    }
+    let plan = steep_shallow(&part.mesh, &bvh, tool, &settings.steep_shallow_options())
+        .map_err(plan_err)?;
+    Ok(Computed {
+        passes: plan.raster_passes + plan.waterline_runs,
+        lead_rad: None,
+        toolpath: plan.toolpath,
+        diagnostics: plan.diagnostics,
+    })
+}
+
 /// The roughing stock: the project's, or the one default stock (see [`Stock::or_default_for`]).
 fn roughing_stock(stock: &Stock, mesh: &TriMesh) -> zlevel::Stock {
     match stock.or_default_for(&mesh.bbox()) {

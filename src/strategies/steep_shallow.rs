@@ -11,7 +11,67 @@ use crate::geometry::mesh::TriMesh;
 use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 
 use super::raster::{RasterOptions, raster};
-use super::waterline::{WaterlineOptions, waterline};
+use super::waterline::{Cut, WaterlineOptions, waterline};
+
+/// Default slope of [`Finish3Settings::angle_rad`] for waterline finishing, degrees.
+pub const WATERLINE_DEFAULT_ANGLE_DEG: f64 = 30.0;
+/// Default threshold of [`Finish3Settings::angle_rad`] for steep-and-shallow finishing, degrees.
+pub const STEEP_SHALLOW_DEFAULT_ANGLE_DEG: f64 = 45.0;
+
+/// The settings a user gives a waterline or steep-and-shallow operation, and their one mapping
+/// onto the planners' options (the command line and the project pipeline both call it, so the
+/// same settings plan the same path).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Finish3Settings {
+    /// Scallop height, mm.
+    pub scallop_mm: f64,
+    /// Chord tolerance of the contours and raster polylines, mm.
+    pub tolerance_mm: f64,
+    /// Waterline: contacts flatter than this set no limit on the step-down; steep-and-shallow:
+    /// the threshold between raster and waterline; rad from horizontal.
+    pub angle_rad: f64,
+    /// Climb or conventional along the contours.
+    pub cut: Cut,
+    /// Cutting feed, mm/min (plunges at 30 % of it).
+    pub feed_mm_per_min: f64,
+    /// Clearance plane above the part, mm.
+    pub clearance_mm: f64,
+}
+
+impl Finish3Settings {
+    /// The options of [`waterline`].
+    #[must_use]
+    pub fn waterline_options(&self) -> WaterlineOptions {
+        WaterlineOptions {
+            scallop_mm: self.scallop_mm,
+            chord_tol_mm: self.tolerance_mm,
+            min_slope_rad: self.angle_rad,
+            cut: self.cut,
+            clearance_mm: self.clearance_mm,
+            feed_mm_per_min: self.feed_mm_per_min,
+            plunge_feed_mm_per_min: 0.3 * self.feed_mm_per_min,
+            ..WaterlineOptions::default()
+        }
+    }
+
+    /// The options of [`steep_shallow`]: raster below the threshold, waterline above it.
+    #[must_use]
+    pub fn steep_shallow_options(&self) -> SteepShallowOptions {
+        SteepShallowOptions {
+            threshold_rad: self.angle_rad,
+            raster: RasterOptions {
+                scallop_mm: self.scallop_mm,
+                chord_tol_mm: self.tolerance_mm,
+                clearance_mm: self.clearance_mm,
+                feed_mm_per_min: self.feed_mm_per_min,
+                plunge_feed_mm_per_min: 0.3 * self.feed_mm_per_min,
+                ..RasterOptions::default()
+            },
+            waterline: self.waterline_options(),
+            ..SteepShallowOptions::default()
+        }
+    }
+}
 
 /// Options of [`steep_shallow`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -19,6 +19,7 @@ use super::properties::{Focus, grid, mm3};
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
 use crate::strategies::axis::AxisMode;
+use crate::strategies::waterline::Cut;
 use crate::strategies::{Direction, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 
@@ -348,7 +349,106 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
         }
+        Operation::Waterline {
+            scallop_mm,
+            tolerance_mm,
+            angle_rad,
+            cut,
+            feed_mm_per_min,
+            ..
+        } => {
+            let angle = (
+                "Slope limit",
+                "Contacts flatter than this set no limit on the step-down",
+                0.0..=89.0,
+            );
+            let fields = Finish3Fields {
+                scallop_mm,
+                tolerance_mm,
+                angle_rad,
+                cut,
+                feed_mm_per_min,
+            };
+            commit |= finish_3axis_rows(ui, fields, angle);
+        }
+        Operation::SteepShallow {
+            scallop_mm,
+            tolerance_mm,
+            angle_rad,
+            cut,
+            feed_mm_per_min,
+            ..
+        } => {
+            let angle = (
+                "Steep angle",
+                "Slopes steeper than this are finished with waterline, the rest with raster",
+                5.0..=80.0,
+            );
+            let fields = Finish3Fields {
+                scallop_mm,
+                tolerance_mm,
+                angle_rad,
+                cut,
+                feed_mm_per_min,
+            };
+            commit |= finish_3axis_rows(ui, fields, angle);
+        }
     }
+    commit
+}
+
+/// The fields of a waterline or steep-and-shallow operation.
+struct Finish3Fields<'a> {
+    scallop_mm: &'a mut f64,
+    tolerance_mm: &'a mut f64,
+    angle_rad: &'a mut f64,
+    cut: &'a mut Cut,
+    feed_mm_per_min: &'a mut f64,
+}
+
+/// Rows of waterline and steep-and-shallow finishing; `angle` is the angle's label, hint and
+/// range (degrees).
+fn finish_3axis_rows(
+    ui: &mut egui::Ui,
+    f: Finish3Fields<'_>,
+    angle: (&str, &str, std::ops::RangeInclusive<f64>),
+) -> bool {
+    let mut commit = false;
+    let l = label(
+        ui,
+        "Scallop height",
+        "Largest cusp left between levels and passes",
+    );
+    commit |= number(ui, l, f.scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Chord tolerance",
+        "Deviation of the contours and passes from the exact cutter locations",
+    );
+    commit |= number(ui, l, f.tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, angle.0, angle.1);
+    commit |= number(ui, l, f.angle_rad, 1f64.to_degrees(), angle.2, 1, "°");
+    ui.end_row();
+    label(
+        ui,
+        "Direction",
+        "Climb: the part on the right of the travel",
+    );
+    let mut c = *f.cut;
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut c, Cut::Climb, "climb");
+        ui.selectable_value(&mut c, Cut::Conventional, "conventional");
+    });
+    ui.end_row();
+    if c != *f.cut {
+        *f.cut = c;
+        commit = true;
+    }
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, f.feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
     commit
 }
 

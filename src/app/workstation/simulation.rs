@@ -93,13 +93,15 @@ pub fn band_mapping(band_mm: f64) -> ScalarMapping {
     }
 }
 
-/// The default tolerance band of `operation`'s stock: its scallop height (finishing, raster) or
+/// The default tolerance band of `operation`'s stock: its scallop height (finishing, raster, waterline, steep-and-shallow) or
 /// its stock to leave (roughing), at least [`MIN_BAND_MM`].
 #[must_use]
 pub fn default_band_mm(operation: &Operation) -> f64 {
     let band = match operation {
         Operation::Finish { options, .. } => options.scallop,
-        Operation::Raster { scallop_mm, .. } => *scallop_mm,
+        Operation::Raster { scallop_mm, .. }
+        | Operation::Waterline { scallop_mm, .. }
+        | Operation::SteepShallow { scallop_mm, .. } => *scallop_mm,
         Operation::Rough {
             stock_to_leave_mm, ..
         } => *stock_to_leave_mm,

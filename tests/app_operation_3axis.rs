@@ -1,0 +1,98 @@
+//! Waterline finishing in the workstation, driven through its UI with egui_kittest (headless):
+//! added from the Machining menu, edited in the operation editor (its fields carry units),
+//! calculated in the background, and its path has poses on the part.
+#![cfg(feature = "gui")]
+
+use std::time::Duration;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use talas::app::command::Command;
+use talas::app::{Workstation, WorkstationConfig};
+use talas::project::{Edit, Operation, OperationKind};
+use talas::strategies::waterline::Cut;
+use talas::toolpath::MoveKind;
+
+fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
+    let ws = Workstation::new(&egui::Context::default(), None, config);
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
+}
+
+/// Step frames while `busy` says a background job runs (at most 60 s), then one more.
+fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Workstation) -> bool) {
+    for _ in 0..12000 {
+        h.step();
+        if !busy(h.state()) {
+            h.step();
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!("the {what} never finished");
+}
+
+#[test]
+fn a_waterline_operation_is_added_edited_and_calculated() {
+    let dir = std::env::temp_dir().join(format!("talas-app-op3-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Add Waterline finishing").click();
+    h.run_steps(2);
+    let ops = &h.state().session().project.operations;
+    assert_eq!(ops.len(), 1);
+    assert_eq!(ops[0].kind(), OperationKind::Waterline);
+    // The editor shows the waterline's own fields.
+    h.get_by_label("Slope limit");
+    h.get_by_label("conventional");
+    assert!(h.query_all_by_label_contains("mm/min").next().is_some());
+
+    // Coarser settings keep the test short; conventional milling.
+    let mut op = ops[0].clone();
+    if let Operation::Waterline {
+        scallop_mm,
+        tolerance_mm,
+        cut,
+        ..
+    } = &mut op
+    {
+        *scallop_mm = 0.1;
+        *tolerance_mm = 0.1;
+        *cut = Cut::Conventional;
+    }
+    h.state_mut().apply(Command::Edit(Edit::SetOperation {
+        index: 0,
+        operation: op,
+    }));
+    h.step();
+    h.state_mut().apply(Command::Calculate(0));
+    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    let (result, fresh) = h.state().operation_result(0).expect("a result");
+    assert!(fresh);
+    let tp = result.toolpath();
+    let cuts = tp.poses.iter().filter(|p| p.kind == MoveKind::Cut).count();
+    assert!(cuts > 100, "{cuts} cutting poses");
+    // Every cutting pose lies within the part's box grown by the tool's radius sideways, and
+    // between its bottom and top.
+    let r = h.state().session().project.tools[0].cutter.radius();
+    let b = h.state().document().expect("the default part").bounds;
+    for p in tp.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let t = p.tip;
+        let inside = t.x >= b.min.x - r - 1e-6
+            && t.x <= b.max.x + r + 1e-6
+            && t.y >= b.min.y - r - 1e-6
+            && t.y <= b.max.y + r + 1e-6
+            && t.z >= b.min.z - 1e-6
+            && t.z <= b.max.z + 1e-6;
+        assert!(inside, "cutting pose {t} outside the part's box ± {r} mm");
+    }
+    h.get_by_label("Cut length");
+    let _ = std::fs::remove_dir_all(&dir);
+}
