@@ -366,7 +366,7 @@ impl OperatorPanel {
     }
 
     fn mdi_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading("MDI");
+        ui.heading("MDI line");
         ui.horizontal(|ui| {
             let r = ui.add(
                 egui::TextEdit::singleline(&mut self.mdi)

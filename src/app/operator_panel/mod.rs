@@ -200,6 +200,12 @@ impl OperatorPanel {
         self.mode
     }
 
+    /// The MDI line as typed.
+    #[must_use]
+    pub fn mdi_line(&self) -> &str {
+        &self.mdi
+    }
+
     /// The message shown (a refused action, a control that could not be built).
     #[must_use]
     pub fn message(&self) -> Option<&str> {
