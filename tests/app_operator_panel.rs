@@ -13,6 +13,8 @@ use talas::app::{Workstation, WorkstationConfig};
 use talas::control::{RunState, codes};
 use talas::gcode::{InterpretOptions, Joints, interpret};
 use talas::machine::Machine;
+use talas::simulation::StockShape;
+use talas::tools::parse_tool_spec;
 
 const ORIGIN: [f64; 3] = [10.0, 20.0, -30.0];
 
@@ -242,4 +244,51 @@ fn the_workstation_menu_opens_the_panel() {
     h.get_by_label_contains("Operator panel · virtual control");
     assert!(h.state_mut().operator_panel().control().is_some());
     assert!(h.query_by_label("Cycle start").is_some());
+}
+
+#[test]
+fn a_slot_cut_through_mdi_removes_its_closed_form_volume() {
+    let src = PanelSource {
+        machine: "mill-3axis".into(),
+        stock: Some(StockShape::Box {
+            min: DVec3::new(50.0, 50.0, -10.0),
+            max: DVec3::new(100.0, 100.0, 0.0),
+        }),
+        cutter: Some(parse_tool_spec("flat:d=6").unwrap()),
+        work_offset: (1, [0.0; 3]),
+        posted: None,
+    };
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 950.0))
+        .with_step_dt(1.0 / 60.0)
+        .with_accessibility_check(false)
+        .build_ui_state(
+            move |ui, p: &mut OperatorPanel| p.ui(ui, &src),
+            OperatorPanel::new(),
+        );
+    h.run_steps(2);
+    h.get_by_label("×100").click();
+    h.run_steps(1);
+    home(&mut h);
+    h.get_by_label("MDI").click();
+    h.run_steps(2);
+    for line in ["G0 X60 Y75 Z5", "G1 Z-2 F500", "G1 X80", "G0 Z5"] {
+        h.get_by_role(egui::accesskit::Role::TextInput).click();
+        h.run_steps(1);
+        h.get_by_role(egui::accesskit::Role::TextInput)
+            .type_text(line);
+        h.run_steps(1);
+        h.get_by_label("Send").click();
+        h.run_steps(1);
+        settle(&mut h);
+    }
+    let snap = h.state().control().unwrap().snapshot();
+    assert!(snap.alarms.is_empty(), "{:?}", snap.alarms);
+    // A Ø6 mm plunge 2 mm deep, then a 20 mm slot 6 mm wide and 2 mm deep: π·3²·2 + 20·6·2.
+    let want = std::f64::consts::PI * 9.0 * 2.0 + 20.0 * 6.0 * 2.0;
+    let got = snap.removed_volume_mm3;
+    assert!(
+        (got - want).abs() < 0.08 * want,
+        "removed {got} mm³, closed form {want} mm³ (0.5 mm dexels)"
+    );
 }
