@@ -41,15 +41,12 @@ impl OperatorPanel {
     }
 
     /// Act on this frame's keys, while the pointer is over the panel and no text field has
-    /// the keyboard.
+    /// the keyboard (a jog key's release acts always).
     pub(super) fn keys(&mut self, ui: &egui::Ui) {
         let over = match (self.panel_rect, ui.ctx().pointer_hover_pos()) {
             (Some(r), Some(p)) => r.contains(p),
             _ => false,
         };
-        if !over || ui.ctx().egui_wants_keyboard_input() {
-            return;
-        }
         let keys: Vec<(Key, bool, bool)> = ui.input(|i| {
             i.events
                 .iter()
@@ -64,8 +61,10 @@ impl OperatorPanel {
                 })
                 .collect()
         });
+        // A release always ends the held jog, wherever the pointer went meanwhile.
+        let listening = over && !ui.ctx().egui_wants_keyboard_input();
         for (key, pressed, repeat) in keys {
-            if repeat {
+            if repeat || (pressed && !listening) {
                 continue;
             }
             self.key(key, pressed);
