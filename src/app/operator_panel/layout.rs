@@ -30,7 +30,7 @@ impl OperatorPanel {
         snap: &Snapshot,
         source: &PanelSource<'_>,
     ) {
-        self.top_bar(ui, snap);
+        self.top_bar(ui, snap, source);
         ui.separator();
         ui.columns(3, |cols| {
             self.dro_ui(&mut cols[0], snap);
@@ -41,8 +41,18 @@ impl OperatorPanel {
         });
     }
 
-    fn top_bar(&mut self, ui: &mut egui::Ui, snap: &Snapshot) {
+    fn top_bar(&mut self, ui: &mut egui::Ui, snap: &Snapshot, source: &PanelSource<'_>) {
         ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("Power on")
+                .on_hover_text(
+                    "Rebuild the control from the project now (machine, stock, tool, work offset)",
+                )
+                .clicked()
+            {
+                self.build(source);
+                return;
+            }
             ui.label("Mode");
             for m in PanelMode::ALL {
                 let text = RichText::new(m.label()).strong();
