@@ -107,6 +107,8 @@ pub enum Command {
     OpenReductionView,
     /// Show the profile editor (2D profiles and ball electrodes).
     OpenProfileEditor,
+    /// Show the operator panel of the virtual control.
+    OpenOperatorPanel,
     /// Reduce the part's Z-map with these settings (in the background).
     Reduce(ReductionSettings),
     /// Draw the reduced surface (instead of the part) or not.

@@ -6,6 +6,7 @@
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
 //! - [`number_field`]: the one widget every numeric property is typed in.
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
+//! - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO), in a window
 //! - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths, in a window
 //!   of its own.
 
@@ -19,6 +20,7 @@ pub mod job;
 pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;
+pub mod operator_panel;
 pub mod panels;
 pub mod profile_editor;
 pub mod project_session;

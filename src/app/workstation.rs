@@ -132,6 +132,8 @@ pub struct Workstation {
     restore_view: Option<crate::project::ViewState>,
     /// The profile editor's window.
     profile_editor: super::profile_editor::ProfileEditor,
+    /// The operator panel's window.
+    operator_panel: super::operator_panel::OperatorPanel,
 }
 
 impl Workstation {
@@ -187,6 +189,7 @@ impl Workstation {
             quit_confirmed: false,
             restore_view: None,
             profile_editor: super::profile_editor::ProfileEditor::new(),
+            operator_panel: super::operator_panel::OperatorPanel::new(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -224,6 +227,12 @@ impl Workstation {
     #[must_use]
     pub fn profile_editor(&mut self) -> &mut super::profile_editor::ProfileEditor {
         &mut self.profile_editor
+    }
+
+    /// The operator panel of the virtual control.
+    #[must_use]
+    pub fn operator_panel(&mut self) -> &mut super::operator_panel::OperatorPanel {
+        &mut self.operator_panel
     }
 
     /// The loaded part.
@@ -373,6 +382,7 @@ impl Workstation {
             }
             Command::ClearLog => self.log.entries.clear(),
             Command::OpenProfileEditor => self.profile_editor.open = true,
+            Command::OpenOperatorPanel => self.operator_panel.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -856,6 +866,11 @@ impl Workstation {
         self.compare_ui(&ctx, &mut commands);
         self.reduction_ui(&ctx, &mut commands);
         self.profile_editor.window(&ctx);
+        if self.operator_panel.open {
+            let mut panel = std::mem::take(&mut self.operator_panel);
+            panel.window(&ctx, &self.panel_source());
+            self.operator_panel = panel;
+        }
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.recovery

@@ -297,6 +297,14 @@ pub fn menu_bar_ui(
                 ui.close();
             }
             if ui
+                .button("Operator panel…")
+                .on_hover_text("Jog, MDI and AUTO on the virtual control of the project's machine")
+                .clicked()
+            {
+                commands.push(Command::OpenOperatorPanel);
+                ui.close();
+            }
+            if ui
                 .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
                 .clicked()
             {

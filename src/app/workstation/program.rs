@@ -161,6 +161,30 @@ impl Workstation {
             .map(|p| p.view.text())
     }
 
+    /// What the operator panel runs on: the project's machine, stock (the default one around
+    /// the part when none is set), setup and the active operation's tool and posted program.
+    pub(super) fn panel_source(&self) -> crate::app::operator_panel::PanelSource<'_> {
+        let project = &self.session.project;
+        let active = self
+            .ops
+            .active
+            .or((!project.operations.is_empty()).then_some(0));
+        let op = active.and_then(|i| project.operations.get(i));
+        let tool = op.map_or(0, crate::project::Operation::tool);
+        crate::app::operator_panel::PanelSource {
+            machine: project.machine.clone(),
+            stock: self
+                .document
+                .as_ref()
+                .map(|d| crate::project::simulate::stock_shape(&project.stock, &d.bounds)),
+            cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
+            work_offset: (project.setup.work_offset, project.setup.origin_mm),
+            posted: active
+                .zip(op)
+                .and_then(|(i, o)| self.program_text(i).map(|t| (o.name(), t))),
+        }
+    }
+
     /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
     /// posted program is current and planned.
     pub(super) fn planned_clock(&self, index: usize) -> Option<&[f64]> {
