@@ -6,6 +6,10 @@ pub const MM_PER_INCH: f64 = 25.4;
 /// Millimetres per metre.
 pub const MM_PER_M: f64 = 1000.0;
 
+/// The rapid rate assumed where a machine's own is not known (time estimates, playback, G-code
+/// interpretation and simulation defaults), mm/min: a typical mill's. One value for every stage.
+pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 10_000.0;
+
 /// Degrees to radians.
 #[must_use]
 pub fn deg_to_rad(deg: f64) -> f64 {

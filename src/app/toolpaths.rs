@@ -53,8 +53,9 @@ pub fn move_colour(kind: MoveKind) -> Rgba8 {
     }
 }
 
-/// Rapid speed used for the playback clock and the time estimate, mm/min (a typical mill's).
-pub const RAPID_MM_PER_MIN: f64 = 10_000.0;
+/// Rapid speed used for the playback clock and the time estimate, mm/min (the engine's one
+/// default, [`crate::units::DEFAULT_RAPID_MM_PER_MIN`]).
+pub const RAPID_MM_PER_MIN: f64 = crate::units::DEFAULT_RAPID_MM_PER_MIN;
 
 /// One computed operation.
 #[derive(Debug)]

@@ -88,7 +88,7 @@ impl Default for InterpretOptions {
             work_offsets: [DVec3::ZERO; 6],
             initial_work_offset: 0,
             g28_position: DVec3::ZERO,
-            rapid_mm_per_min: 10_000.0,
+            rapid_mm_per_min: crate::units::DEFAULT_RAPID_MM_PER_MIN,
             block_delete: true,
             semicolon_ends_block: false,
             syntax: Syntax::Rs274,

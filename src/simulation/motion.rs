@@ -50,7 +50,7 @@ impl Default for StepOptions {
             chord_tolerance_mm: 0.002,
             axis_tolerance_mm: 0.005,
             reach_mm: 30.0,
-            rapid_mm_per_min: 10_000.0,
+            rapid_mm_per_min: crate::units::DEFAULT_RAPID_MM_PER_MIN,
             max_steps_per_move: 100_000,
             max_steps_total: 2_000_000,
         }

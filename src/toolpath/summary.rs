@@ -4,8 +4,8 @@ use glam::DVec3;
 
 use super::{MoveKind, Pose};
 
-/// Rapid rate assumed by the time estimate, mm/min.
-pub const ESTIMATE_RAPID_MM_PER_MIN: f64 = 10_000.0;
+/// Rapid rate assumed by the time estimate, mm/min (the one default of [`crate::units`]).
+pub const ESTIMATE_RAPID_MM_PER_MIN: f64 = crate::units::DEFAULT_RAPID_MM_PER_MIN;
 
 /// Lengths, counts, time and extent of a tool path.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
