@@ -6,8 +6,26 @@ pub const INV_PHI: f64 = 0.618_033_988_749_894_8;
 
 /// The smallest value of a unimodal `f` on `[a, b]` found by `iterations` golden-section steps
 /// (the bracket shrinks by 1/φ per step), including the end values `f(a)` and `f(b)`.
-pub fn golden_min(mut a: f64, mut b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> f64 {
+pub fn golden_min(a: f64, b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> f64 {
     let ends = f(a).min(f(b));
+    let (_, f1, f2) = golden_bracket(a, b, iterations, &f);
+    ends.min(f1).min(f2)
+}
+
+/// The place of the smallest value of a unimodal `f` on `[a, b]`: the middle of the bracket
+/// left after `iterations` golden-section steps.
+pub fn golden_argmin(a: f64, b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> f64 {
+    let ((a, b), _, _) = golden_bracket(a, b, iterations, &f);
+    0.5 * (a + b)
+}
+
+/// The bracket after `iterations` golden-section steps and the values at its two inner points.
+fn golden_bracket(
+    mut a: f64,
+    mut b: f64,
+    iterations: usize,
+    f: &impl Fn(f64) -> f64,
+) -> ((f64, f64), f64, f64) {
     let mut x1 = b - INV_PHI * (b - a);
     let mut x2 = a + INV_PHI * (b - a);
     let (mut f1, mut f2) = (f(x1), f(x2));
@@ -26,7 +44,7 @@ pub fn golden_min(mut a: f64, mut b: f64, iterations: usize, f: impl Fn(f64) -> 
             f2 = f(x2);
         }
     }
-    ends.min(f1).min(f2)
+    ((a, b), f1, f2)
 }
 
 /// Golden-section steps needed to shrink a bracket of width `width` to `resolution`

@@ -139,27 +139,7 @@ const GOLDEN_ITERS: usize = 56;
 const BISECT_ITERS: usize = 56;
 
 fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut a, mut b) = (a, b);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..GOLDEN_ITERS {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    0.5 * (a + b)
+    crate::geometry::minimize::golden_argmin(a, b, GOLDEN_ITERS, f)
 }
 
 /// Zero of `f` between `a` (f < 0) and `b` (f ≥ 0).
