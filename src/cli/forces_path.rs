@@ -82,12 +82,7 @@ fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
         ),
         None => None,
     };
-    let step_opts = StepOptions {
-        reach_mm: tool.cutter.flute_length,
-        chord_tolerance_mm: (0.05 * args.resolution).clamp(1e-4, 0.01),
-        axis_tolerance_mm: (0.1 * args.resolution).clamp(1e-4, 0.02),
-        ..StepOptions::default()
-    };
+    let step_opts = StepOptions::for_resolution(args.resolution, tool.cutter.flute_length);
     let plan = match (&toolpath, &program) {
         (Some(tp), _) => plan_toolpath(tp, &step_opts),
         (None, Some(p)) => plan_program(p, machine.as_ref(), &step_opts),

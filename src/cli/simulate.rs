@@ -170,12 +170,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         ),
         None => None,
     };
-    let step_opts = StepOptions {
-        reach_mm: cutter.flute_length,
-        chord_tolerance_mm: (0.05 * args.resolution).clamp(1e-4, 0.01),
-        axis_tolerance_mm: (0.1 * args.resolution).clamp(1e-4, 0.02),
-        ..StepOptions::default()
-    };
+    let step_opts = StepOptions::for_resolution(args.resolution, cutter.flute_length);
     let plan: MovePlan = match (&toolpath, &program) {
         (Some(tp), _) => plan_toolpath(tp, &step_opts),
         (None, Some(p)) => plan_program(p, machine.as_ref(), &step_opts),

@@ -28,12 +28,7 @@ impl LiveStock {
     /// A stock cut by `cutter`, with step bounds from the stock's resolution `resolution_mm`.
     #[must_use]
     pub fn new(stock: DexelStock, cutter: Cutter, resolution_mm: f64) -> Self {
-        let steps = StepOptions {
-            reach_mm: cutter.flute_length,
-            chord_tolerance_mm: (0.05 * resolution_mm).clamp(1e-4, 0.01),
-            axis_tolerance_mm: (0.1 * resolution_mm).clamp(1e-4, 0.02),
-            ..StepOptions::default()
-        };
+        let steps = StepOptions::for_resolution(resolution_mm, cutter.flute_length);
         let initial_volume_mm3 = stock.volume_mm3();
         Self {
             stock,

@@ -131,12 +131,7 @@ pub fn simulate_toolpaths(
     )?;
     let mut reports = Vec::with_capacity(paths.len());
     for (toolpath, cutter) in paths {
-        let step = StepOptions {
-            reach_mm: cutter.flute_length,
-            chord_tolerance_mm: (0.05 * resolution).clamp(1e-4, 0.01),
-            axis_tolerance_mm: (0.1 * resolution).clamp(1e-4, 0.02),
-            ..StepOptions::default()
-        };
+        let step = StepOptions::for_resolution(resolution, cutter.flute_length);
         let plan = plan_toolpath(toolpath, &step)?;
         reports.push(simulate(
             &mut dexels,

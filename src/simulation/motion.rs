@@ -44,6 +44,21 @@ pub struct StepOptions {
     pub max_steps_total: usize,
 }
 
+impl StepOptions {
+    /// The step bounds for a stock of `resolution_mm` dexel spacing cut by a cutter whose flutes
+    /// reach `reach_mm`: chords within 5 % of the spacing (0.1 µm … 0.01 mm) and axis changes
+    /// within 10 % (0.1 µm … 0.02 mm), so the steps never show at the stock's resolution.
+    #[must_use]
+    pub fn for_resolution(resolution_mm: f64, reach_mm: f64) -> Self {
+        Self {
+            reach_mm,
+            chord_tolerance_mm: (0.05 * resolution_mm).clamp(1e-4, 0.01),
+            axis_tolerance_mm: (0.1 * resolution_mm).clamp(1e-4, 0.02),
+            ..Self::default()
+        }
+    }
+}
+
 impl Default for StepOptions {
     fn default() -> Self {
         Self {
