@@ -8,10 +8,10 @@ use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
-use talas::geometry::DVec3;
 use talas::geometry::bvh::MeshBvh;
+use talas::geometry::stock::Stock;
 use talas::import::stl::{StlOptions, read_stl};
-use talas::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+use talas::strategies::zlevel::{ZlevelOptions, zlevel_rough};
 use talas::toolpath::ToolRecord;
 use talas::tools::parse_tool_spec;
 
@@ -73,8 +73,8 @@ fn schedule_on(machine: &str, share: f64) {
     };
     let opts = ZlevelOptions {
         stock: Stock::Box {
-            min: DVec3::new(-5.0, -5.0, 21.0),
-            max: DVec3::new(105.0, 85.0, 30.0),
+            min_mm: [-5.0, -5.0, 21.0],
+            max_mm: [105.0, 85.0, 30.0],
         },
         step_down_mm: 4.0,
         step_over_mm: 6.0,

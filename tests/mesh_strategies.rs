@@ -235,15 +235,16 @@ fn raster_ball_on_pocket_fillets_holds_the_scallop_without_gouge() {
 #[test]
 fn zlevel_rough_pocket_fillets_leaves_the_stock_and_never_cuts_the_part() {
     use talas::geometry::DVec3;
-    use talas::strategies::zlevel::{Stock, ZlevelOptions, zlevel_rough};
+    use talas::geometry::stock::Stock;
+    use talas::strategies::zlevel::{ZlevelOptions, zlevel_rough};
     use talas::tools::dropcutter::drop_cutter;
     let (mesh, bvh) = load("pocket-fillets.stl");
     let t = tool("flat:d=10");
     let (sd, dr, da) = (3.0, 0.5, 0.3);
     let opts = ZlevelOptions {
         stock: Stock::Box {
-            min: DVec3::new(-5.0, -5.0, 0.0),
-            max: DVec3::new(105.0, 85.0, 35.0),
+            min_mm: [-5.0, -5.0, 0.0],
+            max_mm: [105.0, 85.0, 35.0],
         },
         step_down_mm: sd,
         step_over_mm: 4.0,
@@ -334,7 +335,8 @@ fn fed_points(tp: &talas::toolpath::Toolpath, step: f64) -> Vec<(usize, talas::g
 #[test]
 fn zlevel_rough_detects_flat_floors_between_levels() {
     use talas::geometry::DVec3;
-    use talas::strategies::zlevel::{Stock, ZlevelOptions, flat_areas, zlevel_rough};
+    use talas::geometry::stock::Stock;
+    use talas::strategies::zlevel::{ZlevelOptions, flat_areas, zlevel_rough};
     use talas::tools::dropcutter::drop_cutter;
     let (mesh, bvh) = load("pocket-fillets.stl");
     // The reference heights of the flat areas, from the mesh.
@@ -353,8 +355,8 @@ fn zlevel_rough_detects_flat_floors_between_levels() {
     let (sd, dr, da) = (4.0, 0.3, 0.3);
     let opts = ZlevelOptions {
         stock: Stock::Box {
-            min: DVec3::new(-5.0, -5.0, 0.0),
-            max: DVec3::new(105.0, 85.0, 35.0),
+            min_mm: [-5.0, -5.0, 0.0],
+            max_mm: [105.0, 85.0, 35.0],
         },
         step_down_mm: sd,
         step_over_mm: 4.0,

@@ -1,7 +1,8 @@
-//! Waterline and steep-and-shallow finishing as project operations: the same settings planned
-//! through `talas plan` (the binary) and through `project::pipeline::compute` give the same
-//! path, pose for pose and byte for byte in the saved JSON (but for the tool's spec text); the operations validate their
-//! numbers and keep their settings through a project's JSON.
+//! `talas plan` and the project pipeline are one path: the same settings planned through the
+//! binary and through `project::pipeline::compute` give the same path, pose for pose and byte
+//! for byte in the saved JSON, for every operation kind (waterline, steep-and-shallow, raster,
+//! Z-level roughing with a stock, 5-axis face finishing). Waterline and steep-and-shallow
+//! operations validate their numbers and keep their settings through a project's JSON.
 
 mod cli_common;
 
@@ -65,47 +66,63 @@ fn project_with(op: Operation) -> Project {
 
 /// Plan `strategy` with the CLI and `op` with the pipeline on `part`; both paths must agree.
 fn same_path(tag: &str, part: &Path, strategy: &str, op: Operation, angle: f64, pattern: &str) {
-    let dir = std::env::temp_dir().join(format!("talas-op3-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let cli_out = dir.join("cli.json");
-    let doc = talas_json(&[
-        "plan",
-        part.to_str().unwrap(),
-        "--tool",
-        TOOL,
+    let (scallop, tol, feed, angle) = (
+        SCALLOP_MM.to_string(),
+        TOL_MM.to_string(),
+        FEED.to_string(),
+        angle.to_string(),
+    );
+    let args = [
         "--strategy",
         strategy,
         "--scallop",
-        &SCALLOP_MM.to_string(),
+        &scallop,
         "--tolerance",
-        &TOL_MM.to_string(),
+        &tol,
         "--angle",
-        &angle.to_string(),
+        &angle,
         "--pattern",
         pattern,
         "--feed",
-        &FEED.to_string(),
-        "--json",
-        "-o",
-        cli_out.to_str().unwrap(),
-    ]);
-    assert_eq!(doc["strategy"], strategy);
+        &feed,
+    ];
+    same_path_as(tag, part, &args, project_with(op), Some(TOL_MM), 100);
+}
+
+/// `talas plan PART --tool TOOL ARGS` and the pipeline on `project` (the part read at chord
+/// `chord_mm`, as the CLI reads it) give the same path, pose for pose and byte for byte in the
+/// saved JSON, with more than `min_cuts` cutting poses.
+fn same_path_as(
+    tag: &str,
+    part: &Path,
+    args: &[&str],
+    project: Project,
+    chord_mm: Option<f64>,
+    min_cuts: usize,
+) {
+    let dir = std::env::temp_dir().join(format!("talas-op3-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cli_out = dir.join("cli.json");
+    let mut cli_args = vec!["plan", part.to_str().unwrap(), "--tool", TOOL];
+    cli_args.extend_from_slice(args);
+    cli_args.extend_from_slice(&["--json", "-o", cli_out.to_str().unwrap()]);
+    let doc = talas_json(&cli_args);
+    let strategy = doc["strategy"].as_str().unwrap_or("?").to_string();
     let cli = Toolpath::load(&cli_out).expect("the CLI's path loads");
 
     let workpiece = open(
         part,
         &OpenOptions {
-            chord_tol_mm: Some(TOL_MM),
+            chord_tol_mm: chord_mm,
         },
         &Progress::new(),
     )
     .expect("part reads");
-    let project = project_with(op);
     let ours = compute(&project, 0, &workpiece, &Progress::new()).expect("pipeline plans");
     let tp = &ours.toolpath;
 
     let cuts = tp.poses.iter().filter(|p| p.kind == MoveKind::Cut).count();
-    assert!(cuts > 100, "{strategy}: only {cuts} cutting poses");
+    assert!(cuts > min_cuts, "{strategy}: only {cuts} cutting poses");
     assert_eq!(tp.poses.len(), cli.poses.len(), "{strategy}: pose count");
     for (i, (a, b)) in tp.poses.iter().zip(&cli.poses).enumerate() {
         assert_eq!(a.kind, b.kind, "{strategy}: pose {i} kind");
@@ -120,12 +137,9 @@ fn same_path(tag: &str, part: &Path, strategy: &str, op: Operation, angle: f64, 
             "{strategy}: pose {i} feed"
         );
     }
-    // The same cutter; the pipeline names it by its full spec (flute, shank, length), the CLI
-    // by the spec typed. With the CLI's name, the saved files are the same bytes.
-    assert_eq!(tp.tool.cutter, cli.tool.cutter, "{strategy}: cutter");
-    assert_eq!(cli.tool.spec, TOOL);
-    let mut tp = tp.clone();
-    tp.tool.spec = cli.tool.spec.clone();
+    // The same cutter, named by its full spec in both.
+    assert_eq!(tp.tool, cli.tool, "{strategy}: tool");
+    assert_eq!(doc["passes"], ours.passes, "{strategy}: passes");
     let pipe_out = dir.join("pipeline.json");
     tp.save(&pipe_out).expect("saves");
     let (a, b) = (
@@ -144,6 +158,7 @@ fn same_path(tag: &str, part: &Path, strategy: &str, op: Operation, angle: f64, 
         );
     }
     assert_eq!(a.len(), b.len(), "{strategy}: saved JSON lengths");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -158,6 +173,116 @@ fn steep_shallow_operation_plans_the_same_path_as_talas_plan() {
     let part = data("pocket-fillets.stl");
     let op = op(OperationKind::SteepShallow, 50.0, Cut::Climb);
     same_path("ss", &part, "steep-shallow", op, 50.0, "climb");
+}
+
+/// Raster finishing: the CLI's options (one-way, angle, clearance) map onto the operation.
+#[test]
+fn raster_operation_plans_the_same_path_as_talas_plan() {
+    let op = Operation::Raster {
+        name: "raster".into(),
+        tool: 0,
+        scallop_mm: 0.1,
+        angle_rad: 30f64.to_radians(),
+        one_way: true,
+        tolerance_mm: TOL_MM,
+        feed_mm_per_min: FEED,
+        clearance_mm: 8.0,
+    };
+    let args = [
+        "--strategy",
+        "raster",
+        "--scallop",
+        "0.1",
+        "--tolerance",
+        "0.05",
+        "--angle",
+        "30",
+        "--pattern",
+        "oneway",
+        "--feed",
+        "1200",
+        "--clearance",
+        "8",
+    ];
+    let part = data("pocket-fillets.stl");
+    same_path_as("ra", &part, &args, project_with(op), Some(TOL_MM), 100);
+}
+
+/// Z-level roughing: the one `--stock` syntax and the project's stock, separate wall and floor
+/// allowances, flat levels off, a clearance.
+#[test]
+fn roughing_operation_plans_the_same_path_as_talas_plan() {
+    let op = Operation::Rough {
+        name: "zlevel-rough".into(),
+        tool: 0,
+        step_down_mm: 4.0,
+        step_over_fraction: 0.5,
+        stock_to_leave_mm: 0.4,
+        stock_to_leave_axial_mm: Some(0.2),
+        tolerance_mm: 0.25,
+        feed_mm_per_min: FEED,
+        flat_levels: false,
+        clearance_mm: 3.0,
+    };
+    let mut project = project_with(op);
+    project.stock = talas::project::Stock::Cylinder {
+        base_mm: [50.0, 40.0, 0.0],
+        radius_mm: 70.0,
+        height_mm: 33.0,
+    };
+    let args = [
+        "--strategy",
+        "zlevel-rough",
+        "--stock",
+        "cylinder:50,40,70,33,0",
+        "--step-down",
+        "4",
+        "--step-over",
+        "0.5",
+        "--stock-to-leave",
+        "0.4",
+        "--stock-to-leave-axial",
+        "0.2",
+        "--no-flat-levels",
+        "--tolerance",
+        "0.25",
+        "--feed",
+        "1200",
+        "--clearance",
+        "3",
+    ];
+    let part = data("pocket-fillets.stl");
+    same_path_as("zr", &part, &args, project, Some(0.25), 100);
+}
+
+/// 5-axis iso-scallop finishing of one exact face: the CLI reads the part with the reader's
+/// default tessellation and plans the face through the pipeline.
+#[test]
+fn face_finishing_operation_plans_the_same_path_as_talas_plan() {
+    let mut op = Operation::new(OperationKind::IsoScallop, 0, 0);
+    if let Operation::Finish { options, .. } = &mut op {
+        options.scallop = 0.2;
+        options.tolerance = 0.05;
+        options.feed = FEED;
+        options.axis = talas::strategies::axis::AxisMode::Normal {
+            lead: 5f64.to_radians(),
+            tilt: 0.0,
+        };
+    }
+    let args = [
+        "--strategy",
+        "iso-scallop",
+        "--scallop",
+        "0.2",
+        "--tolerance",
+        "0.05",
+        "--feed",
+        "1200",
+        "--lead",
+        "5",
+    ];
+    let part = data("bicubic-hills.stp");
+    same_path_as("is", &part, &args, project_with(op), None, 100);
 }
 
 #[test]

@@ -50,6 +50,7 @@ fn rich_project(dir: &Path) -> Project {
         one_way: true,
         tolerance_mm: 0.002,
         feed_mm_per_min: 1500.0,
+        clearance_mm: 7.5,
     });
     p.operations
         .push(Operation::new(OperationKind::IsoScallop, 1, 0));
@@ -477,6 +478,7 @@ fn loading_validates_like_editing_and_fills_defaults() {
             one_way,
             tolerance_mm,
             feed_mm_per_min,
+            clearance_mm,
             ..
         } => Operation::Raster {
             name,
@@ -486,6 +488,7 @@ fn loading_validates_like_editing_and_fills_defaults() {
             one_way,
             tolerance_mm,
             feed_mm_per_min,
+            clearance_mm,
         },
         other => other,
     };

@@ -29,8 +29,9 @@ pub struct ControlArgs {
     /// Machine name (`talas machines`) or machine JSON file.
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub machine: String,
-    /// Stock to cut (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cyl:X,Y,Z,R,H` or
-    /// `mesh:FILE.stl`, mm, machine coordinates. Needs `--tool`.
+    /// Stock to cut (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`,
+    /// `cylinder:CX,CY,R,Z0,Z1` (centre, radius, bottom and top) or `mesh:FILE.stl`, mm, machine
+    /// coordinates. Needs `--tool`.
     #[arg(long, value_name = "SHAPE")]
     pub stock: Vec<String>,
     /// Dexel spacing of the stock, mm.
@@ -252,7 +253,7 @@ fn build_control(args: &ControlArgs) -> Result<Control, ImportError> {
         let shapes = args
             .stock
             .iter()
-            .map(|s| super::simulate::parse_stock(s))
+            .map(|s| super::simulate::parse_stock(s, None))
             .collect::<Result<Vec<_>, _>>()?;
         let mode = if cfg.machine.rotary_names().is_some() {
             DexelMode::Tri

@@ -51,8 +51,8 @@ pub struct ForcesArgs {
     /// Spindle speed, rev/min: adds the spindle power.
     #[arg(long, value_name = "N")]
     pub rpm: Option<f64>,
-    /// Stock for a program (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cyl:X,Y,Z,R,H`,
-    /// `mesh:FILE.stl`, mm.
+    /// Stock for a program (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`,
+    /// `cylinder:CX,CY,R,Z0,Z1` (centre, radius, bottom and top) or `mesh:FILE.stl`, mm.
     #[arg(long, value_name = "SHAPE")]
     pub stock: Vec<String>,
     /// Dexel spacing of the stock, mm.

@@ -179,7 +179,7 @@ pub fn path_cmd(args: &ForcesArgs, file: &Path) -> Result<Value, ImportError> {
     let shapes = args
         .stock
         .iter()
-        .map(|s| super::simulate::parse_stock(s))
+        .map(|s| super::simulate::parse_stock(s, None))
         .collect::<Result<Vec<_>, _>>()?;
     let mode = if input.plan.tilted() {
         DexelMode::Tri

@@ -8,19 +8,15 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde_json::{Value, json};
 
-use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_noted};
-use crate::geometry::trim::TrimRegion;
-use crate::import::ImportError;
-use crate::import::step::read_step;
+use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_computed};
+use crate::diagnostics::Progress;
+use crate::import::{ImportError, Workpiece};
+use crate::project::pipeline::{self, ComputeError, Computed};
+use crate::project::{FINISH_3AXIS_CLEARANCE_MM, Operation, Project, Stock, ToolEntry};
 use crate::strategies::axis::AxisMode;
-use crate::strategies::face::FacePatch;
-use crate::strategies::finish::plan_finish;
 use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
-use crate::toolpath::MoveKind;
+use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
-
-/// Chord tolerance of the edges that bound a face's trimmed region, mm (the engine's).
-pub const REGION_CHORD_MM: f64 = crate::geometry::trim::REGION_CHORD_MM;
 
 /// Options of `talas plan`.
 #[derive(Debug, clap::Args)]
@@ -43,8 +39,9 @@ pub struct PlanArgs {
     /// Chord tolerance ε of the tool-tip path, mm.
     #[arg(long, value_name = "E", default_value_t = 0.01)]
     pub tolerance: f64,
-    /// `zlevel-rough`: the stock, `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1` or
-    /// `cylinder:CX,CY,R,Z0,Z1` (mm).
+    /// `zlevel-rough`: the stock, `box` (the default stock: the part's box plus 2 mm on the
+    /// sides and the top), `box:X0,Y0,Z0,X1,Y1,Z1`, `cylinder` (the default cylinder around the
+    /// part) or `cylinder:CX,CY,R,Z0,Z1` (centre, radius, bottom and top), mm.
     #[arg(long, value_name = "STOCK", default_value = "box")]
     pub stock: String,
     /// `zlevel-rough`: step-down between levels, mm.
@@ -121,6 +118,10 @@ pub struct PlanArgs {
     /// result in the summary's gouge report (slower).
     #[arg(long)]
     pub check: bool,
+    /// Check the path's tool axes against this machine's axis limits (`talas machines`, or a
+    /// machine JSON file) and say where it cannot follow.
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: Option<String>,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -232,7 +233,9 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
     }
 }
 
-/// Plan, save the tool path, and build the JSON report.
+/// Plan, save the tool path, and build the JSON report. Every strategy runs as a one-operation
+/// project through [`crate::project::pipeline::compute`], the workstation's path, so the same
+/// settings give the same tool path in both.
 ///
 /// # Errors
 /// An [`ImportError`] naming the file (and the face) or the bad option.
@@ -247,7 +250,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         "v" => Direction::V,
         other => return Err(opt_err("--direction", format!("'{other}' is not u or v"))),
     };
-    let opts = FinishOptions {
+    let options = FinishOptions {
         scallop: args.scallop,
         tolerance: args.tolerance,
         axis: parse_axis(args)?,
@@ -259,30 +262,43 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         curvature_lead: true,
         lead_arc_mm: args.lead_arc,
     };
-    let part = read_step(&args.file)?;
-    let face = part.faces.get(args.face).ok_or_else(|| {
-        ImportError::new(
+    // Face finishing reads the exact faces; the mesh (the reader's default tessellation) only
+    // serves the pipeline's shared part.
+    let part = crate::import::open(
+        &args.file,
+        &crate::import::OpenOptions::default(),
+        &Progress::new(),
+    )?;
+    let face_count = part.part.as_ref().map_or(0, |p| p.faces.len());
+    if part.part.is_some() && args.face >= face_count {
+        return Err(ImportError::new(
             &args.file,
             Some(format!("face {}", args.face)),
-            format!("the part has {} faces", part.faces.len()),
-        )
-    })?;
-    let place = Some(format!("face {} (#{})", args.face, face.source_id));
-    let face_err = |e: crate::strategies::PlanError| {
-        ImportError::new(&args.file, place.clone(), e.to_string())
+            format!("the part has {face_count} faces"),
+        ));
+    }
+    let place = match part.part.as_ref().and_then(|p| p.faces.get(args.face)) {
+        Some(f) => format!("face {} (#{})", args.face, f.source_id),
+        None => format!("face {}", args.face),
     };
-    let region = TrimRegion::of_face(face, &part, REGION_CHORD_MM).map_err(|e| {
-        face_err(crate::strategies::PlanError::Face(format!(
-            "its trimming loops: {e}"
-        )))
-    })?;
-    let patch = FacePatch::trimmed(&part, args.face, &region).map_err(face_err)?;
-    let result = plan_finish(patch, &cutter, &args.tool, strategy, &opts).map_err(face_err)?;
-    result
-        .toolpath
-        .save(&args.output)
-        .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
-    let s = &result.toolpath.summary;
+    let operation = Operation::Finish {
+        name: args.strategy.clone(),
+        tool: 0,
+        face: args.face,
+        strategy,
+        options,
+    };
+    let computed = compute_one(
+        &part,
+        &args.tool,
+        cutter,
+        Stock::None,
+        operation,
+        args.machine.as_deref(),
+        &place,
+    )?;
+    save(&computed.toolpath, &args.output)?;
+    let s = &computed.toolpath.summary;
     Ok(json!({
         "file": args.file.display().to_string(),
         "output": args.output.display().to_string(),
@@ -290,14 +306,60 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         "strategy": args.strategy,
         "tool": args.tool,
         "summary": s,
-        "passes": result.passes.len(),
-        "lead_deg": result.used.axis.lead().to_degrees(),
-        "clearance_mm": result.used.clearance,
-        "diagnostics": result.diagnostics,
+        "passes": computed.passes,
+        "lead_deg": computed.lead_rad.unwrap_or(0.0).to_degrees(),
+        "clearance_mm": computed.clearance_mm,
+        "diagnostics": computed.diagnostics,
     }))
 }
 
-/// `raster` and `zlevel-rough`: plan on the part's mesh, save, report.
+/// Run `operation` (its tool number 0 is `cutter`, named `tool_spec`) on `part` as a
+/// one-operation project with `stock`, through [`crate::project::pipeline::compute`]. With
+/// `machine` the tool axes are checked against that machine's limits. Errors name the file and
+/// `place` (the face, or the strategy).
+pub(crate) fn compute_one(
+    part: &Workpiece,
+    tool_spec: &str,
+    cutter: crate::tools::Cutter,
+    stock: Stock,
+    operation: Operation,
+    machine: Option<&str>,
+    place: &str,
+) -> Result<Computed, ImportError> {
+    if let Some(m) = machine {
+        crate::machine::Machine::resolve(m)
+            .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?;
+    }
+    let project = Project {
+        stock,
+        tools: vec![ToolEntry {
+            name: tool_spec.to_string(),
+            cutter,
+        }],
+        selected_tool: Some(0),
+        // No machine: no reach check (an unresolvable name skips it).
+        machine: machine.unwrap_or_default().to_string(),
+        operations: vec![operation],
+        ..Project::default()
+    };
+    pipeline::compute(&project, 0, part, &Progress::new()).map_err(|e| {
+        let message = match e {
+            ComputeError::Face { message, .. } | ComputeError::Plan { message, .. } => message,
+            other => other.to_string(),
+        };
+        ImportError::new(&part.source, Some(place.to_string()), message)
+    })
+}
+
+/// Write `toolpath` to `output`, the error naming the file.
+fn save(toolpath: &Toolpath, output: &Path) -> Result<(), ImportError> {
+    toolpath
+        .save(output)
+        .map_err(|e| ImportError::new(output, Some(e.place.clone()), e.message.clone()))
+}
+
+/// `raster`, `waterline`, `steep-shallow` and `zlevel-rough`: plan on the part's mesh, save,
+/// report.
 fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
     let opts = MeshPlanOptions {
         scallop_mm: args.scallop,
@@ -310,26 +372,25 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         stock_to_leave_radial_mm: args.stock_to_leave,
         stock_to_leave_axial_mm: args.stock_to_leave_axial,
         feed_mm_per_min: args.feed,
-        clearance_mm: args.clearance.unwrap_or(5.0),
+        clearance_mm: args.clearance.unwrap_or(FINISH_3AXIS_CLEARANCE_MM),
         detect_flats: !args.no_flat_levels,
     };
-    let (toolpath, diagnostics) = plan_mesh_noted(&args.file, &args.strategy, &args.tool, &opts)?;
-    toolpath
-        .save(&args.output)
-        .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
-    let passes = toolpath
-        .poses
-        .windows(2)
-        .filter(|w| w[0].kind != MoveKind::Cut && w[1].kind == MoveKind::Cut)
-        .count();
+    let computed = plan_mesh_computed(
+        &args.file,
+        &args.strategy,
+        &args.tool,
+        &opts,
+        args.machine.as_deref(),
+    )?;
+    save(&computed.toolpath, &args.output)?;
     Ok(json!({
         "file": args.file.display().to_string(),
         "output": args.output.display().to_string(),
         "strategy": args.strategy,
         "tool": args.tool,
-        "summary": toolpath.summary,
-        "passes": passes,
-        "diagnostics": diagnostics,
+        "summary": computed.toolpath.summary,
+        "passes": computed.passes,
+        "diagnostics": computed.diagnostics,
     }))
 }
 

@@ -1,20 +1,20 @@
 //! Planning on meshes for `talas plan`: raster, waterline and steep-and-shallow finishing and
-//! Z-level roughing of an STL file or
-//! of a STEP part tessellated at the chord tolerance. The `plan` subcommand calls [`plan_mesh`].
+//! Z-level roughing of an STL file or of a STEP part tessellated at the chord tolerance, each
+//! as a one-operation project through the workstation's pipeline.
 
 use std::path::Path;
 
-use crate::diagnostics::Diagnostic;
-use crate::geometry::bvh::MeshBvh;
-use crate::geometry::mesh::TriMesh;
+use super::plan::compute_one;
+use crate::diagnostics::{Diagnostic, Progress};
+use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
-use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
+use crate::project::pipeline::Computed;
+use crate::project::{Operation, Stock};
 use crate::strategies::steep_shallow::{
-    Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG, steep_shallow,
+    STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
-use crate::strategies::waterline::{Cut, waterline};
-use crate::strategies::zlevel::{Stock, ZlevelOptions, roughing_grid_mm, zlevel_rough};
-use crate::toolpath::{ToolRecord, Toolpath};
+use crate::strategies::waterline::Cut;
+use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
 
 /// Options of [`plan_mesh`] (each strategy reads the ones it needs).
@@ -28,8 +28,8 @@ pub struct MeshPlanOptions {
     pub angle_deg: f64,
     /// Raster: `zigzag` or `oneway`.
     pub pattern: String,
-    /// Roughing stock: `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1` or
-    /// `cylinder:CX,CY,R,Z0,Z1` (mm); raster ignores it.
+    /// Roughing stock in the one `--stock` syntax ([`StockSpec::parse`]; `box` is the default
+    /// stock around the part); the finishing strategies ignore it.
     pub stock: String,
     /// Roughing step-down, mm.
     pub step_down_mm: f64,
@@ -74,68 +74,95 @@ impl Default for MeshPlanOptions {
 /// The strategies [`plan_mesh`] plans.
 pub const MESH_STRATEGIES: [&str; 4] = ["raster", "zlevel-rough", "waterline", "steep-shallow"];
 
-/// Waterline (`--angle`: slopes flatter than it set no limit on the step-down, 30° when 0)
-/// and steep-and-shallow (`--angle`: the threshold, 45° when 0) finishing.
-fn plan_finish_3axis(
+/// The one-operation [`Operation`] of `strategy` with `opts` (tool number 0).
+///
+/// Waterline's `--angle` (slopes flatter than it set no limit on the step-down) is 30° when 0,
+/// steep-and-shallow's (the threshold) 45°.
+fn mesh_operation(
     file: &Path,
     strategy: &str,
-    mesh: &TriMesh,
-    bvh: &MeshBvh,
-    tool: &ToolRecord,
     opts: &MeshPlanOptions,
-) -> Result<(Toolpath, Vec<Diagnostic>), ImportError> {
+) -> Result<Operation, ImportError> {
     let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
-    let cut = match opts.pattern.as_str() {
-        "zigzag" | "zig-zag" | "climb" => Cut::Climb,
-        "conventional" => Cut::Conventional,
-        other => {
-            return Err(bad(
-                "--pattern",
-                format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
-            ));
-        }
-    };
+    let name = strategy.to_string();
     let angle = |default: f64| {
         if opts.angle_deg == 0.0 {
             default
         } else {
             opts.angle_deg
         }
+        .to_radians()
     };
-    let waterline_mode = strategy == "waterline";
-    let settings = Finish3Settings {
-        scallop_mm: opts.scallop_mm,
-        tolerance_mm: opts.tolerance_mm,
-        angle_rad: if waterline_mode {
-            angle(WATERLINE_DEFAULT_ANGLE_DEG)
-        } else {
-            angle(STEEP_SHALLOW_DEFAULT_ANGLE_DEG)
+    let cut = || match opts.pattern.as_str() {
+        "zigzag" | "zig-zag" | "climb" => Ok(Cut::Climb),
+        "conventional" => Ok(Cut::Conventional),
+        other => Err(bad(
+            "--pattern",
+            format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
+        )),
+    };
+    Ok(match strategy {
+        "raster" => Operation::Raster {
+            name,
+            tool: 0,
+            scallop_mm: opts.scallop_mm,
+            angle_rad: opts.angle_deg.to_radians(),
+            one_way: match opts.pattern.as_str() {
+                "zigzag" | "zig-zag" => false,
+                "oneway" | "one-way" => true,
+                other => {
+                    return Err(bad(
+                        "--pattern",
+                        format!("pattern must be 'zigzag' or 'oneway', got '{other}'"),
+                    ));
+                }
+            },
+            tolerance_mm: opts.tolerance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            clearance_mm: opts.clearance_mm,
+        },
+        "waterline" => Operation::Waterline {
+            name,
+            tool: 0,
+            scallop_mm: opts.scallop_mm,
+            tolerance_mm: opts.tolerance_mm,
+            angle_rad: angle(WATERLINE_DEFAULT_ANGLE_DEG),
+            cut: cut()?,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            clearance_mm: opts.clearance_mm,
+        },
+        "steep-shallow" => Operation::SteepShallow {
+            name,
+            tool: 0,
+            scallop_mm: opts.scallop_mm,
+            tolerance_mm: opts.tolerance_mm,
+            angle_rad: angle(STEEP_SHALLOW_DEFAULT_ANGLE_DEG),
+            cut: cut()?,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            clearance_mm: opts.clearance_mm,
+        },
+        "zlevel-rough" => Operation::Rough {
+            name,
+            tool: 0,
+            step_down_mm: opts.step_down_mm,
+            step_over_fraction: opts.step_over_fraction,
+            stock_to_leave_mm: opts.stock_to_leave_radial_mm,
+            stock_to_leave_axial_mm: Some(opts.stock_to_leave_axial_mm),
+            tolerance_mm: opts.tolerance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            flat_levels: opts.detect_flats,
+            clearance_mm: opts.clearance_mm,
+        },
+        other => {
+            return Err(bad(
+                "--strategy",
+                format!(
+                    "mesh strategies are {}, got '{other}'",
+                    MESH_STRATEGIES.join(", ")
+                ),
+            ));
         }
-        .to_radians(),
-        cut,
-        feed_mm_per_min: opts.feed_mm_per_min,
-        clearance_mm: opts.clearance_mm,
-    };
-    if waterline_mode {
-        let plan = waterline(mesh, bvh, tool, &settings.waterline_options())
-            .map_err(|e| bad("waterline", e.to_string()))?;
-        return Ok((plan.toolpath, plan.diagnostics));
-    }
-    let sopts = settings.steep_shallow_options();
-    let plan = steep_shallow(mesh, bvh, tool, &sopts).map_err(|e| bad("steep-shallow", e))?;
-    Ok((plan.toolpath, plan.diagnostics))
-}
-
-/// Read an STL or STEP file (through [`crate::import::open`]) as a mesh, STEP tessellated at
-/// `tol` mm (a non-positive `tol`: the reader's size-relative default).
-///
-/// # Errors
-/// The reader's [`ImportError`].
-pub fn read_mesh(file: &Path, tol: f64) -> Result<TriMesh, ImportError> {
-    let options = crate::import::OpenOptions {
-        chord_tol_mm: (tol > 0.0 && tol.is_finite()).then_some(tol),
-    };
-    Ok(crate::import::open(file, &options, &crate::diagnostics::Progress::new())?.mesh)
+    })
 }
 
 /// Plan `strategy` (one of [`MESH_STRATEGIES`]) on the part in `file` with the tool `tool_spec`.
@@ -163,72 +190,45 @@ pub fn plan_mesh_noted(
     tool_spec: &str,
     opts: &MeshPlanOptions,
 ) -> Result<(Toolpath, Vec<Diagnostic>), ImportError> {
+    plan_mesh_computed(file, strategy, tool_spec, opts, None).map(|c| (c.toolpath, c.diagnostics))
+}
+
+/// [`plan_mesh`] as a one-operation project through [`crate::project::pipeline::compute`] (the
+/// workstation's path), the part read through [`crate::import::open`] (a STEP part tessellated
+/// at the chord tolerance), with the tool axes checked against `machine` when given.
+///
+/// # Errors
+/// As [`plan_mesh`].
+pub fn plan_mesh_computed(
+    file: &Path,
+    strategy: &str,
+    tool_spec: &str,
+    opts: &MeshPlanOptions,
+    machine: Option<&str>,
+) -> Result<Computed, ImportError> {
     let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
     let cutter = parse_tool_spec(tool_spec).map_err(|e| bad("--tool", e.to_string()))?;
-    let tool = ToolRecord {
-        spec: tool_spec.to_string(),
-        cutter,
+    let operation = mesh_operation(file, strategy, opts)?;
+    let tol = opts.tolerance_mm;
+    let options = crate::import::OpenOptions {
+        chord_tol_mm: (tol > 0.0 && tol.is_finite()).then_some(tol),
     };
-    if !MESH_STRATEGIES.contains(&strategy) {
-        return Err(bad(
-            "--strategy",
-            format!(
-                "mesh strategies are {}, got '{strategy}'",
-                MESH_STRATEGIES.join(", ")
-            ),
-        ));
-    }
-    let mesh = read_mesh(file, opts.tolerance_mm)?;
-    let bvh = MeshBvh::new(&mesh).map_err(|e| ImportError::new(file, None, e.to_string()))?;
-    if strategy == "waterline" || strategy == "steep-shallow" {
-        return plan_finish_3axis(file, strategy, &mesh, &bvh, &tool, opts);
-    }
-    if strategy == "raster" {
-        let pattern = match opts.pattern.as_str() {
-            "zigzag" | "zig-zag" => RasterPattern::ZigZag,
-            "oneway" | "one-way" => RasterPattern::OneWay,
-            other => {
+    let part = crate::import::open(file, &options, &Progress::new())?;
+    let stock = if strategy == "zlevel-rough" {
+        match StockSpec::parse(&opts.stock, Some(&part.mesh.bbox())) {
+            Ok(StockSpec::Shape(stock)) => stock,
+            Ok(StockSpec::Mesh(_)) => {
                 return Err(bad(
-                    "--pattern",
-                    format!("pattern must be 'zigzag' or 'oneway', got '{other}'"),
+                    "--stock",
+                    "roughing needs a box or cylinder stock, not a mesh".into(),
                 ));
             }
-        };
-        let ropts = RasterOptions {
-            angle_rad: opts.angle_deg.to_radians(),
-            pattern,
-            scallop_mm: opts.scallop_mm,
-            chord_tol_mm: opts.tolerance_mm,
-            boundary: Boundary::Silhouette,
-            clearance_mm: opts.clearance_mm,
-            feed_mm_per_min: opts.feed_mm_per_min,
-            plunge_feed_mm_per_min: 0.3 * opts.feed_mm_per_min,
-            ..RasterOptions::default()
-        };
-        let plan = raster(&mesh, &bvh, &tool, &ropts).map_err(|e| bad("raster", e.to_string()))?;
-        return Ok((plan.toolpath, plan.diagnostics));
-    }
-    let stock = Stock::parse(&opts.stock, &mesh.bbox()).map_err(|e| bad("--stock", e))?;
-    let grid_mm = roughing_grid_mm(
-        &stock,
-        tool.cutter.radius(),
-        opts.tolerance_mm,
-        opts.stock_to_leave_radial_mm
-            .min(opts.stock_to_leave_axial_mm),
-    );
-    let zopts = ZlevelOptions {
-        stock,
-        step_down_mm: opts.step_down_mm,
-        step_over_mm: opts.step_over_fraction * tool.cutter.diameter,
-        stock_to_leave_radial_mm: opts.stock_to_leave_radial_mm,
-        stock_to_leave_axial_mm: opts.stock_to_leave_axial_mm,
-        tolerance_mm: grid_mm,
-        feed_mm_per_min: opts.feed_mm_per_min,
-        clearance_mm: opts.clearance_mm,
-        detect_flats: opts.detect_flats,
-        ..ZlevelOptions::default()
+            Err(e) => return Err(bad("--stock", e)),
+        }
+    } else {
+        Stock::None
     };
-    let plan =
-        zlevel_rough(&mesh, &bvh, &tool, &zopts).map_err(|e| bad("zlevel-rough", e.to_string()))?;
-    Ok((plan.toolpath, plan.diagnostics))
+    compute_one(
+        &part, tool_spec, cutter, stock, operation, machine, strategy,
+    )
 }

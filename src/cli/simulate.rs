@@ -1,16 +1,17 @@
 //! `talas simulate PROGRAM.ngc|PATH.json --tool SPEC --stock box:X0,Y0,Z0,X1,Y1,Z1
-//! [--stock cyl:X,Y,Z,R,H] [--stock mesh:FILE.stl] [--part FILE] [--machine NAME_OR_FILE]
+//! [--stock cylinder:CX,CY,R,Z0,Z1] [--stock mesh:FILE.stl] [--part FILE] [--machine NAME_OR_FILE]
 //! --resolution R [--json] [--stl OUT.stl]`: material removal on a dexel stock, deviation from
 //! the part, collisions, time and memory.
 
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
 use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
 use crate::gcode::{InterpretOptions, Syntax, interpret};
+use crate::geometry::Aabb;
 use crate::geometry::mesh::TriMesh;
+use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
 use crate::import::stl::{StlFormat, StlOptions, read_stl, save_stl};
 use crate::machine::Machine;
@@ -32,8 +33,9 @@ pub struct SimulateArgs {
     /// when this is left out.
     #[arg(long, value_name = "SPEC")]
     pub tool: Option<String>,
-    /// Stock (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cyl:X,Y,Z,R,H` (upright, base
-    /// centre, radius, height) or `mesh:FILE.stl` (closed), mm.
+    /// Stock (repeatable, union): `box:X0,Y0,Z0,X1,Y1,Z1`, `cylinder:CX,CY,R,Z0,Z1` (upright:
+    /// centre, radius, bottom and top), `mesh:FILE.stl` (closed), mm, or `box`/`cylinder`: the
+    /// default stock around `--part` (its box plus 2 mm on the sides and the top).
     #[arg(long, value_name = "SHAPE", required = true)]
     pub stock: Vec<String>,
     /// The design part (STL or STEP) for the deviation statistics.
@@ -59,46 +61,18 @@ pub struct SimulateArgs {
     pub json: bool,
 }
 
-fn parse_numbers(text: &str, n: usize) -> Option<Vec<f64>> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|x| x.trim().parse::<f64>().ok())
-        .collect::<Option<_>>()?;
-    (v.len() == n).then_some(v)
-}
-
-pub(crate) fn parse_stock(spec: &str) -> Result<StockShape, ImportError> {
+/// One `--stock` text ([`StockSpec::parse`], the syntax every subcommand shares) as the
+/// simulation's shape; the bare `box`/`cylinder` need the part's bounds `part`.
+pub(crate) fn parse_stock(spec: &str, part: Option<&Aabb>) -> Result<StockShape, ImportError> {
     let bad = |msg: String| ImportError::new(Path::new("--stock"), None, msg);
-    let (kind, rest) = spec
-        .split_once(':')
-        .ok_or_else(|| bad(format!("'{spec}': expected box:..., cyl:... or mesh:FILE")))?;
-    match kind.trim() {
-        "box" => {
-            let v = parse_numbers(rest, 6)
-                .ok_or_else(|| bad(format!("'{spec}': box needs X0,Y0,Z0,X1,Y1,Z1 in mm")))?;
-            let (a, b) = (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
-            Ok(StockShape::Box {
-                min: a.min(b),
-                max: a.max(b),
-            })
+    match StockSpec::parse(spec, part).map_err(bad)? {
+        StockSpec::Shape(stock) => {
+            StockShape::sized(&stock).ok_or_else(|| bad(format!("stock '{spec}' has no size")))
         }
-        "cyl" => {
-            let v = parse_numbers(rest, 5)
-                .ok_or_else(|| bad(format!("'{spec}': cyl needs X,Y,Z,R,H in mm")))?;
-            Ok(StockShape::Cylinder {
-                base: DVec3::new(v[0], v[1], v[2]),
-                radius: v[3],
-                height: v[4],
-            })
+        StockSpec::Mesh(path) => {
+            let stl = read_stl(&path, &StlOptions::default())?;
+            StockShape::mesh(stl.mesh).map_err(|e| ImportError::new(&path, None, e.to_string()))
         }
-        "mesh" => {
-            let path = Path::new(rest.trim());
-            let stl = read_stl(path, &StlOptions::default())?;
-            StockShape::mesh(stl.mesh).map_err(|e| ImportError::new(path, None, e.to_string()))
-        }
-        other => Err(bad(format!(
-            "unknown stock kind '{other}' (box, cyl, mesh)"
-        ))),
     }
 }
 
@@ -177,10 +151,13 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         (None, None) => Ok(MovePlan::default()),
     }
     .map_err(|e| sim_err(file, &e, is_json))?;
+    // The part is read first: the bare `box`/`cylinder` stocks are sized around it.
+    let part_mesh = args.part.as_deref().map(read_part).transpose()?;
+    let part_bounds = part_mesh.as_ref().map(TriMesh::bbox);
     let shapes = args
         .stock
         .iter()
-        .map(|s| parse_stock(s))
+        .map(|s| parse_stock(s, part_bounds.as_ref()))
         .collect::<Result<Vec<_>, _>>()?;
     let mode = if args.tri_dexel || plan.tilted() {
         DexelMode::Tri
@@ -205,16 +182,15 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
     )
     .map_err(|e| sim_err(file, &e, is_json))?;
     let wall_s = started.elapsed().as_secs_f64();
-    let (dev, top) = match &args.part {
-        Some(p) => {
-            let mesh = read_part(p)?;
-            let d = deviation(&stock, &mesh, &DeviationOptions::default(), &progress)
+    let (dev, top) = match (&args.part, &part_mesh) {
+        (Some(p), Some(mesh)) => {
+            let d = deviation(&stock, mesh, &DeviationOptions::default(), &progress)
                 .map_err(|e| ImportError::new(p, None, e.to_string()))?;
-            let top = top_deviation(&stock, &mesh, &progress)
+            let top = top_deviation(&stock, mesh, &progress)
                 .map_err(|e| ImportError::new(p, None, e.to_string()))?;
             (Some(d), Some(top))
         }
-        None => (None, None),
+        _ => (None, None),
     };
     if let Some(out) = &args.stl {
         save_stl(out, &stock.closed_mesh(), StlFormat::Binary)?;

@@ -15,15 +15,14 @@ pub mod posting;
 pub mod reach;
 pub mod run;
 pub mod simulate;
-mod stock;
 
+pub use crate::geometry::stock::{DEFAULT_MARGIN_MM, Stock};
 pub use edit::{Edit, EditError};
 pub use file::ProjectError;
 pub use history::History;
 pub use operation::{FINISH_3AXIS_CLEARANCE_MM, Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
 pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
-pub use stock::{DEFAULT_MARGIN_MM, Stock};
 
 use crate::tools::Cutter;
 

@@ -46,6 +46,9 @@ pub enum Operation {
         /// Cutting feed, mm/min.
         #[serde(default = "default_feed")]
         feed_mm_per_min: f64,
+        /// Clearance plane above the part, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
     },
     /// Z-level (waterline) roughing of the project's stock down to the part plus an allowance
     /// (3-axis).
@@ -58,12 +61,22 @@ pub enum Operation {
         step_down_mm: f64,
         /// Distance between neighbouring contours, as a fraction of the tool diameter.
         step_over_fraction: f64,
-        /// Material left on the part for finishing (radial and axial), mm.
+        /// Material left on the part for finishing (radial, and axial unless
+        /// `stock_to_leave_axial_mm` is given), mm.
         stock_to_leave_mm: f64,
+        /// Material left on floors (axial), mm, when it differs from the radial one.
+        #[serde(default)]
+        stock_to_leave_axial_mm: Option<f64>,
         /// Contour tolerance, mm.
         tolerance_mm: f64,
         /// Cutting feed, mm/min.
         feed_mm_per_min: f64,
+        /// A level of its own at each flat floor between two levels (floor + stock to leave).
+        #[serde(default = "yes")]
+        flat_levels: bool,
+        /// Clearance plane above the stock, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
     },
     /// Waterline (Z-level) finishing of the whole part (3-axis), the step-down set by the
     /// scallop height on the local wall slope.
@@ -82,6 +95,9 @@ pub enum Operation {
         cut: Cut,
         /// Cutting feed, mm/min.
         feed_mm_per_min: f64,
+        /// Clearance plane above the part, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
     },
     /// Steep-and-shallow finishing of the whole part (3-axis): waterline above the threshold
     /// angle, raster below it, overlapping in a band around it.
@@ -100,11 +116,22 @@ pub enum Operation {
         cut: Cut,
         /// Cutting feed, mm/min.
         feed_mm_per_min: f64,
+        /// Clearance plane above the part, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
     },
 }
 
-/// Clearance plane of the project's 3-axis finishing operations above the part, mm.
+/// Default clearance plane of the 3-axis operations above the part (roughing: the stock), mm.
 pub const FINISH_3AXIS_CLEARANCE_MM: f64 = 5.0;
+
+fn default_clearance_mm() -> f64 {
+    FINISH_3AXIS_CLEARANCE_MM
+}
+
+fn yes() -> bool {
+    true
+}
 
 fn default_scallop_mm() -> f64 {
     0.01
@@ -201,6 +228,7 @@ impl Operation {
                 one_way: false,
                 tolerance_mm: default_tolerance_mm(),
                 feed_mm_per_min: default_feed(),
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
             },
             OperationKind::Rough => Self::Rough {
                 name,
@@ -208,8 +236,11 @@ impl Operation {
                 step_down_mm: 2.0,
                 step_over_fraction: 0.4,
                 stock_to_leave_mm: 0.3,
+                stock_to_leave_axial_mm: None,
                 tolerance_mm: 0.05,
                 feed_mm_per_min: default_feed(),
+                flat_levels: true,
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
             },
             OperationKind::Waterline => Self::Waterline {
                 name,
@@ -219,6 +250,7 @@ impl Operation {
                 angle_rad: WATERLINE_DEFAULT_ANGLE_DEG.to_radians(),
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
             },
             OperationKind::SteepShallow => Self::SteepShallow {
                 name,
@@ -228,12 +260,12 @@ impl Operation {
                 angle_rad: STEEP_SHALLOW_DEFAULT_ANGLE_DEG.to_radians(),
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
             },
         }
     }
 
-    /// For waterline and steep-and-shallow: the settings the planners' options are mapped from
-    /// (with the clearance [`FINISH_3AXIS_CLEARANCE_MM`]).
+    /// For waterline and steep-and-shallow: the settings the planners' options are mapped from.
     #[must_use]
     pub fn finish_3axis_settings(&self) -> Option<Finish3Settings> {
         match self {
@@ -243,6 +275,7 @@ impl Operation {
                 angle_rad,
                 cut,
                 feed_mm_per_min,
+                clearance_mm,
                 ..
             }
             | Self::SteepShallow {
@@ -251,6 +284,7 @@ impl Operation {
                 angle_rad,
                 cut,
                 feed_mm_per_min,
+                clearance_mm,
                 ..
             } => Some(Finish3Settings {
                 scallop_mm: *scallop_mm,
@@ -258,7 +292,7 @@ impl Operation {
                 angle_rad: *angle_rad,
                 cut: *cut,
                 feed_mm_per_min: *feed_mm_per_min,
-                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                clearance_mm: *clearance_mm,
             }),
             _ => None,
         }
@@ -346,6 +380,13 @@ impl Operation {
                 Err(format!("{what} must be a positive number, got {v}"))
             }
         };
+        let clearance = |v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(format!("the clearance must be zero or more (mm), got {v}"))
+            }
+        };
         match self {
             Self::Finish {
                 strategy, options, ..
@@ -377,8 +418,10 @@ impl Operation {
                 angle_rad,
                 tolerance_mm,
                 feed_mm_per_min,
+                clearance_mm,
                 ..
             } => {
+                clearance(*clearance_mm)?;
                 positive("scallop height (mm)", *scallop_mm)?;
                 positive("chord tolerance (mm)", *tolerance_mm)?;
                 positive("feed (mm/min)", *feed_mm_per_min)?;
@@ -392,10 +435,13 @@ impl Operation {
                 step_down_mm,
                 step_over_fraction,
                 stock_to_leave_mm,
+                stock_to_leave_axial_mm,
                 tolerance_mm,
                 feed_mm_per_min,
+                clearance_mm,
                 ..
             } => {
+                clearance(*clearance_mm)?;
                 positive("step-down (mm)", *step_down_mm)?;
                 positive("tolerance (mm)", *tolerance_mm)?;
                 positive("feed (mm/min)", *feed_mm_per_min)?;
@@ -408,10 +454,10 @@ impl Operation {
                         step_over_fraction * 100.0
                     ));
                 }
-                if !(stock_to_leave_mm.is_finite() && *stock_to_leave_mm >= 0.0) {
-                    return Err(format!(
-                        "stock to leave must be zero or more (mm), got {stock_to_leave_mm}"
-                    ));
+                for v in std::iter::once(stock_to_leave_mm).chain(stock_to_leave_axial_mm) {
+                    if !(v.is_finite() && *v >= 0.0) {
+                        return Err(format!("stock to leave must be zero or more (mm), got {v}"));
+                    }
                 }
                 Ok(())
             }
@@ -423,6 +469,12 @@ impl Operation {
         let Some(s) = self.finish_3axis_settings() else {
             return Ok(());
         };
+        if !(s.clearance_mm.is_finite() && s.clearance_mm >= 0.0) {
+            return Err(format!(
+                "the clearance must be zero or more (mm), got {}",
+                s.clearance_mm
+            ));
+        }
         for (what, v) in [
             ("scallop height (mm)", s.scallop_mm),
             ("chord tolerance (mm)", s.tolerance_mm),

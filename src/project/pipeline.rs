@@ -5,7 +5,6 @@
 
 use super::{Operation, Project, Stock};
 use crate::diagnostics::{Diagnostic, Progress};
-use crate::geometry::mesh::TriMesh;
 use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
@@ -13,7 +12,7 @@ use crate::strategies::finish::plan_finish;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
 use crate::strategies::steep_shallow::steep_shallow;
 use crate::strategies::waterline::{WaterlineError, waterline_progress};
-use crate::strategies::zlevel::{self, ZlevelOptions, roughing_grid_mm, zlevel_rough};
+use crate::strategies::zlevel::{ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
 use crate::tools::tool_spec;
 
@@ -28,6 +27,10 @@ pub struct Computed {
     pub diagnostics: Vec<Diagnostic>,
     /// For finishing: the lead actually used, rad (raised against local gouging).
     pub lead_rad: Option<f64>,
+    /// The clearance plane's height used, mm (5-axis finishing: chosen above the path and the
+    /// face unless the operation sets it); `None` for the 3-axis kinds, whose operation gives
+    /// the clearance above the part.
+    pub clearance_mm: Option<f64>,
 }
 
 /// Why an operation could not be run.
@@ -167,6 +170,7 @@ pub fn compute(
             Computed {
                 passes: r.passes.len(),
                 lead_rad: Some(r.used.axis.lead()),
+                clearance_mm: r.used.clearance,
                 toolpath: r.toolpath,
                 diagnostics: r.diagnostics,
             }
@@ -177,6 +181,7 @@ pub fn compute(
             one_way,
             tolerance_mm,
             feed_mm_per_min,
+            clearance_mm,
             ..
         } => {
             let bvh = part.bvh().map_err(plan_err)?;
@@ -192,6 +197,7 @@ pub fn compute(
                 chord_tol_mm: *tolerance_mm,
                 boundary: Boundary::Silhouette,
                 feed_mm_per_min: *feed_mm_per_min,
+                clearance_mm: *clearance_mm,
                 plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
                 ..RasterOptions::default()
             };
@@ -201,6 +207,7 @@ pub fn compute(
             Computed {
                 passes: plan.passes,
                 lead_rad: None,
+                clearance_mm: None,
                 toolpath: plan.toolpath,
                 diagnostics: plan.diagnostics,
             }
@@ -209,26 +216,32 @@ pub fn compute(
             step_down_mm,
             step_over_fraction,
             stock_to_leave_mm,
+            stock_to_leave_axial_mm,
             tolerance_mm,
             feed_mm_per_min,
+            flat_levels,
+            clearance_mm,
             ..
         } => {
             let bvh = part.bvh().map_err(plan_err)?;
-            let stock = roughing_stock(&project.stock, &part.mesh);
+            let axial = stock_to_leave_axial_mm.unwrap_or(*stock_to_leave_mm);
             let grid = roughing_grid_mm(
-                &stock,
+                &project.stock,
+                &part.mesh.bbox(),
                 tool.cutter.radius(),
                 *tolerance_mm,
-                *stock_to_leave_mm,
+                stock_to_leave_mm.min(axial),
             );
             let opts = ZlevelOptions {
-                stock,
+                stock: project.stock,
                 step_down_mm: *step_down_mm,
                 step_over_mm: step_over_fraction * tool.cutter.diameter,
                 stock_to_leave_radial_mm: *stock_to_leave_mm,
-                stock_to_leave_axial_mm: *stock_to_leave_mm,
+                stock_to_leave_axial_mm: axial,
                 tolerance_mm: grid,
                 feed_mm_per_min: *feed_mm_per_min,
+                clearance_mm: *clearance_mm,
+                detect_flats: *flat_levels,
                 ..ZlevelOptions::default()
             };
             cancelled(progress)?;
@@ -244,6 +257,7 @@ pub fn compute(
             Computed {
                 passes: plan.contours,
                 lead_rad: None,
+                clearance_mm: None,
                 toolpath: plan.toolpath,
                 diagnostics,
             }
@@ -300,6 +314,7 @@ fn finish_3axis(
         return Ok(Computed {
             passes: plan.loops,
             lead_rad: None,
+            clearance_mm: None,
             toolpath: plan.toolpath,
             diagnostics: plan.diagnostics,
         });
@@ -309,37 +324,10 @@ fn finish_3axis(
     Ok(Computed {
         passes: plan.raster_passes + plan.waterline_runs,
         lead_rad: None,
+        clearance_mm: None,
         toolpath: plan.toolpath,
         diagnostics: plan.diagnostics,
     })
-}
-
-/// The roughing stock: the project's, or the one default stock (see [`Stock::or_default_for`]).
-fn roughing_stock(stock: &Stock, mesh: &TriMesh) -> zlevel::Stock {
-    match stock.or_default_for(&mesh.bbox()) {
-        Stock::Cylinder {
-            base_mm,
-            radius_mm,
-            height_mm,
-        } => zlevel::Stock::Cylinder {
-            centre: glam::DVec2::new(base_mm[0], base_mm[1]),
-            radius: radius_mm,
-            z0: base_mm[2],
-            z1: base_mm[2] + height_mm,
-        },
-        Stock::Box { min_mm, max_mm } => zlevel::Stock::Box {
-            min: min_mm.into(),
-            max: max_mm.into(),
-        },
-        // `or_default_for` never gives `None`; the part's box is the safe reading.
-        Stock::None => {
-            let b = mesh.bbox();
-            zlevel::Stock::Box {
-                min: b.min,
-                max: b.max,
-            }
-        }
-    }
 }
 
 /// Number of cutting runs in `toolpath` (a run starts where a cut follows a non-cut).

@@ -6,7 +6,6 @@
 
 use super::Stock;
 use crate::diagnostics::Progress;
-use crate::geometry::Aabb;
 use crate::geometry::mesh::TriMesh;
 use crate::simulation::{
     DexelMode, DexelStock, SimError, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
@@ -57,32 +56,6 @@ pub struct Simulated {
     pub remaining_p99_mm: f64,
 }
 
-/// The stock shape of the project, or the one default stock when none is defined (see
-/// [`Stock::or_default_for`]: the same one roughing clears).
-#[must_use]
-pub fn stock_shape(stock: &Stock, part_bounds: &Aabb) -> StockShape {
-    match stock.or_default_for(part_bounds) {
-        Stock::Cylinder {
-            base_mm,
-            radius_mm,
-            height_mm,
-        } => StockShape::Cylinder {
-            base: base_mm.into(),
-            radius: radius_mm,
-            height: height_mm,
-        },
-        Stock::Box { min_mm, max_mm } => StockShape::Box {
-            min: min_mm.into(),
-            max: max_mm.into(),
-        },
-        // `or_default_for` never gives `None`; the part's box is the safe reading.
-        Stock::None => StockShape::Box {
-            min: part_bounds.min,
-            max: part_bounds.max,
-        },
-    }
-}
-
 /// Simulate `toolpath` cut by `cutter` in `stock` and measure the result against `part`.
 ///
 /// # Errors
@@ -114,7 +87,7 @@ pub fn simulate_toolpaths(
     if paths.is_empty() {
         return Err(SimError::Options("no tool path to simulate".into()));
     }
-    let shape = stock_shape(stock, &part.bbox());
+    let shape = StockShape::of(stock, &part.bbox());
     let b = shape.bounds();
     let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
     let resolution = settings.resolution_mm.unwrap_or_else(|| {

@@ -8,6 +8,7 @@ use super::dexel::{Dexel, DexelFamily, RayAxis};
 use crate::geometry::Aabb;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
+use crate::geometry::stock::Stock;
 
 /// The raw material's initial shape (mm).
 #[derive(Clone, Debug)]
@@ -41,6 +42,37 @@ pub struct MeshStock {
 }
 
 impl StockShape {
+    /// The dexel shape of `stock`, or of the one default stock around `part_bounds` when none is
+    /// defined (see [`Stock::or_default_for`]: the same one roughing clears).
+    #[must_use]
+    pub fn of(stock: &Stock, part_bounds: &Aabb) -> Self {
+        Self::sized(&stock.or_default_for(part_bounds)).unwrap_or(Self::Box {
+            min: part_bounds.min,
+            max: part_bounds.max,
+        })
+    }
+
+    /// The dexel shape of a sized stock (`None` for [`Stock::None`]).
+    #[must_use]
+    pub fn sized(stock: &Stock) -> Option<Self> {
+        match *stock {
+            Stock::None => None,
+            Stock::Cylinder {
+                base_mm,
+                radius_mm,
+                height_mm,
+            } => Some(Self::Cylinder {
+                base: base_mm.into(),
+                radius: radius_mm,
+                height: height_mm,
+            }),
+            Stock::Box { min_mm, max_mm } => Some(Self::Box {
+                min: min_mm.into(),
+                max: max_mm.into(),
+            }),
+        }
+    }
+
     /// A mesh stock.
     ///
     /// # Errors

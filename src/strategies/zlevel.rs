@@ -36,97 +36,50 @@ use crate::diagnostics::Diagnostic;
 use crate::geometry::Aabb;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
+use crate::geometry::stock::Stock;
 use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 use crate::tools::dropcutter::drop_cutter;
 use crate::tools::{Cutter, CutterKind};
 use field::{Field, thin_loop};
 
-/// The raw material.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Stock {
-    /// An axis-aligned box, mm.
+/// The stock resolved for planning (the default around the part when none is given), mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Blank {
     Box {
-        /// Lowest corner.
         min: DVec3,
-        /// Highest corner.
         max: DVec3,
     },
-    /// A vertical cylinder, mm.
     Cylinder {
-        /// Axis position in XY.
         centre: DVec2,
-        /// Radius.
         radius: f64,
-        /// Bottom height.
         z0: f64,
-        /// Top height.
         z1: f64,
     },
 }
 
-impl Stock {
-    /// Parse `box` (the part's box), `box:X0,Y0,Z0,X1,Y1,Z1`, `cylinder` (the smallest vertical
-    /// cylinder around the part's box) or `cylinder:CX,CY,R,Z0,Z1` (mm).
-    ///
-    /// # Errors
-    /// A message naming what is wrong.
-    pub fn parse(spec: &str, part: &Aabb) -> Result<Self, String> {
-        let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
-        let nums: Result<Vec<f64>, String> = if rest.is_empty() {
-            Ok(Vec::new())
-        } else {
-            rest.split(',')
-                .map(|v| {
-                    v.trim()
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| format!("'{v}' is not a number in stock '{spec}'"))
-                })
-                .collect()
-        };
-        let nums = nums?;
-        let stock = match (kind, nums.as_slice()) {
-            ("box", []) => Self::Box {
+impl Blank {
+    /// `stock`, or the one default stock around `part` ([`Stock::or_default_for`]).
+    fn of(stock: &Stock, part: &Aabb) -> Self {
+        match stock.or_default_for(part) {
+            Stock::Cylinder {
+                base_mm,
+                radius_mm,
+                height_mm,
+            } => Self::Cylinder {
+                centre: DVec2::new(base_mm[0], base_mm[1]),
+                radius: radius_mm,
+                z0: base_mm[2],
+                z1: base_mm[2] + height_mm,
+            },
+            Stock::Box { min_mm, max_mm } => Self::Box {
+                min: min_mm.into(),
+                max: max_mm.into(),
+            },
+            // `or_default_for` never gives `None`; the part's box is the safe reading.
+            Stock::None => Self::Box {
                 min: part.min,
                 max: part.max,
             },
-            ("box", [x0, y0, z0, x1, y1, z1]) => Self::Box {
-                min: DVec3::new(x0.min(*x1), y0.min(*y1), z0.min(*z1)),
-                max: DVec3::new(x0.max(*x1), y0.max(*y1), z0.max(*z1)),
-            },
-            ("cylinder", []) => Self::Cylinder {
-                centre: 0.5 * (part.min + part.max).truncate(),
-                radius: 0.5 * (part.max - part.min).truncate().length(),
-                z0: part.min.z,
-                z1: part.max.z,
-            },
-            ("cylinder", [cx, cy, r, z0, z1]) => Self::Cylinder {
-                centre: DVec2::new(*cx, *cy),
-                radius: *r,
-                z0: z0.min(*z1),
-                z1: z0.max(*z1),
-            },
-            _ => {
-                return Err(format!(
-                    "stock must be 'box', 'box:X0,Y0,Z0,X1,Y1,Z1', 'cylinder' or 'cylinder:CX,CY,R,Z0,Z1', got '{spec}'"
-                ));
-            }
-        };
-        let ok = match stock {
-            Self::Box { min, max } => {
-                min.is_finite()
-                    && max.is_finite()
-                    && (max - min).truncate().min_element() > 0.0
-                    && max.z > min.z
-            }
-            Self::Cylinder { radius, z0, z1, .. } => radius > 0.0 && z1 > z0,
-        };
-        if ok {
-            Ok(stock)
-        } else {
-            Err(format!("stock '{spec}' is empty"))
         }
     }
 
@@ -145,7 +98,7 @@ impl Stock {
     }
 
     /// XY box of the stock.
-    pub fn xy_box(&self) -> (DVec2, DVec2) {
+    fn xy_box(&self) -> (DVec2, DVec2) {
         match self {
             Self::Box { min, max } => (min.truncate(), max.truncate()),
             Self::Cylinder { centre, radius, .. } => (
@@ -174,7 +127,7 @@ impl Stock {
 /// Options of [`zlevel_rough`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ZlevelOptions {
-    /// The raw material.
+    /// The raw material ([`Stock::None`]: the one default stock around the part).
     pub stock: Stock,
     /// Distance between levels, mm.
     pub step_down_mm: f64,
@@ -209,10 +162,7 @@ pub const FLAT_TOLERANCE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 impl Default for ZlevelOptions {
     fn default() -> Self {
         Self {
-            stock: Stock::Box {
-                min: DVec3::ZERO,
-                max: DVec3::ONE,
-            },
+            stock: Stock::None,
             step_down_mm: 2.0,
             step_over_mm: 4.0,
             stock_to_leave_radial_mm: 0.3,
@@ -290,12 +240,13 @@ pub enum ZlevelError {
 #[must_use]
 pub fn roughing_grid_mm(
     stock: &Stock,
+    part: &Aabb,
     cutter_radius: f64,
     tolerance_mm: f64,
     allowance_mm: f64,
 ) -> f64 {
     let mut g = tolerance_mm.max(0.5 * allowance_mm.max(0.0)).max(1e-3);
-    let (lo, hi) = stock.xy_box();
+    let (lo, hi) = Blank::of(stock, part).xy_box();
     let size = hi - lo + DVec2::splat(2.0 * cutter_radius + 4.0 * g);
     let area = (size.x.max(0.0) + g) * (size.y.max(0.0) + g);
     let finest = (area / 3.5e6).sqrt();
@@ -388,7 +339,8 @@ pub fn zlevel_rough(
     let big = cutter.radius();
     let g = opts.tolerance_mm;
     let reach = 0.9 * big;
-    let (lo, hi) = opts.stock.xy_box();
+    let blank = Blank::of(&opts.stock, &bvh.bbox());
+    let (lo, hi) = blank.xy_box();
     let origin = lo - DVec2::splat(reach + 2.0 * g);
     let size = hi - lo + DVec2::splat(2.0 * (reach + 2.0 * g));
     let nx = (size.x / g).ceil() as usize + 1;
@@ -408,12 +360,12 @@ pub fn zlevel_rough(
         .collect();
     let in_reach: Vec<bool> = nodes
         .iter()
-        .map(|p| opts.stock.outside_by(*p) <= reach)
+        .map(|p| blank.outside_by(*p) <= reach)
         .collect();
 
     // Levels from the top down to the stock bottom or the part's lowest allowed height.
-    let top = opts.stock.top();
-    let floor = opts.stock.bottom().max(bvh.bbox().min.z + da);
+    let top = blank.top();
+    let floor = blank.bottom().max(bvh.bbox().min.z + da);
     let mut levels = Vec::new();
     let mut z = top - opts.step_down_mm;
     while z > floor + 1e-9 {
@@ -632,21 +584,26 @@ mod tests {
     use super::*;
 
     #[test]
-    fn stock_specs_parse_and_measure() {
+    fn stocks_resolve_and_measure() {
         let part = Aabb {
             min: DVec3::new(0.0, 0.0, 0.0),
             max: DVec3::new(30.0, 40.0, 10.0),
         };
-        let b = Stock::parse("box", &part).unwrap();
-        assert!((b.outside_by(DVec2::new(33.0, 44.0)) - 5.0).abs() < 1e-12);
-        assert!((b.outside_by(DVec2::new(10.0, 20.0)) + 10.0).abs() < 1e-12);
-        let c = Stock::parse("cylinder", &part).unwrap();
-        assert!((c.outside_by(DVec2::new(15.0, 20.0)) + 25.0).abs() < 1e-12);
-        let c = Stock::parse("cylinder:0,0,10,-1,5", &part).unwrap();
+        // The default box: the part's box plus 2 mm on the sides.
+        let b = Blank::of(&Stock::None, &part);
+        assert!((b.outside_by(DVec2::new(35.0, 46.0)) - 5.0).abs() < 1e-12);
+        assert!((b.outside_by(DVec2::new(10.0, 20.0)) + 12.0).abs() < 1e-12);
+        assert_eq!((b.bottom(), b.top()), (0.0, 12.0));
+        let c = Blank::of(&Stock::default_cylinder_for(&part), &part);
+        assert!((c.outside_by(DVec2::new(15.0, 20.0)) + 27.0).abs() < 1e-12);
+        let c = Blank::of(
+            &Stock::Cylinder {
+                base_mm: [0.0, 0.0, -1.0],
+                radius_mm: 10.0,
+                height_mm: 6.0,
+            },
+            &part,
+        );
         assert_eq!((c.bottom(), c.top()), (-1.0, 5.0));
-        assert!(Stock::parse("box:1,2,3", &part).is_err());
-        assert!(Stock::parse("cylinder:0,0,-1,0,5", &part).is_err());
-        assert!(Stock::parse("box:0,0,0,1,1,nan", &part).is_err());
-        assert!(Stock::parse("cone", &part).is_err());
     }
 }

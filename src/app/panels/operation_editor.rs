@@ -291,6 +291,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             one_way,
             tolerance_mm,
             feed_mm_per_min,
+            clearance_mm,
             ..
         } => {
             let l = label(
@@ -316,13 +317,17 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             let l = label(ui, "Feed", "Cutting feed");
             commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
+            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
         }
         Operation::Rough {
             step_down_mm,
             step_over_fraction,
             stock_to_leave_mm,
+            stock_to_leave_axial_mm,
             tolerance_mm,
             feed_mm_per_min,
+            flat_levels,
+            clearance_mm,
             ..
         } => {
             let l = label(ui, "Step-down", "Depth of each level");
@@ -338,9 +343,17 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             let l = label(
                 ui,
                 "Stock to leave",
-                "Material left for finishing, radial and axial",
+                "Material left for finishing on the walls (and the floors unless set apart)",
             );
             commit |= number(ui, l, stock_to_leave_mm, 1.0, 0.0..=20.0, 3, "mm");
+            ui.end_row();
+            commit |= floor_allowance_row(ui, stock_to_leave_axial_mm, *stock_to_leave_mm);
+            label(
+                ui,
+                "Flat levels",
+                "A level of its own at each flat floor between two levels",
+            );
+            commit |= ui.checkbox(flat_levels, "").changed();
             ui.end_row();
             let l = label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
             commit |= number(ui, l, tolerance_mm, 1.0, 1e-3..=5.0, 3, "mm");
@@ -348,6 +361,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             let l = label(ui, "Feed", "Cutting feed");
             commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
             ui.end_row();
+            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the stock");
         }
         Operation::Waterline {
             scallop_mm,
@@ -355,6 +369,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             angle_rad,
             cut,
             feed_mm_per_min,
+            clearance_mm,
             ..
         } => {
             let angle = (
@@ -368,6 +383,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 angle_rad,
                 cut,
                 feed_mm_per_min,
+                clearance_mm,
             };
             commit |= finish_3axis_rows(ui, fields, angle);
         }
@@ -377,6 +393,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             angle_rad,
             cut,
             feed_mm_per_min,
+            clearance_mm,
             ..
         } => {
             let angle = (
@@ -390,6 +407,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 angle_rad,
                 cut,
                 feed_mm_per_min,
+                clearance_mm,
             };
             commit |= finish_3axis_rows(ui, fields, angle);
         }
@@ -404,6 +422,37 @@ struct Finish3Fields<'a> {
     angle_rad: &'a mut f64,
     cut: &'a mut Cut,
     feed_mm_per_min: &'a mut f64,
+    clearance_mm: &'a mut f64,
+}
+
+/// The clearance plane's row (mm above the part or the stock).
+fn clearance_row(ui: &mut egui::Ui, clearance_mm: &mut f64, hint: &str) -> bool {
+    let l = label(ui, "Clearance", hint);
+    let commit = number(ui, l, clearance_mm, 1.0, 0.0..=500.0, 2, "mm");
+    ui.end_row();
+    commit
+}
+
+/// Roughing's floor allowance: the wall allowance unless set apart.
+fn floor_allowance_row(ui: &mut egui::Ui, axial: &mut Option<f64>, radial: f64) -> bool {
+    let l = label(
+        ui,
+        "Floor stock",
+        "Material left on floors, when it differs from the walls",
+    );
+    let mut commit = false;
+    ui.horizontal(|ui| {
+        let mut apart = axial.is_some();
+        if ui.checkbox(&mut apart, "apart").changed() {
+            *axial = apart.then_some(radial);
+            commit = true;
+        }
+        if let Some(v) = axial.as_mut() {
+            commit |= number(ui, l, v, 1.0, 0.0..=20.0, 3, "mm");
+        }
+    });
+    ui.end_row();
+    commit
 }
 
 /// Rows of waterline and steep-and-shallow finishing; `angle` is the angle's label, hint and
@@ -449,6 +498,7 @@ fn finish_3axis_rows(
     let l = label(ui, "Feed", "Cutting feed");
     commit |= number(ui, l, f.feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
     ui.end_row();
+    commit |= clearance_row(ui, f.clearance_mm, "Rapid plane above the part");
     commit
 }
 

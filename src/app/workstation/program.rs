@@ -176,7 +176,7 @@ impl Workstation {
             stock: self
                 .document
                 .as_ref()
-                .map(|d| crate::project::simulate::stock_shape(&project.stock, &d.bounds)),
+                .map(|d| crate::simulation::StockShape::of(&project.stock, &d.bounds)),
             cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
             work_offset: (project.setup.work_offset, project.setup.origin_mm),
             posted: active
