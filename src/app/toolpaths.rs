@@ -171,25 +171,10 @@ impl ComputedOp {
 }
 
 /// Time at which each pose is reached when moves run at their feed (rapids at
-/// [`RAPID_MM_PER_MIN`]), s.
+/// [`RAPID_MM_PER_MIN`]), s: the engine's one rule, [`crate::toolpath::pose_times_at_feed`].
 #[must_use]
 pub fn pose_clock(toolpath: &Toolpath) -> Vec<f64> {
-    let mut t = 0.0;
-    let mut out = Vec::with_capacity(toolpath.poses.len());
-    let mut prev: Option<DVec3> = None;
-    for p in &toolpath.poses {
-        if let Some(a) = prev {
-            let feed = match p.kind {
-                MoveKind::Rapid => RAPID_MM_PER_MIN,
-                _ if p.feed_mm_per_min.is_finite() && p.feed_mm_per_min > 0.0 => p.feed_mm_per_min,
-                _ => RAPID_MM_PER_MIN,
-            };
-            t += a.distance(p.tip) / (feed / 60.0);
-        }
-        out.push(t);
-        prev = Some(p.tip);
-    }
-    out
+    crate::toolpath::pose_times_at_feed(&toolpath.poses)
 }
 
 /// The path as line segments, two vertices per segment so each keeps its own colour: segment

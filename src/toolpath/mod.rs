@@ -10,7 +10,7 @@ mod summary;
 
 pub use file::{ToolFile, ToolpathFile, schema};
 
-pub use summary::{GougeReport, Summary};
+pub use summary::{GougeReport, Summary, move_time_at_feed_s, pose_times_at_feed};
 
 use glam::DVec3;
 use std::path::Path;

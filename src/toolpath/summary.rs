@@ -94,24 +94,42 @@ impl Summary {
             let len = a.tip.distance(b.tip);
             s.bbox_min = s.bbox_min.min(b.tip);
             s.bbox_max = s.bbox_max.max(b.tip);
-            let feed = match b.kind {
-                MoveKind::Cut | MoveKind::Plunge => {
-                    s.cut_length_mm += len;
-                    b.feed_mm_per_min
-                }
-                MoveKind::Link => {
-                    s.other_length_mm += len;
-                    b.feed_mm_per_min
-                }
-                MoveKind::Rapid => {
-                    s.other_length_mm += len;
-                    ESTIMATE_RAPID_MM_PER_MIN
-                }
-            };
-            if feed > 0.0 {
-                s.estimated_time_s += len / feed * 60.0;
+            match b.kind {
+                MoveKind::Cut | MoveKind::Plunge => s.cut_length_mm += len,
+                MoveKind::Link | MoveKind::Rapid => s.other_length_mm += len,
             }
+            s.estimated_time_s += move_time_at_feed_s(a.tip, b);
         }
         s
     }
+}
+
+/// Time of the move from `from` to the pose `to` at its feed, s: length / feed, rapids (and
+/// moves without a usable feed) at [`ESTIMATE_RAPID_MM_PER_MIN`], no acceleration. The one
+/// "time at feed" rule of the summary and the playback clock.
+#[must_use]
+pub fn move_time_at_feed_s(from: DVec3, to: &Pose) -> f64 {
+    let feed = match to.kind {
+        MoveKind::Rapid => ESTIMATE_RAPID_MM_PER_MIN,
+        _ if to.feed_mm_per_min.is_finite() && to.feed_mm_per_min > 0.0 => to.feed_mm_per_min,
+        _ => ESTIMATE_RAPID_MM_PER_MIN,
+    };
+    from.distance(to.tip) / feed * 60.0
+}
+
+/// Time at feed when each pose is reached, s ([`move_time_at_feed_s`] summed; the first pose at
+/// 0). Its last value is the summary's `estimated_time_s`.
+#[must_use]
+pub fn pose_times_at_feed(poses: &[Pose]) -> Vec<f64> {
+    let mut t = 0.0;
+    let mut out = Vec::with_capacity(poses.len());
+    let mut prev: Option<DVec3> = None;
+    for p in poses {
+        if let Some(a) = prev {
+            t += move_time_at_feed_s(a, p);
+        }
+        out.push(t);
+        prev = Some(p.tip);
+    }
+    out
 }

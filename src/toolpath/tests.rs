@@ -41,6 +41,14 @@ fn summary_by_hand() {
     // 13 mm at 600 mm/min = 1.3 s.
     assert!((s.estimated_time_s - 1.3).abs() < 1e-12);
     assert_eq!(s.bbox_max, DVec3::new(13.0, 0.0, 0.0));
+    // The pose clock is the same rule: 10 mm then 3 mm at 600 mm/min, ending at the estimate.
+    let t = super::pose_times_at_feed(&sample().poses);
+    assert_eq!(t.len(), 3);
+    assert!(
+        (t[1] - 1.0).abs() < 1e-12 && (t[2] - 1.3).abs() < 1e-12,
+        "{t:?}"
+    );
+    assert_eq!(t[2], s.estimated_time_s);
 }
 
 #[test]
