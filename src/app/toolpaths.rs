@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use glam::{DVec3, Mat4, Vec2};
+use glam::{Mat4, Vec2};
 
 use crate::project::Operation;
 use crate::project::pipeline::Computed;
