@@ -401,6 +401,7 @@ impl ToolpathStore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
     use crate::toolpath::{Pose, ToolRecord};
     use crate::tools::parse_tool_spec;
 
