@@ -401,9 +401,9 @@ impl ToolpathStore {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
     use crate::toolpath::{Pose, ToolRecord};
     use crate::tools::parse_tool_spec;
+    use glam::DVec3;
 
     fn path() -> Toolpath {
         let tool = ToolRecord {

@@ -44,8 +44,9 @@ pub enum Command {
     /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
     /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
     Inspect(inspect::InspectArgs),
-    /// Finishing tool path on one face of a STEP part (iso-parametric, iso-planar,
-    /// iso-scallop), written as tool-path JSON.
+    /// A tool path written as tool-path JSON: 5-axis finishing of one face of a STEP part
+    /// (iso-parametric, iso-planar, iso-scallop), or raster, waterline, steep-and-shallow
+    /// finishing and Z-level roughing of a STEP or STL part, through the project pipeline.
     Plan(plan::PlanArgs),
     /// Drop-cutter against an STL mesh: the tool-tip height at every XY point of a CSV.
     Dropcutter(dropcutter::DropcutterArgs),

@@ -7,11 +7,10 @@ use super::lexer::{LexedLine, Word, lex_line};
 use super::motion::{emit_arc, emit_line, g28, target};
 use super::{Dwell, GcodeError, InterpretOptions, Program, Syntax};
 use crate::diagnostics::Diagnostic;
+use crate::units::MM_PER_INCH;
 
 /// Letters accepted besides G and M (which are collected separately).
 const LETTERS: &str = "ABCFHIJKNOPRSTXYZ";
-const MM_PER_INCH: f64 = 25.4;
-
 /// Motion modes (modal group 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Motion {

@@ -59,12 +59,6 @@ impl Frame {
         let d = world - self.origin;
         DVec3::new(d.dot(self.x), d.dot(self.y), d.dot(self.z))
     }
-
-    /// Map a local vector (no translation) to world.
-    #[must_use]
-    pub fn vec_to_world(&self, v: DVec3) -> DVec3 {
-        self.x * v.x + self.y * v.y + self.z * v.z
-    }
 }
 
 /// OCCT's choice of X direction for `gp_Ax2(P, N)` with no reference: the perpendicular built from

@@ -79,12 +79,6 @@ impl History {
         }
     }
 
-    /// Is there a step to undo?
-    #[must_use]
-    pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty()
-    }
-
     /// Is there a step to redo?
     #[must_use]
     pub fn can_redo(&self) -> bool {

@@ -32,22 +32,6 @@ impl SvdFactors {
         let amax = |x: &[f64]| x.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
         self.singular_values.get(k).copied().unwrap_or(0.0) * amax(self.u(k)) * amax(self.v(k))
     }
-
-    /// The rank-r reconstruction B_r = Σ_{k<r} σ_k U_k V_kᵀ on the original grid.
-    #[must_use]
-    pub fn reconstruct(&self, rank: usize) -> Grid {
-        let m = self.u.first().map_or(0, Vec::len);
-        let n = self.v.first().map_or(0, Vec::len);
-        Grid::from_fn(m, n, |r, c| {
-            (0..rank.min(self.singular_values.len()))
-                .map(|k| {
-                    self.singular_values.get(k).copied().unwrap_or(0.0)
-                        * self.u(k).get(r).copied().unwrap_or(0.0)
-                        * self.v(k).get(c).copied().unwrap_or(0.0)
-                })
-                .sum()
-        })
-    }
 }
 
 /// The thin SVD of `z` (faer's divide-and-conquer SVD).

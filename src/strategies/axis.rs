@@ -70,15 +70,6 @@ impl AxisMode {
             _ => 0.0,
         }
     }
-
-    /// The same mode with another lead (normal-relative modes only).
-    #[must_use]
-    pub fn with_lead(&self, lead: f64) -> Self {
-        match *self {
-            Self::Normal { tilt, .. } => Self::Normal { lead, tilt },
-            other => other,
-        }
-    }
 }
 
 /// Angle between two unit axes, rad.

@@ -44,14 +44,6 @@ pub(crate) struct CurvePoint {
 /// Interior samples per chord check.
 const CHECKS: usize = 7;
 
-/// Cut poses along `pass` (in its order).
-#[must_use]
-pub fn pass_poses(setup: &Setup<'_>, pass: &Pass) -> Vec<Pose> {
-    PassCurve::new(setup, pass)
-        .map(|c| c.step(&|_| None, &[]).into_iter().map(|(p, _)| p).collect())
-        .unwrap_or_default()
-}
-
 /// A pass as a tool-tip curve in its index parameter σ ∈ [0, n − 1].
 pub(crate) struct PassCurve<'a, 'b> {
     setup: &'b Setup<'a>,

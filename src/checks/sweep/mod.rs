@@ -229,12 +229,6 @@ impl SweptTool {
         self.bound
     }
 
-    /// Number of swept pieces.
-    #[must_use]
-    pub fn piece_count(&self) -> usize {
-        self.pieces.len()
-    }
-
     /// Pieces that may lie within the reach of the segment from `p` to `q` (sorted, unique).
     fn candidates(&self, p: DVec3, q: DVec3) -> Vec<u32> {
         let k0 = self.key(p.min(q));

@@ -58,12 +58,6 @@ impl Rigid {
         }
     }
 
-    /// Is this the identity (exactly)?
-    #[must_use]
-    pub fn is_identity(&self) -> bool {
-        *self == Self::IDENTITY
-    }
-
     /// Move a point.
     #[must_use]
     pub fn point(&self, p: DVec3) -> DVec3 {
