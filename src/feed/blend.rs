@@ -100,15 +100,15 @@ fn fresnel(c: f64, s: f64) -> (f64, f64) {
     let stop = 3e-18 * phi.min(1.0);
     // p = φⁿ/n!, multiplied by iⁿ: the sign pattern is +X, +Y, −X, −Y, ...
     let (mut x, mut y, mut p) = (0.0, 0.0, 1.0);
-    for n in 0..FRESNEL_TERMS {
-        let term = p * INV_ODD[n];
+    for (n, (inv_odd, inv_next)) in INV_ODD.iter().zip(&INV_NEXT).enumerate() {
+        let term = p * inv_odd;
         match n % 4 {
             0 => x += term,
             1 => y += term,
             2 => x -= term,
             _ => y -= term,
         }
-        p *= phi * INV_NEXT[n];
+        p *= phi * inv_next;
         if p <= stop {
             break;
         }

@@ -8,8 +8,10 @@
 //!
 //! and, because the acceleration pulse is symmetric, covers `(va + vb)/2 · T`. A move over `s`
 //! is accelerate `v0 → vp`, cruise at `vp`, decelerate `vp → v1` (7 phases of constant jerk);
-//! `vp` is the largest peak ≤ `vmax` whose two changes fit in `s`, found by bisection on a
-//! monotone function (the only numeric step; it never yields NaN).
+//! `vp` is the largest peak ≤ `vmax` whose two changes fit in `s`: in closed form when both
+//! changes or only one have a constant-acceleration phase and when `v0 = v1`, by Newton's method
+//! from a closed-form bound when neither has one, with a bracketed iteration as the fallback
+//! (see `peak_velocity`; it never yields NaN).
 
 /// Tangential limits of one 1-DoF move (all positive, finite).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -266,8 +268,10 @@ mod reachable_tests {
 
 /// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
 /// change_distance(vp, v1) = distance`, given that the distance is too short to cruise at `V`
-/// and long enough for `v0 → v1`. Closed forms where they exist, else a bracketed Newton
-/// iteration in `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
+/// and long enough for `v0 → v1`. Closed forms where they exist ([`peak_velocity_mixed`] for
+/// one change with a constant-acceleration phase), Newton from a closed-form bound
+/// ([`peak_velocity_short`]) for none, else a bracketed Newton iteration in
+/// `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
 /// - both changes with a constant-acceleration phase (`vp − v0`, `vp − v1` ≥ A²/J): the distance
 ///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
 /// - `v0 = v1 = w` and no constant-acceleration phase: `2·(2w + J·x²)·x = distance` with

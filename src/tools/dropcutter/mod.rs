@@ -5,8 +5,10 @@
 //! [`MeshBvh::triangles_in_aabb`]) the classic trio runs, as in OpenCAMLib: vertex drop, facet
 //! drop and edge drop (see `contact`); the highest tip wins. Triangles are visited from the
 //! highest down and skipped once their top lies below the best tip found, which is exact because
-//! the tip is the tool's lowest point. Neighbouring points share one hierarchy query and one
-//! sorted candidate list (a packet); packets run in parallel (rayon); results keep input order.
+//! the tip is the tool's lowest point; a triangle whose top less the profile height at its
+//! nearest XY distance cannot beat the best tip is skipped too. Neighbouring points share one
+//! hierarchy query and one sorted candidate list (a packet); packets run in parallel (rayon);
+//! results keep input order.
 
 mod contact;
 
@@ -75,8 +77,8 @@ const PACKET_SPAN_DIAMETERS: f64 = 3.0;
 /// Consecutive neighbouring points are handled as packets: one hierarchy query for the union of
 /// their footprints, one sort of the candidates (highest top first), then per point a scan of
 /// that list skipping triangles whose XY box misses the point's own footprint. Every point
-/// visits exactly the triangles, in exactly the order, of a query of its own, so the result
-/// does not depend on how points are grouped.
+/// sees exactly the triangles, in exactly the order, of a query of its own (less those that
+/// cannot beat its best tip), so the result does not depend on how points are grouped.
 ///
 /// # Errors
 /// [`Cancelled`] when `progress` was cancelled before the last chunk of points finished.
@@ -203,9 +205,39 @@ fn drop_in(cutter: &Cutter, c: DVec2, candidates: &[Candidate]) -> Option<ClPoin
         if cand.lo.x > qhi.x || cand.lo.y > qhi.y || cand.hi.x < qlo.x || cand.hi.y < qlo.y {
             continue;
         }
+        if cannot_beat(cutter, c, cand, best) {
+            continue;
+        }
         contact::drop_on_triangle(cutter, c, &cand.corners, cand.normal, cand.index, &mut best);
     }
     best
+}
+
+/// Margin (mm) of [`cannot_beat`]: far above the round-off of the contact tests (the facet
+/// test's inside tolerance, the plane's height), far below any height that matters.
+const SKIP_MARGIN_MM: f64 = 1e-9;
+
+/// Whether triangle `cand` certainly cannot give a tip higher than `best` for the cutter at `c`.
+///
+/// Every contact lies on the triangle at some horizontal distance q from the axis, no closer
+/// than the distance `q_min` from the axis to the triangle's XY box, and no higher than the
+/// triangle's top; the tip is then the contact's height less h(q) ≥ h(q_min) (the profile
+/// height h rises with the radius). So a triangle whose box lies wholly outside the footprint
+/// disc has no contact, and one with `top − h(q_min) < best` cannot win. `q_min` is taken
+/// [`SKIP_MARGIN_MM`] closer and the comparison given the same margin, so round-off in the
+/// contact tests cannot make a skipped triangle win.
+fn cannot_beat(cutter: &Cutter, c: DVec2, cand: &Candidate, best: Option<ClPoint>) -> bool {
+    let r = cutter.radius();
+    let dx = (cand.lo.x - c.x).max(c.x - cand.hi.x).max(0.0);
+    let dy = (cand.lo.y - c.y).max(c.y - cand.hi.y).max(0.0);
+    let q = ((dx * dx + dy * dy).sqrt() - SKIP_MARGIN_MM).max(0.0);
+    if q > r {
+        return true;
+    }
+    match (best, cutter.height_at_radius(q)) {
+        (Some(b), Some(h)) => cand.top - h + SKIP_MARGIN_MM < b.z,
+        _ => false,
+    }
 }
 
 /// Drop-cutter at a single point (see [`drop_cutter`]).
