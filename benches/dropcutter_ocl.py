@@ -2,8 +2,8 @@
 """Drop-cutter: Talas against OpenCAMLib's BatchDropCutter on the shared STLs.
 
 For each mesh (tests/data/bicubic-hills.stl, tests/data/pocket-fillets.stl) and each cutter
-(ball d=6, flat/cylindrical d=10, bull-nose d=10 r=2) both programs drop the cutter at the same
-grid of >= 100 000 XY points. Reported: max |dz| over the points where both find the mesh, the
+(ball d=6, flat/cylindrical d=10, bull-nose d=10 r=2, cone d=10 45°) both programs drop the
+cutter at the same grid of >= 100 000 XY points. Reported: max |dz| over the points where both find the mesh, the
 number of such points, both wall times and the ratio OpenCAMLib / Talas.
 
 Talas's time is the whole `talas dropcutter --json` process (STL read, BVH build, drop, JSON

@@ -7,7 +7,7 @@
 //! `t1`), each clothoid has length `L` and curvature `κ(s) = c·s` with `c = θ/L²`, so it turns
 //! by `θ/2`; the heading is `φ(s) = c·s²/2`. In the plane of the corner with the inward normal
 //! `n0`, the first clothoid is `A + t0·X(s) + n0·Y(s)` with the Fresnel-type integrals
-//! `X + iY = ∫₀ˢ e^{iφ(u)} du = s·Σₙ (iφ)ⁿ / (n!·(2n+1))` (φ ≤ π/2, 26 terms reach
+//! `X + iY = ∫₀ˢ e^{iφ(u)} du = s·Σₙ (iφ)ⁿ / (n!·(2n+1))` (φ ≤ π/2, at most 26 terms reach
 //! round-off), and the second is its mirror image from the end point `B`. With the unit-length
 //! values `x̂ = X(1)`, `ŷ = Y(1)` (for `c = θ`), everything scales with `L`:
 //! - set-back from the corner along each line: `d = L·(x̂ + ŷ·tan(θ/2))`,
@@ -67,35 +67,64 @@ pub struct ClothoidBlend {
     deviation_unit: f64,
 }
 
-/// `X(s), Y(s)` of a clothoid with curvature rate `c` from curvature 0 (heading 0).
+/// Terms of the series in [`fresnel`]: enough for φ ≤ π/2.
+const FRESNEL_TERMS: usize = 26;
+
+/// `1/(2n + 1)` for the series' terms.
+const INV_ODD: [f64; FRESNEL_TERMS] = {
+    let mut t = [0.0; FRESNEL_TERMS];
+    let mut n = 0;
+    while n < FRESNEL_TERMS {
+        t[n] = 1.0 / (2 * n + 1) as f64;
+        n += 1;
+    }
+    t
+};
+
+/// `1/(n + 1)` for the series' factorials.
+const INV_NEXT: [f64; FRESNEL_TERMS] = {
+    let mut t = [0.0; FRESNEL_TERMS];
+    let mut n = 0;
+    while n < FRESNEL_TERMS {
+        t[n] = 1.0 / (n + 1) as f64;
+        n += 1;
+    }
+    t
+};
+
+/// `X(s), Y(s)` of a clothoid with curvature rate `c` from curvature 0 (heading 0). The series
+/// stops once the next factor `φⁿ/n!` is below round-off of both sums (`X ≈ 1`, `Y ≈ φ/3` per
+/// unit length), after a handful of terms for the small turns of dense programs.
 fn fresnel(c: f64, s: f64) -> (f64, f64) {
     let phi = 0.5 * c * s * s;
+    let stop = 3e-18 * phi.min(1.0);
     // p = φⁿ/n!, multiplied by iⁿ: the sign pattern is +X, +Y, −X, −Y, ...
     let (mut x, mut y, mut p) = (0.0, 0.0, 1.0);
-    for n in 0..26u32 {
-        let term = p / f64::from(2 * n + 1);
+    for (n, (inv_odd, inv_next)) in INV_ODD.iter().zip(&INV_NEXT).enumerate() {
+        let term = p * inv_odd;
         match n % 4 {
             0 => x += term,
             1 => y += term,
             2 => x -= term,
             _ => y -= term,
         }
-        p *= phi / f64::from(n + 1);
+        p *= phi * inv_next;
+        if p <= stop {
+            break;
+        }
     }
     (s * x, s * y)
 }
 
-/// Largest `|p·cos ψ + q·sin ψ|` over `ψ ∈ [0, hi]`.
-fn max_abs_harmonic(p: f64, q: f64, hi: f64) -> f64 {
-    let r = p.hypot(q);
-    let alpha = q.atan2(p);
-    // Peaks of |R cos(ψ − α)| at ψ = α + kπ.
-    let k = ((0.0 - alpha) / std::f64::consts::PI).ceil();
-    if alpha + k * std::f64::consts::PI <= hi {
-        return r;
+/// Largest `|p·cos ψ + q·sin ψ|` over `ψ ∈ [0, hi]`, `0 ≤ hi < π`, given `cos hi` and `sin hi`.
+/// The peak `|(p, q)|` is reached where `(cos ψ, sin ψ)` is parallel to `±(p, q)`: when one of
+/// the two lies in the swept sector (upper half-plane, not past `hi`), else at an end.
+fn max_abs_harmonic(p: f64, q: f64, cos_hi: f64, sin_hi: f64) -> f64 {
+    let past = p * sin_hi - q * cos_hi;
+    if (q >= 0.0 && past >= 0.0) || (q <= 0.0 && past <= 0.0) {
+        return p.hypot(q);
     }
-    let f = |psi: f64| (p * psi.cos() + q * psi.sin()).abs();
-    f(0.0).max(f(hi))
+    p.abs().max((p * cos_hi + q * sin_hi).abs())
 }
 
 impl ClothoidBlend {
@@ -139,8 +168,8 @@ impl ClothoidBlend {
         let mut normal_max = [0.0; 3];
         for k in 0..3 {
             // Tangent: t0·cos ψ + n0·sin ψ; normal: −t0·sin ψ + n0·cos ψ, ψ ∈ [0, θ].
-            tangent_max[k] = max_abs_harmonic(t0[k], n0[k], turn);
-            normal_max[k] = max_abs_harmonic(n0[k], -t0[k], turn);
+            tangent_max[k] = max_abs_harmonic(t0[k], n0[k], cos, sin);
+            normal_max[k] = max_abs_harmonic(n0[k], -t0[k], cos, sin);
         }
         let unit = Self {
             start: corner,
@@ -301,14 +330,22 @@ mod tests {
 
     #[test]
     fn harmonic_bound_is_the_maximum() {
-        for (p, q, hi) in [(1.0, 0.0, 1.0), (0.3, -0.7, 2.5), (-0.2, 0.4, 0.3)] {
+        let mut cases = vec![(1.0, 0.0, 1.0), (0.3, -0.7, 2.5), (-0.2, 0.4, 0.3)];
+        // (p, q) all round the circle, sectors from narrow to nearly a half turn.
+        for i in 0..24 {
+            let a = f64::from(i) * std::f64::consts::PI / 12.0 + 0.1;
+            for hi in [0.05, 0.8, 1.6, 3.0] {
+                cases.push((0.7 * a.cos(), 0.7 * a.sin(), hi));
+            }
+        }
+        for (p, q, hi) in cases {
             let brute = (0..=10_000)
                 .map(|i| {
                     let psi = hi * f64::from(i) / 10_000.0;
                     (p * psi.cos() + q * psi.sin()).abs()
                 })
                 .fold(0.0, f64::max);
-            let m = max_abs_harmonic(p, q, hi);
+            let m = max_abs_harmonic(p, q, hi.cos(), hi.sin());
             assert!(m >= brute - 1e-12 && m <= brute + 1e-6, "{m} {brute}");
         }
     }

@@ -8,24 +8,23 @@
 //! [`reachable_velocity`] with a = 0 at junctions, so every block's profile exists afterwards.
 
 use super::path::{JointVector, SLOTS, Segment};
-use super::profile::reachable_velocity;
+use super::profile::{change_distance, reachable_velocity};
 use super::{AxisLimit, CornerPolicy};
 
-/// Angle between two tangents (rad), and whether both segments continue each other smoothly
-/// (same direction and same curvature: collinear lines or the same circle).
+/// Cosine of the angle between two tangents, and whether both segments continue each other
+/// smoothly (same direction and same curvature: collinear lines or the same circle).
 fn junction(a: &Segment, b: &Segment) -> (f64, bool) {
-    let (ta, tb): (JointVector, JointVector) = (a.tangent(true), b.tangent(false));
+    let da = a.derivatives(a.length);
+    let db = b.derivatives(0.0);
+    let (ta, tb): (JointVector, JointVector) = (da[1], db[1]);
     let dot: f64 = (0..SLOTS).map(|k| ta[k] * tb[k]).sum();
     let na = ta.iter().map(|x| x * x).sum::<f64>().sqrt();
     let nb = tb.iter().map(|x| x * x).sum::<f64>().sqrt();
     let cos = (dot / (na * nb).max(1e-300)).clamp(-1.0, 1.0);
-    let angle = cos.acos();
-    let da = a.derivatives(a.length);
-    let db = b.derivatives(0.0);
     let same_curvature = (0..SLOTS)
         .all(|k| (da[2][k] - db[2][k]).abs() <= 1e-12 && (da[3][k] - db[3][k]).abs() <= 1e-12);
     let same_direction = (0..SLOTS).all(|k| (ta[k] - tb[k]).abs() <= 1e-12);
-    (angle, same_direction && same_curvature)
+    (cos, same_direction && same_curvature)
 }
 
 /// Junction speeds (one more than segments: start and end are 0) after both passes.
@@ -46,8 +45,8 @@ pub fn junction_speeds(
         let (a, b) = (&segments[k - 1], &segments[k]);
         let both = a.limits.velocity.min(b.limits.velocity);
         // Blends meet their neighbours tangent and curvature continuous by construction.
-        let (angle, smooth) = if a.blend.is_some() || b.blend.is_some() {
-            (0.0, true)
+        let (cos, smooth) = if a.blend.is_some() || b.blend.is_some() {
+            (1.0, true)
         } else {
             junction(a, b)
         };
@@ -57,7 +56,7 @@ pub fn junction_speeds(
             match corner {
                 CornerPolicy::ExactStop | CornerPolicy::Blend { .. } => 0.0,
                 CornerPolicy::JunctionDeviation { tolerance_mm } => {
-                    let half = (0.5 * angle).sin();
+                    let half = (0.5 * cos.acos()).sin();
                     if half >= 1.0 - 1e-9 {
                         0.0
                     } else {
@@ -71,27 +70,24 @@ pub fn junction_speeds(
     }
     // Backward pass.
     for k in (0..n).rev() {
-        let s = &segments[k];
-        let cap = reachable_velocity(
-            v[k + 1],
-            s.length,
-            s.limits.velocity,
-            s.limits.acceleration,
-            s.limits.jerk,
-        );
-        v[k] = v[k].min(cap);
+        v[k] = v[k].min(cap_from(v[k + 1], v[k], &segments[k]));
     }
     // Forward pass.
     for k in 0..n {
-        let s = &segments[k];
-        let cap = reachable_velocity(
-            v[k],
-            s.length,
-            s.limits.velocity,
-            s.limits.acceleration,
-            s.limits.jerk,
-        );
-        v[k + 1] = v[k + 1].min(cap);
+        v[k + 1] = v[k + 1].min(cap_from(v[k], v[k + 1], &segments[k]));
     }
     v
+}
+
+/// The highest speed at the other end of `s` that `from` can reach or be reached from
+/// ([`reachable_velocity`]), or `wanted` itself where that is plainly no higher: no faster than
+/// `from` (the change is then no climb at all), or a change to `wanted` that fits the segment.
+fn cap_from(from: f64, wanted: f64, s: &Segment) -> f64 {
+    let l = &s.limits;
+    if wanted <= from
+        || change_distance(from, wanted.min(l.velocity), l.acceleration, l.jerk) <= s.length
+    {
+        return wanted;
+    }
+    reachable_velocity(from, s.length, l.velocity, l.acceleration, l.jerk)
 }

@@ -180,24 +180,47 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
             slots[k] = Some(*lim);
         }
     }
-    let mut segments = Vec::with_capacity(input.blocks.len());
-    for (i, b) in input.blocks.iter().enumerate() {
-        let zero = joint_zero_length(b);
-        match path::Segment::new(i, b, &slots, opts.path_limits) {
-            Some(s) => segments.push(s),
-            None if zero => {}
-            None => {
-                return Err(FeedError::UnplannableBlock {
-                    line: b.source_line,
-                });
+    // The segments of the blocks in order (blocks of no length left out), until one cannot be
+    // planned: its line is kept in `unplannable`.
+    let mut unplannable = None;
+    let mut blocks = input.blocks.iter().enumerate();
+    let segment_stream = std::iter::from_fn(|| {
+        for (i, b) in blocks.by_ref() {
+            match path::Segment::new(i, b, &slots, opts.path_limits) {
+                Some(s) => return Some(s),
+                None if joint_zero_length(b) => {}
+                None => {
+                    unplannable = Some(b.source_line);
+                    return None;
+                }
             }
         }
-    }
-    if let CornerPolicy::Blend { tolerance_mm } = opts.corner {
-        if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
-            return Err(FeedError::InvalidTolerance);
+        None
+    });
+    let segments = match opts.corner {
+        CornerPolicy::Blend { tolerance_mm } if tolerance_mm.is_finite() && tolerance_mm > 0.0 => {
+            // Blended straight from the stream: the unblended segments are never stored.
+            blend_corners(
+                segment_stream,
+                input.blocks.len(),
+                &slots,
+                opts.path_limits,
+                tolerance_mm,
+            )
         }
-        segments = blend_corners(&segments, &slots, opts.path_limits, tolerance_mm);
+        _ => {
+            let mut v = Vec::with_capacity(input.blocks.len());
+            v.extend(segment_stream);
+            v
+        }
+    };
+    if let Some(line) = unplannable {
+        return Err(FeedError::UnplannableBlock { line });
+    }
+    if let CornerPolicy::Blend { tolerance_mm } = opts.corner
+        && !(tolerance_mm.is_finite() && tolerance_mm > 0.0)
+    {
+        return Err(FeedError::InvalidTolerance);
     }
     let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
     let mut profiles = Vec::with_capacity(segments.len());
@@ -220,63 +243,86 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
 }
 
 /// Replace the sharp junctions between straight X/Y/Z segments by clothoid blends (each taking at
-/// most half of either neighbour); other junctions are left as they are.
+/// most half of either neighbour); other junctions are left as they are. One pass: the blend at
+/// each junction is decided when its second segment is reached, and nothing is kept per blend
+/// but the output.
 fn blend_corners(
-    segments: &[path::Segment],
+    segments: impl Iterator<Item = path::Segment>,
+    count_hint: usize,
     axes: &path::AxisLimits,
     path_limits: Option<Limits1>,
     tolerance: f64,
 ) -> Vec<path::Segment> {
-    let n = segments.len();
-    // The blend at junction k (between segments k − 1 and k), if any.
-    let mut blends: Vec<Option<path::Segment>> = Vec::with_capacity(n + 1);
-    blends.push(None);
-    for k in 1..n {
-        let (a, b) = (&segments[k - 1], &segments[k]);
-        let seg = match (a.straight_xyz_direction(), b.straight_xyz_direction()) {
-            (Some(t0), Some(t1)) => {
-                let corner = glam::DVec3::new(
-                    a.start[0] + a.delta[0],
-                    a.start[1] + a.delta[1],
-                    a.start[2] + a.delta[2],
-                );
-                let max_setback = 0.5 * a.length.min(b.length);
-                best_blend(
-                    a,
-                    b,
-                    corner,
-                    t0,
-                    t1,
-                    tolerance,
-                    max_setback,
-                    axes,
-                    path_limits,
-                )
-            }
-            _ => None,
-        };
-        blends.push(seg);
-    }
-    blends.push(None);
-    let setback = |s: &Option<path::Segment>| {
-        s.as_ref()
-            .and_then(|s| s.blend.as_ref())
-            .map_or(0.0, |b| b.setback)
+    // At most one blend per junction; pages never written are never touched.
+    let mut out = Vec::with_capacity(2 * count_hint);
+    // The speed each segment reaches at its ends from a stop at the other (computed once).
+    let reach = |s: &path::Segment| {
+        let l = s.limits;
+        reachable_velocity(0.0, s.length, l.velocity, l.acceleration, l.jerk)
     };
-    let mut out = Vec::with_capacity(2 * n);
-    for (k, seg) in segments.iter().enumerate() {
-        let (before, after) = (&blends[k], &blends[k + 1]);
-        if before.is_none() && after.is_none() {
-            out.push(seg.clone());
-        } else if let Some(piece) = seg.straight_piece(setback(before), seg.length - setback(after))
+    let mut reach_here: Option<f64> = None;
+    // The set-back of the blend before the current segment, if there is one.
+    let mut before: Option<f64> = None;
+    let mut segments = segments;
+    let mut current = segments.next();
+    while let Some(seg) = current {
+        let next = segments.next();
+        let mut after = None;
+        let mut reach_next = None;
+        if let Some(next) = &next
+            && let (Some(t0), Some(t1)) =
+                (seg.straight_xyz_direction(), next.straight_xyz_direction())
         {
-            out.push(piece);
+            let point = glam::DVec3::new(
+                seg.start[0] + seg.delta[0],
+                seg.start[1] + seg.delta[1],
+                seg.start[2] + seg.delta[2],
+            );
+            let reached = (*reach_here.get_or_insert_with(|| reach(&seg)), reach(next));
+            reach_next = Some(reached.1);
+            let corner = Corner {
+                point,
+                t0,
+                t1,
+                max_setback: 0.5 * seg.length.min(next.length),
+                reached,
+            };
+            after = best_blend(&seg, next, &corner, tolerance, axes, path_limits);
+        }
+        let after_setback = after
+            .as_ref()
+            .and_then(|s: &path::Segment| s.blend.as_ref())
+            .map(|b| b.setback);
+        match (before, after_setback) {
+            (None, None) => out.push(seg),
+            (b, a) => {
+                let (from, to) = (b.unwrap_or(0.0), seg.length - a.unwrap_or(0.0));
+                if let Some(piece) = seg.straight_piece(from, to) {
+                    out.push(piece);
+                }
+            }
         }
         if let Some(b) = after {
-            out.push(b.clone());
+            out.push(b);
         }
+        before = after_setback;
+        reach_here = reach_next;
+        current = next;
     }
     out
+}
+
+/// One corner between two straight segments.
+struct Corner {
+    /// The corner point.
+    point: glam::DVec3,
+    /// Incoming and outgoing unit directions.
+    t0: glam::DVec3,
+    t1: glam::DVec3,
+    /// The largest set-back along either line (half the shorter segment).
+    max_setback: f64,
+    /// The speed each neighbour reaches at the corner from a stop at its far end.
+    reached: (f64, f64),
 }
 
 /// The blend at one corner that costs the least time against cruising straight through, among
@@ -289,40 +335,39 @@ fn blend_corners(
 /// tangential limits: slowing from `F` to `v` and back costs
 /// `change_time(v, F) − change_distance(v, F)/F` on each side, running half the blend's length
 /// `ℓ` at `v` instead of each neighbour's cap `F` costs `ℓ/2·(1/v − 1/F)`; exact stop is the
-/// case `v = 0`, `ℓ = 0`.
-#[allow(clippy::too_many_arguments)]
+/// case `v = 0`, `ℓ = 0`. Only the limits of each candidate are computed; the segment is built
+/// for the winner.
 fn best_blend(
     a: &path::Segment,
     b: &path::Segment,
-    corner: glam::DVec3,
-    t0: glam::DVec3,
-    t1: glam::DVec3,
+    corner: &Corner,
     tolerance: f64,
-    max_setback: f64,
     axes: &path::AxisLimits,
     path_limits: Option<Limits1>,
 ) -> Option<path::Segment> {
     let feed = a.limits.velocity.min(b.limits.velocity);
-    // The speed each neighbour can reach at the corner from a stop at its far end, and the cost
-    // of slowing to v at the corner on that side.
-    let side = |s: &path::Segment| {
+    // The cost of slowing to v at the corner on one side.
+    let side = |s: &path::Segment, f: f64, v: f64| {
         let l = s.limits;
-        let f = reachable_velocity(0.0, s.length, l.velocity, l.acceleration, l.jerk);
-        move |v: f64| {
-            let v = v.min(f);
-            if f > 0.0 {
-                profile::change_time(v, f, l.acceleration, l.jerk)
-                    - profile::change_distance(v, f, l.acceleration, l.jerk) / f
-            } else {
-                0.0
-            }
+        let v = v.min(f);
+        if f > 0.0 {
+            profile::change_time(v, f, l.acceleration, l.jerk)
+                - profile::change_distance(v, f, l.acceleration, l.jerk) / f
+        } else {
+            0.0
         }
     };
-    let (cost_a, cost_b) = (side(a), side(b));
-    let slow_down = |v: f64| cost_a(v) + cost_b(v);
-    let mut best: Option<path::Segment> = None;
+    let (fa, fb) = corner.reached;
+    let slow_down = |v: f64| side(a, fa, v) + side(b, fb, v);
+    let mut best: Option<(blend::ClothoidBlend, Limits1, path::VelocityCap)> = None;
     let mut best_cost = slow_down(0.0);
-    let first = blend::ClothoidBlend::new(corner, t0, t1, tolerance, max_setback)?;
+    let first = blend::ClothoidBlend::new(
+        corner.point,
+        corner.t0,
+        corner.t1,
+        tolerance,
+        corner.max_setback,
+    )?;
     let mut deviation = first.deviation;
     let mut previous = f64::INFINITY;
     for k in 0..6 {
@@ -332,19 +377,19 @@ fn best_blend(
             deviation *= 0.25;
             first.shrunk_to(deviation)
         };
-        let Some(seg) =
-            candidate.and_then(|c| path::Segment::from_blend(a.block, c, feed, axes, path_limits))
+        let Some((c, (limits, cap))) =
+            candidate.and_then(|c| path::blend_limits(&c, feed, axes, path_limits).map(|l| (c, l)))
         else {
             continue;
         };
-        let v = seg.limits.velocity;
+        let v = limits.velocity;
         // Half the blend replaces each neighbour's line at that neighbour's speed.
-        let half = 0.5 * seg.length;
+        let half = 0.5 * c.length();
         let cost = slow_down(v)
             + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
         if cost < best_cost {
             best_cost = cost;
-            best = Some(seg);
+            best = Some((c, limits, cap));
         }
         if cost > previous {
             // Past the best size (the cost is unimodal in the size in practice).
@@ -352,7 +397,7 @@ fn best_blend(
         }
         previous = cost;
     }
-    best
+    best.map(|(c, limits, cap)| path::Segment::blend_segment(a.block, c, limits, cap))
 }
 
 /// The block moves no joint at all.

@@ -203,15 +203,27 @@ impl Segment {
         axes: &AxisLimits,
         path: Option<super::Limits1>,
     ) -> Option<Self> {
-        let bounds = blend.derivative_bounds();
-        let (limits, cap) = tangential_limits(&bounds, feed, axes, path, Share::BLEND)?;
+        let (limits, cap) = blend_limits(&blend, feed, axes, path)?;
+        Some(Self::blend_segment(block, blend, limits, cap))
+    }
+
+    /// The segment of a corner blend whose limits are already known (see [`blend_limits`]).
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn blend_segment(
+        block: usize,
+        blend: super::blend::ClothoidBlend,
+        limits: super::Limits1,
+        cap: VelocityCap,
+    ) -> Self {
         let start = [blend.start.x, blend.start.y, blend.start.z, 0.0, 0.0, 0.0];
         let end = [blend.end.x, blend.end.y, blend.end.z, 0.0, 0.0, 0.0];
         let mut delta = [0.0; SLOTS];
         for k in 0..SLOTS {
             delta[k] = end[k] - start[k];
         }
-        Some(Self {
+        Self {
             block,
             length: blend.length(),
             start,
@@ -220,7 +232,7 @@ impl Segment {
             blend: Some(blend),
             limits,
             cap,
-        })
+        }
     }
 
     /// A straight segment moving only X, Y, Z: its unit direction.
@@ -268,6 +280,18 @@ impl Segment {
     pub fn tangent(&self, at_end: bool) -> JointVector {
         self.derivatives(if at_end { self.length } else { 0.0 })[1]
     }
+}
+
+/// Tangential limits and the velocity cap of a corner blend under `feed`, the axes and the
+/// optional path limit (`None` when they degenerate).
+#[must_use]
+pub fn blend_limits(
+    blend: &super::blend::ClothoidBlend,
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+) -> Option<(super::Limits1, VelocityCap)> {
+    tangential_limits(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
 }
 
 /// Shares of the axis acceleration and jerk limits given to the curvature terms.

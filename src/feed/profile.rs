@@ -8,8 +8,10 @@
 //!
 //! and, because the acceleration pulse is symmetric, covers `(va + vb)/2 · T`. A move over `s`
 //! is accelerate `v0 → vp`, cruise at `vp`, decelerate `vp → v1` (7 phases of constant jerk);
-//! `vp` is the largest peak ≤ `vmax` whose two changes fit in `s`, found by bisection on a
-//! monotone function (the only numeric step; it never yields NaN).
+//! `vp` is the largest peak ≤ `vmax` whose two changes fit in `s`: in closed form when both
+//! changes or only one have a constant-acceleration phase and when `v0 = v1`, by Newton's method
+//! from a closed-form bound when neither has one, with a bracketed iteration as the fallback
+//! (see `peak_velocity`; it never yields NaN).
 
 /// Tangential limits of one 1-DoF move (all positive, finite).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -266,8 +268,10 @@ mod reachable_tests {
 
 /// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
 /// change_distance(vp, v1) = distance`, given that the distance is too short to cruise at `V`
-/// and long enough for `v0 → v1`. Closed forms where they exist, else a bracketed Newton
-/// iteration in `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
+/// and long enough for `v0 → v1`. Closed forms where they exist ([`peak_velocity_mixed`] for
+/// one change with a constant-acceleration phase), Newton from a closed-form bound
+/// ([`peak_velocity_short`]) for none, else a bracketed Newton iteration in
+/// `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
 /// - both changes with a constant-acceleration phase (`vp − v0`, `vp − v1` ≥ A²/J): the distance
 ///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
 /// - `v0 = v1 = w` and no constant-acceleration phase: `2·(2w + J·x²)·x = distance` with
@@ -304,6 +308,20 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
         }
         let vp = v0 + j * x * x;
         if vp.is_finite() && vp - v0 <= threshold && vp >= lo && vp <= vmax {
+            return vp;
+        }
+    }
+    if v0 != v1 {
+        // Which change has a constant-acceleration phase: neither when the peak is at most
+        // min(v0, v1) + A²/J, else only the one from the lower end (the quadratic above covers
+        // both).
+        let short = total((v0.min(v1) + threshold).min(vmax)) >= distance;
+        let closed = if short {
+            peak_velocity_short(v0, v1, distance, lim)
+        } else {
+            peak_velocity_mixed(v0, v1, distance, lim)
+        };
+        if let Some(vp) = closed {
             return vp;
         }
     }
@@ -364,6 +382,150 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
         };
     }
     lo + x * x
+}
+
+/// The mixed case of [`peak_velocity`] in closed form: the change from the lower end velocity
+/// `w = min(v0, v1)` has a constant-acceleration phase (`vp − w ≥ A²/J`), the one from the higher
+/// `h = max(v0, v1)` has not (`vp − h < A²/J`). With `x = sqrt((vp − h)/J)`, `α = A/J`,
+/// `β = 2h/J`, the distance condition times `2A/J²` is the quartic
+/// `x⁴ + 2α·x³ + (α² + β)·x² + 2αβ·x + c = 0`, `c = 2A/J²·((h² − w²)/(2A) + (w + h)·A/(2J) − d)`;
+/// `x = z − α/2` depresses it to `z⁴ + p·z² + q·z + r = 0` with `p = β − α²/2`, `q = αβ`,
+/// `r = α⁴/16 − 3α²β/4 + c`, solved by Ferrari: `m > 0` a root of the resolvent cubic
+/// `m³ + p·m² + (p²/4 − r)·m − q²/8 = 0` (Cardano or the trigonometric form) splits it into
+/// `z² ∓ √(2m)·z + p/2 + m ± √(2m)·q/(4m) = 0`. The root in the case's range is polished by two
+/// Newton steps on the quartic; `None` (the caller iterates) when no root lands in the range or
+/// the distance is not met to round-off.
+fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+    let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
+    let (w, h) = (v0.min(v1), v0.max(v1));
+    let (alpha, beta) = (a / j, 2.0 * h / j);
+    let threshold = a * a / j;
+    let c = 2.0 * a / (j * j) * ((h * h - w * w) / (2.0 * a) + (w + h) * a / (2.0 * j) - distance);
+    let (a2, ab) = (alpha * alpha, alpha * beta);
+    let p = beta - 0.5 * a2;
+    let q = ab;
+    let r = a2 * a2 / 16.0 - 0.75 * a2 * beta + c;
+    let m = largest_cubic_root(p, 0.25 * p * p - r, -0.125 * q * q)?;
+    if !(m > 0.0) {
+        return None;
+    }
+    let s = (2.0 * m).sqrt();
+    let k = s * q / (4.0 * m);
+    let quartic = |x: f64| x * (x * (x * (x + 2.0 * alpha) + a2 + beta) + 2.0 * ab) + c;
+    let slope = |x: f64| x * (x * (4.0 * x + 6.0 * alpha) + 2.0 * (a2 + beta)) + 2.0 * ab;
+    let x_max = alpha; // vp − h < A²/J  ⇔  x < α
+    let mut found = None;
+    for (sign, k) in [(1.0, k), (-1.0, -k)] {
+        // z² − sign·s·z + (p/2 + m + k) = 0.
+        let (bq, cq) = (-sign * s, 0.5 * p + m + k);
+        let disc = bq * bq - 4.0 * cq;
+        if disc < 0.0 {
+            continue;
+        }
+        let root = disc.sqrt();
+        for z in [0.5 * (-bq + root), 0.5 * (-bq - root)] {
+            let x = z - 0.5 * alpha;
+            if x >= -1e-9 * alpha && x <= x_max * (1.0 + 1e-9) {
+                found = Some(x.clamp(0.0, x_max));
+            }
+        }
+    }
+    let mut x = found?;
+    for _ in 0..2 {
+        let d = slope(x);
+        if d > 0.0 {
+            x = (x - quartic(x) / d).clamp(0.0, x_max);
+        }
+    }
+    let vp = h + j * x * x;
+    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    let in_case = vp - w >= threshold && vp - h <= threshold && vp >= h && vp <= vmax;
+    if !(vp.is_finite() && in_case) {
+        return None;
+    }
+    // Settle on the feasible side (a few ulps at most), as the iteration does.
+    let mut vp = vp;
+    for _ in 0..16 {
+        if total(vp) <= distance {
+            break;
+        }
+        vp = vp.next_down();
+    }
+    let err = (total(vp) - distance).abs();
+    (err <= 1e-12 * distance.max(1e-300) && vp >= h).then_some(vp)
+}
+
+/// The case of [`peak_velocity`] where neither change has a constant-acceleration phase, with
+/// `w = min(v0, v1) < h = max(v0, v1)`. With `x = sqrt((vp − h)/J)` and `δ = (h − w)/J` the
+/// condition is `G(x) = (w + h + J·x²)·sqrt(δ + x²) + (2h + J·x²)·x − d = 0` (squaring out both
+/// roots leaves a polynomial of degree 8, so no useful closed form). `G` is increasing and convex
+/// for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic `2J·x³ + (w + 3h)·x = d` (Cardano) give a
+/// start at or right of the root, from which Newton's iterates decrease monotonically to it
+/// (quadratic convergence; 2–4 steps in practice). `None` when the result leaves the case.
+fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+    let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
+    let (w, h) = (v0.min(v1), v0.max(v1));
+    let delta = (h - w) / j;
+    let (p, q) = ((w + 3.0 * h) / (2.0 * j), distance / (2.0 * j));
+    let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+    let wu = p / (3.0 * u);
+    let mut x = q / (u * u + p / 3.0 + wu * wu);
+    for _ in 0..16 {
+        let x2 = x * x;
+        let root = (delta + x2).sqrt();
+        let g = (w + h + j * x2) * root + (2.0 * h + j * x2) * x - distance;
+        if g.abs() <= 1e-15 * distance {
+            break;
+        }
+        let ratio = if root > 0.0 { x / root } else { 1.0 };
+        let dg = 2.0 * j * x * root + (w + h + j * x2) * ratio + 2.0 * h + 3.0 * j * x2;
+        if !(dg > 0.0) {
+            break;
+        }
+        let step = g / dg;
+        x = (x - step).max(0.0);
+        if step.abs() <= 1e-14 * x {
+            break;
+        }
+    }
+    let mut vp = h + j * x * x;
+    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    // Settle on the feasible side (a few ulps at most).
+    for _ in 0..16 {
+        if total(vp) <= distance {
+            break;
+        }
+        vp = vp.next_down();
+    }
+    let in_case = vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
+    let err = (total(vp) - distance).abs();
+    (in_case && err <= 1e-12 * distance.max(1e-300)).then_some(vp)
+}
+
+/// The largest real root of `m³ + b·m² + c·m + d = 0` (Cardano with one real root, else the
+/// trigonometric form), polished by one Newton step; `None` when not finite.
+fn largest_cubic_root(b: f64, c: f64, d: f64) -> Option<f64> {
+    let shift = b / 3.0;
+    let pp = c - b * shift;
+    let qq = 2.0 * shift * shift * shift - c * shift + d;
+    let disc = 0.25 * qq * qq + pp * pp * pp / 27.0;
+    let t = if disc >= 0.0 {
+        let sq = disc.sqrt();
+        // u·v = −pp/3; take u from the larger magnitude side to avoid cancellation.
+        let u = (-0.5 * qq + if qq <= 0.0 { sq } else { -sq }).cbrt();
+        if u == 0.0 { 0.0 } else { u - pp / (3.0 * u) }
+    } else {
+        let rad = (-pp / 3.0).sqrt();
+        let arg = (-0.5 * qq / (rad * rad * rad)).clamp(-1.0, 1.0);
+        2.0 * rad * (arg.acos() / 3.0).cos()
+    };
+    let mut m = t - shift;
+    let f = m * (m * (m + b) + c) + d;
+    let df = m * (3.0 * m + 2.0 * b) + c;
+    if df != 0.0 {
+        m -= f / df;
+    }
+    m.is_finite().then_some(m)
 }
 
 /// One phase of constant jerk.

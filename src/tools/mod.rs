@@ -264,30 +264,6 @@ impl Cutter {
         })
     }
 
-    /// Derivative d(height)/d(radius) of the lower surface at radius `r` (0 ≤ r ≤ d/2); infinite
-    /// at the rim of ball and bull-nose cutters.
-    #[must_use]
-    pub(crate) fn slope_at_radius(&self, r: f64) -> f64 {
-        let big = self.radius();
-        match self.kind {
-            CutterKind::Ball => {
-                let w = (big * big - r * r).max(0.0).sqrt();
-                if w > 0.0 { r / w } else { f64::INFINITY }
-            }
-            CutterKind::Flat => 0.0,
-            CutterKind::BullNose { corner_radius } => {
-                let q = r - (big - corner_radius);
-                if q <= 0.0 {
-                    0.0
-                } else {
-                    let w = (corner_radius * corner_radius - q * q).max(0.0).sqrt();
-                    if w > 0.0 { q / w } else { f64::INFINITY }
-                }
-            }
-            CutterKind::Cone { half_angle } => 1.0 / half_angle.tan(),
-        }
-    }
-
     /// Radius of the tool at height `h` above the tip, mm: the profile below
     /// [`Cutter::profile_height`], the cutting diameter up to the flute length, the shank up to
     /// the overall length, then the holder sections; `None` for negative, non-finite heights or

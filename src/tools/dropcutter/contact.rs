@@ -11,8 +11,9 @@
 //!   section is f(t) = h(√(d² + t²)) for |t| ≤ √(R² − d²), a convex function of the position t
 //!   along the edge. The tip height z_line(t) − f(t) is concave, so its maximum on the edge is
 //!   the clamped root of f′(t) = m (m = the edge's slope): in closed form for ball, flat and cone,
-//!   by bisection on the monotone f′ for the bull-nose (the torus–line contact that OpenCAMLib
-//!   solves with its offset ellipse).
+//!   and for the bull-nose over its axis (d = 0); otherwise for the bull-nose by a bracketed
+//!   Newton iteration on the monotone f′ (the torus–line contact that OpenCAMLib solves with its
+//!   offset ellipse, a quartic).
 
 use glam::{DVec2, DVec3};
 
@@ -26,18 +27,29 @@ fn offer(best: &mut Option<ClPoint>, cand: ClPoint) {
     }
 }
 
-/// Run the vertex, facet and edge tests of triangle `tri` (index `t`) for the cutter at `c`.
+/// The unit normal of a triangle pointing up (z ≥ 0), as the facet test uses it; `None` for a
+/// degenerate triangle.
+pub(super) fn upward_normal(tri: &[DVec3; 3]) -> Option<DVec3> {
+    let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).try_normalize()?;
+    Some(if n.z < 0.0 { -n } else { n })
+}
+
+/// Run the vertex, facet and edge tests of triangle `tri` (index `t`, upward unit normal
+/// `normal` from [`upward_normal`]) for the cutter at `c`.
 pub(super) fn drop_on_triangle(
     cutter: &Cutter,
     c: DVec2,
     tri: &[DVec3; 3],
+    normal: Option<DVec3>,
     t: usize,
     best: &mut Option<ClPoint>,
 ) {
     for p in tri {
         vertex(cutter, c, *p, t, best);
     }
-    facet(cutter, c, tri, t, best);
+    if let Some(n) = normal {
+        facet(cutter, c, tri, n, t, best);
+    }
     for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
         edge(cutter, c, a, b, t, best);
     }
@@ -58,13 +70,14 @@ fn vertex(cutter: &Cutter, c: DVec2, p: DVec3, t: usize, best: &mut Option<ClPoi
     }
 }
 
-fn facet(cutter: &Cutter, c: DVec2, tri: &[DVec3; 3], t: usize, best: &mut Option<ClPoint>) {
-    let Some(mut n) = (tri[1] - tri[0]).cross(tri[2] - tri[0]).try_normalize() else {
-        return;
-    };
-    if n.z < 0.0 {
-        n = -n;
-    }
+fn facet(
+    cutter: &Cutter,
+    c: DVec2,
+    tri: &[DVec3; 3],
+    n: DVec3,
+    t: usize,
+    best: &mut Option<ClPoint>,
+) {
     if n.z < 1e-12 {
         return; // vertical: only its edges and vertices can be touched from above
     }
@@ -179,7 +192,9 @@ fn edge(cutter: &Cutter, c: DVec2, p1: DVec3, p2: DVec3, t: usize, best: &mut Op
                 s * m.signum()
             }
         }
-        CutterKind::BullNose { .. } => bisect_tangency(cutter, d, m, lo, hi),
+        CutterKind::BullNose { corner_radius } => {
+            bull_tangency(d, m, big - corner_radius, corner_radius, lo, hi)
+        }
     }
     .clamp(lo, hi);
     if t_star <= t1 || t_star >= t1 + len {
@@ -201,41 +216,66 @@ fn edge(cutter: &Cutter, c: DVec2, p1: DVec3, p2: DVec3, t: usize, best: &mut Op
     );
 }
 
-/// The t in [lo, hi] maximising m·t − f(t), f(t) = h(√(d² + t²)) convex: bisection on the
-/// non-increasing g(t) = m − f′(t).
-fn bisect_tangency(cutter: &Cutter, d: f64, m: f64, mut lo: f64, mut hi: f64) -> f64 {
-    let g = |t: f64| {
+/// The t in [lo, hi] maximising m·t − f(t) for the bull-nose (flat radius a, corner radius r),
+/// f(t) = h(ρ), ρ = √(d² + t²), convex: the root of the non-increasing g(t) = m − f′(t).
+///
+/// On the torus (q = ρ − a > 0, w = √(r² − q²)): h′ = q/w, h″ = r²/w³, f′ = h′·t/ρ and
+/// f″ = h″·t²/ρ² + h′·d²/ρ³. Over the axis (d = 0) the root is closed form:
+/// q = r·|m|/√(1 + m²), t = sign(m)·(a + q). Otherwise the torus–line tangency is a quartic
+/// (OpenCAMLib's offset ellipse), solved by Newton's method kept inside the bracket (a
+/// bisection step whenever Newton would leave it, as on the flat part where g is constant).
+fn bull_tangency(d: f64, m: f64, a: f64, r: f64, mut lo: f64, mut hi: f64) -> f64 {
+    // (g, g′) at t; at the rim the slope is infinite: g takes the sign of −t there.
+    let g = |t: f64| -> (f64, f64) {
         let rho = (d * d + t * t).sqrt();
-        let df = if rho > 0.0 {
-            cutter.slope_at_radius(rho.min(cutter.radius())) * t / rho
-        } else {
-            0.0
-        };
-        // At the rim the slope is infinite: treat ∞·0 as the sign of t.
-        if df.is_nan() {
-            m - t.signum() * f64::INFINITY
-        } else {
-            m - df
+        let q = rho - a;
+        if !(rho > 0.0) || q <= 0.0 {
+            return (m, 0.0);
         }
+        let w = (r * r - q * q).max(0.0).sqrt();
+        if !(w > 0.0) {
+            return (m - t.signum() * f64::INFINITY, f64::NEG_INFINITY);
+        }
+        let h1 = q / w;
+        let h2 = r * r / (w * w * w);
+        let (c, s) = (t / rho, d / rho);
+        (m - h1 * c, -(h2 * c * c + h1 * s * s / rho))
     };
-    if g(lo) <= 0.0 {
+    if g(lo).0 <= 0.0 {
         return lo;
     }
-    if g(hi) >= 0.0 {
+    if g(hi).0 >= 0.0 {
         return hi;
+    }
+    if d == 0.0 {
+        let q = r * m.abs() / (1.0 + m * m).sqrt();
+        return (m.signum() * (a + q)).clamp(lo, hi);
     }
     // The optimum is interior (f′ = m there), so the tip height's error is second order in the
     // bracket: 1e-9 of the radius leaves it far below 1e-12 mm.
-    let stop = 1e-9 * cutter.radius();
+    let stop = 1e-9 * (a + r);
+    let mut t = 0.5 * (lo + hi);
     for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if hi - lo <= stop || mid <= lo || mid >= hi {
+        let (gt, dg) = g(t);
+        if gt > 0.0 {
+            lo = t;
+        } else if gt < 0.0 {
+            hi = t;
+        } else {
+            return t;
+        }
+        if hi - lo <= stop {
             break;
         }
-        if g(mid) > 0.0 {
-            lo = mid;
+        let next = t - gt / dg;
+        if next.is_finite() && next > lo && next < hi {
+            let converged = (next - t).abs() <= 1e-3 * stop;
+            t = next;
+            if converged {
+                return t;
+            }
         } else {
-            hi = mid;
+            t = 0.5 * (lo + hi);
         }
     }
     0.5 * (lo + hi)
