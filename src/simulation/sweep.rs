@@ -233,6 +233,22 @@ impl Body {
         }
     }
 
+    /// Heights `[h0, h1]` of an axis segment whose points within [`Body::radius`] cover the
+    /// body (a ball's sphere centre to its top; the tip or a cylinder's bottom otherwise).
+    pub(super) fn axis_span(&self) -> (f64, f64) {
+        match *self {
+            Self::Cutting {
+                radius,
+                flat,
+                corner,
+                cone_tan,
+                top,
+            } if flat == 0.0 && cone_tan == 0.0 && corner == radius => (radius.min(top), top),
+            Self::Cutting { top, .. } => (0.0, top),
+            Self::Cylinder { z0, z1, .. } => (z0, z1),
+        }
+    }
+
     pub(super) fn top(&self) -> f64 {
         match *self {
             Self::Cutting { top, .. } => top,
@@ -354,6 +370,53 @@ impl Body {
                 hull(ball, shaft)
             }
         }
+    }
+}
+
+impl Body {
+    /// Whether the line `o + s·e` (unit e) enters a ball end mill's sweep at or above the
+    /// offset `top` (so the sweep takes nothing from material below `top`), decided from the
+    /// ball's capsule alone: the shaft above the sphere centre lies on the far side of the
+    /// plane through the centre normal to the axis, so along a line that climbs the axis
+    /// (e·a > 0) it cannot be entered before that plane. `false` when undecided (then
+    /// [`Body::exact_interval`] decides); when `true`, the entry of
+    /// [`Body::exact_interval`] is the same capsule entry, so skipping the line changes
+    /// nothing.
+    pub(super) fn entry_above(&self, step: &SweepStep, o: DVec3, e: DVec3, top: f32) -> bool {
+        let Self::Cutting {
+            radius,
+            flat,
+            corner,
+            cone_tan,
+            top: body_top,
+        } = *self
+        else {
+            return false;
+        };
+        if !(flat == 0.0 && cone_tan == 0.0 && corner == radius) {
+            return false;
+        }
+        let a = step.axis;
+        let ea = e.dot(a);
+        let d = step.p1 - step.p0;
+        let c0 = step.p0 + a * radius;
+        let Some(entry) = capsule_entry(o, e, c0, c0 + d, radius) else {
+            return false;
+        };
+        #[allow(clippy::cast_possible_truncation)]
+        if !(entry as f32 >= top) {
+            return false;
+        }
+        if body_top <= radius {
+            return true;
+        }
+        if !(ea > 1e-3) {
+            return false;
+        }
+        // (o + s·e − c(t))·a ≥ 0 on the shaft, for some t in [0, 1]; 1 nm to spare for the
+        // tolerance of the shaft's solve.
+        let plane = |c: DVec3| -(o - c).dot(a) / ea;
+        entry + 1e-6 <= plane(c0).min(plane(c0 + d))
     }
 }
 
