@@ -90,11 +90,7 @@ impl BallStep {
             let ox = xo + ((i + k) as f64 + 0.5) * dx - c0.x;
             let rho2 = ox * ox + oy2;
             let h0 = rr - rho2;
-            let s0 = if h0 >= 0.0 {
-                -h0.sqrt()
-            } else {
-                f64::INFINITY
-            };
+            let s0 = if h0 >= 0.0 { -h0.sqrt() } else { f64::INFINITY };
             let ex = ox - d.x;
             let h1 = rr - (ex * ex + ey2);
             let s1 = if h1 >= 0.0 {
@@ -194,7 +190,9 @@ mod tests {
                     let o = DVec3::new(x, y, -20.0);
                     let want = capsule_entry(o, DVec3::Z, c0, c1, r).map(|e| o.z + e);
                     match want {
-                        Some(w) => assert!((got - w).abs() < 1e-9, "{p0} {p1} ({x}, {y}): {got} {w}"),
+                        Some(w) => {
+                            assert!((got - w).abs() < 1e-9, "{p0} {p1} ({x}, {y}): {got} {w}")
+                        }
                         None => assert!(got.is_infinite(), "{p0} {p1} ({x}, {y}): {got}"),
                     }
                 }

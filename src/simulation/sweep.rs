@@ -582,6 +582,63 @@ mod tests {
     }
 
     #[test]
+    fn entry_above_never_skips_a_cut() {
+        let ball =
+            Body::cutting(&Cutter::new(CutterKind::Ball, 6.0).unwrap_or_else(|e| panic!("{e}")));
+        let axes = [
+            DVec3::Z,
+            DVec3::new(0.0, 0.4, 1.0).normalize(),
+            DVec3::new(-0.6, 0.3, 0.8).normalize(),
+        ];
+        let moves = [
+            DVec3::new(0.3, 0.0, 0.0),
+            DVec3::new(0.1, 0.2, -0.05),
+            DVec3::ZERO,
+        ];
+        let (mut skipped, mut total) = (0, 0);
+        for axis in axes {
+            for d in moves {
+                let step = SweepStep {
+                    p0: DVec3::ZERO,
+                    p1: d,
+                    axis,
+                };
+                for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    for k in 0..400 {
+                        let (u, v) = (f64::from(k % 20) * 0.4 - 4.0, f64::from(k / 20) * 0.4 - 4.0);
+                        let o = DVec3::new(u, v, -40.0);
+                        let o = if e == DVec3::X {
+                            DVec3::new(-40.0, u, v)
+                        } else if e == DVec3::Y {
+                            DVec3::new(u, -40.0, v)
+                        } else {
+                            o
+                        };
+                        let exact = ball.exact_interval(&step, o, e);
+                        for m in 0..40 {
+                            #[allow(clippy::cast_possible_truncation)]
+                            let top = (30.0 + 0.25 * f64::from(m)) as f32;
+                            total += 1;
+                            if ball.entry_above(&step, o, e, top) {
+                                skipped += 1;
+                                if let Some((lo, _)) = exact {
+                                    #[allow(clippy::cast_possible_truncation)]
+                                    let lo = lo as f32;
+                                    assert!(lo >= top, "{axis} {d} {o} {e}: {lo} < {top}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            skipped > total / 20,
+            "the bound decides too little: {skipped} of {total}"
+        );
+    }
+
+    #[test]
     fn vertical_and_general_match_brute_force() {
         let moves = [
             (DVec3::new(0.0, 0.0, 0.0), DVec3::new(10.0, 0.0, 0.0)),
