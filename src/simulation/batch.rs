@@ -19,6 +19,7 @@ use std::ops::Range;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::ballrow::{BallStep, LANES, cut_below};
 use super::dexel::{Dexel, DexelFamily};
 use super::engine::{CollisionKind, Hit};
 use super::exact::stadium_span;
@@ -49,6 +50,8 @@ struct PBody {
     /// Ball end mill whose top is out of the stock's box (nothing above it to cut): the
     /// segment of sphere centres and the radius, for the quick tests.
     ball: Option<(DVec3, DVec3, f64)>,
+    /// Ball end mill on a vertical feed step: the row kernel's constants (Z rays).
+    fast: Option<BallStep>,
 }
 
 /// A step of the batch.
@@ -162,12 +165,30 @@ impl Batch {
                     _ => None,
                 }
                 .filter(|_| body.top() < cutting.top());
+                let fast = match body {
+                    Body::Cutting {
+                        radius,
+                        flat,
+                        corner,
+                        cone_tan,
+                        top,
+                    } if flat == 0.0
+                        && cone_tan == 0.0
+                        && corner == radius
+                        && kind.is_none()
+                        && step.is_vertical() =>
+                    {
+                        Some(BallStep::new(step.p0, step.p1, radius, top))
+                    }
+                    _ => None,
+                };
                 self.bodies.push(PBody {
                     body,
                     kind,
                     cuts: kind.is_none() || kind == Some(CollisionKind::Rapid),
                     bbox,
                     ball,
+                    fast,
                 });
             }
             if self.bodies.len() > first {
@@ -366,34 +387,10 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
                 w_hi: hi[w] - g.o[w],
                 vertical: g.z_family && p.vertical,
             };
+            let shadow = (!ctx.vertical).then(|| Shadow::new(&p.step, &b.body, g));
             for j in ja..jb {
-                let (sa, sb) = if ctx.vertical {
-                    #[allow(clippy::cast_precision_loss)]
-                    let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
-                    let Some((x0, x1)) = stadium_span(
-                        p.step.p0.truncate(),
-                        p.step.p1.truncate(),
-                        b.body.radius(),
-                        y,
-                    ) else {
-                        continue;
-                    };
-                    let (x0, x1) = match (b.ball.is_some() && p.chained)
-                        .then(|| rear_chord(&p.step, b.body.radius(), y))
-                        .flatten()
-                    {
-                        // The rear half-disc touches one end of the span: the rest remains.
-                        Some((r0, r1)) if r0 <= x0 => (x0.max(r1), x1),
-                        Some((r0, r1)) if r1 >= x1 => (x0, x1.min(r0)),
-                        _ => (x0, x1),
-                    };
-                    if x0 > x1 {
-                        continue;
-                    }
-                    let (a, c) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1);
-                    (a.max(ia), c.min(ib))
-                } else {
-                    (ia, ib)
+                let Some((sa, sb)) = row_span(&ctx, shadow.as_ref(), g, j, (ia, ib)) else {
+                    continue;
                 };
                 let Some(row) = t.rows.get_mut(j - t.j0) else {
                     continue;
@@ -404,12 +401,14 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
                     let end = ((ci + 1) * CULL).min(sb);
                     let e = ranges.get(cj * cnu + ci).copied().unwrap_or([0.0, 0.0]);
                     if f64::from(e[1]) > ctx.w_lo && f64::from(e[0]) < ctx.w_hi {
-                        let mut changed = false;
-                        for k in i..end {
-                            if let Some(d) = row.get_mut(k - t.i0) {
-                                changed |= ray(d, k, j, &ctx, g, &mut hits);
-                            }
-                        }
+                        let changed = match b.fast.filter(|_| ctx.vertical) {
+                            Some(fb) => ball_run(row, (i, end, j), &fb, &ctx, (t.i0, g), &mut hits),
+                            None => (i..end).fold(false, |changed, k| {
+                                row.get_mut(k - t.i0)
+                                    .is_some_and(|d| ray(d, k, j, &ctx, g, &mut hits))
+                                    | changed
+                            }),
+                        };
                         if changed
                             && let Some(slot) =
                                 dirty.get_mut((cj - t.j0 / CULL) * CPT + (ci - t.i0 / CULL))
@@ -439,6 +438,93 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
     (hits, updates)
 }
 
+/// The rays `sa..sb` of row `j` (within `ia..ib`) that the body can change: for a vertical
+/// tool over Z rays the footprint's stadium less the rear half-disc already cut, otherwise the
+/// body's shadow; `None` when the row misses it.
+fn row_span(
+    ctx: &BodyCtx,
+    shadow: Option<&Shadow>,
+    g: &Grid,
+    j: usize,
+    (ia, ib): (usize, usize),
+) -> Option<(usize, usize)> {
+    let (u, v, _) = g.uvw;
+    #[allow(clippy::cast_precision_loss)]
+    let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
+    let (p, b) = (ctx.p, ctx.b);
+    let (x0, x1) = if ctx.vertical {
+        let (x0, x1) = stadium_span(
+            p.step.p0.truncate(),
+            p.step.p1.truncate(),
+            b.body.radius(),
+            y,
+        )?;
+        match (b.ball.is_some() && p.chained)
+            .then(|| rear_chord(&p.step, b.body.radius(), y))
+            .flatten()
+        {
+            // The rear half-disc touches one end of the span: the rest remains.
+            Some((r0, r1)) if r0 <= x0 => (x0.max(r1), x1),
+            Some((r0, r1)) if r1 >= x1 => (x0, x1.min(r0)),
+            _ => (x0, x1),
+        }
+    } else if let Some(sh) = shadow {
+        sh.span(y)?
+    } else {
+        return Some((ia, ib));
+    };
+    if x0 > x1 {
+        return None;
+    }
+    let (a, c) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1);
+    let (a, c) = (a.max(ia), c.min(ib));
+    (a < c).then_some((a, c))
+}
+
+/// A body's shadow on the grid plane of a family: every point of the body swept along the
+/// step lies within `r` of the parallelogram swept by its axis segment, so a ray meets the
+/// sweep only where its grid point lies within `r` of the parallelogram's projection.
+struct Shadow {
+    /// The projected corners, in order around the parallelogram (u, v), mm.
+    corners: [DVec2; 4],
+    /// The radius, grown by a rounding margin, mm.
+    r: f64,
+}
+
+impl Shadow {
+    fn new(step: &SweepStep, body: &Body, g: &Grid) -> Self {
+        let (u, v, _) = g.uvw;
+        let (h0, h1) = body.axis_span();
+        let (a, b) = (step.p0 + step.axis * h0, step.p0 + step.axis * h1);
+        let d = step.p1 - step.p0;
+        let uv = |p: DVec3| {
+            let q = p.to_array();
+            DVec2::new(
+                q.get(u).copied().unwrap_or(0.0),
+                q.get(v).copied().unwrap_or(0.0),
+            )
+        };
+        let r = body.radius();
+        Self {
+            corners: [uv(a), uv(b), uv(b + d), uv(a + d)],
+            r: r + 1e-9 * (1.0 + r) + 1e-9 * (a.abs().max_element() + d.abs().max_element()),
+        }
+    }
+
+    /// The u-interval of the shadow on the row at `y`: the hull of the edges' stadiums (the
+    /// shadow is convex, and a row through its inside crosses two edges).
+    fn span(&self, y: f64) -> Option<(f64, f64)> {
+        let c = &self.corners;
+        let mut out = None;
+        for k in 0..4 {
+            if let (Some(a), Some(b)) = (c.get(k), c.get((k + 1) % 4)) {
+                out = super::exact::hull(out, stadium_span(*a, *b, self.r, y));
+            }
+        }
+        out
+    }
+}
+
 /// A body of a step as the rays of a task see it.
 struct BodyCtx<'a> {
     p: &'a PStep,
@@ -448,6 +534,37 @@ struct BodyCtx<'a> {
     w_hi: f64,
     /// Vertical tool over Z rays: the closed forms of `vertical_interval`.
     vertical: bool,
+}
+
+/// Apply a vertical ball's step to the rays `i..end` (at most `LANES`) of row `j` by the row
+/// kernel, the general path for the rays it leaves; returns whether any material changed.
+fn ball_run(
+    row: &mut [Dexel],
+    (i, end, j): (usize, usize, usize),
+    fb: &BallStep,
+    ctx: &BodyCtx,
+    (i0, g): (usize, &Grid),
+    hits: &mut Vec<Hit>,
+) -> bool {
+    let (u, v, w) = g.uvw;
+    let n = (end - i).min(LANES);
+    let mut lo = [0.0; LANES];
+    #[allow(clippy::cast_precision_loss)]
+    let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
+    fb.entries((g.o[u], g.spacing, i), n, y, &mut lo);
+    let ow = g.o[w];
+    let limit = fb.limit_offset(ow);
+    let mut changed = false;
+    for (k, z) in lo.iter().take(n).enumerate() {
+        let Some(d) = row.get_mut(i + k - i0) else {
+            continue;
+        };
+        changed |= match cut_below(d, z - ow, limit) {
+            Some(c) => c,
+            None => ray(d, i + k, j, ctx, g, hits),
+        };
+    }
+    changed
 }
 
 /// Apply one body to ray (i, j); returns whether its material changed.
@@ -479,6 +596,9 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
             .map(|(a, b)| (a - ow, b - ow))
     } else if c.b.body.has_closed_form() {
+        if c.b.body.entry_above(step, o, g.dir, top) {
+            return false;
+        }
         c.b.body.exact_interval(step, o, g.dir)
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)

@@ -15,6 +15,7 @@
 //! step is exact per ray (the ray's interval inside the swept tool body, see `sweep`); arcs
 //! and axis changes are cut into steps with stated bounds (see [`StepOptions`]).
 
+mod ballrow;
 mod batch;
 mod deviation;
 mod dexel;

@@ -233,6 +233,22 @@ impl Body {
         }
     }
 
+    /// Heights `[h0, h1]` of an axis segment whose points within [`Body::radius`] cover the
+    /// body (a ball's sphere centre to its top; the tip or a cylinder's bottom otherwise).
+    pub(super) fn axis_span(&self) -> (f64, f64) {
+        match *self {
+            Self::Cutting {
+                radius,
+                flat,
+                corner,
+                cone_tan,
+                top,
+            } if flat == 0.0 && cone_tan == 0.0 && corner == radius => (radius.min(top), top),
+            Self::Cutting { top, .. } => (0.0, top),
+            Self::Cylinder { z0, z1, .. } => (z0, z1),
+        }
+    }
+
     pub(super) fn top(&self) -> f64 {
         match *self {
             Self::Cutting { top, .. } => top,
@@ -354,6 +370,53 @@ impl Body {
                 hull(ball, shaft)
             }
         }
+    }
+}
+
+impl Body {
+    /// Whether the line `o + s·e` (unit e) enters a ball end mill's sweep at or above the
+    /// offset `top` (so the sweep takes nothing from material below `top`), decided from the
+    /// ball's capsule alone: the shaft above the sphere centre lies on the far side of the
+    /// plane through the centre normal to the axis, so along a line that climbs the axis
+    /// (e·a > 0) it cannot be entered before that plane. `false` when undecided (then
+    /// [`Body::exact_interval`] decides); when `true`, the entry of
+    /// [`Body::exact_interval`] is the same capsule entry, so skipping the line changes
+    /// nothing.
+    pub(super) fn entry_above(&self, step: &SweepStep, o: DVec3, e: DVec3, top: f32) -> bool {
+        let Self::Cutting {
+            radius,
+            flat,
+            corner,
+            cone_tan,
+            top: body_top,
+        } = *self
+        else {
+            return false;
+        };
+        if !(flat == 0.0 && cone_tan == 0.0 && corner == radius) {
+            return false;
+        }
+        let a = step.axis;
+        let ea = e.dot(a);
+        let d = step.p1 - step.p0;
+        let c0 = step.p0 + a * radius;
+        let Some(entry) = capsule_entry(o, e, c0, c0 + d, radius) else {
+            return false;
+        };
+        #[allow(clippy::cast_possible_truncation)]
+        if !(entry as f32 >= top) {
+            return false;
+        }
+        if body_top <= radius {
+            return true;
+        }
+        if !(ea > 1e-3) {
+            return false;
+        }
+        // (o + s·e − c(t))·a ≥ 0 on the shaft, for some t in [0, 1]; 1 nm to spare for the
+        // tolerance of the shaft's solve.
+        let plane = |c: DVec3| -(o - c).dot(a) / ea;
+        entry + 1e-6 <= plane(c0).min(plane(c0 + d))
     }
 }
 
@@ -516,6 +579,63 @@ mod tests {
             }
         }
         (lo <= hi).then_some((lo, hi))
+    }
+
+    #[test]
+    fn entry_above_never_skips_a_cut() {
+        let ball =
+            Body::cutting(&Cutter::new(CutterKind::Ball, 6.0).unwrap_or_else(|e| panic!("{e}")));
+        let axes = [
+            DVec3::Z,
+            DVec3::new(0.0, 0.4, 1.0).normalize(),
+            DVec3::new(-0.6, 0.3, 0.8).normalize(),
+        ];
+        let moves = [
+            DVec3::new(0.3, 0.0, 0.0),
+            DVec3::new(0.1, 0.2, -0.05),
+            DVec3::ZERO,
+        ];
+        let (mut skipped, mut total) = (0, 0);
+        for axis in axes {
+            for d in moves {
+                let step = SweepStep {
+                    p0: DVec3::ZERO,
+                    p1: d,
+                    axis,
+                };
+                for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    for k in 0..400 {
+                        let (u, v) = (f64::from(k % 20) * 0.4 - 4.0, f64::from(k / 20) * 0.4 - 4.0);
+                        let o = DVec3::new(u, v, -40.0);
+                        let o = if e == DVec3::X {
+                            DVec3::new(-40.0, u, v)
+                        } else if e == DVec3::Y {
+                            DVec3::new(u, -40.0, v)
+                        } else {
+                            o
+                        };
+                        let exact = ball.exact_interval(&step, o, e);
+                        for m in 0..40 {
+                            #[allow(clippy::cast_possible_truncation)]
+                            let top = (30.0 + 0.25 * f64::from(m)) as f32;
+                            total += 1;
+                            if ball.entry_above(&step, o, e, top) {
+                                skipped += 1;
+                                if let Some((lo, _)) = exact {
+                                    #[allow(clippy::cast_possible_truncation)]
+                                    let lo = lo as f32;
+                                    assert!(lo >= top, "{axis} {d} {o} {e}: {lo} < {top}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            skipped > total / 20,
+            "the bound decides too little: {skipped} of {total}"
+        );
     }
 
     #[test]
