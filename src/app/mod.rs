@@ -2,6 +2,8 @@
 //!
 //! - [`workstation`]: the [`eframe::App`]; lays out the panels and applies [`command::Command`]s
 //!   in one place.
+//! - [`actions`]: the one table of menu entries and keyboard shortcuts.
+//! - [`job`]: the one background-job type (progress, cancel, poll; dropped = cancelled).
 //! - [`panels`]: menu bar, project tree, properties, log, status bar (they return commands).
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
 //! - [`number_field`]: the one widget every numeric property is typed in.
@@ -10,6 +12,7 @@
 //! - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths, in a window
 //!   of its own.
 
+pub mod actions;
 pub mod command;
 pub mod crease;
 pub mod document;

@@ -17,16 +17,17 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::actions::{Action, actions, shortcuts};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
 use super::file_chooser::{ChooserPurpose, FileChooser};
 use super::file_dialog::{DialogOutcome, OpenDialog, SaveDialog, SavePurpose};
-use super::job::{Job, JobPoll};
+use super::job::{Job, JobSlot};
 use super::message_log::MessageLog;
 use super::panels::grouped;
 use super::panels::log_panel::log_ui;
-use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui, shortcuts};
+use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui};
 use super::panels::playback::playback_ui;
 use super::panels::project_dialogs::recovery_ui;
 use super::panels::project_tree::project_tree_ui;
@@ -44,9 +45,9 @@ use crate::project::Project;
 use crate::render::DataId;
 use dialogs::overlays_ui;
 
-type LoadJob = Job<Result<LoadedPart, LoadError>>;
-/// A curvature job: the render id of the document it is for, and the field.
-type FieldJob = (DataId, Job<Result<CurvatureField, ()>>);
+type LoadJob = JobSlot<Result<LoadedPart, LoadError>>;
+/// A curvature job, keyed by the render id of the document it is for.
+type FieldJob = JobSlot<Result<CurvatureField, ()>, DataId>;
 
 /// Where the workstation keeps its files and how often it autosaves.
 #[derive(Clone, Debug)]
@@ -97,8 +98,8 @@ pub struct Workstation {
     document: Option<Document>,
     viewport: ViewportState,
     log: MessageLog,
-    load_job: Option<LoadJob>,
-    field_job: Option<FieldJob>,
+    load_job: LoadJob,
+    field_job: FieldJob,
     dialog: OpenDialog,
     recent: RecentFiles,
     started: Instant,
@@ -134,6 +135,8 @@ pub struct Workstation {
     profile_editor: super::profile_editor::ProfileEditor,
     /// The operator panel's window.
     operator_panel: super::operator_panel::OperatorPanel,
+    /// The menu entries and keyboard shortcuts.
+    actions: Vec<Action>,
 }
 
 impl Workstation {
@@ -154,8 +157,8 @@ impl Workstation {
             document: None,
             viewport: ViewportState::default(),
             log: MessageLog::default(),
-            load_job: None,
-            field_job: None,
+            load_job: LoadJob::default(),
+            field_job: FieldJob::default(),
             dialog: if native {
                 OpenDialog::default()
             } else {
@@ -190,6 +193,7 @@ impl Workstation {
             restore_view: None,
             profile_editor: super::profile_editor::ProfileEditor::new(),
             operator_panel: super::operator_panel::OperatorPanel::new(),
+            actions: actions(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -286,7 +290,7 @@ impl Workstation {
     /// Is the curvature field being computed?
     #[must_use]
     pub fn is_computing_field(&self) -> bool {
-        self.field_job.is_some()
+        self.field_job.is_running()
     }
 
     /// The log.
@@ -298,7 +302,7 @@ impl Workstation {
     /// Is a file being loaded?
     #[must_use]
     pub fn is_loading(&self) -> bool {
-        self.load_job.is_some()
+        self.load_job.is_running()
     }
 
     fn now_s(&self) -> f64 {
@@ -342,16 +346,23 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if self.cancel_calculation()
-                    || self.cancel_simulation()
-                    || self.cancel_post()
-                    || self.cancel_reduction()
-                {
-                } else if let Some(job) = self.load_job.take() {
-                    self.cancel_job(&job);
-                } else if let Some((_, job)) = self.field_job.take() {
-                    self.cancel_job(&job);
-                    self.viewport.scalar_field = None;
+                let cancelled = self
+                    .ops
+                    .job
+                    .cancel()
+                    .or_else(|| self.sims.job.cancel())
+                    .or_else(|| self.programs.job.cancel())
+                    .or_else(|| self.reductions.job.cancel())
+                    .or_else(|| self.load_job.cancel())
+                    .or_else(|| {
+                        let label = self.field_job.cancel()?;
+                        self.viewport.scalar_field = None;
+                        Some(label)
+                    });
+                if let Some(label) = cancelled {
+                    let t = self.now_s();
+                    self.log
+                        .push(t, Severity::Warning, format!("{label} cancelled"));
                 }
             }
             Command::Quit => {
@@ -437,10 +448,8 @@ impl Workstation {
     /// playback, simulations, posted programs and reductions (their jobs are cancelled). View
     /// preferences (path colouring, all paths, axis vectors, playback speed) stay.
     fn reset_derived(&mut self) {
-        self.ops.cancel_silently();
-        self.sims.cancel_silently();
-        self.programs.cancel_silently();
-        self.reductions.cancel_silently();
+        // Replaced job slots drop their jobs, which cancels them without a word.
+        self.reductions.job = Default::default();
         let old = std::mem::replace(&mut self.ops, operations::Operations::new());
         self.ops.colouring = old.colouring;
         self.ops.show_all = old.show_all;
@@ -457,7 +466,7 @@ impl Workstation {
     fn set_scalar_field(&mut self, field: Option<ScalarField>) {
         self.viewport.scalar_field = field;
         let Some(doc) = &self.document else { return };
-        if field.is_none() || doc.curvature.is_some() || self.field_job.is_some() {
+        if field.is_none() || doc.curvature.is_some() || self.field_job.is_running() {
             return;
         }
         if !has_surfaces(&doc.part) {
@@ -466,60 +475,42 @@ impl Workstation {
         }
         let part = doc.part.clone();
         let id = doc.ids[0];
-        let ctx = self.ctx.clone();
-        self.field_job = Some((
+        self.field_job.start(
             id,
-            Job::spawn(
-                "Evaluating curvature",
-                move |progress| curvature_field(&part, progress),
-                move || ctx.request_repaint(),
-            ),
-        ));
+            Job::start("Evaluating curvature", &self.ctx, move |progress| {
+                curvature_field(&part, progress)
+            }),
+        );
     }
 
     fn start_load(&mut self, path: PathBuf) {
-        if let Some(old) = self.load_job.take() {
-            old.cancel();
-        }
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
         self.log_info(format!("Opening {}", path.display()));
-        let ctx = self.ctx.clone();
-        let worker_path = path;
-        self.load_job = Some(Job::spawn(
-            format!("Opening {name}"),
-            move |progress| load_part(&worker_path, progress),
-            move || ctx.request_repaint(),
-        ));
+        self.load_job.start(
+            (),
+            Job::start(format!("Opening {name}"), &self.ctx, move |progress| {
+                load_part(&path, progress)
+            }),
+        );
     }
 
     fn start_default_load(&mut self) {
-        if let Some(old) = self.load_job.take() {
-            old.cancel();
-        }
         self.log_info("Opening the default part (bicubic-hills, embedded)");
-        let ctx = self.ctx.clone();
-        self.load_job = Some(Job::spawn(
-            "Opening the default part",
-            load_default_part,
-            move || ctx.request_repaint(),
-        ));
+        self.load_job.start(
+            (),
+            Job::start("Opening the default part", &self.ctx, load_default_part),
+        );
     }
 
-    /// Collect finished work: the load job, the file dialog, renderer problems.
+    /// Collect finished work: the background jobs, the file dialog, renderer problems.
     fn poll_background(&mut self) {
-        if let Some(job) = &self.load_job {
-            match job.poll() {
-                JobPoll::Running => self.ctx.request_repaint_after(Duration::from_millis(100)),
-                JobPoll::Done(result) => {
-                    let elapsed = job.started.elapsed().as_secs_f64();
-                    self.load_job = None;
-                    self.finish_load(result, elapsed);
-                }
-                JobPoll::Lost => {
-                    self.load_job = None;
+        if let Some(done) = self.load_job.poll() {
+            match done.result {
+                Some(result) => self.finish_load(result, done.elapsed_s),
+                None => {
                     let t = self.now_s();
                     self.log.notify(
                         t,
@@ -534,6 +525,10 @@ impl Workstation {
         self.poll_sim_job();
         self.poll_post_job();
         self.poll_reduction_job();
+        if self.status().job.is_some() {
+            // Each job wakes the UI when it ends; this is the fallback (and moves the bar).
+            self.ctx.request_repaint_after(Duration::from_millis(100));
+        }
         self.autosave_if_due();
         if self.dialog.is_waiting() {
             self.ctx.request_repaint_after(Duration::from_millis(250));
@@ -575,20 +570,11 @@ impl Workstation {
     }
 
     fn poll_field_job(&mut self) {
-        let Some((id, job)) = &self.field_job else {
+        let Some(done) = self.field_job.poll() else {
             return;
         };
-        let id = *id;
-        let outcome = match job.poll() {
-            JobPoll::Running => {
-                self.ctx.request_repaint_after(Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => r.ok(),
-            JobPoll::Lost => None,
-        };
-        let elapsed = job.started.elapsed().as_secs_f64();
-        self.field_job = None;
+        let (id, elapsed) = (done.key, done.elapsed_s);
+        let outcome = done.result.and_then(Result::ok);
         match (outcome, &mut self.document) {
             (Some(field), Some(doc)) if doc.ids[0] == id => {
                 doc.curvature = Some(field);
@@ -628,9 +614,7 @@ impl Workstation {
                 let part_edit = self.session.part_edit(&part.path);
                 let id = self.next_data_id;
                 self.next_data_id += 2;
-                if let Some((_, job)) = self.field_job.take() {
-                    job.cancel();
-                }
+                self.field_job.cancel();
                 if self.document.is_some() {
                     // Paths, simulations and programs of the old part go with it.
                     self.reset_derived();
@@ -676,12 +660,14 @@ impl Workstation {
         StatusInfo {
             cursor_mm: self.viewport.hover_point,
             job: self
-                .calc_status()
-                .or_else(|| self.sim_status())
-                .or_else(|| self.post_status())
-                .or_else(|| self.reduction_status())
-                .or_else(|| self.load_job.as_ref().map(job_status))
-                .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
+                .ops
+                .job
+                .status()
+                .or_else(|| self.sims.job.status())
+                .or_else(|| self.programs.job.status())
+                .or_else(|| self.reductions.job.status())
+                .or_else(|| self.load_job.status())
+                .or_else(|| self.field_job.status()),
             document: self.document.as_ref().map(|d| {
                 format!(
                     "{} · {} triangles",
@@ -702,7 +688,7 @@ impl Workstation {
         let ctx = ui.ctx().clone();
         self.ctx = ctx.clone();
         self.on_close_request(&ctx);
-        shortcuts(&ctx, &mut commands);
+        shortcuts(&ctx, &self.actions, &mut commands);
         let title = self.session.title();
         if title != self.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
@@ -743,7 +729,7 @@ impl Workstation {
             redo: self.session.history.redo_label(),
         };
         egui::Panel::top("menu bar").show(ui, |ui| {
-            menu_bar_ui(ui, &self.recent, flags, undo, &mut commands);
+            menu_bar_ui(ui, &self.actions, &self.recent, flags, undo, &mut commands);
         });
         let status = self.status();
         egui::Panel::bottom("status bar")
@@ -882,39 +868,6 @@ impl Workstation {
             self.apply(c);
         }
     }
-}
-
-impl Workstation {
-    /// Ask `job`'s worker to stop and say so in the log.
-    fn cancel_job<T: Send + 'static>(&mut self, job: &Job<T>) {
-        job.cancel();
-        let t = self.now_s();
-        self.log
-            .push(t, Severity::Warning, format!("{} cancelled", job.label));
-    }
-
-    /// A background job's outcome once it has ended: `Some(Some(result))`, or `Some(None)` when
-    /// the worker stopped without one; `None` while it runs (a repaint is then asked for, so the
-    /// result is collected soon after it arrives).
-    fn finished<T: Send + 'static>(&self, job: &Job<T>) -> Option<Option<T>> {
-        match job.poll() {
-            JobPoll::Running => {
-                self.ctx.request_repaint_after(Duration::from_millis(100));
-                None
-            }
-            JobPoll::Done(r) => Some(Some(r)),
-            JobPoll::Lost => Some(None),
-        }
-    }
-}
-
-/// A job as the status bar shows it: label, fraction done, seconds running.
-fn job_status<T>(job: &Job<T>) -> (String, f64, f64) {
-    (
-        job.label.clone(),
-        job.progress.fraction(),
-        job.started.elapsed().as_secs_f64(),
-    )
 }
 
 /// A new project: the default part and the tool library's tools, its default tool selected.

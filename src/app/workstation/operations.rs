@@ -8,7 +8,7 @@ use glam::Mat4;
 
 use super::super::command::{Command, PlaybackCommand};
 use super::super::document::Selection;
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::super::panels::operation_editor::OperationView;
 use super::super::panels::playback::PlaybackView;
 use super::super::panels::properties::Focus;
@@ -20,13 +20,12 @@ use crate::project::{Edit, Operation};
 use crate::render::{DataId, LineInstance, ScalarMapping};
 use crate::tools::Cutter;
 
-/// A running calculation: what it computes (to file the result) and the job.
-pub(super) struct CalcJob {
+/// What a running calculation computes (to file the result).
+pub(super) struct CalcKey {
     index: usize,
     operation: Operation,
     cutter: Cutter,
     part_id: DataId,
-    job: Job<Result<Computed, ComputeError>>,
 }
 
 /// The highlighted move: (active operation, pose, stored result), render id, lines.
@@ -38,7 +37,7 @@ pub(super) struct Operations {
     /// Computed paths.
     pub store: ToolpathStore,
     /// The running calculation.
-    pub job: Option<CalcJob>,
+    pub job: JobSlot<Result<Computed, ComputeError>, CalcKey>,
     /// The operation whose path is active (drawn, played back, picked).
     pub active: Option<usize>,
     /// The pose picked in the viewport (index into the active path).
@@ -74,13 +73,6 @@ impl Operations {
             ..Self::default()
         }
     }
-
-    /// Stop the running calculation without a word (its project is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some(calc) = self.job.take() {
-            calc.job.cancel();
-        }
-    }
 }
 
 /// Index of the last pose reached at time `t_s` on `clock` (non-decreasing times).
@@ -92,7 +84,7 @@ impl Workstation {
     /// Is an operation being calculated?
     #[must_use]
     pub fn is_calculating(&self) -> bool {
-        self.ops.job.is_some()
+        self.ops.job.is_running()
     }
 
     /// The latest result for operation `index` and whether it is fresh (computed from the
@@ -231,55 +223,34 @@ impl Workstation {
             );
             return;
         };
-        if let Some(old) = self.ops.job.take() {
-            old.job.cancel();
-        }
         // The engine's workpiece, shared: its BVH is built once per part, not per Calculate.
         let part = std::sync::Arc::clone(&doc.part.workpiece);
         let project = project.clone();
-        let ctx = self.ctx.clone();
         let part_id = doc.ids[0];
         self.log_info(format!("Calculating '{}'", operation.name()));
-        self.ops.job = Some(CalcJob {
+        let job = Job::start(
+            format!("Calculating {}", operation.name()),
+            &self.ctx,
+            move |progress| compute(&project, index, &part, progress),
+        );
+        let key = CalcKey {
             index,
+            operation,
             cutter,
             part_id,
-            job: Job::spawn(
-                format!("Calculating {}", operation.name()),
-                move |progress| compute(&project, index, &part, progress),
-                move || ctx.request_repaint(),
-            ),
-            operation,
-        });
-        self.ops.active = Some(index);
-    }
-
-    /// Cancel the running calculation; true when there was one.
-    pub(super) fn cancel_calculation(&mut self) -> bool {
-        let Some(calc) = self.ops.job.take() else {
-            return false;
         };
-        self.cancel_job(&calc.job);
-        true
-    }
-
-    /// The running calculation as the status bar shows it.
-    pub(super) fn calc_status(&self) -> Option<(String, f64, f64)> {
-        self.ops.job.as_ref().map(|c| super::job_status(&c.job))
+        self.ops.job.start(key, job);
+        self.ops.active = Some(index);
     }
 
     /// Collect a finished calculation.
     pub(super) fn poll_calc_job(&mut self) {
-        let Some(calc) = &self.ops.job else { return };
-        let Some(outcome) = self.finished(&calc.job) else {
+        let Some(done) = self.ops.job.poll() else {
             return;
         };
-        let Some(calc) = self.ops.job.take() else {
-            return;
-        };
-        let elapsed = calc.job.started.elapsed().as_secs_f64();
+        let (calc, elapsed) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(computed)) => {
                 for d in &computed.diagnostics {
                     self.log
@@ -314,7 +285,7 @@ impl Workstation {
             None => self.log.notify(
                 t,
                 Severity::Error,
-                format!("{}: the worker stopped unexpectedly", calc.job.label),
+                format!("{}: the worker stopped unexpectedly", done.label),
             ),
         }
     }
@@ -347,14 +318,20 @@ impl Workstation {
         let result = self
             .result_index(index)
             .and_then(|(i, fresh)| Some((self.ops.store.get(i)?, fresh)));
-        let running = self.ops.job.as_ref().filter(|c| c.index == index).map(|c| {
-            (
-                c.job.progress.fraction(),
-                c.job.started.elapsed().as_secs_f64(),
-            )
-        });
+        let running = self
+            .ops
+            .job
+            .key()
+            .filter(|c| c.index == index)
+            .and(self.ops.job.job())
+            .map(|j| (j.progress.fraction(), j.elapsed_s()));
         let active = self.ops.active == Some(index);
-        let simulating = self.sim_status().filter(|_| active).map(|(_, f, e)| (f, e));
+        let simulating = self
+            .sims
+            .job
+            .status()
+            .filter(|_| active)
+            .map(|(_, f, e)| (f, e));
         OperationView {
             simulation: self.simulation_of(index),
             simulating,

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::super::command::Command;
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::super::panels::gcode_view::{GcodeEvent, GcodeView};
 use super::super::panels::motion_plots::{MotionPlots, PlotEvent};
 use super::Workstation;
@@ -35,7 +35,7 @@ pub enum DockTab {
 
 /// What a program was posted from (it is shown as current while these are unchanged).
 #[derive(Clone, Debug, PartialEq)]
-struct ProgramKey {
+pub(super) struct ProgramKey {
     operation: Operation,
     cutter: Cutter,
     part_id: DataId,
@@ -45,7 +45,7 @@ struct ProgramKey {
 }
 
 /// What the worker produces: the run and, when its motion is planned, the plots of it.
-struct ProgramOutput {
+pub(super) struct ProgramOutput {
     run: MachiningRun,
     plots: Result<MotionPlots, String>,
 }
@@ -64,24 +64,15 @@ pub(super) struct Program {
     feed_lines: Option<(DataId, Arc<LineData>, ScalarMapping)>,
 }
 
-/// A running post: what it posts, the operation index, the job.
-type PostJob = (ProgramKey, usize, Job<Result<ProgramOutput, String>>);
+/// A running post, keyed by what it posts and the operation index.
+type PostJob = JobSlot<Result<ProgramOutput, String>, (ProgramKey, usize)>;
 
 /// The program state of the workstation.
 #[derive(Default)]
 pub(super) struct Programs {
-    job: Option<PostJob>,
+    pub(super) job: PostJob,
     pub current: Option<Program>,
     pub dock: DockTab,
-}
-
-impl Programs {
-    /// Stop the running post without a word (its project is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some((_, _, job)) = self.job.take() {
-            job.cancel();
-        }
-    }
 }
 
 impl Workstation {
@@ -115,39 +106,28 @@ impl Workstation {
         let toolpath = result.toolpath().clone();
         let project = self.session.project.clone();
         let tool_number = u32::try_from(key.operation.tool() + 1).unwrap_or(1);
-        let ctx = self.ctx.clone();
-        if let Some((_, _, old)) = self.programs.job.take() {
-            old.cancel();
-        }
         let label = format!("Posting {}", key.operation.name());
         self.log_info(format!(
             "{label} for {} ({})",
             project.machine, project.post.dialect
         ));
-        self.programs.job = Some((
-            key,
-            index,
-            Job::spawn(
-                label,
-                move |progress| {
-                    let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
-                        .map_err(|e| e.to_string())?;
-                    progress.set(0.8);
-                    let plots = match &run.motion {
-                        Ok(m) => Ok(MotionPlots::new(&m.timed)),
-                        Err(e) => Err(e.to_string()),
-                    };
-                    Ok(ProgramOutput { run, plots })
-                },
-                move || ctx.request_repaint(),
-            ),
-        ));
+        let job = Job::start(label, &self.ctx, move |progress| {
+            let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
+                .map_err(|e| e.to_string())?;
+            progress.set(0.8);
+            let plots = match &run.motion {
+                Ok(m) => Ok(MotionPlots::new(&m.timed)),
+                Err(e) => Err(e.to_string()),
+            };
+            Ok(ProgramOutput { run, plots })
+        });
+        self.programs.job.start((key, index), job);
     }
 
     /// Is a program being posted?
     #[must_use]
     pub fn is_posting(&self) -> bool {
-        self.programs.job.is_some()
+        self.programs.job.is_running()
     }
 
     /// The posted G-code of operation `index`, when it is current.
@@ -210,37 +190,14 @@ impl Workstation {
             .map(|m| m.pose_feed_mm_min.as_slice())
     }
 
-    /// Cancel the running post; true when there was one.
-    pub(super) fn cancel_post(&mut self) -> bool {
-        let Some((_, _, job)) = self.programs.job.take() else {
-            return false;
-        };
-        self.cancel_job(&job);
-        true
-    }
-
-    /// The running post as the status bar shows it.
-    pub(super) fn post_status(&self) -> Option<(String, f64, f64)> {
-        self.programs
-            .job
-            .as_ref()
-            .map(|(_, _, j)| super::job_status(j))
-    }
-
     /// Collect a finished post.
     pub(super) fn poll_post_job(&mut self) {
-        let Some((_, _, job)) = &self.programs.job else {
+        let Some(done) = self.programs.job.poll() else {
             return;
         };
-        let Some(outcome) = self.finished(job) else {
-            return;
-        };
-        let Some((key, index, job)) = self.programs.job.take() else {
-            return;
-        };
-        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let ((key, index), elapsed_s) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(out)) => {
                 let lines = out.run.text.lines().count();
                 match &out.plots {

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use glam::{DVec2, Mat4};
 
 use super::super::command::Command;
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::super::panels::reduction_view::{
     ReductionResult, ReductionSettings, ReductionView, ZmapSource, reduction_window,
 };
@@ -34,12 +34,8 @@ pub(super) struct ShownReduction {
     mapping: ScalarMapping,
 }
 
-/// A running reduction: the part and settings it was started with, and its job.
-type ReductionJob = (
-    DataId,
-    ReductionSettings,
-    Job<Result<ReductionResult, ReduceError>>,
-);
+/// A running reduction, keyed by the part and settings it was started with.
+type ReductionJob = JobSlot<Result<ReductionResult, ReduceError>, (DataId, ReductionSettings)>;
 
 /// The data-reduction state of the workstation.
 #[derive(Default)]
@@ -48,20 +44,13 @@ pub(super) struct Reductions {
     pub open: bool,
     /// The window's settings (None until the window first opens on a part).
     settings: Option<ReductionSettings>,
-    job: Option<ReductionJob>,
+    pub(super) job: ReductionJob,
     shown: Option<ShownReduction>,
     /// Draw the reduced surface instead of the part.
     pub visible: bool,
 }
 
 impl Reductions {
-    /// Stop the running reduction without a word (its part is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some((_, _, job)) = self.job.take() {
-            job.cancel();
-        }
-    }
-
     /// Forget the reduced surface (the window and its settings stay).
     pub fn forget_result(&mut self) {
         self.shown = None;
@@ -108,10 +97,6 @@ impl Workstation {
                 surfaces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
             });
         self.reductions.settings = Some(settings);
-        if let Some((_, _, old)) = self.reductions.job.take() {
-            old.cancel();
-        }
-        let ctx = self.ctx.clone();
         let opts = settings.options();
         let what = match settings.source {
             ZmapSource::Regular => "Z-map",
@@ -123,11 +108,10 @@ impl Workstation {
             doc.part.name, settings.step_mm, settings.tolerance_mm
         );
         self.log_info(message);
-        self.reductions.job = Some((
-            part_id,
-            settings,
-            Job::spawn(
+        let job =
+            Job::start(
                 format!("Reducing the {what}"),
+                &self.ctx,
                 move |progress| match settings.source {
                     ZmapSource::Regular => {
                         reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
@@ -138,24 +122,14 @@ impl Workstation {
                             .map(|r| ReductionResult::Xy(Box::new(r)))
                     }
                 },
-                move || ctx.request_repaint(),
-            ),
-        ));
-    }
-
-    /// Cancel the running reduction; true when there was one.
-    pub(super) fn cancel_reduction(&mut self) -> bool {
-        let Some((_, _, job)) = self.reductions.job.take() else {
-            return false;
-        };
-        self.cancel_job(&job);
-        true
+            );
+        self.reductions.job.start((part_id, settings), job);
     }
 
     /// Is a reduction running?
     #[must_use]
     pub fn is_reducing(&self) -> bool {
-        self.reductions.job.is_some()
+        self.reductions.job.is_running()
     }
 
     /// The latest reduction, if any.
@@ -170,28 +144,14 @@ impl Workstation {
         self.reductions.visible
     }
 
-    /// The running reduction as the status bar shows it.
-    pub(super) fn reduction_status(&self) -> Option<(String, f64, f64)> {
-        self.reductions
-            .job
-            .as_ref()
-            .map(|(_, _, j)| super::job_status(j))
-    }
-
     /// Collect a finished reduction.
     pub(super) fn poll_reduction_job(&mut self) {
-        let Some((_, _, job)) = &self.reductions.job else {
+        let Some(done) = self.reductions.job.poll() else {
             return;
         };
-        let Some(outcome) = self.finished(job) else {
-            return;
-        };
-        let Some((part_id, settings, job)) = self.reductions.job.take() else {
-            return;
-        };
-        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let ((part_id, settings), elapsed_s) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(result)) => {
                 let (kind, cols, rows, ranks) = match &result {
                     ReductionResult::Regular(r) => (
@@ -348,11 +308,7 @@ impl Workstation {
                 .shown
                 .as_ref()
                 .is_some_and(|s| s.part_id != part_id || s.settings != settings),
-            running: self
-                .reductions
-                .job
-                .as_ref()
-                .map(|(_, _, j)| j.progress.fraction()),
+            running: self.reductions.job.job().map(|j| j.progress.fraction()),
             visible: self.reductions.visible,
         };
         let mut open = true;
