@@ -107,7 +107,10 @@ pub struct Action {
 }
 
 impl Action {
-    fn new(command: Command, label: impl Into<String>, menu: Option<(Menu, u8)>) -> Self {
+    /// An entry labelled `label` at `menu` (`None`: a key only) issuing `command`, always
+    /// enabled, without keys.
+    #[must_use]
+    pub fn new(command: Command, label: impl Into<String>, menu: Option<(Menu, u8)>) -> Self {
         Self {
             command,
             label: label.into(),
@@ -119,23 +122,30 @@ impl Action {
         }
     }
 
-    fn keys(mut self, keys: &[KeyboardShortcut]) -> Self {
+    /// With these keys (the first is shown in the menu).
+    #[must_use]
+    pub fn keys(mut self, keys: &[KeyboardShortcut]) -> Self {
         self.keys = keys.to_vec();
         self
     }
 
     /// Its keys work inside text fields too.
-    fn global(mut self) -> Self {
+    #[must_use]
+    pub fn global(mut self) -> Self {
         self.in_text = true;
         self
     }
 
-    fn hint(mut self, hint: &'static str) -> Self {
+    /// With a tooltip.
+    #[must_use]
+    pub fn hint(mut self, hint: &'static str) -> Self {
         self.hint = Some(hint);
         self
     }
 
-    fn when(mut self, enabled: Enabled) -> Self {
+    /// Enabled only when `enabled` holds.
+    #[must_use]
+    pub fn when(mut self, enabled: Enabled) -> Self {
         self.enabled = enabled;
         self
     }
@@ -163,7 +173,8 @@ impl Action {
     }
 }
 
-/// Every action of the workstation, in menu order.
+/// Every action of the workstation itself, in menu order (the features add theirs, see
+/// [`super::feature::Feature::actions`]; the tool windows go to the Machining menu's section 2).
 #[must_use]
 pub fn actions() -> Vec<Action> {
     use Menu::{Edit, File, Machining, View};
@@ -234,29 +245,17 @@ pub fn actions() -> Vec<Action> {
             Some((Machining, 1)),
         ),
         Action::new(
+            Command::Playback(PlaybackCommand::Toggle),
+            "Play / Pause",
+            Some((Machining, 1)),
+        )
+        .keys(&[plain(Key::Space)]),
+        Action::new(
             Command::OpenReductionView,
             "Data reduction (Z-map SVD)…",
             Some((Machining, 2)),
         )
         .hint("Sample the part's Z-map and reduce it by singular value decomposition"),
-        Action::new(
-            Command::OpenProfileEditor,
-            "2D profile / EDM electrode…",
-            Some((Machining, 2)),
-        )
-        .hint("Profile editor: the path of a ball electrode along a 2D section"),
-        Action::new(
-            Command::OpenOperatorPanel,
-            "Operator panel…",
-            Some((Machining, 2)),
-        )
-        .hint("Jog, MDI and AUTO on the virtual control of the project's machine"),
-        Action::new(
-            Command::Playback(PlaybackCommand::Toggle),
-            "Play / Pause",
-            Some((Machining, 2)),
-        )
-        .keys(&[plain(Key::Space)]),
         Action::new(
             Command::Playback(PlaybackCommand::Step(-1)),
             "Step back",

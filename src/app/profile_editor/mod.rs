@@ -13,6 +13,7 @@
 //! point or the radius slider updates the path live without holding up the frame.
 
 pub mod canvas;
+mod feature;
 mod files;
 mod panel;
 pub mod rows;

@@ -11,7 +11,7 @@ use super::super::document::Selection;
 use super::super::job::{Job, JobSlot};
 use super::super::panels::operation_editor::OperationView;
 use super::super::panels::playback::PlaybackView;
-use super::super::panels::properties::Focus;
+use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
 use crate::diagnostics::Severity;
@@ -115,8 +115,8 @@ impl Workstation {
     pub(super) fn apply_operation(&mut self, command: Command) {
         match command {
             Command::AddOperation(kind) => {
-                let tool = self.session.project.selected_tool.unwrap_or(0);
-                if self.session.project.tools.is_empty() {
+                let tool = self.saved.session.project.selected_tool.unwrap_or(0);
+                if self.saved.session.project.tools.is_empty() {
                     let t = self.now_s();
                     self.log.notify(
                         t,
@@ -129,10 +129,10 @@ impl Workstation {
                     Some(Selection::Face(f)) => f,
                     _ => 0,
                 };
-                let index = self.session.project.operations.len();
+                let index = self.saved.session.project.operations.len();
                 let operation = Operation::new(kind, tool, face);
                 self.apply(Command::Edit(Edit::AddOperation { index, operation }));
-                if self.session.project.operations.len() > index {
+                if self.saved.session.project.operations.len() > index {
                     self.apply(Command::Inspect(Focus::Operation(index)));
                 }
             }
@@ -195,12 +195,12 @@ impl Workstation {
             Focus::Operation(i) => Some(i),
             _ => None,
         };
-        let first = (!self.session.project.operations.is_empty()).then_some(0);
+        let first = (!self.saved.session.project.operations.is_empty()).then_some(0);
         focused.or(self.ops.active).or(first)
     }
 
     fn start_calculation(&mut self, index: usize) {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let Some(operation) = project.operations.get(index).cloned() else {
             return;
         };
@@ -230,7 +230,7 @@ impl Workstation {
         self.log_info(format!("Calculating '{}'", operation.name()));
         let job = Job::start(
             format!("Calculating {}", operation.name()),
-            &self.ctx,
+            &self.run.ctx,
             move |progress| compute(&project, index, &part, progress),
         );
         let key = CalcKey {
@@ -293,8 +293,8 @@ impl Workstation {
     /// The stored result for operation `index` and whether it is fresh (same operation, tool and
     /// part); a stale one is the latest computed for an operation of the same name.
     pub(super) fn result_index(&self, index: usize) -> Option<(usize, bool)> {
-        let op = self.session.project.operations.get(index)?;
-        let cutter = &self.session.project.tools.get(op.tool())?.cutter;
+        let op = self.saved.session.project.operations.get(index)?;
+        let cutter = &self.saved.session.project.tools.get(op.tool())?.cutter;
         let part_id = self.document.as_ref()?.ids[0];
         if let Some(i) = self.ops.store.find(op, cutter, part_id) {
             return Some((i, true));
@@ -335,7 +335,7 @@ impl Workstation {
         OperationView {
             simulation: self.simulation_of(index),
             simulating,
-            project: &self.session.project,
+            project: &self.saved.session.project,
             index,
             document: self.document.as_ref(),
             result,
@@ -459,7 +459,7 @@ impl Workstation {
             self.ops.playing = false;
         } else {
             self.ops.t_s = Some(t);
-            self.ctx.request_repaint();
+            self.run.ctx.request_repaint();
         }
         if let Some(p) = self.playback_pose() {
             self.follow_pose(p);
@@ -478,7 +478,7 @@ impl Workstation {
         };
         let mut out = Vec::new();
         let mut legend = None;
-        let count = self.session.project.operations.len();
+        let count = self.saved.session.project.operations.len();
         let active = self.ops.active.filter(|&a| a < count);
         let playback = self.playback_pose();
         for i in 0..count {
@@ -575,7 +575,7 @@ impl Workstation {
             return;
         }
         let mut open = true;
-        let rows: Vec<(usize, &ComputedOp)> = (0..self.session.project.operations.len())
+        let rows: Vec<(usize, &ComputedOp)> = (0..self.saved.session.project.operations.len())
             .filter_map(|i| {
                 let (k, fresh) = self.result_index(i)?;
                 fresh.then(|| Some((i, self.ops.store.get(k)?)))?
@@ -617,7 +617,7 @@ impl Workstation {
                                 .clicked()
                             {
                                 commands.push(Command::Inspect(
-                                    super::super::panels::properties::Focus::Operation(*i),
+                                    super::super::state::Focus::Operation(*i),
                                 ));
                             }
                             ui.label(r.operation.kind().label());
@@ -629,9 +629,7 @@ impl Workstation {
                             ));
                             ui.monospace(s.pose_count.to_string());
                             ui.monospace(r.computed.passes.to_string());
-                            ui.monospace(super::super::panels::operation_editor::duration_text(
-                                s.estimated_time_s,
-                            ));
+                            ui.monospace(super::super::widgets::duration_text(s.estimated_time_s));
                             ui.monospace(
                                 s.predicted_max_scallop_mm.map_or_else(
                                     || "—".into(),

@@ -21,17 +21,7 @@ use crate::tools::Cutter;
 /// Corner blending tolerance of the motion plan, mm.
 const CORNER_TOLERANCE_MM: f64 = 0.01;
 
-/// Which tab the bottom dock shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DockTab {
-    /// The log.
-    #[default]
-    Log,
-    /// The posted G-code.
-    Gcode,
-    /// Motion plots of the posted program.
-    Motion,
-}
+pub use super::super::state::DockTab;
 
 /// What a program was posted from (it is shown as current while these are unchanged).
 #[derive(Clone, Debug, PartialEq)]
@@ -77,7 +67,7 @@ pub(super) struct Programs {
 
 impl Workstation {
     fn program_key(&self, index: usize) -> Option<ProgramKey> {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let operation = project.operations.get(index)?.clone();
         Some(ProgramKey {
             cutter: project.tools.get(operation.tool())?.cutter.clone(),
@@ -104,14 +94,14 @@ impl Workstation {
             return;
         };
         let toolpath = result.toolpath().clone();
-        let project = self.session.project.clone();
+        let project = self.saved.session.project.clone();
         let tool_number = u32::try_from(key.operation.tool() + 1).unwrap_or(1);
         let label = format!("Posting {}", key.operation.name());
         self.log_info(format!(
             "{label} for {} ({})",
             project.machine, project.post.dialect
         ));
-        let job = Job::start(label, &self.ctx, move |progress| {
+        let job = Job::start(label, &self.run.ctx, move |progress| {
             let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
                 .map_err(|e| e.to_string())?;
             progress.set(0.8);
@@ -139,30 +129,6 @@ impl Workstation {
             .as_ref()
             .filter(|p| p.key == key)
             .map(|p| p.view.text())
-    }
-
-    /// What the operator panel runs on: the project's machine, stock (the default one around
-    /// the part when none is set), setup and the active operation's tool and posted program.
-    pub(super) fn panel_source(&self) -> crate::app::operator_panel::PanelSource<'_> {
-        let project = &self.session.project;
-        let active = self
-            .ops
-            .active
-            .or((!project.operations.is_empty()).then_some(0));
-        let op = active.and_then(|i| project.operations.get(i));
-        let tool = op.map_or(0, crate::project::Operation::tool);
-        crate::app::operator_panel::PanelSource {
-            machine: project.machine.clone(),
-            stock: self
-                .document
-                .as_ref()
-                .map(|d| crate::project::simulate::stock_shape(&project.stock, &d.bounds)),
-            cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
-            work_offset: (project.setup.work_offset, project.setup.origin_mm),
-            posted: active
-                .zip(op)
-                .and_then(|(i, o)| self.program_text(i).map(|t| (o.name(), t))),
-        }
     }
 
     /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
@@ -318,7 +284,7 @@ impl Workstation {
                 .add_enabled(can_post, egui::Button::new("Post").shortcut_text("F7"))
                 .on_hover_text(format!(
                     "Write the active operation's program for {} ({})",
-                    self.session.project.machine, self.session.project.post.dialect
+                    self.saved.session.project.machine, self.saved.session.project.post.dialect
                 ))
                 .on_disabled_hover_text("Calculate the active operation first")
                 .clicked()

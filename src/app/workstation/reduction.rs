@@ -10,9 +10,8 @@ use glam::{DVec2, Mat4};
 
 use super::super::command::Command;
 use super::super::job::{Job, JobSlot};
-use super::super::panels::reduction_view::{
-    ReductionResult, ReductionSettings, ReductionView, ZmapSource, reduction_window,
-};
+use super::super::panels::reduction_view::{ReductionView, reduction_window};
+use super::super::state::{ReductionResult, ReductionSettings, ZmapSource};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::import::stl::{StlFormat, save_stl};
@@ -108,21 +107,20 @@ impl Workstation {
             doc.part.name, settings.step_mm, settings.tolerance_mm
         );
         self.log_info(message);
-        let job =
-            Job::start(
-                format!("Reducing the {what}"),
-                &self.ctx,
-                move |progress| match settings.source {
-                    ZmapSource::Regular => {
-                        reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
-                            .map(|r| ReductionResult::Regular(Box::new(r)))
-                    }
-                    ZmapSource::XyDependent => {
-                        reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
-                            .map(|r| ReductionResult::Xy(Box::new(r)))
-                    }
-                },
-            );
+        let job = Job::start(
+            format!("Reducing the {what}"),
+            &self.run.ctx,
+            move |progress| match settings.source {
+                ZmapSource::Regular => {
+                    reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
+                        .map(|r| ReductionResult::Regular(Box::new(r)))
+                }
+                ZmapSource::XyDependent => {
+                    reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
+                        .map(|r| ReductionResult::Xy(Box::new(r)))
+                }
+            },
+        );
         self.reductions.job.start((part_id, settings), job);
     }
 
@@ -234,6 +232,7 @@ impl Workstation {
     /// A file name for the reduced surface: next to the project, named after the part.
     pub(super) fn reduction_suggestion(&self) -> PathBuf {
         let dir = self
+            .saved
             .session
             .path
             .as_ref()
@@ -289,6 +288,7 @@ impl Workstation {
         let part_id = doc.ids[0];
         let mut settings = self.reductions.settings.unwrap_or_else(|| {
             let ball = self
+                .saved
                 .session
                 .project
                 .selected_tool()

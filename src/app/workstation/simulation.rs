@@ -123,7 +123,7 @@ impl Workstation {
     /// What simulating operation `index` runs: every operation before it that has a fresh path
     /// (in order: the stock after each one is the next one's stock), then operation `index`.
     fn sim_key(&self, index: usize) -> Option<SimKey> {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let mut operations = Vec::new();
         for i in 0..=index {
             let operation = project.operations.get(i)?.clone();
@@ -173,7 +173,7 @@ impl Workstation {
             }
         }
         let part = doc.part.mesh.clone();
-        let stock = self.session.project.stock;
+        let stock = self.saved.session.project.stock;
         let settings = SimulationSettings {
             max_rays: 250_000,
             ..SimulationSettings::default()
@@ -190,7 +190,7 @@ impl Workstation {
         } else {
             format!("{label} (Z dexels, at most 250 000 rays)")
         });
-        let job = Job::start(label, &self.ctx, move |progress| {
+        let job = Job::start(label, &self.run.ctx, move |progress| {
             let refs: Vec<(&crate::toolpath::Toolpath, &Cutter)> =
                 paths.iter().map(|(t, c)| (t, c)).collect();
             simulate_toolpaths(&stock, &part, &refs, &settings, progress)
