@@ -249,14 +249,18 @@ fn the_workstation_menu_opens_the_panel() {
         .with_accessibility_check(false)
         .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
     h.run_steps(3);
-    assert!(!h.state_mut().operator_panel().open);
+    assert!(h.state_mut().operator_panel().is_some_and(|p| !p.open));
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("Operator panel…").click();
     h.run_steps(3);
-    assert!(h.state_mut().operator_panel().open);
+    assert!(h.state_mut().operator_panel().is_some_and(|p| p.open));
     h.get_by_label_contains("Operator panel · virtual control");
-    assert!(h.state_mut().operator_panel().control().is_some());
+    assert!(
+        h.state_mut()
+            .operator_panel()
+            .is_some_and(|p| p.control().is_some())
+    );
     assert!(h.query_by_label("Cycle start").is_some());
 }
 

@@ -289,17 +289,21 @@ fn the_workstation_menu_opens_the_editor() {
         .with_accessibility_check(false)
         .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
     h.run_steps(3);
-    assert!(!h.state_mut().profile_editor().open);
+    assert!(h.state_mut().profile_editor().is_some_and(|p| !p.open));
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("2D profile / EDM electrode…").click();
     h.run_steps(3);
-    assert!(h.state_mut().profile_editor().open);
+    assert!(h.state_mut().profile_editor().is_some_and(|p| p.open));
     h.get_by_label_contains("Profile editor · ball electrode");
     // The example profile is computed and its gouges listed.
     for _ in 0..2000 {
         h.step();
-        if !h.state_mut().profile_editor().is_computing() {
+        if !h
+            .state_mut()
+            .profile_editor()
+            .is_some_and(|p| p.is_computing())
+        {
             break;
         }
         std::thread::sleep(Duration::from_millis(2));
@@ -308,7 +312,7 @@ fn the_workstation_menu_opens_the_editor() {
     let flags = h
         .state_mut()
         .profile_editor()
-        .result()
+        .and_then(|p| p.result())
         .map_or(0, |r| r.flags.len());
     assert!(flags > 0);
     h.get_by_label_contains("Largest gouge-free radius: 0 mm");

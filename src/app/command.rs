@@ -4,9 +4,8 @@
 use std::path::PathBuf;
 
 use super::document::Selection;
-use super::panels::properties::Focus;
-use super::panels::reduction_view::ReductionSettings;
 use super::scalar_field::ScalarField;
+use super::state::{Focus, ReductionSettings};
 use super::toolpaths::PathColouring;
 use super::viewport::picking::SurfacePick;
 use crate::project::{Edit, OperationKind};
@@ -105,10 +104,8 @@ pub enum Command {
     Playback(PlaybackCommand),
     /// Open the data-reduction window.
     OpenReductionView,
-    /// Show the profile editor (2D profiles and ball electrodes).
-    OpenProfileEditor,
-    /// Show the operator panel of the virtual control.
-    OpenOperatorPanel,
+    /// An action of a registered [`super::feature::Feature`] (its menu entry or key).
+    Feature(FeatureCommand),
     /// Reduce the part's Z-map with these settings (in the background).
     Reduce(ReductionSettings),
     /// Draw the reduced surface (instead of the part) or not.
@@ -136,4 +133,14 @@ pub enum PlaybackCommand {
     Step(i64),
     /// Playback speed, × real time at feed.
     Speed(f64),
+}
+
+/// An action of a workstation feature: the feature's id and the action's name (the feature
+/// that owns the id takes it, see [`super::feature::Feature::apply`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FeatureCommand {
+    /// The feature's [`super::feature::Feature::id`].
+    pub feature: &'static str,
+    /// What it should do (`"open"`).
+    pub action: &'static str,
 }

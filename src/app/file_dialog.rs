@@ -1,11 +1,15 @@
-//! The Open and Save dialogs: the native dialog (rfd, through the XDG desktop portal) on a worker
-//! thread.
+//! The Open and Save dialogs: the native dialog (rfd, through the XDG desktop portal) on a
+//! background [`Job`].
 //! Where no portal answers, rfd returns "no file" at once; then the workstation shows its own
 //! file chooser ([`super::file_chooser`]) instead.
 
 use std::path::PathBuf;
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use super::job::{Finished, Job, JobSlot};
+
+/// The dialog's answer: the file, or `None` when it was cancelled or did not open.
+type DialogJob<K> = JobSlot<Option<PathBuf>, K>;
 
 /// A dialog that returns within this time without a file most likely never opened.
 const NO_DIALOG_WITHIN: Duration = Duration::from_millis(250);
@@ -26,7 +30,7 @@ pub fn portal_reachable() -> bool {
 /// State of the Open dialog.
 #[derive(Debug, Default)]
 pub struct OpenDialog {
-    pending: Option<(Instant, mpsc::Receiver<Option<PathBuf>>)>,
+    pending: DialogJob<()>,
     /// The native dialog failed to open before: go straight to the chooser.
     native_unavailable: bool,
 }
@@ -49,7 +53,7 @@ impl OpenDialog {
     #[must_use]
     pub fn without_native() -> Self {
         Self {
-            pending: None,
+            pending: JobSlot::default(),
             native_unavailable: true,
         }
     }
@@ -64,13 +68,13 @@ impl OpenDialog {
         if self.native_unavailable {
             return false;
         }
-        if self.pending.is_some() {
+        if self.pending.is_running() {
             return true;
         }
-        let (sender, receiver) = mpsc::channel();
-        let spawned = std::thread::Builder::new()
-            .name("talas open dialog".into())
-            .spawn(move || {
+        // A thread that cannot start ends the job without an answer at once: "unavailable".
+        let job = Job::spawn(
+            "Open dialog",
+            move |_| {
                 let mut dialog = rfd::FileDialog::new()
                     .set_title("Open part")
                     .add_filter(
@@ -81,55 +85,48 @@ impl OpenDialog {
                 if let Some(dir) = start_dir {
                     dialog = dialog.set_directory(dir);
                 }
-                let _ = sender.send(dialog.pick_file());
-                wake();
-            });
-        if spawned.is_ok() {
-            self.pending = Some((Instant::now(), receiver));
-            true
-        } else {
-            self.native_unavailable = true;
-            false
-        }
+                dialog.pick_file()
+            },
+            wake,
+        );
+        self.pending.start((), job);
+        true
     }
 
     /// Is the native dialog open?
     #[must_use]
     pub fn is_waiting(&self) -> bool {
-        self.pending.is_some()
+        self.pending.is_running()
     }
 
     /// Check whether the dialog has returned.
     pub fn poll(&mut self) -> DialogOutcome {
-        let Some((started, receiver)) = &self.pending else {
+        let Some(elapsed_s) = self.pending.job().map(Job::elapsed_s) else {
             return DialogOutcome::Waiting;
         };
-        let elapsed = started.elapsed();
-        match receiver.try_recv() {
-            Err(mpsc::TryRecvError::Empty) => {
-                if elapsed > OFFER_PATH_FIELD_AFTER && !self.native_unavailable {
-                    // The dialog may never appear (a portal that hangs). Keep listening, so a late
-                    // answer is still used, and offer the chooser now.
-                    self.native_unavailable = true;
-                    return DialogOutcome::Unavailable;
-                }
-                DialogOutcome::Waiting
+        let Some(done) = self.pending.poll() else {
+            if elapsed_s > OFFER_PATH_FIELD_AFTER.as_secs_f64() && !self.native_unavailable {
+                // The dialog may never appear (a portal that hangs). Keep listening, so a late
+                // answer is still used, and offer the chooser now.
+                self.native_unavailable = true;
+                return DialogOutcome::Unavailable;
             }
-            Ok(Some(path)) => {
-                self.pending = None;
-                DialogOutcome::Picked(path)
+            return DialogOutcome::Waiting;
+        };
+        match answer(&done) {
+            Some(path) => DialogOutcome::Picked(path),
+            None if done.elapsed_s < NO_DIALOG_WITHIN.as_secs_f64() => {
+                self.native_unavailable = true;
+                DialogOutcome::Unavailable
             }
-            Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
-                self.pending = None;
-                if elapsed < NO_DIALOG_WITHIN {
-                    self.native_unavailable = true;
-                    DialogOutcome::Unavailable
-                } else {
-                    DialogOutcome::Cancelled
-                }
-            }
+            None => DialogOutcome::Cancelled,
         }
     }
+}
+
+/// The file a finished dialog job chose, if any.
+fn answer<K>(done: &Finished<Option<PathBuf>, K>) -> Option<PathBuf> {
+    done.result.clone().flatten()
 }
 
 /// What a save dialog is for.
@@ -147,7 +144,7 @@ pub enum SavePurpose {
 /// workstation shows its own file chooser instead.
 #[derive(Debug, Default)]
 pub struct SaveDialog {
-    pending: Option<(Instant, SavePurpose, mpsc::Receiver<Option<PathBuf>>)>,
+    pending: DialogJob<SavePurpose>,
     native_unavailable: bool,
 }
 
@@ -169,7 +166,7 @@ impl SaveDialog {
     #[must_use]
     pub fn without_native() -> Self {
         Self {
-            pending: None,
+            pending: JobSlot::default(),
             native_unavailable: true,
         }
     }
@@ -184,13 +181,13 @@ impl SaveDialog {
         if self.native_unavailable {
             return SaveOutcome::Unavailable(purpose);
         }
-        if self.pending.is_some() {
+        if self.pending.is_running() {
             return SaveOutcome::Waiting;
         }
-        let (sender, receiver) = mpsc::channel();
-        let spawned = std::thread::Builder::new()
-            .name("talas save dialog".into())
-            .spawn(move || {
+        // A thread that cannot start ends the job without an answer at once: "unavailable".
+        let job = Job::spawn(
+            "Save dialog",
+            move |_| {
                 let mut dialog = rfd::FileDialog::new();
                 dialog = match purpose {
                     SavePurpose::Project => dialog
@@ -212,52 +209,43 @@ impl SaveDialog {
                         dialog = dialog.set_file_name(name.to_string_lossy());
                     }
                 }
-                let _ = sender.send(dialog.save_file());
-                wake();
-            });
-        if spawned.is_ok() {
-            self.pending = Some((Instant::now(), purpose, receiver));
-            SaveOutcome::Waiting
-        } else {
-            self.native_unavailable = true;
-            SaveOutcome::Unavailable(purpose)
-        }
+                dialog.save_file()
+            },
+            wake,
+        );
+        self.pending.start(purpose, job);
+        SaveOutcome::Waiting
     }
 
     /// Is the native dialog open?
     #[must_use]
     pub fn is_waiting(&self) -> bool {
-        self.pending.is_some()
+        self.pending.is_running()
     }
 
     /// Check whether the dialog has returned.
     pub fn poll(&mut self) -> SaveOutcome {
-        let Some((started, purpose, receiver)) = &self.pending else {
+        let (Some(elapsed_s), Some(&purpose)) =
+            (self.pending.job().map(Job::elapsed_s), self.pending.key())
+        else {
             return SaveOutcome::Waiting;
         };
-        let (elapsed, purpose) = (started.elapsed(), *purpose);
-        match receiver.try_recv() {
-            Err(mpsc::TryRecvError::Empty) => {
-                if elapsed > OFFER_PATH_FIELD_AFTER && !self.native_unavailable {
-                    self.native_unavailable = true;
-                    self.pending = None;
-                    return SaveOutcome::Unavailable(purpose);
-                }
-                SaveOutcome::Waiting
+        let Some(done) = self.pending.poll() else {
+            if elapsed_s > OFFER_PATH_FIELD_AFTER.as_secs_f64() && !self.native_unavailable {
+                // The dialog may never appear: ask another way (a late answer is dropped).
+                self.native_unavailable = true;
+                self.pending = JobSlot::default();
+                return SaveOutcome::Unavailable(purpose);
             }
-            Ok(Some(path)) => {
-                self.pending = None;
-                SaveOutcome::Picked(purpose, path)
+            return SaveOutcome::Waiting;
+        };
+        match answer(&done) {
+            Some(path) => SaveOutcome::Picked(purpose, path),
+            None if done.elapsed_s < NO_DIALOG_WITHIN.as_secs_f64() => {
+                self.native_unavailable = true;
+                SaveOutcome::Unavailable(purpose)
             }
-            Ok(None) | Err(mpsc::TryRecvError::Disconnected) => {
-                self.pending = None;
-                if elapsed < NO_DIALOG_WITHIN {
-                    self.native_unavailable = true;
-                    SaveOutcome::Unavailable(purpose)
-                } else {
-                    SaveOutcome::Cancelled
-                }
-            }
+            None => SaveOutcome::Cancelled,
         }
     }
 }

@@ -2,18 +2,25 @@
 //!
 //! - [`workstation`]: the [`eframe::App`]; lays out the panels and applies [`command::Command`]s
 //!   in one place.
+//! - [`actions`]: the one table of menu entries and keyboard shortcuts.
+//! - [`job`]: the one background-job type (progress, cancel, poll; dropped = cancelled).
+//! - [`state`]: the state types the panels show (focus, dock tab, reduction settings/result);
+//!   [`widgets`]: the small widgets and formatters the panels share.
 //! - [`panels`]: menu bar, project tree, properties, log, status bar (they return commands).
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
 //! - [`number_field`]: the one widget every numeric property is typed in.
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
-//! - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO), in a window
-//! - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths, in a window
-//!   of its own.
+//! - [`feature`]: the [`feature::Feature`] trait a tool window or panel implements to plug into
+//!   the workstation (state, commands, jobs, windows, scene); [`features`] registers them:
+//!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO);
+//!   - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths.
 
+pub mod actions;
 pub mod command;
 pub mod crease;
 pub mod document;
 pub mod document_loader;
+pub mod feature;
 pub mod file_chooser;
 pub mod file_dialog;
 pub mod job;
@@ -26,15 +33,27 @@ pub mod profile_editor;
 pub mod project_session;
 pub mod recent_files;
 pub mod scalar_field;
+pub mod state;
 pub mod theme;
 pub mod tool_library;
 pub mod toolpaths;
 pub mod viewport;
+pub mod widgets;
 pub mod workstation;
 
 use std::path::PathBuf;
 
 pub use workstation::{Workstation, WorkstationConfig};
+
+/// The registered workstation features (see [`feature`]), in the order their windows are drawn.
+/// A new feature is its own folder, its `mod` line above and one line here.
+#[must_use]
+pub fn features() -> Vec<Box<dyn feature::Feature>> {
+    vec![
+        Box::new(profile_editor::ProfileEditor::new()) as Box<dyn feature::Feature>,
+        Box::new(operator_panel::OperatorPanel::new()),
+    ]
+}
 
 /// Open the workstation window on `file` (or on the embedded default part).
 ///

@@ -10,43 +10,41 @@ mod program;
 mod project_commands;
 mod reduction;
 mod simulation;
+mod state;
 
 pub use simulation::ShownSimulation;
 
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use super::actions::{Action, actions, shortcuts};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
-use super::file_chooser::{ChooserPurpose, FileChooser};
-use super::file_dialog::{DialogOutcome, OpenDialog, SaveDialog, SavePurpose};
-use super::job::{Job, JobPoll};
+use super::feature::{Feature, FeatureView, find};
+use super::file_chooser::ChooserPurpose;
+use super::file_dialog::{DialogOutcome, SavePurpose};
+use super::job::Job;
 use super::message_log::MessageLog;
-use super::panels::grouped;
 use super::panels::log_panel::log_ui;
-use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui, shortcuts};
+use super::panels::menu_bar::{UndoLabels, ViewFlags, menu_bar_ui};
 use super::panels::playback::playback_ui;
 use super::panels::project_dialogs::recovery_ui;
 use super::panels::project_tree::project_tree_ui;
-use super::panels::properties::{Focus, Forms, PropertiesView, properties_ui};
+use super::panels::properties::{Forms, PropertiesView, properties_ui};
 use super::panels::status_bar::{StatusInfo, status_bar_ui};
 use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
-use super::scalar_field::{CurvatureField, ScalarField, curvature_field, has_surfaces};
+use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
+use super::state::Focus;
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
 use super::viewport::picking::SurfacePick;
 use super::viewport::{ViewportExtras, ViewportState, viewport_ui};
+use super::widgets::grouped;
 use crate::diagnostics::Severity;
 use crate::project::Project;
-use crate::render::DataId;
 use dialogs::overlays_ui;
-
-type LoadJob = Job<Result<LoadedPart, LoadError>>;
-/// A curvature job: the render id of the document it is for, and the field.
-type FieldJob = (DataId, Job<Result<CurvatureField, ()>>);
 
 /// Where the workstation keeps its files and how often it autosaves.
 #[derive(Clone, Debug)]
@@ -94,46 +92,24 @@ impl WorkstationConfig {
 
 /// The workstation application.
 pub struct Workstation {
+    /// What is saved: the project session, the tool library, the recent files.
+    saved: state::Persisted,
+    /// What lives only while the window is open: jobs, dialogs, GPU problems, pending questions.
+    run: state::Runtime,
     document: Option<Document>,
     viewport: ViewportState,
     log: MessageLog,
-    load_job: Option<LoadJob>,
-    field_job: Option<FieldJob>,
-    dialog: OpenDialog,
-    recent: RecentFiles,
-    started: Instant,
-    next_data_id: DataId,
-    render_problems: Option<Arc<Mutex<Vec<String>>>>,
-    ctx: egui::Context,
-    session: ProjectSession,
-    library: ToolLibrary,
     focus: Focus,
     forms: Forms,
     ops: operations::Operations,
     sims: simulation::Simulations,
     reductions: reduction::Reductions,
     programs: program::Programs,
-    save_dialog: SaveDialog,
     pick: Option<SurfacePick>,
-    /// The in-window file chooser, while it is open.
-    chooser: Option<FileChooser>,
-    /// A recovery file to offer (Recover / Discard).
-    recovery: Option<PathBuf>,
-    title: String,
-    /// A command that would discard unsaved changes, waiting for Save / Discard / Cancel.
-    unsaved: Option<Command>,
-    /// The command to run once the project is saved (Save answered, Save As asked for a path).
-    after_save: Option<Command>,
-    /// The command being applied was confirmed (no unsaved-changes question).
-    confirmed: bool,
-    /// Closing the window was confirmed (or nothing was unsaved).
-    quit_confirmed: bool,
-    /// The camera of an opened project, applied once its part is loaded.
-    restore_view: Option<crate::project::ViewState>,
-    /// The profile editor's window.
-    profile_editor: super::profile_editor::ProfileEditor,
-    /// The operator panel's window.
-    operator_panel: super::operator_panel::OperatorPanel,
+    /// The registered features ([`super::features`]).
+    features: Vec<Box<dyn Feature>>,
+    /// The menu entries and keyboard shortcuts (the workstation's and the features').
+    actions: Vec<Action>,
 }
 
 impl Workstation {
@@ -150,46 +126,32 @@ impl Workstation {
             ToolLibrary::load_or_builtin(&library_path(&config.data_dir));
         let project = new_project(&library);
         let native = config.native_dialogs && super::file_dialog::portal_reachable();
+        let features = super::features();
+        let mut table = actions();
+        table.extend(features.iter().flat_map(|f| f.actions()));
         let mut ws = Self {
+            saved: state::Persisted {
+                session: ProjectSession::new(project, config.data_dir, config.autosave_every),
+                library,
+                recent: config.recent,
+            },
+            run: state::Runtime::new(
+                ctx,
+                render_state.map(super::viewport::bridge::install),
+                native,
+            ),
             document: None,
             viewport: ViewportState::default(),
             log: MessageLog::default(),
-            load_job: None,
-            field_job: None,
-            dialog: if native {
-                OpenDialog::default()
-            } else {
-                OpenDialog::without_native()
-            },
-            recent: config.recent,
-            started: Instant::now(),
-            next_data_id: 1,
-            render_problems: render_state.map(super::viewport::bridge::install),
-            ctx: ctx.clone(),
-            session: ProjectSession::new(project, config.data_dir, config.autosave_every),
-            library,
             focus: Focus::Selection,
             forms: Forms::default(),
             ops: operations::Operations::new(),
             sims: simulation::Simulations::default(),
             reductions: reduction::Reductions::default(),
             programs: program::Programs::default(),
-            save_dialog: if native {
-                SaveDialog::default()
-            } else {
-                SaveDialog::without_native()
-            },
             pick: None,
-            chooser: None,
-            recovery: None,
-            title: String::new(),
-            unsaved: None,
-            after_save: None,
-            confirmed: false,
-            quit_confirmed: false,
-            restore_view: None,
-            profile_editor: super::profile_editor::ProfileEditor::new(),
-            operator_panel: super::operator_panel::OperatorPanel::new(),
+            features,
+            actions: table,
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -217,22 +179,29 @@ impl Workstation {
             Some(file) => ws.apply(Command::Open(file)),
             None => {
                 ws.apply(Command::OpenDefaultPart);
-                ws.recovery = super::project_session::pending_recovery(None, &ws.session.data_dir);
+                ws.run.recovery =
+                    super::project_session::pending_recovery(None, &ws.saved.session.data_dir);
             }
         }
         ws
     }
 
+    /// The registered feature of type `T` (e.g. [`super::profile_editor::ProfileEditor`]).
+    #[must_use]
+    pub fn feature<T: Feature>(&mut self) -> Option<&mut T> {
+        find(&mut self.features)
+    }
+
     /// The profile editor (2D profiles and ball electrodes).
     #[must_use]
-    pub fn profile_editor(&mut self) -> &mut super::profile_editor::ProfileEditor {
-        &mut self.profile_editor
+    pub fn profile_editor(&mut self) -> Option<&mut super::profile_editor::ProfileEditor> {
+        self.feature()
     }
 
     /// The operator panel of the virtual control.
     #[must_use]
-    pub fn operator_panel(&mut self) -> &mut super::operator_panel::OperatorPanel {
-        &mut self.operator_panel
+    pub fn operator_panel(&mut self) -> Option<&mut super::operator_panel::OperatorPanel> {
+        self.feature()
     }
 
     /// The loaded part.
@@ -244,13 +213,13 @@ impl Workstation {
     /// The project document with its history and file.
     #[must_use]
     pub fn session(&self) -> &ProjectSession {
-        &self.session
+        &self.saved.session
     }
 
     /// The tool library (what a new project starts with; saved in the data folder).
     #[must_use]
     pub fn library(&self) -> &ToolLibrary {
-        &self.library
+        &self.saved.library
     }
 
     /// What the properties panel shows.
@@ -274,19 +243,19 @@ impl Workstation {
     /// The recovery file being offered, if any.
     #[must_use]
     pub fn pending_recovery(&self) -> Option<&Path> {
-        self.recovery.as_deref()
+        self.run.recovery.as_deref()
     }
 
     /// The window title (project name, `*` when there are unsaved changes).
     #[must_use]
     pub fn title(&self) -> String {
-        self.session.title()
+        self.saved.session.title()
     }
 
     /// Is the curvature field being computed?
     #[must_use]
     pub fn is_computing_field(&self) -> bool {
-        self.field_job.is_some()
+        self.run.field_job.is_running()
     }
 
     /// The log.
@@ -298,11 +267,11 @@ impl Workstation {
     /// Is a file being loaded?
     #[must_use]
     pub fn is_loading(&self) -> bool {
-        self.load_job.is_some()
+        self.run.load_job.is_running()
     }
 
     fn now_s(&self) -> f64 {
-        self.started.elapsed().as_secs_f64()
+        self.run.started.elapsed().as_secs_f64()
     }
 
     fn log_info(&mut self, text: impl Into<String>) {
@@ -313,17 +282,26 @@ impl Workstation {
     /// Apply one command. The only place where the document and the workstation state change.
     pub fn apply(&mut self, command: Command) {
         if self.must_ask_first(&command) {
-            self.unsaved = Some(command);
+            self.run.unsaved = Some(command);
             return;
         }
+        // A feature's command is taken by that feature.
+        let Some(command) = self
+            .features
+            .iter_mut()
+            .try_fold(command, |c, f| f.apply(c))
+        else {
+            return;
+        };
         match command {
             Command::OpenDialog => {
                 let start = self
                     .document
                     .as_ref()
                     .and_then(|d| d.part.path.parent().map(Path::to_path_buf));
-                let ctx = self.ctx.clone();
+                let ctx = self.run.ctx.clone();
                 if !self
+                    .run
                     .dialog
                     .open(start.clone(), move || ctx.request_repaint())
                 {
@@ -342,21 +320,29 @@ impl Workstation {
             }
             Command::OpenDefaultPart => self.start_default_load(),
             Command::CancelJob => {
-                if self.cancel_calculation()
-                    || self.cancel_simulation()
-                    || self.cancel_post()
-                    || self.cancel_reduction()
-                {
-                } else if let Some(job) = self.load_job.take() {
-                    self.cancel_job(&job);
-                } else if let Some((_, job)) = self.field_job.take() {
-                    self.cancel_job(&job);
-                    self.viewport.scalar_field = None;
+                let cancelled = self
+                    .ops
+                    .job
+                    .cancel()
+                    .or_else(|| self.sims.job.cancel())
+                    .or_else(|| self.programs.job.cancel())
+                    .or_else(|| self.reductions.job.cancel())
+                    .or_else(|| self.features.iter_mut().find_map(|f| f.cancel()))
+                    .or_else(|| self.run.load_job.cancel())
+                    .or_else(|| {
+                        let label = self.run.field_job.cancel()?;
+                        self.viewport.scalar_field = None;
+                        Some(label)
+                    });
+                if let Some(label) = cancelled {
+                    let t = self.now_s();
+                    self.log
+                        .push(t, Severity::Warning, format!("{label} cancelled"));
                 }
             }
             Command::Quit => {
-                self.quit_confirmed = true;
-                self.ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                self.run.quit_confirmed = true;
+                self.run.ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
             Command::FitAll => self.viewport.fit(self.document.as_ref()),
             Command::StandardView(v) => self.viewport.set_view(v, self.document.as_ref()),
@@ -381,8 +367,8 @@ impl Workstation {
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
-            Command::OpenProfileEditor => self.profile_editor.open = true,
-            Command::OpenOperatorPanel => self.operator_panel.open = true,
+            // No registered feature has this id.
+            Command::Feature(_) => {}
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -437,10 +423,8 @@ impl Workstation {
     /// playback, simulations, posted programs and reductions (their jobs are cancelled). View
     /// preferences (path colouring, all paths, axis vectors, playback speed) stay.
     fn reset_derived(&mut self) {
-        self.ops.cancel_silently();
-        self.sims.cancel_silently();
-        self.programs.cancel_silently();
-        self.reductions.cancel_silently();
+        // Replaced job slots drop their jobs, which cancels them without a word.
+        self.reductions.job = Default::default();
         let old = std::mem::replace(&mut self.ops, operations::Operations::new());
         self.ops.colouring = old.colouring;
         self.ops.show_all = old.show_all;
@@ -450,6 +434,9 @@ impl Workstation {
         self.sims = simulation::Simulations::default();
         self.programs = program::Programs::default();
         self.reductions.forget_result();
+        for f in &mut self.features {
+            f.reset();
+        }
         self.pick = None;
     }
 
@@ -457,7 +444,7 @@ impl Workstation {
     fn set_scalar_field(&mut self, field: Option<ScalarField>) {
         self.viewport.scalar_field = field;
         let Some(doc) = &self.document else { return };
-        if field.is_none() || doc.curvature.is_some() || self.field_job.is_some() {
+        if field.is_none() || doc.curvature.is_some() || self.run.field_job.is_running() {
             return;
         }
         if !has_surfaces(&doc.part) {
@@ -466,60 +453,42 @@ impl Workstation {
         }
         let part = doc.part.clone();
         let id = doc.ids[0];
-        let ctx = self.ctx.clone();
-        self.field_job = Some((
+        self.run.field_job.start(
             id,
-            Job::spawn(
-                "Evaluating curvature",
-                move |progress| curvature_field(&part, progress),
-                move || ctx.request_repaint(),
-            ),
-        ));
+            Job::start("Evaluating curvature", &self.run.ctx, move |progress| {
+                curvature_field(&part, progress)
+            }),
+        );
     }
 
     fn start_load(&mut self, path: PathBuf) {
-        if let Some(old) = self.load_job.take() {
-            old.cancel();
-        }
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
         self.log_info(format!("Opening {}", path.display()));
-        let ctx = self.ctx.clone();
-        let worker_path = path;
-        self.load_job = Some(Job::spawn(
-            format!("Opening {name}"),
-            move |progress| load_part(&worker_path, progress),
-            move || ctx.request_repaint(),
-        ));
+        self.run.load_job.start(
+            (),
+            Job::start(format!("Opening {name}"), &self.run.ctx, move |progress| {
+                load_part(&path, progress)
+            }),
+        );
     }
 
     fn start_default_load(&mut self) {
-        if let Some(old) = self.load_job.take() {
-            old.cancel();
-        }
         self.log_info("Opening the default part (bicubic-hills, embedded)");
-        let ctx = self.ctx.clone();
-        self.load_job = Some(Job::spawn(
-            "Opening the default part",
-            load_default_part,
-            move || ctx.request_repaint(),
-        ));
+        self.run.load_job.start(
+            (),
+            Job::start("Opening the default part", &self.run.ctx, load_default_part),
+        );
     }
 
-    /// Collect finished work: the load job, the file dialog, renderer problems.
+    /// Collect finished work: the background jobs, the file dialog, renderer problems.
     fn poll_background(&mut self) {
-        if let Some(job) = &self.load_job {
-            match job.poll() {
-                JobPoll::Running => self.ctx.request_repaint_after(Duration::from_millis(100)),
-                JobPoll::Done(result) => {
-                    let elapsed = job.started.elapsed().as_secs_f64();
-                    self.load_job = None;
-                    self.finish_load(result, elapsed);
-                }
-                JobPoll::Lost => {
-                    self.load_job = None;
+        if let Some(done) = self.run.load_job.poll() {
+            match done.result {
+                Some(result) => self.finish_load(result, done.elapsed_s),
+                None => {
                     let t = self.now_s();
                     self.log.notify(
                         t,
@@ -534,11 +503,22 @@ impl Workstation {
         self.poll_sim_job();
         self.poll_post_job();
         self.poll_reduction_job();
-        self.autosave_if_due();
-        if self.dialog.is_waiting() {
-            self.ctx.request_repaint_after(Duration::from_millis(250));
+        for f in &mut self.features {
+            f.poll(&self.run.ctx);
         }
-        match self.dialog.poll() {
+        if self.status().job.is_some() {
+            // Each job wakes the UI when it ends; this is the fallback (and moves the bar).
+            self.run
+                .ctx
+                .request_repaint_after(Duration::from_millis(100));
+        }
+        self.autosave_if_due();
+        if self.run.dialog.is_waiting() {
+            self.run
+                .ctx
+                .request_repaint_after(Duration::from_millis(250));
+        }
+        match self.run.dialog.poll() {
             // The question about unsaved changes was asked before the dialog opened.
             DialogOutcome::Picked(path) => self.apply_confirmed(Command::Open(path)),
             DialogOutcome::Unavailable => {
@@ -553,12 +533,15 @@ impl Workstation {
             }
             DialogOutcome::Waiting | DialogOutcome::Cancelled => {}
         }
-        if self.save_dialog.is_waiting() {
-            self.ctx.request_repaint_after(Duration::from_millis(250));
+        if self.run.save_dialog.is_waiting() {
+            self.run
+                .ctx
+                .request_repaint_after(Duration::from_millis(250));
         }
-        let saved = self.save_dialog.poll();
+        let saved = self.run.save_dialog.poll();
         self.after_save_dialog(saved);
         let problems: Vec<String> = self
+            .run
             .render_problems
             .as_ref()
             .and_then(|p| p.lock().ok().map(|mut l| std::mem::take(&mut *l)))
@@ -570,25 +553,18 @@ impl Workstation {
         let now = self.now_s();
         self.log.expire(now);
         if !self.log.toasts.is_empty() {
-            self.ctx.request_repaint_after(Duration::from_millis(250));
+            self.run
+                .ctx
+                .request_repaint_after(Duration::from_millis(250));
         }
     }
 
     fn poll_field_job(&mut self) {
-        let Some((id, job)) = &self.field_job else {
+        let Some(done) = self.run.field_job.poll() else {
             return;
         };
-        let id = *id;
-        let outcome = match job.poll() {
-            JobPoll::Running => {
-                self.ctx.request_repaint_after(Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => r.ok(),
-            JobPoll::Lost => None,
-        };
-        let elapsed = job.started.elapsed().as_secs_f64();
-        self.field_job = None;
+        let (id, elapsed) = (done.key, done.elapsed_s);
+        let outcome = done.result.and_then(Result::ok);
         match (outcome, &mut self.document) {
             (Some(field), Some(doc)) if doc.ids[0] == id => {
                 doc.curvature = Some(field);
@@ -619,18 +595,16 @@ impl Workstation {
                 );
                 // The embedded default part has no file to reopen.
                 if part.path.is_file()
-                    && let Some(e) = self.recent.add(&part.path)
+                    && let Some(e) = self.saved.recent.add(&part.path)
                 {
                     self.log.push(t, Severity::Warning, e);
                 }
                 // Referencing the new part is an undoable edit, applied once the part is the
                 // loaded one (so the edit does not start another load).
-                let part_edit = self.session.part_edit(&part.path);
-                let id = self.next_data_id;
-                self.next_data_id += 2;
-                if let Some((_, job)) = self.field_job.take() {
-                    job.cancel();
-                }
+                let part_edit = self.saved.session.part_edit(&part.path);
+                let id = self.run.next_data_id;
+                self.run.next_data_id += 2;
+                self.run.field_job.cancel();
                 if self.document.is_some() {
                     // Paths, simulations and programs of the old part go with it.
                     self.reset_derived();
@@ -639,12 +613,12 @@ impl Workstation {
                 self.pick = None;
                 self.focus = Focus::Selection;
                 self.viewport.fit_requested = true;
-                if let Some(view) = self.restore_view.take() {
+                if let Some(view) = self.run.restore_view.take() {
                     self.apply_view(view);
                 }
                 self.log.push(t, Severity::Info, summary);
                 if let Some(doc) = &self.document
-                    && let Err(e) = self.session.project.check_faces(doc.part.faces.len())
+                    && let Err(e) = self.saved.session.project.check_faces(doc.part.faces.len())
                 {
                     self.log.notify(
                         t,
@@ -676,12 +650,15 @@ impl Workstation {
         StatusInfo {
             cursor_mm: self.viewport.hover_point,
             job: self
-                .calc_status()
-                .or_else(|| self.sim_status())
-                .or_else(|| self.post_status())
-                .or_else(|| self.reduction_status())
-                .or_else(|| self.load_job.as_ref().map(job_status))
-                .or_else(|| self.field_job.as_ref().map(|(_, j)| job_status(j))),
+                .ops
+                .job
+                .status()
+                .or_else(|| self.sims.job.status())
+                .or_else(|| self.programs.job.status())
+                .or_else(|| self.reductions.job.status())
+                .or_else(|| self.features.iter().find_map(|f| f.job_status()))
+                .or_else(|| self.run.load_job.status())
+                .or_else(|| self.run.field_job.status()),
             document: self.document.as_ref().map(|d| {
                 format!(
                     "{} · {} triangles",
@@ -700,13 +677,13 @@ impl Workstation {
         self.tick_playback(dt);
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
-        self.ctx = ctx.clone();
+        self.run.ctx = ctx.clone();
         self.on_close_request(&ctx);
-        shortcuts(&ctx, &mut commands);
-        let title = self.session.title();
-        if title != self.title {
+        shortcuts(&ctx, &self.actions, &mut commands);
+        let title = self.saved.session.title();
+        if title != self.run.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
-            self.title = title;
+            self.run.title = title;
         }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
@@ -739,11 +716,18 @@ impl Workstation {
                 .is_some_and(|d| !d.part.faces.is_empty()),
         };
         let undo = UndoLabels {
-            undo: self.session.history.undo_label(),
-            redo: self.session.history.redo_label(),
+            undo: self.saved.session.history.undo_label(),
+            redo: self.saved.session.history.redo_label(),
         };
         egui::Panel::top("menu bar").show(ui, |ui| {
-            menu_bar_ui(ui, &self.recent, flags, undo, &mut commands);
+            menu_bar_ui(
+                ui,
+                &self.actions,
+                &self.saved.recent,
+                flags,
+                undo,
+                &mut commands,
+            );
         });
         let status = self.status();
         egui::Panel::bottom("status bar")
@@ -774,7 +758,7 @@ impl Workstation {
                 project_tree_ui(
                     ui,
                     self.document.as_ref(),
-                    &self.session.project,
+                    &self.saved.session.project,
                     self.focus,
                     &mut commands,
                 );
@@ -792,7 +776,7 @@ impl Workstation {
                 let view = PropertiesView {
                     focus: self.focus,
                     document: self.document.as_ref(),
-                    project: &self.session.project,
+                    project: &self.saved.session.project,
                     pick: self.pick.as_ref(),
                     operation,
                 };
@@ -818,7 +802,7 @@ impl Workstation {
             })
         });
         viewport.work_offset = Some(glam::DVec3::from_array(
-            self.session.project.setup.origin_mm,
+            self.saved.session.project.setup.origin_mm,
         ));
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
@@ -838,7 +822,7 @@ impl Workstation {
                 (Some(r), _) => (Some(r), "Reduction error, model − part (mm)"),
                 (None, s) => (s, "Stock deviation (mm)"),
             };
-            let extras = ViewportExtras {
+            let mut extras = ViewportExtras {
                 hide_part: shown_mesh.is_some(),
                 stock_legend: shown_mesh
                     .as_ref()
@@ -848,6 +832,11 @@ impl Workstation {
                 path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
             };
+            for f in &self.features {
+                let parts = f.scene();
+                extras.meshes.extend(parts.meshes);
+                extras.paths.extend(parts.lines);
+            }
             viewport_ui(
                 ui,
                 &mut viewport,
@@ -865,16 +854,16 @@ impl Workstation {
         self.viewport = viewport;
         self.compare_ui(&ctx, &mut commands);
         self.reduction_ui(&ctx, &mut commands);
-        self.profile_editor.window(&ctx);
-        if self.operator_panel.open {
-            let mut panel = std::mem::take(&mut self.operator_panel);
-            panel.window(&ctx, &self.panel_source());
-            self.operator_panel = panel;
+        let mut features = std::mem::take(&mut self.features);
+        let view = self.feature_view();
+        for f in &mut features {
+            f.ui(&ctx, &view, &mut commands);
         }
+        self.features = features;
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
-        if let Some(recovery) = &self.recovery
-            && let Some(answer) = recovery_ui(&ctx, recovery, self.session.path.as_deref())
+        if let Some(recovery) = &self.run.recovery
+            && let Some(answer) = recovery_ui(&ctx, recovery, self.saved.session.path.as_deref())
         {
             commands.push(answer);
         }
@@ -885,36 +874,21 @@ impl Workstation {
 }
 
 impl Workstation {
-    /// Ask `job`'s worker to stop and say so in the log.
-    fn cancel_job<T: Send + 'static>(&mut self, job: &Job<T>) {
-        job.cancel();
-        let t = self.now_s();
-        self.log
-            .push(t, Severity::Warning, format!("{} cancelled", job.label));
-    }
-
-    /// A background job's outcome once it has ended: `Some(Some(result))`, or `Some(None)` when
-    /// the worker stopped without one; `None` while it runs (a repaint is then asked for, so the
-    /// result is collected soon after it arrives).
-    fn finished<T: Send + 'static>(&self, job: &Job<T>) -> Option<Option<T>> {
-        match job.poll() {
-            JobPoll::Running => {
-                self.ctx.request_repaint_after(Duration::from_millis(100));
-                None
-            }
-            JobPoll::Done(r) => Some(Some(r)),
-            JobPoll::Lost => Some(None),
+    /// What the features may read this frame.
+    fn feature_view(&self) -> FeatureView<'_> {
+        let project = &self.saved.session.project;
+        let active = self
+            .ops
+            .active
+            .or((!project.operations.is_empty()).then_some(0));
+        FeatureView {
+            project,
+            document: self.document.as_ref(),
+            active_operation: active,
+            posted: active
+                .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
         }
     }
-}
-
-/// A job as the status bar shows it: label, fraction done, seconds running.
-fn job_status<T>(job: &Job<T>) -> (String, f64, f64) {
-    (
-        job.label.clone(),
-        job.progress.fraction(),
-        job.started.elapsed().as_secs_f64(),
-    )
 }
 
 /// A new project: the default part and the tool library's tools, its default tool selected.

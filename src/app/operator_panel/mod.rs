@@ -15,6 +15,7 @@
 //! time × the clock factor (at most [`MAX_FRAME_S`] of real time), and asks for the next frame
 //! while anything moves; the time one `advance` took is shown.
 
+mod feature;
 mod keys;
 mod layout;
 

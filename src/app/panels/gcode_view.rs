@@ -172,7 +172,7 @@ impl GcodeView {
             ui.label(egui::RichText::new("G-CODE").small().strong().weak());
             ui.label(format!(
                 "{} lines · {}",
-                super::grouped(self.line_count()),
+                super::super::widgets::grouped(self.line_count()),
                 size_text(self.text.len())
             ));
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {

@@ -11,11 +11,12 @@ use glam::DVec3;
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::super::number_field::NumberField;
+use super::super::state::Focus;
 use super::super::theme;
 use super::super::toolpaths::ComputedOp;
+pub use super::super::widgets::duration_text;
+use super::super::widgets::{grid, grouped, mm3};
 use super::super::workstation::ShownSimulation;
-use super::grouped;
-use super::properties::{Focus, grid, mm3};
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
 use crate::strategies::axis::AxisMode;
@@ -610,22 +611,6 @@ fn axis_rows(ui: &mut egui::Ui, axis: &mut AxisMode) -> bool {
         ui.end_row();
     }
     commit
-}
-
-/// Seconds as `1 h 02 min`, `3 min 05 s` or `12.3 s`.
-#[must_use]
-pub fn duration_text(s: f64) -> String {
-    if !s.is_finite() {
-        return "—".into();
-    }
-    let whole = s.round() as u64;
-    if whole >= 3600 {
-        format!("{} h {:02} min", whole / 3600, (whole % 3600) / 60)
-    } else if whole >= 60 {
-        format!("{} min {:02} s", whole / 60, whole % 60)
-    } else {
-        format!("{s:.1} s")
-    }
 }
 
 fn summary_ui(ui: &mut egui::Ui, result: &ComputedOp, fresh: bool) {

@@ -3,8 +3,8 @@
 //! the tool stands there.
 
 use super::super::command::{Command, PlaybackCommand};
-use super::grouped;
-use super::operation_editor::duration_text;
+use super::super::widgets::duration_text;
+use super::super::widgets::grouped;
 
 /// The playback speeds offered, × real time at feed.
 pub const SPEEDS: [f64; 7] = [1.0, 2.0, 5.0, 10.0, 50.0, 200.0, 1000.0];

@@ -3,9 +3,9 @@
 
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
-use super::grouped;
+use super::super::state::Focus;
+use super::super::widgets::grouped;
 use super::operation_editor::add_operation_ui;
-use super::properties::Focus;
 use super::tool_library::tool_list_ui;
 use crate::project::{Project, Stock};
 

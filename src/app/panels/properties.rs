@@ -7,31 +7,15 @@ use glam::DVec3;
 use super::super::command::Command;
 use super::super::document::{Document, Selection};
 use super::super::number_field::NumberField;
+pub use super::super::state::Focus;
 use super::super::viewport::picking::SurfacePick;
-use super::grouped;
+use super::super::widgets::grouped;
+pub use super::super::widgets::{grid, length_field, mm3};
 use super::machine_panel::{MachinePanel, MachinePanelEvent, PostSettings};
 use super::operation_editor::{OperationForm, OperationView, operation_editor_ui};
 use super::tool_library::{ToolForm, tool_editor_ui};
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Project, Stock};
-
-/// What the properties panel shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Focus {
-    /// The part selection (the part or a face).
-    #[default]
-    Selection,
-    /// Tool `i` of the project (its editor).
-    Tool(usize),
-    /// The stock.
-    Stock,
-    /// The setup and work offset.
-    Setup,
-    /// Operation `i`.
-    Operation(usize),
-    /// The machine.
-    Machine,
-}
 
 /// What the properties panel reads.
 pub struct PropertiesView<'a> {
@@ -378,43 +362,6 @@ fn machine_ui(
 pub const LENGTH_RANGE_MM: std::ops::RangeInclusive<f64> = -1e5..=1e5;
 /// Sizes accepted for the stock, mm (1 µm to 100 m).
 pub const SIZE_RANGE_MM: std::ops::RangeInclusive<f64> = 1e-3..=1e5;
-
-/// A length in mm typed in a [`NumberField`] `width` points wide: applied (true) when confirmed
-/// with Enter or by leaving the field, refused with the reason outside `range`.
-pub fn length_field(
-    ui: &mut egui::Ui,
-    salt: impl std::hash::Hash + std::fmt::Debug,
-    value: &mut f64,
-    range: std::ops::RangeInclusive<f64>,
-    width: f32,
-) -> bool {
-    NumberField::new(salt, value)
-        .range(range)
-        .decimals(4)
-        .unit("mm")
-        .width(width)
-        .show(ui)
-}
-
-/// Rows of (name, value) in two columns, the values monospaced.
-pub fn grid(ui: &mut egui::Ui, id: &str, rows: &[(&str, String)]) {
-    egui::Grid::new(id)
-        .num_columns(2)
-        .spacing([12.0, 4.0])
-        .striped(true)
-        .show(ui, |ui| {
-            for (name, value) in rows {
-                ui.weak(*name);
-                ui.label(egui::RichText::new(value).monospace());
-                ui.end_row();
-            }
-        });
-}
-
-/// A point or vector in mm with 3 decimals.
-pub fn mm3(v: DVec3) -> String {
-    format!("{:.3}, {:.3}, {:.3} mm", v.x, v.y, v.z)
-}
 
 fn part_ui(ui: &mut egui::Ui, doc: &Document) {
     let part = &doc.part;

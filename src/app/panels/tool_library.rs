@@ -8,8 +8,8 @@
 
 use super::super::command::Command;
 use super::super::number_field::NumberField;
+use super::super::state::Focus;
 use super::super::theme;
-use super::properties::Focus;
 use crate::project::{Edit, Project, ToolEntry};
 use crate::tools::{Cutter, CutterKind, HolderSection, parse_tool_spec};
 

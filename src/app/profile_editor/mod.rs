@@ -13,6 +13,7 @@
 //! point or the radius slider updates the path live without holding up the frame.
 
 pub mod canvas;
+mod feature;
 mod files;
 mod panel;
 pub mod rows;
@@ -23,7 +24,7 @@ use std::time::{Duration, Instant};
 use glam::DVec2;
 
 use super::file_chooser::FileChooser;
-use super::job::{Job, JobPoll};
+use super::job::{Job, JobSlot};
 use crate::profile::{
     ProfileError, ProfileOptions, ProfilePlane, ProfileResult, Side, compute_opt,
 };
@@ -72,7 +73,7 @@ pub struct ProfileEditor {
     checked: Checked,
     revision: u64,
     computed: Option<Computed>,
-    job: Option<(u64, Job<Outcome>)>,
+    job: JobSlot<Outcome, u64>,
     view: View,
     canvas_rect: Option<egui::Rect>,
     snap: bool,
@@ -130,7 +131,7 @@ impl ProfileEditor {
             checked: Checked::default(),
             revision: 0,
             computed: None,
-            job: None,
+            job: JobSlot::default(),
             view: View::default(),
             canvas_rect: None,
             snap: true,
@@ -208,7 +209,7 @@ impl ProfileEditor {
     /// Is the shown result behind the table (a computation running or due)?
     #[must_use]
     pub fn is_computing(&self) -> bool {
-        self.job.is_some()
+        self.job.is_running()
             || (self.checked.profile.is_some()
                 && self
                     .computed
@@ -267,32 +268,27 @@ impl ProfileEditor {
     /// Collect a finished computation and start the next one when the table has moved on
     /// (one at a time: edits made meanwhile are folded into the next).
     fn poll(&mut self, ctx: &egui::Context) {
-        if let Some((revision, job)) = &self.job {
-            match job.poll() {
-                JobPoll::Running => {
-                    ctx.request_repaint_after(Duration::from_millis(15));
-                    return;
-                }
-                JobPoll::Done((outcome, elapsed_s)) => {
-                    self.computed = Some(Computed {
-                        revision: *revision,
-                        outcome,
-                        elapsed_s,
-                    });
-                }
-                JobPoll::Lost => {
-                    self.computed = Some(Computed {
-                        revision: *revision,
-                        outcome: Err(ProfileError {
-                            file: "profile".into(),
-                            place: "computation".into(),
-                            message: "the worker stopped without a result".into(),
-                        }),
-                        elapsed_s: 0.0,
-                    });
-                }
-            }
-            self.job = None;
+        if self.job.is_running() {
+            let Some(done) = self.job.poll() else {
+                ctx.request_repaint_after(Duration::from_millis(15));
+                return;
+            };
+            self.computed = Some(match done.result {
+                Some((outcome, elapsed_s)) => Computed {
+                    revision: done.key,
+                    outcome,
+                    elapsed_s,
+                },
+                None => Computed {
+                    revision: done.key,
+                    outcome: Err(ProfileError {
+                        file: "profile".into(),
+                        place: "computation".into(),
+                        message: "the worker stopped without a result".into(),
+                    }),
+                    elapsed_s: 0.0,
+                },
+            });
         }
         if self
             .computed
@@ -307,17 +303,12 @@ impl ProfileEditor {
             return;
         };
         let opts = ProfileOptions::new(self.radius_mm, self.side);
-        let wake = ctx.clone();
-        let job = Job::spawn(
-            "Profile path",
-            move |_| {
-                let t = Instant::now();
-                let r = compute_opt(&profile, &opts);
-                (r, t.elapsed().as_secs_f64())
-            },
-            move || wake.request_repaint(),
-        );
-        self.job = Some((self.revision, job));
+        let job = Job::start("Profile path", ctx, move |_| {
+            let t = Instant::now();
+            let r = compute_opt(&profile, &opts);
+            (r, t.elapsed().as_secs_f64())
+        });
+        self.job.start(self.revision, job);
         ctx.request_repaint_after(Duration::from_millis(15));
     }
 

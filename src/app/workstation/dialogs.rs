@@ -18,20 +18,20 @@ impl Workstation {
     /// Open the in-window file chooser for `purpose` at `start` (a folder or a file).
     pub(super) fn open_chooser(&mut self, purpose: ChooserPurpose, start: Option<PathBuf>) {
         let start = start.or_else(|| std::env::current_dir().ok());
-        self.chooser = Some(FileChooser::new(purpose, start, &self.recent.paths));
+        self.run.chooser = Some(FileChooser::new(purpose, start, &self.saved.recent.paths));
     }
 
     /// The in-window file chooser: the chosen file is used at once (the question about unsaved
     /// changes was asked before it opened).
     pub(super) fn chooser_ui(&mut self, ctx: &egui::Context) {
-        let Some(chooser) = &mut self.chooser else {
+        let Some(chooser) = &mut self.run.chooser else {
             return;
         };
         let Some(outcome) = chooser.ui(ctx) else {
             return;
         };
         let purpose = chooser.purpose();
-        self.chooser = None;
+        self.run.chooser = None;
         match outcome {
             Some(path) => {
                 if let Some(command) = purpose.command(path) {
@@ -39,14 +39,14 @@ impl Workstation {
                 }
             }
             // Save As was cancelled: what waited for the save does not happen.
-            None => self.after_save = None,
+            None => self.run.after_save = None,
         }
     }
 
     /// The file chooser while it is open (what it is for).
     #[must_use]
     pub fn chooser(&self) -> Option<&FileChooser> {
-        self.chooser.as_ref()
+        self.run.chooser.as_ref()
     }
 
     /// Act on what the save dialog returned.
@@ -65,7 +65,7 @@ impl Workstation {
                 let start = self.save_suggestion(purpose);
                 self.open_chooser(ChooserPurpose::Save(purpose), start);
             }
-            SaveOutcome::Cancelled => self.after_save = None,
+            SaveOutcome::Cancelled => self.run.after_save = None,
             SaveOutcome::Waiting => {}
         }
     }
@@ -81,56 +81,58 @@ impl Workstation {
                 | Command::OpenProject(_)
                 | Command::Quit
         );
-        discards && !self.confirmed && self.session.is_dirty()
+        discards && !self.run.confirmed && self.saved.session.is_dirty()
     }
 
     /// Apply `command` without asking about unsaved changes (the user answered already).
     pub(super) fn apply_confirmed(&mut self, command: Command) {
-        let was = std::mem::replace(&mut self.confirmed, true);
+        let was = std::mem::replace(&mut self.run.confirmed, true);
         self.apply(command);
-        self.confirmed = was;
+        self.run.confirmed = was;
     }
 
     /// The window's close button: with unsaved changes the close is held back and the question
     /// asked (as for Quit).
     pub(super) fn on_close_request(&mut self, ctx: &egui::Context) {
         let requested = ctx.input(|i| i.viewport().close_requested());
-        if requested && !self.quit_confirmed && self.session.is_dirty() {
+        if requested && !self.run.quit_confirmed && self.saved.session.is_dirty() {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            self.unsaved = Some(Command::Quit);
+            self.run.unsaved = Some(Command::Quit);
         }
     }
 
     /// The question about unsaved changes, while a command waits for its answer.
     pub(super) fn unsaved_ui(&mut self, ctx: &egui::Context) {
-        let Some(waiting) = &self.unsaved else { return };
+        let Some(waiting) = &self.run.unsaved else {
+            return;
+        };
         let action = match waiting {
             Command::NewProject => "A new project",
             Command::Quit => "Quitting",
             _ => "Opening another file",
         };
-        let Some(answer) = unsaved_changes_ui(ctx, &self.session.project.name, action) else {
+        let Some(answer) = unsaved_changes_ui(ctx, &self.saved.session.project.name, action) else {
             return;
         };
-        let Some(command) = self.unsaved.take() else {
+        let Some(command) = self.run.unsaved.take() else {
             return;
         };
         match answer {
-            UnsavedAnswer::Save => match self.session.path.clone() {
+            UnsavedAnswer::Save => match self.saved.session.path.clone() {
                 Some(path) => {
                     self.apply(Command::SaveProjectAs(path));
-                    if !self.session.is_dirty() {
+                    if !self.saved.session.is_dirty() {
                         self.apply_confirmed(command);
                     }
                 }
                 None => {
                     // Ask where to save; the command follows a successful save.
-                    self.after_save = Some(command);
+                    self.run.after_save = Some(command);
                     self.apply(Command::SaveProjectAsDialog);
                 }
             },
             UnsavedAnswer::Discard => {
-                self.session.discard_recovery();
+                self.saved.session.discard_recovery();
                 self.log_info("Unsaved changes discarded");
                 let opens_part = match &command {
                     Command::OpenDialog => true,
@@ -142,7 +144,7 @@ impl Workstation {
                 if opens_part {
                     // A part opens into the open project: its unsaved changes go first (back to
                     // the saved file, or a new project).
-                    match self.session.path.clone() {
+                    match self.saved.session.path.clone() {
                         Some(path) => self.apply_confirmed(Command::OpenProject(path)),
                         None => self.apply_confirmed(Command::NewProject),
                     }
@@ -156,14 +158,15 @@ impl Workstation {
     /// Is a command waiting for the answer to "Save the changes?" (the command)?
     #[must_use]
     pub fn waiting_for_unsaved_answer(&self) -> Option<&Command> {
-        self.unsaved.as_ref()
+        self.run.unsaved.as_ref()
     }
 
     /// Open the native save dialog for `purpose` (or the path prompt without one).
     pub(super) fn save_dialog_for(&mut self, purpose: SavePurpose) {
         let start = self.save_suggestion(purpose);
-        let ctx = self.ctx.clone();
+        let ctx = self.run.ctx.clone();
         let outcome = self
+            .run
             .save_dialog
             .open(purpose, start, move || ctx.request_repaint());
         self.after_save_dialog(outcome);
@@ -173,10 +176,10 @@ impl Workstation {
     /// working folder), or the suggested export file.
     fn save_suggestion(&self, purpose: SavePurpose) -> Option<PathBuf> {
         match purpose {
-            SavePurpose::Project => self.session.path.clone().or_else(|| {
+            SavePurpose::Project => self.saved.session.path.clone().or_else(|| {
                 let name = format!(
                     "{}.{}",
-                    self.session.project.name,
+                    self.saved.session.project.name,
                     crate::project::file::EXTENSION
                 );
                 std::env::current_dir().ok().map(|d| d.join(name))
@@ -190,6 +193,7 @@ impl Workstation {
     /// operation, with the dialect's usual extension.
     pub(super) fn program_suggestion(&self) -> PathBuf {
         let dir = self
+            .saved
             .session
             .path
             .as_ref()
@@ -199,9 +203,9 @@ impl Workstation {
         let op = self
             .ops
             .active
-            .and_then(|i| self.session.project.operations.get(i))
+            .and_then(|i| self.saved.session.project.operations.get(i))
             .map_or("program", |o| o.name());
-        let stem: String = format!("{}-{op}", self.session.project.name)
+        let stem: String = format!("{}-{op}", self.saved.session.project.name)
             .chars()
             .map(|c| {
                 if c.is_ascii_alphanumeric() || c == '-' {
@@ -211,7 +215,7 @@ impl Workstation {
                 }
             })
             .collect();
-        let ext = match self.session.project.post.dialect.as_str() {
+        let ext = match self.saved.session.project.post.dialect.as_str() {
             "linuxcnc" => "ngc",
             "siemens" => "mpf",
             "heidenhain" => "i",

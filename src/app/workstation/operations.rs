@@ -8,10 +8,10 @@ use glam::Mat4;
 
 use super::super::command::{Command, PlaybackCommand};
 use super::super::document::Selection;
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::super::panels::operation_editor::OperationView;
 use super::super::panels::playback::PlaybackView;
-use super::super::panels::properties::Focus;
+use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
 use crate::diagnostics::Severity;
@@ -20,13 +20,12 @@ use crate::project::{Edit, Operation};
 use crate::render::{DataId, LineInstance, ScalarMapping};
 use crate::tools::Cutter;
 
-/// A running calculation: what it computes (to file the result) and the job.
-pub(super) struct CalcJob {
+/// What a running calculation computes (to file the result).
+pub(super) struct CalcKey {
     index: usize,
     operation: Operation,
     cutter: Cutter,
     part_id: DataId,
-    job: Job<Result<Computed, ComputeError>>,
 }
 
 /// The highlighted move: (active operation, pose, stored result), render id, lines.
@@ -38,7 +37,7 @@ pub(super) struct Operations {
     /// Computed paths.
     pub store: ToolpathStore,
     /// The running calculation.
-    pub job: Option<CalcJob>,
+    pub job: JobSlot<Result<Computed, ComputeError>, CalcKey>,
     /// The operation whose path is active (drawn, played back, picked).
     pub active: Option<usize>,
     /// The pose picked in the viewport (index into the active path).
@@ -74,13 +73,6 @@ impl Operations {
             ..Self::default()
         }
     }
-
-    /// Stop the running calculation without a word (its project is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some(calc) = self.job.take() {
-            calc.job.cancel();
-        }
-    }
 }
 
 /// Index of the last pose reached at time `t_s` on `clock` (non-decreasing times).
@@ -92,7 +84,7 @@ impl Workstation {
     /// Is an operation being calculated?
     #[must_use]
     pub fn is_calculating(&self) -> bool {
-        self.ops.job.is_some()
+        self.ops.job.is_running()
     }
 
     /// The latest result for operation `index` and whether it is fresh (computed from the
@@ -123,8 +115,8 @@ impl Workstation {
     pub(super) fn apply_operation(&mut self, command: Command) {
         match command {
             Command::AddOperation(kind) => {
-                let tool = self.session.project.selected_tool.unwrap_or(0);
-                if self.session.project.tools.is_empty() {
+                let tool = self.saved.session.project.selected_tool.unwrap_or(0);
+                if self.saved.session.project.tools.is_empty() {
                     let t = self.now_s();
                     self.log.notify(
                         t,
@@ -137,10 +129,10 @@ impl Workstation {
                     Some(Selection::Face(f)) => f,
                     _ => 0,
                 };
-                let index = self.session.project.operations.len();
+                let index = self.saved.session.project.operations.len();
                 let operation = Operation::new(kind, tool, face);
                 self.apply(Command::Edit(Edit::AddOperation { index, operation }));
-                if self.session.project.operations.len() > index {
+                if self.saved.session.project.operations.len() > index {
                     self.apply(Command::Inspect(Focus::Operation(index)));
                 }
             }
@@ -203,12 +195,12 @@ impl Workstation {
             Focus::Operation(i) => Some(i),
             _ => None,
         };
-        let first = (!self.session.project.operations.is_empty()).then_some(0);
+        let first = (!self.saved.session.project.operations.is_empty()).then_some(0);
         focused.or(self.ops.active).or(first)
     }
 
     fn start_calculation(&mut self, index: usize) {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let Some(operation) = project.operations.get(index).cloned() else {
             return;
         };
@@ -231,55 +223,34 @@ impl Workstation {
             );
             return;
         };
-        if let Some(old) = self.ops.job.take() {
-            old.job.cancel();
-        }
         // The engine's workpiece, shared: its BVH is built once per part, not per Calculate.
         let part = std::sync::Arc::clone(&doc.part.workpiece);
         let project = project.clone();
-        let ctx = self.ctx.clone();
         let part_id = doc.ids[0];
         self.log_info(format!("Calculating '{}'", operation.name()));
-        self.ops.job = Some(CalcJob {
+        let job = Job::start(
+            format!("Calculating {}", operation.name()),
+            &self.run.ctx,
+            move |progress| compute(&project, index, &part, progress),
+        );
+        let key = CalcKey {
             index,
+            operation,
             cutter,
             part_id,
-            job: Job::spawn(
-                format!("Calculating {}", operation.name()),
-                move |progress| compute(&project, index, &part, progress),
-                move || ctx.request_repaint(),
-            ),
-            operation,
-        });
-        self.ops.active = Some(index);
-    }
-
-    /// Cancel the running calculation; true when there was one.
-    pub(super) fn cancel_calculation(&mut self) -> bool {
-        let Some(calc) = self.ops.job.take() else {
-            return false;
         };
-        self.cancel_job(&calc.job);
-        true
-    }
-
-    /// The running calculation as the status bar shows it.
-    pub(super) fn calc_status(&self) -> Option<(String, f64, f64)> {
-        self.ops.job.as_ref().map(|c| super::job_status(&c.job))
+        self.ops.job.start(key, job);
+        self.ops.active = Some(index);
     }
 
     /// Collect a finished calculation.
     pub(super) fn poll_calc_job(&mut self) {
-        let Some(calc) = &self.ops.job else { return };
-        let Some(outcome) = self.finished(&calc.job) else {
+        let Some(done) = self.ops.job.poll() else {
             return;
         };
-        let Some(calc) = self.ops.job.take() else {
-            return;
-        };
-        let elapsed = calc.job.started.elapsed().as_secs_f64();
+        let (calc, elapsed) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(computed)) => {
                 for d in &computed.diagnostics {
                     self.log
@@ -314,7 +285,7 @@ impl Workstation {
             None => self.log.notify(
                 t,
                 Severity::Error,
-                format!("{}: the worker stopped unexpectedly", calc.job.label),
+                format!("{}: the worker stopped unexpectedly", done.label),
             ),
         }
     }
@@ -322,8 +293,8 @@ impl Workstation {
     /// The stored result for operation `index` and whether it is fresh (same operation, tool and
     /// part); a stale one is the latest computed for an operation of the same name.
     pub(super) fn result_index(&self, index: usize) -> Option<(usize, bool)> {
-        let op = self.session.project.operations.get(index)?;
-        let cutter = &self.session.project.tools.get(op.tool())?.cutter;
+        let op = self.saved.session.project.operations.get(index)?;
+        let cutter = &self.saved.session.project.tools.get(op.tool())?.cutter;
         let part_id = self.document.as_ref()?.ids[0];
         if let Some(i) = self.ops.store.find(op, cutter, part_id) {
             return Some((i, true));
@@ -347,18 +318,24 @@ impl Workstation {
         let result = self
             .result_index(index)
             .and_then(|(i, fresh)| Some((self.ops.store.get(i)?, fresh)));
-        let running = self.ops.job.as_ref().filter(|c| c.index == index).map(|c| {
-            (
-                c.job.progress.fraction(),
-                c.job.started.elapsed().as_secs_f64(),
-            )
-        });
+        let running = self
+            .ops
+            .job
+            .key()
+            .filter(|c| c.index == index)
+            .and(self.ops.job.job())
+            .map(|j| (j.progress.fraction(), j.elapsed_s()));
         let active = self.ops.active == Some(index);
-        let simulating = self.sim_status().filter(|_| active).map(|(_, f, e)| (f, e));
+        let simulating = self
+            .sims
+            .job
+            .status()
+            .filter(|_| active)
+            .map(|(_, f, e)| (f, e));
         OperationView {
             simulation: self.simulation_of(index),
             simulating,
-            project: &self.session.project,
+            project: &self.saved.session.project,
             index,
             document: self.document.as_ref(),
             result,
@@ -482,7 +459,7 @@ impl Workstation {
             self.ops.playing = false;
         } else {
             self.ops.t_s = Some(t);
-            self.ctx.request_repaint();
+            self.run.ctx.request_repaint();
         }
         if let Some(p) = self.playback_pose() {
             self.follow_pose(p);
@@ -501,7 +478,7 @@ impl Workstation {
         };
         let mut out = Vec::new();
         let mut legend = None;
-        let count = self.session.project.operations.len();
+        let count = self.saved.session.project.operations.len();
         let active = self.ops.active.filter(|&a| a < count);
         let playback = self.playback_pose();
         for i in 0..count {
@@ -598,7 +575,7 @@ impl Workstation {
             return;
         }
         let mut open = true;
-        let rows: Vec<(usize, &ComputedOp)> = (0..self.session.project.operations.len())
+        let rows: Vec<(usize, &ComputedOp)> = (0..self.saved.session.project.operations.len())
             .filter_map(|i| {
                 let (k, fresh) = self.result_index(i)?;
                 fresh.then(|| Some((i, self.ops.store.get(k)?)))?
@@ -640,7 +617,7 @@ impl Workstation {
                                 .clicked()
                             {
                                 commands.push(Command::Inspect(
-                                    super::super::panels::properties::Focus::Operation(*i),
+                                    super::super::state::Focus::Operation(*i),
                                 ));
                             }
                             ui.label(r.operation.kind().label());
@@ -652,9 +629,7 @@ impl Workstation {
                             ));
                             ui.monospace(s.pose_count.to_string());
                             ui.monospace(r.computed.passes.to_string());
-                            ui.monospace(super::super::panels::operation_editor::duration_text(
-                                s.estimated_time_s,
-                            ));
+                            ui.monospace(super::super::widgets::duration_text(s.estimated_time_s));
                             ui.monospace(
                                 s.predicted_max_scallop_mm.map_or_else(
                                     || "—".into(),

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::super::command::Command;
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::super::panels::gcode_view::{GcodeEvent, GcodeView};
 use super::super::panels::motion_plots::{MotionPlots, PlotEvent};
 use super::Workstation;
@@ -21,21 +21,11 @@ use crate::tools::Cutter;
 /// Corner blending tolerance of the motion plan, mm.
 const CORNER_TOLERANCE_MM: f64 = 0.01;
 
-/// Which tab the bottom dock shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DockTab {
-    /// The log.
-    #[default]
-    Log,
-    /// The posted G-code.
-    Gcode,
-    /// Motion plots of the posted program.
-    Motion,
-}
+pub use super::super::state::DockTab;
 
 /// What a program was posted from (it is shown as current while these are unchanged).
 #[derive(Clone, Debug, PartialEq)]
-struct ProgramKey {
+pub(super) struct ProgramKey {
     operation: Operation,
     cutter: Cutter,
     part_id: DataId,
@@ -45,7 +35,7 @@ struct ProgramKey {
 }
 
 /// What the worker produces: the run and, when its motion is planned, the plots of it.
-struct ProgramOutput {
+pub(super) struct ProgramOutput {
     run: MachiningRun,
     plots: Result<MotionPlots, String>,
 }
@@ -64,29 +54,20 @@ pub(super) struct Program {
     feed_lines: Option<(DataId, Arc<LineData>, ScalarMapping)>,
 }
 
-/// A running post: what it posts, the operation index, the job.
-type PostJob = (ProgramKey, usize, Job<Result<ProgramOutput, String>>);
+/// A running post, keyed by what it posts and the operation index.
+type PostJob = JobSlot<Result<ProgramOutput, String>, (ProgramKey, usize)>;
 
 /// The program state of the workstation.
 #[derive(Default)]
 pub(super) struct Programs {
-    job: Option<PostJob>,
+    pub(super) job: PostJob,
     pub current: Option<Program>,
     pub dock: DockTab,
 }
 
-impl Programs {
-    /// Stop the running post without a word (its project is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some((_, _, job)) = self.job.take() {
-            job.cancel();
-        }
-    }
-}
-
 impl Workstation {
     fn program_key(&self, index: usize) -> Option<ProgramKey> {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let operation = project.operations.get(index)?.clone();
         Some(ProgramKey {
             cutter: project.tools.get(operation.tool())?.cutter.clone(),
@@ -113,41 +94,30 @@ impl Workstation {
             return;
         };
         let toolpath = result.toolpath().clone();
-        let project = self.session.project.clone();
+        let project = self.saved.session.project.clone();
         let tool_number = u32::try_from(key.operation.tool() + 1).unwrap_or(1);
-        let ctx = self.ctx.clone();
-        if let Some((_, _, old)) = self.programs.job.take() {
-            old.cancel();
-        }
         let label = format!("Posting {}", key.operation.name());
         self.log_info(format!(
             "{label} for {} ({})",
             project.machine, project.post.dialect
         ));
-        self.programs.job = Some((
-            key,
-            index,
-            Job::spawn(
-                label,
-                move |progress| {
-                    let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
-                        .map_err(|e| e.to_string())?;
-                    progress.set(0.8);
-                    let plots = match &run.motion {
-                        Ok(m) => Ok(MotionPlots::new(&m.timed)),
-                        Err(e) => Err(e.to_string()),
-                    };
-                    Ok(ProgramOutput { run, plots })
-                },
-                move || ctx.request_repaint(),
-            ),
-        ));
+        let job = Job::start(label, &self.run.ctx, move |progress| {
+            let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
+                .map_err(|e| e.to_string())?;
+            progress.set(0.8);
+            let plots = match &run.motion {
+                Ok(m) => Ok(MotionPlots::new(&m.timed)),
+                Err(e) => Err(e.to_string()),
+            };
+            Ok(ProgramOutput { run, plots })
+        });
+        self.programs.job.start((key, index), job);
     }
 
     /// Is a program being posted?
     #[must_use]
     pub fn is_posting(&self) -> bool {
-        self.programs.job.is_some()
+        self.programs.job.is_running()
     }
 
     /// The posted G-code of operation `index`, when it is current.
@@ -159,30 +129,6 @@ impl Workstation {
             .as_ref()
             .filter(|p| p.key == key)
             .map(|p| p.view.text())
-    }
-
-    /// What the operator panel runs on: the project's machine, stock (the default one around
-    /// the part when none is set), setup and the active operation's tool and posted program.
-    pub(super) fn panel_source(&self) -> crate::app::operator_panel::PanelSource<'_> {
-        let project = &self.session.project;
-        let active = self
-            .ops
-            .active
-            .or((!project.operations.is_empty()).then_some(0));
-        let op = active.and_then(|i| project.operations.get(i));
-        let tool = op.map_or(0, crate::project::Operation::tool);
-        crate::app::operator_panel::PanelSource {
-            machine: project.machine.clone(),
-            stock: self
-                .document
-                .as_ref()
-                .map(|d| crate::simulation::StockShape::of(&project.stock, &d.bounds)),
-            cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
-            work_offset: (project.setup.work_offset, project.setup.origin_mm),
-            posted: active
-                .zip(op)
-                .and_then(|(i, o)| self.program_text(i).map(|t| (o.name(), t))),
-        }
     }
 
     /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
@@ -210,37 +156,14 @@ impl Workstation {
             .map(|m| m.pose_feed_mm_min.as_slice())
     }
 
-    /// Cancel the running post; true when there was one.
-    pub(super) fn cancel_post(&mut self) -> bool {
-        let Some((_, _, job)) = self.programs.job.take() else {
-            return false;
-        };
-        self.cancel_job(&job);
-        true
-    }
-
-    /// The running post as the status bar shows it.
-    pub(super) fn post_status(&self) -> Option<(String, f64, f64)> {
-        self.programs
-            .job
-            .as_ref()
-            .map(|(_, _, j)| super::job_status(j))
-    }
-
     /// Collect a finished post.
     pub(super) fn poll_post_job(&mut self) {
-        let Some((_, _, job)) = &self.programs.job else {
+        let Some(done) = self.programs.job.poll() else {
             return;
         };
-        let Some(outcome) = self.finished(job) else {
-            return;
-        };
-        let Some((key, index, job)) = self.programs.job.take() else {
-            return;
-        };
-        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let ((key, index), elapsed_s) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(out)) => {
                 let lines = out.run.text.lines().count();
                 match &out.plots {
@@ -361,7 +284,7 @@ impl Workstation {
                 .add_enabled(can_post, egui::Button::new("Post").shortcut_text("F7"))
                 .on_hover_text(format!(
                     "Write the active operation's program for {} ({})",
-                    self.session.project.machine, self.session.project.post.dialect
+                    self.saved.session.project.machine, self.saved.session.project.post.dialect
                 ))
                 .on_disabled_hover_text("Calculate the active operation first")
                 .clicked()

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use super::super::command::Command;
 use super::super::file_chooser::ChooserPurpose;
-use super::super::panels::properties::Focus;
 use super::super::project_session::{ProjectSession, part_file, pending_recovery};
+use super::super::state::Focus;
 use super::super::tool_library::library_path;
 use super::{Workstation, new_project};
 use crate::diagnostics::Severity;
@@ -18,13 +18,13 @@ impl Workstation {
     /// Apply a project command (see [`Workstation::apply`]).
     pub(super) fn apply_project(&mut self, command: Command) {
         let tools_before = (
-            self.session.project.tools.clone(),
-            self.session.project.selected_tool,
+            self.saved.session.project.tools.clone(),
+            self.saved.session.project.selected_tool,
         );
         match command {
             Command::Edit(edit) => {
                 let what = edit.describe();
-                match self.session.edit(edit) {
+                match self.saved.session.edit(edit) {
                     Ok(()) => self.after_document_change(&tools_before),
                     Err(e) => {
                         let t = self.now_s();
@@ -34,19 +34,20 @@ impl Workstation {
                 }
             }
             Command::Undo => {
-                let label = self.session.undo();
+                let label = self.saved.session.undo();
                 self.log_info(label.map_or("Nothing to undo".into(), |l| format!("Undo: {l}")));
                 self.after_document_change(&tools_before);
             }
             Command::Redo => {
-                let label = self.session.redo();
+                let label = self.saved.session.redo();
                 self.log_info(label.map_or("Nothing to redo".into(), |l| format!("Redo: {l}")));
                 self.after_document_change(&tools_before);
             }
             Command::NewProject => {
-                let data_dir = self.session.data_dir.clone();
-                let every = self.session.autosave_every;
-                self.session = ProjectSession::new(new_project(&self.library), data_dir, every);
+                let data_dir = self.saved.session.data_dir.clone();
+                let every = self.saved.session.autosave_every;
+                self.saved.session =
+                    ProjectSession::new(new_project(&self.saved.library), data_dir, every);
                 self.focus = Focus::Selection;
                 self.reset_derived();
                 self.log_info("New project");
@@ -57,12 +58,14 @@ impl Workstation {
             }
             Command::OpenProjectDialog => {
                 let start = self
+                    .saved
                     .session
                     .path
                     .as_ref()
                     .and_then(|p| p.parent().map(Path::to_path_buf));
-                let ctx = self.ctx.clone();
+                let ctx = self.run.ctx.clone();
                 if !self
+                    .run
                     .dialog
                     .open(start.clone(), move || ctx.request_repaint())
                 {
@@ -73,19 +76,19 @@ impl Workstation {
                 self.save_dialog_for(super::SavePurpose::Project);
             }
             Command::OpenProject(path) => self.open_project(&path),
-            Command::SaveProject => match self.session.path.clone() {
+            Command::SaveProject => match self.saved.session.path.clone() {
                 Some(path) => self.apply(Command::SaveProjectAs(path)),
                 None => self.apply(Command::SaveProjectAsDialog),
             },
             Command::SaveProjectAs(path) => self.save_project_as(&path),
             Command::Recover(file) => {
-                self.recovery = None;
+                self.run.recovery = None;
                 match Project::load(&file) {
                     Ok(project) => {
                         // The recovered project keeps its file (if it had one): saving writes
                         // there, and the recovery file goes.
-                        let path = self.session.path.clone();
-                        self.session.replace(project, path, true);
+                        let path = self.saved.session.path.clone();
+                        self.saved.session.replace(project, path, true);
                         self.focus = Focus::Selection;
                         self.reset_derived();
                         self.log_info(format!("Recovered unsaved changes from {}", file.display()));
@@ -99,7 +102,7 @@ impl Workstation {
                 }
             }
             Command::DiscardRecovery(file) => {
-                self.recovery = None;
+                self.run.recovery = None;
                 let _ = std::fs::remove_file(&file);
                 self.log_info(format!(
                     "Discarded the autosaved changes in {}",
@@ -114,18 +117,18 @@ impl Workstation {
     /// and a command waiting for the save runs once it succeeded.
     fn save_project_as(&mut self, path: &Path) {
         let untitled = Project::default().name;
-        if self.session.project.name == untitled
+        if self.saved.session.project.name == untitled
             && let Some(stem) = path.file_stem().map(|s| s.to_string_lossy().into_owned())
             && !stem.is_empty()
         {
-            let _ = self.session.edit(Edit::Rename(stem));
+            let _ = self.saved.session.edit(Edit::Rename(stem));
         }
-        self.session.project.view = self.view_state();
-        let waiting = self.after_save.take();
-        match self.session.save_as(path) {
+        self.saved.session.project.view = self.view_state();
+        let waiting = self.run.after_save.take();
+        match self.saved.session.save_as(path) {
             Ok(()) => {
                 self.log_info(format!("Saved {}", path.display()));
-                if let Some(e) = self.recent.add(path) {
+                if let Some(e) = self.saved.recent.add(path) {
                     let t = self.now_s();
                     self.log.push(t, Severity::Warning, e);
                 }
@@ -180,21 +183,22 @@ impl Workstation {
     fn open_project(&mut self, path: &Path) {
         match ProjectSession::read(path) {
             Ok(project) => {
-                self.restore_view = Some(project.view);
-                self.session
+                self.run.restore_view = Some(project.view);
+                self.saved
+                    .session
                     .replace(project, Some(path.to_path_buf()), false);
                 self.focus = Focus::Selection;
                 self.reset_derived();
                 self.log_info(format!("Opened project {}", path.display()));
-                if let Some(e) = self.recent.add(path) {
+                if let Some(e) = self.saved.recent.add(path) {
                     let t = self.now_s();
                     self.log.push(t, Severity::Warning, e);
                 }
-                if let Some(w) = self.session.part_warning() {
+                if let Some(w) = self.saved.session.part_warning() {
                     let t = self.now_s();
                     self.log.notify(t, Severity::Warning, w);
                 }
-                self.recovery = pending_recovery(Some(path), &self.session.data_dir);
+                self.run.recovery = pending_recovery(Some(path), &self.saved.session.data_dir);
                 self.load_project_part();
             }
             Err(e) => {
@@ -211,13 +215,19 @@ impl Workstation {
 
     /// Load the part the project references, unless it is the one loaded.
     fn load_project_part(&mut self) {
-        let wanted = self.session.project.part.as_ref().map(|p| p.path.clone());
+        let wanted = self
+            .saved
+            .session
+            .project
+            .part
+            .as_ref()
+            .map(|p| p.path.clone());
         let loaded = self
             .document
             .as_ref()
             .and_then(|d| part_file(&d.part.path).map(Path::to_path_buf));
         if wanted == loaded && self.document.is_some() {
-            if let Some(view) = self.restore_view.take() {
+            if let Some(view) = self.run.restore_view.take() {
                 self.apply_view(view);
             }
             return;
@@ -231,7 +241,7 @@ impl Workstation {
     /// After an edit, undo or redo: follow the part reference, keep the focus valid, and write the
     /// tool library when the tools changed.
     fn after_document_change(&mut self, tools_before: &(Vec<ToolEntry>, Option<usize>)) {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         if let Focus::Tool(i) = self.focus
             && i >= project.tools.len()
         {
@@ -243,10 +253,10 @@ impl Workstation {
             self.focus = Focus::Selection;
         }
         if (&project.tools, project.selected_tool) != (&tools_before.0, tools_before.1) {
-            self.library.tools.clone_from(&project.tools);
-            self.library.default_tool = project.selected_tool;
-            let path = library_path(&self.session.data_dir);
-            if let Err(e) = self.library.save(&path) {
+            self.saved.library.tools.clone_from(&project.tools);
+            self.saved.library.default_tool = project.selected_tool;
+            let path = library_path(&self.saved.session.data_dir);
+            if let Err(e) = self.saved.library.save(&path) {
                 let t = self.now_s();
                 self.log
                     .push(t, Severity::Warning, format!("Tool library not saved: {e}"));
@@ -258,13 +268,15 @@ impl Workstation {
     /// Write the recovery file when the project has had unsaved changes for the autosave
     /// interval.
     pub(super) fn autosave_if_due(&mut self) {
-        if !self.session.autosave_due() {
-            if self.session.is_dirty() {
-                self.ctx.request_repaint_after(self.session.autosave_every);
+        if !self.saved.session.autosave_due() {
+            if self.saved.session.is_dirty() {
+                self.run
+                    .ctx
+                    .request_repaint_after(self.saved.session.autosave_every);
             }
             return;
         }
-        match self.session.autosave() {
+        match self.saved.session.autosave() {
             Ok(file) => self.log_info(format!("Autosaved to {}", file.display())),
             Err(e) => {
                 let t = self.now_s();

@@ -9,10 +9,9 @@ use std::sync::Arc;
 use glam::{DVec2, Mat4};
 
 use super::super::command::Command;
-use super::super::job::Job;
-use super::super::panels::reduction_view::{
-    ReductionResult, ReductionSettings, ReductionView, ZmapSource, reduction_window,
-};
+use super::super::job::{Job, JobSlot};
+use super::super::panels::reduction_view::{ReductionView, reduction_window};
+use super::super::state::{ReductionResult, ReductionSettings, ZmapSource};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::import::stl::{StlFormat, save_stl};
@@ -34,12 +33,8 @@ pub(super) struct ShownReduction {
     mapping: ScalarMapping,
 }
 
-/// A running reduction: the part and settings it was started with, and its job.
-type ReductionJob = (
-    DataId,
-    ReductionSettings,
-    Job<Result<ReductionResult, ReduceError>>,
-);
+/// A running reduction, keyed by the part and settings it was started with.
+type ReductionJob = JobSlot<Result<ReductionResult, ReduceError>, (DataId, ReductionSettings)>;
 
 /// The data-reduction state of the workstation.
 #[derive(Default)]
@@ -48,20 +43,13 @@ pub(super) struct Reductions {
     pub open: bool,
     /// The window's settings (None until the window first opens on a part).
     settings: Option<ReductionSettings>,
-    job: Option<ReductionJob>,
+    pub(super) job: ReductionJob,
     shown: Option<ShownReduction>,
     /// Draw the reduced surface instead of the part.
     pub visible: bool,
 }
 
 impl Reductions {
-    /// Stop the running reduction without a word (its part is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some((_, _, job)) = self.job.take() {
-            job.cancel();
-        }
-    }
-
     /// Forget the reduced surface (the window and its settings stay).
     pub fn forget_result(&mut self) {
         self.shown = None;
@@ -108,10 +96,6 @@ impl Workstation {
                 surfaces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
             });
         self.reductions.settings = Some(settings);
-        if let Some((_, _, old)) = self.reductions.job.take() {
-            old.cancel();
-        }
-        let ctx = self.ctx.clone();
         let opts = settings.options();
         let what = match settings.source {
             ZmapSource::Regular => "Z-map",
@@ -123,39 +107,27 @@ impl Workstation {
             doc.part.name, settings.step_mm, settings.tolerance_mm
         );
         self.log_info(message);
-        self.reductions.job = Some((
-            part_id,
-            settings,
-            Job::spawn(
-                format!("Reducing the {what}"),
-                move |progress| match settings.source {
-                    ZmapSource::Regular => {
-                        reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
-                            .map(|r| ReductionResult::Regular(Box::new(r)))
-                    }
-                    ZmapSource::XyDependent => {
-                        reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
-                            .map(|r| ReductionResult::Xy(Box::new(r)))
-                    }
-                },
-                move || ctx.request_repaint(),
-            ),
-        ));
-    }
-
-    /// Cancel the running reduction; true when there was one.
-    pub(super) fn cancel_reduction(&mut self) -> bool {
-        let Some((_, _, job)) = self.reductions.job.take() else {
-            return false;
-        };
-        self.cancel_job(&job);
-        true
+        let job = Job::start(
+            format!("Reducing the {what}"),
+            &self.run.ctx,
+            move |progress| match settings.source {
+                ZmapSource::Regular => {
+                    reduce_part(&bvh, exact.as_ref(), settings.step_mm, &opts, progress)
+                        .map(|r| ReductionResult::Regular(Box::new(r)))
+                }
+                ZmapSource::XyDependent => {
+                    reduce_part_xy(&mesh, &bvh, settings.step_mm, &opts, progress)
+                        .map(|r| ReductionResult::Xy(Box::new(r)))
+                }
+            },
+        );
+        self.reductions.job.start((part_id, settings), job);
     }
 
     /// Is a reduction running?
     #[must_use]
     pub fn is_reducing(&self) -> bool {
-        self.reductions.job.is_some()
+        self.reductions.job.is_running()
     }
 
     /// The latest reduction, if any.
@@ -170,28 +142,14 @@ impl Workstation {
         self.reductions.visible
     }
 
-    /// The running reduction as the status bar shows it.
-    pub(super) fn reduction_status(&self) -> Option<(String, f64, f64)> {
-        self.reductions
-            .job
-            .as_ref()
-            .map(|(_, _, j)| super::job_status(j))
-    }
-
     /// Collect a finished reduction.
     pub(super) fn poll_reduction_job(&mut self) {
-        let Some((_, _, job)) = &self.reductions.job else {
+        let Some(done) = self.reductions.job.poll() else {
             return;
         };
-        let Some(outcome) = self.finished(job) else {
-            return;
-        };
-        let Some((part_id, settings, job)) = self.reductions.job.take() else {
-            return;
-        };
-        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let ((part_id, settings), elapsed_s) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(result)) => {
                 let (kind, cols, rows, ranks) = match &result {
                     ReductionResult::Regular(r) => (
@@ -274,6 +232,7 @@ impl Workstation {
     /// A file name for the reduced surface: next to the project, named after the part.
     pub(super) fn reduction_suggestion(&self) -> PathBuf {
         let dir = self
+            .saved
             .session
             .path
             .as_ref()
@@ -329,6 +288,7 @@ impl Workstation {
         let part_id = doc.ids[0];
         let mut settings = self.reductions.settings.unwrap_or_else(|| {
             let ball = self
+                .saved
                 .session
                 .project
                 .selected_tool()
@@ -348,11 +308,7 @@ impl Workstation {
                 .shown
                 .as_ref()
                 .is_some_and(|s| s.part_id != part_id || s.settings != settings),
-            running: self
-                .reductions
-                .job
-                .as_ref()
-                .map(|(_, _, j)| j.progress.fraction()),
+            running: self.reductions.job.job().map(|j| j.progress.fraction()),
             visible: self.reductions.visible,
         };
         let mut open = true;

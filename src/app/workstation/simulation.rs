@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use glam::Mat4;
 
-use super::super::job::Job;
+use super::super::job::{Job, JobSlot};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::Operation;
@@ -112,27 +112,18 @@ pub fn default_band_mm(operation: &Operation) -> f64 {
 /// The simulation state of the workstation.
 #[derive(Default)]
 pub(super) struct Simulations {
-    job: Option<(SimKey, Job<Result<Simulated, SimError>>)>,
+    pub(super) job: JobSlot<Result<Simulated, SimError>, SimKey>,
     /// The latest simulation.
     pub shown: Option<ShownSimulation>,
     /// Draw the simulated stock.
     pub visible: bool,
 }
 
-impl Simulations {
-    /// Stop the running simulation without a word (its project is going away).
-    pub fn cancel_silently(&mut self) {
-        if let Some((_, job)) = self.job.take() {
-            job.cancel();
-        }
-    }
-}
-
 impl Workstation {
     /// What simulating operation `index` runs: every operation before it that has a fresh path
     /// (in order: the stock after each one is the next one's stock), then operation `index`.
     fn sim_key(&self, index: usize) -> Option<SimKey> {
-        let project = &self.session.project;
+        let project = &self.saved.session.project;
         let mut operations = Vec::new();
         for i in 0..=index {
             let operation = project.operations.get(i)?.clone();
@@ -182,11 +173,7 @@ impl Workstation {
             }
         }
         let part = doc.part.mesh.clone();
-        let stock = self.session.project.stock;
-        let ctx = self.ctx.clone();
-        if let Some((_, old)) = self.sims.job.take() {
-            old.cancel();
-        }
+        let stock = self.saved.session.project.stock;
         let settings = SimulationSettings {
             max_rays: 250_000,
             ..SimulationSettings::default()
@@ -203,33 +190,18 @@ impl Workstation {
         } else {
             format!("{label} (Z dexels, at most 250 000 rays)")
         });
-        self.sims.job = Some((
-            key,
-            Job::spawn(
-                label,
-                move |progress| {
-                    let refs: Vec<(&crate::toolpath::Toolpath, &Cutter)> =
-                        paths.iter().map(|(t, c)| (t, c)).collect();
-                    simulate_toolpaths(&stock, &part, &refs, &settings, progress)
-                },
-                move || ctx.request_repaint(),
-            ),
-        ));
-    }
-
-    /// Cancel the running simulation; true when there was one.
-    pub(super) fn cancel_simulation(&mut self) -> bool {
-        let Some((_, job)) = self.sims.job.take() else {
-            return false;
-        };
-        self.cancel_job(&job);
-        true
+        let job = Job::start(label, &self.run.ctx, move |progress| {
+            let refs: Vec<(&crate::toolpath::Toolpath, &Cutter)> =
+                paths.iter().map(|(t, c)| (t, c)).collect();
+            simulate_toolpaths(&stock, &part, &refs, &settings, progress)
+        });
+        self.sims.job.start(key, job);
     }
 
     /// Is a simulation running?
     #[must_use]
     pub fn is_simulating(&self) -> bool {
-        self.sims.job.is_some()
+        self.sims.job.is_running()
     }
 
     /// The simulation shown for operation `index` (whole, or up to a playback pose), when it
@@ -246,25 +218,14 @@ impl Workstation {
         self.sims.shown.as_ref()
     }
 
-    /// The running simulation as the status bar shows it.
-    pub(super) fn sim_status(&self) -> Option<(String, f64, f64)> {
-        self.sims.job.as_ref().map(|(_, j)| super::job_status(j))
-    }
-
     /// Collect a finished simulation.
     pub(super) fn poll_sim_job(&mut self) {
-        let Some((_, job)) = &self.sims.job else {
+        let Some(done) = self.sims.job.poll() else {
             return;
         };
-        let Some(outcome) = self.finished(job) else {
-            return;
-        };
-        let Some((key, job)) = self.sims.job.take() else {
-            return;
-        };
-        let elapsed_s = job.started.elapsed().as_secs_f64();
+        let (key, elapsed_s) = (done.key, done.elapsed_s);
         let t = self.now_s();
-        match outcome {
+        match done.result {
             Some(Ok(simulated)) => {
                 let r = &simulated.report;
                 self.log.push(

@@ -1,0 +1,102 @@
+//! Workstation features: a tool window or panel with its own state, commands, background jobs
+//! and 3D-scene contribution, plugged into the workstation through the [`Feature`] trait.
+//!
+//! A feature lives in its own folder (`src/app/<feature>/`) and is registered by one line in
+//! [`super::features`]. The workstation then, each frame:
+//! 1. offers every [`Command`] to each feature ([`Feature::apply`]) before its own router;
+//! 2. polls the features' jobs ([`Feature::poll`]), shows a running one in the status bar
+//!    ([`Feature::job_status`]) and cancels it from there ([`Feature::cancel`]);
+//! 3. lets each feature draw its windows or panels ([`Feature::ui`]) from a read-only
+//!    [`FeatureView`] of the workstation, collecting the commands they return;
+//! 4. adds the features' meshes and lines to the viewport ([`Feature::scene`]).
+//!
+//! The features' menu entries and keys join the one table of [`super::actions`]
+//! ([`Feature::actions`]); their commands are [`Command::Feature`] with the feature's id, so a
+//! new feature needs no new [`Command`] variant.
+
+use std::any::Any;
+
+use super::actions::Action;
+use super::command::{Command, FeatureCommand};
+use super::document::Document;
+use super::job::JobStatus;
+use crate::project::Project;
+use crate::render::{LineInstance, MeshInstance};
+
+/// What a feature may read of the workstation while it draws.
+#[derive(Clone, Copy)]
+pub struct FeatureView<'a> {
+    /// The project document.
+    pub project: &'a Project,
+    /// The loaded part.
+    pub document: Option<&'a Document>,
+    /// The active operation (the one played back, posted, simulated), else the first.
+    pub active_operation: Option<usize>,
+    /// The active operation's posted program, when current: operation name and G-code text.
+    pub posted: Option<(&'a str, &'a str)>,
+}
+
+/// What a feature adds to the 3D view.
+#[derive(Default)]
+pub struct SceneParts {
+    /// Meshes drawn with the part.
+    pub meshes: Vec<MeshInstance>,
+    /// Polylines drawn over it.
+    pub lines: Vec<LineInstance>,
+}
+
+/// A workstation feature (see the module documentation for when each method is called).
+pub trait Feature: Any {
+    /// A short stable name, used in its [`FeatureCommand`]s (`"operator_panel"`).
+    fn id(&self) -> &'static str;
+
+    /// Its menu entries and keyboard shortcuts.
+    fn actions(&self) -> Vec<Action> {
+        Vec::new()
+    }
+
+    /// Apply `command` when it is this feature's (`None`: taken); give it back otherwise.
+    fn apply(&mut self, command: Command) -> Option<Command> {
+        Some(command)
+    }
+
+    /// Collect finished background work (once a frame, before the layout).
+    fn poll(&mut self, _ctx: &egui::Context) {}
+
+    /// Its running job, as the status bar shows it.
+    fn job_status(&self) -> Option<JobStatus> {
+        None
+    }
+
+    /// Cancel its running job; the job's label when there was one.
+    fn cancel(&mut self) -> Option<String> {
+        None
+    }
+
+    /// The part or the project was replaced: forget what was derived from the old one.
+    fn reset(&mut self) {}
+
+    /// Draw its windows or panels; commands for the workstation go to `commands`.
+    fn ui(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, commands: &mut Vec<Command>);
+
+    /// What it adds to the 3D view this frame.
+    fn scene(&self) -> SceneParts {
+        SceneParts::default()
+    }
+
+    /// Itself, for [`find`].
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// Is `command` the action `action` of feature `id`?
+#[must_use]
+pub fn is_action(command: &Command, id: &str, action: &str) -> bool {
+    matches!(command, Command::Feature(FeatureCommand { feature, action: a }) if *feature == id && *a == action)
+}
+
+/// The registered feature of type `T`.
+pub fn find<T: Feature>(features: &mut [Box<dyn Feature>]) -> Option<&mut T> {
+    features
+        .iter_mut()
+        .find_map(|f| f.as_any_mut().downcast_mut::<T>())
+}

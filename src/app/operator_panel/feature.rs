@@ -1,0 +1,73 @@
+//! The operator panel as a workstation [`Feature`]: Machining → "Operator panel…" opens its
+//! window, which drives a virtual control built from the project (machine, stock, the active
+//! operation's tool, work offset and posted program).
+
+use std::any::Any;
+
+use super::{OperatorPanel, PanelSource};
+use crate::app::actions::{Action, Menu};
+use crate::app::command::{Command, FeatureCommand};
+use crate::app::feature::{Feature, FeatureView, is_action};
+use crate::project::Operation;
+
+impl OperatorPanel {
+    /// The feature's id.
+    pub const ID: &'static str = "operator_panel";
+}
+
+/// What the panel's control is built from, read off the workstation.
+fn source<'a>(view: &FeatureView<'a>) -> PanelSource<'a> {
+    let project = view.project;
+    let operation = view
+        .active_operation
+        .and_then(|i| project.operations.get(i));
+    let tool = operation.map_or(0, Operation::tool);
+    PanelSource {
+        machine: project.machine.clone(),
+        stock: view
+            .document
+            .map(|d| crate::simulation::StockShape::of(&project.stock, &d.bounds)),
+        cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
+        work_offset: (project.setup.work_offset, project.setup.origin_mm),
+        posted: view.posted,
+    }
+}
+
+impl Feature for OperatorPanel {
+    fn id(&self) -> &'static str {
+        Self::ID
+    }
+
+    fn actions(&self) -> Vec<Action> {
+        let open = FeatureCommand {
+            feature: Self::ID,
+            action: "open",
+        };
+        vec![
+            Action::new(
+                Command::Feature(open),
+                "Operator panel…",
+                Some((Menu::Machining, 2)),
+            )
+            .hint("Jog, MDI and AUTO on the virtual control of the project's machine"),
+        ]
+    }
+
+    fn apply(&mut self, command: Command) -> Option<Command> {
+        if is_action(&command, Self::ID, "open") {
+            self.open = true;
+            return None;
+        }
+        Some(command)
+    }
+
+    fn ui(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, _commands: &mut Vec<Command>) {
+        if self.open {
+            self.window(ctx, &source(view));
+        }
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
