@@ -1,4 +1,5 @@
-//! Planning on meshes for `talas plan`: raster, waterline and steep-and-shallow finishing and
+//! Planning on meshes for `talas plan`: raster, waterline, steep-and-shallow, pencil and rest
+//! finishing and
 //! Z-level roughing of an STL file or
 //! of a STEP part tessellated at the chord tolerance. The `plan` subcommand calls [`plan_mesh`].
 
@@ -46,6 +47,9 @@ pub struct MeshPlanOptions {
     /// Roughing: a level of its own for each flat area between two levels.
     #[serde(default = "detect_flats_default")]
     pub detect_flats: bool,
+    /// Rest finishing: the earlier, larger tool's spec (e.g. `ball:d=10`).
+    #[serde(default)]
+    pub reference_tool: Option<String>,
 }
 
 fn detect_flats_default() -> bool {
@@ -67,12 +71,20 @@ impl Default for MeshPlanOptions {
             feed_mm_per_min: 1000.0,
             clearance_mm: 5.0,
             detect_flats: true,
+            reference_tool: None,
         }
     }
 }
 
 /// The strategies [`plan_mesh`] plans.
-pub const MESH_STRATEGIES: [&str; 4] = ["raster", "zlevel-rough", "waterline", "steep-shallow"];
+pub const MESH_STRATEGIES: [&str; 6] = [
+    "raster",
+    "zlevel-rough",
+    "waterline",
+    "steep-shallow",
+    "pencil",
+    "rest",
+];
 
 /// Waterline (`--angle`: slopes flatter than it set no limit on the step-down, 30° when 0)
 /// and steep-and-shallow (`--angle`: the threshold, 45° when 0) finishing.
@@ -180,6 +192,9 @@ pub fn plan_mesh_noted(
     }
     let mesh = read_mesh(file, opts.tolerance_mm)?;
     let bvh = MeshBvh::new(&mesh).map_err(|e| ImportError::new(file, None, e.to_string()))?;
+    if strategy == "pencil" || strategy == "rest" {
+        return super::plan_corners::plan_corners(file, strategy, &mesh, &bvh, &tool, opts);
+    }
     if strategy == "waterline" || strategy == "steep-shallow" {
         return plan_finish_3axis(file, strategy, &mesh, &bvh, &tool, opts);
     }
