@@ -6,7 +6,8 @@
 //!   envelope of its bodies at those locations.
 //! - **Rest thickness** at a contact point c of the finishing ball (normal n, from the contact
 //!   toward the ball's centre): for a ball reference, the distance from c to the nearest
-//!   reference ball less its radius (exact for the sampled locations); for other cutters, the
+//!   reference ball less its radius, the grid's locations and the one where the reference would
+//!   touch c with the same normal (the thickness is 0 wherever it does); for other cutters, the
 //!   height of the reference envelope above c (the profile's height at the radial distance,
 //!   lowest over the locations in reach) times n_z, the normal thickness of a layer on a plane
 //!   of that slope. A contact with more than `threshold_mm` left is in the rest area.
@@ -187,6 +188,23 @@ impl ReferenceSurface {
         }
         if best == f64::MAX { 0.0 } else { best.max(0.0) }
     }
+
+    /// [`Self::thickness`], for a ball reference also tried at the one location where it
+    /// would touch `c` with the same normal (centre c + R·n): dropped there, it reaches `c`
+    /// when nothing holds it up, which the grid locations around it only approximate.
+    #[must_use]
+    pub fn thickness_directed(&self, mesh: &TriMesh, bvh: &MeshBvh, c: DVec3, n: DVec3) -> f64 {
+        let grid = self.thickness(c, n);
+        if self.cutter.kind != CutterKind::Ball {
+            return grid;
+        }
+        let r = self.cutter.radius();
+        let q = c.truncate() + r * n.truncate();
+        match drop_cutter_at(bvh, mesh, &self.cutter, q) {
+            Some(cl) => grid.min((c.distance(q.extend(cl.z + r)) - r).max(0.0)),
+            None => grid,
+        }
+    }
 }
 
 /// One sample along a pass: tool tip, contact, rest thickness there.
@@ -229,7 +247,7 @@ pub fn rest(
             pts.iter()
                 .map(|p| {
                     let c = drop_cutter_at(bvh, mesh, &tool.cutter, *p)?;
-                    Some(sample(&reference, rf, *p, &c))
+                    Some(sample(mesh, bvh, &reference, rf, *p, &c))
                 })
                 .collect()
         })
@@ -280,12 +298,19 @@ pub fn rest(
     })
 }
 
-fn sample(reference: &ReferenceSurface, rf: f64, p: DVec2, c: &ClPoint) -> Sample {
+fn sample(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    reference: &ReferenceSurface,
+    rf: f64,
+    p: DVec2,
+    c: &ClPoint,
+) -> Sample {
     let n = (p.extend(c.z + rf) - c.cc).normalize_or(DVec3::Z);
     Sample {
         tip: p.extend(c.z),
         cc: c.cc,
-        rest: reference.thickness(c.cc, n),
+        rest: reference.thickness_directed(mesh, bvh, c.cc, n),
     }
 }
 
