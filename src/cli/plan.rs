@@ -29,8 +29,10 @@ pub struct PlanArgs {
     /// Strategy: `iso-parametric`, `iso-planar`, `iso-scallop` (5-axis finishing of one exact
     /// face), `raster` (3-axis drop-cutter finishing of the whole part), `waterline` (Z-level
     /// finishing; `--angle`: slopes flatter than it set no limit on the step-down, default 30),
-    /// `steep-shallow` (waterline above `--angle`, default 45, raster below) or `zlevel-rough`
-    /// (Z-level roughing from a stock).
+    /// `steep-shallow` (waterline above `--angle`, default 45, raster below), `pencil` (along
+    /// valleys and corners where a ball touches twice; `--angle`: smallest angle between the two
+    /// contact normals, default 20), `rest` (parallel passes where `--reference-tool` left more
+    /// than the scallop height) or `zlevel-rough` (Z-level roughing from a stock).
     #[arg(long, value_name = "NAME")]
     pub strategy: String,
     /// Target scallop height h, mm.
@@ -125,6 +127,9 @@ pub struct PlanArgs {
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
+    /// `rest`: the earlier, larger tool whose leftovers are finished, e.g. `ball:d=10`.
+    #[arg(long, value_name = "SPEC")]
+    pub reference_tool: Option<String>,
     /// Where to write the tool path JSON.
     #[arg(short = 'o', long = "output", value_name = "PATH.json")]
     pub output: PathBuf,
@@ -227,7 +232,7 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
         other => Err(opt_err(
             "--strategy",
             format!(
-                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, waterline, steep-shallow, zlevel-rough)"
+                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, waterline, steep-shallow, pencil, rest, zlevel-rough)"
             ),
         )),
     }
@@ -374,6 +379,7 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         feed_mm_per_min: args.feed,
         clearance_mm: args.clearance.unwrap_or(FINISH_3AXIS_CLEARANCE_MM),
         detect_flats: !args.no_flat_levels,
+        reference_tool: args.reference_tool.clone(),
     };
     let computed = plan_mesh_computed(
         &args.file,

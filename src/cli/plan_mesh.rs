@@ -1,6 +1,7 @@
 //! Planning on meshes for `talas plan`: raster, waterline and steep-and-shallow finishing and
 //! Z-level roughing of an STL file or of a STEP part tessellated at the chord tolerance, each
-//! as a one-operation project through the workstation's pipeline.
+//! as a one-operation project through the workstation's pipeline; pencil and rest finishing
+//! (not project operations yet) through [`super::plan_corners`] on the same workpiece.
 
 use std::path::Path;
 
@@ -14,7 +15,7 @@ use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
 use crate::strategies::waterline::Cut;
-use crate::toolpath::Toolpath;
+use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
 
 /// Options of [`plan_mesh`] (each strategy reads the ones it needs).
@@ -46,6 +47,9 @@ pub struct MeshPlanOptions {
     /// Roughing: a level of its own for each flat area between two levels.
     #[serde(default = "detect_flats_default")]
     pub detect_flats: bool,
+    /// Rest finishing: the earlier, larger tool's spec (e.g. `ball:d=10`).
+    #[serde(default)]
+    pub reference_tool: Option<String>,
 }
 
 fn detect_flats_default() -> bool {
@@ -67,12 +71,20 @@ impl Default for MeshPlanOptions {
             feed_mm_per_min: 1000.0,
             clearance_mm: 5.0,
             detect_flats: true,
+            reference_tool: None,
         }
     }
 }
 
 /// The strategies [`plan_mesh`] plans.
-pub const MESH_STRATEGIES: [&str; 4] = ["raster", "zlevel-rough", "waterline", "steep-shallow"];
+pub const MESH_STRATEGIES: [&str; 6] = [
+    "raster",
+    "zlevel-rough",
+    "waterline",
+    "steep-shallow",
+    "pencil",
+    "rest",
+];
 
 /// The one-operation [`Operation`] of `strategy` with `opts` (tool number 0).
 ///
@@ -208,11 +220,31 @@ pub fn plan_mesh_computed(
 ) -> Result<Computed, ImportError> {
     let bad = |what: &str, msg: String| ImportError::new(file, Some(what.to_string()), msg);
     let cutter = parse_tool_spec(tool_spec).map_err(|e| bad("--tool", e.to_string()))?;
-    let operation = mesh_operation(file, strategy, opts)?;
     let tol = opts.tolerance_mm;
     let options = crate::import::OpenOptions {
         chord_tol_mm: (tol > 0.0 && tol.is_finite()).then_some(tol),
     };
+    if strategy == "pencil" || strategy == "rest" {
+        // Not project operations yet: planned here on the same workpiece.
+        let part = crate::import::open(file, &options, &Progress::new())?;
+        let bvh = part
+            .bvh()
+            .map_err(|e| ImportError::new(file, None, e.to_string()))?;
+        let tool = ToolRecord {
+            spec: crate::tools::tool_spec(&cutter),
+            cutter,
+        };
+        let (toolpath, diagnostics) =
+            super::plan_corners::plan_corners(file, strategy, &part.mesh, &bvh, &tool, opts)?;
+        return Ok(Computed {
+            passes: crate::project::pipeline::cutting_runs(&toolpath),
+            toolpath,
+            diagnostics,
+            lead_rad: None,
+            clearance_mm: None,
+        });
+    }
+    let operation = mesh_operation(file, strategy, opts)?;
     let part = crate::import::open(file, &options, &Progress::new())?;
     let stock = if strategy == "zlevel-rough" {
         match StockSpec::parse(&opts.stock, Some(&part.mesh.bbox())) {

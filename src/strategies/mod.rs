@@ -1,5 +1,6 @@
 //! Tool-path strategies (L3): iso-parametric, iso-planar and iso-scallop finishing on exact
-//! surfaces, raster finishing and Z-level roughing on meshes and Z-maps. Each strategy takes a
+//! surfaces, raster, waterline, steep-and-shallow, pencil and rest finishing and Z-level roughing
+//! on meshes and Z-maps. Each strategy takes a
 //! part (or face), a cutter and its parameters, and returns a [`crate::toolpath::Toolpath`] plus
 //! diagnostics.
 //!
@@ -18,9 +19,11 @@ pub mod isoplanar;
 pub mod isoscallop;
 pub mod linking;
 pub mod pass;
+pub mod pencil;
 pub mod raster;
 pub mod raster_check;
 pub mod repair;
+pub mod rest;
 pub mod scallop;
 pub mod steep_shallow;
 pub mod stepping;
