@@ -17,6 +17,7 @@ pub mod document_loader;
 pub mod file_chooser;
 pub mod file_dialog;
 pub mod job;
+pub mod machine_view;
 pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;

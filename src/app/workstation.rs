@@ -134,6 +134,7 @@ pub struct Workstation {
     profile_editor: super::profile_editor::ProfileEditor,
     /// The operator panel's window.
     operator_panel: super::operator_panel::OperatorPanel,
+    machine_view: super::machine_view::MachineView,
 }
 
 impl Workstation {
@@ -190,6 +191,7 @@ impl Workstation {
             restore_view: None,
             profile_editor: super::profile_editor::ProfileEditor::new(),
             operator_panel: super::operator_panel::OperatorPanel::new(),
+            machine_view: super::machine_view::MachineView::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -820,6 +822,12 @@ impl Workstation {
         viewport.work_offset = Some(glam::DVec3::from_array(
             self.session.project.setup.origin_mm,
         ));
+        // The machine at the operator panel's axis values (machine_view.rs).
+        let machine_meshes = super::machine_view::panel_machine(
+            &mut self.machine_view,
+            &self.operator_panel,
+            &mut viewport,
+        );
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
@@ -843,7 +851,11 @@ impl Workstation {
                 stock_legend: shown_mesh
                     .as_ref()
                     .map(|(_, m)| (legend_title.to_string(), *m)),
-                meshes: shown_mesh.into_iter().map(|(m, _)| m).collect(),
+                meshes: shown_mesh
+                    .into_iter()
+                    .map(|(m, _)| m)
+                    .chain(machine_meshes)
+                    .collect(),
                 paths,
                 path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
