@@ -309,7 +309,8 @@ pub struct ControlConfig {
 }
 
 impl ControlConfig {
-    /// Defaults for a machine: power-on at machine zero (clamped into the travel), homing Z
+    /// Defaults for a machine: power-on at machine zero (clamped into the travel) with Z at
+    /// the top of its travel (the spindle clear of the table and its bodies), homing Z
     /// first, then the other linear axes, then the rotaries, each to its switch at the top of
     /// the travel (linear) or 0 (rotary); jog 1000 mm/min, homing 2000 mm/min.
     #[must_use]
@@ -324,7 +325,12 @@ impl ControlConfig {
             let Some(k) = crate::feed::path::slot_of(a.name) else {
                 continue;
             };
-            start[k] = 0.0_f64.clamp(a.min, a.max);
+            // Z at the top: the spindle clear of the table, as a machine is switched off.
+            start[k] = if a.name == 'Z' {
+                a.max
+            } else {
+                0.0_f64.clamp(a.min, a.max)
+            };
             home_position[k] = if a.is_rotary() {
                 0.0_f64.clamp(a.min, a.max)
             } else {
