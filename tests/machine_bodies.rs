@@ -69,9 +69,18 @@ fn body_placements_match_hand_computed_positions() {
     let l = m
         .link_placements(&joints(100.0, 50.0, -20.0, 0.0, 0.0), 110.0)
         .unwrap();
-    assert_eq!(l.of(Link::Linear('X')).translation, DVec3::new(-100.0, -50.0, 0.0));
-    assert_eq!(l.of(Link::Linear('Y')).translation, DVec3::new(0.0, -50.0, 0.0));
-    assert_eq!(l.of(Link::Linear('Z')).translation, DVec3::new(0.0, 0.0, 90.0));
+    assert_eq!(
+        l.of(Link::Linear('X')).translation,
+        DVec3::new(-100.0, -50.0, 0.0)
+    );
+    assert_eq!(
+        l.of(Link::Linear('Y')).translation,
+        DVec3::new(0.0, -50.0, 0.0)
+    );
+    assert_eq!(
+        l.of(Link::Linear('Z')).translation,
+        DVec3::new(0.0, 0.0, 90.0)
+    );
     // trt-ac, A = −90° (direction −1: the table turns +90° about X around the tilt axis
     // 150 mm below the table top): the table-top centre goes to y = −150, z = −150.
     let m = Machine::builtin("trt-ac").unwrap();
@@ -79,14 +88,21 @@ fn body_placements_match_hand_computed_positions() {
         .link_placements(&joints(10.0, 20.0, 0.0, -90.0, 0.0), 0.0)
         .unwrap();
     let p = l.table.apply(DVec3::ZERO);
-    assert!((p - DVec3::new(-10.0, -170.0, -150.0)).length() < 1e-9, "{p}");
+    assert!(
+        (p - DVec3::new(-10.0, -170.0, -150.0)).length() < 1e-9,
+        "{p}"
+    );
     // C turns the table but not the cradle: a point on the table rim at +X, C = 90°
     // (direction −1: −90° about Z) goes to −Y.
     let l = m
         .link_placements(&joints(0.0, 0.0, 0.0, 0.0, 90.0), 0.0)
         .unwrap();
-    assert!((l.table.apply(DVec3::new(250.0, 0.0, 0.0)) - DVec3::new(0.0, -250.0, 0.0)).length() < 1e-9);
-    assert!((l.tilt.apply(DVec3::new(250.0, 0.0, 0.0)) - DVec3::new(250.0, 0.0, 0.0)).length() < 1e-9);
+    assert!(
+        (l.table.apply(DVec3::new(250.0, 0.0, 0.0)) - DVec3::new(0.0, -250.0, 0.0)).length() < 1e-9
+    );
+    assert!(
+        (l.tilt.apply(DVec3::new(250.0, 0.0, 0.0)) - DVec3::new(250.0, 0.0, 0.0)).length() < 1e-9
+    );
 }
 
 #[test]
@@ -126,19 +142,33 @@ fn cradle_angle_deg() -> f64 {
 fn a_tilt_drives_the_cradle_into_the_spindle_nose_at_the_closed_form_angle() {
     let m = Machine::builtin("trt-ac").unwrap();
     let model = CollisionModel::new(&m, &[], &[]).unwrap();
-    let prog = interpret("G0 X280 Y-130 Z105\nG0 A-90\n", &InterpretOptions::default()).unwrap();
+    let prog = interpret(
+        "G0 X280 Y-130 Z105\nG0 A-90\n",
+        &InterpretOptions::default(),
+    )
+    .unwrap();
     let hit = check_blocks(&model, &m, &prog.blocks).expect("a collision");
     assert_eq!(hit.line, 2);
-    assert_eq!(hit.contacts, [talas::machine::collision::Contact {
-        bodies: ["spindle nose".into(), "cradle".into()]
-    }]);
+    assert_eq!(
+        hit.contacts,
+        [talas::machine::collision::Contact {
+            bodies: ["spindle nose".into(), "cradle".into()]
+        }]
+    );
     let a = -hit.position[3].to_degrees();
     let want = cradle_angle_deg();
-    assert!((a - want).abs() < 1e-4, "first contact at A = −{a}°, closed form −{want}°");
+    assert!(
+        (a - want).abs() < 1e-4,
+        "first contact at A = −{a}°, closed form −{want}°"
+    );
     // At A = −90° the plate's top stands 260 mm above the tilt axis under the nose.
     let names = |h: f64| {
         let j = joints(280.0, -130.0, h - 150.0, -90.0, 0.0);
-        model.contacts(&m, &j).into_iter().map(|c| c.bodies[1].clone()).collect::<Vec<_>>()
+        model
+            .contacts(&m, &j)
+            .into_iter()
+            .map(|c| c.bodies[1].clone())
+            .collect::<Vec<_>>()
     };
     assert!(names(261.0).is_empty());
     assert_eq!(names(259.0), ["cradle"]);
@@ -151,13 +181,24 @@ fn a_tilt_drives_the_cradle_into_the_spindle_nose_at_the_closed_form_angle() {
 fn a_holder_lowered_beside_the_table_meets_its_edge_at_the_closed_form_depth() {
     let m = Machine::builtin("mill-3axis").unwrap();
     let model = tool_model(&m);
-    let prog = interpret("G0 X0 Y200 Z0\nG1 Z-250 F1000\n", &InterpretOptions::default()).unwrap();
+    let prog = interpret(
+        "G0 X0 Y200 Z0\nG1 Z-250 F1000\n",
+        &InterpretOptions::default(),
+    )
+    .unwrap();
     let hit = check_blocks(&model, &m, &prog.blocks).expect("a collision");
     assert_eq!(hit.line, 2);
-    assert_eq!(hit.contacts[0].bodies, ["holder".to_string(), "table".into()]);
+    assert_eq!(
+        hit.contacts[0].bodies,
+        ["holder".to_string(), "table".into()]
+    );
     assert!((hit.position[2] + 150.0).abs() < 1e-3, "{:?}", hit.position);
     // The same descent at Y = 150 brings the tool itself onto the table top at Z = −100.
-    let prog = interpret("G0 X0 Y150 Z0\nG1 Z-250 F1000\n", &InterpretOptions::default()).unwrap();
+    let prog = interpret(
+        "G0 X0 Y150 Z0\nG1 Z-250 F1000\n",
+        &InterpretOptions::default(),
+    )
+    .unwrap();
     let hit = check_blocks(&model, &m, &prog.blocks).expect("a collision");
     assert_eq!(hit.contacts[0].bodies, ["tool".to_string(), "table".into()]);
     assert!((hit.position[2] + 100.0).abs() < 1e-3, "{:?}", hit.position);
@@ -246,7 +287,11 @@ fn machine_files_with_bad_bodies_are_refused_naming_the_body() {
         matches!(&e, MachineError::Invalid(m) if m.contains("body 3 (\"saddle\")")),
         "{e}"
     );
-    let bad = text.replacen("\"box\": [[-260, -180, -330], [260, 180, -150]]", "\"box\": [[0, 0, 0], [0, 1, 1]]", 1);
+    let bad = text.replacen(
+        "\"box\": [[-260, -180, -330], [260, 180, -150]]",
+        "\"box\": [[0, 0, 0], [0, 1, 1]]",
+        1,
+    );
     let e = Machine::from_json(&bad).unwrap_err();
     assert!(e.to_string().contains("zero extent"), "{e}");
     // Bodies are optional.

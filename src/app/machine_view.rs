@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Mat4, Vec3};
 
-use crate::control::collide::machine_joints;
 use crate::control::Control;
+use crate::control::collide::machine_joints;
 use crate::machine::{Link, Machine, MachineJoints, Placement, Side};
 use crate::render::{BoundingSphere, DataId, MeshData, MeshInstance, Rgba8};
 
@@ -54,8 +54,16 @@ pub struct MachineView {
 fn mesh_data(mesh: &crate::machine::BodyMesh) -> MeshData {
     let mut out = MeshData::default();
     for t in &mesh.triangles {
-        let p = t.map(|i| mesh.vertices.get(i as usize).copied().unwrap_or(DVec3::ZERO));
-        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero().as_vec3();
+        let p = t.map(|i| {
+            mesh.vertices
+                .get(i as usize)
+                .copied()
+                .unwrap_or(DVec3::ZERO)
+        });
+        let n = (p[1] - p[0])
+            .cross(p[2] - p[0])
+            .normalize_or_zero()
+            .as_vec3();
         for q in p {
             let i = u32::try_from(out.positions.len()).unwrap_or(u32::MAX);
             out.positions.push(q.as_vec3().to_array());

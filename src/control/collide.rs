@@ -10,7 +10,9 @@
 
 use crate::feed::path::{JointVector, SLOTS};
 use crate::gcode::MotionBlock;
-use crate::machine::collision::{CollisionModel, Contact, TableExtra, ToolCylinder, tool_cylinders};
+use crate::machine::collision::{
+    CollisionModel, Contact, TableExtra, ToolCylinder, tool_cylinders,
+};
 use crate::machine::{Machine, MachineJoints, Shape};
 use crate::tools::Cutter;
 
@@ -41,7 +43,11 @@ pub fn machine_joints(machine: &Machine, p: &JointVector) -> MachineJoints {
 /// The cylinders of `cutter` (cutting end and shank, holder sections).
 #[must_use]
 pub fn cutter_cylinders(cutter: &Cutter) -> Vec<ToolCylinder> {
-    let holder: Vec<(f64, f64)> = cutter.holder.iter().map(|h| (h.diameter, h.length)).collect();
+    let holder: Vec<(f64, f64)> = cutter
+        .holder
+        .iter()
+        .map(|h| (h.diameter, h.length))
+        .collect();
     tool_cylinders(
         cutter.diameter,
         cutter.shank_diameter,

@@ -1108,15 +1108,13 @@ impl Control {
         a.check_pos = a.run.position_at(s1);
         let machine = &self.cfg.machine;
         let run = &a.run;
-        let Some((s, contacts)) =
-            super::collide::first_contact_along(
-                model,
-                machine,
-                |u| run.position_at(u),
-                (s0, s1),
-                &a.start_contacts,
-            )
-        else {
+        let Some((s, contacts)) = super::collide::first_contact_along(
+            model,
+            machine,
+            |u| run.position_at(u),
+            (s0, s1),
+            &a.start_contacts,
+        ) else {
             return;
         };
         let p = run.position_at(s);
