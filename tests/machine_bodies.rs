@@ -302,3 +302,39 @@ fn machine_files_with_bad_bodies_are_refused_naming_the_body() {
     assert!(CollisionModel::new(&m, &[], &[]).is_none());
     let _ = machine_joints(&m, &[0.0; 6]);
 }
+
+/// Every body's mesh is closed (each edge in exactly two triangles, opposite ways) with the
+/// volume of its primitive: a box's extents' product, an n-gon prism's n/2·r²·sin(2π/n)·length.
+#[test]
+fn body_meshes_are_closed_with_the_primitive_volume() {
+    use std::collections::HashMap;
+    for name in Machine::builtin_names() {
+        let m = Machine::builtin(name).unwrap();
+        for b in &m.structure.as_ref().unwrap().bodies {
+            let mesh = b.shape.mesh(24);
+            let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
+            let mut volume = 0.0;
+            for t in &mesh.triangles {
+                let p = t.map(|i| mesh.vertices[i as usize]);
+                volume += p[0].dot(p[1].cross(p[2])) / 6.0;
+                for k in 0..3 {
+                    *edges.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+                }
+            }
+            for (&(a, c), &n) in &edges {
+                assert_eq!((n, edges.get(&(c, a))), (1, Some(&1)), "{name} {}", b.name);
+            }
+            let want = match b.shape {
+                talas::machine::Shape::Box { min, max } => (max - min).element_product(),
+                talas::machine::Shape::Cylinder { radius, length, .. } => {
+                    12.0 * radius * radius * (std::f64::consts::TAU / 24.0).sin() * length
+                }
+            };
+            assert!(
+                (volume - want).abs() < 1e-6 * want,
+                "{name} {}: {volume} vs {want}",
+                b.name
+            );
+        }
+    }
+}
