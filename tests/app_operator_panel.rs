@@ -86,12 +86,13 @@ fn home_all_axes_by_clicking() {
         "{work_x} not shown"
     );
     assert!(h.query_by_label_contains("No alarms").is_some());
-    // Power on rebuilds the control from the project: nothing homed, back at machine zero.
+    // Power on rebuilds the control from the project: nothing homed, back at the power-on
+    // position (machine zero, Z at the top of its travel).
     h.get_by_label("Power on").click();
     h.run_steps(2);
     let snap = h.state().control().unwrap().snapshot();
     assert_eq!(snap.homed, vec![false, false, false]);
-    assert_eq!(snap.machine_position, vec![0.0, 0.0, 0.0]);
+    assert_eq!(snap.machine_position, vec![0.0, 0.0, 100.0]);
 }
 
 #[test]

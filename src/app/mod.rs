@@ -24,6 +24,7 @@ pub mod feature;
 pub mod file_chooser;
 pub mod file_dialog;
 pub mod job;
+pub mod machine_view;
 pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;

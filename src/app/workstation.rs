@@ -110,6 +110,8 @@ pub struct Workstation {
     features: Vec<Box<dyn Feature>>,
     /// The menu entries and keyboard shortcuts (the workstation's and the features').
     actions: Vec<Action>,
+    /// The machine drawn in the viewport while the operator panel is open.
+    machine_view: super::machine_view::MachineView,
 }
 
 impl Workstation {
@@ -152,6 +154,7 @@ impl Workstation {
             pick: None,
             features,
             actions: table,
+            machine_view: super::machine_view::MachineView::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -804,6 +807,15 @@ impl Workstation {
         viewport.work_offset = Some(glam::DVec3::from_array(
             self.saved.session.project.setup.origin_mm,
         ));
+        // The machine at the operator panel's axis values (machine_view.rs).
+        let machine_meshes = match super::feature::find::<super::operator_panel::OperatorPanel>(
+            &mut self.features,
+        ) {
+            Some(panel) => {
+                super::machine_view::panel_machine(&mut self.machine_view, panel, &mut viewport)
+            }
+            None => Vec::new(),
+        };
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
@@ -827,7 +839,11 @@ impl Workstation {
                 stock_legend: shown_mesh
                     .as_ref()
                     .map(|(_, m)| (legend_title.to_string(), *m)),
-                meshes: shown_mesh.into_iter().map(|(m, _)| m).collect(),
+                meshes: shown_mesh
+                    .into_iter()
+                    .map(|(m, _)| m)
+                    .chain(machine_meshes)
+                    .collect(),
                 paths,
                 path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),

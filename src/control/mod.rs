@@ -30,7 +30,13 @@
 //! - With a stock and a tool, every piece of motion played is cut into the dexel stock
 //!   ([`cutting`]); a rapid through material or a holder/shank in material stops the motion
 //!   with a collision alarm naming the bodies, the line and the position.
+//! - When the machine file has bodies, every motion is tested against machine collisions
+//!   ([`collide`]): head, spindle, tool and holder against the bed, the table side (table,
+//!   trunnion, cradle, rotary table), the stock's bounding box and the fixtures; the first
+//!   contact (found by bisection along the path) raises [`codes::COLLISION_MACHINE`] naming
+//!   the two bodies, the line and the position, and the machine brakes.
 
+pub mod collide;
 pub mod cutting;
 pub mod motion;
 mod state;
@@ -63,6 +69,9 @@ pub mod codes {
     pub const COLLISION_SHANK: u32 = 41;
     /// The holder met material.
     pub const COLLISION_HOLDER: u32 = 42;
+    /// Two machine bodies (head, spindle, tool or holder against the table side, the bed, the
+    /// stock or a fixture) touched.
+    pub const COLLISION_MACHINE: u32 = 43;
     /// The stock simulation failed on a piece of motion.
     pub const SIMULATION: u32 = 50;
 }
@@ -293,10 +302,15 @@ pub struct ControlConfig {
     pub jog_feed_mm_per_min: f64,
     /// Homing feed, mm/min (rotary: deg/min).
     pub home_feed_mm_per_min: f64,
+    /// Test machine collisions (when the machine has bodies).
+    pub machine_collisions: bool,
+    /// Fixtures and other solids on the table (table coordinates).
+    pub fixtures: Vec<crate::machine::collision::TableExtra>,
 }
 
 impl ControlConfig {
-    /// Defaults for a machine: power-on at machine zero (clamped into the travel), homing Z
+    /// Defaults for a machine: power-on at machine zero (clamped into the travel) with Z at
+    /// the top of its travel (the spindle clear of the table and its bodies), homing Z
     /// first, then the other linear axes, then the rotaries, each to its switch at the top of
     /// the travel (linear) or 0 (rotary); jog 1000 mm/min, homing 2000 mm/min.
     #[must_use]
@@ -311,7 +325,12 @@ impl ControlConfig {
             let Some(k) = crate::feed::path::slot_of(a.name) else {
                 continue;
             };
-            start[k] = 0.0_f64.clamp(a.min, a.max);
+            // Z at the top: the spindle clear of the table, as a machine is switched off.
+            start[k] = if a.name == 'Z' {
+                a.max
+            } else {
+                0.0_f64.clamp(a.min, a.max)
+            };
             home_position[k] = if a.is_rotary() {
                 0.0_f64.clamp(a.min, a.max)
             } else {
@@ -337,6 +356,8 @@ impl ControlConfig {
             home_position,
             jog_feed_mm_per_min: 1000.0,
             home_feed_mm_per_min: 2000.0,
+            machine_collisions: true,
+            fixtures: Vec::new(),
         }
     }
 }

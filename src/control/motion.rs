@@ -254,6 +254,20 @@ impl Run {
         self.path.segments().get(k).map(|s| s.block)
     }
 
+    /// The position at path position `s` of the whole motion (clamped to the path).
+    #[must_use]
+    pub fn position_at(&self, s: f64) -> JointVector {
+        let (k, sl) = self.segment_at(s.clamp(0.0, self.total_length));
+        self.point_on(k, sl)
+    }
+
+    /// Index (in [`Run::blocks`]) of the block at path position `s`.
+    #[must_use]
+    pub fn block_at(&self, s: f64) -> Option<usize> {
+        let (k, _) = self.segment_at(s.clamp(0.0, self.total_length));
+        self.path.segments().get(k).map(|g| g.block)
+    }
+
     /// The position at path position `sl` into planned segment `k` (as `TimedPath::state_at`
     /// places it).
     fn point_on(&self, k: usize, sl: f64) -> JointVector {

@@ -54,6 +54,11 @@ struct Active {
     cut_s: f64,
     /// Simulated time since the last cut.
     since_cut: f64,
+    /// Path position and joints of the last machine-collision test.
+    check_s: f64,
+    check_pos: JointVector,
+    /// Bodies in contact where the motion started (it may separate them).
+    start_contacts: Vec<crate::machine::collision::Contact>,
 }
 
 struct Held {
@@ -81,6 +86,21 @@ struct AutoRun {
 /// Longest motion played between two cuts of the stock (s): collisions stop the motion
 /// within this time of simulated motion.
 const CUT_PERIOD_S: f64 = 0.02;
+/// The collision model of a configuration: the machine's bodies, the tool of the live stock
+/// and the stock's bounding box, the fixtures.
+fn collision_model(cfg: &ControlConfig) -> Option<crate::machine::collision::CollisionModel> {
+    if !cfg.machine_collisions {
+        return None;
+    }
+    let mut extras = cfg.fixtures.clone();
+    let tool = cfg.stock.as_ref().map_or_else(Vec::new, |s| {
+        let b = &s.stock.bounds;
+        extras.extend(super::collide::stock_extra(b.min, b.max));
+        super::collide::cutter_cylinders(&s.cutter)
+    });
+    crate::machine::collision::CollisionModel::new(&cfg.machine, &tool, &extras)
+}
+
 /// Longest clock step inside [`Control::advance`] (s): peaks are recorded at this period.
 const SUB_STEP_S: f64 = 1e-3;
 
@@ -114,6 +134,8 @@ pub struct Control {
     peaks: [[f64; 3]; SLOTS],
     home_queue: VecDeque<char>,
     mpg_pending: Option<(char, f64)>,
+    /// Machine bodies, tool and table extras (when the machine has bodies).
+    collide: Option<crate::machine::collision::CollisionModel>,
 }
 
 impl Control {
@@ -152,6 +174,7 @@ impl Control {
             peaks: [[0.0; 3]; SLOTS],
             home_queue: VecDeque::new(),
             mpg_pending: None,
+            collide: collision_model(&cfg),
             cfg,
         };
         control.session = Session::new(control.interp_options())
@@ -937,6 +960,12 @@ impl Control {
                     limit_alarm: limit,
                     cut_s: 0.0,
                     since_cut: 0.0,
+                    check_s: 0.0,
+                    check_pos: self.pos,
+                    start_contacts: self.collide.as_ref().map_or_else(Vec::new, |m| {
+                        let j = super::collide::machine_joints(&self.cfg.machine, &self.pos);
+                        m.contacts(&self.cfg.machine, &j)
+                    }),
                 });
             }
             Err(e) => {
@@ -979,11 +1008,15 @@ impl Control {
             left -= used;
             let k = a.run.kinematics();
             let cut_due = a.since_cut >= CUT_PERIOD_S;
+            let check_due = super::collide::due(&a.check_pos, &k.position);
             for i in 0..SLOTS {
                 let p = &mut self.peaks[i];
                 p[0] = p[0].max(k.velocity[i].abs());
                 p[1] = p[1].max(k.acceleration[i].abs());
                 p[2] = p[2].max(k.jerk[i].abs());
+            }
+            if check_due {
+                self.check_machine();
             }
             if cut_due {
                 self.cut_pending();
@@ -1060,8 +1093,61 @@ impl Control {
         }
     }
 
+    /// Test the motion played since the last test for machine collisions; the first contact
+    /// becomes an alarm and stops the machine.
+    fn check_machine(&mut self) {
+        let (Some(a), Some(model)) = (&mut self.active, &self.collide) else {
+            return;
+        };
+        if self.blocked {
+            return;
+        }
+        let s1 = a.run.path_position();
+        let s0 = a.check_s.min(s1);
+        a.check_s = s1;
+        a.check_pos = a.run.position_at(s1);
+        let machine = &self.cfg.machine;
+        let run = &a.run;
+        let Some((s, contacts)) = super::collide::first_contact_along(
+            model,
+            machine,
+            |u| run.position_at(u),
+            (s0, s1),
+            &a.start_contacts,
+        ) else {
+            return;
+        };
+        let p = run.position_at(s);
+        let line = run
+            .block_at(s)
+            .and_then(|i| run.blocks().get(i))
+            .map(|b| b.source_line)
+            .filter(|&l| l > 0);
+        let pairs: Vec<String> = contacts
+            .iter()
+            .map(|c| format!("{} against {}", c.bodies[0], c.bodies[1]))
+            .collect();
+        let where_ = line.map_or(String::new(), |l| format!("line {l}: "));
+        let text = format!(
+            "{where_}collision: {} at {}",
+            pairs.join(", "),
+            super::collide::describe_position(machine, &p)
+        );
+        let bodies = contacts
+            .first()
+            .map(|c| c.bodies.to_vec())
+            .unwrap_or_default();
+        let al = self.alarm(codes::COLLISION_MACHINE, text);
+        al.bodies = bodies;
+        al.position = Some([p[0], p[1], p[2]]);
+        al.line = line;
+        self.blocked = true;
+        self.stop_all();
+    }
+
     /// The motion has ended (or braked to rest): settle the position and go on.
     fn finish_active(&mut self) {
+        self.check_machine();
         self.cut_pending();
         let Some(a) = self.active.take() else {
             return;

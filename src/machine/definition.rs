@@ -76,6 +76,9 @@ pub struct MachineFile {
     /// Drawing geometry.
     #[serde(default)]
     pub drawing: Drawing,
+    /// Solid bodies and which axes carry them (optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structure: Option<super::StructureFile>,
 }
 
 /// A validated axis in internal units (mm or rad).
@@ -180,7 +183,7 @@ impl MachineFile {
         if !rot.is_finite() || !off.is_finite() {
             return bad("pivot parameters must be finite".into());
         }
-        Ok(Machine {
+        let mut machine = Machine {
             name: self.name.clone(),
             description: self.description.clone(),
             kinematics: self.kinematics,
@@ -188,6 +191,14 @@ impl MachineFile {
             rot_point_mm: rot,
             tilt_offset_mm: off,
             drawing: self.drawing.clone(),
-        })
+            structure: None,
+        };
+        if let Some(s) = &self.structure {
+            machine.structure = Some(
+                s.validate(&machine)
+                    .map_err(|m| super::bodies::structure_error(&self.name, &m))?,
+            );
+        }
+        Ok(machine)
     }
 }

@@ -19,10 +19,16 @@
 //! With `direction = −1` on both axes this is the Kelekçi/Can thesis post-processor
 //! (digest seed-000 §2.13: `R = R_x(a)·R_z(c)`, NC output `A = −a, C = −c`).
 
+mod bodies;
+pub mod collision;
 mod definition;
 mod kinematics;
 mod linearise;
 
+pub use bodies::{
+    Body, BodyFile, BodyMesh, CylinderFile, Link, LinkPlacements, Placement, Shape, Side,
+    Structure, StructureFile,
+};
 pub use definition::{Axis, AxisFile, Drawing, MachineFile};
 pub use kinematics::{MachineJoints, ToolPose};
 pub use linearise::{intended_pose, lerp_joints};
@@ -88,6 +94,8 @@ pub struct Machine {
     pub tilt_offset_mm: DVec3,
     /// Simple geometry for drawing.
     pub drawing: Drawing,
+    /// Solid bodies on their links (`None` when the file has none).
+    pub structure: Option<Structure>,
 }
 
 const BUILTIN: [(&str, &str); 3] = [

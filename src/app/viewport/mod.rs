@@ -292,7 +292,15 @@ pub fn viewport_ui(
     if extras.hide_part {
         scene.meshes.clear();
     }
-    scene.meshes.extend(extras.meshes);
+    // Extra meshes (stock, machine bodies) widen the near and far planes.
+    let more = Scene {
+        meshes: extras.meshes,
+        ..Scene::default()
+    };
+    if let Some((lo, hi)) = more.bounds() {
+        scene.camera.scene = tool_model::enclose(scene.camera.scene, lo, hi);
+    }
+    scene.meshes.extend(more.meshes);
     scene.lines.extend(extras.paths);
     ui.painter().add(egui_wgpu::Callback::new_paint_callback(
         rect,

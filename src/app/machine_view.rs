@@ -1,0 +1,214 @@
+//! The machine drawn in the viewport: every body of the machine file (bed, column, saddle,
+//! table, trunnion, cradle, rotary table, head, spindle) placed by the machine's forward
+//! kinematics at the control's axis values, in the viewport's world frame, which is the part's
+//! (table) frame: the part, the stock and the tool stay where the viewport draws them and the
+//! machine moves around them as it does seen from the workpiece.
+
+use std::sync::Arc;
+
+use glam::{DMat4, DVec3, Mat4, Vec3};
+
+use crate::control::Control;
+use crate::control::collide::machine_joints;
+use crate::machine::{Link, Machine, MachineJoints, Placement, Side};
+use crate::render::{BoundingSphere, DataId, MeshData, MeshInstance, Rgba8};
+
+/// Sides of a cylinder body.
+const SEGMENTS: usize = 40;
+/// Render ids of machine bodies start here (far above document and viewport ids).
+const FIRST_ID: DataId = 1 << 52;
+
+/// Colours by link kind (sRGB): cast iron grey for the bed, steel for what carries the part,
+/// the cradle orange, the head a blue grey, the spindle a light metal.
+fn colour(side: Side, link: Link, name: &str) -> Rgba8 {
+    match (side, link) {
+        (_, Link::Tilt) => [212, 140, 62, 255],
+        (_, Link::Rotary) => [176, 180, 188, 255],
+        (Side::Bed, _) => [120, 124, 130, 255],
+        (Side::Table, _) => [148, 152, 160, 255],
+        (Side::Head, _) if name.contains("spindle") => [196, 200, 206, 255],
+        (Side::Head, _) => [88, 104, 138, 255],
+    }
+}
+
+/// One body's mesh, cached.
+#[derive(Debug)]
+struct BodyDraw {
+    id: DataId,
+    data: Arc<MeshData>,
+    link: Link,
+    colour: Rgba8,
+}
+
+/// The machine's meshes, built once per machine.
+#[derive(Debug, Default)]
+pub struct MachineView {
+    machine: Option<String>,
+    bodies: Vec<BodyDraw>,
+    next_id: DataId,
+    /// The camera was fitted to this machine already.
+    fitted: Option<String>,
+}
+
+/// Flat-shaded mesh data of a body (each triangle its own vertices and face normal).
+fn mesh_data(mesh: &crate::machine::BodyMesh) -> MeshData {
+    let mut out = MeshData::default();
+    for t in &mesh.triangles {
+        let p = t.map(|i| {
+            mesh.vertices
+                .get(i as usize)
+                .copied()
+                .unwrap_or(DVec3::ZERO)
+        });
+        let n = (p[1] - p[0])
+            .cross(p[2] - p[0])
+            .normalize_or_zero()
+            .as_vec3();
+        for q in p {
+            let i = u32::try_from(out.positions.len()).unwrap_or(u32::MAX);
+            out.positions.push(q.as_vec3().to_array());
+            out.normals.push(n.to_array());
+            out.indices.push(i);
+        }
+    }
+    out
+}
+
+fn mat4(p: &Placement) -> Mat4 {
+    let m = DMat4::from_cols(
+        p.rotation.x_axis.extend(0.0),
+        p.rotation.y_axis.extend(0.0),
+        p.rotation.z_axis.extend(0.0),
+        p.translation.extend(1.0),
+    );
+    m.as_mat4()
+}
+
+/// The inverse of a rigid placement.
+fn inverse(p: &Placement) -> Placement {
+    let r = p.rotation.transpose();
+    Placement {
+        rotation: r,
+        translation: -(r * p.translation),
+    }
+}
+
+impl MachineView {
+    fn rebuild(&mut self, machine: &Machine) {
+        self.bodies.clear();
+        self.machine = Some(machine.name.clone());
+        let Some(s) = &machine.structure else {
+            return;
+        };
+        if self.next_id < FIRST_ID {
+            self.next_id = FIRST_ID;
+        }
+        for b in &s.bodies {
+            self.next_id += 1;
+            self.bodies.push(BodyDraw {
+                id: self.next_id,
+                data: Arc::new(mesh_data(&b.shape.mesh(SEGMENTS))),
+                link: b.link,
+                colour: colour(s.side(b.link), b.link, &b.name),
+            });
+        }
+    }
+
+    /// The machine's bodies at `joints` with a tool of gauge length `gauge_mm`, in the part
+    /// (table) frame; empty when the machine has no bodies.
+    pub fn instances(
+        &mut self,
+        machine: &Machine,
+        joints: &MachineJoints,
+        gauge_mm: f64,
+    ) -> Vec<MeshInstance> {
+        if self.machine.as_deref() != Some(machine.name.as_str()) {
+            self.rebuild(machine);
+        }
+        let Some(links) = machine.link_placements(joints, gauge_mm) else {
+            return Vec::new();
+        };
+        let view = inverse(&links.table);
+        self.bodies
+            .iter()
+            .map(|b| MeshInstance {
+                id: b.id,
+                data: Arc::clone(&b.data),
+                world_from_mesh: mat4(&view.then_inner(&links.of(b.link))),
+                colour: b.colour,
+                scalar_map: None,
+            })
+            .collect()
+    }
+
+    /// The machine at the control's position, with the gauge length of the control's tool
+    /// (0 without one).
+    pub fn instances_for(&mut self, control: &Control) -> Vec<MeshInstance> {
+        let machine = control.machine();
+        let joints = machine_joints(machine, &control.position());
+        let gauge = control.stock().map_or(0.0, |s| {
+            s.cutter.overall_length + s.cutter.holder.iter().map(|h| h.length).sum::<f64>()
+        });
+        self.instances(machine, &joints, gauge)
+    }
+
+    /// A sphere around the instances (for the machine camera preset), once per machine: `Some`
+    /// the first time a machine is shown, `None` afterwards.
+    pub fn fit_once(&mut self, instances: &[MeshInstance]) -> Option<BoundingSphere> {
+        if self.fitted == self.machine || instances.is_empty() {
+            return None;
+        }
+        self.fitted.clone_from(&self.machine);
+        machine_sphere(instances)
+    }
+}
+
+/// The bounding sphere of placed meshes.
+#[must_use]
+pub fn machine_sphere(instances: &[MeshInstance]) -> Option<BoundingSphere> {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for m in instances {
+        let (a, b) = m.data.bounds()?;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { a.x } else { b.x },
+                if i & 2 == 0 { a.y } else { b.y },
+                if i & 4 == 0 { a.z } else { b.z },
+            );
+            let w = m.world_from_mesh.transform_point3(c);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+    }
+    lo.is_finite().then(|| BoundingSphere::from_box(lo, hi))
+}
+
+/// The workstation's hook: while the operator panel is open and its control exists, the
+/// machine's bodies at the control's axis values (to add to the viewport's meshes), the
+/// control's tool drawn at its tip, and the camera fitted to the machine the first time it is
+/// shown. Empty otherwise.
+pub fn panel_machine(
+    view: &mut MachineView,
+    panel: &crate::app::operator_panel::OperatorPanel,
+    viewport: &mut crate::app::viewport::ViewportState,
+) -> Vec<MeshInstance> {
+    let Some(control) = panel.control().filter(|_| panel.open) else {
+        return Vec::new();
+    };
+    let meshes = view.instances_for(control);
+    if let Some(sphere) = view.fit_once(&meshes) {
+        viewport.camera.set_view(crate::render::StandardView::Iso);
+        viewport.camera.fit(sphere, viewport.aspect);
+    }
+    if let Some(s) = control.stock() {
+        let machine = control.machine();
+        let pose = machine.forward(&machine_joints(machine, &control.position()));
+        viewport.tool_pose = Some(crate::app::viewport::ToolPose {
+            tip: pose.tip,
+            axis: pose.axis,
+            cutter: s.cutter.clone(),
+        });
+    }
+    meshes
+}
