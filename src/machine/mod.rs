@@ -88,6 +88,8 @@ pub struct Machine {
     pub tilt_offset_mm: DVec3,
     /// Simple geometry for drawing.
     pub drawing: Drawing,
+    /// Rated spindle power, W, when the machine file gives it.
+    pub spindle_power_w: Option<f64>,
 }
 
 const BUILTIN: [(&str, &str); 3] = [
