@@ -109,6 +109,8 @@ pub enum Command {
     OpenProfileEditor,
     /// Show the operator panel of the virtual control.
     OpenOperatorPanel,
+    /// Show the cutting-forces window.
+    OpenForces,
     /// Reduce the part's Z-map with these settings (in the background).
     Reduce(ReductionSettings),
     /// Draw the reduced surface (instead of the part) or not.

@@ -16,6 +16,7 @@ pub mod document;
 pub mod document_loader;
 pub mod file_chooser;
 pub mod file_dialog;
+pub mod forces;
 pub mod job;
 pub mod message_log;
 pub mod number_field;

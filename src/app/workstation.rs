@@ -134,6 +134,8 @@ pub struct Workstation {
     profile_editor: super::profile_editor::ProfileEditor,
     /// The operator panel's window.
     operator_panel: super::operator_panel::OperatorPanel,
+    /// The cutting-forces window.
+    forces: super::forces::ForcesWindow,
 }
 
 impl Workstation {
@@ -190,6 +192,7 @@ impl Workstation {
             restore_view: None,
             profile_editor: super::profile_editor::ProfileEditor::new(),
             operator_panel: super::operator_panel::OperatorPanel::new(),
+            forces: super::forces::ForcesWindow::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -233,6 +236,17 @@ impl Workstation {
     #[must_use]
     pub fn operator_panel(&mut self) -> &mut super::operator_panel::OperatorPanel {
         &mut self.operator_panel
+    }
+
+    /// The cutting-forces window.
+    pub fn forces(&mut self) -> &mut super::forces::ForcesWindow {
+        &mut self.forces
+    }
+
+    /// The active operation (the one inspected last), if any.
+    #[must_use]
+    pub fn active_operation(&self) -> Option<usize> {
+        self.ops.active
     }
 
     /// The loaded part.
@@ -383,6 +397,7 @@ impl Workstation {
             Command::ClearLog => self.log.entries.clear(),
             Command::OpenProfileEditor => self.profile_editor.open = true,
             Command::OpenOperatorPanel => self.operator_panel.open = true,
+            Command::OpenForces => self.forces.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -871,6 +886,9 @@ impl Workstation {
             panel.window(&ctx, &self.panel_source());
             self.operator_panel = panel;
         }
+        let mut forces = std::mem::take(&mut self.forces);
+        forces.window(&ctx, self, &mut commands);
+        self.forces = forces;
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.recovery

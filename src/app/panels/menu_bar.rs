@@ -305,6 +305,14 @@ pub fn menu_bar_ui(
                 ui.close();
             }
             if ui
+                .button("Cutting forces…")
+                .on_hover_text("Forces, torque and power along the active operation's path; the coefficient library")
+                .clicked()
+            {
+                commands.push(Command::OpenForces);
+                ui.close();
+            }
+            if ui
                 .add(egui::Button::new("Play / Pause").shortcut_text("Space"))
                 .clicked()
             {
