@@ -93,7 +93,11 @@ fn roughed(tag: &str) -> (Harness<'static, Workstation>, std::path::PathBuf) {
     h.step();
     h.state_mut().apply(Command::Calculate(0));
     settle_while(&mut h, "calculation", |w| w.is_calculating());
-    assert!(h.state().operation_result(0).is_some_and(|(_, fresh)| fresh));
+    assert!(
+        h.state()
+            .operation_result(0)
+            .is_some_and(|(_, fresh)| fresh)
+    );
     (h, dir)
 }
 
@@ -121,14 +125,21 @@ fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
             r.pose_time_s.len(),
         )
     };
-    eprintln!("forces in {:.1} s: {} samples, {poses} poses", started.elapsed().as_secs_f64(), samples.len());
+    eprintln!(
+        "forces in {:.1} s: {} samples, {poses} poses",
+        started.elapsed().as_secs_f64(),
+        samples.len()
+    );
     assert!(!samples.is_empty());
     // Not posted: the clock is the programmed feeds'.
     assert!(!planned);
     assert_eq!(limit.max_force_n, Some(60.0));
     // The built-in mill's 7.5 kW spindle is the power limit.
     assert_eq!(limit.max_power_w, Some(7500.0));
-    assert!(peak > 60.0, "a 10 mm roughing level with a D10 cutter: {peak} N");
+    assert!(
+        peak > 60.0,
+        "a 10 mm roughing level with a D10 cutter: {peak} N"
+    );
     // Samples run forward in time over poses of the path.
     for w in samples.windows(2) {
         assert!(w[0].t_s[0] <= w[0].t_s[1] && w[0].t_s[1] <= w[1].t_s[0] + 1e-9);
@@ -139,7 +150,11 @@ fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
     h.get_by_label("Torque (N·m)");
     h.get_by_label("Power (W)");
     assert!(h.query_all_by_label_contains("force 60 N").next().is_some());
-    assert!(h.query_all_by_label_contains("power 7500 W").next().is_some());
+    assert!(
+        h.query_all_by_label_contains("power 7500 W")
+            .next()
+            .is_some()
+    );
     // A click on the plot in the middle of a piece picks that piece's pose.
     let s = samples[samples.len() / 2];
     let t = 0.5 * (s.t_s[0] + s.t_s[1]);
@@ -183,7 +198,11 @@ fn the_coefficient_editor_validates_and_saves() {
     h.run_steps(2);
     let path = dir.join("force-coefficients.toml");
     assert!(!path.exists());
-    assert!(h.query_all_by_label_contains("entry 1: a linear entry needs ktc_n_mm2").next().is_some());
+    assert!(
+        h.query_all_by_label_contains("entry 1: a linear entry needs ktc_n_mm2")
+            .next()
+            .is_some()
+    );
     // Fixed, it saves and reads back.
     {
         let ed = &mut h.state_mut().forces().editor;

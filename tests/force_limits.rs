@@ -11,7 +11,11 @@ const PROGRAM: &str = "G21 G90 G94\nG0 Z5\nG0 X-20 Y0\nG1 Z-3 F600\nG1 X20\nG0 Z
 const SPEC: &str = "flat:d=10,flute=20,flutes=2,helix=30,rake=10";
 
 fn library() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/assets/force/coefficients.toml").to_string()
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/force/coefficients.toml"
+    )
+    .to_string()
 }
 
 /// The slot program's forces with `extra` arguments.
@@ -79,7 +83,12 @@ fn tool_library_limits_apply_when_flags_are_absent() {
     assert!(flags(&doc).is_empty());
 
     // Limits given beside the cutter in the entry.
-    let doc = slot(&["--tool-library", tools, "--tool", "Slot mill D10 entry limits"]);
+    let doc = slot(&[
+        "--tool-library",
+        tools,
+        "--tool",
+        "Slot mill D10 entry limits",
+    ]);
     assert_eq!(doc["limits"]["max_power_w"], 0.5);
     assert_eq!(doc["limit_sources"]["power"], "tool");
     assert_eq!(flags(&doc), ["power"]);

@@ -115,7 +115,11 @@ pub(crate) fn library_tool(args: &ForcesArgs, name: &str) -> Result<ToolRecord, 
         tools: Vec<crate::project::ToolEntry>,
     }
     let Some(file) = args.tool_library.as_deref() else {
-        return Err(ImportError::new(Path::new("--tool-library"), None, "no file given"));
+        return Err(ImportError::new(
+            Path::new("--tool-library"),
+            None,
+            "no file given",
+        ));
     };
     let text =
         std::fs::read_to_string(file).map_err(|e| ImportError::new(file, None, e.to_string()))?;
@@ -148,9 +152,11 @@ pub(crate) fn library_tool(args: &ForcesArgs, name: &str) -> Result<ToolRecord, 
 fn limits(args: &ForcesArgs, tool: &ToolRecord) -> Result<(Limits, Value), ImportError> {
     let t = tool.cutter.limits;
     let spindle = match &args.machine {
-        Some(m) => Machine::resolve(m)
-            .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?
-            .spindle_power_w,
+        Some(m) => {
+            Machine::resolve(m)
+                .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?
+                .spindle_power_w
+        }
         None => None,
     };
     let pick = |flag: Option<f64>, tool: Option<f64>| match (flag, tool) {

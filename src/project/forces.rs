@@ -14,9 +14,7 @@ use crate::force::path::{
 use crate::force::stock::{Material, SampleOptions, SimulatedStock, path_moves};
 use crate::force::{EndMill, ForceError};
 use crate::geometry::Aabb;
-use crate::simulation::{
-    DexelMode, DexelStock, SimOptions, StepOptions, plan_toolpath, simulate,
-};
+use crate::simulation::{DexelMode, DexelStock, SimOptions, StepOptions, plan_toolpath, simulate};
 use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
 
@@ -172,8 +170,10 @@ pub fn operation_forces(
         .filter(|c| c.len() == input.toolpath.poses.len());
     if let Some(c) = clock {
         for m in &mut plan.moves {
-            if let (Some(t1), Some(t0)) = (c.get(m.block), m.block.checked_sub(1).and_then(|k| c.get(k)))
-                && t1 > t0
+            if let (Some(t1), Some(t0)) = (
+                c.get(m.block),
+                m.block.checked_sub(1).and_then(|k| c.get(k)),
+            ) && t1 > t0
             {
                 m.duration_s = t1 - t0;
             }

@@ -20,7 +20,9 @@
 use glam::DVec3;
 
 use super::{ContactKind, GougeReport, MoveKind, Pose, ToolRecord, Toolpath, ToolpathError};
-use crate::tools::{Cutter, CutterKind, Flutes, HolderSection, ToolLimits, parse_tool_spec, tool_spec};
+use crate::tools::{
+    Cutter, CutterKind, Flutes, HolderSection, ToolLimits, parse_tool_spec, tool_spec,
+};
 
 /// A tool path file as read (everything optional that has an obvious default).
 #[derive(serde::Deserialize, schemars::JsonSchema)]

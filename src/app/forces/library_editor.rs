@@ -82,7 +82,11 @@ impl LibraryEditor {
             .entries
             .iter()
             .enumerate()
-            .filter_map(|(i, e)| e.coefficients().err().map(|m| format!("entry {}: {m}", i + 1)))
+            .filter_map(|(i, e)| {
+                e.coefficients()
+                    .err()
+                    .map(|m| format!("entry {}: {m}", i + 1))
+            })
             .collect();
         if lib.entries.is_empty() {
             out.push("the library needs at least one entry".into());
@@ -118,7 +122,12 @@ impl LibraryEditor {
             self.load(data_dir);
         }
         ui.horizontal(|ui| {
-            ui.label(egui::RichText::new("COEFFICIENT LIBRARY").small().strong().weak());
+            ui.label(
+                egui::RichText::new("COEFFICIENT LIBRARY")
+                    .small()
+                    .strong()
+                    .weak(),
+            );
             ui.label(super::coefficients_path(data_dir).display().to_string());
         });
         let mut remove = None;
@@ -156,7 +165,11 @@ impl LibraryEditor {
             if ui.button("Revert").clicked() {
                 self.load(data_dir);
             }
-            if ui.button("Built-in").on_hover_text("The Al7075-T651 calibration (Table 8.4)").clicked() {
+            if ui
+                .button("Built-in")
+                .on_hover_text("The Al7075-T651 calibration (Table 8.4)")
+                .clicked()
+            {
                 self.library = Library::parse(super::DEFAULT_COEFFICIENTS_TOML).ok();
             }
             if let Some((ok, m)) = &self.message {
@@ -203,13 +216,16 @@ fn entry_row(ui: &mut egui::Ui, i: usize, e: &mut Entry) -> bool {
             let Some(slot) = field(e, key) else { continue };
             let mut v = slot.unwrap_or(0.0);
             ui.label(label);
-            let r = ui.add(egui::DragValue::new(&mut v).speed(0.1).max_decimals(4).suffix(
-                if unit == "–" {
-                    String::new()
-                } else {
-                    format!(" {unit}")
-                },
-            ));
+            let r = ui.add(
+                egui::DragValue::new(&mut v)
+                    .speed(0.1)
+                    .max_decimals(4)
+                    .suffix(if unit == "–" {
+                        String::new()
+                    } else {
+                        format!(" {unit}")
+                    }),
+            );
             if r.changed() {
                 *slot = Some(v);
             }

@@ -26,8 +26,7 @@ use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
 
 /// The built-in coefficient library (Al7075-T651, calibrated on the thesis's Table 8.4).
-pub const DEFAULT_COEFFICIENTS_TOML: &str =
-    include_str!("../../../assets/force/coefficients.toml");
+pub const DEFAULT_COEFFICIENTS_TOML: &str = include_str!("../../../assets/force/coefficients.toml");
 
 /// The coefficient library's file name in the data folder.
 pub const COEFFICIENTS_FILE_NAME: &str = "force-coefficients.toml";
@@ -166,7 +165,9 @@ impl ForcesWindow {
                 return;
             }
             JobPoll::Done(r) => r,
-            JobPoll::Lost => Err(ForceRunError::Stock("the worker stopped unexpectedly".into())),
+            JobPoll::Lost => Err(ForceRunError::Stock(
+                "the worker stopped unexpectedly".into(),
+            )),
         };
         let Some((key, _)) = self.job.take() else {
             return;
@@ -200,7 +201,9 @@ impl ForcesWindow {
         let index = operation_index(ws);
         let current = index.and_then(|i| key_of(ws, i));
         ui.horizontal(|ui| {
-            let name = current.as_ref().map_or("no operation", |k| k.operation.name());
+            let name = current
+                .as_ref()
+                .map_or("no operation", |k| k.operation.name());
             ui.label(egui::RichText::new(name).strong());
             if let Some((_, job)) = &self.job {
                 ui.add(
@@ -213,7 +216,9 @@ impl ForcesWindow {
                 }
             } else if ui
                 .add_enabled(current.is_some(), egui::Button::new("Compute forces"))
-                .on_hover_text("Forces along the computed path, on the stock the earlier operations leave")
+                .on_hover_text(
+                    "Forces along the computed path, on the stock the earlier operations leave",
+                )
                 .clicked()
             {
                 self.start(ws, ui.ctx());

@@ -158,9 +158,6 @@ pub fn ui(
                 .then(|| p.pointer_coordinate().map(|c| c.x))
                 .flatten()
         });
-    let pose = response
-        .inner
-        .and_then(|t| r.sample_at(t))
-        .map(|s| s.pose);
+    let pose = response.inner.and_then(|t| r.sample_at(t)).map(|s| s.pose);
     (response.transform, pose)
 }
