@@ -38,7 +38,11 @@ fn coefficients() -> talas::force::path::ModeCoefficients {
         "/assets/force/coefficients.toml"
     ))
     .unwrap();
-    Library::parse(&text).unwrap().mode_coefficients(None).unwrap().0
+    Library::parse(&text)
+        .unwrap()
+        .mode_coefficients(None)
+        .unwrap()
+        .0
 }
 
 fn input<'a>(
@@ -85,8 +89,14 @@ fn pieces_are_timed_at_the_feed_or_on_the_planned_clock() {
     // slot (to within a 0.5 mm piece, or two at the exit where dexels on the slot walls count).
     let first = r.samples.first().unwrap();
     let last = r.samples.last().unwrap();
-    assert!((first.t_s[0] - (t_plunge_end + 0.5)).abs() <= 0.05 + 1e-9, "{first:?}");
-    assert!((last.t_s[1] - (t_plunge_end + 3.0)).abs() <= 0.1 + 1e-9, "{last:?}");
+    assert!(
+        (first.t_s[0] - (t_plunge_end + 0.5)).abs() <= 0.05 + 1e-9,
+        "{first:?}"
+    );
+    assert!(
+        (last.t_s[1] - (t_plunge_end + 3.0)).abs() <= 0.1 + 1e-9,
+        "{last:?}"
+    );
     assert!(r.samples.iter().all(|s| s.pose == 2));
     let slot = r.forces.moves.iter().find(|m| m.block == 2).unwrap();
     assert!((slot.feed_per_tooth_mm - 0.1).abs() < 1e-12);
@@ -102,8 +112,11 @@ fn pieces_are_timed_at_the_feed_or_on_the_planned_clock() {
     let mut clock = r.pose_time_s.clone();
     clock[2] = clock[1] + 8.0;
     clock[3] = clock[2] + 0.1;
-    let slow = operation_forces(&input(&stock, &tp, vec![], &c, Some(&clock)), &Progress::new())
-        .unwrap();
+    let slow = operation_forces(
+        &input(&stock, &tp, vec![], &c, Some(&clock)),
+        &Progress::new(),
+    )
+    .unwrap();
     assert!(slow.planned_time);
     let m = slow.forces.moves.iter().find(|m| m.block == 2).unwrap();
     assert!((m.feed_per_tooth_mm - 0.05).abs() < 1e-12);
