@@ -23,6 +23,7 @@ pub mod document_loader;
 pub mod feature;
 pub mod file_chooser;
 pub mod file_dialog;
+pub mod forces;
 pub mod job;
 pub mod machine_view;
 pub mod message_log;

@@ -112,6 +112,8 @@ pub struct Workstation {
     actions: Vec<Action>,
     /// The machine drawn in the viewport while the operator panel is open.
     machine_view: super::machine_view::MachineView,
+    /// The cutting-forces window.
+    forces: super::forces::ForcesWindow,
 }
 
 impl Workstation {
@@ -155,6 +157,7 @@ impl Workstation {
             features,
             actions: table,
             machine_view: super::machine_view::MachineView::default(),
+            forces: super::forces::ForcesWindow::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -205,6 +208,17 @@ impl Workstation {
     #[must_use]
     pub fn operator_panel(&mut self) -> Option<&mut super::operator_panel::OperatorPanel> {
         self.feature()
+    }
+
+    /// The cutting-forces window.
+    pub fn forces(&mut self) -> &mut super::forces::ForcesWindow {
+        &mut self.forces
+    }
+
+    /// The active operation (the one inspected last), if any.
+    #[must_use]
+    pub fn active_operation(&self) -> Option<usize> {
+        self.ops.active
     }
 
     /// The loaded part.
@@ -372,6 +386,7 @@ impl Workstation {
             Command::ClearLog => self.log.entries.clear(),
             // No registered feature has this id.
             Command::Feature(_) => {}
+            Command::OpenForces => self.forces.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -876,6 +891,9 @@ impl Workstation {
             f.ui(&ctx, &view, &mut commands);
         }
         self.features = features;
+        let mut forces = std::mem::take(&mut self.forces);
+        forces.window(&ctx, self, &mut commands);
+        self.forces = forces;
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.run.recovery

@@ -36,6 +36,10 @@ pub struct ForcesArgs {
     /// JSON brings its own when this is left out).
     #[arg(long, value_name = "SPEC")]
     pub tool: Option<String>,
+    /// Tool library (TOML, the workstation's `tools.toml`): `--tool` then names one of its
+    /// entries, whose flutes and load limits are used.
+    #[arg(long, value_name = "FILE")]
+    pub tool_library: Option<PathBuf>,
     /// Coefficient library (TOML), e.g. assets/force/coefficients.toml.
     #[arg(long, value_name = "FILE")]
     pub coefficients: PathBuf,
@@ -65,13 +69,14 @@ pub struct ForcesArgs {
     /// Longest piece of a move whose engagement is read once, mm.
     #[arg(long, value_name = "MM", default_value_t = 0.5)]
     pub sample_spacing: f64,
-    /// Flag moves whose peak resultant force exceeds this, N.
+    /// Flag moves whose peak resultant force exceeds this, N (default: the tool's limit).
     #[arg(long, value_name = "N")]
     pub max_force: Option<f64>,
-    /// Flag moves whose peak torque exceeds this, N·m.
+    /// Flag moves whose peak torque exceeds this, N·m (default: the tool's limit).
     #[arg(long, value_name = "NM")]
     pub max_torque: Option<f64>,
-    /// Flag moves whose peak spindle power exceeds this, W.
+    /// Flag moves whose peak spindle power exceeds this, W (default: the lower of the tool's
+    /// limit and the machine's spindle power).
     #[arg(long, value_name = "W")]
     pub max_power: Option<f64>,
     /// Rewrite the feeds so the peak resultant force stays at this target, N (needs -o).
@@ -150,7 +155,11 @@ pub fn forces(args: &ForcesArgs) -> Result<Value, ImportError> {
         .tool
         .as_deref()
         .ok_or_else(|| opt("--tool", "--cut needs --tool SPEC".into()))?;
-    let cutter = parse_tool_spec(tool).map_err(|e| opt("--tool", e.to_string()))?;
+    let cutter = if args.tool_library.is_some() {
+        super::forces_path::library_tool(args, tool)?.cutter
+    } else {
+        parse_tool_spec(tool).map_err(|e| opt("--tool", e.to_string()))?
+    };
     let mill = EndMill::from_cutter(&cutter).map_err(|e| opt("--tool", e.to_string()))?;
     let cut = parse_cut(cut_spec, cutter.diameter).map_err(|m| opt("--cut", m))?;
     let engagement = cut

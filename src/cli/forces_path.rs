@@ -19,7 +19,7 @@ use crate::force::path::{
 };
 use crate::force::schedule::{ScheduleOptions, Spread, TimeSample, schedule_feeds, spread};
 use crate::force::stock::{SampleOptions, SimulatedStock, path_moves};
-use crate::force::{EndMill, Force, ForceError, Mode};
+use crate::force::{EndMill, Force, ForceError};
 use crate::gcode::{InterpretOptions, Joints, MotionBlock, MotionKind, Syntax, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
@@ -62,6 +62,7 @@ fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
         (None, Some(prog))
     };
     let tool = match (&args.tool, &toolpath) {
+        (Some(name), _) if args.tool_library.is_some() => library_tool(args, name)?,
         (Some(spec), _) => ToolRecord {
             spec: spec.clone(),
             cutter: parse_tool_spec(spec)
@@ -106,6 +107,97 @@ fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
     })
 }
 
+/// The entry `name` of the tool library `--tool-library` (names compared without case).
+pub(crate) fn library_tool(args: &ForcesArgs, name: &str) -> Result<ToolRecord, ImportError> {
+    #[derive(serde::Deserialize)]
+    struct Tools {
+        #[serde(default)]
+        tools: Vec<crate::project::ToolEntry>,
+    }
+    let Some(file) = args.tool_library.as_deref() else {
+        return Err(ImportError::new(
+            Path::new("--tool-library"),
+            None,
+            "no file given",
+        ));
+    };
+    let text =
+        std::fs::read_to_string(file).map_err(|e| ImportError::new(file, None, e.to_string()))?;
+    let lib: Tools = toml::from_str(&text).map_err(|e| {
+        let at = e.span().map_or(0, |s| s.start).min(text.len());
+        let line = text.get(..at).unwrap_or("").matches('\n').count() + 1;
+        ImportError::new(file, Some(format!("line {line}")), e.message().trim())
+    })?;
+    let entry = lib
+        .tools
+        .iter()
+        .find(|t| t.name.trim().eq_ignore_ascii_case(name.trim()))
+        .ok_or_else(|| {
+            let names: Vec<&str> = lib.tools.iter().map(|t| t.name.as_str()).collect();
+            ImportError::new(
+                file,
+                None,
+                format!("no tool named '{name}' (tools: {})", names.join(", ")),
+            )
+        })?;
+    Ok(ToolRecord {
+        spec: crate::tools::tool_spec(&entry.cutter),
+        cutter: entry.cutter.clone(),
+    })
+}
+
+/// Where each limit comes from: the flag, else the tool (its record, or its library entry),
+/// else (power) the machine's spindle; the power limit is the lower of the tool's and the
+/// spindle's.
+fn limits(args: &ForcesArgs, tool: &ToolRecord) -> Result<(Limits, Value), ImportError> {
+    let t = tool.cutter.limits;
+    let spindle = match &args.machine {
+        Some(m) => {
+            Machine::resolve(m)
+                .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?
+                .spindle_power_w
+        }
+        None => None,
+    };
+    let pick = |flag: Option<f64>, tool: Option<f64>| match (flag, tool) {
+        (Some(v), _) => (Some(v), "option"),
+        (None, Some(v)) => (Some(v), "tool"),
+        (None, None) => (None, "none"),
+    };
+    let (force, fs) = pick(args.max_force, t.max_force_n);
+    let (torque, ts) = pick(args.max_torque, t.max_torque_nm);
+    let (mut power, mut ps) = pick(args.max_power, t.max_power_w);
+    if args.max_power.is_none()
+        && let Some(s) = spindle
+        && power.is_none_or(|p| s < p)
+    {
+        (power, ps) = (Some(s), "machine spindle");
+    }
+    for (flag, v) in [
+        ("--max-force", args.max_force),
+        ("--max-torque", args.max_torque),
+        ("--max-power", args.max_power),
+    ] {
+        if let Some(v) = v
+            && !(v.is_finite() && v > 0.0)
+        {
+            return Err(ImportError::new(
+                Path::new(flag),
+                None,
+                format!("must be a positive number, got {v}"),
+            ));
+        }
+    }
+    Ok((
+        Limits {
+            max_force_n: force,
+            max_torque_nm: torque,
+            max_power_w: power,
+        },
+        json!({"force": fs, "torque": ts, "power": ps}),
+    ))
+}
+
 /// The coefficients per mode from the library: a slot uses the slot (or any-mode) entry, else
 /// the up one, else the down one.
 fn mode_coefficients(args: &ForcesArgs) -> Result<(ModeCoefficients, String), ImportError> {
@@ -118,32 +210,9 @@ fn mode_coefficients(args: &ForcesArgs) -> Result<(ModeCoefficients, String), Im
             m.strip_prefix(&prefix).unwrap_or(&m).to_string(),
         )
     })?;
-    let material = args.material.as_deref();
-    let pick = |mode: Mode| library.select(mode, material);
-    let (up, down) = (pick(Mode::Up), pick(Mode::Down));
-    let slot = pick(Mode::Slot).or(up).or(down);
-    let (Some(up), Some(down), Some(slot)) = (up.or(down), down.or(up), slot) else {
-        return Err(ImportError::new(
-            file,
-            None,
-            format!(
-                "no entry{}",
-                material.map_or(String::new(), |m| format!(" for material {m}"))
-            ),
-        ));
-    };
-    let get = |e: &crate::force::library::Entry| {
-        e.coefficients()
-            .map_err(|m| ImportError::new(file, None, m))
-    };
-    Ok((
-        ModeCoefficients {
-            up: get(up)?,
-            down: get(down)?,
-            slot: get(slot)?,
-        },
-        up.material.clone(),
-    ))
+    library
+        .mode_coefficients(args.material.as_deref())
+        .map_err(|m| ImportError::new(file, None, m))
 }
 
 fn force_json(f: &Force) -> Value {
@@ -188,21 +257,19 @@ pub fn path_cmd(args: &ForcesArgs, file: &Path) -> Result<Value, ImportError> {
     };
     let stock = DexelStock::new(shapes, args.resolution, mode, DEFAULT_MEMORY_LIMIT_BYTES)
         .map_err(|e| ImportError::new(Path::new("--stock"), None, e.to_string()))?;
+    let (limits, limit_sources) = limits(args, &input.tool)?;
     let options = PathOptions {
         sample_spacing_mm: args.sample_spacing,
         flute_length_mm: input.tool.cutter.flute_length,
         sample: SampleOptions::default(),
-        limits: Limits {
-            max_force_n: args.max_force,
-            max_torque_nm: args.max_torque,
-            max_power_w: args.max_power,
-        },
+        limits,
         ..PathOptions::default()
     };
     let mut work = SimulatedStock::new(stock, &input.tool.cutter, &input.plan);
     let forces = path_forces(&mut work, &mill, &coefficients, &input.moves, &options)
         .map_err(|e| force_err(file, input.is_json, e))?;
     let mut doc = forces_json(&forces, &input, &options, &material);
+    doc["limit_sources"] = limit_sources;
     if let Some(target) = args.schedule_force {
         let out = args.output.as_deref().ok_or_else(|| {
             ImportError::new(

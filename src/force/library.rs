@@ -247,3 +247,34 @@ impl Library {
         })
     }
 }
+
+impl Library {
+    /// The coefficients per milling mode for a path: up and down from their entries (each
+    /// standing in for the other when missing), a slot from the slot entry, else the up one,
+    /// else the down one; with the material of the up entry.
+    ///
+    /// # Errors
+    /// A message when no entry fits (of `material`, when given) or an entry is invalid.
+    pub fn mode_coefficients(
+        &self,
+        material: Option<&str>,
+    ) -> Result<(super::path::ModeCoefficients, String), String> {
+        let pick = |mode: Mode| self.select(mode, material);
+        let (up, down) = (pick(Mode::Up), pick(Mode::Down));
+        let slot = pick(Mode::Slot).or(up).or(down);
+        let (Some(up), Some(down), Some(slot)) = (up.or(down), down.or(up), slot) else {
+            return Err(format!(
+                "no entry{}",
+                material.map_or(String::new(), |m| format!(" for material {m}"))
+            ));
+        };
+        Ok((
+            super::path::ModeCoefficients {
+                up: up.coefficients()?,
+                down: down.coefficients()?,
+                slot: slot.coefficients()?,
+            },
+            up.material.clone(),
+        ))
+    }
+}

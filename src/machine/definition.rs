@@ -79,6 +79,9 @@ pub struct MachineFile {
     /// Solid bodies and which axes carry them (optional).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structure: Option<super::StructureFile>,
+    /// Rated spindle power, W (optional: the cutting-force model flags moves above it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spindle_power_w: Option<f64>,
 }
 
 /// A validated axis in internal units (mm or rad).
@@ -183,6 +186,13 @@ impl MachineFile {
         if !rot.is_finite() || !off.is_finite() {
             return bad("pivot parameters must be finite".into());
         }
+        if let Some(p) = self.spindle_power_w
+            && !(p.is_finite() && p > 0.0 && p <= 1e7)
+        {
+            return bad(format!(
+                "spindle_power_w must be above 0 and at most 1e7 W, got {p}"
+            ));
+        }
         let mut machine = Machine {
             name: self.name.clone(),
             description: self.description.clone(),
@@ -191,6 +201,7 @@ impl MachineFile {
             rot_point_mm: rot,
             tilt_offset_mm: off,
             drawing: self.drawing.clone(),
+            spindle_power_w: self.spindle_power_w,
             structure: None,
         };
         if let Some(s) = &self.structure {

@@ -96,6 +96,8 @@ pub struct Machine {
     pub drawing: Drawing,
     /// Solid bodies on their links (`None` when the file has none).
     pub structure: Option<Structure>,
+    /// Rated spindle power, W, when the machine file gives it.
+    pub spindle_power_w: Option<f64>,
 }
 
 const BUILTIN: [(&str, &str); 3] = [

@@ -7,6 +7,7 @@
 
 mod edit;
 pub mod file;
+pub mod forces;
 mod history;
 pub mod operation;
 mod part;
@@ -54,6 +55,9 @@ struct ToolEntryFile {
     spec: Option<String>,
     #[serde(default)]
     cutter: Option<crate::toolpath::ToolFile>,
+    /// Load limits given beside the cutter (those the cutter gives win).
+    #[serde(default)]
+    limits: Option<crate::tools::ToolLimits>,
 }
 
 impl TryFrom<ToolEntryFile> for ToolEntry {
@@ -63,6 +67,13 @@ impl TryFrom<ToolEntryFile> for ToolEntry {
         let mut tool = f.cutter.unwrap_or_default();
         if f.spec.is_some() {
             tool.spec = f.spec;
+        }
+        if let Some(l) = f.limits {
+            let mut merged = tool.limits.unwrap_or_default();
+            merged.max_force_n = merged.max_force_n.or(l.max_force_n);
+            merged.max_torque_nm = merged.max_torque_nm.or(l.max_torque_nm);
+            merged.max_power_w = merged.max_power_w.or(l.max_power_w);
+            tool.limits = Some(merged);
         }
         let record = tool.record()?;
         Ok(Self {

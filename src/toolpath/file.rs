@@ -20,7 +20,9 @@
 use glam::DVec3;
 
 use super::{ContactKind, GougeReport, MoveKind, Pose, ToolRecord, Toolpath, ToolpathError};
-use crate::tools::{Cutter, CutterKind, Flutes, HolderSection, parse_tool_spec, tool_spec};
+use crate::tools::{
+    Cutter, CutterKind, Flutes, HolderSection, ToolLimits, parse_tool_spec, tool_spec,
+};
 
 /// A tool path file as read (everything optional that has an obvious default).
 #[derive(serde::Deserialize, schemars::JsonSchema)]
@@ -77,6 +79,9 @@ pub struct ToolFile {
     /// Flute count, helix and rake (rad), for the cutting-force model.
     #[serde(default)]
     pub flutes: Option<Flutes>,
+    /// Load limits (`max_force_n`, `max_torque_nm`, `max_power_w`), each optional.
+    #[serde(default)]
+    pub limits: Option<ToolLimits>,
 }
 
 /// One pose as read.
@@ -205,13 +210,16 @@ fn tool_record(t: &ToolFile) -> Result<ToolRecord, String> {
             cutter.holder.clone_from(h);
         }
         cutter.flutes = t.flutes;
+        cutter.limits = t.limits.unwrap_or_default();
         cutter.validate().map_err(|e| e.to_string())?;
         return Ok(ToolRecord {
             spec: tool_spec(&cutter),
             cutter,
         });
     };
-    let cutter = parse_tool_spec(spec).map_err(|e| e.to_string())?;
+    let mut cutter = parse_tool_spec(spec).map_err(|e| e.to_string())?;
+    cutter.limits = t.limits.unwrap_or_default();
+    cutter.limits.validate().map_err(|e| e.to_string())?;
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
     let disagree = |name: &str, given: f64, from_spec: f64| {
         format!("{name} {given} disagrees with the spec '{spec}' ({from_spec})")

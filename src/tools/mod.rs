@@ -67,6 +67,64 @@ pub struct Cutter {
     /// did not give them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flutes: Option<Flutes>,
+    /// Load limits of the tool (cutting-force checks); all absent when not given.
+    #[serde(default, skip_serializing_if = "ToolLimits::is_empty")]
+    pub limits: ToolLimits,
+}
+
+/// The loads a tool may carry, checked by the cutting-force model (each optional).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
+#[serde(deny_unknown_fields)]
+pub struct ToolLimits {
+    /// Largest resultant cutting force on the tool, N.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_force_n: Option<f64>,
+    /// Largest cutting torque, N·m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_torque_nm: Option<f64>,
+    /// Largest cutting power, W.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_power_w: Option<f64>,
+}
+
+impl ToolLimits {
+    /// No limit given.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.max_force_n.is_none() && self.max_torque_nm.is_none() && self.max_power_w.is_none()
+    }
+
+    /// Check the ranges: each given limit positive and finite, force ≤ 10⁶ N, torque ≤ 10⁵ N·m,
+    /// power ≤ 10⁷ W.
+    ///
+    /// # Errors
+    /// [`ToolError::Dimension`] naming the limit out of range.
+    pub fn validate(&self) -> Result<(), ToolError> {
+        let checks = [
+            ("max_force_n", self.max_force_n, 1e6, "N"),
+            ("max_torque_nm", self.max_torque_nm, 1e5, "N·m"),
+            ("max_power_w", self.max_power_w, 1e7, "W"),
+        ];
+        for (name, v, hi, unit) in checks {
+            if let Some(v) = v
+                && !(v.is_finite() && v > 0.0 && v <= hi)
+            {
+                return Err(ToolError::Dimension(format!(
+                    "{name} must be above 0 and at most {hi:e} {unit}, got {v}"
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The cutting edges of a helical end mill: what the cutting-force model needs beyond the
@@ -146,6 +204,7 @@ impl Cutter {
             overall_length: 0.0,
             holder: Vec::new(),
             flutes: None,
+            limits: ToolLimits::default(),
         };
         c.validate_profile()?;
         c.flute_length = (3.0 * diameter).max(c.profile_height());
@@ -184,6 +243,7 @@ impl Cutter {
         if let Some(f) = &self.flutes {
             f.validate()?;
         }
+        self.limits.validate()?;
         Ok(())
     }
 

@@ -133,7 +133,7 @@ impl Workstation {
 
     /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
     /// posted program is current and planned.
-    pub(super) fn planned_clock(&self, index: usize) -> Option<&[f64]> {
+    pub(crate) fn planned_clock(&self, index: usize) -> Option<&[f64]> {
         let key = self.program_key(index)?;
         self.programs
             .current

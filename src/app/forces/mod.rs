@@ -1,0 +1,351 @@
+//! The cutting-forces window: for the active operation's computed path, a background job
+//! (progress, Cancel) runs [`crate::project::forces::operation_forces`] on the project's stock
+//! as the earlier operations leave it, at the project's spindle speed and — when the posted
+//! program is current — on the run's planned clock. The result is plotted against time
+//! ([`plot`]): F_x, F_y, F_z and the resultant (N), the torque (N·m) or the cutting power (W),
+//! peak or mean per revolution, with the tool's and the spindle's limits as dashed lines and a
+//! cursor at the pose the tool stands at; clicking the plot picks the pose cut then. The
+//! coefficient library (TOML in the data folder, the built-in Al7075-T651 calibration until
+//! edited) is edited in [`library_editor`].
+
+pub mod library_editor;
+pub mod plot;
+
+use std::path::{Path, PathBuf};
+
+use super::command::Command;
+use super::job::{Job, JobPoll};
+use super::workstation::Workstation;
+use crate::force::library::Library;
+use crate::force::path::Limits;
+use crate::machine::Machine;
+use crate::project::Operation;
+use crate::project::forces::{ForceRunError, ForceRunInput, ForceTimeline, operation_forces};
+
+use crate::toolpath::Toolpath;
+use crate::tools::Cutter;
+
+/// The built-in coefficient library (Al7075-T651, calibrated on the thesis's Table 8.4).
+pub const DEFAULT_COEFFICIENTS_TOML: &str = include_str!("../../../assets/force/coefficients.toml");
+
+/// The coefficient library's file name in the data folder.
+pub const COEFFICIENTS_FILE_NAME: &str = "force-coefficients.toml";
+
+/// Most Z rays of the force stock by default (sets its resolution).
+pub const DEFAULT_MAX_RAYS: f64 = 300_000.0;
+
+/// The coefficient library file in `data_dir`.
+#[must_use]
+pub fn coefficients_path(data_dir: &Path) -> PathBuf {
+    data_dir.join(COEFFICIENTS_FILE_NAME)
+}
+
+/// The library text in `data_dir` (the built-in one when there is no file).
+///
+/// # Errors
+/// The read error, naming the file.
+pub fn library_text(data_dir: &Path) -> Result<String, String> {
+    let path = coefficients_path(data_dir);
+    match std::fs::read_to_string(&path) {
+        Ok(t) => Ok(t),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Ok(DEFAULT_COEFFICIENTS_TOML.to_string())
+        }
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
+}
+
+/// What a force result was computed for (it is current while these are unchanged).
+#[derive(Clone, Debug, PartialEq)]
+struct ForceKey {
+    index: usize,
+    operation: Operation,
+    cutter: Cutter,
+    planned: bool,
+}
+
+type ForceJob = Job<Result<ForceTimeline, ForceRunError>>;
+
+/// What the plot shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shown {
+    /// F_x, F_y, F_z and the resultant, N.
+    #[default]
+    Force,
+    /// Cutting torque, N·m.
+    Torque,
+    /// Cutting power, W.
+    Power,
+}
+
+/// The cutting-forces window.
+#[derive(Default)]
+pub struct ForcesWindow {
+    /// Whether the window is shown.
+    pub open: bool,
+    job: Option<(ForceKey, ForceJob)>,
+    result: Option<(ForceKey, ForceTimeline)>,
+    /// The last problem (shown in the window).
+    pub message: Option<String>,
+    /// What the plot shows.
+    pub shown: Shown,
+    /// Plot the mean per revolution instead of the peak.
+    pub mean: bool,
+    /// The coefficient library editor.
+    pub editor: library_editor::LibraryEditor,
+    /// The plot's screen transform as last drawn (time ↔ screen x).
+    pub plot_transform: Option<egui_plot::PlotTransform>,
+    /// Most Z rays of the stock the forces read (`None`: [`DEFAULT_MAX_RAYS`]); fewer is
+    /// coarser and faster.
+    pub max_rays: Option<f64>,
+}
+
+/// The operation the window works on: the active one, else the first.
+fn operation_index(ws: &Workstation) -> Option<usize> {
+    let n = ws.session().project.operations.len();
+    ws.active_operation().or((n > 0).then_some(0))
+}
+
+fn key_of(ws: &Workstation, index: usize) -> Option<ForceKey> {
+    let project = &ws.session().project;
+    let operation = project.operations.get(index)?.clone();
+    let cutter = project.tools.get(operation.tool())?.cutter.clone();
+    Some(ForceKey {
+        index,
+        operation,
+        cutter,
+        planned: ws.planned_clock(index).is_some(),
+    })
+}
+
+impl ForcesWindow {
+    /// The finished result, when there is one.
+    #[must_use]
+    pub fn result(&self) -> Option<&ForceTimeline> {
+        self.result.as_ref().map(|(_, r)| r)
+    }
+
+    /// Is a force job running?
+    #[must_use]
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Stop the running job.
+    pub fn cancel(&mut self) {
+        if let Some((_, job)) = self.job.take() {
+            job.cancel();
+            self.message = Some("Cancelled".into());
+        }
+    }
+
+    /// Start computing the forces of the active operation.
+    pub fn start(&mut self, ws: &Workstation, ctx: &egui::Context) {
+        match prepare(ws, self.max_rays.unwrap_or(DEFAULT_MAX_RAYS)) {
+            Ok((key, input)) => {
+                self.cancel();
+                self.message = None;
+                let ctx = ctx.clone();
+                let label = format!("Cutting forces of {}", key.operation.name());
+                self.job = Some((
+                    key,
+                    Job::spawn(label, move |p| input.run(p), move || ctx.request_repaint()),
+                ));
+            }
+            Err(m) => self.message = Some(m),
+        }
+    }
+
+    /// Collect a finished job.
+    fn poll(&mut self, ctx: &egui::Context) {
+        let Some((_, job)) = &self.job else { return };
+        let outcome = match job.poll() {
+            JobPoll::Running => {
+                ctx.request_repaint_after(std::time::Duration::from_millis(100));
+                return;
+            }
+            JobPoll::Done(r) => r,
+            JobPoll::Lost => Err(ForceRunError::Stock(
+                "the worker stopped unexpectedly".into(),
+            )),
+        };
+        let Some((key, _)) = self.job.take() else {
+            return;
+        };
+        match outcome {
+            Ok(r) => self.result = Some((key, r)),
+            Err(ForceRunError::Cancelled) => self.message = Some("Cancelled".into()),
+            Err(e) => self.message = Some(format!("Forces not computed: {e}")),
+        }
+    }
+
+    /// Poll the job and, when open, draw the window.
+    pub fn window(&mut self, ctx: &egui::Context, ws: &Workstation, commands: &mut Vec<Command>) {
+        self.poll(ctx);
+        if !self.open {
+            return;
+        }
+        let mut open = self.open;
+        egui::Window::new("Cutting forces")
+            .id(egui::Id::unique("talas cutting forces"))
+            .open(&mut open)
+            .default_pos([80.0, 90.0])
+            .default_size([900.0, 460.0])
+            .resizable(true)
+            .show(ctx, |ui| self.ui(ui, ws, commands));
+        self.open = open;
+    }
+
+    /// The window's contents.
+    pub fn ui(&mut self, ui: &mut egui::Ui, ws: &Workstation, commands: &mut Vec<Command>) {
+        let index = operation_index(ws);
+        let current = index.and_then(|i| key_of(ws, i));
+        ui.horizontal(|ui| {
+            let name = current
+                .as_ref()
+                .map_or("no operation", |k| k.operation.name());
+            ui.label(egui::RichText::new(name).strong());
+            if let Some((_, job)) = &self.job {
+                ui.add(
+                    egui::ProgressBar::new(job.progress.fraction() as f32)
+                        .desired_width(160.0)
+                        .show_percentage(),
+                );
+                if ui.button("Cancel").clicked() {
+                    self.cancel();
+                }
+            } else if ui
+                .add_enabled(current.is_some(), egui::Button::new("Compute forces"))
+                .on_hover_text(
+                    "Forces along the computed path, on the stock the earlier operations leave",
+                )
+                .clicked()
+            {
+                self.start(ws, ui.ctx());
+            }
+            ui.separator();
+            ui.toggle_value(&mut self.editor.open, "Coefficients…");
+        });
+        if let Some(m) = &self.message {
+            ui.colored_label(ui.visuals().warn_fg_color, m);
+        }
+        if self.editor.open {
+            self.editor.ui(ui, &ws.session().data_dir);
+            ui.separator();
+        }
+        let Some((key, result)) = &self.result else {
+            ui.label("Compute the forces of the active operation (its tool needs flutes, e.g. flat:d=10,flutes=3).");
+            return;
+        };
+        if current.as_ref() != Some(key) {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                "The operation, its tool or its posted program changed since: compute again.",
+            );
+        }
+        let cursor = ws
+            .tool_pose_index()
+            .and_then(|p| result.pose_time_s.get(p).copied());
+        let (transform, pose) = plot::ui(ui, result, (&mut self.shown, &mut self.mean), cursor);
+        self.plot_transform = Some(transform);
+        if let Some(pose) = pose {
+            commands.push(Command::PickPose(Some(pose)));
+        }
+    }
+}
+
+/// Everything the worker needs, owned.
+struct Prepared {
+    stock: crate::project::Stock,
+    bounds: crate::geometry::Aabb,
+    earlier: Vec<(Toolpath, Cutter)>,
+    toolpath: Toolpath,
+    cutter: Cutter,
+    coefficients: crate::force::path::ModeCoefficients,
+    rpm: f64,
+    clock: Option<Vec<f64>>,
+    limits: Limits,
+    resolution: f64,
+}
+
+impl Prepared {
+    fn run(&self, progress: &crate::diagnostics::Progress) -> Result<ForceTimeline, ForceRunError> {
+        operation_forces(
+            &ForceRunInput {
+                stock: &self.stock,
+                part_bounds: self.bounds,
+                earlier: self.earlier.iter().map(|(t, c)| (t, c)).collect(),
+                toolpath: &self.toolpath,
+                cutter: &self.cutter,
+                coefficients: &self.coefficients,
+                spindle_rpm: self.rpm,
+                pose_time_s: self.clock.as_deref(),
+                limits: self.limits,
+                resolution_mm: self.resolution,
+            },
+            progress,
+        )
+    }
+}
+
+/// The tool's limits, the power limit lowered to the machine's spindle power.
+#[must_use]
+pub fn limits_of(cutter: &Cutter, machine: Option<&Machine>) -> Limits {
+    let l = cutter.limits;
+    let spindle = machine.and_then(|m| m.spindle_power_w);
+    let power = match (l.max_power_w, spindle) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    Limits {
+        max_force_n: l.max_force_n,
+        max_torque_nm: l.max_torque_nm,
+        max_power_w: power,
+    }
+}
+
+fn prepare(ws: &Workstation, max_rays: f64) -> Result<(ForceKey, Prepared), String> {
+    let index = operation_index(ws).ok_or("Add and calculate an operation first")?;
+    let key = key_of(ws, index).ok_or("The operation has no tool")?;
+    let project = &ws.session().project;
+    let doc = ws.document().ok_or("Open a part first")?;
+    let (result, fresh) = ws
+        .operation_result(index)
+        .ok_or("Calculate the operation first")?;
+    if !fresh {
+        return Err("The path is stale: calculate the operation again".into());
+    }
+    crate::force::EndMill::from_cutter(&key.cutter).map_err(|e| {
+        format!("{e} (give the tool its flutes in the tool library, e.g. flutes=3,helix=30)")
+    })?;
+    let mut earlier = Vec::new();
+    for j in 0..index {
+        if let Some((r, true)) = ws.operation_result(j) {
+            earlier.push((r.toolpath().clone(), r.cutter.clone()));
+        }
+    }
+    let text = library_text(&ws.session().data_dir)?;
+    let library = Library::parse(&text).map_err(|m| format!("coefficient library: {m}"))?;
+    let (coefficients, _) = library
+        .mode_coefficients(None)
+        .map_err(|m| format!("coefficient library: {m}"))?;
+    let machine = Machine::resolve(&project.machine).ok();
+    let stock = project.stock;
+    let b = crate::simulation::StockShape::of(&stock, &doc.bounds).bounds();
+    let area = ((b.max.x - b.min.x) * (b.max.y - b.min.y)).max(1e-6);
+    let resolution = (area / max_rays.max(1.0)).sqrt().clamp(0.05, 2.0);
+    let resolution = (resolution * 100.0).ceil() / 100.0;
+    let prepared = Prepared {
+        stock,
+        bounds: doc.bounds,
+        earlier,
+        toolpath: result.toolpath().clone(),
+        cutter: key.cutter.clone(),
+        coefficients,
+        rpm: project.post.spindle_rpm,
+        clock: ws.planned_clock(index).map(<[f64]>::to_vec),
+        limits: limits_of(&key.cutter, machine.as_ref()),
+        resolution,
+    };
+    Ok((key, prepared))
+}

@@ -1,0 +1,218 @@
+//! The cutting-forces window, driven through the workstation's UI with egui_kittest
+//! (headless): opened from the Machining menu, computed in the background for a roughing
+//! operation whose tool carries a force limit, plotted with units and limits, a click on the
+//! plot picks the pose cut then, and the coefficient library editor refuses an invalid entry.
+#![cfg(feature = "gui")]
+
+use std::time::Duration;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use talas::app::command::Command;
+use talas::app::{Workstation, WorkstationConfig};
+use talas::project::{Edit, Operation, OperationKind, Stock, ToolEntry};
+use talas::tools::parse_tool_spec;
+
+fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
+    let ws = Workstation::new(&egui::Context::default(), None, config);
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
+}
+
+/// Step frames while `busy` says a background job runs (at most 60 s), then one more.
+fn settle_while(
+    h: &mut Harness<'static, Workstation>,
+    what: &str,
+    busy: fn(&mut Workstation) -> bool,
+) {
+    for _ in 0..12000 {
+        h.step();
+        if !busy(h.state_mut()) {
+            h.step();
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!("the {what} never finished");
+}
+
+fn click(h: &mut Harness<'static, Workstation>, p: egui::Pos2) {
+    h.hover_at(p);
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: p,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.run_steps(2);
+}
+
+/// A project with one roughing operation around a 30 × 30 × 10 mm box in a stock 6 mm wider
+/// on each side (one 10 mm level), with a fluted flat end mill limited to 60 N, calculated.
+fn roughed(tag: &str) -> (Harness<'static, Workstation>, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("talas-app-forces-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let part = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/force/box30.stl");
+    let mut h = harness(WorkstationConfig::isolated(Some(part), dir.clone()));
+    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut cutter = parse_tool_spec("flat:d=10,flute=30,flutes=3,helix=30,rake=10").unwrap();
+    cutter.limits.max_force_n = Some(60.0);
+    let tool = ToolEntry {
+        name: "Flat D10 Z3".into(),
+        cutter,
+    };
+    let mut op = Operation::new(OperationKind::Rough, 0, 0);
+    if let Operation::Rough {
+        step_down_mm,
+        step_over_fraction,
+        tolerance_mm,
+        ..
+    } = &mut op
+    {
+        *step_down_mm = 10.0;
+        *step_over_fraction = 0.5;
+        *tolerance_mm = 0.1;
+    }
+    h.state_mut().apply(Command::Edit(Edit::Batch(vec![
+        Edit::SetTool { index: 0, tool },
+        Edit::SetStock(Stock::Box {
+            min_mm: [-6.0, -6.0, 0.0],
+            max_mm: [36.0, 36.0, 10.0],
+        }),
+        Edit::AddOperation {
+            index: 0,
+            operation: op,
+        },
+    ])));
+    h.step();
+    h.state_mut().apply(Command::Calculate(0));
+    settle_while(&mut h, "calculation", |w| w.is_calculating());
+    assert!(
+        h.state()
+            .operation_result(0)
+            .is_some_and(|(_, fresh)| fresh)
+    );
+    (h, dir)
+}
+
+#[test]
+fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
+    let (mut h, dir) = roughed("plot");
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Cutting forces…").click();
+    h.run_steps(3);
+    // 0.3 mm dexels.
+    h.state_mut().forces().max_rays = Some(20_000.0);
+    let started = std::time::Instant::now();
+    h.get_by_label("Compute forces").click();
+    h.run_steps(2);
+    settle_while(&mut h, "force job", |w| w.forces().is_running());
+    let (samples, limit, planned, peak, poses) = {
+        let ws = h.state_mut();
+        let r = ws.forces().result().expect("a result");
+        (
+            r.samples.clone(),
+            r.limits,
+            r.planned_time,
+            r.forces.totals.peak_resultant_n,
+            r.pose_time_s.len(),
+        )
+    };
+    eprintln!(
+        "forces in {:.1} s: {} samples, {poses} poses",
+        started.elapsed().as_secs_f64(),
+        samples.len()
+    );
+    assert!(!samples.is_empty());
+    // Not posted: the clock is the programmed feeds'.
+    assert!(!planned);
+    assert_eq!(limit.max_force_n, Some(60.0));
+    // The built-in mill's 7.5 kW spindle is the power limit.
+    assert_eq!(limit.max_power_w, Some(7500.0));
+    assert!(
+        peak > 60.0,
+        "a 10 mm roughing level with a D10 cutter: {peak} N"
+    );
+    // Samples run forward in time over poses of the path.
+    for w in samples.windows(2) {
+        assert!(w[0].t_s[0] <= w[0].t_s[1] && w[0].t_s[1] <= w[1].t_s[0] + 1e-9);
+    }
+    assert!(samples.iter().all(|s| s.pose < poses));
+    // Units and limits are shown.
+    h.get_by_label("Force (N)");
+    h.get_by_label("Torque (N·m)");
+    h.get_by_label("Power (W)");
+    assert!(h.query_all_by_label_contains("force 60 N").next().is_some());
+    assert!(
+        h.query_all_by_label_contains("power 7500 W")
+            .next()
+            .is_some()
+    );
+    // A click on the plot in the middle of a piece picks that piece's pose.
+    let s = samples[samples.len() / 2];
+    let t = 0.5 * (s.t_s[0] + s.t_s[1]);
+    let transform = h.state_mut().forces().plot_transform.expect("drawn");
+    let x = transform.position_from_point_x(t);
+    let y = transform.frame().center().y;
+    click(&mut h, egui::pos2(x, y));
+    let picked = h.state().tool_pose_index().expect("a pose picked");
+    // Within a pixel of time, the piece clicked or a neighbour of the same or next pose.
+    let px = (transform.bounds().width() / f64::from(transform.frame().width())).abs();
+    let near: Vec<usize> = samples
+        .iter()
+        .filter(|q| q.t_s[1] >= t - px && q.t_s[0] <= t + px)
+        .map(|q| q.pose)
+        .collect();
+    assert!(near.contains(&picked), "picked {picked}, near {near:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_coefficient_editor_validates_and_saves() {
+    let dir = std::env::temp_dir().join(format!("talas-app-forces-lib-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    h.state_mut().apply(Command::OpenForces);
+    h.run_steps(2);
+    h.get_by_label("Coefficients…").click();
+    h.run_steps(3);
+    // The built-in library is shown with its units.
+    assert!(h.query_all_by_label_contains("N/mm²").next().is_some());
+    let n = {
+        let ed = &mut h.state_mut().forces().editor;
+        let lib = ed.library.as_mut().expect("loaded");
+        // An entry without K_tc is refused.
+        lib.entries[0].ktc_n_mm2 = None;
+        lib.entries.len()
+    };
+    h.run_steps(2);
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    let path = dir.join("force-coefficients.toml");
+    assert!(!path.exists());
+    assert!(
+        h.query_all_by_label_contains("entry 1: a linear entry needs ktc_n_mm2")
+            .next()
+            .is_some()
+    );
+    // Fixed, it saves and reads back.
+    {
+        let ed = &mut h.state_mut().forces().editor;
+        ed.library.as_mut().unwrap().entries[0].ktc_n_mm2 = Some(1234.5);
+    }
+    h.run_steps(2);
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    let back = talas::force::library::Library::load(&path).expect("saved library reads");
+    assert_eq!(back.entries.len(), n);
+    assert_eq!(back.entries[0].ktc_n_mm2, Some(1234.5));
+    let _ = std::fs::remove_dir_all(&dir);
+}
