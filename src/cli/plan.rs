@@ -8,13 +8,18 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde_json::{Value, json};
 
+use crate::checks::part::PartCheck;
 use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_noted};
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::tessellate::TessellationOptions;
 use crate::geometry::trim::TrimRegion;
 use crate::import::ImportError;
 use crate::import::step::read_step;
+use crate::import::{OpenOptions, Workpiece};
 use crate::strategies::axis::AxisMode;
 use crate::strategies::face::FacePatch;
-use crate::strategies::finish::plan_finish;
+use crate::strategies::finish::plan_finish_in;
+use crate::strategies::tiltaway::{PartContext, TiltAway};
 use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 use crate::tools::parse_tool_spec;
@@ -121,6 +126,15 @@ pub struct PlanArgs {
     /// result in the summary's gouge report (slower).
     #[arg(long)]
     pub check: bool,
+    /// Tilt the tool axis away from the part's other faces where the flutes, shank or holder
+    /// would enter them, by at most this many degrees (2°/mm along the path); spans that no
+    /// such tilt frees are left out and reported (0: never tilt, only leave out).
+    #[arg(long, value_name = "DEG")]
+    pub tilt_away: Option<f64>,
+    /// Largest angle of the tool axis from vertical allowed to the tilt-away, degrees (the
+    /// machine's tilt travel).
+    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    pub max_tilt: f64,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -277,7 +291,40 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         )))
     })?;
     let patch = FacePatch::trimmed(&part, args.face, &region).map_err(face_err)?;
-    let result = plan_finish(patch, &cutter, &args.tool, strategy, &opts).map_err(face_err)?;
+    let whole = if args.check || args.tilt_away.is_some() {
+        Some(whole_part(args, &part)?)
+    } else {
+        None
+    };
+    let skip = [args.face];
+    let context = match &whole {
+        Some((wp, bvh, tol)) => Some(PartContext {
+            check: PartCheck {
+                mesh: &wp.mesh,
+                bvh,
+                face_of_triangle: &wp.face_of_triangle,
+                skip_faces: &skip,
+                tolerance_mm: *tol,
+                step_mm: 0.25,
+                whole_tool: true,
+            },
+            tilt: args.tilt_away.map(|deg| TiltAway {
+                max_angle_rad: deg.to_radians(),
+                max_from_vertical_rad: args.max_tilt.to_radians(),
+                ..TiltAway::default()
+            }),
+        }),
+        None => None,
+    };
+    let result = plan_finish_in(
+        patch,
+        &cutter,
+        &args.tool,
+        strategy,
+        &opts,
+        context.as_ref(),
+    )
+    .map_err(face_err)?;
     result
         .toolpath
         .save(&args.output)
@@ -294,7 +341,37 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         "lead_deg": result.used.axis.lead().to_degrees(),
         "clearance_mm": result.used.clearance,
         "diagnostics": result.diagnostics,
+        "part_hits": result.part_hits,
+        "left_out": result.left_out,
     }))
+}
+
+/// The whole part as check: the part tessellated as `talas` opens it, its hierarchy, and the
+/// depth below which the mesh check reports nothing (the tessellation's chord tolerance plus
+/// 1 µm).
+fn whole_part(
+    args: &PlanArgs,
+    part: &crate::geometry::brep::Part,
+) -> Result<(Workpiece, std::sync::Arc<MeshBvh>, f64), ImportError> {
+    for (name, v) in [
+        ("--tilt-away", args.tilt_away),
+        ("--max-tilt", Some(args.max_tilt)),
+    ] {
+        if let Some(v) = v
+            && !(v.is_finite() && (0.0..=90.0).contains(&v))
+        {
+            return Err(opt_err(
+                name,
+                format!("{v} is not between 0 and 90 degrees"),
+            ));
+        }
+    }
+    let wp = Workpiece::from_part(&args.file, part.clone(), &OpenOptions::default());
+    let bvh = wp
+        .bvh()
+        .map_err(|e| ImportError::new(&args.file, None, e))?;
+    let chord = TessellationOptions::for_size(part.rough_bbox().diagonal()).chord_tol_mm;
+    Ok((wp, bvh, chord + 1e-3))
 }
 
 /// `raster` and `zlevel-rough`: plan on the part's mesh, save, report.

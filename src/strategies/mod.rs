@@ -24,6 +24,7 @@ pub mod repair;
 pub mod scallop;
 pub mod steep_shallow;
 pub mod stepping;
+pub mod tiltaway;
 pub mod waterline;
 pub mod zlevel;
 

@@ -69,6 +69,15 @@ pub struct GougeReport {
     /// The largest lead the repair raised to, degrees, when it raised any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub repair_lead_deg: Option<f64>,
+    /// True when the path was checked against the part's other faces (whole-part check).
+    #[serde(default)]
+    pub part_checked: bool,
+    /// Poses whose tool (shank and holder included) enters another face of the part.
+    #[serde(default)]
+    pub part_hits: usize,
+    /// Deepest entry into another face, mm (0 when none).
+    #[serde(default)]
+    pub part_max_depth_mm: f64,
 }
 
 impl Summary {
