@@ -211,3 +211,15 @@ fn tangent_connected_faces_of_the_pocket_floor() {
     want.sort_unstable();
     assert_eq!(group, want);
 }
+
+#[test]
+fn a_scallop_the_next_pass_does_not_reach_is_counted_not_reported_as_a_height() {
+    use talas::toolpath::{Pose, Summary};
+    let pose = |x: f64, h: f64| Pose {
+        scallop_mm: Some(h),
+        ..Pose::new(MoveKind::Cut, DVec3::new(x, 0.0, 0.0), DVec3::Z, 1000.0)
+    };
+    let s = Summary::of(&[pose(0.0, 0.004), pose(1.0, 1e9), pose(2.0, 0.01)]);
+    assert_eq!(s.predicted_max_scallop_mm, Some(0.01));
+    assert_eq!(s.scallop_not_reached_poses, Some(1));
+}

@@ -427,7 +427,7 @@ pub fn human(doc: &Value) -> String {
     }
     notes
         + &format!(
-            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed{}\n\
+            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed{}{}\n\
              wrote {}\n",
             doc["strategy"].as_str().unwrap_or("?"),
             doc["file"].as_str().unwrap_or("?"),
@@ -443,6 +443,16 @@ pub fn human(doc: &Value) -> String {
                 .map_or_else(String::new, |h| format!(
                     ", predicted max scallop {h:.4} mm"
                 )),
+            not_reached(s),
             doc["output"].as_str().unwrap_or("?"),
         )
+}
+
+/// ", at N poses the next pass does not reach (scallop not predicted there)" when any.
+fn not_reached(s: &Value) -> String {
+    s["scallop_not_reached_poses"]
+        .as_u64()
+        .map_or_else(String::new, |n| {
+            format!(", at {n} poses the next pass does not reach (scallop not predicted there)")
+        })
 }
