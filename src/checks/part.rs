@@ -73,6 +73,9 @@ impl<'a> PartCheck<'a> {
     }
 }
 
+/// The deepest entry at one placement: (point, depth mm, face, tool part).
+pub type PlacementHit = (DVec3, f64, usize, ToolPart);
+
 /// Where the tool enters another face of the part.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PartHit {
@@ -283,14 +286,9 @@ impl PartCheck<'_> {
     /// The deepest point of the part (outside the skipped faces) inside the tool placed at
     /// (`tip`, unit `axis`), when deeper than the tolerance: (point, depth, face, tool part).
     #[must_use]
-    pub fn placement(
-        &self,
-        tool: &ToolPieces,
-        tip: DVec3,
-        axis: DVec3,
-    ) -> Option<(DVec3, f64, usize, ToolPart)> {
+    pub fn placement(&self, tool: &ToolPieces, tip: DVec3, axis: DVec3) -> Option<PlacementHit> {
         let tol = self.tolerance_mm.max(0.0);
-        let mut best: Option<(DVec3, f64, usize, ToolPart)> = None;
+        let mut best: Option<PlacementHit> = None;
         for (piece, part) in &tool.pieces {
             for (tri, face) in self.candidates(piece, tip, axis) {
                 let centre = (tri[0] + tri[1] + tri[2]) / 3.0;

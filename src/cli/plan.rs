@@ -11,7 +11,6 @@ use serde_json::{Value, json};
 use crate::checks::part::PartCheck;
 use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_noted};
 use crate::geometry::bvh::MeshBvh;
-use crate::geometry::tessellate::TessellationOptions;
 use crate::geometry::trim::TrimRegion;
 use crate::import::ImportError;
 use crate::import::step::read_step;
@@ -297,25 +296,14 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         None
     };
     let skip = [args.face];
-    let context = match &whole {
-        Some((wp, bvh, tol)) => Some(PartContext {
-            check: PartCheck {
-                mesh: &wp.mesh,
-                bvh,
-                face_of_triangle: &wp.face_of_triangle,
-                skip_faces: &skip,
-                tolerance_mm: *tol,
-                step_mm: 0.25,
-                whole_tool: true,
-            },
-            tilt: args.tilt_away.map(|deg| TiltAway {
-                max_angle_rad: deg.to_radians(),
-                max_from_vertical_rad: args.max_tilt.to_radians(),
-                ..TiltAway::default()
-            }),
+    let context = whole.as_ref().map(|(wp, bvh)| PartContext {
+        check: PartCheck::of_workpiece(wp, bvh, &skip),
+        tilt: args.tilt_away.map(|deg| TiltAway {
+            max_angle_rad: deg.to_radians(),
+            max_from_vertical_rad: args.max_tilt.to_radians(),
+            ..TiltAway::default()
         }),
-        None => None,
-    };
+    });
     let result = plan_finish_in(
         patch,
         &cutter,
@@ -346,13 +334,11 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     }))
 }
 
-/// The whole part as check: the part tessellated as `talas` opens it, its hierarchy, and the
-/// depth below which the mesh check reports nothing (the tessellation's chord tolerance plus
-/// 1 µm).
+/// The whole part as check: the part tessellated as `talas` opens it, and its hierarchy.
 fn whole_part(
     args: &PlanArgs,
     part: &crate::geometry::brep::Part,
-) -> Result<(Workpiece, std::sync::Arc<MeshBvh>, f64), ImportError> {
+) -> Result<(Workpiece, std::sync::Arc<MeshBvh>), ImportError> {
     for (name, v) in [
         ("--tilt-away", args.tilt_away),
         ("--max-tilt", Some(args.max_tilt)),
@@ -370,8 +356,7 @@ fn whole_part(
     let bvh = wp
         .bvh()
         .map_err(|e| ImportError::new(&args.file, None, e))?;
-    let chord = TessellationOptions::for_size(part.rough_bbox().diagonal()).chord_tol_mm;
-    Ok((wp, bvh, chord + 1e-3))
+    Ok((wp, bvh))
 }
 
 /// `raster` and `zlevel-rough`: plan on the part's mesh, save, report.

@@ -22,7 +22,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::checks::part::{PartCheck, PartHit, ToolPieces};
+use crate::checks::part::{PartCheck, PartHit, PlacementHit, ToolPieces};
 use crate::diagnostics::Diagnostic;
 use crate::toolpath::{GougeReport, Pose, Toolpath};
 use crate::tools::solid::ToolPart;
@@ -369,7 +369,7 @@ fn split_left_out(
         .map(|p| check.placement(tool, p.tip, p.axis))
         .collect();
     let mut current: Vec<Pose> = Vec::new();
-    let mut span: Option<(usize, usize, (DVec3, f64, usize, ToolPart))> = None;
+    let mut span: Option<(usize, usize, PlacementHit)> = None;
     for (i, (p, h)) in run.iter().zip(&hits).enumerate() {
         match h {
             Some(hit) => {
@@ -398,11 +398,7 @@ fn split_left_out(
     }
 }
 
-fn left_out(
-    run: &[Pose],
-    s: &[f64],
-    (a, b, worst): (usize, usize, (DVec3, f64, usize, ToolPart)),
-) -> LeftOut {
+fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)) -> LeftOut {
     LeftOut {
         start: run[a].tip,
         end: run[b].tip,
