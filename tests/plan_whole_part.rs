@@ -223,3 +223,66 @@ fn a_scallop_the_next_pass_does_not_reach_is_counted_not_reported_as_a_height() 
     assert_eq!(s.predicted_max_scallop_mm, Some(0.01));
     assert_eq!(s.scallop_not_reached_poses, Some(1));
 }
+
+#[test]
+fn a_face_group_plans_as_one_path_joined_at_one_clearance() {
+    use talas::strategies::group::plan_group;
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let part = wp.part.as_ref().expect("B-rep");
+    let group = [13, 14, 16];
+    let context = PartContext {
+        check: PartCheck::of_workpiece(&wp, &bvh, &group),
+        tilt: None,
+    };
+    let cutter = parse_tool_spec("ball:d=6").expect("tool");
+    let strategy = Strategy::IsoParametric {
+        pattern: Pattern::Zigzag,
+    };
+    let r = plan_group(
+        part,
+        &group,
+        &cutter,
+        "ball:d=6",
+        strategy,
+        &opts(),
+        Some(&context),
+    )
+    .expect("group");
+    assert!((r.clearance - 35.0).abs() < 1e-6, "part top 30 mm + 5");
+    assert!(r.part_hits.is_empty(), "{:?}", r.part_hits);
+    // Every face contributes cuts; every cut contact lies on a face of the group.
+    let mut seen = [false; 3];
+    for p in r.toolpath.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let cc = p.cc.expect("contact");
+        let hit = bvh.closest_point(cc).expect("finite");
+        // The mesh is the faces within its chord tolerance (0.01 mm here).
+        assert!(hit.distance < 0.02, "{cc} is {} mm off", hit.distance);
+        let face = wp.face_of_triangle[hit.triangle] as usize;
+        let k = group.iter().position(|&g| g == face);
+        // A contact on an edge may be nearest to the neighbour's triangles.
+        if let Some(k) = k {
+            seen[k] = true;
+        }
+    }
+    assert!(seen.iter().all(|&s| s), "{seen:?}");
+    // Between one face's last cut and the next face's first cut the tool goes up to the
+    // common clearance.
+    let poses = &r.toolpath.poses;
+    let mut faces_left = 0;
+    for w in poses.windows(2) {
+        if w[0].kind != MoveKind::Cut && w[1].kind != MoveKind::Cut && w[0].tip.z >= 35.0 - 1e-6 {
+            faces_left += 1;
+        }
+    }
+    assert!(
+        faces_left >= 2,
+        "at least the two joins run at the clearance"
+    );
+    assert!(
+        r.diagnostics
+            .iter()
+            .all(|d| d.place.as_deref().is_some_and(|p| p.starts_with("face "))),
+        "every note names its face"
+    );
+}

@@ -88,9 +88,15 @@ pub struct PlanArgs {
     /// `toward:X,Y,Z`, `away:X,Y,Z` (a point), `toward-line:X,Y,Z,I,J,K`, `away-line:...`.
     #[arg(long, value_name = "MODE")]
     pub axis: Option<String>,
-    /// Face index (0-based, file order), default 0.
-    #[arg(long, value_name = "K", default_value_t = 0)]
-    pub face: usize,
+    /// Face index (0-based, file order), default 0; several (`--face 3,4,7`) plan one
+    /// operation over the face group, the faces' paths joined in that order at one clearance.
+    #[arg(
+        long,
+        value_name = "K[,K...]",
+        value_delimiter = ',',
+        default_value = "0"
+    )]
+    pub face: Vec<usize>,
     /// Feed, mm/min.
     #[arg(long, value_name = "F", default_value_t = 1000.0)]
     pub feed: f64,
@@ -142,7 +148,7 @@ pub struct PlanArgs {
     pub output: PathBuf,
 }
 
-fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
+pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
     ImportError::new(Path::new(name), None, message)
 }
 
@@ -273,14 +279,18 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         lead_arc_mm: args.lead_arc,
     };
     let part = read_step(&args.file)?;
-    let face = part.faces.get(args.face).ok_or_else(|| {
+    if args.face.len() > 1 {
+        return super::plan_group::plan_group_cli(args, &part, &cutter, strategy, &opts);
+    }
+    let index = args.face.first().copied().unwrap_or(0);
+    let face = part.faces.get(index).ok_or_else(|| {
         ImportError::new(
             &args.file,
-            Some(format!("face {}", args.face)),
+            Some(format!("face {index}")),
             format!("the part has {} faces", part.faces.len()),
         )
     })?;
-    let place = Some(format!("face {} (#{})", args.face, face.source_id));
+    let place = Some(format!("face {index} (#{})", face.source_id));
     let face_err = |e: crate::strategies::PlanError| {
         ImportError::new(&args.file, place.clone(), e.to_string())
     };
@@ -289,13 +299,13 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
             "its trimming loops: {e}"
         )))
     })?;
-    let patch = FacePatch::trimmed(&part, args.face, &region).map_err(face_err)?;
+    let patch = FacePatch::trimmed(&part, index, &region).map_err(face_err)?;
     let whole = if args.check || args.tilt_away.is_some() {
         Some(whole_part(args, &part)?)
     } else {
         None
     };
-    let skip = [args.face];
+    let skip = [index];
     let context = whole.as_ref().map(|(wp, bvh)| PartContext {
         check: PartCheck::of_workpiece(wp, bvh, &skip),
         tilt: args.tilt_away.map(|deg| TiltAway {
@@ -321,7 +331,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     Ok(json!({
         "file": args.file.display().to_string(),
         "output": args.output.display().to_string(),
-        "face": args.face,
+        "face": index,
         "strategy": args.strategy,
         "tool": args.tool,
         "summary": s,
@@ -335,7 +345,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
 }
 
 /// The whole part as check: the part tessellated as `talas` opens it, and its hierarchy.
-fn whole_part(
+pub(crate) fn whole_part(
     args: &PlanArgs,
     part: &crate::geometry::brep::Part,
 ) -> Result<(Workpiece, std::sync::Arc<MeshBvh>), ImportError> {

@@ -13,6 +13,7 @@
 pub mod axis;
 pub mod face;
 pub mod finish;
+pub mod group;
 pub mod isoparam;
 pub mod isoplanar;
 pub mod isoscallop;
