@@ -14,6 +14,8 @@
 //!   ("Sturz") against local gouging (thesis §2.8).
 //! - [`gouge`]: local (curvature) and rear (tool solid against the surface under the footprint)
 //!   gouge checks at poses and along moves, and the lead that fixes a gouge.
+//! - [`part`]: the whole part as check: the tool (shank and holder too) against every other face
+//!   of the part through its triangle mesh.
 
 pub mod analysis;
 pub mod choice;
@@ -21,6 +23,7 @@ mod contact;
 mod footprint;
 pub mod gouge;
 mod motion;
+pub mod part;
 pub mod sweep;
 pub mod verify;
 

@@ -8,12 +8,19 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde_json::{Value, json};
 
+use crate::checks::part::PartCheck;
 use crate::cli::plan_mesh::{MeshPlanOptions, plan_mesh_computed};
 use crate::diagnostics::Progress;
-use crate::import::{ImportError, Workpiece};
+use crate::geometry::bvh::MeshBvh;
+use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
+use crate::import::step::read_step;
+use crate::import::{ImportError, OpenOptions, Workpiece};
 use crate::project::pipeline::{self, ComputeError, Computed};
 use crate::project::{FINISH_3AXIS_CLEARANCE_MM, Operation, Project, Stock, ToolEntry};
 use crate::strategies::axis::AxisMode;
+use crate::strategies::face::FacePatch;
+use crate::strategies::finish::plan_finish_in;
+use crate::strategies::tiltaway::{PartContext, TiltAway};
 use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
 use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
@@ -83,9 +90,15 @@ pub struct PlanArgs {
     /// `toward:X,Y,Z`, `away:X,Y,Z` (a point), `toward-line:X,Y,Z,I,J,K`, `away-line:...`.
     #[arg(long, value_name = "MODE")]
     pub axis: Option<String>,
-    /// Face index (0-based, file order), default 0.
-    #[arg(long, value_name = "K", default_value_t = 0)]
-    pub face: usize,
+    /// Face index (0-based, file order), default 0; several (`--face 3,4,7`) plan one
+    /// operation over the face group, the faces' paths joined in that order at one clearance.
+    #[arg(
+        long,
+        value_name = "K[,K...]",
+        value_delimiter = ',',
+        default_value = "0"
+    )]
+    pub face: Vec<usize>,
     /// Feed, mm/min.
     #[arg(long, value_name = "F", default_value_t = 1000.0)]
     pub feed: f64,
@@ -124,6 +137,15 @@ pub struct PlanArgs {
     /// machine JSON file) and say where it cannot follow.
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub machine: Option<String>,
+    /// Tilt the tool axis away from the part's other faces where the flutes, shank or holder
+    /// would enter them, by at most this many degrees (2°/mm along the path); spans that no
+    /// such tilt frees are left out and reported (0: never tilt, only leave out).
+    #[arg(long, value_name = "DEG")]
+    pub tilt_away: Option<f64>,
+    /// Largest angle of the tool axis from vertical allowed to the tilt-away, degrees (the
+    /// machine's tilt travel).
+    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    pub max_tilt: f64,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -135,7 +157,7 @@ pub struct PlanArgs {
     pub output: PathBuf,
 }
 
-fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
+pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
     ImportError::new(Path::new(name), None, message)
 }
 
@@ -255,7 +277,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         "v" => Direction::V,
         other => return Err(opt_err("--direction", format!("'{other}' is not u or v"))),
     };
-    let options = FinishOptions {
+    let opts = FinishOptions {
         scallop: args.scallop,
         tolerance: args.tolerance,
         axis: parse_axis(args)?,
@@ -267,55 +289,104 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         curvature_lead: true,
         lead_arc_mm: args.lead_arc,
     };
-    // Face finishing reads the exact faces; the mesh (the reader's default tessellation) only
-    // serves the pipeline's shared part.
-    let part = crate::import::open(
-        &args.file,
-        &crate::import::OpenOptions::default(),
-        &Progress::new(),
-    )?;
-    let face_count = part.part.as_ref().map_or(0, |p| p.faces.len());
-    if part.part.is_some() && args.face >= face_count {
-        return Err(ImportError::new(
+    let part = read_step(&args.file)?;
+    if args.face.len() > 1 {
+        return super::plan_group::plan_group_cli(args, &part, &cutter, strategy, &opts);
+    }
+    let index = args.face.first().copied().unwrap_or(0);
+    let face = part.faces.get(index).ok_or_else(|| {
+        ImportError::new(
             &args.file,
-            Some(format!("face {}", args.face)),
-            format!("the part has {face_count} faces"),
+            Some(format!("face {index}")),
+            format!("the part has {} faces", part.faces.len()),
+        )
+    })?;
+    let place = Some(format!("face {index} (#{})", face.source_id));
+    let face_err = |e: crate::strategies::PlanError| {
+        ImportError::new(&args.file, place.clone(), e.to_string())
+    };
+    let region = TrimRegion::of_face(face, &part, REGION_CHORD_MM).map_err(|e| {
+        face_err(crate::strategies::PlanError::Face(format!(
+            "its trimming loops: {e}"
+        )))
+    })?;
+    let patch = FacePatch::trimmed(&part, index, &region).map_err(face_err)?;
+    let whole = if args.check || args.tilt_away.is_some() {
+        Some(whole_part(args, &part)?)
+    } else {
+        None
+    };
+    let skip = [index];
+    let context = whole.as_ref().map(|(wp, bvh)| PartContext {
+        check: PartCheck::of_workpiece(wp, bvh, &skip),
+        tilt: args.tilt_away.map(|deg| TiltAway {
+            max_angle_rad: deg.to_radians(),
+            max_from_vertical_rad: args.max_tilt.to_radians(),
+            ..TiltAway::default()
+        }),
+    });
+    let result = plan_finish_in(
+        patch,
+        &cutter,
+        &args.tool,
+        strategy,
+        &opts,
+        context.as_ref(),
+    )
+    .map_err(face_err)?;
+    result
+        .toolpath
+        .save(&args.output)
+        .map_err(|e| ImportError::new(&args.output, Some(e.place.clone()), e.message.clone()))?;
+    let mut diagnostics = result.diagnostics.clone();
+    if let Some(m) = &args.machine {
+        let machine = crate::machine::Machine::resolve(m)
+            .map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?;
+        diagnostics.extend(crate::project::reach::unreachable_axes(
+            &result.toolpath,
+            &machine,
         ));
     }
-    let place = match part.part.as_ref().and_then(|p| p.faces.get(args.face)) {
-        Some(f) => format!("face {} (#{})", args.face, f.source_id),
-        None => format!("face {}", args.face),
-    };
-    let operation = Operation::Finish {
-        name: args.strategy.clone(),
-        tool: 0,
-        face: args.face,
-        strategy,
-        options,
-    };
-    let computed = compute_one(
-        &part,
-        &args.tool,
-        cutter,
-        Stock::None,
-        operation,
-        args.machine.as_deref(),
-        &place,
-    )?;
-    save(&computed.toolpath, &args.output)?;
-    let s = &computed.toolpath.summary;
+    let s = &result.toolpath.summary;
     Ok(json!({
         "file": args.file.display().to_string(),
         "output": args.output.display().to_string(),
-        "face": args.face,
+        "face": index,
         "strategy": args.strategy,
         "tool": args.tool,
         "summary": s,
-        "passes": computed.passes,
-        "lead_deg": computed.lead_rad.unwrap_or(0.0).to_degrees(),
-        "clearance_mm": computed.clearance_mm,
-        "diagnostics": computed.diagnostics,
+        "passes": result.passes.len(),
+        "lead_deg": result.used.axis.lead().to_degrees(),
+        "clearance_mm": result.used.clearance,
+        "diagnostics": diagnostics,
+        "part_hits": result.part_hits,
+        "left_out": result.left_out,
     }))
+}
+
+/// The whole part as check: the part tessellated as `talas` opens it, and its hierarchy.
+pub(crate) fn whole_part(
+    args: &PlanArgs,
+    part: &crate::geometry::brep::Part,
+) -> Result<(Workpiece, std::sync::Arc<MeshBvh>), ImportError> {
+    for (name, v) in [
+        ("--tilt-away", args.tilt_away),
+        ("--max-tilt", Some(args.max_tilt)),
+    ] {
+        if let Some(v) = v
+            && !(v.is_finite() && (0.0..=90.0).contains(&v))
+        {
+            return Err(opt_err(
+                name,
+                format!("{v} is not between 0 and 90 degrees"),
+            ));
+        }
+    }
+    let wp = Workpiece::from_part(&args.file, part.clone(), &OpenOptions::default());
+    let bvh = wp
+        .bvh()
+        .map_err(|e| ImportError::new(&args.file, None, e))?;
+    Ok((wp, bvh))
 }
 
 /// Run `operation` (its tool number 0 is `cutter`, named `tool_spec`) on `part` as a
@@ -363,8 +434,8 @@ fn save(toolpath: &Toolpath, output: &Path) -> Result<(), ImportError> {
         .map_err(|e| ImportError::new(output, Some(e.place.clone()), e.message.clone()))
 }
 
-/// `raster`, `waterline`, `steep-shallow` and `zlevel-rough`: plan on the part's mesh, save,
-/// report.
+/// The mesh strategies (raster, waterline, steep-and-shallow, pencil, rest, Z-level
+/// roughing): plan on the part's mesh, save, report.
 fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
     let opts = MeshPlanOptions {
         scallop_mm: args.scallop,
@@ -417,7 +488,7 @@ pub fn human(doc: &Value) -> String {
     }
     notes
         + &format!(
-            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed{}\n\
+            "{} on {}{}: {} passes, {} poses, cut {:.1} mm, other {:.1} mm, {:.1} s at feed{}{}\n\
              wrote {}\n",
             doc["strategy"].as_str().unwrap_or("?"),
             doc["file"].as_str().unwrap_or("?"),
@@ -433,6 +504,16 @@ pub fn human(doc: &Value) -> String {
                 .map_or_else(String::new, |h| format!(
                     ", predicted max scallop {h:.4} mm"
                 )),
+            not_reached(s),
             doc["output"].as_str().unwrap_or("?"),
         )
+}
+
+/// ", at N poses the next pass does not reach (scallop not predicted there)" when any.
+fn not_reached(s: &Value) -> String {
+    s["scallop_not_reached_poses"]
+        .as_u64()
+        .map_or_else(String::new, |n| {
+            format!(", at {n} poses the next pass does not reach (scallop not predicted there)")
+        })
 }

@@ -118,3 +118,101 @@ impl Part {
         b
     }
 }
+
+/// The faces joined to each face across an edge: for each edge used by exactly two faces,
+/// `(edge, face a, face b)`, in edge order (seam edges, used twice by one face, are left out).
+#[must_use]
+pub fn face_adjacency(part: &Part) -> Vec<(usize, usize, usize)> {
+    let mut users: Vec<Vec<usize>> = vec![Vec::new(); part.edges.len()];
+    for (f, face) in part.faces.iter().enumerate() {
+        for l in &face.loops {
+            if let Loop::Edges(es) = l {
+                for oe in es {
+                    if let Some(u) = users.get_mut(oe.edge)
+                        && !u.contains(&f)
+                    {
+                        u.push(f);
+                    }
+                }
+            }
+        }
+    }
+    users
+        .iter()
+        .enumerate()
+        .filter_map(|(e, u)| match u.as_slice() {
+            [a, b] => Some((e, *a, *b)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Whether faces `a` and `b` meet tangentially along `edge`: at 7 points inside the edge the
+/// faces' outward normals (the surface normal, reversed for a `.F.` face) differ by at most
+/// `angle_tol_rad`. Points where a face's surface is farther than 0.01 mm from the edge or has
+/// no normal are skipped; `false` when no point could be compared.
+#[must_use]
+pub fn meet_tangentially(part: &Part, edge: usize, a: usize, b: usize, angle_tol_rad: f64) -> bool {
+    let (Some(e), Some(fa), Some(fb)) =
+        (part.edges.get(edge), part.faces.get(a), part.faces.get(b))
+    else {
+        return false;
+    };
+    let normal = |f: &Face, p: DVec3| -> Option<DVec3> {
+        let sp = f.surface.closest_point(p, f.surface.domain(), None);
+        if sp.distance > 0.01 {
+            return None;
+        }
+        let n = f.surface.derivs(sp.uv.x, sp.uv.y).normal()?;
+        Some(if f.same_sense { n } else { -n })
+    };
+    let cos_tol = angle_tol_rad.cos();
+    let mut compared = 0;
+    for k in 1..8 {
+        let p = e
+            .curve
+            .point(e.t_start + (e.t_end - e.t_start) * f64::from(k) / 8.0);
+        if !p.is_finite() {
+            continue;
+        }
+        let (Some(na), Some(nb)) = (normal(fa, p), normal(fb, p)) else {
+            continue;
+        };
+        if na.dot(nb) < cos_tol {
+            return false;
+        }
+        compared += 1;
+    }
+    compared > 0
+}
+
+/// The tangent-connected faces of `seed`: every face reachable from it across edges where the
+/// faces meet tangentially ([`meet_tangentially`] within `angle_tol_rad`), the seed included,
+/// in ascending order (empty for a missing seed). The one-click "tangent-connected faces"
+/// selection.
+#[must_use]
+pub fn tangent_connected(part: &Part, seed: usize, angle_tol_rad: f64) -> Vec<usize> {
+    if seed >= part.faces.len() {
+        return Vec::new();
+    }
+    let adjacency = face_adjacency(part);
+    let mut tangent: Vec<Vec<usize>> = vec![Vec::new(); part.faces.len()];
+    for &(e, a, b) in &adjacency {
+        if meet_tangentially(part, e, a, b, angle_tol_rad) {
+            tangent[a].push(b);
+            tangent[b].push(a);
+        }
+    }
+    let mut seen = vec![false; part.faces.len()];
+    let mut stack = vec![seed];
+    seen[seed] = true;
+    while let Some(f) = stack.pop() {
+        for &g in &tangent[f] {
+            if !seen[g] {
+                seen[g] = true;
+                stack.push(g);
+            }
+        }
+    }
+    (0..part.faces.len()).filter(|&f| seen[f]).collect()
+}

@@ -4,13 +4,15 @@
 //! and the tests call it directly.
 
 use super::{Operation, Project, Stock};
+use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
-use crate::strategies::finish::plan_finish;
+use crate::strategies::finish::plan_finish_in;
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
 use crate::strategies::steep_shallow::steep_shallow;
+use crate::strategies::tiltaway::PartContext;
 use crate::strategies::waterline::{WaterlineError, waterline_progress};
 use crate::strategies::zlevel::{ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
@@ -165,8 +167,22 @@ pub fn compute(
                 _ => FacePatch::from_surface(surface),
             }
             .map_err(|e| face_err(format!("face {face}: {e}")))?;
-            let r = plan_finish(patch, &tool.cutter, &tool.spec, *strategy, options)
-                .map_err(|e| plan_err(format!("face {face}: {e}")))?;
+            // The whole part as check: the tool tilts away from the other faces.
+            let (bvh, skip) = (part.bvh().ok(), [*face]);
+            let machine = crate::machine::Machine::resolve(&project.machine).ok();
+            let context = bvh.as_deref().map(|b| PartContext {
+                check: PartCheck::of_workpiece(part, b, &skip),
+                tilt: Some(super::reach::tilt_away_limits(machine.as_ref())),
+            });
+            let r = plan_finish_in(
+                patch,
+                &tool.cutter,
+                &tool.spec,
+                *strategy,
+                options,
+                context.as_ref(),
+            )
+            .map_err(|e| plan_err(format!("face {face}: {e}")))?;
             Computed {
                 passes: r.passes.len(),
                 lead_rad: Some(r.used.axis.lead()),

@@ -59,6 +59,22 @@ pub fn unreachable_axes(toolpath: &Toolpath, machine: &Machine) -> Option<Diagno
 }
 
 /// The tilt axis's travel, rad (`(0, 0)` for a 3-axis machine).
+/// The tilt-away limits for a project's machine: the default angle and rate, and at most the
+/// tilt axis's travel from vertical on a 5-axis machine (90° where the machine has no tilt axis:
+/// such a path is flagged by [`unreachable_axes`] anyway).
+#[must_use]
+pub fn tilt_away_limits(machine: Option<&Machine>) -> crate::strategies::tiltaway::TiltAway {
+    let mut t = crate::strategies::tiltaway::TiltAway::default();
+    if let Some(m) = machine {
+        let (lo, hi) = tilt_range(m);
+        let reach = lo.abs().max(hi.abs());
+        if reach > 0.0 {
+            t.max_from_vertical_rad = reach;
+        }
+    }
+    t
+}
+
 fn tilt_range(machine: &Machine) -> (f64, f64) {
     let name = match machine.rotary_names() {
         Some((tilt, _)) => tilt,

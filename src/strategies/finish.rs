@@ -8,6 +8,7 @@ use super::axis::AxisMode;
 use super::face::{FacePatch, LocalFrame};
 use super::pass::Pass;
 use super::scallop::Section;
+use super::tiltaway::{PartContext, note_tilt, part_check, tilt_away};
 use super::{Direction, FinishOptions, Pattern, PlanError, Strategy};
 use super::{isoparam, isoplanar, isoscallop, linking, repair};
 use crate::diagnostics::Diagnostic;
@@ -226,6 +227,10 @@ pub struct FinishResult {
     pub used: FinishOptions,
     /// Warnings and notes.
     pub diagnostics: Vec<Diagnostic>,
+    /// Where the tool enters other faces of the part (whole-part check), when one was given.
+    pub part_hits: Vec<crate::checks::part::PartHit>,
+    /// Spans left out by the tilt-away (no allowed tilt frees the tool there).
+    pub left_out: Vec<super::tiltaway::LeftOut>,
 }
 
 /// Smallest lead (rad, in 0.25° steps up to 45°) at which the cutter's cross-feed and
@@ -269,6 +274,23 @@ pub fn plan_finish(
     spec: &str,
     strategy: Strategy,
     opts: &FinishOptions,
+) -> Result<FinishResult, PlanError> {
+    plan_finish_in(patch, cutter, spec, strategy, opts, None)
+}
+
+/// Plan a finishing path on one face of a part: as [`plan_finish`], and with `part` the tool is
+/// tilted away from the part's other faces (when `part.tilt` is set; spans left out are
+/// reported) and, with `opts.exact_check`, checked against the whole part.
+///
+/// # Errors
+/// As [`plan_finish`].
+pub fn plan_finish_in(
+    patch: FacePatch<'_>,
+    cutter: &Cutter,
+    spec: &str,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: Option<&PartContext<'_>>,
 ) -> Result<FinishResult, PlanError> {
     check_options(opts)?;
     if torus_radii(cutter).is_none() {
@@ -360,7 +382,16 @@ pub fn plan_finish(
     };
     let planned = repair::plan_passes(&setup, &ordered, opts.exact_check, true);
     note_repairs(&planned, used.axis.lead(), &mut report, &mut diags);
-    let runs: Vec<Vec<Pose>> = planned.into_iter().map(|r| r.poses).collect();
+    let mut runs: Vec<Vec<Pose>> = planned.into_iter().map(|r| r.poses).collect();
+    let mut left_out = Vec::new();
+    if let Some(ctx) = part
+        && let Some(limits) = ctx.tilt
+    {
+        let t = tilt_away(&ctx.check, cutter, &runs, &limits);
+        runs = t.runs;
+        note_tilt(&t.left_out, t.tilted_poses, t.max_tilt_rad, &mut diags);
+        left_out = t.left_out;
+    }
     let clearance = used
         .clearance
         .unwrap_or_else(|| linking::default_clearance(&setup, &runs));
@@ -375,12 +406,20 @@ pub fn plan_finish(
     if opts.exact_check {
         exact_check(&setup, &toolpath, &mut report, &mut diags);
     }
+    let part_hits = match part {
+        Some(ctx) if opts.exact_check => {
+            part_check(&ctx.check, cutter, &toolpath, &mut report, &mut diags)
+        }
+        _ => Vec::new(),
+    };
     toolpath.summary.gouge = Some(report);
     Ok(FinishResult {
         toolpath,
         passes,
         used,
         diagnostics: diags,
+        part_hits,
+        left_out,
     })
 }
 

@@ -14,6 +14,7 @@
 pub mod axis;
 pub mod face;
 pub mod finish;
+pub mod group;
 pub mod isoparam;
 pub mod isoplanar;
 pub mod isoscallop;
@@ -27,6 +28,7 @@ pub mod rest;
 pub mod scallop;
 pub mod steep_shallow;
 pub mod stepping;
+pub mod tiltaway;
 pub mod waterline;
 pub mod zlevel;
 

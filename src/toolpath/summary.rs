@@ -7,6 +7,10 @@ use super::{MoveKind, Pose};
 /// Rapid rate assumed by the time estimate, mm/min (the one default of [`crate::units`]).
 pub const ESTIMATE_RAPID_MM_PER_MIN: f64 = crate::units::DEFAULT_RAPID_MM_PER_MIN;
 
+/// A predicted scallop at least this high means the neighbouring pass does not reach (the
+/// scallop model's stand-in for "no intersection" is 1e9 mm), mm.
+pub const SCALLOP_NOT_REACHED_MM: f64 = 1e6;
+
 /// Lengths, counts, time and extent of a tool path.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Summary {
@@ -25,6 +29,11 @@ pub struct Summary {
     /// Largest predicted scallop height over the poses that carry one, mm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub predicted_max_scallop_mm: Option<f64>,
+    /// Cutting poses where the neighbouring pass's envelope does not reach this pass's (the
+    /// scallop there is not predicted; e.g. a vertical wall between iso-planar planes); they
+    /// are left out of `predicted_max_scallop_mm`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scallop_not_reached_poses: Option<usize>,
     /// What the planner found about gouging (kept across save and load).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gouge: Option<GougeReport>,
@@ -69,6 +78,15 @@ pub struct GougeReport {
     /// The largest lead the repair raised to, degrees, when it raised any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub repair_lead_deg: Option<f64>,
+    /// True when the path was checked against the part's other faces (whole-part check).
+    #[serde(default)]
+    pub part_checked: bool,
+    /// Poses whose tool (shank and holder included) enters another face of the part.
+    #[serde(default)]
+    pub part_hits: usize,
+    /// Deepest entry into another face, mm (0 when none).
+    #[serde(default)]
+    pub part_max_depth_mm: f64,
 }
 
 impl Summary {
@@ -84,9 +102,15 @@ impl Summary {
             s.bbox_max = first.tip;
         }
         for p in poses {
-            if let Some(h) = p.scallop_mm {
-                let m = s.predicted_max_scallop_mm.get_or_insert(h);
-                *m = m.max(h);
+            match p.scallop_mm {
+                Some(h) if h >= SCALLOP_NOT_REACHED_MM => {
+                    *s.scallop_not_reached_poses.get_or_insert(0) += 1;
+                }
+                Some(h) => {
+                    let m = s.predicted_max_scallop_mm.get_or_insert(h);
+                    *m = m.max(h);
+                }
+                None => {}
             }
         }
         for w in poses.windows(2) {

@@ -1,0 +1,449 @@
+//! Tilt-away: where the tool's flutes, shank or holder would enter another face of the part
+//! (the whole-part check, [`crate::checks::part`]), turn the tool axis away from it, within
+//! limits, smoothly; where no allowed tilt is free, leave that span out and report it.
+//!
+//! The rule, per cutting run:
+//! 1. Every pose is checked against the part (drive faces left out). A hit in the cutting end
+//!    cannot be tilted away (the cutting end is what touches the face); a hit higher up can.
+//! 2. Ball cutters only: the axis turns about the ball centre (the contact and the cut surface
+//!    stay the same; the tip follows), in the plane of the axis and the hit point, away from
+//!    the hit (else toward the contact normal, else toward +z: the first free one), by the
+//!    least whole degree `θ ≤ max_angle_rad` that leaves the pose free and keeps the axis
+//!    within `max_from_vertical_rad` of +z (the machine's tilt travel).
+//! 3. Smoothing: the tilt angle along the run is the upper envelope of the required tilts
+//!    falling off at `rate_rad_per_mm` of path on each side (two sweeps); a pose takes the
+//!    direction of the requirement that set its angle. The axis therefore turns at most at that
+//!    rate (plus the change of the planned axis itself).
+//! 4. Every pose is checked again; the poses still hitting (no free tilt, a cutting-end hit,
+//!    another cutter kind) are left out: the run splits there, the linking retracts over the
+//!    gap, and each left-out span is reported with where it starts and ends, its length, the
+//!    face hit and the tool part.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::checks::part::{PartCheck, PartHit, PlacementHit, ToolPieces};
+use crate::diagnostics::Diagnostic;
+use crate::toolpath::{GougeReport, Pose, Toolpath};
+use crate::tools::solid::ToolPart;
+use crate::tools::{Cutter, CutterKind};
+
+/// Limits of the tilt-away.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TiltAway {
+    /// Largest angle between the planned axis and the tilted one, rad (0: never tilt, only
+    /// leave out and report).
+    pub max_angle_rad: f64,
+    /// Largest rate of the tilt angle along the path, rad per mm.
+    pub rate_rad_per_mm: f64,
+    /// Largest angle of the axis from +z, rad (the machine's tilt travel).
+    pub max_from_vertical_rad: f64,
+}
+
+impl Default for TiltAway {
+    /// 30° at most, 2° per mm, up to 90° from vertical.
+    fn default() -> Self {
+        Self {
+            max_angle_rad: 30f64.to_radians(),
+            rate_rad_per_mm: 2f64.to_radians(),
+            max_from_vertical_rad: std::f64::consts::FRAC_PI_2,
+        }
+    }
+}
+
+/// The part a face is finished on, for the planner: the whole-part check and, when set, the
+/// tilt-away limits.
+#[derive(Clone, Copy, Debug)]
+pub struct PartContext<'a> {
+    /// The check against the part's other faces (give it `whole_tool`).
+    pub check: PartCheck<'a>,
+    /// Tilt away from the part (`None`: plan as is, only check).
+    pub tilt: Option<TiltAway>,
+}
+
+/// Hits listed one by one in the diagnostics (then a count).
+const MAX_LISTED: usize = 10;
+
+/// The tilt-away's totals and every left-out span into the diagnostics.
+pub(crate) fn note_tilt(
+    left_out: &[LeftOut],
+    tilted: usize,
+    max_tilt: f64,
+    diags: &mut Vec<Diagnostic>,
+) {
+    if tilted > 0 {
+        diags.push(Diagnostic::info(
+            None,
+            format!(
+                "tilt-away: {tilted} poses tilted away from the part's other faces (up to {:.1}°)",
+                max_tilt.to_degrees()
+            ),
+        ));
+    }
+    for l in left_out.iter().take(MAX_LISTED) {
+        diags.push(Diagnostic::warning(
+            None,
+            format!(
+                "left out {:.2} mm ({} poses) from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) mm: \
+                 the tool's {:?} would enter face {} by {:.3} mm and no allowed tilt frees it",
+                l.length_mm,
+                l.poses,
+                l.start.x,
+                l.start.y,
+                l.start.z,
+                l.end.x,
+                l.end.y,
+                l.end.z,
+                l.tool_part,
+                l.face,
+                l.depth_mm
+            ),
+        ));
+    }
+    if left_out.len() > MAX_LISTED {
+        let length: f64 = left_out.iter().map(|l| l.length_mm).sum();
+        diags.push(Diagnostic::warning(
+            None,
+            format!(
+                "{} spans left out in all ({length:.2} mm of path)",
+                left_out.len()
+            ),
+        ));
+    }
+}
+
+/// The whole-part check of a linked path: into the report and one diagnostic per hit (the
+/// deepest first, then a count); the hits, in pose order.
+pub(crate) fn part_check(
+    check: &PartCheck<'_>,
+    cutter: &Cutter,
+    toolpath: &Toolpath,
+    report: &mut GougeReport,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<PartHit> {
+    let r = check.check_path(cutter, &toolpath.poses);
+    report.part_checked = true;
+    report.part_hits = r.hits.len();
+    report.part_max_depth_mm = r.max_depth_mm;
+    let mut worst: Vec<&PartHit> = r.hits.iter().collect();
+    worst.sort_by(|a, b| b.depth_mm.total_cmp(&a.depth_mm));
+    if r.max_depth_mm > report.max_depth_mm {
+        report.max_depth_mm = r.max_depth_mm;
+        report.worst_at = worst.first().map(|h| h.point);
+    }
+    for h in worst.iter().take(MAX_LISTED) {
+        diags.push(Diagnostic::error(
+            Some(format!("pose {}", h.pose)),
+            format!(
+                "the tool's {:?} enters face {} by {:.1} µm at ({:.3}, {:.3}, {:.3}) mm",
+                h.tool_part,
+                h.face,
+                h.depth_mm * 1e3,
+                h.point.x,
+                h.point.y,
+                h.point.z
+            ),
+        ));
+    }
+    if worst.len() > MAX_LISTED {
+        diags.push(Diagnostic::error(
+            None,
+            format!(
+                "{} poses enter other faces of the part in all, deepest {:.1} µm",
+                worst.len(),
+                r.max_depth_mm * 1e3
+            ),
+        ));
+    }
+    r.hits
+}
+
+/// A span of a run left out because no allowed tilt frees the tool there.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LeftOut {
+    /// First left-out pose's tip, mm.
+    pub start: DVec3,
+    /// Last left-out pose's tip, mm.
+    pub end: DVec3,
+    /// Path length of the span, mm (0 for one pose).
+    pub length_mm: f64,
+    /// How many poses.
+    pub poses: usize,
+    /// The face the tool enters at the span's deepest pose.
+    pub face: usize,
+    /// The tool part that enters it.
+    pub tool_part: ToolPart,
+    /// The deepest entry, mm.
+    pub depth_mm: f64,
+}
+
+/// The runs after the tilt-away.
+#[derive(Clone, Debug, Default)]
+pub struct TiltResult {
+    /// The runs, split where spans were left out.
+    pub runs: Vec<Vec<Pose>>,
+    /// Poses whose axis was tilted.
+    pub tilted_poses: usize,
+    /// Largest tilt-away angle used, rad.
+    pub max_tilt_rad: f64,
+    /// What was left out.
+    pub left_out: Vec<LeftOut>,
+}
+
+/// Apply the tilt-away to every run (see the module doc); the check should have `whole_tool`.
+#[must_use]
+pub fn tilt_away(
+    check: &PartCheck<'_>,
+    cutter: &Cutter,
+    runs: &[Vec<Pose>],
+    limits: &TiltAway,
+) -> TiltResult {
+    let tool = ToolPieces::of(cutter, check.whole_tool);
+    let per_run: Vec<TiltResult> = runs
+        .par_iter()
+        .map(|run| tilt_run(check, &tool, cutter, run, limits))
+        .collect();
+    let mut out = TiltResult::default();
+    for r in per_run {
+        out.runs.extend(r.runs);
+        out.tilted_poses += r.tilted_poses;
+        out.max_tilt_rad = out.max_tilt_rad.max(r.max_tilt_rad);
+        out.left_out.extend(r.left_out);
+    }
+    out
+}
+
+/// `axis` turned by `theta` toward `-away` (about the ball centre); `away` ⟂ `axis`, unit.
+fn turned(axis: DVec3, away: DVec3, theta: f64) -> DVec3 {
+    (axis * theta.cos() - away * theta.sin()).normalize_or(axis)
+}
+
+/// The pose with its axis turned about the ball centre.
+fn pose_turned(p: &Pose, radius: f64, away: DVec3, theta: f64) -> Pose {
+    let centre = p.tip + p.axis * radius;
+    let axis = turned(p.axis, away, theta);
+    Pose {
+        tip: centre - axis * radius,
+        axis,
+        ..*p
+    }
+}
+
+/// A required tilt: angle and direction (`None` angle: no allowed tilt frees the pose).
+type Need = Option<(f64, DVec3)>;
+
+fn free(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose) -> bool {
+    !check.enters(tool, p.tip, p.axis)
+}
+
+/// The least whole-degree tilt that frees pose `p`, hit at `point` in a part above the cutting
+/// end; `None` when none within the limits does. At each angle the axis turns (about the ball
+/// centre) in these directions, the first free one wins: away from the hit point, toward the
+/// contact normal (ball centre − contact), toward +z.
+fn required(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    radius: f64,
+    p: &Pose,
+    point: DVec3,
+    limits: &TiltAway,
+) -> Need {
+    let perp = |v: DVec3| (v - p.axis * v.dot(p.axis)).try_normalize();
+    let centre = p.tip + p.axis * radius;
+    // `away` directions: the axis turns toward −away.
+    let dirs: Vec<DVec3> = [
+        perp(point - p.tip),
+        p.cc.and_then(|cc| perp(cc - centre)),
+        perp(-DVec3::Z),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let steps = (limits.max_angle_rad.to_degrees().floor() as usize).min(90);
+    (1..=steps).find_map(|k| {
+        let theta = (k as f64).to_radians();
+        dirs.iter().find_map(|&away| {
+            let q = pose_turned(p, radius, away, theta);
+            let vertical_ok = q.axis.z.clamp(-1.0, 1.0).acos() <= limits.max_from_vertical_rad;
+            (vertical_ok && free(check, tool, &q)).then_some((theta, away))
+        })
+    })
+}
+
+/// Path length along the run's tips: s[i].
+fn arc_lengths(run: &[Pose]) -> Vec<f64> {
+    let mut s = Vec::with_capacity(run.len());
+    let mut acc = 0.0;
+    for (i, p) in run.iter().enumerate() {
+        if i > 0 {
+            acc += p.tip.distance(run[i - 1].tip);
+        }
+        s.push(acc);
+    }
+    s
+}
+
+/// Upper envelope of the needs falling off at `rate` per mm on both sides.
+fn spread(needs: &[(f64, DVec3)], s: &[f64], rate: f64) -> Vec<(f64, DVec3)> {
+    let n = needs.len();
+    let mut env = needs.to_vec();
+    for i in 1..n {
+        let carried = env[i - 1].0 - rate * (s[i] - s[i - 1]);
+        if carried > env[i].0 {
+            env[i] = (carried, env[i - 1].1);
+        }
+    }
+    for i in (0..n.saturating_sub(1)).rev() {
+        let carried = env[i + 1].0 - rate * (s[i + 1] - s[i]);
+        if carried > env[i].0 {
+            env[i] = (carried, env[i + 1].1);
+        }
+    }
+    env
+}
+
+fn tilt_run(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    cutter: &Cutter,
+    run: &[Pose],
+    limits: &TiltAway,
+) -> TiltResult {
+    let hits: Vec<_> = run
+        .iter()
+        .map(|p| check.placement(tool, p.tip, p.axis))
+        .collect();
+    if hits.iter().all(Option::is_none) {
+        return TiltResult {
+            runs: vec![run.to_vec()],
+            ..TiltResult::default()
+        };
+    }
+    let ball = cutter.kind == CutterKind::Ball;
+    let radius = cutter.radius();
+    let can_tilt = ball && limits.max_angle_rad > 0.0;
+    let needs: Vec<(f64, DVec3)> = run
+        .iter()
+        .zip(&hits)
+        .map(|(p, h)| match h {
+            Some((point, _, _, part)) if can_tilt && *part != ToolPart::CuttingEnd => {
+                required(check, tool, radius, p, *point, limits).unwrap_or((0.0, DVec3::ZERO))
+            }
+            _ => (0.0, DVec3::ZERO),
+        })
+        .collect();
+    let s = arc_lengths(run);
+    let env = spread(&needs, &s, limits.rate_rad_per_mm.max(0.0));
+    let mut tilted = Vec::with_capacity(run.len());
+    let mut result = TiltResult::default();
+    for (p, &(theta, w)) in run.iter().zip(&env) {
+        let away = (w - p.axis * w.dot(p.axis)).try_normalize();
+        match away {
+            Some(away) if theta > 0.0 => {
+                let mut q = pose_turned(p, radius, away, theta);
+                if q.axis.z.clamp(-1.0, 1.0).acos() > limits.max_from_vertical_rad {
+                    q = *p;
+                } else {
+                    result.tilted_poses += 1;
+                    result.max_tilt_rad = result.max_tilt_rad.max(theta);
+                }
+                tilted.push(q);
+            }
+            _ => tilted.push(*p),
+        }
+    }
+    split_left_out(check, tool, &tilted, &s, &mut result);
+    result
+}
+
+/// Check every pose again; split the run at the poses still hitting, and report each span.
+fn split_left_out(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    run: &[Pose],
+    s: &[f64],
+    result: &mut TiltResult,
+) {
+    let hits: Vec<_> = run
+        .iter()
+        .map(|p| check.placement(tool, p.tip, p.axis))
+        .collect();
+    let mut current: Vec<Pose> = Vec::new();
+    let mut span: Option<(usize, usize, PlacementHit)> = None;
+    for (i, (p, h)) in run.iter().zip(&hits).enumerate() {
+        match h {
+            Some(hit) => {
+                if !current.is_empty() {
+                    result.runs.push(std::mem::take(&mut current));
+                }
+                span = Some(match span {
+                    Some((a, _, worst)) if worst.1 >= hit.1 => (a, i, worst),
+                    Some((a, _, _)) => (a, i, *hit),
+                    None => (i, i, *hit),
+                });
+            }
+            None => {
+                if let Some(sp) = span.take() {
+                    result.left_out.push(left_out(run, s, sp));
+                }
+                current.push(*p);
+            }
+        }
+    }
+    if let Some(sp) = span {
+        result.left_out.push(left_out(run, s, sp));
+    }
+    if !current.is_empty() {
+        result.runs.push(current);
+    }
+}
+
+fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)) -> LeftOut {
+    LeftOut {
+        start: run[a].tip,
+        end: run[b].tip,
+        length_mm: s[b] - s[a],
+        poses: b - a + 1,
+        face: worst.2,
+        tool_part: worst.3,
+        depth_mm: worst.1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_falls_off_at_the_rate() {
+        let d = DVec3::X;
+        let needs = vec![
+            (0.0, DVec3::ZERO),
+            (0.0, DVec3::ZERO),
+            (0.3, d),
+            (0.0, DVec3::ZERO),
+        ];
+        let s = [0.0, 1.0, 2.0, 10.0];
+        let env = spread(&needs, &s, 0.1);
+        assert!((env[1].0 - 0.2).abs() < 1e-12);
+        assert!((env[0].0 - 0.1).abs() < 1e-12);
+        assert_eq!(env[0].1, d);
+        assert!(env[3].0 <= 0.0);
+    }
+
+    #[test]
+    fn turning_about_the_ball_centre_keeps_the_centre() {
+        let p = Pose::new(
+            crate::toolpath::MoveKind::Cut,
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::Z,
+            1000.0,
+        );
+        let q = pose_turned(&p, 3.0, DVec3::X, 20f64.to_radians());
+        let c0 = p.tip + p.axis * 3.0;
+        let c1 = q.tip + q.axis * 3.0;
+        assert!(c0.distance(c1) < 1e-12);
+        assert!((q.axis.angle_between(DVec3::Z) - 20f64.to_radians()).abs() < 1e-12);
+        assert!(q.axis.x < 0.0, "turned away from +x");
+    }
+}

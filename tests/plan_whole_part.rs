@@ -1,0 +1,288 @@
+//! The whole part as check and the tilt-away, on `pocket-fillets.stp` (a 60 × 40 × 15 mm pocket
+//! with 5 mm vertical corner radii and 5 mm floor fillets, floor at z = 15).
+//!
+//! - A ball Ø12 on the pocket floor (face 22) runs to the floor's edge, where its centre is 5 mm
+//!   from the walls: it enters the neighbouring walls by R − 5 = 1 mm (closed form). The drive
+//!   face's exact check sees nothing; the whole-part check reports the walls, and its depth
+//!   matches an independent distance query (ball centre to the part mesh).
+//! - Tilt-away on the floor fillet (face 13, a 5 mm quarter cylinder along x): with the normal
+//!   axis the top pass lies horizontal and the holder enters the opposite corner and wall. With
+//!   30° allowed the path tilts and nothing is left out; an independent check of the shank and
+//!   holder (axis points against the mesh) is clean. With 5° the spans are left out and reported.
+//! - Tangent-connected faces: the pocket's floor fillets, corner spheres and floor.
+
+use std::path::Path;
+
+use glam::DVec3;
+use talas::checks::part::PartCheck;
+use talas::geometry::brep::tangent_connected;
+use talas::geometry::bvh::MeshBvh;
+use talas::geometry::trim::TrimRegion;
+use talas::import::{OpenOptions, Workpiece, open};
+use talas::strategies::axis::AxisMode;
+use talas::strategies::face::FacePatch;
+use talas::strategies::finish::{FinishResult, plan_finish_in};
+use talas::strategies::tiltaway::{PartContext, TiltAway};
+use talas::strategies::{FinishOptions, Pattern, Strategy};
+use talas::toolpath::MoveKind;
+use talas::tools::parse_tool_spec;
+use talas::tools::solid::ToolPart;
+
+/// The pocket's walls (planes around the floor).
+const WALLS: [usize; 4] = [1, 4, 5, 8];
+
+fn pocket() -> Workpiece {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp");
+    open(
+        &path,
+        &OpenOptions::default(),
+        &talas::diagnostics::Progress::new(),
+    )
+    .expect("pocket-fillets.stp")
+}
+
+fn opts() -> FinishOptions {
+    FinishOptions {
+        scallop: 0.05,
+        tolerance: 0.01,
+        axis: AxisMode::Normal {
+            lead: 0.0,
+            tilt: 0.0,
+        },
+        exact_check: true,
+        ..FinishOptions::default()
+    }
+}
+
+fn plan(wp: &Workpiece, bvh: &MeshBvh, face: usize, tool: &str, tilt: Option<f64>) -> FinishResult {
+    let part = wp.part.as_ref().expect("B-rep");
+    let region = TrimRegion::of_face(&part.faces[face], part, 0.002).expect("region");
+    let patch = FacePatch::trimmed(part, face, &region).expect("patch");
+    let skip = [face];
+    let context = PartContext {
+        check: PartCheck::of_workpiece(wp, bvh, &skip),
+        tilt: tilt.map(|deg| TiltAway {
+            max_angle_rad: deg.to_radians(),
+            ..TiltAway::default()
+        }),
+    };
+    let cutter = parse_tool_spec(tool).expect("tool");
+    let strategy = Strategy::IsoParametric {
+        pattern: Pattern::Zigzag,
+    };
+    plan_finish_in(patch, &cutter, tool, strategy, &opts(), Some(&context)).expect("plan")
+}
+
+/// Distance from `p` to the part and whether `p` is outside the material (by the closest
+/// triangle's outward normal).
+fn outside_distance(wp: &Workpiece, bvh: &MeshBvh, p: DVec3) -> (f64, bool) {
+    let hit = bvh.closest_point(p).expect("finite");
+    let [a, b, c] = wp.mesh.triangle_corners(hit.triangle).expect("triangle");
+    let n = (b - a).cross(c - a);
+    (hit.distance, (p - hit.point).dot(n) >= -1e-9)
+}
+
+#[test]
+fn a_neighbouring_wall_entered_by_the_tool_is_reported() {
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let r = plan(&wp, &bvh, 22, "ball:d=12", None);
+    let g = r.toolpath.summary.gouge.expect("report");
+    assert!(g.exact_check && g.part_checked);
+    assert_eq!(g.gouging_poses, 0, "the floor itself is not gouged");
+    assert!(!r.part_hits.is_empty(), "the walls must be reported");
+    // Independent: the deepest entry at a cutting pose is R − (ball centre to the mesh).
+    let mut want: f64 = 0.0;
+    for p in r.toolpath.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let (d, outside) = outside_distance(&wp, &bvh, p.tip + p.axis * 6.0);
+        assert!(outside, "ball centre inside the part at {}", p.tip);
+        want = want.max(6.0 - d);
+    }
+    assert!((want - 1.0).abs() < 0.02, "closed form 1 mm, mesh {want}");
+    assert!(
+        (g.part_max_depth_mm - want).abs() < 0.02,
+        "check {} vs independent {want}",
+        g.part_max_depth_mm
+    );
+    let walls = r
+        .part_hits
+        .iter()
+        .filter(|h| WALLS.contains(&h.face))
+        .count();
+    assert!(walls > 0, "{:?}", &r.part_hits[..3.min(r.part_hits.len())]);
+    assert!(r.part_hits.iter().all(|h| h.face != 22));
+    assert!(
+        r.diagnostics
+            .iter()
+            .any(|d| d.message.contains("enters face")),
+        "the hits are named in the diagnostics"
+    );
+}
+
+/// Shank and holder against the mesh, independently: points on the axis every 0.5 mm from the
+/// flute length to the top of the holder must lie outside the part, and the part point
+/// closest to each must not lie inside that section's cylinder (radially nearer than the radius
+/// less 0.02 mm, axially within the section).
+fn holder_clean(wp: &Workpiece, bvh: &MeshBvh, r: &FinishResult, tool: &str) -> bool {
+    let c = parse_tool_spec(tool).expect("tool");
+    let mut sections = vec![(c.flute_length, c.overall_length, 0.5 * c.shank_diameter)];
+    let mut z = c.overall_length;
+    for h in &c.holder {
+        sections.push((z, z + h.length, 0.5 * h.diameter));
+        z += h.length;
+    }
+    let cut = r.toolpath.poses.iter().filter(|p| p.kind == MoveKind::Cut);
+    cut.clone().count() > 0
+        && cut.into_iter().all(|p| {
+            sections.iter().all(|&(z0, z1, radius)| {
+                let n = ((z1 - z0) / 0.5).ceil() as usize;
+                (0..=n).all(|k| {
+                    let q = p.tip + p.axis * (z0 + (z1 - z0) * k as f64 / n as f64);
+                    let (_, outside) = outside_distance(wp, bvh, q);
+                    let hit = bvh.closest_point(q).expect("finite").point;
+                    let along = (hit - p.tip).dot(p.axis);
+                    let radial = (hit - p.tip - p.axis * along).length();
+                    let inside = radial < radius - 0.02 && along > z0 + 0.02 && along < z1 - 0.02;
+                    outside && !inside
+                })
+            })
+        })
+}
+
+#[test]
+fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let tool = "ball:d=6,flute=12,length=30,holder=12x30";
+    // Without tilt-away the holder enters the part (independently seen).
+    let plain = plan(&wp, &bvh, 13, tool, None);
+    assert!(!holder_clean(&wp, &bvh, &plain, tool));
+    assert!(
+        plain
+            .part_hits
+            .iter()
+            .any(|h| matches!(h.tool_part, ToolPart::Holder(_) | ToolPart::Shank))
+    );
+    // 30° allowed: tilted, nothing left out, holder clean, whole-part check clean.
+    let tilted = plan(&wp, &bvh, 13, tool, Some(30.0));
+    assert!(tilted.left_out.is_empty(), "{:?}", tilted.left_out);
+    assert!(tilted.part_hits.is_empty(), "{:?}", tilted.part_hits);
+    assert!(holder_clean(&wp, &bvh, &tilted, tool));
+    // The planned axis is the contact normal (lead and tilt 0): the tilt-away angle is the
+    // angle between the axis and the normal (ball centre − contact).
+    let max_tilt = tilted
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .filter_map(|p| {
+            let n = (p.tip + p.axis * 3.0 - p.cc?).normalize();
+            Some(p.axis.angle_between(n).to_degrees())
+        })
+        .fold(0.0_f64, f64::max);
+    assert!(max_tilt > 1.0 && max_tilt <= 30.0 + 1e-6, "{max_tilt}°");
+    // 5° allowed: the horizontal top pass cannot be freed: left out, reported, and what is
+    // kept is clean.
+    let tight = plan(&wp, &bvh, 13, tool, Some(5.0));
+    assert!(!tight.left_out.is_empty());
+    for l in &tight.left_out {
+        assert!(l.length_mm > 40.0, "a whole 50 mm pass: {l:?}");
+        assert!(matches!(l.tool_part, ToolPart::Holder(_)));
+    }
+    assert!(tight.part_hits.is_empty());
+    assert!(holder_clean(&wp, &bvh, &tight, tool));
+    assert!(
+        tight
+            .diagnostics
+            .iter()
+            .any(|d| d.message.starts_with("left out"))
+    );
+}
+
+#[test]
+fn tangent_connected_faces_of_the_pocket_floor() {
+    let wp = pocket();
+    let part = wp.part.as_ref().expect("B-rep");
+    let mut group = tangent_connected(part, 13, 1f64.to_radians());
+    group.sort_unstable();
+    // Floor, the four floor fillets, the four corner spheres, the four walls and the four
+    // vertical corner cylinders join tangentially; the top face and the outer sides do not.
+    let mut want = vec![1, 2, 3, 4, 5, 6, 7, 8, 13, 14, 15, 16, 17, 18, 19, 20, 22];
+    want.sort_unstable();
+    assert_eq!(group, want);
+}
+
+#[test]
+fn a_scallop_the_next_pass_does_not_reach_is_counted_not_reported_as_a_height() {
+    use talas::toolpath::{Pose, Summary};
+    let pose = |x: f64, h: f64| Pose {
+        scallop_mm: Some(h),
+        ..Pose::new(MoveKind::Cut, DVec3::new(x, 0.0, 0.0), DVec3::Z, 1000.0)
+    };
+    let s = Summary::of(&[pose(0.0, 0.004), pose(1.0, 1e9), pose(2.0, 0.01)]);
+    assert_eq!(s.predicted_max_scallop_mm, Some(0.01));
+    assert_eq!(s.scallop_not_reached_poses, Some(1));
+}
+
+#[test]
+fn a_face_group_plans_as_one_path_joined_at_one_clearance() {
+    use talas::strategies::group::plan_group;
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let part = wp.part.as_ref().expect("B-rep");
+    let group = [13, 14, 16];
+    let context = PartContext {
+        check: PartCheck::of_workpiece(&wp, &bvh, &group),
+        tilt: None,
+    };
+    let cutter = parse_tool_spec("ball:d=6").expect("tool");
+    let strategy = Strategy::IsoParametric {
+        pattern: Pattern::Zigzag,
+    };
+    let r = plan_group(
+        part,
+        &group,
+        &cutter,
+        "ball:d=6",
+        strategy,
+        &opts(),
+        Some(&context),
+    )
+    .expect("group");
+    assert!((r.clearance - 35.0).abs() < 1e-6, "part top 30 mm + 5");
+    assert!(r.part_hits.is_empty(), "{:?}", r.part_hits);
+    // Every face contributes cuts; every cut contact lies on a face of the group.
+    let mut seen = [false; 3];
+    for p in r.toolpath.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let cc = p.cc.expect("contact");
+        let hit = bvh.closest_point(cc).expect("finite");
+        // The mesh is the faces within its chord tolerance (0.01 mm here).
+        assert!(hit.distance < 0.02, "{cc} is {} mm off", hit.distance);
+        let face = wp.face_of_triangle[hit.triangle] as usize;
+        let k = group.iter().position(|&g| g == face);
+        // A contact on an edge may be nearest to the neighbour's triangles.
+        if let Some(k) = k {
+            seen[k] = true;
+        }
+    }
+    assert!(seen.iter().all(|&s| s), "{seen:?}");
+    // Between one face's last cut and the next face's first cut the tool goes up to the
+    // common clearance.
+    let poses = &r.toolpath.poses;
+    let mut faces_left = 0;
+    for w in poses.windows(2) {
+        if w[0].kind != MoveKind::Cut && w[1].kind != MoveKind::Cut && w[0].tip.z >= 35.0 - 1e-6 {
+            faces_left += 1;
+        }
+    }
+    assert!(
+        faces_left >= 2,
+        "at least the two joins run at the clearance"
+    );
+    assert!(
+        r.diagnostics
+            .iter()
+            .all(|d| d.place.as_deref().is_some_and(|p| p.starts_with("face "))),
+        "every note names its face"
+    );
+}
