@@ -328,7 +328,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     let result = plan_finish_in(
         patch,
         &cutter,
-        &args.tool,
+        &crate::tools::tool_spec(&cutter),
         strategy,
         &opts,
         context.as_ref(),

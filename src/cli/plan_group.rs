@@ -41,7 +41,7 @@ pub fn plan_group_cli(
         part,
         &args.face,
         cutter,
-        &args.tool,
+        &crate::tools::tool_spec(cutter),
         strategy,
         opts,
         context.as_ref(),
