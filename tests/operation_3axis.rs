@@ -100,10 +100,23 @@ fn same_path_as(
     chord_mm: Option<f64>,
     min_cuts: usize,
 ) {
+    same_path_as_with(tag, part, TOOL, args, project, chord_mm, min_cuts);
+}
+
+/// [`same_path_as`] with the CLI's tool `tool`.
+fn same_path_as_with(
+    tag: &str,
+    part: &Path,
+    tool: &str,
+    args: &[&str],
+    project: Project,
+    chord_mm: Option<f64>,
+    min_cuts: usize,
+) {
     let dir = std::env::temp_dir().join(format!("talas-op3-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let cli_out = dir.join("cli.json");
-    let mut cli_args = vec!["plan", part.to_str().unwrap(), "--tool", TOOL];
+    let mut cli_args = vec!["plan", part.to_str().unwrap(), "--tool", tool];
     cli_args.extend_from_slice(args);
     cli_args.extend_from_slice(&["--json", "-o", cli_out.to_str().unwrap()]);
     let doc = talas_json(&cli_args);
@@ -283,6 +296,136 @@ fn face_finishing_operation_plans_the_same_path_as_talas_plan() {
     ];
     let part = data("bicubic-hills.stp");
     same_path_as("is", &part, &args, project_with(op), None, 100);
+}
+
+/// Pencil finishing: a Ø12 ball in pocket-fillets' R5 corners, the corner angle mapped.
+#[test]
+fn pencil_operation_plans_the_same_path_as_talas_plan() {
+    let op = Operation::Pencil {
+        name: "pencil".into(),
+        tool: 0,
+        angle_rad: 25f64.to_radians(),
+        tolerance_mm: TOL_MM,
+        feed_mm_per_min: FEED,
+        clearance_mm: 6.0,
+    };
+    let mut project = project_with(op);
+    project.tools[0].cutter = parse_tool_spec("ball:d=12").expect("tool");
+    let args = [
+        "--strategy",
+        "pencil",
+        "--angle",
+        "25",
+        "--tolerance",
+        "0.05",
+        "--feed",
+        "1200",
+        "--clearance",
+        "6",
+    ];
+    let part = data("pocket-fillets.stl");
+    same_path_as_with("pe", &part, "ball:d=12", &args, project, Some(TOL_MM), 20);
+}
+
+/// Rest finishing after a Ø12 ball: the reference tool is the project's second tool.
+#[test]
+fn rest_operation_plans_the_same_path_as_talas_plan() {
+    let op = Operation::Rest {
+        name: "rest".into(),
+        tool: 0,
+        reference_tool: 1,
+        scallop_mm: SCALLOP_MM,
+        tolerance_mm: TOL_MM,
+        feed_mm_per_min: FEED,
+        clearance_mm: 5.0,
+    };
+    let mut project = project_with(op);
+    project.tools.push(ToolEntry {
+        name: "T2".into(),
+        cutter: parse_tool_spec("ball:d=12").expect("tool"),
+    });
+    let args = [
+        "--strategy",
+        "rest",
+        "--reference-tool",
+        "ball:d=12",
+        "--scallop",
+        "0.05",
+        "--tolerance",
+        "0.05",
+        "--feed",
+        "1200",
+    ];
+    let part = data("pocket-fillets.stl");
+    same_path_as("re", &part, &args, project, Some(TOL_MM), 100);
+}
+
+/// A rest operation's reference tool is a library index like its tool: refused when missing,
+/// kept through inserts and removals, and a tool in use as a reference cannot be deleted.
+#[test]
+fn rest_reference_tool_follows_the_library() {
+    use talas::project::Edit;
+    let mut project = project_with(Operation::new(OperationKind::Rest, 0, 0));
+    let big = ToolEntry {
+        name: "Ball 12".into(),
+        cutter: parse_tool_spec("ball:d=12").expect("tool"),
+    };
+    let mut rest = Operation::new(OperationKind::Rest, 0, 0);
+    if let Operation::Rest { reference_tool, .. } = &mut rest {
+        *reference_tool = 3;
+    }
+    let e = project
+        .apply(Edit::AddOperation {
+            index: 1,
+            operation: rest,
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains('3'), "{e}");
+    project
+        .apply(Edit::AddTool {
+            index: 1,
+            tool: big.clone(),
+        })
+        .expect("adds");
+    project
+        .apply(Edit::SetOperation {
+            index: 0,
+            operation: match project.operations[0].clone() {
+                Operation::Rest {
+                    name,
+                    tool,
+                    scallop_mm,
+                    tolerance_mm,
+                    feed_mm_per_min,
+                    clearance_mm,
+                    ..
+                } => Operation::Rest {
+                    name,
+                    tool,
+                    reference_tool: 1,
+                    scallop_mm,
+                    tolerance_mm,
+                    feed_mm_per_min,
+                    clearance_mm,
+                },
+                other => panic!("{other:?}"),
+            },
+        })
+        .expect("sets");
+    // A tool inserted before both shifts both.
+    project
+        .apply(Edit::AddTool {
+            index: 0,
+            tool: big,
+        })
+        .expect("adds");
+    assert_eq!(project.operations[0].tools_used(), vec![1, 2]);
+    let e = project.apply(Edit::RemoveTool { index: 2 }).unwrap_err();
+    assert!(e.to_string().contains("used by"), "{e}");
+    project
+        .apply(Edit::RemoveTool { index: 0 })
+        .expect("removes");
+    assert_eq!(project.operations[0].tools_used(), vec![0, 1]);
 }
 
 #[test]

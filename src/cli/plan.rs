@@ -389,14 +389,13 @@ pub(crate) fn whole_part(
     Ok((wp, bvh))
 }
 
-/// Run `operation` (its tool number 0 is `cutter`, named `tool_spec`) on `part` as a
-/// one-operation project with `stock`, through [`crate::project::pipeline::compute`]. With
+/// Run `operation` on `part` as a one-operation project with the library `tools` (the
+/// operation's tool first) and `stock`, through [`crate::project::pipeline::compute`]. With
 /// `machine` the tool axes are checked against that machine's limits. Errors name the file and
 /// `place` (the face, or the strategy).
 pub(crate) fn compute_one(
     part: &Workpiece,
-    tool_spec: &str,
-    cutter: crate::tools::Cutter,
+    tools: Vec<ToolEntry>,
     stock: Stock,
     operation: Operation,
     machine: Option<&str>,
@@ -408,10 +407,7 @@ pub(crate) fn compute_one(
     }
     let project = Project {
         stock,
-        tools: vec![ToolEntry {
-            name: tool_spec.to_string(),
-            cutter,
-        }],
+        tools,
         selected_tool: Some(0),
         // No machine: no reach check (an unresolvable name skips it).
         machine: machine.unwrap_or_default().to_string(),

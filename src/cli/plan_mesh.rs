@@ -1,7 +1,6 @@
-//! Planning on meshes for `talas plan`: raster, waterline and steep-and-shallow finishing and
-//! Z-level roughing of an STL file or of a STEP part tessellated at the chord tolerance, each
-//! as a one-operation project through the workstation's pipeline; pencil and rest finishing
-//! (not project operations yet) through [`super::plan_corners`] on the same workpiece.
+//! Planning on meshes for `talas plan`: raster, waterline, steep-and-shallow,
+//! pencil and rest finishing and Z-level roughing of an STL file or of a STEP part tessellated
+//! at the chord tolerance, each as a one-operation project through the workstation's pipeline.
 
 use std::path::Path;
 
@@ -10,12 +9,13 @@ use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
 use crate::project::pipeline::Computed;
-use crate::project::{Operation, Stock};
+use crate::project::{Operation, Stock, ToolEntry};
+use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
 use crate::strategies::waterline::Cut;
-use crate::toolpath::{ToolRecord, Toolpath};
+use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
 
 /// Options of [`plan_mesh`] (each strategy reads the ones it needs).
@@ -165,6 +165,23 @@ fn mesh_operation(
             flat_levels: opts.detect_flats,
             clearance_mm: opts.clearance_mm,
         },
+        "pencil" => Operation::Pencil {
+            name,
+            tool: 0,
+            angle_rad: angle(PENCIL_DEFAULT_ANGLE_DEG),
+            tolerance_mm: opts.tolerance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            clearance_mm: opts.clearance_mm,
+        },
+        "rest" => Operation::Rest {
+            name,
+            tool: 0,
+            reference_tool: 1,
+            scallop_mm: opts.scallop_mm,
+            tolerance_mm: opts.tolerance_mm,
+            feed_mm_per_min: opts.feed_mm_per_min,
+            clearance_mm: opts.clearance_mm,
+        },
         other => {
             return Err(bad(
                 "--strategy",
@@ -224,27 +241,23 @@ pub fn plan_mesh_computed(
     let options = crate::import::OpenOptions {
         chord_tol_mm: (tol > 0.0 && tol.is_finite()).then_some(tol),
     };
-    if strategy == "pencil" || strategy == "rest" {
-        // Not project operations yet: planned here on the same workpiece.
-        let part = crate::import::open(file, &options, &Progress::new())?;
-        let bvh = part
-            .bvh()
-            .map_err(|e| ImportError::new(file, None, e.to_string()))?;
-        let tool = ToolRecord {
-            spec: crate::tools::tool_spec(&cutter),
-            cutter,
+    let operation = mesh_operation(file, strategy, opts)?;
+    let mut tools = vec![ToolEntry {
+        name: tool_spec.to_string(),
+        cutter,
+    }];
+    if strategy == "rest" {
+        let Some(spec) = opts.reference_tool.as_deref() else {
+            return Err(bad(
+                "--reference-tool",
+                "rest finishing needs the earlier tool, e.g. --reference-tool ball:d=10".into(),
+            ));
         };
-        let (toolpath, diagnostics) =
-            super::plan_corners::plan_corners(file, strategy, &part.mesh, &bvh, &tool, opts)?;
-        return Ok(Computed {
-            passes: crate::project::pipeline::cutting_runs(&toolpath),
-            toolpath,
-            diagnostics,
-            lead_rad: None,
-            clearance_mm: None,
+        tools.push(ToolEntry {
+            name: spec.to_string(),
+            cutter: parse_tool_spec(spec).map_err(|e| bad("--reference-tool", e.to_string()))?,
         });
     }
-    let operation = mesh_operation(file, strategy, opts)?;
     let part = crate::import::open(file, &options, &Progress::new())?;
     let stock = if strategy == "zlevel-rough" {
         match StockSpec::parse(&opts.stock, Some(&part.mesh.bbox())) {
@@ -260,7 +273,5 @@ pub fn plan_mesh_computed(
     } else {
         Stock::None
     };
-    compute_one(
-        &part, tool_spec, cutter, stock, operation, machine, strategy,
-    )
+    compute_one(&part, tools, stock, operation, machine, strategy)
 }

@@ -138,8 +138,12 @@ fn check_tool(tool: &ToolEntry) -> Result<(), EditError> {
 }
 
 fn check_operation(project: &Project, operation: &Operation) -> Result<(), EditError> {
-    if operation.tool() >= project.tools.len() {
-        return Err(no_such("tool", operation.tool(), project.tools.len()));
+    if let Some(t) = operation
+        .tools_used()
+        .into_iter()
+        .find(|t| *t >= project.tools.len())
+    {
+        return Err(no_such("tool", t, project.tools.len()));
     }
     if operation.name().trim().is_empty() {
         return Err(EditError::Invalid("the operation name is empty".into()));
@@ -187,9 +191,9 @@ impl Project {
                 }
                 // Operations keep their tools.
                 for op in &mut self.operations {
-                    if op.tool() >= index {
-                        *op = op.clone().with_tool(op.tool() + 1);
-                    }
+                    *op = op
+                        .clone()
+                        .remap_tools(|t| if t >= index { t + 1 } else { t });
                 }
                 Edit::Batch(vec![Edit::RemoveTool { index }, Edit::SelectTool(before)])
             }
@@ -209,7 +213,11 @@ impl Project {
                 if index >= self.tools.len() {
                     return Err(no_such("tool", index, self.tools.len()));
                 }
-                if let Some(op) = self.operations.iter().find(|op| op.tool() == index) {
+                if let Some(op) = self
+                    .operations
+                    .iter()
+                    .find(|op| op.tools_used().contains(&index))
+                {
                     return Err(EditError::Invalid(format!(
                         "the tool is used by the operation '{}'",
                         op.name()
@@ -218,9 +226,9 @@ impl Project {
                 let before = self.selected_tool;
                 let tool = self.tools.remove(index);
                 for op in &mut self.operations {
-                    if op.tool() > index {
-                        *op = op.clone().with_tool(op.tool() - 1);
-                    }
+                    *op = op
+                        .clone()
+                        .remap_tools(|t| if t > index { t - 1 } else { t });
                 }
                 self.selected_tool = match before {
                     Some(s) if s == index => None,

@@ -1,6 +1,7 @@
 //! Machining operations as the document stores them: which tool, what it cuts, and the
 //! strategy's parameters (mm, rad, mm/min), with defaults a machinist would start from.
 
+use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
@@ -120,6 +121,42 @@ pub enum Operation {
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
     },
+    /// Pencil finishing (3-axis, ball end mill): along the valleys and corners where the ball
+    /// touches the part twice.
+    Pencil {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Smallest angle between the two contact normals that makes a pencil line, rad.
+        angle_rad: f64,
+        /// Chord tolerance of the pencil lines, mm.
+        tolerance_mm: f64,
+        /// Cutting feed, mm/min.
+        feed_mm_per_min: f64,
+        /// Clearance plane above the part, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
+    },
+    /// Rest finishing (3-axis, ball end mill): parallel passes where an earlier, larger tool
+    /// left more than the scallop height.
+    Rest {
+        /// Name shown in the tree.
+        name: String,
+        /// Index of the tool in [`super::Project::tools`].
+        tool: usize,
+        /// Index of the earlier (reference) tool in [`super::Project::tools`].
+        reference_tool: usize,
+        /// Rest thickness that counts as finished, and the scallop between passes, mm.
+        scallop_mm: f64,
+        /// Chord tolerance along the passes, mm.
+        tolerance_mm: f64,
+        /// Cutting feed, mm/min.
+        feed_mm_per_min: f64,
+        /// Clearance plane above the part, mm.
+        #[serde(default = "default_clearance_mm")]
+        clearance_mm: f64,
+    },
 }
 
 /// Default clearance plane of the 3-axis operations above the part (roughing: the stock), mm.
@@ -162,17 +199,23 @@ pub enum OperationKind {
     Waterline,
     /// [`Operation::SteepShallow`].
     SteepShallow,
+    /// [`Operation::Pencil`].
+    Pencil,
+    /// [`Operation::Rest`].
+    Rest,
 }
 
 impl OperationKind {
     /// Every kind, in menu order.
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 9] = [
         Self::IsoScallop,
         Self::IsoParametric,
         Self::IsoPlanar,
         Self::Raster,
         Self::Waterline,
         Self::SteepShallow,
+        Self::Pencil,
+        Self::Rest,
         Self::Rough,
     ];
 
@@ -187,6 +230,8 @@ impl OperationKind {
             Self::Rough => "Z-level roughing",
             Self::Waterline => "Waterline finishing",
             Self::SteepShallow => "Steep-and-shallow finishing",
+            Self::Pencil => "Pencil finishing",
+            Self::Rest => "Rest finishing",
         }
     }
 
@@ -262,6 +307,24 @@ impl Operation {
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
             },
+            OperationKind::Pencil => Self::Pencil {
+                name,
+                tool,
+                angle_rad: PENCIL_DEFAULT_ANGLE_DEG.to_radians(),
+                tolerance_mm: default_tolerance_mm(),
+                feed_mm_per_min: default_feed(),
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+            },
+            // The reference starts as the same tool: the user picks the earlier, larger one.
+            OperationKind::Rest => Self::Rest {
+                name,
+                tool,
+                reference_tool: tool,
+                scallop_mm: 0.05,
+                tolerance_mm: default_tolerance_mm(),
+                feed_mm_per_min: default_feed(),
+                clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+            },
         }
     }
 
@@ -311,6 +374,8 @@ impl Operation {
             Self::Rough { .. } => OperationKind::Rough,
             Self::Waterline { .. } => OperationKind::Waterline,
             Self::SteepShallow { .. } => OperationKind::SteepShallow,
+            Self::Pencil { .. } => OperationKind::Pencil,
+            Self::Rest { .. } => OperationKind::Rest,
         }
     }
 
@@ -322,7 +387,9 @@ impl Operation {
             | Self::Raster { name, .. }
             | Self::Rough { name, .. }
             | Self::Waterline { name, .. }
-            | Self::SteepShallow { name, .. } => name,
+            | Self::SteepShallow { name, .. }
+            | Self::Pencil { name, .. }
+            | Self::Rest { name, .. } => name,
         }
     }
 
@@ -334,7 +401,9 @@ impl Operation {
             | Self::Raster { tool, .. }
             | Self::Rough { tool, .. }
             | Self::Waterline { tool, .. }
-            | Self::SteepShallow { tool, .. } => *tool,
+            | Self::SteepShallow { tool, .. }
+            | Self::Pencil { tool, .. }
+            | Self::Rest { tool, .. } => *tool,
         }
     }
 
@@ -346,11 +415,38 @@ impl Operation {
             | Self::Raster { tool, .. }
             | Self::Rough { tool, .. }
             | Self::Waterline { tool, .. }
-            | Self::SteepShallow { tool, .. } => {
+            | Self::SteepShallow { tool, .. }
+            | Self::Pencil { tool, .. }
+            | Self::Rest { tool, .. } => {
                 *tool = new_tool;
             }
         }
         self
+    }
+
+    /// Every library index the operation uses: its tool, and rest finishing's reference tool.
+    #[must_use]
+    pub fn tools_used(&self) -> Vec<usize> {
+        match self {
+            Self::Rest {
+                tool,
+                reference_tool,
+                ..
+            } => vec![*tool, *reference_tool],
+            other => vec![other.tool()],
+        }
+    }
+
+    /// The same operation with every library index `i` it uses replaced by `f(i)` (tools
+    /// inserted into or removed from the library).
+    #[must_use]
+    pub fn remap_tools(self, f: impl Fn(usize) -> usize) -> Self {
+        let tool = f(self.tool());
+        let mut op = self.with_tool(tool);
+        if let Self::Rest { reference_tool, .. } = &mut op {
+            *reference_tool = f(*reference_tool);
+        }
+        op
     }
 
     /// The same operation renamed.
@@ -361,7 +457,9 @@ impl Operation {
             | Self::Raster { name, .. }
             | Self::Rough { name, .. }
             | Self::Waterline { name, .. }
-            | Self::SteepShallow { name, .. } => {
+            | Self::SteepShallow { name, .. }
+            | Self::Pencil { name, .. }
+            | Self::Rest { name, .. } => {
                 *name = new_name.into();
             }
         }
@@ -462,6 +560,37 @@ impl Operation {
                 Ok(())
             }
             Self::Waterline { .. } | Self::SteepShallow { .. } => self.validate_finish_3axis(),
+            Self::Pencil {
+                angle_rad,
+                tolerance_mm,
+                feed_mm_per_min,
+                clearance_mm,
+                ..
+            } => {
+                clearance(*clearance_mm)?;
+                positive("chord tolerance (mm)", *tolerance_mm)?;
+                positive("feed (mm/min)", *feed_mm_per_min)?;
+                let deg = angle_rad.to_degrees();
+                if deg.is_finite() && (1.0..=170.0).contains(&deg) {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "the pencil angle must lie between 1° and 170°, got {deg:.2}°"
+                    ))
+                }
+            }
+            Self::Rest {
+                scallop_mm,
+                tolerance_mm,
+                feed_mm_per_min,
+                clearance_mm,
+                ..
+            } => {
+                clearance(*clearance_mm)?;
+                positive("scallop height (mm)", *scallop_mm)?;
+                positive("chord tolerance (mm)", *tolerance_mm)?;
+                positive("feed (mm/min)", *feed_mm_per_min)
+            }
         }
     }
 

@@ -10,7 +10,9 @@ use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
 use crate::strategies::face::FacePatch;
 use crate::strategies::finish::plan_finish_in;
+use crate::strategies::pencil::{PencilOptions, pencil};
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
+use crate::strategies::rest::{RestOptions, rest};
 use crate::strategies::steep_shallow::steep_shallow;
 use crate::strategies::tiltaway::PartContext;
 use crate::strategies::waterline::{WaterlineError, waterline_progress};
@@ -278,6 +280,9 @@ pub fn compute(
                 diagnostics,
             }
         }
+        Operation::Pencil { .. } | Operation::Rest { .. } => {
+            corners_3axis(project, op, part, &tool, progress)?
+        }
         Operation::Waterline { .. } | Operation::SteepShallow { .. } => {
             finish_3axis(op, part, &tool, progress).map_err(|e| match e {
                 ComputeError::Plan { message, .. } => plan_err(message),
@@ -343,6 +348,85 @@ fn finish_3axis(
         clearance_mm: None,
         toolpath: plan.toolpath,
         diagnostics: plan.diagnostics,
+    })
+}
+
+/// Pencil or rest finishing of the whole part (3-axis, ball end mill), the plunge feed 30 % of
+/// the cutting feed and (rest) the runs grown by half the tool's radius past the rest areas.
+fn corners_3axis(
+    project: &Project,
+    op: &Operation,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: op.name().to_string(),
+        message,
+    };
+    let bvh = part.bvh().map_err(plan_err)?;
+    if progress.is_cancelled() {
+        return Err(ComputeError::Cancelled);
+    }
+    let (toolpath, diagnostics) = match *op {
+        Operation::Pencil {
+            angle_rad,
+            tolerance_mm,
+            feed_mm_per_min,
+            clearance_mm,
+            ..
+        } => {
+            let opts = PencilOptions {
+                min_angle_rad: angle_rad,
+                chord_tol_mm: tolerance_mm,
+                clearance_mm,
+                feed_mm_per_min,
+                plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
+                ..PencilOptions::default()
+            };
+            let plan =
+                pencil(&part.mesh, &bvh, tool, &opts).map_err(|e| plan_err(e.to_string()))?;
+            (plan.toolpath, plan.diagnostics)
+        }
+        Operation::Rest {
+            reference_tool,
+            scallop_mm,
+            tolerance_mm,
+            feed_mm_per_min,
+            clearance_mm,
+            ..
+        } => {
+            let reference = project
+                .tools
+                .get(reference_tool)
+                .ok_or_else(|| ComputeError::NoTool {
+                    operation: op.name().to_string(),
+                    tool: reference_tool,
+                })?
+                .cutter
+                .clone();
+            let opts = RestOptions {
+                reference,
+                threshold_mm: scallop_mm,
+                scallop_mm,
+                chord_tol_mm: tolerance_mm,
+                sampling_mm: None,
+                overlap_mm: 0.5 * tool.cutter.radius(),
+                clearance_mm,
+                feed_mm_per_min,
+                plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
+            };
+            let plan = rest(&part.mesh, &bvh, tool, &opts).map_err(|e| plan_err(e.to_string()))?;
+            (plan.toolpath, plan.diagnostics)
+        }
+        _ => return Err(plan_err("not a pencil or rest operation".into())),
+    };
+    Ok(Computed {
+        passes: cutting_runs(&toolpath),
+        toolpath,
+        diagnostics,
+        lead_rad: None,
+        clearance_mm: None,
     })
 }
 

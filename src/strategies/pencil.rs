@@ -54,10 +54,13 @@ pub struct PencilOptions {
     pub plunge_feed_mm_per_min: f64,
 }
 
+/// Default smallest angle between the two contact normals of a pencil line, degrees.
+pub const PENCIL_DEFAULT_ANGLE_DEG: f64 = 20.0;
+
 impl Default for PencilOptions {
     fn default() -> Self {
         Self {
-            min_angle_rad: 20f64.to_radians(),
+            min_angle_rad: PENCIL_DEFAULT_ANGLE_DEG.to_radians(),
             sampling_mm: None,
             chord_tol_mm: 0.01,
             min_length_mm: 0.5,

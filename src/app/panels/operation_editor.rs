@@ -89,6 +89,7 @@ pub fn operation_editor_ui(
         .spacing([10.0, 6.0])
         .show(ui, |ui| {
             commit |= tool_row(ui, view.project, &mut draft);
+            commit |= reference_row(ui, view.project, &mut draft);
             commit |= kind_rows(ui, view.document, &mut draft);
         });
     if commit && draft != *current {
@@ -202,6 +203,39 @@ fn tool_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) -> bool
         return true;
     }
     false
+}
+
+/// Rest finishing's reference tool: the earlier, larger cutter whose leftovers are finished.
+fn reference_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) -> bool {
+    let Operation::Rest { reference_tool, .. } = draft else {
+        return false;
+    };
+    label(
+        ui,
+        "Reference tool",
+        "The earlier, larger tool: where it left more than the scallop height is finished",
+    );
+    let name = |i: usize| {
+        project.tools.get(i).map_or_else(
+            || format!("T{} (missing)", i + 1),
+            |t| format!("T{} {}", i + 1, t.name),
+        )
+    };
+    let mut chosen = *reference_tool;
+    egui::ComboBox::from_id_salt("operation reference tool")
+        .selected_text(name(chosen))
+        .width(190.0)
+        .show_ui(ui, |ui| {
+            for i in 0..project.tools.len() {
+                ui.selectable_value(&mut chosen, i, name(i));
+            }
+        });
+    ui.end_row();
+    if chosen == *reference_tool {
+        return false;
+    }
+    *reference_tool = chosen;
+    true
 }
 
 fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operation) -> bool {
@@ -411,6 +445,50 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 clearance_mm,
             };
             commit |= finish_3axis_rows(ui, fields, angle);
+        }
+        Operation::Pencil {
+            angle_rad,
+            tolerance_mm,
+            feed_mm_per_min,
+            clearance_mm,
+            ..
+        } => {
+            let l = label(
+                ui,
+                "Corner angle",
+                "Smallest angle between the ball's two contact normals that makes a pencil line",
+            );
+            commit |= number(ui, l, angle_rad, 1f64.to_degrees(), 1.0..=170.0, 1, "°");
+            ui.end_row();
+            let l = label(ui, "Chord tolerance", "Deviation of the pencil lines");
+            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+            ui.end_row();
+            let l = label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+            ui.end_row();
+            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
+        }
+        Operation::Rest {
+            scallop_mm,
+            tolerance_mm,
+            feed_mm_per_min,
+            clearance_mm,
+            ..
+        } => {
+            let l = label(
+                ui,
+                "Scallop height",
+                "Rest thicker than this is finished; also the cusp between the passes",
+            );
+            commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
+            ui.end_row();
+            let l = label(ui, "Chord tolerance", "Deviation of the passes");
+            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+            ui.end_row();
+            let l = label(ui, "Feed", "Cutting feed");
+            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+            ui.end_row();
+            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
         }
     }
     commit

@@ -101,7 +101,10 @@ pub fn default_band_mm(operation: &Operation) -> f64 {
         Operation::Finish { options, .. } => options.scallop,
         Operation::Raster { scallop_mm, .. }
         | Operation::Waterline { scallop_mm, .. }
-        | Operation::SteepShallow { scallop_mm, .. } => *scallop_mm,
+        | Operation::SteepShallow { scallop_mm, .. }
+        | Operation::Rest { scallop_mm, .. } => *scallop_mm,
+        // A pencil pass leaves what its chord tolerance allows along the corner.
+        Operation::Pencil { tolerance_mm, .. } => *tolerance_mm,
         Operation::Rough {
             stock_to_leave_mm, ..
         } => *stock_to_leave_mm,
