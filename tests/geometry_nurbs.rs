@@ -217,6 +217,10 @@ fn periodic_curve_detected_and_wrapped() {
     assert_eq!(cubic(false).period(), None);
 }
 
+#[expect(
+    clippy::too_many_lines,
+    reason = "a table of refused constructions, one case after another"
+)]
 #[test]
 fn invalid_constructions_are_rejected() {
     let p3 = vec![DVec3::ZERO, DVec3::X, DVec3::Y];

@@ -688,6 +688,7 @@ impl Workstation {
     }
 
     /// Lay out one frame and apply what it asked for.
+    #[expect(clippy::too_many_lines, reason = "the frame's layout in order")]
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         self.poll_background();
         let dt = ui.ctx().input(|i| f64::from(i.stable_dt));

@@ -112,174 +112,12 @@ pub fn compute(
         spec: tool_spec(&entry.cutter),
         cutter: entry.cutter.clone(),
     };
-    let cancelled = |p: &Progress| {
-        if p.is_cancelled() {
-            Err(ComputeError::Cancelled)
-        } else {
-            Ok(())
-        }
-    };
     cancelled(progress)?;
     progress.set(0.02);
     let mut computed = match op {
-        Operation::Finish {
-            face,
-            strategy,
-            options,
-            ..
-        } => {
-            let face_err = |message: String| ComputeError::Face {
-                operation: name.clone(),
-                message,
-            };
-            let surface = match part.surfaces.get(*face) {
-                None if part.part.is_none() => {
-                    return Err(face_err(format!(
-                        "the part {} is a mesh without exact faces (finishing needs a STEP part)",
-                        part.source.display()
-                    )));
-                }
-                None => {
-                    return Err(face_err(format!(
-                        "no face number {face} (the part has {})",
-                        part.surfaces.len()
-                    )));
-                }
-                Some(None) => {
-                    return Err(face_err(format!(
-                        "face {face} has no exact surface (finishing needs a STEP part)"
-                    )));
-                }
-                Some(Some(s)) => s.as_ref(),
-            };
-            // A face of a B-rep is planned inside its trimming loops, on the material's side
-            // (the face's sense); a bare surface over its natural domain.
-            let region = match (
-                &part.part,
-                part.part.as_ref().and_then(|p| p.faces.get(*face)),
-            ) {
-                (Some(brep), Some(f)) => Some(
-                    TrimRegion::of_face(f, brep, REGION_CHORD_MM)
-                        .map_err(|e| face_err(format!("face {face}: its trimming loops: {e}")))?,
-                ),
-                _ => None,
-            };
-            let patch = match (&part.part, &region) {
-                (Some(brep), Some(region)) => FacePatch::trimmed(brep, *face, region),
-                _ => FacePatch::from_surface(surface),
-            }
-            .map_err(|e| face_err(format!("face {face}: {e}")))?;
-            // The whole part as check: the tool tilts away from the other faces.
-            let (bvh, skip) = (part.bvh().ok(), [*face]);
-            let machine = crate::machine::Machine::resolve(&project.machine).ok();
-            let context = bvh.as_deref().map(|b| PartContext {
-                check: PartCheck::of_workpiece(part, b, &skip),
-                tilt: Some(super::reach::tilt_away_limits(machine.as_ref())),
-            });
-            let r = plan_finish_in(
-                patch,
-                &tool.cutter,
-                &tool.spec,
-                *strategy,
-                options,
-                context.as_ref(),
-            )
-            .map_err(|e| plan_err(format!("face {face}: {e}")))?;
-            Computed {
-                passes: r.passes.len(),
-                lead_rad: Some(r.used.axis.lead()),
-                clearance_mm: r.used.clearance,
-                toolpath: r.toolpath,
-                diagnostics: r.diagnostics,
-            }
-        }
-        Operation::Raster {
-            scallop_mm,
-            angle_rad,
-            one_way,
-            tolerance_mm,
-            feed_mm_per_min,
-            clearance_mm,
-            ..
-        } => {
-            let bvh = part.bvh().map_err(plan_err)?;
-            cancelled(progress)?;
-            let opts = RasterOptions {
-                angle_rad: *angle_rad,
-                pattern: if *one_way {
-                    RasterPattern::OneWay
-                } else {
-                    RasterPattern::ZigZag
-                },
-                scallop_mm: *scallop_mm,
-                chord_tol_mm: *tolerance_mm,
-                boundary: Boundary::Silhouette,
-                feed_mm_per_min: *feed_mm_per_min,
-                clearance_mm: *clearance_mm,
-                plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
-                ..RasterOptions::default()
-            };
-            let plan = raster_progress(&part.mesh, &bvh, &tool, &opts, progress)
-                .map_err(|e| plan_err(e.to_string()))?;
-            cancelled(progress)?;
-            Computed {
-                passes: plan.passes,
-                lead_rad: None,
-                clearance_mm: None,
-                toolpath: plan.toolpath,
-                diagnostics: plan.diagnostics,
-            }
-        }
-        Operation::Rough {
-            step_down_mm,
-            step_over_fraction,
-            stock_to_leave_mm,
-            stock_to_leave_axial_mm,
-            tolerance_mm,
-            feed_mm_per_min,
-            flat_levels,
-            clearance_mm,
-            ..
-        } => {
-            let bvh = part.bvh().map_err(plan_err)?;
-            let axial = stock_to_leave_axial_mm.unwrap_or(*stock_to_leave_mm);
-            let grid = roughing_grid_mm(
-                &project.stock,
-                &part.mesh.bbox(),
-                tool.cutter.radius(),
-                *tolerance_mm,
-                stock_to_leave_mm.min(axial),
-            );
-            let opts = ZlevelOptions {
-                stock: project.stock,
-                step_down_mm: *step_down_mm,
-                step_over_mm: step_over_fraction * tool.cutter.diameter,
-                stock_to_leave_radial_mm: *stock_to_leave_mm,
-                stock_to_leave_axial_mm: axial,
-                tolerance_mm: grid,
-                feed_mm_per_min: *feed_mm_per_min,
-                clearance_mm: *clearance_mm,
-                detect_flats: *flat_levels,
-                ..ZlevelOptions::default()
-            };
-            cancelled(progress)?;
-            let plan = zlevel_rough(&part.mesh, &bvh, &tool, &opts)
-                .map_err(|e| plan_err(e.to_string()))?;
-            let mut diagnostics = plan.diagnostics;
-            if matches!(project.stock, Stock::None) {
-                diagnostics.push(Diagnostic::info(
-                    None,
-                    "no stock defined: roughing the part's bounding box",
-                ));
-            }
-            Computed {
-                passes: plan.contours,
-                lead_rad: None,
-                clearance_mm: None,
-                toolpath: plan.toolpath,
-                diagnostics,
-            }
-        }
+        Operation::Finish { .. } => finish_face(project, op, part, &tool, progress)?,
+        Operation::Raster { .. } => raster_3axis(op, part, &tool, progress)?,
+        Operation::Rough { .. } => rough_3axis(project, op, part, &tool, progress)?,
         Operation::Pencil { .. } | Operation::Rest { .. } => {
             corners_3axis(project, op, part, &tool, progress)?
         }
@@ -299,6 +137,224 @@ pub fn compute(
     }
     progress.set(1.0);
     Ok(computed)
+}
+
+/// 5-axis finishing of one face inside its trimming loops, the whole part as check (the tool
+/// tilting away from the other faces within the project machine's tilt travel).
+fn finish_face(
+    project: &Project,
+    op: &Operation,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let name = op.name().to_string();
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: name.clone(),
+        message,
+    };
+    let Operation::Finish {
+        face,
+        strategy,
+        options,
+        ..
+    } = op
+    else {
+        return Err(plan_err("not a face-finishing operation".into()));
+    };
+    cancelled(progress)?;
+    let face_err = |message: String| ComputeError::Face {
+        operation: name.clone(),
+        message,
+    };
+    let surface = match part.surfaces.get(*face) {
+        None if part.part.is_none() => {
+            return Err(face_err(format!(
+                "the part {} is a mesh without exact faces (finishing needs a STEP part)",
+                part.source.display()
+            )));
+        }
+        None => {
+            return Err(face_err(format!(
+                "no face number {face} (the part has {})",
+                part.surfaces.len()
+            )));
+        }
+        Some(None) => {
+            return Err(face_err(format!(
+                "face {face} has no exact surface (finishing needs a STEP part)"
+            )));
+        }
+        Some(Some(s)) => s.as_ref(),
+    };
+    // A face of a B-rep is planned inside its trimming loops, on the material's side
+    // (the face's sense); a bare surface over its natural domain.
+    let region = match (
+        &part.part,
+        part.part.as_ref().and_then(|p| p.faces.get(*face)),
+    ) {
+        (Some(brep), Some(f)) => Some(
+            TrimRegion::of_face(f, brep, REGION_CHORD_MM)
+                .map_err(|e| face_err(format!("face {face}: its trimming loops: {e}")))?,
+        ),
+        _ => None,
+    };
+    let patch = match (&part.part, &region) {
+        (Some(brep), Some(region)) => FacePatch::trimmed(brep, *face, region),
+        _ => FacePatch::from_surface(surface),
+    }
+    .map_err(|e| face_err(format!("face {face}: {e}")))?;
+    // The whole part as check: the tool tilts away from the other faces.
+    let (bvh, skip) = (part.bvh().ok(), [*face]);
+    let machine = crate::machine::Machine::resolve(&project.machine).ok();
+    let context = bvh.as_deref().map(|b| PartContext {
+        check: PartCheck::of_workpiece(part, b, &skip),
+        tilt: Some(super::reach::tilt_away_limits(machine.as_ref())),
+    });
+    let r = plan_finish_in(
+        patch,
+        &tool.cutter,
+        &tool.spec,
+        *strategy,
+        options,
+        context.as_ref(),
+    )
+    .map_err(|e| plan_err(format!("face {face}: {e}")))?;
+    Ok(Computed {
+        passes: r.passes.len(),
+        lead_rad: Some(r.used.axis.lead()),
+        clearance_mm: r.used.clearance,
+        toolpath: r.toolpath,
+        diagnostics: r.diagnostics,
+    })
+}
+
+/// Raster drop-cutter finishing of the whole part.
+fn raster_3axis(
+    op: &Operation,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let name = op.name().to_string();
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: name.clone(),
+        message,
+    };
+    let Operation::Raster {
+        scallop_mm,
+        angle_rad,
+        one_way,
+        tolerance_mm,
+        feed_mm_per_min,
+        clearance_mm,
+        ..
+    } = op
+    else {
+        return Err(plan_err("not a raster operation".into()));
+    };
+    let bvh = part.bvh().map_err(plan_err)?;
+    cancelled(progress)?;
+    let opts = RasterOptions {
+        angle_rad: *angle_rad,
+        pattern: if *one_way {
+            RasterPattern::OneWay
+        } else {
+            RasterPattern::ZigZag
+        },
+        scallop_mm: *scallop_mm,
+        chord_tol_mm: *tolerance_mm,
+        boundary: Boundary::Silhouette,
+        feed_mm_per_min: *feed_mm_per_min,
+        clearance_mm: *clearance_mm,
+        plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
+        ..RasterOptions::default()
+    };
+    let plan = raster_progress(&part.mesh, &bvh, tool, &opts, progress)
+        .map_err(|e| plan_err(e.to_string()))?;
+    cancelled(progress)?;
+    Ok(Computed {
+        passes: plan.passes,
+        lead_rad: None,
+        clearance_mm: None,
+        toolpath: plan.toolpath,
+        diagnostics: plan.diagnostics,
+    })
+}
+
+/// Z-level roughing of the project's stock (the one default around the part when none is set).
+fn rough_3axis(
+    project: &Project,
+    op: &Operation,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let name = op.name().to_string();
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: name.clone(),
+        message,
+    };
+    let Operation::Rough {
+        step_down_mm,
+        step_over_fraction,
+        stock_to_leave_mm,
+        stock_to_leave_axial_mm,
+        tolerance_mm,
+        feed_mm_per_min,
+        flat_levels,
+        clearance_mm,
+        ..
+    } = op
+    else {
+        return Err(plan_err("not a roughing operation".into()));
+    };
+    let bvh = part.bvh().map_err(plan_err)?;
+    let axial = stock_to_leave_axial_mm.unwrap_or(*stock_to_leave_mm);
+    let grid = roughing_grid_mm(
+        &project.stock,
+        &part.mesh.bbox(),
+        tool.cutter.radius(),
+        *tolerance_mm,
+        stock_to_leave_mm.min(axial),
+    );
+    let opts = ZlevelOptions {
+        stock: project.stock,
+        step_down_mm: *step_down_mm,
+        step_over_mm: step_over_fraction * tool.cutter.diameter,
+        stock_to_leave_radial_mm: *stock_to_leave_mm,
+        stock_to_leave_axial_mm: axial,
+        tolerance_mm: grid,
+        feed_mm_per_min: *feed_mm_per_min,
+        clearance_mm: *clearance_mm,
+        detect_flats: *flat_levels,
+        ..ZlevelOptions::default()
+    };
+    cancelled(progress)?;
+    let plan = zlevel_rough(&part.mesh, &bvh, tool, &opts).map_err(|e| plan_err(e.to_string()))?;
+    let mut diagnostics = plan.diagnostics;
+    if matches!(project.stock, Stock::None) {
+        diagnostics.push(Diagnostic::info(
+            None,
+            "no stock defined: roughing the part's bounding box",
+        ));
+    }
+    Ok(Computed {
+        passes: plan.contours,
+        lead_rad: None,
+        clearance_mm: None,
+        toolpath: plan.toolpath,
+        diagnostics,
+    })
+}
+
+/// `Err(Cancelled)` once the user cancelled.
+fn cancelled(progress: &Progress) -> Result<(), ComputeError> {
+    if progress.is_cancelled() {
+        Err(ComputeError::Cancelled)
+    } else {
+        Ok(())
+    }
 }
 
 /// Waterline or steep-and-shallow finishing of the whole part, with the options mapped by

@@ -145,6 +145,10 @@ impl Renderer {
     /// Upload what `scene` needs and is not on the GPU yet, drop what it no longer names, size the
     /// target to `size_px`, and write this frame's uniforms. Returns one line for each mesh or
     /// line set that cannot be drawn (it is skipped).
+    #[expect(
+        clippy::too_many_lines,
+        reason = "the upload steps of one frame in order"
+    )]
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,

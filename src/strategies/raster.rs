@@ -260,6 +260,10 @@ fn check_options(opts: &RasterOptions) -> Result<(), RasterError> {
 ///
 /// # Errors
 /// As [`raster`], plus [`RasterError::Cancelled`].
+#[expect(
+    clippy::too_many_lines,
+    reason = "one pass over the lines: passes, links and the scallop bookkeeping share state"
+)]
 pub fn raster_progress(
     mesh: &TriMesh,
     bvh: &MeshBvh,

@@ -326,6 +326,10 @@ fn check(opts: &ZlevelOptions, cutter: &Cutter) -> Result<(), ZlevelError> {
 /// # Errors
 /// [`ZlevelError::Option`] for a bad option or a grid past 4 million nodes,
 /// [`ZlevelError::Cutter`] for a cone.
+#[expect(
+    clippy::too_many_lines,
+    reason = "levels, regions and links share the Z-map state"
+)]
 pub fn zlevel_rough(
     mesh: &TriMesh,
     bvh: &MeshBvh,

@@ -238,6 +238,10 @@ fn reference_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) ->
     true
 }
 
+#[expect(
+    clippy::too_many_lines,
+    reason = "one match arm of rows per operation kind"
+)]
 fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operation) -> bool {
     let mut commit = false;
     match draft {
