@@ -129,8 +129,8 @@ impl Summary {
 }
 
 /// Time of the move from `from` to the pose `to` at its feed, s: length / feed, rapids (and
-/// moves without a usable feed) at [`ESTIMATE_RAPID_MM_PER_MIN`], no acceleration. The one
-/// "time at feed" rule of the summary and the playback clock.
+/// moves without a usable feed) at [`crate::units::DEFAULT_RAPID_MM_PER_MIN`], no
+/// acceleration. The one "time at feed" rule of the summary and the playback clock.
 #[must_use]
 pub fn move_time_at_feed_s(from: DVec3, to: &Pose) -> f64 {
     let feed = match to.kind {
