@@ -217,38 +217,10 @@ fn piece_box(piece: &Convex, tip: DVec3, axis: DVec3, margin: f64) -> Aabb {
     }
 }
 
-const GOLDEN: f64 = 0.618_033_988_749_894_8;
-
 /// Minimum of a convex `f` on [0, 1] by golden section to `tol`: (argmin, min).
 fn golden(f: impl Fn(f64) -> f64, tol: f64) -> (f64, f64) {
-    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-    let mut x1 = hi - GOLDEN * (hi - lo);
-    let mut x2 = lo + GOLDEN * (hi - lo);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    while hi - lo > tol {
-        if f1 <= f2 {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - GOLDEN * (hi - lo);
-            f1 = f(x1);
-        } else {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + GOLDEN * (hi - lo);
-            f2 = f(x2);
-        }
-    }
-    // The ends too: a convex function may be least there.
-    let mut best = if f1 <= f2 { (x1, f1) } else { (x2, f2) };
-    for x in [0.0, 1.0] {
-        let v = f(x);
-        if v < best.1 {
-            best = (x, v);
-        }
-    }
-    best
+    let steps = crate::geometry::minimize::golden_iterations(1.0, tol, 200);
+    crate::geometry::minimize::golden_point(0.0, 1.0, steps, f)
 }
 
 /// Least signed distance of triangle `[a, b, c]` to a convex `sd`: (point, distance). Exact for

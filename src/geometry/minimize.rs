@@ -12,6 +12,24 @@ pub fn golden_min(a: f64, b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> 
     ends.min(f1).min(f2)
 }
 
+/// The smallest value of a unimodal `f` on `[a, b]` and where it is: the better of the two
+/// inner points left after `iterations` golden-section steps and the two ends.
+pub fn golden_point(a: f64, b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> (f64, f64) {
+    let ((lo, hi), f1, f2) = golden_bracket(a, b, iterations, &f);
+    let mut best = if f1 <= f2 {
+        (hi - INV_PHI * (hi - lo), f1)
+    } else {
+        (lo + INV_PHI * (hi - lo), f2)
+    };
+    for x in [a, b] {
+        let v = f(x);
+        if v < best.1 {
+            best = (x, v);
+        }
+    }
+    best
+}
+
 /// The place of the smallest value of a unimodal `f` on `[a, b]`: the middle of the bracket
 /// left after `iterations` golden-section steps.
 pub fn golden_argmin(a: f64, b: f64, iterations: usize, f: impl Fn(f64) -> f64) -> f64 {
