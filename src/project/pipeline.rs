@@ -103,10 +103,7 @@ pub fn compute(
             operation: name.clone(),
             tool: op.tool(),
         })?;
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: name.clone(),
-        message,
-    };
+    let plan_err = plan_error(op);
     op.validate().map_err(plan_err)?;
     let tool = ToolRecord {
         spec: tool_spec(&entry.cutter),
@@ -149,10 +146,7 @@ fn finish_face(
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let name = op.name().to_string();
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: name.clone(),
-        message,
-    };
+    let plan_err = plan_error(op);
     let Operation::Finish {
         face,
         strategy,
@@ -236,11 +230,7 @@ fn raster_3axis(
     tool: &ToolRecord,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    let name = op.name().to_string();
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: name.clone(),
-        message,
-    };
+    let plan_err = plan_error(op);
     let Operation::Raster {
         scallop_mm,
         angle_rad,
@@ -290,11 +280,7 @@ fn rough_3axis(
     tool: &ToolRecord,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    let name = op.name().to_string();
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: name.clone(),
-        message,
-    };
+    let plan_err = plan_error(op);
     let Operation::Rough {
         step_down_mm,
         step_over_fraction,
@@ -348,6 +334,14 @@ fn rough_3axis(
     })
 }
 
+/// The strategy's refusal of `op`, naming the operation.
+fn plan_error(op: &Operation) -> impl Fn(String) -> ComputeError + Copy + '_ {
+    move |message| ComputeError::Plan {
+        operation: op.name().to_string(),
+        message,
+    }
+}
+
 /// `Err(Cancelled)` once the user cancelled.
 fn cancelled(progress: &Progress) -> Result<(), ComputeError> {
     if progress.is_cancelled() {
@@ -365,10 +359,7 @@ fn finish_3axis(
     tool: &ToolRecord,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: op.name().to_string(),
-        message,
-    };
+    let plan_err = plan_error(op);
     let settings = op
         .finish_3axis_settings()
         .ok_or_else(|| plan_err("not a 3-axis finishing operation".into()))?;
@@ -416,10 +407,7 @@ fn corners_3axis(
     tool: &ToolRecord,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    let plan_err = |message: String| ComputeError::Plan {
-        operation: op.name().to_string(),
-        message,
-    };
+    let plan_err = plan_error(op);
     let bvh = part.bvh().map_err(plan_err)?;
     if progress.is_cancelled() {
         return Err(ComputeError::Cancelled);
