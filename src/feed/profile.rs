@@ -647,6 +647,21 @@ impl Profile {
         } else {
             peak_velocity(v0, v1, distance, lim)
         };
+        Ok(Self::with_peak_clamped(distance, v0, v1, vp, lim))
+    }
+
+    /// The profile [`Profile::calculate`] gives for the same input, rebuilt from its peak
+    /// velocity `vp` (bit for bit the same phases, without searching for the peak).
+    #[must_use]
+    pub fn with_peak(distance: f64, v0: f64, v1: f64, vp: f64, lim: &Limits1) -> Self {
+        let (v0, v1) = (v0.min(lim.velocity), v1.min(lim.velocity));
+        Self::with_peak_clamped(distance, v0, v1, vp, lim)
+    }
+
+    /// The phases from the boundary velocities (at most the limit) and the peak.
+    fn with_peak_clamped(distance: f64, v0: f64, v1: f64, vp: f64, lim: &Limits1) -> Self {
+        let (a, j) = (lim.acceleration, lim.jerk);
+        let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
         let cruise = if vp > 0.0 {
             ((distance - total(vp)) / vp).max(0.0)
         } else {
@@ -662,11 +677,11 @@ impl Profile {
             a0: 0.0,
         };
         let down = change_phases(s + vp * cruise, vp, v1, lim);
-        Ok(Self {
+        Self {
             phases: [up[0], up[1], up[2], mid, down[0], down[1], down[2]],
             distance,
             peak_velocity: vp,
-        })
+        }
     }
 
     /// Rest-to-rest profile over `distance`.
