@@ -230,14 +230,15 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
     let mut t = 0.0;
     start_times.push(t);
     for (k, s) in segments.iter().enumerate() {
-        let p = Profile::calculate(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(|e| {
-            FeedError::Profile {
-                line: input.blocks.get(s.block).map_or(0, |b| b.source_line),
-                source: e,
-            }
-        })?;
-        peaks.push(p.peak_velocity);
-        t += p.duration_s();
+        let (peak, duration) =
+            Profile::peak_and_duration(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(
+                |e| FeedError::Profile {
+                    line: input.blocks.get(s.block).map_or(0, |b| b.source_line),
+                    source: e,
+                },
+            )?;
+        peaks.push(peak);
+        t += duration;
         start_times.push(t);
     }
     Ok(TimedPath::new(

@@ -387,6 +387,81 @@ impl Share {
     };
 }
 
+/// The velocity bound of [`tangential_limits`] and what sets it: the least of the feed, the
+/// path limit and, per axis, `V/d1`, `sqrt(share·A/d2)` and `cbrt(share·J/d3)`, the cap being the
+/// first of these (in that order, axis by axis) that equals the least. `None` when an axis the
+/// machine lacks would move.
+///
+/// The cube root is monotone, so the least jerk term is the cube root of the least ratio: one
+/// `cbrt` instead of one per axis, except where another axis's ratio is so close that its root
+/// may round to the same value (then it is evaluated, to find the first axis as above).
+fn velocity_bound(
+    bounds: &[JointVector; 3],
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+    share: Share,
+) -> Option<(f64, VelocityCap)> {
+    let [d1, d2, d3] = bounds;
+    let mut ratio = [f64::INFINITY; SLOTS];
+    let mut least_ratio = f64::INFINITY;
+    for (k, lim) in axes.iter().enumerate() {
+        match lim {
+            Some(l) => {
+                if d3[k] > 0.0 {
+                    ratio[k] = share.jerk * l.jerk / d3[k];
+                    least_ratio = least_ratio.min(ratio[k]);
+                }
+            }
+            None => {
+                if d1[k] > 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    let least_root = least_ratio.cbrt();
+    // A ratio this close above the least may have the same cube root.
+    let near = least_ratio * (1.0 + 1e-12);
+    let mut v_b = f64::INFINITY;
+    let mut cap = VelocityCap::Feed;
+    let mut lower = |value: f64, why: VelocityCap| {
+        if value < v_b {
+            v_b = value;
+            cap = why;
+        }
+    };
+    lower(feed, VelocityCap::Feed);
+    if let Some(p) = path {
+        lower(p.velocity, VelocityCap::Path);
+    }
+    for (k, lim) in axes.iter().enumerate() {
+        let Some(l) = lim else { continue };
+        let name = "XYZABC".as_bytes()[k] as char;
+        if d1[k] > 0.0 {
+            lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
+        }
+        if d2[k] > 0.0 {
+            lower(
+                (share.acceleration * l.acceleration / d2[k]).sqrt(),
+                VelocityCap::Centripetal(name),
+            );
+        }
+        if d3[k] > 0.0 {
+            // Terms above the least root cannot lower the bound below it.
+            let root = if ratio[k] == least_ratio {
+                least_root
+            } else if ratio[k] <= near {
+                ratio[k].cbrt()
+            } else {
+                continue;
+            };
+            lower(root, VelocityCap::CentripetalJerk(name));
+        }
+    }
+    Some((v_b, cap))
+}
+
 /// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds
 /// `[|q'|, |q''|, |q'''|]` over a segment (see the module docs); `None` when an axis the machine
 /// lacks would move or the limits degenerate.
@@ -404,45 +479,7 @@ fn tangential_limits(
     share: Share,
 ) -> Option<(super::Limits1, VelocityCap)> {
     let [d1, d2, d3] = bounds;
-    let mut v_b = f64::INFINITY;
-    let mut cap = VelocityCap::Feed;
-    let mut lower = |value: f64, why: VelocityCap| {
-        if value < v_b {
-            v_b = value;
-            cap = why;
-        }
-    };
-    lower(feed, VelocityCap::Feed);
-    if let Some(p) = path {
-        lower(p.velocity, VelocityCap::Path);
-    }
-    for (k, lim) in axes.iter().enumerate() {
-        let name = "XYZABC".as_bytes()[k] as char;
-        match lim {
-            Some(l) => {
-                if d1[k] > 0.0 {
-                    lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
-                }
-                if d2[k] > 0.0 {
-                    lower(
-                        (share.acceleration * l.acceleration / d2[k]).sqrt(),
-                        VelocityCap::Centripetal(name),
-                    );
-                }
-                if d3[k] > 0.0 {
-                    lower(
-                        (share.jerk * l.jerk / d3[k]).cbrt(),
-                        VelocityCap::CentripetalJerk(name),
-                    );
-                }
-            }
-            None => {
-                if d1[k] > 0.0 {
-                    return None;
-                }
-            }
-        }
-    }
+    let (v_b, cap) = velocity_bound(bounds, feed, axes, path, share)?;
     let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
     for (k, lim) in axes.iter().enumerate() {
         if let Some(l) = lim {
