@@ -215,7 +215,10 @@ impl Segment {
             Shape::Arc(a) => a.delta,
             Shape::Blend(b) => {
                 let (p, q) = (b.start(), b.end());
-                let (start, end) = ([p.x, p.y, p.z, 0.0, 0.0, 0.0], [q.x, q.y, q.z, 0.0, 0.0, 0.0]);
+                let (start, end) = (
+                    [p.x, p.y, p.z, 0.0, 0.0, 0.0],
+                    [q.x, q.y, q.z, 0.0, 0.0, 0.0],
+                );
                 let mut delta = [0.0; SLOTS];
                 for k in 0..SLOTS {
                     delta[k] = end[k] - start[k];
