@@ -59,7 +59,7 @@ pub enum VelocityCap {
 
 /// One block as a path segment.
 ///
-/// Kept small (the planner stores one per planned segment): the geometry is one [`Shape`]
+/// Kept small (the planner stores one per planned segment): the geometry is one enum
 /// (a line's start and change, a corner blend's corner, directions and size, or a boxed arc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
