@@ -277,7 +277,7 @@ fn blended_corners_hold_limits_and_tolerance() {
             },
         };
         let tp = plan(&input).unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
-        blends += tp.segments().iter().filter(|s| s.blend.is_some()).count();
+        blends += tp.segments().iter().filter(|s| s.blend().is_some()).count();
         input.options.corner = CornerPolicy::ExactStop;
         let stop = plan(&input).unwrap().cycle_time_s;
         assert!(

@@ -128,6 +128,7 @@ impl Run {
             s += seg.length;
             t += path
                 .profile(k)
+                .as_ref()
                 .map_or(0.0, crate::feed::Profile::duration_s);
         }
         Ok(Self {
@@ -281,7 +282,7 @@ impl Run {
         if k + 1 == self.path.segments().len() && sl >= seg.length {
             return joint_vector(&block.end);
         }
-        if seg.arc.is_none() {
+        if seg.arc().is_none() {
             return seg.derivatives(sl)[0];
         }
         if sl >= seg.length {

@@ -223,17 +223,105 @@ impl ClothoidBlend {
     /// Position and its first three derivatives with respect to arc length at `s`, in the
     /// X Y Z slots.
     #[must_use]
+    pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
+        self.curve().derivatives(s)
+    }
+
+    /// The curve alone, in the compact form a planned segment keeps.
+    #[must_use]
+    pub fn curve(&self) -> BlendCurve {
+        BlendCurve {
+            corner: self.corner,
+            t0: self.t0,
+            t1: self.t1,
+            setback: self.setback,
+            half_length: self.half_length,
+            sharpness: self.sharpness,
+        }
+    }
+
+    /// Per-axis bounds `(|q'|, |q''|, |q'''|)` over the blend in the X Y Z slots (exact over
+    /// the swept heading for `q'` and the normal direction).
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn derivative_bounds(&self) -> [JointVector; 3] {
+        let kappa_max = self.sharpness * self.half_length;
+        let mut out = [[0.0; SLOTS]; 3];
+        for k in 0..3 {
+            let (tan_max, nor_max) = (self.tangent_max[k], self.normal_max[k]);
+            out[0][k] = tan_max;
+            out[1][k] = kappa_max * nor_max;
+            out[2][k] = self.sharpness * nor_max + kappa_max * kappa_max * tan_max;
+        }
+        out
+    }
+}
+
+/// The curve of a [`ClothoidBlend`] as a planned segment keeps it: the corner, both directions
+/// and the size. The end points and the in-plane normals are recomputed from these with the
+/// same arithmetic as [`ClothoidBlend::new`], so they are bit for bit the blend's own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlendCurve {
+    /// The corner point.
+    pub corner: DVec3,
+    /// Incoming unit direction.
+    pub t0: DVec3,
+    /// Outgoing unit direction.
+    pub t1: DVec3,
+    /// Set-back `d` from the corner along each line (mm).
+    pub setback: f64,
+    /// Length of each clothoid (mm).
+    pub half_length: f64,
+    /// Curvature rate `c = θ/L²` (1/mm²).
+    pub sharpness: f64,
+}
+
+impl BlendCurve {
+    /// Start point (on the incoming line, `d` before the corner).
+    #[must_use]
+    pub fn start(&self) -> DVec3 {
+        self.corner - self.t0 * self.setback
+    }
+
+    /// End point (on the outgoing line, `d` after the corner).
+    #[must_use]
+    pub fn end(&self) -> DVec3 {
+        self.corner + self.t1 * self.setback
+    }
+
+    /// Unit normals of the incoming and the outgoing line in the corner's plane, pointing into
+    /// the corner.
+    #[must_use]
+    pub fn normals(&self) -> (DVec3, DVec3) {
+        let cos = self.t0.dot(self.t1).clamp(-1.0, 1.0);
+        let perp0 = self.t1 - self.t0 * cos;
+        let n0 = perp0 / perp0.length();
+        let n1 = -(self.t0 - self.t1 * cos).normalize_or_zero();
+        (n0, n1)
+    }
+
+    /// Arc length (mm).
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        2.0 * self.half_length
+    }
+
+    /// Position and its first three derivatives with respect to arc length at `s`, in the
+    /// X Y Z slots.
+    #[must_use]
     // One index walks several parallel arrays; an iterator chain would hide that.
     #[allow(clippy::needless_range_loop)]
     pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
         let l = self.half_length;
         let c = self.sharpness;
         let s = s.clamp(0.0, 2.0 * l);
+        let (n0, n1) = self.normals();
         // First half from the start, second half mirrored from the end (r runs backwards).
         let (origin, t, n, r, sign) = if s <= l {
-            (self.start, self.t0, self.n0, s, 1.0)
+            (self.start(), self.t0, n0, s, 1.0)
         } else {
-            (self.end, self.t1, self.n1, 2.0 * l - s, -1.0)
+            (self.end(), self.t1, n1, 2.0 * l - s, -1.0)
         };
         let (x, y) = fresnel(c, r);
         let kappa = c * r;
@@ -254,23 +342,6 @@ impl ClothoidBlend {
             out[1][k] = d1[k];
             out[2][k] = d2[k];
             out[3][k] = d3[k];
-        }
-        out
-    }
-
-    /// Per-axis bounds `(|q'|, |q''|, |q'''|)` over the blend in the X Y Z slots (exact over
-    /// the swept heading for `q'` and the normal direction).
-    #[must_use]
-    // One index walks several parallel arrays; an iterator chain would hide that.
-    #[allow(clippy::needless_range_loop)]
-    pub fn derivative_bounds(&self) -> [JointVector; 3] {
-        let kappa_max = self.sharpness * self.half_length;
-        let mut out = [[0.0; SLOTS]; 3];
-        for k in 0..3 {
-            let (tan_max, nor_max) = (self.tangent_max[k], self.normal_max[k]);
-            out[0][k] = tan_max;
-            out[1][k] = kappa_max * nor_max;
-            out[2][k] = self.sharpness * nor_max + kappa_max * kappa_max * tan_max;
         }
         out
     }

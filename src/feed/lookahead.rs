@@ -45,7 +45,7 @@ pub fn junction_speeds(
         let (a, b) = (&segments[k - 1], &segments[k]);
         let both = a.limits.velocity.min(b.limits.velocity);
         // Blends meet their neighbours tangent and curvature continuous by construction.
-        let (cos, smooth) = if a.blend.is_some() || b.blend.is_some() {
+        let (cos, smooth) = if a.blend().is_some() || b.blend().is_some() {
             (1.0, true)
         } else {
             junction(a, b)

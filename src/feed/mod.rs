@@ -223,20 +223,32 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
         return Err(FeedError::InvalidTolerance);
     }
     let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
-    let mut profiles = Vec::with_capacity(segments.len());
+    // Each profile is kept as its peak velocity (with the junction speeds and the segment it
+    // is rebuilt on demand), and its duration as the next start time.
+    let mut peaks = Vec::with_capacity(segments.len());
+    let mut start_times = Vec::with_capacity(segments.len() + 1);
+    let mut t = 0.0;
+    start_times.push(t);
     for (k, s) in segments.iter().enumerate() {
-        let p = Profile::calculate(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(|e| {
-            FeedError::Profile {
-                line: input.blocks.get(s.block).map_or(0, |b| b.source_line),
-                source: e,
-            }
-        })?;
-        profiles.push(p);
+        let (peak, duration) =
+            Profile::peak_and_duration(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(
+                |e| FeedError::Profile {
+                    line: input.blocks.get(s.block).map_or(0, |b| b.source_line),
+                    source: e,
+                },
+            )?;
+        peaks.push(peak);
+        t += duration;
+        start_times.push(t);
     }
     Ok(TimedPath::new(
         input.blocks,
         segments,
-        profiles,
+        timed_path::Speeds {
+            junctions: speeds,
+            peaks,
+            start_times,
+        },
         &input.axes,
         opts.sample_period_s,
     ))
@@ -273,10 +285,11 @@ fn blend_corners(
             && let (Some(t0), Some(t1)) =
                 (seg.straight_xyz_direction(), next.straight_xyz_direction())
         {
+            let (start, delta) = (seg.start(), seg.delta());
             let point = glam::DVec3::new(
-                seg.start[0] + seg.delta[0],
-                seg.start[1] + seg.delta[1],
-                seg.start[2] + seg.delta[2],
+                start[0] + delta[0],
+                start[1] + delta[1],
+                start[2] + delta[2],
             );
             let reached = (*reach_here.get_or_insert_with(|| reach(&seg)), reach(next));
             reach_next = Some(reached.1);
@@ -291,7 +304,7 @@ fn blend_corners(
         }
         let after_setback = after
             .as_ref()
-            .and_then(|s: &path::Segment| s.blend.as_ref())
+            .and_then(|s: &path::Segment| s.blend())
             .map(|b| b.setback);
         match (before, after_setback) {
             (None, None) => out.push(seg),

@@ -58,24 +58,44 @@ pub enum VelocityCap {
 }
 
 /// One block as a path segment.
+///
+/// Kept small (the planner stores one per planned segment): the geometry is one enum
+/// (a line's start and change, a corner blend's corner, directions and size, or a boxed arc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
     /// Index of the block in the program.
     pub block: usize,
     /// Path length (mm; rad for rotary-only blocks).
     pub length: f64,
-    /// Start joints.
-    pub start: JointVector,
-    /// Joint change over the block.
-    pub delta: JointVector,
-    /// Arc data `(centre, e1 = unit start radius, e2 = n × e1 signed, radius, ω rad/mm, n·helix/L)`.
-    pub arc: Option<ArcFrame>,
-    /// The corner blend this segment is (then `start`/`delta` are unused and `arc` is `None`).
-    pub blend: Option<super::blend::ClothoidBlend>,
     /// Tangential limits valid over the whole block.
     pub limits: super::Limits1,
     /// What caps the velocity.
     pub cap: VelocityCap,
+    /// The geometry.
+    shape: Shape,
+}
+
+/// The geometry of a segment.
+#[derive(Clone, Debug, PartialEq)]
+enum Shape {
+    /// Joints linear in the path length: start joints and the change over the segment.
+    Line {
+        start: JointVector,
+        delta: JointVector,
+    },
+    /// An arc (rare; boxed so that lines and blends stay small): the joints' linear part
+    /// (rotary axes, and the chord for reference) and the arc's frame in X Y Z.
+    Arc(Box<ArcShape>),
+    /// A corner blend.
+    Blend(super::blend::BlendCurve),
+}
+
+/// An arc segment's data.
+#[derive(Clone, Debug, PartialEq)]
+struct ArcShape {
+    start: JointVector,
+    delta: JointVector,
+    frame: ArcFrame,
 }
 
 /// The frame of an arc segment.
@@ -155,16 +175,75 @@ impl Segment {
             block.feed_mm_per_min / 60.0
         };
         let (limits, cap) = tangential_limits(&[d1, d2, d3], feed, axes, path, Share::BLOCK)?;
+        let shape = match arc {
+            Some(frame) => Shape::Arc(Box::new(ArcShape {
+                start,
+                delta,
+                frame,
+            })),
+            None => Shape::Line { start, delta },
+        };
         Some(Self {
             block: index,
             length,
-            start,
-            delta,
-            arc,
-            blend: None,
             limits,
             cap,
+            shape,
         })
+    }
+
+    /// Start joints (for a blend, its start point in X Y Z).
+    #[must_use]
+    pub fn start(&self) -> JointVector {
+        match &self.shape {
+            Shape::Line { start, .. } => *start,
+            Shape::Arc(a) => a.start,
+            Shape::Blend(b) => {
+                let p = b.start();
+                [p.x, p.y, p.z, 0.0, 0.0, 0.0]
+            }
+        }
+    }
+
+    /// Joint change from the start to the end (for an arc, the chord).
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn delta(&self) -> JointVector {
+        match &self.shape {
+            Shape::Line { delta, .. } => *delta,
+            Shape::Arc(a) => a.delta,
+            Shape::Blend(b) => {
+                let (p, q) = (b.start(), b.end());
+                let (start, end) = (
+                    [p.x, p.y, p.z, 0.0, 0.0, 0.0],
+                    [q.x, q.y, q.z, 0.0, 0.0, 0.0],
+                );
+                let mut delta = [0.0; SLOTS];
+                for k in 0..SLOTS {
+                    delta[k] = end[k] - start[k];
+                }
+                delta
+            }
+        }
+    }
+
+    /// The arc's frame, for an arc segment.
+    #[must_use]
+    pub fn arc(&self) -> Option<&ArcFrame> {
+        match &self.shape {
+            Shape::Arc(a) => Some(&a.frame),
+            _ => None,
+        }
+    }
+
+    /// The corner blend this segment is, if it is one.
+    #[must_use]
+    pub fn blend(&self) -> Option<&super::blend::BlendCurve> {
+        match &self.shape {
+            Shape::Blend(b) => Some(b),
+            _ => None,
+        }
     }
 
     /// The straight piece `[from, to]` (path lengths) of a straight segment: the part a corner
@@ -173,29 +252,33 @@ impl Segment {
     // One index walks several parallel arrays; an iterator chain would hide that.
     #[allow(clippy::needless_range_loop)]
     pub fn straight_piece(&self, from: f64, to: f64) -> Option<Self> {
-        if self.arc.is_some() || self.blend.is_some() || !(to - from > 1e-12) {
+        let Shape::Line {
+            start: s0,
+            delta: d0,
+        } = &self.shape
+        else {
+            return None;
+        };
+        if !(to - from > 1e-12) {
             return None;
         }
-        let mut start = self.start;
-        let mut delta = self.delta;
+        let mut start = *s0;
+        let mut delta = *d0;
         for k in 0..SLOTS {
-            let dir = self.delta[k] / self.length;
-            start[k] = self.start[k] + dir * from;
+            let dir = d0[k] / self.length;
+            start[k] = s0[k] + dir * from;
             delta[k] = dir * (to - from);
         }
         Some(Self {
-            start,
-            delta,
             length: to - from,
-            ..self.clone()
+            shape: Shape::Line { start, delta },
+            ..*self
         })
     }
 
     /// The segment of a corner blend, attributed to program block `block`, with the velocity
     /// capped by `feed` (the lower of the adjacent blocks' speeds).
     #[must_use]
-    // One index walks several parallel arrays; an iterator chain would hide that.
-    #[allow(clippy::needless_range_loop)]
     pub fn from_blend(
         block: usize,
         blend: super::blend::ClothoidBlend,
@@ -209,38 +292,29 @@ impl Segment {
 
     /// The segment of a corner blend whose limits are already known (see [`blend_limits`]).
     #[must_use]
-    // One index walks several parallel arrays; an iterator chain would hide that.
-    #[allow(clippy::needless_range_loop)]
     pub fn blend_segment(
         block: usize,
         blend: super::blend::ClothoidBlend,
         limits: super::Limits1,
         cap: VelocityCap,
     ) -> Self {
-        let start = [blend.start.x, blend.start.y, blend.start.z, 0.0, 0.0, 0.0];
-        let end = [blend.end.x, blend.end.y, blend.end.z, 0.0, 0.0, 0.0];
-        let mut delta = [0.0; SLOTS];
-        for k in 0..SLOTS {
-            delta[k] = end[k] - start[k];
-        }
         Self {
             block,
             length: blend.length(),
-            start,
-            delta,
-            arc: None,
-            blend: Some(blend),
             limits,
             cap,
+            shape: Shape::Blend(blend.curve()),
         }
     }
 
     /// A straight segment moving only X, Y, Z: its unit direction.
     #[must_use]
     pub fn straight_xyz_direction(&self) -> Option<DVec3> {
-        let rot = self.delta[3..].iter().any(|d| *d != 0.0);
-        (self.arc.is_none() && self.blend.is_none() && !rot)
-            .then(|| DVec3::new(self.delta[0], self.delta[1], self.delta[2]) / self.length)
+        let Shape::Line { delta, .. } = &self.shape else {
+            return None;
+        };
+        let rot = delta[3..].iter().any(|d| *d != 0.0);
+        (!rot).then(|| DVec3::new(delta[0], delta[1], delta[2]) / self.length)
     }
 
     /// Joint position and its first three derivatives with respect to path length at `s`.
@@ -248,16 +322,18 @@ impl Segment {
     // One index walks several parallel arrays; an iterator chain would hide that.
     #[allow(clippy::needless_range_loop)]
     pub fn derivatives(&self, s: f64) -> [JointVector; 4] {
-        if let Some(b) = &self.blend {
-            return b.derivatives(s);
-        }
+        let (start, delta, frame) = match &self.shape {
+            Shape::Blend(b) => return b.derivatives(s),
+            Shape::Line { start, delta } => (start, delta, None),
+            Shape::Arc(a) => (&a.start, &a.delta, Some(&a.frame)),
+        };
         let u = (s / self.length).clamp(0.0, 1.0);
         let mut out = [[0.0; SLOTS]; 4];
         for k in 0..SLOTS {
-            out[0][k] = self.start[k] + self.delta[k] * u;
-            out[1][k] = self.delta[k] / self.length;
+            out[0][k] = start[k] + delta[k] * u;
+            out[1][k] = delta[k] / self.length;
         }
-        if let Some(f) = &self.arc {
+        if let Some(f) = frame {
             let th = f.omega * s.clamp(0.0, self.length);
             let (sn, cs) = th.sin_cos();
             let w = f.omega;
@@ -314,6 +390,81 @@ impl Share {
     };
 }
 
+/// The velocity bound of [`tangential_limits`] and what sets it: the least of the feed, the
+/// path limit and, per axis, `V/d1`, `sqrt(share·A/d2)` and `cbrt(share·J/d3)`, the cap being the
+/// first of these (in that order, axis by axis) that equals the least. `None` when an axis the
+/// machine lacks would move.
+///
+/// The cube root is monotone, so the least jerk term is the cube root of the least ratio: one
+/// `cbrt` instead of one per axis, except where another axis's ratio is so close that its root
+/// may round to the same value (then it is evaluated, to find the first axis as above).
+fn velocity_bound(
+    bounds: &[JointVector; 3],
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+    share: Share,
+) -> Option<(f64, VelocityCap)> {
+    let [d1, d2, d3] = bounds;
+    let mut ratio = [f64::INFINITY; SLOTS];
+    let mut least_ratio = f64::INFINITY;
+    for (k, lim) in axes.iter().enumerate() {
+        match lim {
+            Some(l) => {
+                if d3[k] > 0.0 {
+                    ratio[k] = share.jerk * l.jerk / d3[k];
+                    least_ratio = least_ratio.min(ratio[k]);
+                }
+            }
+            None => {
+                if d1[k] > 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    let least_root = least_ratio.cbrt();
+    // A ratio this close above the least may have the same cube root.
+    let near = least_ratio * (1.0 + 1e-12);
+    let mut v_b = f64::INFINITY;
+    let mut cap = VelocityCap::Feed;
+    let mut lower = |value: f64, why: VelocityCap| {
+        if value < v_b {
+            v_b = value;
+            cap = why;
+        }
+    };
+    lower(feed, VelocityCap::Feed);
+    if let Some(p) = path {
+        lower(p.velocity, VelocityCap::Path);
+    }
+    for (k, lim) in axes.iter().enumerate() {
+        let Some(l) = lim else { continue };
+        let name = "XYZABC".as_bytes()[k] as char;
+        if d1[k] > 0.0 {
+            lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
+        }
+        if d2[k] > 0.0 {
+            lower(
+                (share.acceleration * l.acceleration / d2[k]).sqrt(),
+                VelocityCap::Centripetal(name),
+            );
+        }
+        if d3[k] > 0.0 {
+            // Terms above the least root cannot lower the bound below it.
+            let root = if ratio[k] == least_ratio {
+                least_root
+            } else if ratio[k] <= near {
+                ratio[k].cbrt()
+            } else {
+                continue;
+            };
+            lower(root, VelocityCap::CentripetalJerk(name));
+        }
+    }
+    Some((v_b, cap))
+}
+
 /// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds
 /// `[|q'|, |q''|, |q'''|]` over a segment (see the module docs); `None` when an axis the machine
 /// lacks would move or the limits degenerate.
@@ -331,45 +482,7 @@ fn tangential_limits(
     share: Share,
 ) -> Option<(super::Limits1, VelocityCap)> {
     let [d1, d2, d3] = bounds;
-    let mut v_b = f64::INFINITY;
-    let mut cap = VelocityCap::Feed;
-    let mut lower = |value: f64, why: VelocityCap| {
-        if value < v_b {
-            v_b = value;
-            cap = why;
-        }
-    };
-    lower(feed, VelocityCap::Feed);
-    if let Some(p) = path {
-        lower(p.velocity, VelocityCap::Path);
-    }
-    for (k, lim) in axes.iter().enumerate() {
-        let name = "XYZABC".as_bytes()[k] as char;
-        match lim {
-            Some(l) => {
-                if d1[k] > 0.0 {
-                    lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
-                }
-                if d2[k] > 0.0 {
-                    lower(
-                        (share.acceleration * l.acceleration / d2[k]).sqrt(),
-                        VelocityCap::Centripetal(name),
-                    );
-                }
-                if d3[k] > 0.0 {
-                    lower(
-                        (share.jerk * l.jerk / d3[k]).cbrt(),
-                        VelocityCap::CentripetalJerk(name),
-                    );
-                }
-            }
-            None => {
-                if d1[k] > 0.0 {
-                    return None;
-                }
-            }
-        }
-    }
+    let (v_b, cap) = velocity_bound(bounds, feed, axes, path, share)?;
     let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
     for (k, lim) in axes.iter().enumerate() {
         if let Some(l) = lim {

@@ -578,16 +578,30 @@ pub struct Profile {
     pub peak_velocity: f64,
 }
 
+/// Durations of the jerk phases and of the constant-acceleration phase of the velocity change
+/// `va → vb` (as [`change_phases`] lays them out).
+fn change_durations(va: f64, vb: f64, lim: &Limits1) -> (f64, f64) {
+    let (t1, t2) = change_times(vb - va, lim);
+    (t1, t2.max(0.0))
+}
+
+/// Jerk-phase and constant-acceleration time of a velocity change by `dv` (the latter may
+/// round below 0).
+fn change_times(dv: f64, lim: &Limits1) -> (f64, f64) {
+    let (a, j) = (lim.acceleration, lim.jerk);
+    if dv.abs() * j >= a * a {
+        (a / j, dv.abs() / a - a / j)
+    } else {
+        ((dv.abs() / j).sqrt(), 0.0)
+    }
+}
+
 /// Phases of one velocity change starting at `(s0, va, a=0)`.
 fn change_phases(s0: f64, va: f64, vb: f64, lim: &Limits1) -> [Phase; 3] {
     let dv = vb - va;
     let sign = if dv >= 0.0 { 1.0 } else { -1.0 };
-    let (a, j) = (lim.acceleration, lim.jerk);
-    let (t1, t2) = if dv.abs() * j >= a * a {
-        (a / j, dv.abs() / a - a / j)
-    } else {
-        ((dv.abs() / j).sqrt(), 0.0)
-    };
+    let j = lim.jerk;
+    let (t1, t2) = change_times(dv, lim);
     let mut p1 = Phase {
         duration_s: t1,
         jerk: sign * j,
@@ -622,6 +636,43 @@ impl Profile {
     /// [`ProfileError`] for invalid input, a boundary velocity above the limit, or a velocity
     /// change that needs more distance than given (relative slack 1e-9 is accepted).
     pub fn calculate(distance: f64, v0: f64, v1: f64, lim: &Limits1) -> Result<Self, ProfileError> {
+        let (v0, v1, vp) = Self::peak_of(distance, v0, v1, lim)?;
+        Ok(Self::with_peak_clamped(distance, v0, v1, vp, lim))
+    }
+
+    /// The peak velocity and the duration of [`Profile::calculate`]'s profile (the same
+    /// values, bit for bit), without building its phases.
+    ///
+    /// # Errors
+    /// As [`Profile::calculate`].
+    pub fn peak_and_duration(
+        distance: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits1,
+    ) -> Result<(f64, f64), ProfileError> {
+        let (v0, v1, vp) = Self::peak_of(distance, v0, v1, lim)?;
+        let (a, j) = (lim.acceleration, lim.jerk);
+        let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+        let cruise = if vp > 0.0 {
+            ((distance - total(vp)) / vp).max(0.0)
+        } else {
+            0.0
+        };
+        let (u1, u2) = change_durations(v0, vp, lim);
+        let (d1, d2) = change_durations(vp, v1, lim);
+        // The phase durations summed in order, as `duration_s` does.
+        let duration = [u1, u2, u1, cruise, d1, d2, d1].into_iter().sum::<f64>();
+        Ok((vp, duration))
+    }
+
+    /// The boundary velocities (clamped to the limit) and the peak velocity of the profile.
+    fn peak_of(
+        distance: f64,
+        v0: f64,
+        v1: f64,
+        lim: &Limits1,
+    ) -> Result<(f64, f64, f64), ProfileError> {
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
         if !lim.is_valid() || !finite_nonneg(distance) || !finite_nonneg(v0) || !finite_nonneg(v1) {
             return Err(ProfileError::InvalidInput);
@@ -647,6 +698,21 @@ impl Profile {
         } else {
             peak_velocity(v0, v1, distance, lim)
         };
+        Ok((v0, v1, vp))
+    }
+
+    /// The profile [`Profile::calculate`] gives for the same input, rebuilt from its peak
+    /// velocity `vp` (bit for bit the same phases, without searching for the peak).
+    #[must_use]
+    pub fn with_peak(distance: f64, v0: f64, v1: f64, vp: f64, lim: &Limits1) -> Self {
+        let (v0, v1) = (v0.min(lim.velocity), v1.min(lim.velocity));
+        Self::with_peak_clamped(distance, v0, v1, vp, lim)
+    }
+
+    /// The phases from the boundary velocities (at most the limit) and the peak.
+    fn with_peak_clamped(distance: f64, v0: f64, v1: f64, vp: f64, lim: &Limits1) -> Self {
+        let (a, j) = (lim.acceleration, lim.jerk);
+        let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
         let cruise = if vp > 0.0 {
             ((distance - total(vp)) / vp).max(0.0)
         } else {
@@ -662,11 +728,11 @@ impl Profile {
             a0: 0.0,
         };
         let down = change_phases(s + vp * cruise, vp, v1, lim);
-        Ok(Self {
+        Self {
             phases: [up[0], up[1], up[2], mid, down[0], down[1], down[2]],
             distance,
             peak_velocity: vp,
-        })
+        }
     }
 
     /// Rest-to-rest profile over `distance`.

@@ -58,13 +58,23 @@ pub struct AxisPeak {
 /// The most samples [`TimedPath::peaks`] looks at (about 20 s of work on a slow machine).
 pub const MAX_PEAK_SAMPLES: usize = 20_000_000;
 
+/// The speeds a plan keeps per segment: enough to rebuild each profile exactly.
+#[derive(Clone, Debug)]
+pub(super) struct Speeds {
+    /// Junction speeds, one more than segments (the program's start and end).
+    pub junctions: Vec<f64>,
+    /// Each segment's peak velocity.
+    pub peaks: Vec<f64>,
+    /// Each segment's start time, and the cycle time last.
+    pub start_times: Vec<f64>,
+}
+
 /// A planned program: profiles per block laid end to end in time.
 #[derive(Clone, Debug)]
 pub struct TimedPath {
     blocks: Vec<MotionBlock>,
     segments: Vec<Segment>,
-    profiles: Vec<Profile>,
-    start_times: Vec<f64>,
+    speeds: Speeds,
     path_starts: Vec<f64>,
     /// Total duration (s).
     pub cycle_time_s: f64,
@@ -78,26 +88,22 @@ impl TimedPath {
     pub(super) fn new(
         blocks: &[MotionBlock],
         segments: Vec<Segment>,
-        profiles: Vec<Profile>,
+        speeds: Speeds,
         axes: &[(char, AxisLimit)],
         sample_period_s: f64,
     ) -> Self {
-        let mut start_times = Vec::with_capacity(profiles.len());
-        let mut path_starts = Vec::with_capacity(profiles.len());
-        let (mut t, mut s) = (0.0, 0.0);
-        for (p, seg) in profiles.iter().zip(&segments) {
-            start_times.push(t);
+        let mut path_starts = Vec::with_capacity(segments.len());
+        let mut s = 0.0;
+        for seg in &segments {
             path_starts.push(s);
-            t += p.duration_s();
             s += seg.length;
         }
         Self {
             blocks: blocks.to_vec(),
+            cycle_time_s: speeds.start_times.last().copied().unwrap_or(0.0),
             segments,
-            profiles,
-            start_times,
+            speeds,
             path_starts,
-            cycle_time_s: t,
             sample_period_s,
             axes: axes.to_vec(),
         }
@@ -155,14 +161,24 @@ impl TimedPath {
     /// Start and end time of planned segment `k` (see [`TimedPath::segments`]), s.
     #[must_use]
     pub fn segment_span_s(&self, k: usize) -> Option<(f64, f64)> {
-        let t0 = *self.start_times.get(k)?;
-        Some((t0, t0 + self.profiles.get(k)?.duration_s()))
+        self.segments.get(k)?;
+        let times = &self.speeds.start_times;
+        Some((*times.get(k)?, *times.get(k + 1)?))
     }
 
-    /// The 1-DoF profile of planned block `k` (along its path length).
+    /// The 1-DoF profile of planned block `k` (along its path length), rebuilt from the kept
+    /// speeds (the same as when it was planned).
     #[must_use]
-    pub fn profile(&self, k: usize) -> Option<&Profile> {
-        self.profiles.get(k)
+    pub fn profile(&self, k: usize) -> Option<Profile> {
+        let seg = self.segments.get(k)?;
+        let sp = &self.speeds;
+        Some(Profile::with_peak(
+            seg.length,
+            *sp.junctions.get(k)?,
+            *sp.junctions.get(k + 1)?,
+            *sp.peaks.get(k)?,
+            &seg.limits,
+        ))
     }
 
     /// The state at time `t` (clamped to `[0, cycle_time_s]`; at the end, exactly the last
@@ -170,13 +186,13 @@ impl TimedPath {
     #[must_use]
     pub fn state_at(&self, t: f64) -> Sample {
         let t = t.clamp(0.0, self.cycle_time_s);
-        let k = self
-            .start_times
+        let n = self.segments.len();
+        let k = self.speeds.start_times[..n]
             .partition_point(|&t0| t0 <= t)
             .saturating_sub(1);
         let (Some(seg), Some(prof), Some(block)) = (
             self.segments.get(k),
-            self.profiles.get(k),
+            self.profile(k),
             self.blocks.get(self.segments.get(k).map_or(0, |s| s.block)),
         ) else {
             let position = self
@@ -195,13 +211,13 @@ impl TimedPath {
                 active: ActiveLimit::None,
             };
         };
-        let local = t - self.start_times.get(k).copied().unwrap_or(0.0);
+        let local = t - self.speeds.start_times.get(k).copied().unwrap_or(0.0);
         let at_end = t >= self.cycle_time_s && k + 1 == self.segments.len();
         let ((s, v, a, j), kind) = prof.at_time_with_kind(local);
         let d = seg.derivatives(s);
         let position = if at_end {
             joint_vector(&block.end)
-        } else if seg.arc.is_none() {
+        } else if seg.arc().is_none() {
             // Lines (possibly shortened by corner blends) and blends: the segment's own point.
             d[0]
         } else if s >= seg.length {
