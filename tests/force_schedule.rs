@@ -35,6 +35,8 @@ struct Case {
     tolerance_mm: f64,
     /// Dexel spacing of the simulated stock, mm.
     resolution: &'static str,
+    /// Length of the pieces forces are sampled on, mm.
+    spacing: &'static str,
 }
 
 const BLOCK: Case = Case {
@@ -44,6 +46,7 @@ const BLOCK: Case = Case {
     step_down_mm: 4.0,
     tolerance_mm: 0.5,
     resolution: "0.5",
+    spacing: "2",
 };
 
 const POCKETS: Case = Case {
@@ -53,6 +56,7 @@ const POCKETS: Case = Case {
     step_down_mm: 4.0,
     tolerance_mm: 0.5,
     resolution: "0.25",
+    spacing: "1",
 };
 
 const HSC: &str = concat!(
@@ -99,10 +103,7 @@ fn scheduled_pocket_roughing_full_size() {
 }
 
 fn schedule_on(case: &Case, machine: &str, share: f64, name: &str) {
-    let dir = std::env::temp_dir().join(format!(
-        "talas-schedule-{name}-{}",
-        std::process::id()
-    ));
+    let dir = std::env::temp_dir().join(format!("talas-schedule-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temporary directory");
     let stl = read_stl(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join(case.part),
@@ -148,7 +149,7 @@ fn schedule_on(case: &Case, machine: &str, share: f64, name: &str) {
         "--resolution",
         case.resolution,
         "--sample-spacing",
-        "1",
+        case.spacing,
         "--json",
     ];
     let target = 120.0;
