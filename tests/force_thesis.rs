@@ -32,13 +32,20 @@
 //!   of taking them at the generating instant; the measured errors are close to the tip
 //!   deflection under the measured peak F_y placed at a_a/2 (test 1: 525 N → 56 µm against
 //!   −59.3 µm; test 4: 670 N → 72 µm against +68 µm, E = 600 GPa, round section 0.8·D).
+//!   Read that way (the largest tip deflection over a revolution, every element in the cut
+//!   loaded, these coefficients and beam), a comparison script gives 64/125/187 µm for
+//!   tests 1–3 and 64/120/176 µm for tests 4–6 (errors 4–13 %), 46/89/133 µm for tests 7–9
+//!   (12–20 %) and, by geometric similarity (a_a = 1.5·D, L = 4·D), the same 64/120/176 µm
+//!   for tests 10–12 against 45/73.5/134 µm measured (31–64 %): the measured D = 8 errors
+//!   are two thirds of the D = 12 ones where a beam of the stated L scales them equally.
+//!   The section the thesis used (r, a, fd of Eqs. 6.16–6.18) is not printed.
 
 use std::collections::BTreeMap;
 
 use talas::force::calibrate::calibrate_linear;
 use talas::force::deflection::{BeamSpec, Cantilever, wall_profile};
 use talas::force::measurements::{Measurement, parse_forces_csv};
-use talas::force::{Coefficients, Mode, RevolutionOptions, revolution};
+use talas::force::{Coefficients, LinearCoefficients, Mode, RevolutionOptions, revolution};
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/force/");
 
@@ -173,5 +180,109 @@ fn table_8_5_peaks_and_table_8_8_form_errors() {
         mean(&down_form) <= 40.0,
         "down-milling wall error {:.1} %",
         mean(&down_form)
+    );
+}
+
+fn linear(ktc: f64, krc: f64) -> Coefficients {
+    Coefficients::Linear(LinearCoefficients {
+        ktc,
+        krc,
+        kac: 0.0,
+        kte: 0.0,
+        kre: 0.0,
+        kae: 0.0,
+    })
+}
+
+/// One test's cut at the given coefficients: (mean, peak) of F_x and F_y.
+fn mean_and_peak(m: &Measurement, k: &Coefficients) -> ([f64; 2], [f64; 2]) {
+    let mill = m.mill().expect("mill");
+    let eng = m.cut().engagement(&mill, 0.25).expect("engagement");
+    let rev = revolution(&mill, k, &eng, &RevolutionOptions::default()).expect("revolution");
+    ([rev.mean.fx, rev.mean.fy], [rev.peak.fx, rev.peak.fy])
+}
+
+/// The cutting coefficients (K_tc, K_rc; no edge terms) whose mean forces are exactly the
+/// given `(F_x, F_y)` on this test's cut: the means are linear in the coefficients.
+fn exact_coefficients(m: &Measurement, fx: f64, fy: f64) -> (f64, f64) {
+    let (a, _) = mean_and_peak(m, &linear(1.0, 0.0));
+    let (b, _) = mean_and_peak(m, &linear(0.0, 1.0));
+    let det = a[0] * b[1] - b[0] * a[1];
+    ((fx * b[1] - b[0] * fy) / det, (a[0] * fy - fx * a[1]) / det)
+}
+
+/// Why Table 8.5's F_x peaks cannot come within the thesis's 9.2 % here, with numbers:
+///
+/// 1. Even with each test's own coefficients solved from its measured means (means exact,
+///    so only the waveform decides the peaks), the peak errors are F_x 13.9 %, F_y 7.5 %.
+///    The measured F_x peak/mean ratios (1.86–2.82) vary with the feed at fixed geometry,
+///    which no rigid, runout-free model with chip thickness f_t·sin φ gives.
+/// 2. The thesis's own predicted waveforms are not this model's: at test 1's cut the F_y
+///    peak/mean ratio is at least 1.8 for any K_rc/K_tc from −0.2 to 1, while the thesis's
+///    predictions (Tables 8.4/8.5, linear model) have 1.61–1.72. Its 9.2 % was reached by a
+///    simulation that is not the one its equations describe (a_a, helix, immersion and
+///    flute count scanned in a comparison script give no geometry that reproduces both).
+/// 3. Down-milling F_x is printed with the up-milling sign: solved with the printed sign,
+///    K_rc/K_tc is 1.4–2.9 for down milling against −0.13…0.02 for up milling with the same
+///    tools and work material; with F_x's sign reversed (the dynamometer frame of a reversed
+///    feed) down milling gives −0.11…0.17, consistent with up milling. The peaks' errors do
+///    not depend on that sign (both mean and peak flip).
+#[test]
+fn table_8_5_peaks_are_limited_by_the_waveform() {
+    let text = std::fs::read_to_string(format!("{DATA}table_8_4.csv")).expect("8.4");
+    let rows = parse_forces_csv(&text).expect("Table 8.4 as FORCES.csv");
+    let peaks = table("table_8_5_peaks.csv");
+    let (mut ex, mut ey) = (0.0, 0.0);
+    for (i, m) in rows.iter().enumerate() {
+        let (ktc, krc) = exact_coefficients(m, m.fx, m.fy);
+        let (mean, peak) = mean_and_peak(m, &linear(ktc, krc));
+        assert!((mean[0] - m.fx).abs() < 1e-6 * m.fx.abs(), "test {}", i + 1);
+        assert!((mean[1] - m.fy).abs() < 1e-6 * m.fy.abs(), "test {}", i + 1);
+        let (px, py) = (num(&peaks[i], "fx_peak_n"), num(&peaks[i], "fy_peak_n"));
+        let (epx, epy) = (
+            100.0 * (peak[0] - px).abs() / px.abs(),
+            100.0 * (peak[1] - py).abs() / py.abs(),
+        );
+        ex += epx / 12.0;
+        ey += epy / 12.0;
+        // Item 3: the ratio K_rc/K_tc with the printed sign and with F_x reversed.
+        let ratio = krc / ktc;
+        let (kf, rf) = exact_coefficients(m, -m.fx, m.fy);
+        eprintln!(
+            "{:2} {:5} K_tc {ktc:7.1} K_rc/K_tc {ratio:6.2} (F_x reversed: {:6.2})  peak F_x {px:8.1} {:8.1} ({epx:4.1} %)  F_y {py:7.1} {:7.1} ({epy:4.1} %)",
+            i + 1,
+            m.mode.name(),
+            rf / kf,
+            peak[0],
+            peak[1]
+        );
+        if m.mode == Mode::Up {
+            assert!((-0.2..0.05).contains(&ratio), "test {}: {ratio}", i + 1);
+        } else {
+            assert!((1.3..3.0).contains(&ratio), "test {}: {ratio}", i + 1);
+            assert!((-0.2..0.25).contains(&(rf / kf)), "test {}", i + 1);
+        }
+    }
+    eprintln!("exact means: peak F_x {ex:.1} % (thesis 9.2 %), peak F_y {ey:.1} % (thesis 8.4 %)");
+    assert!((12.0..16.0).contains(&ex), "peak F_x {ex:.1} %");
+    assert!(ey <= 8.4, "peak F_y {ey:.1} %");
+    // Item 2: the least F_y peak/mean ratio of test 1's cut over the coefficient ratios.
+    let least = [-0.2, 0.0, 0.3, 0.6, 1.0]
+        .iter()
+        .map(|r| {
+            let (mean, peak) = mean_and_peak(&rows[0], &linear(1500.0, 1500.0 * r));
+            peak[1] / mean[1]
+        })
+        .fold(f64::INFINITY, f64::min);
+    let thesis_mean_fy = [
+        276.5, 553.0, 937.4, 336.2, 578.9, 1008.7, 261.0, 522.0, 685.8, 231.4, 411.8, 694.1,
+    ];
+    let thesis_ratio = (0..12)
+        .map(|i| num(&peaks[i], "fy_thesis_n") / thesis_mean_fy[i])
+        .fold(0.0, f64::max);
+    eprintln!("F_y peak/mean: model ≥ {least:.2}, thesis's predictions ≤ {thesis_ratio:.2}");
+    assert!(
+        least > 1.78 && thesis_ratio < 1.73,
+        "{least} {thesis_ratio}"
     );
 }
