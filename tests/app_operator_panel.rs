@@ -291,7 +291,13 @@ fn a_slot_cut_through_mdi_removes_its_closed_form_volume() {
     home(&mut h);
     h.get_by_label("MDI").click();
     h.run_steps(2);
-    for line in ["G0 X60 Y75 Z5", "G1 Z-2 F500", "G1 X80", "G0 Z5"] {
+    for line in [
+        "G0 X60 Y75 Z5",
+        "M3 S8000",
+        "G1 Z-2 F500",
+        "G1 X80",
+        "G0 Z5",
+    ] {
         h.get_by_role(egui::accesskit::Role::TextInput).click();
         h.run_steps(1);
         h.get_by_role(egui::accesskit::Role::TextInput)
