@@ -207,6 +207,12 @@ impl Control {
         self.cfg.stock.as_ref()
     }
 
+    /// The fixtures and other solids on the table (table coordinates).
+    #[must_use]
+    pub fn fixtures(&self) -> &[crate::machine::collision::TableExtra] {
+        &self.cfg.fixtures
+    }
+
     /// Simulated time, s.
     #[must_use]
     pub fn time_s(&self) -> f64 {

@@ -76,6 +76,8 @@ impl OperatorPanel {
             ui.label(format!("t = {:.3} s", snap.time_s));
             ui.label(format!("advance {:.3} ms/frame", self.advance_s * 1e3))
                 .on_hover_text("Wall time the last frame's Control::advance took");
+            ui.separator();
+            self.camera_buttons(ui);
         });
         if let Some(m) = &self.message {
             ui.colored_label(ui.visuals().warn_fg_color, m);
