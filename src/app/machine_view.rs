@@ -156,12 +156,12 @@ impl MachineView {
             s.cutter.overall_length + s.cutter.holder.iter().map(|h| h.length).sum::<f64>()
         });
         let mut out = self.instances(machine, &joints, gauge);
-        out.extend(self.fixture_instances(control.fixtures()));
+        out.extend(self.fixture_meshes(control.fixtures()));
         out
     }
 
     /// The fixtures on the table (table coordinates, which are the world's).
-    fn fixture_instances(
+    pub fn fixture_meshes(
         &mut self,
         fixtures: &[crate::machine::collision::TableExtra],
     ) -> Vec<MeshInstance> {
