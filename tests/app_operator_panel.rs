@@ -291,7 +291,13 @@ fn a_slot_cut_through_mdi_removes_its_closed_form_volume() {
     home(&mut h);
     h.get_by_label("MDI").click();
     h.run_steps(2);
-    for line in ["G0 X60 Y75 Z5", "G1 Z-2 F500", "G1 X80", "G0 Z5"] {
+    for line in [
+        "G0 X60 Y75 Z5",
+        "M3 S8000",
+        "G1 Z-2 F500",
+        "G1 X80",
+        "G0 Z5",
+    ] {
         h.get_by_role(egui::accesskit::Role::TextInput).click();
         h.run_steps(1);
         h.get_by_role(egui::accesskit::Role::TextInput)
@@ -310,4 +316,57 @@ fn a_slot_cut_through_mdi_removes_its_closed_form_volume() {
         (got - want).abs() < 0.02 * want,
         "removed {got} mm³, closed form {want} mm³ (0.5 mm dexels)"
     );
+}
+
+#[test]
+fn machine_camera_presets_in_the_view_menu_frame_the_whole_machine() {
+    let dir = std::env::temp_dir().join(format!("talas-app-op-cam-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let ws = Workstation::new(
+        &egui::Context::default(),
+        None,
+        WorkstationConfig::isolated(None, dir),
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1600.0, 1000.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
+    h.run_steps(3);
+    // The default part loads off the UI thread and the camera fits it when it arrives.
+    for _ in 0..200 {
+        if !h.state().is_loading() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.run_steps(1);
+    }
+    h.run_steps(3);
+    let part_distance = h.state().camera().distance;
+    // (yaw, pitch) of the standard views: front looks along +Y, side along −X, top down.
+    let half_pi = std::f32::consts::FRAC_PI_2;
+    for (label, yaw, pitch) in [
+        ("Machine Front", -half_pi, 0.0),
+        ("Machine Side", 0.0, 0.0),
+        ("Machine Top", -half_pi, half_pi),
+    ] {
+        h.get_by_label("View").click();
+        h.run_steps(2);
+        h.get_by_label(label).click();
+        h.run_steps(3);
+        assert!(h.state_mut().operator_panel().is_some_and(|p| p.open));
+        let cam = *h.state().camera();
+        assert!(
+            (cam.yaw_rad - yaw).abs() < 1e-6 && (cam.pitch_rad - pitch).abs() < 1e-6,
+            "{label}: yaw {} pitch {}",
+            cam.yaw_rad,
+            cam.pitch_rad
+        );
+        // The mill's bodies span about 1.0 × 1.3 × 1.6 m: the camera stands well back of a
+        // part-sized view.
+        assert!(
+            cam.distance > 1000.0 && cam.distance > 2.0 * part_distance,
+            "{label}: distance {} mm (part view {part_distance} mm)",
+            cam.distance
+        );
+    }
 }

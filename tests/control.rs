@@ -308,8 +308,13 @@ fn stock() -> DexelStock {
 }
 
 fn cutting_control() -> Control {
+    cutting_control_homing_at(2000.0)
+}
+
+fn cutting_control_homing_at(home_feed_mm_per_min: f64) -> Control {
     let m = Machine::builtin("mill-3axis").unwrap();
     let mut cfg = ControlConfig::new(m);
+    cfg.home_feed_mm_per_min = home_feed_mm_per_min;
     cfg.stock = Some(LiveStock::new(
         stock(),
         parse_tool_spec("flat:d=6").unwrap(),
@@ -654,4 +659,292 @@ fn optional_stop_single_block_and_block_delete() {
     assert_eq!(stops, 4);
     assert_eq!(c.snapshot().machine_position, vec![20.0, 10.0, 10.0]);
     rec.check_limits(c.machine());
+}
+
+/// A control whose homing runs at 30 m/min (linear) and 30000 °/min (rotary, capped by the
+/// axes' own limits), so the tests below home in a second or two of simulated time.
+fn quick_control(m: Machine, start: Option<[f64; 6]>) -> Control {
+    let mut cfg = ControlConfig::new(m);
+    cfg.home_feed_mm_per_min = 30000.0;
+    if let Some(s) = start {
+        cfg.start = s;
+    }
+    Control::new(cfg).unwrap()
+}
+
+/// The axes started moving in `order`, each only after the one before it reached its switch.
+fn assert_homed_in_order(rec: &Recorder, m: &Machine, order: &str) {
+    let index = |c: char| m.axes.iter().position(|a| a.name == c).unwrap();
+    let s = &rec.samples;
+    let mut previous_done = 0;
+    for c in order.chars() {
+        let i = index(c);
+        let ax = m.axis(c).unwrap();
+        let switch = if ax.is_rotary() { 0.0 } else { ax.max };
+        let first_move = s.iter().position(|p| p[i] != s[0][i]).unwrap();
+        let done = s.iter().position(|p| p[i] == switch).unwrap();
+        assert!(
+            first_move >= previous_done,
+            "{c} moved at sample {first_move}, before the axis ahead of it was home ({previous_done})"
+        );
+        previous_done = done;
+    }
+}
+
+#[test]
+fn homing_follows_the_order_of_the_machine_file() {
+    // Every axis away from its switch: X −100, Y −100, Z 0 mm, A −30°, C 45°.
+    let start = [
+        -100.0,
+        -100.0,
+        0.0,
+        -30f64.to_radians(),
+        0.0,
+        45f64.to_radians(),
+    ];
+    let builtin = Machine::builtin("trt-ac").unwrap();
+    assert_eq!(builtin.home_order, vec!['Z', 'Y', 'X', 'A', 'C']);
+    let text = include_str!("../assets/machines/trt-ac.json");
+    let mut file: serde_json::Value = serde_json::from_str(text).unwrap();
+    file["home_order"] = "CZAYX".into();
+    let custom = Machine::from_json(&file.to_string()).unwrap();
+    for (m, order) in [(builtin, "ZYXAC"), (custom, "CZAYX")] {
+        let mut c = quick_control(m.clone(), Some(start));
+        let mut rec = Recorder::new(&c);
+        home(&mut c, &mut rec);
+        assert_eq!(c.snapshot().homed, vec![true; 5]);
+        assert_eq!(
+            c.snapshot().machine_position,
+            vec![400.0, 400.0, 400.0, 0.0, 0.0]
+        );
+        assert_homed_in_order(&rec, &m, order);
+        assert!(c.alarms().is_empty());
+        rec.check_limits(&m);
+    }
+    // An order that leaves out or repeats an axis, or names one the machine lacks, is refused.
+    for (bad, why) in [
+        ("ZYX", "leaves out axis A"),
+        ("ZYXACC", "axis C is named twice"),
+        ("ZYXACB", "B is not an axis"),
+    ] {
+        file["home_order"] = bad.into();
+        let e = Machine::from_json(&file.to_string())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(why), "{bad}: {e}");
+    }
+}
+
+/// Tool tip and axis in the work (table) frame at the control's present joints.
+fn work_pose(c: &Control) -> (DVec3, DVec3) {
+    let p = c.position();
+    let j = talas::control::collide::machine_joints(c.machine(), &p);
+    let pose = c.machine().forward(&j);
+    (pose.tip, pose.axis)
+}
+
+#[test]
+fn jogs_along_the_tool_axis_land_exactly_on_the_tilted_axis() {
+    for name in ["trt-ac", "trt-bc"] {
+        let m = Machine::builtin(name).unwrap();
+        let tilt = if name == "trt-ac" { 'A' } else { 'B' };
+        let mut c = Control::new(ControlConfig::new(m)).unwrap();
+        let mut rec = Recorder::new(&c);
+        c.apply(Action::JogFeed(6000.0)).unwrap();
+        c.apply(Action::JogDistance {
+            axis: tilt,
+            distance: -30.0,
+        })
+        .unwrap();
+        rec.until_idle(&mut c, 10.0);
+        c.apply(Action::JogDistance {
+            axis: 'C',
+            distance: 40.0,
+        })
+        .unwrap();
+        rec.until_idle(&mut c, 10.0);
+        let (tip0, axis) = work_pose(&c);
+        // The tool axis is tilted 30° from the table's Z in the work frame.
+        assert!((axis.z - 30f64.to_radians().cos()).abs() < 1e-12, "{axis}");
+        let mut along = 0.0;
+        for (inc, dir, moved) in [(1.0, -1.0, -1.0), (0.1, 1.0, 0.1), (0.001, -1.0, -0.001)] {
+            c.apply(Action::SetIncrement(inc)).unwrap();
+            c.apply(Action::JogIncrement {
+                axis: 'T',
+                direction: dir,
+            })
+            .unwrap();
+            rec.until_idle(&mut c, 10.0);
+            along += moved;
+            let (tip, axis_now) = work_pose(&c);
+            let want = tip0 + along * axis;
+            assert!(tip.distance(want) < 1e-9, "{name}: {tip} vs {want}");
+            assert!(axis_now.distance(axis) < 1e-15, "the rotaries stood");
+        }
+        c.apply(Action::JogDistance {
+            axis: 'T',
+            distance: -25.0,
+        })
+        .unwrap();
+        rec.until_idle(&mut c, 10.0);
+        along -= 25.0;
+        let (tip, _) = work_pose(&c);
+        assert!(tip.distance(tip0 + along * axis) < 1e-9);
+        // Held: the tool-axis jog ends exactly at the Z limit with the soft-limit alarm.
+        c.apply(Action::JogStart {
+            axis: 'T',
+            direction: 1.0,
+        })
+        .unwrap();
+        rec.until_idle(&mut c, 30.0);
+        assert_eq!(c.snapshot().machine_position[2], 400.0);
+        let a = c.alarms().last().unwrap();
+        assert_eq!((a.code, a.axis), (codes::SOFT_LIMIT, Some('Z')));
+        rec.check_limits(c.machine());
+    }
+}
+
+#[test]
+fn cutting_with_the_spindle_stopped_raises_an_alarm_at_the_block() {
+    // MDI: the plunge of line 2 without M3.
+    let mut c = cutting_control_homing_at(30000.0);
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+    c.apply(Action::Mdi("G0 X0 Y0 Z5".into())).unwrap();
+    rec.until_idle(&mut c, 10.0);
+    c.apply(Action::Mdi("G1 Z-2 F300".into())).unwrap();
+    rec.until_idle(&mut c, 10.0);
+    let a = c.alarms().last().unwrap().clone();
+    assert_eq!((a.code, a.line), (codes::SPINDLE_STOPPED, Some(2)), "{a:?}");
+    // The alarm names where the first cutting piece of motion (20 ms, 0.1 mm at F300) starts:
+    // within 0.1 mm of the stock top (z = 0).
+    let z = a.position.unwrap()[2];
+    assert!(z.abs() <= 0.1, "alarm at z = {z} mm");
+    let z_now = c.snapshot().machine_position[2];
+    assert!(
+        z_now > -2.0,
+        "stopped before the block's end: z = {z_now} mm"
+    );
+    assert!(c.apply(Action::Mdi("G0 Z5".into())).is_err(), "blocked");
+    // With the spindle on, the same block cuts without alarm.
+    c.apply(Action::Reset).unwrap();
+    c.apply(Action::Mdi("M3 S8000".into())).unwrap();
+    c.apply(Action::Mdi("G1 Z-2 F300".into())).unwrap();
+    rec.until_idle(&mut c, 10.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    // AUTO: the program with M5 where it had M3 stops at its first cutting block, line 5.
+    let mut c = cutting_control_homing_at(30000.0);
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Auto)).unwrap();
+    c.apply(Action::LoadProgram {
+        name: "m5.ngc".into(),
+        text: PROGRAM.replace("M3 S8000", "M5"),
+    })
+    .unwrap();
+    c.apply(Action::CycleStart).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    let a = c.alarms().last().unwrap();
+    assert_eq!((a.code, a.line), (codes::SPINDLE_STOPPED, Some(5)), "{a:?}");
+    // Jogging into the stock with the spindle buttons off raises it too (no line).
+    let mut c = cutting_control();
+    c.apply(Action::JogFeed(6000.0)).unwrap();
+    c.apply(Action::JogDistance {
+        axis: 'Z',
+        distance: -101.0,
+    })
+    .unwrap();
+    c.advance_until_idle(30.0);
+    let a = c.alarms().last().unwrap();
+    assert_eq!((a.code, a.line), (codes::SPINDLE_STOPPED, None), "{a:?}");
+    rec.check_limits(c.machine());
+}
+
+/// Time of an AUTO run of `text` from machine (0, 0, 0) on the mill with the feed override
+/// at `pct`, changed to `then.1` % at `then.0` s into the run.
+fn auto_time(text: &str, pct: f64, then: Option<(f64, f64)>) -> f64 {
+    let mut c = quick_control(Machine::builtin("mill-3axis").unwrap(), None);
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+    c.apply(Action::Mdi("G0 X0 Y0 Z0".into())).unwrap();
+    rec.until_idle(&mut c, 60.0);
+    c.apply(Action::SetMode(Mode::Auto)).unwrap();
+    c.apply(Action::Override(OverrideKind::Feed, pct)).unwrap();
+    c.apply(Action::LoadProgram {
+        name: "p".into(),
+        text: text.into(),
+    })
+    .unwrap();
+    let t0 = c.time_s();
+    c.apply(Action::CycleStart).unwrap();
+    if let Some((at, pct)) = then {
+        rec.step(&mut c, at);
+        c.apply(Action::Override(OverrideKind::Feed, pct)).unwrap();
+    }
+    rec.until_idle(&mut c, 600.0);
+    rec.check_limits(c.machine());
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    c.time_s() - t0
+}
+
+#[test]
+fn feed_override_150_and_a_change_while_running_retime_the_program() {
+    let text = "G1 X100 F3000\nG1 Y100\nG2 X0 Y100 I-50 J0 F2000\n";
+    let t150 = auto_time(text, 150.0, None);
+    let want150 = planned_time(
+        "G1 X100 F4500\nG1 Y100\nG2 X0 Y100 I-50 J0 F3000\n",
+        DVec3::ZERO,
+    );
+    assert!((t150 - want150).abs() <= 2e-3, "{t150} vs {want150} s");
+    // 50 % set 0.5 s into the first block: that block ends at its speed (exact stop), the
+    // rest runs at half the programmed feeds.
+    let t_mid = auto_time(text, 100.0, Some((0.5, 50.0)));
+    let want_mid = planned_time("G1 X100 F3000\n", DVec3::ZERO)
+        + planned_time(
+            "G1 Y100 F1500\nG2 X0 Y100 I-50 J0 F1000\n",
+            DVec3::new(100.0, 0.0, 0.0),
+        );
+    assert!((t_mid - want_mid).abs() <= 2e-3, "{t_mid} vs {want_mid} s");
+}
+
+/// Time of the MDI rapid `G0 X-250` from the home position (X 300 mm) with the rapid
+/// override at `pct` (0 %: held for 0.5 s, then raised to 100 %).
+fn rapid_time(pct: f64) -> f64 {
+    let mut c = quick_control(Machine::builtin("mill-3axis").unwrap(), None);
+    let mut rec = Recorder::new(&c);
+    home(&mut c, &mut rec);
+    c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+    c.apply(Action::Override(OverrideKind::Rapid, pct)).unwrap();
+    let t0 = c.time_s();
+    c.apply(Action::Mdi("G0 X-250".into())).unwrap();
+    if pct == 0.0 {
+        rec.step(&mut c, 0.5);
+        assert_eq!(c.run_state(), RunState::Held);
+        assert_eq!(c.snapshot().machine_position[0], 300.0);
+        c.apply(Action::Override(OverrideKind::Rapid, 100.0))
+            .unwrap();
+    }
+    rec.until_idle(&mut c, 60.0);
+    assert_eq!(c.snapshot().machine_position[0], -250.0);
+    rec.check_limits(c.machine());
+    c.time_s() - t0
+}
+
+#[test]
+fn rapid_override_0_25_50_100_retimes_a_rapid() {
+    let home_pos = DVec3::new(300.0, 200.0, 100.0);
+    let t100 = rapid_time(100.0);
+    let want100 = planned_time("G0 X-250\n", home_pos);
+    assert!((t100 - want100).abs() <= 2e-3, "{t100} vs {want100} s");
+    // 25 % and 50 %: a fed move at that fraction of X's 500 mm/s (30000 mm/min).
+    for pct in [25.0, 50.0] {
+        let t = rapid_time(pct);
+        let want = planned_time(&format!("G1 X-250 F{}\n", 300.0 * pct), home_pos);
+        assert!((t - want).abs() <= 2e-3, "{pct} %: {t} vs {want} s");
+        assert!(t > t100);
+    }
+    let t0 = rapid_time(0.0);
+    assert!((t0 - (0.5 + want100)).abs() <= 2e-3, "0 %: {t0} s");
 }

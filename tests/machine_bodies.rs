@@ -338,3 +338,48 @@ fn body_meshes_are_closed_with_the_primitive_volume() {
         }
     }
 }
+
+#[test]
+fn the_stock_rests_on_a_riser_from_the_table_top_and_the_tool_meets_it() {
+    use talas::control::collide::{riser_under, table_top_z};
+    use talas::machine::Shape;
+    // The mill's table top is 100 mm below machine zero (its table box ends at z = −100).
+    let mill = Machine::builtin("mill-3axis").unwrap();
+    assert_eq!(table_top_z(&mill), Some(-100.0));
+    let (lo, hi) = (DVec3::new(-30.0, -30.0, -10.0), DVec3::new(30.0, 30.0, 0.0));
+    let riser = riser_under(&mill, lo, hi).unwrap();
+    assert_eq!(
+        riser.shape,
+        Shape::Box {
+            min: DVec3::new(-30.0, -30.0, -100.0),
+            max: DVec3::new(30.0, 30.0, -10.0),
+        }
+    );
+    // The trunnion's rotary table top is z = 0: a stock standing on it needs no riser.
+    let trt = Machine::builtin("trt-ac").unwrap();
+    assert!(table_top_z(&trt).unwrap().abs() < 1e-9);
+    assert!(
+        riser_under(
+            &trt,
+            DVec3::new(-20.0, -20.0, 0.0),
+            DVec3::new(20.0, 20.0, 30.0)
+        )
+        .is_none()
+    );
+    // A tool lowered through where the stock was meets the riser's top at Z = −10 mm.
+    let model = CollisionModel::new(
+        &mill,
+        &tool_cylinders(10.0, 10.0, 50.0, &[(64.0, 60.0)]),
+        &[riser],
+    )
+    .unwrap();
+    let prog = interpret(
+        "G0 X0 Y0 Z50\nG1 Z-50 F1000\n",
+        &InterpretOptions::default(),
+    )
+    .unwrap();
+    let hit = check_blocks(&model, &mill, &prog.blocks).expect("a collision");
+    assert_eq!(hit.line, 2);
+    assert_eq!(hit.contacts[0].bodies, ["tool".to_string(), "riser".into()]);
+    assert!((hit.position[2] + 10.0).abs() < 1e-3, "{:?}", hit.position);
+}

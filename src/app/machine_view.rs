@@ -48,7 +48,13 @@ pub struct MachineView {
     next_id: DataId,
     /// The camera was fitted to this machine already.
     fitted: Option<String>,
+    /// The fixtures drawn, and their meshes (table frame = world).
+    fixtures: Vec<crate::machine::collision::TableExtra>,
+    fixture_draws: Vec<(DataId, Arc<MeshData>)>,
 }
+
+/// Colour of fixtures (risers, vices): aluminium.
+const FIXTURE_COLOUR: Rgba8 = [200, 186, 150, 255];
 
 /// Flat-shaded mesh data of a body (each triangle its own vertices and face normal).
 fn mesh_data(mesh: &crate::machine::BodyMesh) -> MeshData {
@@ -149,7 +155,35 @@ impl MachineView {
         let gauge = control.stock().map_or(0.0, |s| {
             s.cutter.overall_length + s.cutter.holder.iter().map(|h| h.length).sum::<f64>()
         });
-        self.instances(machine, &joints, gauge)
+        let mut out = self.instances(machine, &joints, gauge);
+        out.extend(self.fixture_meshes(control.fixtures()));
+        out
+    }
+
+    /// The fixtures on the table (table coordinates, which are the world's).
+    pub fn fixture_meshes(
+        &mut self,
+        fixtures: &[crate::machine::collision::TableExtra],
+    ) -> Vec<MeshInstance> {
+        if self.fixtures != fixtures {
+            self.fixtures = fixtures.to_vec();
+            self.fixture_draws.clear();
+            for f in fixtures {
+                self.next_id = self.next_id.max(FIRST_ID) + 1;
+                let data = Arc::new(mesh_data(&f.shape.mesh(SEGMENTS)));
+                self.fixture_draws.push((self.next_id, data));
+            }
+        }
+        self.fixture_draws
+            .iter()
+            .map(|(id, data)| MeshInstance {
+                id: *id,
+                data: Arc::clone(data),
+                world_from_mesh: Mat4::IDENTITY,
+                colour: FIXTURE_COLOUR,
+                scalar_map: None,
+            })
+            .collect()
     }
 
     /// A sphere around the instances (for the machine camera preset), once per machine: `Some`
@@ -185,20 +219,29 @@ pub fn machine_sphere(instances: &[MeshInstance]) -> Option<BoundingSphere> {
 }
 
 /// The workstation's hook: while the operator panel is open and its control exists, the
-/// machine's bodies at the control's axis values (to add to the viewport's meshes), the
-/// control's tool drawn at its tip, and the camera fitted to the machine the first time it is
-/// shown. Empty otherwise.
+/// machine's bodies at the control's axis values and the fixtures on its table (to add to the
+/// viewport's meshes), the control's tool drawn at its tip, and the camera fitted to the
+/// machine the first time it is shown or when a machine camera preset is asked for. Empty
+/// otherwise.
 pub fn panel_machine(
     view: &mut MachineView,
-    panel: &crate::app::operator_panel::OperatorPanel,
+    panel: &mut crate::app::operator_panel::OperatorPanel,
     viewport: &mut crate::app::viewport::ViewportState,
 ) -> Vec<MeshInstance> {
-    let Some(control) = panel.control().filter(|_| panel.open) else {
+    if !panel.open || panel.control().is_none() {
+        return Vec::new();
+    }
+    let preset = panel.take_machine_view();
+    let Some(control) = panel.control() else {
         return Vec::new();
     };
     let meshes = view.instances_for(control);
-    if let Some(sphere) = view.fit_once(&meshes) {
-        viewport.camera.set_view(crate::render::StandardView::Iso);
+    let first = view
+        .fit_once(&meshes)
+        .map(|s| (crate::render::StandardView::Iso, s));
+    let asked = preset.and_then(|v| machine_sphere(&meshes).map(|s| (v, s)));
+    if let Some((v, sphere)) = asked.or(first) {
+        viewport.camera.set_view(v);
         viewport.camera.fit(sphere, viewport.aspect);
     }
     if let Some(s) = control.stock() {

@@ -82,8 +82,10 @@ fn axis(tok: Option<&str>) -> Result<char, String> {
     let t = tok.ok_or("missing axis letter")?;
     let mut c = t.chars();
     match (c.next(), c.next()) {
-        (Some(a), None) if "XYZABC".contains(a.to_ascii_uppercase()) => Ok(a.to_ascii_uppercase()),
-        _ => Err(format!("'{t}' is not an axis letter (X Y Z A B C)")),
+        (Some(a), None) if "XYZABCT".contains(a.to_ascii_uppercase()) => Ok(a.to_ascii_uppercase()),
+        _ => Err(format!(
+            "'{t}' is not an axis letter (X Y Z A B C, or T for the tool axis)"
+        )),
     }
 }
 

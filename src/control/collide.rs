@@ -188,3 +188,49 @@ pub fn describe_position(machine: &Machine, p: &JointVector) -> String {
     }
     parts.join(" ")
 }
+
+/// Height of the table's top in table (part) coordinates at zero joints: the highest point
+/// of the table-side bodies (mm); `None` without bodies.
+#[must_use]
+pub fn table_top_z(machine: &Machine) -> Option<f64> {
+    let s = machine.structure.as_ref()?;
+    let links = machine.link_placements(&MachineJoints::default(), 0.0)?;
+    let r = links.table.rotation.transpose();
+    let view = crate::machine::Placement {
+        rotation: r,
+        translation: -(r * links.table.translation),
+    };
+    s.bodies
+        .iter()
+        .filter(|b| s.side(b.link) == crate::machine::Side::Table)
+        .flat_map(|b| {
+            let place = view.then_inner(&links.of(b.link));
+            b.shape
+                .mesh(16)
+                .vertices
+                .into_iter()
+                .map(move |v| place.apply(v).z)
+        })
+        .reduce(f64::max)
+}
+
+/// A riser block (parallels) under the stock, from the table's top up to the stock's bottom
+/// with the stock's footprint, so the part rests on the table rather than floating above it;
+/// `None` when the stock already reaches the table (or the machine has no bodies).
+#[must_use]
+pub fn riser_under(
+    machine: &Machine,
+    stock_min: glam::DVec3,
+    stock_max: glam::DVec3,
+) -> Option<TableExtra> {
+    let top = table_top_z(machine)?;
+    let footprint = (stock_max - stock_min).truncate().min_element();
+    (stock_min.z - top > 1e-6 && footprint > 0.0).then(|| TableExtra {
+        name: "riser".into(),
+        shape: Shape::Box {
+            min: glam::DVec3::new(stock_min.x, stock_min.y, top),
+            max: glam::DVec3::new(stock_max.x, stock_max.y, stock_min.z),
+        },
+        cut_by_tool: false,
+    })
+}

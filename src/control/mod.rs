@@ -21,12 +21,18 @@
 //!   running is ignored (nothing queues). Incremental jogs beyond the travel end at the limit
 //!   with the same alarm. MPG detents turned while the axis moves are added to its target
 //!   (position mode: no count is lost).
+//! - Jogs along the tool axis use the pseudo-axis [`tool_axis::TOOL_AXIS`] (`T`) in the jog
+//!   actions: the tool tip moves along the tool's axis with the rotaries standing.
 //! - MDI and AUTO motion is checked against the travel before it starts
 //!   ([`crate::feed::travel_violations`]); a block that would leave it is refused with alarm
 //!   [`codes::TRAVEL`] naming the line and axis.
 //! - Overrides: feed 0–150 % (fed moves), rapid 0/25/50/100 % (rapids), spindle 50–120 %.
 //!   They are applied when a motion is planned (each AUTO stretch between stops, each MDI
-//!   line, each resume); 0 % holds the motion and a non-zero value resumes it.
+//!   line, each resume); a change while a program or MDI motion runs replans the rest of it
+//!   at the next block boundary (where the exact-stop plan is at rest), so the block under
+//!   way keeps its speed. 0 % holds the motion and a non-zero value resumes it.
+//! - A fed move that removes material while the spindle stands (M5, never started, 0 rpm;
+//!   jogs: the spindle buttons) raises [`codes::SPINDLE_STOPPED`] naming the line and stops.
 //! - With a stock and a tool, every piece of motion played is cut into the dexel stock
 //!   ([`cutting`]); a rapid through material or a holder/shank in material stops the motion
 //!   with a collision alarm naming the bodies, the line and the position.
@@ -40,6 +46,7 @@ pub mod collide;
 pub mod cutting;
 pub mod motion;
 mod state;
+pub mod tool_axis;
 
 pub use cutting::LiveStock;
 pub use motion::{Kinematics, Run, sub_block};
@@ -72,6 +79,8 @@ pub mod codes {
     /// Two machine bodies (head, spindle, tool or holder against the table side, the bed, the
     /// stock or a fixture) touched.
     pub const COLLISION_MACHINE: u32 = 43;
+    /// A fed move cut the stock while the spindle stood (M5, never started, or 0 rpm).
+    pub const SPINDLE_STOPPED: u32 = 44;
     /// The stock simulation failed on a piece of motion.
     pub const SIMULATION: u32 = 50;
 }
@@ -310,9 +319,10 @@ pub struct ControlConfig {
 
 impl ControlConfig {
     /// Defaults for a machine: power-on at machine zero (clamped into the travel) with Z at
-    /// the top of its travel (the spindle clear of the table and its bodies), homing Z
-    /// first, then the other linear axes, then the rotaries, each to its switch at the top of
-    /// the travel (linear) or 0 (rotary); jog 1000 mm/min, homing 2000 mm/min.
+    /// the top of its travel (the spindle clear of the table and its bodies), homing in the
+    /// machine file's `home_order` (when it has none: Z first, then the other linear axes,
+    /// then the rotaries), each axis to its switch at the top of the travel (linear) or 0
+    /// (rotary); jog 1000 mm/min, homing 2000 mm/min.
     #[must_use]
     pub fn new(machine: Machine) -> Self {
         let mut start = [0.0; 6];
@@ -347,6 +357,9 @@ impl ControlConfig {
                 .filter(|a| a.is_rotary())
                 .map(|a| a.name),
         );
+        if !machine.home_order.is_empty() {
+            home_order.clone_from(&machine.home_order);
+        }
         Self {
             machine,
             stock: None,

@@ -182,6 +182,38 @@ impl Run {
         h
     }
 
+    /// Move the clock on by at most `dt` but not past the end of the present segment (where
+    /// the exact-stop plan is at rest); returns the time used.
+    pub fn step_within_segment(&mut self, dt: f64) -> f64 {
+        if self.brake.is_some() {
+            return self.step(dt);
+        }
+        let t = self.t;
+        let k = self.seg_t0.partition_point(|&t0| t0 <= t).saturating_sub(1);
+        let end = self
+            .seg_t0
+            .get(k + 1)
+            .copied()
+            .unwrap_or(self.path.cycle_time_s);
+        if end - t <= dt {
+            self.t = end;
+            (end - t).max(0.0)
+        } else {
+            self.t += dt;
+            dt
+        }
+    }
+
+    /// Whether the clock stands exactly at the start of a segment after the first (the
+    /// motion at rest between two blocks, not braking).
+    #[must_use]
+    pub fn at_segment_boundary(&self) -> bool {
+        self.brake.is_none()
+            && self.t > 0.0
+            && self.t < self.path.cycle_time_s
+            && self.seg_t0.contains(&self.t)
+    }
+
     /// The planned segment holding path position `s` and the position inside it.
     fn segment_at(&self, s: f64) -> (usize, f64) {
         let k = self.seg_s0.partition_point(|&s0| s0 <= s).saturating_sub(1);

@@ -11,7 +11,8 @@ use super::{
 use crate::feed::path::{JointVector, SLOTS, joint_vector, slot_of};
 use crate::feed::{AxisLimit, machine_limits, travel_violations};
 use crate::gcode::{InterpretOptions, Joints, Modal, MotionBlock, MotionKind, Session};
-use crate::simulation::CollisionKind;
+
+mod cut;
 
 /// An action the control refuses (wrong mode, busy, value out of range).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -59,6 +60,9 @@ struct Active {
     check_pos: JointVector,
     /// Bodies in contact where the motion started (it may separate them).
     start_contacts: Vec<crate::machine::collision::Contact>,
+    /// An override changed while this motion runs: replan the rest at the next block
+    /// boundary (where the exact-stop plan is at rest).
+    retime: bool,
 }
 
 struct Held {
@@ -201,6 +205,12 @@ impl Control {
     #[must_use]
     pub fn stock(&self) -> Option<&super::LiveStock> {
         self.cfg.stock.as_ref()
+    }
+
+    /// The fixtures and other solids on the table (table coordinates).
+    #[must_use]
+    pub fn fixtures(&self) -> &[crate::machine::collision::TableExtra] {
+        &self.cfg.fixtures
     }
 
     /// Simulated time, s.
@@ -500,12 +510,19 @@ impl Control {
         axis: char,
         d: f64,
     ) -> Result<(JointVector, Option<(char, f64)>), ControlError> {
-        let (Some(ax), Some(k)) = (self.cfg.machine.axis(axis), slot_of(axis)) else {
-            return refuse(format!("the machine has no axis {axis}"));
-        };
         if !d.is_finite() {
             return refuse(format!("jog distance {d} is not a number"));
         }
+        if axis == super::tool_axis::TOOL_AXIS {
+            return Ok(super::tool_axis::tool_axis_target(
+                &self.cfg.machine,
+                &self.pos,
+                d,
+            ));
+        }
+        let (Some(ax), Some(k)) = (self.cfg.machine.axis(axis), slot_of(axis)) else {
+            return refuse(format!("the machine has no axis {axis}"));
+        };
         let d = if ax.is_rotary() { d.to_radians() } else { d };
         let mut target = self.pos;
         let want = self.pos[k] + d;
@@ -540,10 +557,11 @@ impl Control {
         limit: Option<(char, f64)>,
         kind: Kind,
     ) {
-        let Some(k) = slot_of(axis) else {
-            return;
-        };
-        if (target[k] - self.pos[k]).abs() <= 1e-12 {
+        let still = target
+            .iter()
+            .zip(&self.pos)
+            .all(|(t, p)| (t - p).abs() <= 1e-12);
+        if still {
             if let Some((axis, lim)) = limit {
                 self.soft_limit_alarm(axis, lim);
             }
@@ -843,7 +861,17 @@ impl Control {
             OverrideKind::Rapid => 1,
             OverrideKind::Spindle => 2,
         };
+        let changed = self.overrides[i] != pct;
         self.overrides[i] = pct;
+        if let Some(a) = &mut self.active
+            && i < 2
+            && pct > 0.0
+            && changed
+            && matches!(a.kind, Kind::Auto | Kind::Mdi)
+            && !a.run.braking()
+        {
+            a.retime = true;
+        }
         if i < 2 && pct <= 0.0 {
             self.hold(true);
         } else if i < 2
@@ -962,6 +990,7 @@ impl Control {
                     since_cut: 0.0,
                     check_s: 0.0,
                     check_pos: self.pos,
+                    retime: false,
                     start_contacts: self.collide.as_ref().map_or_else(Vec::new, |m| {
                         let j = super::collide::machine_joints(&self.cfg.machine, &self.pos);
                         m.contacts(&self.cfg.machine, &j)
@@ -1002,7 +1031,12 @@ impl Control {
                 self.clock += left;
                 break;
             };
-            let used = a.run.step(left.min(SUB_STEP_S));
+            let retime = a.retime;
+            let used = if retime {
+                a.run.step_within_segment(left.min(SUB_STEP_S))
+            } else {
+                a.run.step(left.min(SUB_STEP_S))
+            };
             a.since_cut += used;
             self.clock += used;
             left -= used;
@@ -1020,6 +1054,14 @@ impl Control {
             }
             if cut_due {
                 self.cut_pending();
+            }
+            if retime
+                && self
+                    .active
+                    .as_ref()
+                    .is_some_and(|a| a.run.at_segment_boundary())
+            {
+                self.retime_rest();
             }
         }
         if self.active.as_ref().is_some_and(|a| a.run.finished()) {
@@ -1041,56 +1083,6 @@ impl Control {
     /// every 20 ms of motion and at the end of each motion).
     pub fn flush_cutting(&mut self) {
         self.cut_pending();
-    }
-
-    /// Cut the motion played since the last cut into the stock; collisions become alarms and
-    /// stop the motion.
-    fn cut_pending(&mut self) {
-        let (Some(a), Some(stock)) = (&mut self.active, &mut self.cfg.stock) else {
-            return;
-        };
-        let s = a.run.path_position();
-        let pieces = a.run.pieces(a.cut_s, s);
-        a.cut_s = s;
-        a.since_cut = 0.0;
-        match stock.cut(pieces, &self.cfg.machine) {
-            Ok(collisions) if collisions.is_empty() => {}
-            Ok(collisions) => {
-                for c in collisions {
-                    let (code, body, what) = match c.kind {
-                        CollisionKind::Rapid => (
-                            codes::COLLISION_RAPID,
-                            "tool",
-                            "the tool went through the stock on a rapid move",
-                        ),
-                        CollisionKind::Shank => {
-                            (codes::COLLISION_SHANK, "shank", "the shank hit the stock")
-                        }
-                        CollisionKind::Holder => (
-                            codes::COLLISION_HOLDER,
-                            "holder",
-                            "the holder hit the stock",
-                        ),
-                    };
-                    let line = (c.block > 0).then_some(c.block);
-                    let where_ = line.map_or(String::new(), |l| format!("line {l}: "));
-                    let text = format!(
-                        "{where_}{what} at ({:.3}, {:.3}, {:.3}) mm, {:.3} mm deep",
-                        c.position.x, c.position.y, c.position.z, c.depth_mm
-                    );
-                    let al = self.alarm(code, text);
-                    al.bodies = vec![body.into(), "stock".into()];
-                    al.position = Some(c.position.to_array());
-                    al.line = line;
-                }
-                self.blocked = true;
-                self.stop_all();
-            }
-            Err(e) => {
-                self.alarm(codes::SIMULATION, format!("stock simulation: {e}"));
-                self.cfg.stock = None;
-            }
-        }
     }
 
     /// Test the motion played since the last test for machine collisions; the first contact
@@ -1143,6 +1135,24 @@ impl Control {
         al.line = line;
         self.blocked = true;
         self.stop_all();
+    }
+
+    /// At rest between two blocks after an override change: the rest of the motion is
+    /// planned again with the overrides now set.
+    fn retime_rest(&mut self) {
+        self.check_machine();
+        self.cut_pending();
+        let Some(a) = self.active.take() else {
+            return;
+        };
+        self.pos = a.run.kinematics().position;
+        self.session.set_position(self.joints(&self.pos));
+        let blocks = a.run.remaining_blocks();
+        if blocks.is_empty() || self.blocked {
+            self.active = Some(a);
+            return;
+        }
+        self.start_run(blocks, a.kind, a.limit_alarm);
     }
 
     /// The motion has ended (or braked to rest): settle the position and go on.

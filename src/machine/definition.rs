@@ -82,6 +82,10 @@ pub struct MachineFile {
     /// Rated spindle power, W (optional: the cutting-force model flags moves above it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spindle_power_w: Option<f64>,
+    /// Homing order: every axis letter once, first homed first (`"ZXY"`, `"ZYXAC"`); optional,
+    /// the control's default (Z, the other linear axes, the rotaries) when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub home_order: Option<String>,
 }
 
 /// A validated axis in internal units (mm or rad).
@@ -203,7 +207,12 @@ impl MachineFile {
             drawing: self.drawing.clone(),
             spindle_power_w: self.spindle_power_w,
             structure: None,
+            home_order: Vec::new(),
         };
+        if let Some(order) = &self.home_order {
+            machine.home_order = validate_home_order(order, &machine)
+                .map_err(|m| MachineError::Invalid(format!("{}: {m}", self.name)))?;
+        }
         if let Some(s) = &self.structure {
             machine.structure = Some(
                 s.validate(&machine)
@@ -212,4 +221,26 @@ impl MachineFile {
         }
         Ok(machine)
     }
+}
+
+/// The homing order of a file: each axis of the machine exactly once.
+fn validate_home_order(order: &str, machine: &Machine) -> Result<Vec<char>, String> {
+    let letters: Vec<char> = order.chars().filter(|c| !c.is_whitespace()).collect();
+    for (i, c) in letters.iter().enumerate() {
+        if machine.axis(*c).is_none() {
+            return Err(format!(
+                "home_order \"{order}\": {c} is not an axis of the machine"
+            ));
+        }
+        if letters[..i].contains(c) {
+            return Err(format!("home_order \"{order}\": axis {c} is named twice"));
+        }
+    }
+    if let Some(missing) = machine.axes.iter().find(|a| !letters.contains(&a.name)) {
+        return Err(format!(
+            "home_order \"{order}\" leaves out axis {}",
+            missing.name
+        ));
+    }
+    Ok(letters)
 }

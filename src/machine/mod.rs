@@ -98,6 +98,8 @@ pub struct Machine {
     pub structure: Option<Structure>,
     /// Rated spindle power, W, when the machine file gives it.
     pub spindle_power_w: Option<f64>,
+    /// Homing order from the machine file (empty: the control's default order).
+    pub home_order: Vec<char>,
 }
 
 const BUILTIN: [(&str, &str); 3] = [

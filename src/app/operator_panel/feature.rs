@@ -4,6 +4,7 @@
 
 use std::any::Any;
 
+use super::camera::MACHINE_VIEWS;
 use super::{OperatorPanel, PanelSource};
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
@@ -43,19 +44,35 @@ impl Feature for OperatorPanel {
             feature: Self::ID,
             action: "open",
         };
-        vec![
+        let mut out = vec![
             Action::new(
                 Command::Feature(open),
                 "Operator panel…",
                 Some((Menu::Machining, 2)),
             )
             .hint("Jog, MDI and AUTO on the virtual control of the project's machine"),
-        ]
+        ];
+        out.extend(MACHINE_VIEWS.map(|(_, action, label)| {
+            let command = Command::Feature(FeatureCommand {
+                feature: Self::ID,
+                action,
+            });
+            Action::new(command, format!("Machine {label}"), Some((Menu::View, 1)))
+                .hint("The whole machine (opens the operator panel)")
+        }));
+        out
     }
 
     fn apply(&mut self, command: Command) -> Option<Command> {
         if is_action(&command, Self::ID, "open") {
             self.open = true;
+            return None;
+        }
+        if let Some((view, _, _)) = MACHINE_VIEWS
+            .iter()
+            .find(|(_, action, _)| is_action(&command, Self::ID, action))
+        {
+            self.request_machine_view(*view);
             return None;
         }
         Some(command)

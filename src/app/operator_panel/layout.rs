@@ -76,6 +76,8 @@ impl OperatorPanel {
             ui.label(format!("t = {:.3} s", snap.time_s));
             ui.label(format!("advance {:.3} ms/frame", self.advance_s * 1e3))
                 .on_hover_text("Wall time the last frame's Control::advance took");
+            ui.separator();
+            self.camera_buttons(ui);
         });
         if let Some(m) = &self.message {
             ui.colored_label(ui.visuals().warn_fg_color, m);
@@ -168,14 +170,18 @@ impl OperatorPanel {
         });
     }
 
-    /// A − and a + button per axis: held (JOG) they jog, clicked (INC) they move one
-    /// increment, in MPG they select the handwheel's axis.
+    /// A − and a + button per axis (and the tool axis `T` on 5-axis machines): held (JOG)
+    /// they jog, clicked (INC) they move one increment, in MPG they select the handwheel's
+    /// axis.
     fn axis_buttons(&mut self, ui: &mut egui::Ui) {
-        let Some(axes) = self
-            .control
-            .as_ref()
-            .map(|c| c.machine().axes.iter().map(|a| a.name).collect::<Vec<_>>())
-        else {
+        let Some(axes) = self.control.as_ref().map(|c| {
+            let mut axes: Vec<char> = c.machine().axes.iter().map(|a| a.name).collect();
+            // The 5-axis machines also jog along the tool axis (pseudo-axis T).
+            if c.machine().rotary_names().is_some() {
+                axes.push(crate::control::tool_axis::TOOL_AXIS);
+            }
+            axes
+        }) else {
             return;
         };
         egui::Grid::new("talas op axes").show(ui, |ui| {

@@ -15,6 +15,7 @@
 //! time × the clock factor (at most [`MAX_FRAME_S`] of real time), and asks for the next frame
 //! while anything moves; the time one `advance` took is shown.
 
+mod camera;
 mod feature;
 mod keys;
 mod layout;
@@ -149,6 +150,8 @@ pub struct OperatorPanel {
     last_line: Option<usize>,
     chooser: Option<FileChooser>,
     panel_rect: Option<egui::Rect>,
+    /// A machine camera preset to carry out (`camera.rs`).
+    camera_request: Option<crate::render::StandardView>,
 }
 
 impl Default for OperatorPanel {
@@ -186,6 +189,7 @@ impl OperatorPanel {
             last_line: None,
             chooser: None,
             panel_rect: None,
+            camera_request: None,
         }
     }
 
@@ -405,6 +409,13 @@ fn build_control(source: &PanelSource<'_>) -> Result<Control, String> {
             STOCK_MEMORY_BYTES,
         )
         .map_err(|e| format!("stock: {e}"))?;
+        // The stock rests on a riser block on the table (tested against the head and tool).
+        let b = &stock.bounds;
+        cfg.fixtures.extend(crate::control::collide::riser_under(
+            &cfg.machine,
+            b.min,
+            b.max,
+        ));
         cfg.stock = Some(LiveStock::new(stock, cutter.clone(), STOCK_RESOLUTION_MM));
     }
     Control::new(cfg).map_err(|e| e.to_string())
