@@ -24,7 +24,7 @@ use super::dexel::{Dexel, DexelFamily};
 use super::engine::{CollisionKind, Hit};
 use super::exact::stadium_span;
 use super::motion::{MovePlan, Step};
-use super::sweep::{Body, SweepStep, general_interval, vertical_interval};
+use super::sweep::{Body, Prepared, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
 
 /// Rays per side of a culling tile.
@@ -380,12 +380,18 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
             if ja >= jb || ia >= ib {
                 continue;
             }
+            let vertical = g.z_family && p.vertical;
             let ctx = BodyCtx {
                 p,
                 b,
                 w_lo: lo[w] - g.o[w],
                 w_hi: hi[w] - g.o[w],
-                vertical: g.z_family && p.vertical,
+                vertical,
+                prepared: if vertical {
+                    Prepared::default()
+                } else {
+                    b.body.prepare(&p.step, g.dir)
+                },
             };
             let shadow = (!ctx.vertical).then(|| Shadow::new(&p.step, &b.body, g));
             for j in ja..jb {
@@ -534,6 +540,8 @@ struct BodyCtx<'a> {
     w_hi: f64,
     /// Vertical tool over Z rays: the closed forms of `vertical_interval`.
     vertical: bool,
+    /// The body's sweep along the step prepared for the family's rays (tilted bodies).
+    prepared: Prepared,
 }
 
 /// Apply a vertical ball's step to the rays `i..end` (at most `LANES`) of row `j` by the row
@@ -596,10 +604,7 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
             .map(|(a, b)| (a - ow, b - ow))
     } else if c.b.body.has_closed_form() {
-        if c.b.body.entry_above(step, o, g.dir, top) {
-            return false;
-        }
-        c.b.body.exact_interval(step, o, g.dir)
+        c.b.body.interval_prepared(step, o, g.dir, top, &c.prepared)
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
     };

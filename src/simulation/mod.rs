@@ -22,6 +22,7 @@ mod dexel;
 mod engine;
 mod exact;
 mod motion;
+mod prepared;
 mod stock;
 mod surface;
 mod sweep;

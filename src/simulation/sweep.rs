@@ -24,6 +24,7 @@ use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
 
 use super::exact::{Cyl, capsule_entry, capsule_interval, hull, swept_cylinder};
+use super::prepared::{SweptBall, SweptCyl};
 use crate::geometry::Aabb;
 use crate::tools::{Cutter, CutterKind};
 
@@ -306,29 +307,11 @@ impl Body {
         }
     }
 
-    /// The interval (offsets `s` along the line `o + s·e`, unit `e`) inside the body swept
-    /// along `step`, in closed form; only for bodies with [`Body::has_closed_form`].
-    pub(super) fn exact_interval(
-        &self,
-        step: &SweepStep,
-        o: DVec3,
-        e: DVec3,
-    ) -> Option<(f64, f64)> {
-        let d = step.p1 - step.p0;
-        let a = step.axis;
-        match *self {
-            Self::Cylinder { radius, z0, z1 } => swept_cylinder(
-                o,
-                e,
-                step.p0,
-                d,
-                Cyl {
-                    a,
-                    rho: radius,
-                    z0,
-                    z1,
-                },
-            ),
+    /// The cylinder of a body with a closed form: the whole body (cylinder, flat end mill)
+    /// or a ball end mill's shaft above the sphere centre; `None` for a ball without one.
+    fn cylinder_part(&self, axis: DVec3) -> Option<Cyl> {
+        let (rho, z0, z1) = match *self {
+            Self::Cylinder { radius, z0, z1 } => (radius, z0, z1),
             Self::Cutting {
                 radius,
                 corner,
@@ -336,38 +319,54 @@ impl Body {
                 ..
             } => {
                 if corner == 0.0 {
-                    return swept_cylinder(
-                        o,
-                        e,
-                        step.p0,
-                        d,
-                        Cyl {
-                            a,
-                            rho: radius,
-                            z0: 0.0,
-                            z1: top,
-                        },
-                    );
-                }
-                let c0 = step.p0 + a * radius;
-                let ball = capsule_interval(o, e, c0, c0 + d, radius);
-                let shaft = if top > radius {
-                    swept_cylinder(
-                        o,
-                        e,
-                        step.p0,
-                        d,
-                        Cyl {
-                            a,
-                            rho: radius,
-                            z0: radius,
-                            z1: top,
-                        },
-                    )
+                    (radius, 0.0, top)
+                } else if top > radius {
+                    (radius, radius, top)
                 } else {
-                    None
-                };
-                hull(ball, shaft)
+                    return None;
+                }
+            }
+        };
+        Some(Cyl {
+            a: axis,
+            rho,
+            z0,
+            z1,
+        })
+    }
+
+    /// The cylinder part's sweep along `step` prepared for the lines along `e` (see
+    /// [`Body::exact_interval`]); `None` without a cylinder part or when degenerate.
+    pub(super) fn prepared_cylinder(&self, step: &SweepStep, e: DVec3) -> Option<SweptCyl> {
+        let cyl = self.cylinder_part(step.axis)?;
+        SweptCyl::new(e, step.p0, step.p1 - step.p0, cyl)
+    }
+
+    /// The interval (offsets `s` along the line `o + s·e`, unit `e`) inside the body swept
+    /// along `step`, in closed form; only for bodies with [`Body::has_closed_form`].
+    /// With `prepared`, the cylinder part's sweep from [`Body::prepared_cylinder`] for the
+    /// same step and direction.
+    pub(super) fn exact_interval(
+        &self,
+        step: &SweepStep,
+        o: DVec3,
+        e: DVec3,
+        prepared: Option<&SweptCyl>,
+    ) -> Option<(f64, f64)> {
+        let d = step.p1 - step.p0;
+        let cylinder = |cyl: Cyl| match prepared {
+            Some(sw) => sw.interval(o),
+            None => swept_cylinder(o, e, step.p0, d, cyl),
+        };
+        match *self {
+            Self::Cylinder { .. } => cylinder(self.cylinder_part(step.axis)?),
+            Self::Cutting { radius, corner, .. } => {
+                let shaft = self.cylinder_part(step.axis).and_then(cylinder);
+                if corner == 0.0 {
+                    return shaft;
+                }
+                let c0 = step.p0 + step.axis * radius;
+                hull(capsule_interval(o, e, c0, c0 + d, radius), shaft)
             }
         }
     }
@@ -388,6 +387,35 @@ impl Body {
             flat,
             corner,
             cone_tan,
+            ..
+        } = *self
+        else {
+            return false;
+        };
+        if !(flat == 0.0 && cone_tan == 0.0 && corner == radius) {
+            return false;
+        }
+        let a = step.axis;
+        let d = step.p1 - step.p0;
+        let c0 = step.p0 + a * radius;
+        self.entry_above_given(step, o, e, top, capsule_entry(o, e, c0, c0 + d, radius))
+    }
+
+    /// [`Body::entry_above`] given the line's entry into the ball's capsule (a ball end
+    /// mill's; `false` for other bodies).
+    fn entry_above_given(
+        &self,
+        step: &SweepStep,
+        o: DVec3,
+        e: DVec3,
+        top: f32,
+        entry: Option<f64>,
+    ) -> bool {
+        let Self::Cutting {
+            radius,
+            flat,
+            corner,
+            cone_tan,
             top: body_top,
         } = *self
         else {
@@ -400,7 +428,7 @@ impl Body {
         let ea = e.dot(a);
         let d = step.p1 - step.p0;
         let c0 = step.p0 + a * radius;
-        let Some(entry) = capsule_entry(o, e, c0, c0 + d, radius) else {
+        let Some(entry) = entry else {
             return false;
         };
         #[allow(clippy::cast_possible_truncation)]
@@ -417,6 +445,69 @@ impl Body {
         // tolerance of the shaft's solve.
         let plane = |c: DVec3| -(o - c).dot(a) / ea;
         entry + 1e-6 <= plane(c0).min(plane(c0 + d))
+    }
+}
+
+/// A body's sweep along one step prepared for the lines of one direction: the cylinder part
+/// and a ball end mill's capsule.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Prepared {
+    cylinder: Option<SweptCyl>,
+    ball: Option<SweptBall>,
+}
+
+impl Body {
+    /// The body's sweep along `step` prepared for lines along `e` (bodies with
+    /// [`Body::has_closed_form`]; empty for the others).
+    pub(super) fn prepare(&self, step: &SweepStep, e: DVec3) -> Prepared {
+        if !self.has_closed_form() {
+            return Prepared::default();
+        }
+        let ball = match *self {
+            Self::Cutting { radius, corner, .. } if corner > 0.0 => {
+                let c0 = step.p0 + step.axis * radius;
+                Some(SweptBall::new(e, c0, c0 + (step.p1 - step.p0), radius))
+            }
+            _ => None,
+        };
+        Prepared {
+            cylinder: self.prepared_cylinder(step, e),
+            ball,
+        }
+    }
+
+    /// The interval of the line `o + s·e` inside the sweep ([`Body::exact_interval`]), or
+    /// `None` also where [`Body::entry_above`] passes the line over for the material `top`.
+    pub(super) fn interval_prepared(
+        &self,
+        step: &SweepStep,
+        o: DVec3,
+        e: DVec3,
+        top: f32,
+        prep: &Prepared,
+    ) -> Option<(f64, f64)> {
+        let Some(ball) = &prep.ball else {
+            if self.entry_above(step, o, e, top) {
+                return None;
+            }
+            return self.exact_interval(step, o, e, prep.cylinder.as_ref());
+        };
+        let (entry, exit) = ball.entry_exit(o);
+        if self.entry_above_given(step, o, e, top, entry) {
+            return None;
+        }
+        let capsule = match (entry, exit) {
+            (Some(a), Some(b)) if a <= b => Some((a, b)),
+            _ => None,
+        };
+        let d = step.p1 - step.p0;
+        let shaft = self
+            .cylinder_part(step.axis)
+            .and_then(|cyl| match &prep.cylinder {
+                Some(sw) => sw.interval(o),
+                None => swept_cylinder(o, e, step.p0, d, cyl),
+            });
+        hull(capsule, shaft)
     }
 }
 
@@ -614,7 +705,7 @@ mod tests {
                         } else {
                             o
                         };
-                        let exact = ball.exact_interval(&step, o, e);
+                        let exact = ball.exact_interval(&step, o, e, None);
                         for m in 0..40 {
                             #[allow(clippy::cast_possible_truncation)]
                             let top = (30.0 + 0.25 * f64::from(m)) as f32;
@@ -669,7 +760,7 @@ mod tests {
                     // their normal, more along a ray that meets them at a grazing angle.
                     let general = general_interval(&body, &step, o, DVec3::Z, -50.0, 50.0);
                     if body.has_closed_form() {
-                        let exact = body.exact_interval(&step, o, DVec3::Z);
+                        let exact = body.exact_interval(&step, o, DVec3::Z, None);
                         match (exact, fast) {
                             (Some(x), Some(f)) => assert!(
                                 (x.0 - f.0).abs() < 1e-6 && (x.1 - f.1).abs() < 1e-6,

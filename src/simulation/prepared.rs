@@ -1,0 +1,375 @@
+//! Swept bodies prepared once per step for every ray of one direction: what depends only on
+//! the step and the direction is computed once, per ray only what depends on its origin.
+//!
+//! - [`SweptCyl`]: a finite cylinder swept along the step, the same region as
+//!   [`swept_cylinder`]: a point `o + s·e` is inside when some `t ∈ [0, 1]` puts
+//!   `q = o + s·e − p₀ − t·d` inside the cylinder, i.e. in the (s, t) plane the ellipse
+//!   `|A s + B t + C|² ≤ ρ²` (A, B the parts of `e` and `−d` normal to the axis, C that of
+//!   `o − p₀`) cut by the slabs `0 ≤ t ≤ 1` and `z₀ ≤ a·(s e − t d + o − p₀) ≤ z₁`. Written as
+//!   the quadratic form `xᵀ M x + 2 g·x + k`, M, the slabs' normals and the directions of
+//!   their boundary lines depend only on the step and the ray direction; per ray only g, k
+//!   and the axial slab's bounds change (four dot products). The interval's ends are the
+//!   least and greatest s of the candidates of [`swept_cylinder`] (the ellipse's points with
+//!   a vertical tangent, ellipse–line crossings, line–line corners), each checked against
+//!   every constraint with the same tolerances, now in two dimensions. Only the general case
+//!   (a proper ellipse and an axial slab) is prepared; degenerate steps (moving along the
+//!   axis, a ray parallel to the axis or normal to the step) stay with [`swept_cylinder`].
+//! - [`SweptBall`]: a sphere swept along the step (a capsule): the entry and the exit of a
+//!   line from one set of dot products, with the operations of [`capsule_entry`] in the same
+//!   order, so the values are the same to the bit.
+
+use glam::{DVec2, DVec3};
+
+use super::exact::Cyl;
+#[cfg(doc)]
+use super::exact::{capsule_entry, swept_cylinder};
+
+/// A boundary line `n·x = c` as seen by the quadratic form: direction `v = (−n_y, n_x)`,
+/// `vᵀ M v` and `M v`, all per step.
+#[derive(Clone, Copy, Debug)]
+struct LineDir {
+    n: DVec2,
+    nn: f64,
+    v: DVec2,
+    vmv: f64,
+    mv: DVec2,
+}
+
+impl LineDir {
+    fn new(n: DVec2, m: [f64; 3]) -> Self {
+        let v = DVec2::new(-n.y, n.x);
+        let mv = DVec2::new(m[0] * v.x + m[1] * v.y, m[1] * v.x + m[2] * v.y);
+        Self {
+            n,
+            nn: n.length_squared(),
+            v,
+            vmv: v.dot(mv),
+            mv,
+        }
+    }
+}
+
+/// A cylinder's sweep along a step, for the lines of one direction.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SweptCyl {
+    a: DVec3,
+    p0: DVec3,
+    /// The parts of `e` and `−d` normal to the axis.
+    pa: DVec3,
+    pb: DVec3,
+    /// M = [[m00, m01], [m01, m11]].
+    m: [f64; 3],
+    rr: f64,
+    z0: f64,
+    z1: f64,
+    /// The ellipse's vertical tangents: `m00 − m01²/m11` and `1/m11`.
+    qa: f64,
+    inv_m11: f64,
+    /// The slab `0 ≤ t ≤ 1` and the axial slab's normal `(a·e, −a·d)`.
+    t_line: LineDir,
+    ax_line: LineDir,
+    /// Whether the two slabs cross (their corners are candidates).
+    corners: bool,
+}
+
+impl SweptCyl {
+    /// The sweep of `cyl` from tip `p0` by `d`, for lines along the unit `e`; `None` when
+    /// degenerate (then [`swept_cylinder`] decides).
+    pub(super) fn new(e: DVec3, p0: DVec3, d: DVec3, cyl: Cyl) -> Option<Self> {
+        let Cyl { a, rho, z0, z1 } = cyl;
+        if !(z1 > z0) {
+            return None;
+        }
+        let perp = |v: DVec3| v - a * a.dot(v);
+        let (pa, pb) = (perp(e), -perp(d));
+        let axial = DVec2::new(a.dot(e), -a.dot(d));
+        let (aa, bb) = (pa.length_squared(), pb.length_squared());
+        let cross = pa.cross(pb).length_squared();
+        if axial.length_squared() < 1e-24
+            || aa + bb < 1e-24
+            || cross <= 1e-18 * aa * bb
+            || aa < 1e-24
+            || bb < 1e-24
+        {
+            return None;
+        }
+        let m = [aa, pa.dot(pb), bb];
+        let qa = m[0] - m[1] * m[1] / m[2];
+        if !(qa >= 1e-30) {
+            return None;
+        }
+        let t_n = DVec2::new(0.0, 1.0);
+        let det = t_n.x * axial.y - t_n.y * axial.x;
+        Some(Self {
+            a,
+            p0,
+            pa,
+            pb,
+            m,
+            rr: rho * rho,
+            z0,
+            z1,
+            qa,
+            inv_m11: 1.0 / m[2],
+            t_line: LineDir::new(t_n, m),
+            ax_line: LineDir::new(axial, m),
+            corners: det.abs() > 1e-15 * t_n.length() * axial.length(),
+        })
+    }
+
+    /// Interval of s on the line `o + s·e` inside the sweep.
+    pub(super) fn interval(&self, o: DVec3) -> Option<(f64, f64)> {
+        let y = o - self.p0;
+        let ay = self.a.dot(y);
+        let c = y - self.a * ay;
+        let g = DVec2::new(self.pa.dot(c), self.pb.dot(c));
+        let k = c.length_squared() - self.rr;
+        let (lo, hi) = (self.z0 - ay, self.z1 - ay);
+        let m = self.m;
+        let q = |x: DVec2| {
+            m[0] * x.x * x.x + 2.0 * m[1] * x.x * x.y + m[2] * x.y * x.y + 2.0 * g.dot(x) + k
+        };
+        let ax = self.ax_line.n;
+        let eps_t = 1e-9 * 2.0;
+        let eps_ax = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
+        let q_tol = 1e-9 * self.rr + 1e-12;
+        let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut take = |x: DVec2, check_q: bool| {
+            let v = ax.dot(x);
+            let inside = x.is_finite()
+                && x.y >= -eps_t
+                && x.y <= 1.0 + eps_t
+                && v >= lo - eps_ax
+                && v <= hi + eps_ax
+                && (!check_q || q(x) <= q_tol);
+            if inside {
+                s_lo = s_lo.min(x.x);
+                s_hi = s_hi.max(x.x);
+            }
+        };
+        // The ellipse's points of extreme s: ∂Q/∂t = 0.
+        let qb = g.x - m[1] * g.y * self.inv_m11;
+        let qc = k - g.y * g.y * self.inv_m11;
+        let disc = qb * qb - self.qa * qc;
+        if disc >= 0.0 {
+            let sq = disc.sqrt();
+            for s in [(-qb - sq) / self.qa, (-qb + sq) / self.qa] {
+                let t = -(m[1] * s + g.y) * self.inv_m11;
+                take(DVec2::new(s, t), true);
+            }
+        }
+        // Crossings of the ellipse with the slabs' boundary lines.
+        for (line, cs) in [(&self.t_line, [0.0, 1.0]), (&self.ax_line, [lo, hi])] {
+            for cval in cs {
+                let p = line.n * (cval / line.nn);
+                let mp = line.mv.dot(p) + g.dot(line.v);
+                let qp = q(p);
+                let disc = mp * mp - line.vmv * qp;
+                if line.vmv < 1e-30 || disc < 0.0 {
+                    continue;
+                }
+                let sq = disc.sqrt();
+                take(p + line.v * ((-mp - sq) / line.vmv), true);
+                take(p + line.v * ((-mp + sq) / line.vmv), true);
+            }
+        }
+        // The slabs' corners.
+        if self.corners {
+            for t in [0.0, 1.0] {
+                for cval in [lo, hi] {
+                    let x = DVec2::new((cval - ax.y * t) / ax.x, t);
+                    take(x, true);
+                }
+            }
+        }
+        (s_lo <= s_hi).then_some((s_lo, s_hi))
+    }
+}
+
+/// A sphere of radius r swept from `pa` to `pb` (a capsule), for the lines along one unit `e`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SweptBall {
+    e: DVec3,
+    pa: DVec3,
+    pb: DVec3,
+    ba: DVec3,
+    rr: f64,
+    baba: f64,
+    bard: f64,
+    /// `|ba|² − (ba·e)²`, and whether the capsule's side is met at all (not along the axis).
+    a: f64,
+    side: bool,
+}
+
+/// Entry and exit of a line into a sphere, from `e·(o − c)` and `|o − c|² − r²`.
+fn sphere_interval(b: f64, c: f64) -> Option<(f64, f64)> {
+    let h = b * b - c;
+    (h >= 0.0).then(|| {
+        let sq = h.sqrt();
+        (-b - sq, -b + sq)
+    })
+}
+
+impl SweptBall {
+    /// The sphere of radius `r` swept from centre `pa` to `pb`, for lines along `e`.
+    pub(super) fn new(e: DVec3, pa: DVec3, pb: DVec3, r: f64) -> Self {
+        let ba = pb - pa;
+        let baba = ba.length_squared();
+        let bard = ba.dot(e);
+        let a = baba - bard * bard;
+        Self {
+            e,
+            pa,
+            pb,
+            ba,
+            rr: r * r,
+            baba,
+            bard,
+            a,
+            side: a > 1e-12 * baba.max(1e-300),
+        }
+    }
+
+    /// Entry and exit offsets (each `None` where the line misses) of the line `o + s·e`.
+    pub(super) fn entry_exit(&self, o: DVec3) -> (Option<f64>, Option<f64>) {
+        let (e, ba, baba, bard) = (self.e, self.ba, self.baba, self.bard);
+        let oa = o - self.pa;
+        let baoa = ba.dot(oa);
+        let rdoa = e.dot(oa);
+        let oaoa = oa.length_squared();
+        let (mut lo, mut hi): (Option<f64>, Option<f64>) = (None, None);
+        let mut keep_lo = |s: f64| lo = Some(lo.map_or(s, |v: f64| v.min(s)));
+        let mut keep_hi = |s: f64| hi = Some(hi.map_or(s, |v: f64| v.max(s)));
+        if self.side {
+            // capsule_entry along e and along −e (b changes sign, h is the same).
+            let b = baba * rdoa - baoa * bard;
+            let c = baba * oaoa - baoa * baoa - self.rr * baba;
+            let h = b * b - self.a * c;
+            if h >= 0.0 {
+                let sq = h.sqrt();
+                let s = (-b - sq) / self.a;
+                let y = baoa + s * bard;
+                if y > 0.0 && y < baba {
+                    keep_lo(s);
+                }
+                let x = -((b - sq) / self.a);
+                let y = baoa + x * bard;
+                if y > 0.0 && y < baba {
+                    keep_hi(x);
+                }
+            }
+        }
+        let ob = o - self.pb;
+        for (oc, occ) in [(oa, oaoa), (ob, ob.length_squared())] {
+            if let Some((s0, s1)) = sphere_interval(e.dot(oc), occ - self.rr) {
+                keep_lo(s0);
+                keep_hi(s1);
+            }
+        }
+        (lo, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulation::exact::swept_cylinder;
+
+    #[test]
+    fn prepared_sweep_matches_swept_cylinder() {
+        let axes = [
+            DVec3::new(0.0, 0.3, 1.0).normalize(),
+            DVec3::new(0.5, -0.2, 0.8).normalize(),
+            DVec3::new(-0.7, 0.1, 0.7).normalize(),
+        ];
+        let moves = [
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(3.0, 2.0, -1.0),
+            DVec3::new(0.02, -0.01, 0.005),
+        ];
+        let (mut prepared, mut hits) = (0, 0);
+        for a in axes {
+            let cyl = Cyl {
+                a,
+                rho: 3.0,
+                z0: 3.0,
+                z1: 18.0,
+            };
+            for d in moves {
+                for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    let p0 = DVec3::new(0.4, -0.3, 1.0);
+                    let Some(sw) = SweptCyl::new(e, p0, d, cyl) else {
+                        continue;
+                    };
+                    prepared += 1;
+                    for k in 0..900 {
+                        let (u, v) = (f64::from(k % 30) - 14.5, f64::from(k / 30) - 14.5);
+                        let o = if e == DVec3::X {
+                            DVec3::new(-40.0, u, v)
+                        } else if e == DVec3::Y {
+                            DVec3::new(v, -40.0, u)
+                        } else {
+                            DVec3::new(u, v, -40.0)
+                        };
+                        let want = swept_cylinder(o, e, p0, d, cyl);
+                        let got = sw.interval(o);
+                        match (got, want) {
+                            (Some(g), Some(w)) => {
+                                hits += 1;
+                                assert!(
+                                    (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+                                    "{a} {d} {o} {e}: {g:?} {w:?}"
+                                );
+                            }
+                            (None, None) => {}
+                            other => panic!("{a} {d} {o} {e}: {other:?}"),
+                        }
+                    }
+                }
+            }
+        }
+        assert!(prepared >= 20 && hits > 1000, "{prepared} {hits}");
+    }
+
+    #[test]
+    fn prepared_ball_is_capsule_entry_to_the_bit() {
+        use crate::simulation::exact::capsule_entry;
+        let r = 3.0;
+        for (pa, pb) in [
+            (DVec3::new(0.0, 0.0, 3.0), DVec3::new(0.3, -0.1, 3.05)),
+            (DVec3::new(1.0, 2.0, 0.0), DVec3::new(1.0, 2.0, 0.0)),
+            (DVec3::new(0.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 2.0)),
+        ] {
+            for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+                let b = SweptBall::new(e, pa, pb, r);
+                for k in 0..400 {
+                    let (u, v) = (
+                        f64::from(k % 20) * 0.37 - 3.5,
+                        f64::from(k / 20) * 0.37 - 3.5,
+                    );
+                    let o = DVec3::new(u, v, -20.0);
+                    let o = if e == DVec3::X {
+                        DVec3::new(-20.0, u, v)
+                    } else if e == DVec3::Y {
+                        DVec3::new(v, -20.0, u)
+                    } else {
+                        o
+                    };
+                    let (entry, exit) = b.entry_exit(o);
+                    let want_in = capsule_entry(o, e, pa, pb, r);
+                    let want_out = capsule_entry(o, -e, pa, pb, r).map(|s| -s);
+                    assert_eq!(
+                        entry.map(f64::to_bits),
+                        want_in.map(f64::to_bits),
+                        "{o} {e}"
+                    );
+                    assert_eq!(
+                        exit.map(f64::to_bits),
+                        want_out.map(f64::to_bits),
+                        "{o} {e}"
+                    );
+                }
+            }
+        }
+    }
+}
