@@ -452,3 +452,77 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     h.get_by_label("Not calculated yet.");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Face groups in the workstation: ctrl-click in the face tree selects several faces, the
+/// "Tangent-connected faces" button selects the tangent chain of the last clicked face, a
+/// button creates the group operation; after calculating (holder tool, tilt-away off) the
+/// holder's collisions are listed, and clicking one picks its pose.
+#[test]
+fn a_face_group_is_selected_planned_and_its_collisions_are_clickable() {
+    use talas::project::finish_group::findings;
+    let dir = data_dir("group");
+    let mut h = harness(Some(data("pocket-fillets.stp")), &dir);
+    settle(&mut h);
+    h.get_by_label_contains("Face 14 ").click();
+    h.run_steps(2);
+    h.get_by_label_contains("Face 17 ")
+        .click_modifiers(egui::Modifiers::COMMAND);
+    h.run_steps(2);
+    h.get_by_label_contains("2 faces (");
+    assert_eq!(
+        h.state().document().expect("part").selection,
+        Selection::Face(16)
+    );
+    // The tangent chain of face 16 (0-based) replaces the two.
+    click(&mut h, "Tangent-connected faces");
+    let part = h.state().document().expect("part").part.workpiece.clone();
+    let chain = talas::geometry::brep::tangent_connected(
+        part.part.as_ref().expect("B-rep"),
+        16,
+        1f64.to_radians(),
+    );
+    assert!(chain.len() > 2, "{chain:?}");
+    h.get_by_label_contains(&format!("{} faces (", chain.len()));
+    click(&mut h, "Iso-planar finishing on the group");
+    let op = h.state().session().project.operations[0].clone();
+    assert_eq!(op.faces(), chain);
+    assert_eq!(op.kind(), OperationKind::IsoPlanar);
+
+    // A small group with a holder that hits the wall, tilt-away off: collisions remain.
+    let tool = talas::project::ToolEntry {
+        name: "Ball Ø6 with holder".into(),
+        cutter: talas::tools::parse_tool_spec("ball:d=6,flute=12,length=30,holder=12x30")
+            .expect("tool"),
+    };
+    let mut op =
+        talas::app::face_group::group_operation(OperationKind::IsoParametric, 0, &[13, 16])
+            .expect("op");
+    if let Operation::Finish {
+        options, tilt_away, ..
+    } = &mut op
+    {
+        options.scallop = 0.2;
+        options.tolerance = 0.05;
+        tilt_away.enabled = false;
+    }
+    h.state_mut()
+        .apply(Command::Edit(Edit::SetTool { index: 0, tool }));
+    h.state_mut().apply(Command::Edit(Edit::SetOperation {
+        index: 0,
+        operation: op,
+    }));
+    h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
+    h.step();
+    h.state_mut().apply(Command::Calculate(0));
+    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    h.run_steps(2);
+    let (result, _) = h.state().operation_result(0).expect("a result");
+    let list = findings(&result.computed);
+    assert!(!list.is_empty(), "the holder hits the pocket wall");
+    h.get_by_label("REMAINING GOUGES AND COLLISIONS");
+    let first = list[0];
+    h.get_by_label(&first.label()).click();
+    h.run_steps(2);
+    assert_eq!(h.state().tool_pose_index(), Some(first.pose));
+    let _ = std::fs::remove_dir_all(&dir);
+}
