@@ -48,7 +48,7 @@ impl FaceGroup {
 }
 
 fn memory_id() -> egui::Id {
-    egui::Id::new("talas.face_group")
+    egui::Id::unique("talas.face_group")
 }
 
 /// The current face group.
