@@ -452,3 +452,42 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     h.get_by_label("Not calculated yet.");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Face groups in the workstation: ctrl-click in the face tree selects several faces, the
+/// "Tangent-connected faces" button selects the tangent chain of the last clicked face, a
+/// button creates the group operation over the chain.
+#[test]
+fn a_face_group_is_selected_planned_and_its_collisions_are_clickable() {
+    let dir = data_dir("group");
+    let mut h = harness(Some(data("pocket-fillets.stp")), &dir);
+    settle(&mut h);
+    // Selecting a face opens the tree's face list at it.
+    h.state_mut().apply(Command::Select(Selection::Face(13)));
+    h.run_steps(3);
+    h.get_by_label_contains("Face 14 ").click();
+    h.run_steps(2);
+    h.get_by_label_contains("Face 17 ")
+        .click_modifiers(egui::Modifiers::COMMAND);
+    h.run_steps(2);
+    h.get_by_label_contains("2 faces (");
+    assert_eq!(
+        h.state().document().expect("part").selection,
+        Selection::Face(16)
+    );
+    // The tangent chain of face 16 (0-based) replaces the two.
+    click(&mut h, "Tangent-connected faces");
+    let part = h.state().document().expect("part").part.workpiece.clone();
+    let chain = talas::geometry::brep::tangent_connected(
+        part.part.as_ref().expect("B-rep"),
+        16,
+        1f64.to_radians(),
+    );
+    assert!(chain.len() > 2, "{chain:?}");
+    h.get_by_label_contains(&format!("{} faces (", chain.len()));
+    click(&mut h, "Iso-planar finishing on the group");
+    let op = h.state().session().project.operations[0].clone();
+    assert_eq!(op.faces(), chain);
+    assert_eq!(op.kind(), OperationKind::IsoPlanar);
+
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -476,3 +476,65 @@ fn operations_keep_their_settings_through_json_and_refuse_bad_numbers() {
     let raster: Operation = serde_json::from_str(old).unwrap();
     assert_eq!(raster.kind(), OperationKind::Raster);
 }
+
+/// A face group with the whole part as check and tilt-away: `talas plan --face 13,16,14
+/// --check --tilt-away 30` and a finishing operation with the group and its (default)
+/// tilt-away settings give the same path. The holder of this tool hits the pocket's wall
+/// beside fillet face 13, so the path is tilted.
+#[test]
+fn face_group_operation_plans_the_same_path_as_talas_plan_face_list() {
+    const HOLDER_TOOL: &str = "ball:d=6,flute=12,length=30,holder=12x30";
+    let mut op = Operation::new(OperationKind::IsoParametric, 0, 13);
+    if let Operation::Finish { options, group, .. } = &mut op {
+        options.scallop = 0.1;
+        options.tolerance = 0.02;
+        options.feed = FEED;
+        options.exact_check = true;
+        *group = vec![16, 14];
+    }
+    assert_eq!(op.faces(), vec![13, 16, 14]);
+    let args = [
+        "--strategy",
+        "iso-parametric",
+        "--scallop",
+        "0.1",
+        "--tolerance",
+        "0.02",
+        "--feed",
+        "1200",
+        "--face",
+        "13,16,14",
+        "--check",
+        "--tilt-away",
+        "30",
+    ];
+    let mut project = project_with(op);
+    project.tools[0].cutter = parse_tool_spec(HOLDER_TOOL).expect("tool spec");
+    let part = data("pocket-fillets.stp");
+    same_path_as_with("grp", &part, HOLDER_TOOL, &args, project.clone(), None, 60);
+    // Tilted, the tool enters no other face.
+    let workpiece = open(&part, &OpenOptions::default(), &Progress::new()).expect("part");
+    let ours = compute(&project, 0, &workpiece, &Progress::new()).expect("pipeline plans");
+    // Switched off, the holder enters the wall at many more poses (the tilt-away re-checks
+    // its poses, not the moves between them: a move may keep a shallow hit).
+    if let Operation::Finish { tilt_away, .. } = &mut project.operations[0] {
+        tilt_away.enabled = false;
+    }
+    let plain = compute(&project, 0, &workpiece, &Progress::new()).expect("pipeline plans");
+    let findings = talas::project::finish_group::findings(&plain);
+    assert!(
+        findings.iter().any(|f| matches!(
+            f.kind,
+            talas::project::finish_group::FindingKind::Collision(
+                talas::tools::solid::ToolPart::Holder(_)
+            )
+        )),
+        "{findings:?}"
+    );
+    assert!(
+        plain.part_hits.len() > 4 * ours.part_hits.len().max(1),
+        "{} hits tilted, {} not",
+        ours.part_hits.len(),
+        plain.part_hits.len()
+    );
+}

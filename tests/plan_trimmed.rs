@@ -400,3 +400,73 @@ fn a_five_axis_path_is_flagged_at_planning_on_a_three_axis_machine() {
         assert_eq!(flagged(&project), three, "machine {name}");
     }
 }
+
+/// The full Done-when sweep (slow: every curved face ≥ 100 mm² of both real parts, iso-scallop
+/// and iso-planar, ball Ø6, h 0.05 mm, each path checked exactly against its own face and
+/// against every other face of the part, the tool tilting away as the pipeline does). Prints
+/// one line per face and strategy; fails on a planning error, an exact gouge deeper than
+/// 1 µm, or a remaining entry into another face deeper than 1 µm.
+/// `cargo test --release --no-default-features --test plan_trimmed -- --ignored --nocapture`
+#[test]
+#[ignore = "minutes in the debug build; run by hand, figures in benches/README.md"]
+fn real_parts_plan_without_gouges_against_any_face() {
+    use talas::checks::part::PartCheck;
+    use talas::import::{OpenOptions, Workpiece};
+    use talas::strategies::finish::plan_finish_in;
+    use talas::strategies::tiltaway::{PartContext, TiltAway};
+    let mut failures = Vec::new();
+    for file in [
+        "real/freecad/Schenkel.stp",
+        "real/freecad/as1-ac-214_small.stp",
+    ] {
+        let p = part(file);
+        let faces = curved_faces(&p);
+        let wp = Workpiece::from_part(Path::new(file), p.clone(), &OpenOptions::default());
+        let bvh = wp.bvh().expect("bvh");
+        let cutter = parse_tool_spec("ball:d=6").expect("tool");
+        for &i in &faces {
+            let skip = [i];
+            let context = PartContext {
+                check: PartCheck::of_workpiece(&wp, &bvh, &skip),
+                tilt: Some(TiltAway::default()),
+            };
+            for (name, s) in [
+                ("iso-scallop", Strategy::IsoScallop),
+                ("iso-planar", Strategy::IsoPlanar { angle: 0.0 }),
+            ] {
+                let t0 = std::time::Instant::now();
+                let region = TrimRegion::of_face(&p.faces[i], &p, 0.002).expect("region");
+                let patch = FacePatch::trimmed(&p, i, &region).expect("patch");
+                let o = FinishOptions {
+                    exact_check: true,
+                    ..opts()
+                };
+                match plan_finish_in(patch, &cutter, "ball:d=6", s, &o, Some(&context)) {
+                    Err(e) => failures.push(format!("{file} face {i} {name}: {e}")),
+                    Ok(r) => {
+                        let g = r.toolpath.summary.gouge.unwrap_or_default();
+                        let part_depth = r.part_hits.iter().map(|h| h.depth_mm).fold(0.0, f64::max);
+                        eprintln!(
+                            "{file} face {i} {name}: {:.2} s, {} poses, exact gouge {:.4} mm \
+                             at {} poses, other faces {} hits {:.4} mm, {} spans left out",
+                            t0.elapsed().as_secs_f64(),
+                            r.toolpath.poses.len(),
+                            g.max_depth_mm,
+                            g.gouging_poses,
+                            r.part_hits.len(),
+                            part_depth,
+                            r.left_out.len()
+                        );
+                        if g.max_depth_mm > 0.001 || part_depth > 0.001 {
+                            failures.push(format!(
+                                "{file} face {i} {name}: exact {:.4} mm, other faces {part_depth:.4} mm",
+                                g.max_depth_mm
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

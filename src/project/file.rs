@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{Operation, PROJECT_VERSION, Project};
+use super::{PROJECT_VERSION, Project};
 
 /// The extension of project files.
 pub const EXTENSION: &str = "talas";
@@ -163,12 +163,12 @@ impl Project {
     /// The first operation whose face the part does not have.
     pub fn check_faces(&self, face_count: usize) -> Result<(), String> {
         for (i, op) in self.operations.iter().enumerate() {
-            if let Operation::Finish { face, name, .. } = op
-                && *face >= face_count
-            {
+            // The face and every face of its group.
+            if let Some(face) = op.faces().into_iter().find(|&f| f >= face_count) {
                 return Err(format!(
-                    "operation {} ('{name}'): face {} but the part has {face_count} faces",
+                    "operation {} ('{}'): face {} but the part has {face_count} faces",
                     i + 1,
+                    op.name(),
                     face + 1
                 ));
             }

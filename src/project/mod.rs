@@ -7,6 +7,7 @@
 
 mod edit;
 pub mod file;
+pub mod finish_group;
 pub mod forces;
 mod history;
 pub mod operation;

@@ -8,6 +8,8 @@ use crate::strategies::steep_shallow::{
 use crate::strategies::waterline::Cut;
 use crate::strategies::{FinishOptions, Pattern, Strategy};
 
+pub use super::finish_group::TiltAwaySettings;
+
 /// A machining operation. Each kind names the engine strategy that runs it
 /// ([`super::pipeline::compute`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -26,6 +28,13 @@ pub enum Operation {
         strategy: Strategy,
         /// Scallop, chord tolerance, axis mode, feed, direction, clearance.
         options: FinishOptions,
+        /// Further faces finished with `face` as one group, in this order after it (empty: one
+        /// face).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        group: Vec<usize>,
+        /// Tilting the tool away from the part's other faces (on by default).
+        #[serde(default)]
+        tilt_away: TiltAwaySettings,
     },
     /// Raster drop-cutter finishing over the whole part (3-axis).
     Raster {
@@ -258,6 +267,8 @@ impl Operation {
             face,
             strategy,
             options: FinishOptions::default(),
+            group: Vec::new(),
+            tilt_away: TiltAwaySettings::default(),
         };
         match kind {
             OperationKind::IsoScallop => finish(Strategy::IsoScallop),
@@ -358,6 +369,18 @@ impl Operation {
                 clearance_mm: *clearance_mm,
             }),
             _ => None,
+        }
+    }
+
+    /// The faces a finishing operation cuts: its face, then its group's further faces (empty
+    /// for the other kinds).
+    #[must_use]
+    pub fn faces(&self) -> Vec<usize> {
+        match self {
+            Self::Finish { face, group, .. } => std::iter::once(*face)
+                .chain(group.iter().copied())
+                .collect(),
+            _ => Vec::new(),
         }
     }
 
@@ -487,8 +510,14 @@ impl Operation {
         };
         match self {
             Self::Finish {
-                strategy, options, ..
+                strategy,
+                options,
+                face,
+                group,
+                tilt_away,
+                ..
             } => {
+                super::finish_group::validate(*face, group, tilt_away)?;
                 positive("scallop height (mm)", options.scallop)?;
                 positive("chord tolerance (mm)", options.tolerance)?;
                 positive("feed (mm/min)", options.feed)?;

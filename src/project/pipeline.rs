@@ -35,6 +35,11 @@ pub struct Computed {
     /// face unless the operation sets it); `None` for the 3-axis kinds, whose operation gives
     /// the clearance above the part.
     pub clearance_mm: Option<f64>,
+    /// For finishing: where the tool enters other faces of the part (whole-part check), pose
+    /// indices into `toolpath`.
+    pub part_hits: Vec<crate::checks::part::PartHit>,
+    /// For finishing: spans the tilt-away left out.
+    pub left_out: Vec<crate::strategies::tiltaway::LeftOut>,
 }
 
 /// Why an operation could not be run.
@@ -112,6 +117,9 @@ pub fn compute(
     cancelled(progress)?;
     progress.set(0.02);
     let mut computed = match op {
+        Operation::Finish { group, .. } if !group.is_empty() => {
+            super::finish_group::compute_group(project, op, part, &tool)?
+        }
         Operation::Finish { .. } => finish_face(project, op, part, &tool, progress)?,
         Operation::Raster { .. } => raster_3axis(op, part, &tool, progress)?,
         Operation::Rough { .. } => rough_3axis(project, op, part, &tool, progress)?,
@@ -151,6 +159,7 @@ fn finish_face(
         face,
         strategy,
         options,
+        tilt_away,
         ..
     } = op
     else {
@@ -203,7 +212,7 @@ fn finish_face(
     let machine = crate::machine::Machine::resolve(&project.machine).ok();
     let context = bvh.as_deref().map(|b| PartContext {
         check: PartCheck::of_workpiece(part, b, &skip),
-        tilt: Some(super::reach::tilt_away_limits(machine.as_ref())),
+        tilt: tilt_away.limits(machine.as_ref()),
     });
     let r = plan_finish_in(
         patch,
@@ -220,6 +229,8 @@ fn finish_face(
         clearance_mm: r.used.clearance,
         toolpath: r.toolpath,
         diagnostics: r.diagnostics,
+        part_hits: r.part_hits,
+        left_out: r.left_out,
     })
 }
 
@@ -267,6 +278,8 @@ fn raster_3axis(
         passes: plan.passes,
         lead_rad: None,
         clearance_mm: None,
+        part_hits: Vec::new(),
+        left_out: Vec::new(),
         toolpath: plan.toolpath,
         diagnostics: plan.diagnostics,
     })
@@ -329,6 +342,8 @@ fn rough_3axis(
         passes: plan.contours,
         lead_rad: None,
         clearance_mm: None,
+        part_hits: Vec::new(),
+        left_out: Vec::new(),
         toolpath: plan.toolpath,
         diagnostics,
     })
@@ -383,6 +398,8 @@ fn finish_3axis(
             passes: plan.loops,
             lead_rad: None,
             clearance_mm: None,
+            part_hits: Vec::new(),
+            left_out: Vec::new(),
             toolpath: plan.toolpath,
             diagnostics: plan.diagnostics,
         });
@@ -393,6 +410,8 @@ fn finish_3axis(
         passes: plan.raster_passes + plan.waterline_runs,
         lead_rad: None,
         clearance_mm: None,
+        part_hits: Vec::new(),
+        left_out: Vec::new(),
         toolpath: plan.toolpath,
         diagnostics: plan.diagnostics,
     })
@@ -471,6 +490,8 @@ fn corners_3axis(
         diagnostics,
         lead_rad: None,
         clearance_mm: None,
+        part_hits: Vec::new(),
+        left_out: Vec::new(),
     })
 }
 

@@ -142,6 +142,7 @@ pub fn operation_editor_ui(
     if let Some((result, fresh)) = view.result {
         ui.add_space(8.0);
         summary_ui(ui, result, fresh);
+        super::super::findings_list::findings_ui(ui, &result.computed, commands);
         ui.add_space(8.0);
         simulation_ui(ui, view, fresh, commands);
         if let Some(i) = view.picked_pose.or(view.playback_pose) {

@@ -186,11 +186,14 @@ fn part_ui(
                     } else {
                         String::new()
                     };
-                    let selected = focus == Focus::Selection && doc.selection == Selection::Face(i);
+                    let selected = (focus == Focus::Selection
+                        && doc.selection == Selection::Face(i))
+                        || crate::app::face_group::in_group(ui.ctx(), i);
                     if ui
                         .selectable_label(selected, format!("Face {}  {}{id}", i + 1, face.kind))
                         .clicked()
                     {
+                        crate::app::face_group::click(ui.ctx(), i);
                         commands.push(Command::Select(Selection::Face(i)));
                     }
                 }

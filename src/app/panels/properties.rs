@@ -63,7 +63,10 @@ pub fn properties_ui(
     egui::ScrollArea::vertical()
         .auto_shrink([false, false])
         .show(ui, |ui| match view.focus {
-            Focus::Selection => selection_ui(ui, view),
+            Focus::Selection => {
+                selection_ui(ui, view);
+                super::super::face_group::group_ui(ui, view.document, view.project, commands);
+            }
             Focus::Tool(i) => tool_editor_ui(ui, view.project, i, &mut forms.tool, commands),
             Focus::Stock => stock_ui(ui, view, commands),
             Focus::Setup => setup_ui(ui, view, commands),

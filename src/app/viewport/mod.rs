@@ -271,6 +271,9 @@ pub fn viewport_ui(
                     .map(|&f| f as usize);
                 let pick =
                     face.and_then(|f| picking::surface_pick(f, doc.part.faces.get(f)?, h.point));
+                if let Some(f) = face {
+                    super::face_group::click(ui.ctx(), f);
+                }
                 (face.map_or(Selection::Part, Selection::Face), pick)
             }
             (Some(_), Some(_)) => (Selection::Part, None),
