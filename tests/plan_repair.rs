@@ -12,11 +12,11 @@ use talas::checks::VerifyOptions;
 use talas::geometry::brep::Part;
 use talas::geometry::surface::{ParamRect, SurfaceGeom};
 use talas::import::step::read_step;
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::{FinishResult, Setup, plan_finish};
-use talas::strategies::repair::{max_axis_change, plan_passes};
-use talas::strategies::{FinishOptions, Strategy};
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::{FinishResult, Setup, plan_finish};
+use talas::strategies::finish::repair::{max_axis_change, plan_passes};
+use talas::strategies::finish::{FinishOptions, Strategy};
 use talas::toolpath::{MoveKind, Pose};
 use talas::tools::parse_tool_spec;
 
@@ -152,7 +152,7 @@ fn smoothing_lowers_the_largest_axis_change() {
     );
     // Per pass (the passes as planned, each stepped on its own), on the scan's passes: not
     // the closing passes along the domain's edges (all their points on one edge).
-    let on_edge = |p: &talas::strategies::pass::Pass| {
+    let on_edge = |p: &talas::strategies::finish::pass::Pass| {
         let all = |f: &dyn Fn(glam::DVec2) -> bool| p.uv.iter().all(|q| f(*q));
         all(&|q| q.x <= rect.u.t0)
             || all(&|q| q.x >= rect.u.t1)
@@ -245,7 +245,7 @@ fn lead_arcs_are_tangent_quarter_circles_above_the_surface() {
         ..FinishOptions::default()
     };
     let st = Strategy::IsoParametric {
-        pattern: talas::strategies::Pattern::Oneway,
+        pattern: talas::strategies::finish::Pattern::Oneway,
     };
     let r = plan_with(&s, rect, side, tool, st, &o);
     let poses = &r.toolpath.poses;

@@ -33,11 +33,11 @@ use talas::simulation::{
     DeviationOptions, DeviationReport, DexelMode, DexelStock, SimOptions, StepOptions, StockShape,
     deviation, plan_toolpath, simulate,
 };
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::plan_finish;
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::plan_finish;
+use talas::strategies::finish::{FinishOptions, Strategy};
 use talas::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
-use talas::strategies::{FinishOptions, Strategy};
 use talas::toolpath::{MoveKind, ToolRecord, Toolpath};
 use talas::tools::parse_tool_spec;
 
