@@ -25,7 +25,7 @@ use glam::DVec2;
 
 use super::PlanError;
 use super::pass::Pass;
-use super::plan::Setup;
+use super::setup::Setup;
 use crate::diagnostics::Diagnostic;
 
 /// Most passes before the scan stops with a diagnostic.

@@ -17,7 +17,7 @@
 use glam::{DQuat, DVec3};
 
 use super::axis::{AxisMode, axis_angle};
-use super::plan::Setup;
+use super::setup::Setup;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
 use crate::tools::effective::contact_to_tip;
 
@@ -326,7 +326,7 @@ mod tests {
     use crate::geometry::surface::{Cylinder, ParamRect, SurfaceGeom};
     use crate::strategies::finish::FinishOptions;
     use crate::strategies::finish::face::FacePatch;
-    use crate::strategies::finish::plan::Setup;
+    use crate::strategies::finish::setup::Setup;
     use crate::toolpath::{MoveKind, Pose};
     use crate::tools::{Cutter, CutterKind};
 

@@ -24,6 +24,7 @@ pub mod pass;
 pub mod plan;
 pub mod repair;
 pub mod scallop;
+pub mod setup;
 pub mod stepping;
 pub mod tiltaway;
 

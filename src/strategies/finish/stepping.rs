@@ -17,7 +17,7 @@ use glam::{DVec2, DVec3};
 
 use super::axis::{AxisMode, axis_angle};
 use super::pass::Pass;
-use super::plan::Setup;
+use super::setup::Setup;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
 use crate::tools::CutterKind;
 use crate::tools::effective::contact_to_tip;
