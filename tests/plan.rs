@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use talas::checks::VerifyOptions;
+use talas::checks::oracle::surface::VerifyOptions;
 use talas::geometry::Interval;
 use talas::geometry::brep::Part;
 use talas::geometry::frame::Frame;
@@ -84,7 +84,8 @@ fn verify(
         threshold_mm: limit,
         ..VerifyOptions::default()
     };
-    let r = talas::checks::verify(&patch, &tp.tool.cutter, &tp.poses, &o).expect("verify");
+    let r = talas::checks::oracle::surface::verify(&patch, &tp.tool.cutter, &tp.poses, &o)
+        .expect("verify");
     eprintln!(
         "verify: {} counted of {}, {} uncovered, remaining p50/90/99/99.9 {:?}, max {} at {:?}, penetration {} at {:?}",
         r.counted,

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use talas::checks::VerifyOptions;
+use talas::checks::oracle::surface::VerifyOptions;
 use talas::geometry::brep::Part;
 use talas::geometry::surface::{ParamRect, SurfaceGeom};
 use talas::import::step::read_step;
@@ -76,7 +76,7 @@ fn penetration(s: &SurfaceGeom, rect: ParamRect, side: f64, tool: &str, poses: &
         nv: 30,
         ..VerifyOptions::default()
     };
-    let r = talas::checks::verify(&gp, &cutter, poses, &o).expect("verify");
+    let r = talas::checks::oracle::surface::verify(&gp, &cutter, poses, &o).expect("verify");
     r.max_penetration_mm
 }
 
@@ -333,7 +333,7 @@ fn isoplanar_covers_the_trough_up_to_its_edges() {
             angle: deg.to_radians(),
         };
         let r = plan_with(&s, rect, side, tool, st, &o);
-        let v = talas::checks::verify(
+        let v = talas::checks::oracle::surface::verify(
             &gp,
             &cutter,
             &r.toolpath.poses,

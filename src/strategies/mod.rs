@@ -6,7 +6,6 @@
 pub mod finish;
 pub mod pencil;
 pub mod raster;
-pub mod raster_check;
 pub mod rest;
 pub mod steep_shallow;
 pub mod waterline;
