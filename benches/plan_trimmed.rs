@@ -10,9 +10,9 @@ use std::path::Path;
 use criterion::{Criterion, criterion_group, criterion_main};
 use talas::geometry::trim::TrimRegion;
 use talas::import::step::read_step;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::plan_finish;
-use talas::strategies::{FinishOptions, Pattern, Strategy};
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::plan_finish;
+use talas::strategies::finish::{FinishOptions, Pattern, Strategy};
 use talas::tools::parse_tool_spec;
 
 fn bench(c: &mut Criterion) {

@@ -155,9 +155,9 @@ fn five_axis() {
     use talas::import::step::read_step;
     use talas::project::Stock;
     use talas::project::simulate::{SimulationSettings, simulate_toolpath};
-    use talas::strategies::face::FacePatch;
-    use talas::strategies::finish::plan_finish;
-    use talas::strategies::{FinishOptions, Strategy};
+    use talas::strategies::finish::face::FacePatch;
+    use talas::strategies::finish::plan::plan_finish;
+    use talas::strategies::finish::{FinishOptions, Strategy};
     use talas::tools::parse_tool_spec;
 
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");

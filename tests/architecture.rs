@@ -226,3 +226,243 @@ fn architecture_md_lists_every_engine_module() {
         );
     }
 }
+
+/// The code of a file without its `#[cfg(test)]` module (whose `super` is the file itself).
+fn without_test_module(code: &str) -> &str {
+    code.find("#[cfg(test)]\nmod ").map_or(code, |i| &code[..i])
+}
+
+/// Names `name` as a path's first segment after `prefix` (e.g. `super::` + `plan`) or in a
+/// `prefix{…}` group.
+fn path_heads(code: &str, prefix: &str) -> BTreeSet<String> {
+    let ident = |s: &str| -> String {
+        s.trim()
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect()
+    };
+    let mut heads = BTreeSet::new();
+    for (i, _) in code.match_indices(prefix) {
+        let before = code[..i].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+            continue;
+        }
+        let rest = &code[i + prefix.len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let group: String = group.chars().take_while(|c| *c != '}').collect();
+            heads.extend(group.split(',').map(ident).filter(|n| !n.is_empty()));
+        } else {
+            let name = ident(rest);
+            if !name.is_empty() {
+                heads.insert(name);
+            }
+        }
+    }
+    heads
+}
+
+/// The `use` graph among the files of one folder: node `mod` is the folder's own module file
+/// (`dir/mod.rs` or `dir.rs`), the others are its child modules (files and sub-folders). A child
+/// uses a sibling through `super::sibling` or `crate::…::dir::sibling`, the folder's module
+/// through `super::Item`; the module file uses a child through `child::` or `self::child`.
+fn sibling_graph(src: &Path, dir: &Path) -> std::collections::BTreeMap<String, BTreeSet<String>> {
+    let mut children = BTreeSet::new();
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Default::default();
+    };
+    for p in entries.filter_map(Result::ok).map(|e| e.path()) {
+        let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        let is_rs = p.extension().is_some_and(|e| e == "rs");
+        if (is_rs && stem != "mod")
+            || (p.is_dir()
+                && (p.join("mod.rs").exists() || dir.join(format!("{stem}.rs")).exists()))
+        {
+            children.insert(stem.to_string());
+        }
+    }
+    let rel = dir.strip_prefix(src).unwrap_or(dir);
+    let module_path = format!(
+        "crate::{}::",
+        rel.components()
+            .filter_map(|c| c.as_os_str().to_str())
+            .collect::<Vec<_>>()
+            .join("::")
+    );
+    let read = |p: &Path| {
+        without_test_module(&code_only(&fs::read_to_string(p).unwrap_or_default())).to_string()
+    };
+    let mut graph = std::collections::BTreeMap::new();
+    for child in &children {
+        let file = dir.join(format!("{child}.rs"));
+        let file = if file.exists() {
+            file
+        } else {
+            dir.join(child).join("mod.rs")
+        };
+        let code = read(&file);
+        let mut uses = BTreeSet::new();
+        for head in path_heads(&code, "super::")
+            .into_iter()
+            .chain(path_heads(&code, &module_path))
+        {
+            if children.contains(&head) {
+                uses.insert(head);
+            } else if !["*", "super", "self", "crate"].contains(&head.as_str()) {
+                uses.insert("mod".to_string());
+            }
+        }
+        uses.remove(child);
+        graph.insert(child.clone(), uses);
+    }
+    let own = [dir.join("mod.rs"), dir.with_extension("rs")]
+        .into_iter()
+        .find(|p| p.exists());
+    if let Some(own) = own {
+        let code = read(&own);
+        let mut uses = BTreeSet::new();
+        for c in &children {
+            if !path_heads(&code, &format!("{c}::")).is_empty()
+                || code.contains(&format!("self::{c}::"))
+            {
+                uses.insert(c.clone());
+            }
+        }
+        graph.insert("mod".to_string(), uses);
+    }
+    graph
+}
+
+/// The import circles (strongly connected sets of two or more files) in a folder's graph.
+fn circles(graph: &std::collections::BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    let reaches = |from: &str| -> BTreeSet<String> {
+        let mut seen = BTreeSet::new();
+        let mut stack = vec![from.to_string()];
+        while let Some(n) = stack.pop() {
+            for m in graph.get(&n).into_iter().flatten() {
+                if seen.insert(m.clone()) {
+                    stack.push(m.clone());
+                }
+            }
+        }
+        seen
+    };
+    let reach: std::collections::BTreeMap<&String, BTreeSet<String>> =
+        graph.keys().map(|k| (k, reaches(k))).collect();
+    let mut done = BTreeSet::new();
+    let mut out = Vec::new();
+    for (a, ra) in &reach {
+        if done.contains(*a) || !ra.contains(*a) {
+            continue;
+        }
+        let circle: Vec<String> = ra
+            .iter()
+            .filter(|b| reach.get(b).is_some_and(|rb| rb.contains(*a)))
+            .cloned()
+            .collect();
+        done.extend(circle.iter().cloned());
+        if circle.len() > 1 {
+            out.push(circle);
+        }
+    }
+    out
+}
+
+fn folders(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for p in entries.filter_map(Result::ok).map(|e| e.path()) {
+        if p.is_dir() {
+            out.push(p.clone());
+            folders(&p, out);
+        }
+    }
+}
+
+/// Import circles among the child files of a folder (its `mod.rs` aside) that exist and are
+/// tolerated, as (folder, files). A new circle fails the test: break it, or (if it has to be)
+/// list it here.
+const KNOWN_CIRCLES: &[(&str, &[&str])] = &[
+    ("app", &["command", "viewport"]),
+    ("app", &["forces", "workstation"]),
+    ("checks", &["footprint", "gouge"]),
+    ("cli", &["forces", "forces_path"]),
+    ("cli", &["plan", "plan_group", "plan_mesh"]),
+    ("feed", &["blend", "path"]),
+    ("force", &["closed_form", "disks"]),
+    ("force", &["path", "stock"]),
+    ("gcode", &["interpreter", "motion"]),
+    ("import/step/brep", &["assembly", "representation"]),
+    ("profile", &["read", "read_svg"]),
+    ("simulation", &["batch", "engine"]),
+    ("strategies/raster", &["envelope", "passes"]),
+];
+
+/// Folders whose files, their `mod.rs` included, use each other one way only.
+const NO_CIRCLE_AT_ALL: &[&str] = &["strategies/finish"];
+
+#[test]
+fn no_import_circles_among_the_files_of_a_folder() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut dirs = vec![src.clone()];
+    folders(&src, &mut dirs);
+    dirs.sort();
+    let mut bad = Vec::new();
+    for d in &dirs {
+        let name = d
+            .strip_prefix(&src)
+            .unwrap_or(d)
+            .to_string_lossy()
+            .replace('\\', "/");
+        let mut g = sibling_graph(&src, d);
+        if NO_CIRCLE_AT_ALL.contains(&name.as_str()) {
+            bad.extend(
+                circles(&g)
+                    .into_iter()
+                    .map(|c| format!("{name}: {} (mod.rs counted)", c.join(" "))),
+            );
+        }
+        g.remove("mod");
+        for c in circles(&g) {
+            let known = KNOWN_CIRCLES.iter().any(|(f, files)| {
+                *f == name && files.iter().copied().eq(c.iter().map(String::as_str))
+            });
+            if !known {
+                bad.push(format!("{name}: {}", c.join(" ")));
+            }
+        }
+    }
+    for f in NO_CIRCLE_AT_ALL {
+        assert!(src.join(f).is_dir(), "{f} is not a folder of src");
+    }
+    assert!(
+        bad.is_empty(),
+        "import circles among sibling files:\n{}",
+        bad.join("\n")
+    );
+}
+
+#[test]
+fn the_circle_checker_finds_circles() {
+    let g: std::collections::BTreeMap<String, BTreeSet<String>> = [
+        ("a", vec!["b"]),
+        ("b", vec!["c"]),
+        ("c", vec!["a"]),
+        ("d", vec!["a"]),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v.into_iter().map(String::from).collect()))
+    .collect();
+    assert_eq!(circles(&g), vec![vec!["a", "b", "c"]]);
+    let heads = path_heads(
+        "use super::{setup::Setup, pass};\nlet x = super::plan::f();",
+        "super::",
+    );
+    assert_eq!(
+        heads.into_iter().collect::<Vec<_>>(),
+        ["pass", "plan", "setup"]
+    );
+    assert!(path_heads("use a::super::x;", "super::").is_empty());
+    let code = "fn f() {}\n#[cfg(test)]\nmod tests {\n use super::x;\n}";
+    assert!(!without_test_module(code).contains("super"));
+}

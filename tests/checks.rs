@@ -7,10 +7,10 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 
 use glam::{DVec2, DVec3};
+use talas::checks::oracle::surface::{VerifyOptions, verify};
 use talas::checks::{
-    FacePatch, GougeKind, GougeOptions, VerifyOptions, analyze, check_path, check_pose,
-    curvature_at, curvature_margin, effective_radius, min_lead_for_radius, pose_from_contact,
-    required_lead, verify,
+    FacePatch, GougeKind, GougeOptions, analyze, check_path, check_pose, curvature_at,
+    curvature_margin, effective_radius, min_lead_for_radius, pose_from_contact, required_lead,
 };
 use talas::geometry::Interval;
 use talas::geometry::frame::Frame;

@@ -1,15 +1,15 @@
 //! Raster finishing (and Z-level roughing) on meshes, checked by an independent computation:
 //! the remaining height along the surface normal to the swept ball envelope and the gouge, on
-//! dense samples of the mesh (`strategies::raster_check`, which does not use the drop-cutter).
+//! dense samples of the mesh (`checks::oracle::raster`, which does not use the drop-cutter).
 
 use std::path::Path;
 
+use talas::checks::oracle::raster::{RemainingOptions, ball_remaining_height};
 use talas::geometry::DVec2;
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
 use talas::import::stl::{StlOptions, read_stl};
 use talas::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
-use talas::strategies::raster_check::{RemainingOptions, ball_remaining_height};
 use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::parse_tool_spec;
 

@@ -277,7 +277,7 @@ fn face_finishing_operation_plans_the_same_path_as_talas_plan() {
         options.scallop = 0.2;
         options.tolerance = 0.05;
         options.feed = FEED;
-        options.axis = talas::strategies::axis::AxisMode::Normal {
+        options.axis = talas::strategies::finish::axis::AxisMode::Normal {
             lead: 5f64.to_radians(),
             tilt: 0.0,
         };

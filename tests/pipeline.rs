@@ -68,7 +68,7 @@ fn finishing_a_face_puts_the_ball_centre_one_radius_off_the_exact_surface() {
             on.distance
         );
         // Poses sit on the surface raised by half the chord tolerance (the one-sided tolerance
-        // of `strategies::stepping`), so the centre is R + ε/2 from the surface.
+        // of `strategies::finish::stepping`), so the centre is R + ε/2 from the surface.
         let nearest = surface.closest_point(centre, rect, None);
         assert!(
             (nearest.distance - (r + 0.01)).abs() < 1e-5,

@@ -7,16 +7,16 @@
 use std::path::Path;
 
 use glam::DVec3;
-use talas::checks::VerifyOptions;
+use talas::checks::oracle::surface::VerifyOptions;
 use talas::geometry::Interval;
 use talas::geometry::brep::Part;
 use talas::geometry::frame::Frame;
 use talas::geometry::surface::{Cylinder, ParamRect, Plane, Sphere, SurfaceGeom};
 use talas::import::step::read_step;
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::{FinishResult, plan_finish};
-use talas::strategies::{Direction, FinishOptions, Pattern, Strategy};
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::{FinishResult, plan_finish};
+use talas::strategies::finish::{Direction, FinishOptions, Pattern, Strategy};
 use talas::toolpath::{MoveKind, Toolpath};
 use talas::tools::parse_tool_spec;
 
@@ -84,7 +84,8 @@ fn verify(
         threshold_mm: limit,
         ..VerifyOptions::default()
     };
-    let r = talas::checks::verify(&patch, &tp.tool.cutter, &tp.poses, &o).expect("verify");
+    let r = talas::checks::oracle::surface::verify(&patch, &tp.tool.cutter, &tp.poses, &o)
+        .expect("verify");
     eprintln!(
         "verify: {} counted of {}, {} uncovered, remaining p50/90/99/99.9 {:?}, max {} at {:?}, penetration {} at {:?}",
         r.counted,
@@ -288,7 +289,7 @@ fn rigid_motion_gives_the_same_summary() {
 
 /// The scan's passes of an iso-scallop result, without the two closing passes along the
 /// edges where the passes start and end.
-fn scan(r: &FinishResult) -> &[talas::strategies::pass::Pass] {
+fn scan(r: &FinishResult) -> &[talas::strategies::finish::pass::Pass] {
     &r.passes[..r.passes.len().saturating_sub(2)]
 }
 
@@ -333,7 +334,7 @@ fn ball_side_step_on_plane_sphere_cylinder() {
     };
     let res = plan(&sphere, dom, 1.0, "ball:d=6", Strategy::IsoScallop, &o2);
     let vs: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].y).collect();
-    let thesis = talas::strategies::scallop::thesis_side_step(h, r, rho).expect("convex");
+    let thesis = talas::strategies::finish::scallop::thesis_side_step(h, r, rho).expect("convex");
     for pair in vs.windows(2).take(vs.len().saturating_sub(2)) {
         let arc = (pair[1] - pair[0]).abs() * rho;
         assert!(
@@ -353,7 +354,7 @@ fn ball_side_step_on_plane_sphere_cylinder() {
     };
     let res = plan(&cyl, dom, -1.0, "ball:d=6", Strategy::IsoScallop, &o);
     let us: Vec<f64> = scan(&res).iter().map(|p| p.uv[p.uv.len() / 2].x).collect();
-    let thesis = talas::strategies::scallop::thesis_side_step(h, r, -rho).expect("concave");
+    let thesis = talas::strategies::finish::scallop::thesis_side_step(h, r, -rho).expect("concave");
     for pair in us.windows(2).take(us.len().saturating_sub(2)) {
         let arc = (pair[1] - pair[0]).abs() * rho;
         assert!(

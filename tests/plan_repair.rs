@@ -8,15 +8,16 @@
 use std::path::Path;
 
 use glam::DVec3;
-use talas::checks::VerifyOptions;
+use talas::checks::oracle::surface::VerifyOptions;
 use talas::geometry::brep::Part;
 use talas::geometry::surface::{ParamRect, SurfaceGeom};
 use talas::import::step::read_step;
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::{FinishResult, Setup, plan_finish};
-use talas::strategies::repair::{max_axis_change, plan_passes};
-use talas::strategies::{FinishOptions, Strategy};
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::{FinishResult, plan_finish};
+use talas::strategies::finish::repair::{max_axis_change, plan_passes};
+use talas::strategies::finish::setup::Setup;
+use talas::strategies::finish::{FinishOptions, Strategy};
 use talas::toolpath::{MoveKind, Pose};
 use talas::tools::parse_tool_spec;
 
@@ -75,7 +76,7 @@ fn penetration(s: &SurfaceGeom, rect: ParamRect, side: f64, tool: &str, poses: &
         nv: 30,
         ..VerifyOptions::default()
     };
-    let r = talas::checks::verify(&gp, &cutter, poses, &o).expect("verify");
+    let r = talas::checks::oracle::surface::verify(&gp, &cutter, poses, &o).expect("verify");
     r.max_penetration_mm
 }
 
@@ -152,7 +153,7 @@ fn smoothing_lowers_the_largest_axis_change() {
     );
     // Per pass (the passes as planned, each stepped on its own), on the scan's passes: not
     // the closing passes along the domain's edges (all their points on one edge).
-    let on_edge = |p: &talas::strategies::pass::Pass| {
+    let on_edge = |p: &talas::strategies::finish::pass::Pass| {
         let all = |f: &dyn Fn(glam::DVec2) -> bool| p.uv.iter().all(|q| f(*q));
         all(&|q| q.x <= rect.u.t0)
             || all(&|q| q.x >= rect.u.t1)
@@ -245,7 +246,7 @@ fn lead_arcs_are_tangent_quarter_circles_above_the_surface() {
         ..FinishOptions::default()
     };
     let st = Strategy::IsoParametric {
-        pattern: talas::strategies::Pattern::Oneway,
+        pattern: talas::strategies::finish::Pattern::Oneway,
     };
     let r = plan_with(&s, rect, side, tool, st, &o);
     let poses = &r.toolpath.poses;
@@ -332,7 +333,7 @@ fn isoplanar_covers_the_trough_up_to_its_edges() {
             angle: deg.to_radians(),
         };
         let r = plan_with(&s, rect, side, tool, st, &o);
-        let v = talas::checks::verify(
+        let v = talas::checks::oracle::surface::verify(
             &gp,
             &cutter,
             &r.toolpath.poses,

@@ -17,10 +17,10 @@ use talas::geometry::surface::SurfaceGeom;
 use talas::geometry::tessellate::{TessellationOptions, discretize_edge, tessellate_face};
 use talas::geometry::trim::TrimRegion;
 use talas::import::step::read_step;
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::{FinishResult, plan_finish};
-use talas::strategies::{FinishOptions, Pattern, Strategy};
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::{FinishResult, plan_finish};
+use talas::strategies::finish::{FinishOptions, Pattern, Strategy};
 use talas::toolpath::MoveKind;
 use talas::tools::parse_tool_spec;
 

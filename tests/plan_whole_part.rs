@@ -19,11 +19,11 @@ use talas::geometry::brep::tangent_connected;
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::trim::TrimRegion;
 use talas::import::{OpenOptions, Workpiece, open};
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::{FinishResult, plan_finish_in};
-use talas::strategies::tiltaway::{PartContext, TiltAway};
-use talas::strategies::{FinishOptions, Pattern, Strategy};
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::{FinishResult, plan_finish_in};
+use talas::strategies::finish::tiltaway::{PartContext, TiltAway};
+use talas::strategies::finish::{FinishOptions, Pattern, Strategy};
 use talas::toolpath::MoveKind;
 use talas::tools::parse_tool_spec;
 use talas::tools::solid::ToolPart;
@@ -226,7 +226,7 @@ fn a_scallop_the_next_pass_does_not_reach_is_counted_not_reported_as_a_height() 
 
 #[test]
 fn a_face_group_plans_as_one_path_joined_at_one_clearance() {
-    use talas::strategies::group::plan_group;
+    use talas::strategies::finish::group::plan_group;
     let wp = pocket();
     let bvh = wp.bvh().expect("bvh");
     let part = wp.part.as_ref().expect("B-rep");

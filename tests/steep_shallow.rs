@@ -1,14 +1,14 @@
 //! Steep-and-shallow finishing with a ball end mill, judged by the independent remaining-height
-//! check (`raster_check`, which does not use the drop-cutter nor the push-cutter): the share of
+//! check (`checks::oracle::raster`, which does not use the drop-cutter nor the push-cutter): the share of
 //! the surface up to 85° steep left within h + chord tolerance, and no gouge.
 
 use std::path::Path;
 
+use talas::checks::oracle::raster::{RemainingOptions, ball_remaining_height};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
 use talas::import::stl::{StlOptions, read_stl};
 use talas::strategies::raster::RasterOptions;
-use talas::strategies::raster_check::{RemainingOptions, ball_remaining_height};
 use talas::strategies::steep_shallow::{SteepShallowOptions, steep_shallow};
 use talas::strategies::waterline::WaterlineOptions;
 use talas::toolpath::{MoveKind, ToolRecord};

@@ -215,7 +215,7 @@ fn reduce_a_part_samples_its_exact_zmap() {
 #[test]
 fn reduce_a_part_and_machine_the_reduced_model() {
     use glam::DVec2;
-    use talas::strategies::raster_check::{RemainingOptions, ball_remaining_height};
+    use talas::checks::oracle::raster::{RemainingOptions, ball_remaining_height};
     use talas::toolpath::{MoveKind, Toolpath};
     let out_path =
         std::env::temp_dir().join(format!("talas-zmap-path-{}.json", std::process::id()));

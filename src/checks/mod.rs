@@ -1,13 +1,13 @@
 //! Checks on tool paths (L3): surface analysis for tool choice, local and rear gouge detection
-//! against the exact surface, and the independent scallop/gouge verification used by the tests.
+//! against the exact surface, and the independent references used by the tests ([`oracle`]).
 //!
 //! Every check works on a [`FacePatch`]: a surface, the parameter rectangle of interest and the
 //! side the tool is on. Curvatures here are signed with respect to the **tool-side** normal, so
 //! a positive normal curvature is concave as the tool sees it (the surface bends toward the
 //! tool) and a negative one convex.
 //!
-//! - [`mod@verify`]: dense surface samples against the union of the tool envelopes swept along the
-//!   cut moves: remaining height (scallop) and penetration (gouge).
+//! - [`oracle`]: independent references the tests check tool paths against (dense samples
+//!   against the swept tool, without the planners' own contact computations).
 //! - [`analysis`]: minimum concave/convex radii per parametric direction and principal; per-point
 //!   curvatures for colour maps.
 //! - [`choice`]: largest gouge-free ball end mill, standard flat diameter and minimum lead
@@ -23,9 +23,9 @@ mod contact;
 mod footprint;
 pub mod gouge;
 mod motion;
+pub mod oracle;
 pub mod part;
 pub mod sweep;
-pub mod verify;
 
 use glam::{DVec2, DVec3};
 
@@ -42,7 +42,6 @@ pub use gouge::{
     curvature_margin, effective_radius, pose_from_contact, required_lead,
 };
 pub use sweep::{SweptDistance, SweptTool};
-pub use verify::{SampleAt, VerifyOptions, VerifyReport, verify, verify_masked};
 
 /// Why a check could not run.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -17,11 +17,11 @@ use crate::import::step::read_step;
 use crate::import::{ImportError, OpenOptions, Workpiece};
 use crate::project::pipeline::{self, ComputeError, Computed};
 use crate::project::{FINISH_3AXIS_CLEARANCE_MM, Operation, Project, Stock, ToolEntry};
-use crate::strategies::axis::AxisMode;
-use crate::strategies::face::FacePatch;
-use crate::strategies::finish::plan_finish_in;
-use crate::strategies::tiltaway::{PartContext, TiltAway};
-use crate::strategies::{Direction, FinishOptions, Pattern, Strategy};
+use crate::strategies::finish::axis::AxisMode;
+use crate::strategies::finish::face::FacePatch;
+use crate::strategies::finish::plan::plan_finish_in;
+use crate::strategies::finish::tiltaway::{PartContext, TiltAway};
+use crate::strategies::finish::{Direction, FinishOptions, Pattern, Strategy};
 use crate::toolpath::Toolpath;
 use crate::tools::parse_tool_spec;
 
@@ -302,11 +302,11 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         )
     })?;
     let place = Some(format!("face {index} (#{})", face.source_id));
-    let face_err = |e: crate::strategies::PlanError| {
+    let face_err = |e: crate::strategies::finish::PlanError| {
         ImportError::new(&args.file, place.clone(), e.to_string())
     };
     let region = TrimRegion::of_face(face, &part, REGION_CHORD_MM).map_err(|e| {
-        face_err(crate::strategies::PlanError::Face(format!(
+        face_err(crate::strategies::finish::PlanError::Face(format!(
             "its trimming loops: {e}"
         )))
     })?;

@@ -1,5 +1,5 @@
 //! `talas plan --face A,B,C`: one finishing operation over a face group
-//! ([`crate::strategies::group::plan_group`]), written and reported as `talas plan` writes one
+//! ([`crate::strategies::finish::group::plan_group`]), written and reported as `talas plan` writes one
 //! face's path.
 
 use serde_json::{Value, json};
@@ -8,9 +8,9 @@ use super::plan::{PlanArgs, whole_part};
 use crate::checks::part::PartCheck;
 use crate::geometry::brep::Part;
 use crate::import::ImportError;
-use crate::strategies::group::plan_group;
-use crate::strategies::tiltaway::{PartContext, TiltAway};
-use crate::strategies::{FinishOptions, Strategy};
+use crate::strategies::finish::group::plan_group;
+use crate::strategies::finish::tiltaway::{PartContext, TiltAway};
+use crate::strategies::finish::{FinishOptions, Strategy};
 use crate::tools::Cutter;
 
 /// Plan the group `args.face`, save the joined path, and build the JSON report.

@@ -1,12 +1,12 @@
 //! Machining operations as the document stores them: which tool, what it cuts, and the
 //! strategy's parameters (mm, rad, mm/min), with defaults a machinist would start from.
 
+use crate::strategies::finish::{FinishOptions, Pattern, Strategy};
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
 use crate::strategies::waterline::Cut;
-use crate::strategies::{FinishOptions, Pattern, Strategy};
 
 pub use super::finish_group::TiltAwaySettings;
 
@@ -527,7 +527,8 @@ impl Operation {
                 {
                     return Err("the plane angle must be a finite number".into());
                 }
-                if let crate::strategies::axis::AxisMode::Normal { lead, tilt } = options.axis
+                if let crate::strategies::finish::axis::AxisMode::Normal { lead, tilt } =
+                    options.axis
                     && !(lead.abs() < std::f64::consts::FRAC_PI_2
                         && tilt.abs() < std::f64::consts::FRAC_PI_2)
                 {

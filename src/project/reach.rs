@@ -63,8 +63,10 @@ pub fn unreachable_axes(toolpath: &Toolpath, machine: &Machine) -> Option<Diagno
 /// tilt axis's travel from vertical on a 5-axis machine (90° where the machine has no tilt axis:
 /// such a path is flagged by [`unreachable_axes`] anyway).
 #[must_use]
-pub fn tilt_away_limits(machine: Option<&Machine>) -> crate::strategies::tiltaway::TiltAway {
-    let mut t = crate::strategies::tiltaway::TiltAway::default();
+pub fn tilt_away_limits(
+    machine: Option<&Machine>,
+) -> crate::strategies::finish::tiltaway::TiltAway {
+    let mut t = crate::strategies::finish::tiltaway::TiltAway::default();
     if let Some(m) = machine {
         let (lo, hi) = tilt_range(m);
         let reach = lo.abs().max(hi.abs());

@@ -33,11 +33,11 @@ use talas::simulation::{
     DeviationOptions, DeviationReport, DexelMode, DexelStock, SimOptions, StepOptions, StockShape,
     deviation, plan_toolpath, simulate,
 };
-use talas::strategies::axis::AxisMode;
-use talas::strategies::face::FacePatch;
-use talas::strategies::finish::plan_finish;
+use talas::strategies::finish::axis::AxisMode;
+use talas::strategies::finish::face::FacePatch;
+use talas::strategies::finish::plan::plan_finish;
+use talas::strategies::finish::{FinishOptions, Strategy};
 use talas::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster};
-use talas::strategies::{FinishOptions, Strategy};
 use talas::toolpath::{MoveKind, ToolRecord, Toolpath};
 use talas::tools::parse_tool_spec;
 
@@ -317,7 +317,7 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
 
 /// 5-axis iso-scallop (ball d=6, axis along the normal, h = 0.1 mm, ε = 0.01 mm) on a
 /// parameter window of bicubic-hills.stp face 0, simulated on a Z-dexel box at 0.2 mm, and
-/// compared with the exact verification of `checks::verify` on the same poses. The path follows
+/// compared with the exact verification of `checks::oracle::surface::verify` on the same poses. The path follows
 /// the exact surface and the part is its 0.01 mm mesh: B = r/√2 + 0.01.
 ///
 /// Why Z rays suffice although the axis tilts (up to 21.7° here): the removal is exact per
@@ -412,16 +412,16 @@ fn five_axis_isoscallop_agrees_with_the_exact_verification() {
     let c = covered(&d, &stock, clo, chi, h + eps + bound);
     // The exact verification over the same region: the parameter window with the same border.
     let vp = talas::checks::FacePatch::new(&face.surface, rect, side < 0.0).expect("patch");
-    let vo = talas::checks::VerifyOptions {
+    let vo = talas::checks::oracle::surface::VerifyOptions {
         nu: 120,
         nv: 120,
         margin_mm: margin,
         threshold_mm: h + eps,
-        ..talas::checks::VerifyOptions::default()
+        ..talas::checks::oracle::surface::VerifyOptions::default()
     };
     eprintln!("deviation in {:?}", t0.elapsed());
     let t0 = std::time::Instant::now();
-    let v = talas::checks::verify(&vp, &cutter, &tp.poses, &vo).expect("verify");
+    let v = talas::checks::oracle::surface::verify(&vp, &cutter, &tp.poses, &vo).expect("verify");
     eprintln!("verify in {:?}", t0.elapsed());
     eprintln!(
         "5-axis iso-scallop h {h}, ε {eps}, r {r}: {} poses, axis tilt up to {:.1}°, predicted max \

@@ -19,9 +19,9 @@ use super::super::widgets::{grid, grouped, mm3};
 use super::super::workstation::ShownSimulation;
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
-use crate::strategies::axis::AxisMode;
+use crate::strategies::finish::axis::AxisMode;
+use crate::strategies::finish::{Direction, Pattern, Strategy};
 use crate::strategies::waterline::Cut;
-use crate::strategies::{Direction, Pattern, Strategy};
 use crate::toolpath::MoveKind;
 
 /// The working copy of the operation being edited (so a drag shows its value at once and is

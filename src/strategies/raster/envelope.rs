@@ -20,7 +20,7 @@
 //! the chord tolerance.
 //!
 //! **Minimum over one sub-chord.** For a ball the centre moves on a straight segment and the
-//! minimum has the closed form of `raster_check` (the function is convex in t'). For other
+//! minimum has the closed form of `checks::oracle::raster` (the function is convex in t'). For other
 //! profiles g is convex and non-decreasing and ρ(t') is convex, so the function is convex and
 //! a ternary search finds it.
 

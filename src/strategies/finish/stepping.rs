@@ -16,8 +16,8 @@
 use glam::{DVec2, DVec3};
 
 use super::axis::{AxisMode, axis_angle};
-use super::finish::Setup;
 use super::pass::Pass;
+use super::setup::Setup;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
 use crate::tools::CutterKind;
 use crate::tools::effective::contact_to_tip;

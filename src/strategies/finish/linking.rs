@@ -17,7 +17,7 @@
 use glam::{DQuat, DVec3};
 
 use super::axis::{AxisMode, axis_angle};
-use super::finish::Setup;
+use super::setup::Setup;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
 use crate::tools::effective::contact_to_tip;
 
@@ -324,9 +324,9 @@ mod tests {
     use crate::geometry::Interval;
     use crate::geometry::frame::Frame;
     use crate::geometry::surface::{Cylinder, ParamRect, SurfaceGeom};
-    use crate::strategies::FinishOptions;
-    use crate::strategies::face::FacePatch;
-    use crate::strategies::finish::Setup;
+    use crate::strategies::finish::FinishOptions;
+    use crate::strategies::finish::face::FacePatch;
+    use crate::strategies::finish::setup::Setup;
     use crate::toolpath::{MoveKind, Pose};
     use crate::tools::{Cutter, CutterKind};
 

@@ -24,8 +24,8 @@
 use glam::DVec2;
 
 use super::PlanError;
-use super::finish::Setup;
 use super::pass::Pass;
+use super::setup::Setup;
 use crate::diagnostics::Diagnostic;
 
 /// Most passes before the scan stops with a diagnostic.

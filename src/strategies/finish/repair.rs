@@ -23,8 +23,8 @@ use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 
 use super::axis::{AxisMode, axis_angle, smooth_axes};
-use super::finish::Setup;
 use super::pass::Pass;
+use super::setup::Setup;
 use super::stepping::{CurvePoint, PassCurve, make_pose};
 use crate::checks::{FacePatch, Gouge, GougeOptions, check_move, check_path, check_pose};
 use crate::toolpath::{MoveKind, Pose};

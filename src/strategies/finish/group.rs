@@ -6,7 +6,7 @@
 //! one face's last retract to the next face's first approach stays at that height.
 
 use super::face::FacePatch;
-use super::finish::plan_finish_in;
+use super::plan::plan_finish_in;
 use super::tiltaway::{LeftOut, PartContext};
 use super::{FinishOptions, PlanError, Strategy};
 use crate::checks::part::PartHit;

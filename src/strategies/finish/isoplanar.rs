@@ -15,8 +15,8 @@ use glam::{DVec2, DVec3};
 
 use super::PlanError;
 use super::face::FacePatch;
-use super::finish::{Guide, Setup};
 use super::pass::Pass;
+use super::setup::{Guide, Setup};
 use crate::diagnostics::Diagnostic;
 
 /// Samples whose surface gradient of the plane level is below this fraction of the largest

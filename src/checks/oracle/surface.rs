@@ -1,7 +1,7 @@
 //! Independent verification of a tool path against the exact surface: sample the surface on a
 //! uv grid and, for each sample, measure the remaining height (distance along the tool-side
 //! normal up to the union of the tool envelopes swept along the cutting moves) and the
-//! penetration (how far that union reaches below the sample along the normal). See [`super::sweep`] for the move
+//! penetration (how far that union reaches below the sample along the normal). See [`crate::checks::sweep`] for the move
 //! model and the error bound of the sweep.
 //!
 //! Which samples count:
@@ -20,8 +20,8 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::sweep::SweptTool;
-use super::{CheckError, FacePatch};
+use crate::checks::sweep::SweptTool;
+use crate::checks::{CheckError, FacePatch};
 use crate::geometry::surface::ParamRect;
 use crate::toolpath::Pose;
 use crate::tools::Cutter;

@@ -6,8 +6,8 @@
 //! to the region: a line that leaves and re-enters it (a hole, a notch) gives several runs,
 //! each ending on the boundary, and the step is chosen over the runs only.
 
-use super::finish::Setup;
 use super::pass::Pass;
+use super::setup::Setup;
 use super::{Direction, Pattern, PlanError};
 use crate::diagnostics::Diagnostic;
 
@@ -45,7 +45,7 @@ fn across_step(setup: &Setup<'_>, reversed_next: bool) -> Option<f64> {
 
 /// |∂S/∂(across)| without its component along the feed: the distance between neighbouring
 /// iso-lines per unit parameter.
-fn across_speed(setup: &Setup<'_>, g: &super::finish::Guide) -> f64 {
+fn across_speed(setup: &Setup<'_>, g: &super::setup::Guide) -> f64 {
     let d = &g.frame.d;
     let s = if setup.across() == 0 { d.su } else { d.sv };
     (s - g.f * s.dot(g.f)).length()
