@@ -12,6 +12,7 @@
 //! ([`linking`]).
 
 pub mod axis;
+pub mod boundary;
 pub mod face;
 pub mod finish;
 pub mod group;
