@@ -76,6 +76,9 @@ fn steep_shallow_on_pocket_fillets_holds_the_scallop_on_walls_and_floors() {
     assert!(rep.samples() > 5000);
     // Measured 99.78 % (p99 0.048 mm): the waterline adds a level where the fillets' steep
     // band ends between two levels (without it 98.65 %, up to 0.17 mm on the fillets at z ≈ 17).
-    assert!(within >= 0.99, "only {within} of the surface within h + tol");
+    assert!(
+        within >= 0.99,
+        "only {within} of the surface within h + tol"
+    );
     assert!(rep.max_gouge_mm <= 1e-3, "gouge {} mm", rep.max_gouge_mm);
 }

@@ -92,7 +92,10 @@ fn waterline_from_the_command_line_offsets_a_box() {
 
 /// The box's point nearest to `p` (closed form: each coordinate clamped to the box).
 fn box_nearest(p: glam::DVec3) -> glam::DVec3 {
-    p.clamp(glam::DVec3::new(-10.0, -10.0, 0.0), glam::DVec3::splat(10.0))
+    p.clamp(
+        glam::DVec3::new(-10.0, -10.0, 0.0),
+        glam::DVec3::splat(10.0),
+    )
 }
 
 /// The cutting poses and the plunges onto the part (a limited path plunges onto the start of
@@ -113,7 +116,10 @@ fn cut_tips(path: &std::path::Path) -> Vec<talas::toolpath::Pose> {
 #[test]
 fn boundary_limits_raster_and_waterline_by_centre_and_contact() {
     let stl = temp_file("boundary-cli", "box.stl", &box_stl());
-    let (full, lim) = (stl.with_file_name("full.json"), stl.with_file_name("lim.json"));
+    let (full, lim) = (
+        stl.with_file_name("full.json"),
+        stl.with_file_name("lim.json"),
+    );
     let stl_s = stl.to_str().unwrap();
     let run = |out: &std::path::Path, extra: &[&str]| {
         let mut args = vec!["plan", stl_s, "--tool", "ball:d=6", "--scallop", "0.2"];
@@ -126,7 +132,12 @@ fn boundary_limits_raster_and_waterline_by_centre_and_contact() {
     run(&full, &["--strategy", "raster"]);
     run(&lim, &["--strategy", "raster", "--boundary", square]);
     let (all, kept) = (cut_tips(&full), cut_tips(&lim));
-    assert!(kept.len() > 20 && kept.len() < all.len(), "{} of {}", kept.len(), all.len());
+    assert!(
+        kept.len() > 20 && kept.len() < all.len(),
+        "{} of {}",
+        kept.len(),
+        all.len()
+    );
     for p in &kept {
         assert!(p.tip.x <= 1e-9 && p.tip.y.abs() <= 15.0, "{}", p.tip);
     }
@@ -141,7 +152,17 @@ fn boundary_limits_raster_and_waterline_by_centre_and_contact() {
     }
 
     let half = "-30,-30;0,-30;0,30;-30,30";
-    run(&lim, &["--strategy", "waterline", "--boundary", half, "--boundary-rule", "contact"]);
+    run(
+        &lim,
+        &[
+            "--strategy",
+            "waterline",
+            "--boundary",
+            half,
+            "--boundary-rule",
+            "contact",
+        ],
+    );
     let kept = cut_tips(&lim);
     assert!(kept.len() > 20);
     let mut reach = f64::MIN;
@@ -166,6 +187,9 @@ fn boundary_limits_raster_and_waterline_by_centre_and_contact() {
         assert_eq!(o.status.code(), Some(2), "{b:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(err.trim().lines().count(), 1, "{b:?}: {err}");
-        assert!(err.contains("box.stl") && err.contains("--boundary"), "{err}");
+        assert!(
+            err.contains("box.stl") && err.contains("--boundary"),
+            "{err}"
+        );
     }
 }

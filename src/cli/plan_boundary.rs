@@ -22,7 +22,9 @@ pub fn limit_computed(
     let bvh = part.bvh().map_err(bad)?;
     let (tp, report) = limit(&computed.toolpath, &bvh, &boundary).map_err(bad)?;
     if report.pieces == 0 {
-        return Err(bad("no cutting move of the path lies inside the boundary".into()));
+        return Err(bad(
+            "no cutting move of the path lies inside the boundary".into()
+        ));
     }
     computed.diagnostics.push(Diagnostic::info(
         None,

@@ -130,7 +130,9 @@ impl Boundary {
                 }
                 Ok(())
             }
-            Region::Faces(f) if f.is_empty() => Err("no faces are selected for the boundary".into()),
+            Region::Faces(f) if f.is_empty() => {
+                Err("no faces are selected for the boundary".into())
+            }
             _ => Ok(()),
         }
     }
@@ -216,9 +218,11 @@ impl Tester<'_> {
                 let tri = self.bvh.closest_point(c).map(|h| h.triangle);
                 Ok((c, tri))
             }
-            _ => Err("the contact-point rule needs the contact points: this path has none \
+            _ => Err(
+                "the contact-point rule needs the contact points: this path has none \
                       for its cutter (use a ball end mill or the tool-centre rule)"
-                .into()),
+                    .into(),
+            ),
         }
     }
 
@@ -313,7 +317,10 @@ pub fn limit(
                 let p0 = interpolate(a, b, w[0]);
                 let p1 = interpolate(a, b, w[1]);
                 if !(open && w[0] == 0.0) {
-                    pieces.push(vec![Pose { kind: MoveKind::Cut, ..p0 }]);
+                    pieces.push(vec![Pose {
+                        kind: MoveKind::Cut,
+                        ..p0
+                    }]);
                 }
                 if let Some(piece) = pieces.last_mut() {
                     piece.push(p1);
@@ -327,14 +334,24 @@ pub fn limit(
     let mut poses = Vec::new();
     for piece in &pieces {
         let (first, last) = (piece[0], piece[piece.len() - 1]);
-        poses.push(Pose::new(MoveKind::Rapid, first.tip.truncate().extend(clear), first.axis, cut_feed));
+        poses.push(Pose::new(
+            MoveKind::Rapid,
+            first.tip.truncate().extend(clear),
+            first.axis,
+            cut_feed,
+        ));
         poses.push(Pose {
             kind: MoveKind::Plunge,
             feed_mm_per_min: plunge_feed,
             ..first
         });
         poses.extend(piece[1..].iter().copied());
-        poses.push(Pose::new(MoveKind::Rapid, last.tip.truncate().extend(clear), last.axis, cut_feed));
+        poses.push(Pose::new(
+            MoveKind::Rapid,
+            last.tip.truncate().extend(clear),
+            last.axis,
+            cut_feed,
+        ));
     }
     Ok((Toolpath::new(path.tool.clone(), poses), report))
 }
