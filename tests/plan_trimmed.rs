@@ -412,8 +412,8 @@ fn a_five_axis_path_is_flagged_at_planning_on_a_three_axis_machine() {
 fn real_parts_plan_without_gouges_against_any_face() {
     use talas::checks::part::PartCheck;
     use talas::import::{OpenOptions, Workpiece};
-    use talas::strategies::finish::plan_finish_in;
-    use talas::strategies::tiltaway::{PartContext, TiltAway};
+    use talas::strategies::finish::plan::plan_finish_in;
+    use talas::strategies::finish::tiltaway::{PartContext, TiltAway};
     let mut failures = Vec::new();
     for file in [
         "real/freecad/Schenkel.stp",

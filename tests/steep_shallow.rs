@@ -1,6 +1,8 @@
 //! Steep-and-shallow finishing with a ball end mill, judged by the independent remaining-height
 //! check (`checks::oracle::raster`, which does not use the drop-cutter nor the push-cutter): the share of
 //! the surface up to 85° steep left within h + chord tolerance, and no gouge.
+//!
+//! `cargo test --no-default-features --test steep_shallow -- --nocapture` prints the figures.
 
 use std::path::Path;
 
@@ -72,10 +74,10 @@ fn steep_shallow_on_pocket_fillets_holds_the_scallop_on_walls_and_floors() {
         eprintln!("  worst {v:.4} at {p:.3}");
     }
     assert!(rep.samples() > 5000);
-    // The target is 99 %; measured 98.65 %: the rest is material along the rounded top rim of
-    // the pocket at z ≈ 17 mm (up to 0.17 mm), between the raster and the first waterline level.
+    // Measured 99.78 % (p99 0.048 mm): the waterline adds a level where the fillets' steep
+    // band ends between two levels (without it 98.65 %, up to 0.17 mm on the fillets at z ≈ 17).
     assert!(
-        within >= 0.985,
+        within >= 0.99,
         "only {within} of the surface within h + tol"
     );
     assert!(rep.max_gouge_mm <= 1e-3, "gouge {} mm", rep.max_gouge_mm);

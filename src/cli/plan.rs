@@ -17,6 +17,7 @@ use crate::import::step::read_step;
 use crate::import::{ImportError, OpenOptions, Workpiece};
 use crate::project::pipeline::{self, ComputeError, Computed};
 use crate::project::{FINISH_3AXIS_CLEARANCE_MM, Operation, Project, Stock, ToolEntry};
+use crate::strategies::boundary::BoundaryRule;
 use crate::strategies::finish::axis::AxisMode;
 use crate::strategies::finish::face::FacePatch;
 use crate::strategies::finish::plan::plan_finish_in;
@@ -152,6 +153,13 @@ pub struct PlanArgs {
     /// `rest`: the earlier, larger tool whose leftovers are finished, e.g. `ball:d=10`.
     #[arg(long, value_name = "SPEC")]
     pub reference_tool: Option<String>,
+    /// 3-axis finishing: cut only inside `silhouette` (the part's outline from above) or a
+    /// polygon `X,Y;X,Y;X,Y` (mm).
+    #[arg(long, value_name = "REGION", allow_hyphen_values = true)]
+    pub boundary: Option<String>,
+    /// Which point must lie inside the boundary: `centre` (tool tip) or `contact`.
+    #[arg(long, value_name = "RULE", default_value = "centre")]
+    pub boundary_rule: String,
     /// Where to write the tool path JSON.
     #[arg(short = 'o', long = "output", value_name = "PATH.json")]
     pub output: PathBuf,
@@ -447,6 +455,18 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         clearance_mm: args.clearance.unwrap_or(FINISH_3AXIS_CLEARANCE_MM),
         detect_flats: !args.no_flat_levels,
         reference_tool: args.reference_tool.clone(),
+        boundary: args.boundary.clone(),
+        boundary_rule: match args.boundary_rule.as_str() {
+            "centre" | "center" => BoundaryRule::ToolCentre,
+            "contact" => BoundaryRule::Contact,
+            other => {
+                return Err(ImportError::new(
+                    &args.file,
+                    Some("--boundary-rule".into()),
+                    format!("unknown boundary rule '{other}' (centre, contact)"),
+                ));
+            }
+        },
     };
     let computed = plan_mesh_computed(
         &args.file,

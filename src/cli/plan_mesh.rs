@@ -10,6 +10,7 @@ use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
 use crate::project::pipeline::Computed;
 use crate::project::{Operation, Stock, ToolEntry};
+use crate::strategies::boundary::BoundaryRule;
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
@@ -50,6 +51,12 @@ pub struct MeshPlanOptions {
     /// Rest finishing: the earlier, larger tool's spec (e.g. `ball:d=10`).
     #[serde(default)]
     pub reference_tool: Option<String>,
+    /// Finishing: limit the path to a boundary (`silhouette` or a polygon `X,Y;X,Y;X,Y`, mm).
+    #[serde(default)]
+    pub boundary: Option<String>,
+    /// The boundary's rule: the tool centre or the contact point must lie inside.
+    #[serde(default)]
+    pub boundary_rule: BoundaryRule,
 }
 
 fn detect_flats_default() -> bool {
@@ -72,6 +79,8 @@ impl Default for MeshPlanOptions {
             clearance_mm: 5.0,
             detect_flats: true,
             reference_tool: None,
+            boundary: None,
+            boundary_rule: BoundaryRule::ToolCentre,
         }
     }
 }
@@ -273,5 +282,15 @@ pub fn plan_mesh_computed(
     } else {
         Stock::None
     };
-    compute_one(&part, tools, stock, operation, machine, strategy)
+    let computed = compute_one(&part, tools, stock, operation, machine, strategy)?;
+    match &opts.boundary {
+        Some(text) if strategy != "zlevel-rough" => {
+            super::plan_boundary::limit_computed(&part, computed, text, opts.boundary_rule)
+        }
+        Some(_) => Err(bad(
+            "--boundary",
+            "boundaries limit the finishing strategies, not roughing".into(),
+        )),
+        None => Ok(computed),
+    }
 }

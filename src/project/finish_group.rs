@@ -1,5 +1,5 @@
 //! Face groups and tilt-away in the project: a finishing operation over several faces of the
-//! part ([`crate::strategies::group::plan_group`]: each face inside its trimming loops, the
+//! part ([`crate::strategies::finish::group::plan_group`]: each face inside its trimming loops, the
 //! paths joined in the operation's order at one clearance), its tilt-away settings, and the
 //! remaining gouges and collisions of a computed path as a list ([`findings`]) that the
 //! workstation shows and jumps to.
@@ -11,8 +11,8 @@ use super::{Operation, Project};
 use crate::checks::part::PartCheck;
 use crate::import::Workpiece;
 use crate::machine::Machine;
-use crate::strategies::group::plan_group;
-use crate::strategies::tiltaway::{PartContext, TiltAway};
+use crate::strategies::finish::group::plan_group;
+use crate::strategies::finish::tiltaway::{PartContext, TiltAway};
 use crate::toolpath::ToolRecord;
 use crate::tools::solid::ToolPart;
 

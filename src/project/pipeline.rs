@@ -39,7 +39,7 @@ pub struct Computed {
     /// indices into `toolpath`.
     pub part_hits: Vec<crate::checks::part::PartHit>,
     /// For finishing: spans the tilt-away left out.
-    pub left_out: Vec<crate::strategies::tiltaway::LeftOut>,
+    pub left_out: Vec<crate::strategies::finish::tiltaway::LeftOut>,
 }
 
 /// Why an operation could not be run.

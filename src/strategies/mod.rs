@@ -3,6 +3,7 @@
 //! Z-level roughing on meshes and Z-maps. Each strategy takes a part (or face), a cutter and its
 //! parameters, and returns a [`crate::toolpath::Toolpath`] plus diagnostics.
 
+pub mod boundary;
 pub mod finish;
 pub mod pencil;
 pub mod raster;

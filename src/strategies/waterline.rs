@@ -28,6 +28,7 @@
 //!   open pass; that is the waterline half of steep-and-shallow finishing.
 
 mod contour;
+mod gaps;
 mod push;
 
 use glam::{DVec2, DVec3};
@@ -295,6 +296,10 @@ pub fn waterline_progress(
             nxt = level(nz);
         }
         cur = nxt;
+    }
+    if opts.steep_only {
+        let limit = (opts.min_slope_rad - opts.overlap_rad).max(0.0);
+        levels = gaps::fill(&level, levels, limit, sampling);
     }
     let mut diagnostics = Vec::new();
     let plan = link(
