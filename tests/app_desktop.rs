@@ -457,7 +457,7 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
 /// "Tangent-connected faces" button selects the tangent chain of the last clicked face, a
 /// button creates the group operation over the chain.
 #[test]
-fn a_face_group_is_selected_planned_and_its_collisions_are_clickable() {
+fn a_face_group_is_selected_by_clicks_and_tangent_chain_and_becomes_one_operation() {
     let dir = data_dir("group");
     let mut h = harness(Some(data("pocket-fillets.stp")), &dir);
     settle(&mut h);
