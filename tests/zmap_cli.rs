@@ -1,8 +1,8 @@
 //! `talas dropcutter` and `talas reduce` through the command line: the contract's JSON, and bad
 //! input giving exit code 2 with one line naming the file and the line.
 
-mod cli_common;
-use cli_common::{data, talas, talas_json, temp_file};
+mod common;
+use common::{data, talas, talas_json, temp_file};
 
 #[test]
 fn dropcutter_json_keeps_input_order_and_marks_misses() {
