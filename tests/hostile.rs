@@ -73,7 +73,7 @@ fn json(out: &Output) -> serde_json::Value {
 
 #[test]
 fn every_mutated_step_file_gives_a_result_or_an_error_within_bounds() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/adversarial");
+    let dir = common::data("adversarial");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(Result::ok)
@@ -251,7 +251,7 @@ fn unknown_keywords_are_errors_and_known_ones_warnings() {
 
 #[test]
 fn hostile_options_are_refused_or_bounded() {
-    let hills = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");
+    let hills = common::data("bicubic-hills.stp");
     let hills = hills.to_str().unwrap();
     // A tessellation tolerance far below any machine's resolution is refused with the reason.
     let out = assert_clean(&["inspect", hills, "--tolerance", "1e-12"], "tolerance");
@@ -341,10 +341,7 @@ fn a_heidenhain_program_name_cannot_inject_blocks() {
 
 #[test]
 fn a_part_in_metres_or_kilometres_tessellates_within_a_budget() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp"),
-    )
-    .unwrap();
+    let text = std::fs::read_to_string(common::data("pocket-fillets.stp")).unwrap();
     for (unit, name) in [
         ("SI_UNIT($,.METRE.)", "m.stp"),
         ("SI_UNIT(.KILO.,.METRE.)", "km.stp"),

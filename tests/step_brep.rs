@@ -125,7 +125,7 @@ fn pocket_fillets_has_occt_faces_and_watertight_sharing() {
 
 #[test]
 fn single_bspline_faces() {
-    let hills = read_step(&data("bicubic-hills.stp")).unwrap();
+    let hills = common::hills_step();
     assert_eq!(hills.faces.len(), 1);
     let SurfaceGeom::BSpline(s) = &hills.faces[0].surface else {
         panic!("not a B-spline")
