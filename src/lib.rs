@@ -17,16 +17,16 @@
 //!
 //! Layers (a module may use only layers below it; `tests/architecture.rs` enforces this):
 //!
-//! | layer | modules |
-//! |---|---|
-//! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] |
-//! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] |
-//! | L2 | [`toolpath`] |
-//! | L3 | [`strategies`], [`checks`], [`reduce`] |
-//! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] |
-//! | L5 | [`project`], [`control`] |
-//! | CLI | [`cli`] (thin shells over engine calls) |
-//! | GUI | `render`, `app` (feature `gui` only) |
+//! | layer | modules | what lives there |
+//! |---|---|---|
+//! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] | mm/s/rad; warnings and the progress/cancel handle; atomic file writes; curves, surfaces, B-rep, meshes with a BVH |
+//! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] | STEP and STL readers and the one `Workpiece`; cutters and the drop-cutter; machine kinematics; G-code interpreter |
+//! | L2 | [`toolpath`] | CL poses and tool paths |
+//! | L3 | [`strategies`], [`checks`], [`reduce`] | path strategies; gouge and collision checks and test oracles; Z-maps and their SVD reduction |
+//! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] | posting; jerk-limited feed planning; stock simulation; cutting forces; 2D profiles |
+//! | L5 | [`project`], [`control`] | the document, the pipeline and the machining run; the virtual machine control |
+//! | CLI | [`cli`] | thin shells over engine calls |
+//! | GUI | `render`, `app` | feature `gui` only |
 //!
 //! Internal units are mm, s and rad everywhere; mm/min, rpm and degrees appear only at the
 //! edges (UI, G-code, command line).

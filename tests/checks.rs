@@ -3,6 +3,8 @@
 //! concave cylinder (depth from a 1D root, lead from asin(r/ρ)), curvature scans of sphere,
 //! cylinder and torus, and curvatures against Open CASCADE's samples.
 
+mod common;
+
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 
@@ -377,10 +379,7 @@ fn curvatures_agree_with_open_cascade() {
         ("bicubic-hills.stp", "bicubic-hills.samples.csv"),
         ("rational-trough.stp", "rational-trough.samples.csv"),
     ] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(stp);
-        let part = talas::import::step::read_step(&path).expect("read");
+        let part = talas::import::step::read_step(&common::data(stp)).expect("read");
         let face = part.faces.first().expect("one face");
         let patch = FacePatch::whole(&face.surface, false).expect("patch");
         let rows = occt_rows(csv);

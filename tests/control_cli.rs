@@ -3,9 +3,9 @@
 //! `actions`), the same removed volume as `talas simulate`, and bad script lines (exit 2, one
 //! line naming the script and the line).
 
-mod cli_common;
+mod common;
 
-use cli_common::{talas, talas_json, temp_file};
+use common::{talas, talas_json, temp_file};
 
 const PROGRAM: &str = "G21 G90 G17\nG0 Z10\nG0 X-20 Y-20\nM3 S8000\nG1 Z-2 F300\n\
 G1 X20 F1200\nY0\nG3 X0 Y20 I-20 J0\nG1 X-20 Y0\nG2 X-20 Y-20 I0 J-10\nG0 Z10\nM30\n";

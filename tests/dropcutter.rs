@@ -1,13 +1,13 @@
 //! Drop-cutter against closed forms (planes, a sphere, a single vertex, a single edge) and against
 //! a brute-force lift of the densely sampled cutter surface on `bicubic-hills.stl`.
 
+mod common;
+
 use std::f64::consts::PI;
-use std::path::Path;
 
 use glam::{DVec2, DVec3};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
-use talas::import::stl::{StlOptions, read_stl};
 use talas::tools::dropcutter::{Contact, drop_cutter, drop_cutter_at};
 use talas::tools::{Cutter, CutterKind};
 
@@ -267,21 +267,12 @@ fn brute_force(bvh: &MeshBvh, c: &Cutter, p: DVec2, top_z: f64) -> Option<f64> {
 
 #[test]
 fn bicubic_hills_matches_brute_force() {
-    let stl = read_stl(
-        Path::new("tests/data/bicubic-hills.stl"),
-        &StlOptions::default(),
-    )
-    .unwrap();
-    let bvh = MeshBvh::new(&stl.mesh).unwrap();
+    let mesh = common::hills_stl();
+    let bvh = MeshBvh::new(&mesh).unwrap();
     let bb = bvh.bbox();
     // A fixed-seed LCG for reproducible points inside the part, away from the border.
-    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = common::Lcg(0x2545_f491_4f6c_dd1d);
+    let mut next = || rng.next();
     let pts: Vec<DVec2> = (0..12)
         .map(|_| {
             let x = bb.min.x + 6.0 + (bb.max.x - bb.min.x - 12.0) * next();
@@ -290,7 +281,7 @@ fn bicubic_hills_matches_brute_force() {
         })
         .collect();
     for c in cutters() {
-        let cls = drop_cutter(&bvh, &stl.mesh, &c, &pts);
+        let cls = drop_cutter(&bvh, &mesh, &c, &pts);
         // Sampling resolution: radial step R/120 and arc step 2πR/720 at the rim (≤ 0.044 mm).
         // At a smooth (facet or edge) contact the lift error is second order in that step; the
         // measured gaps are ≤ 2e-5 mm (ball, flat, cone) and 1.1e-4 mm (bull-nose).

@@ -1,59 +1,51 @@
 //! Planner: randomised programs hold every axis limit (finite differences at 0.1 ms), end
 //! exactly at the program's end point; the thesis programs plan, V8/V9 durations.
 
+mod common;
+
+use common::Lcg;
 use talas::feed::{AxisLimit, CornerPolicy, Limits1, PlanInput, PlanOptions, machine_limits, plan};
 use talas::gcode::{InterpretOptions, Joints, interpret};
 use talas::machine::Machine;
 
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn random_program(r: &mut Rng) -> String {
+fn random_program(r: &mut Lcg) -> String {
     let mut text = String::from("G90 G17 F3000\n");
     let (mut x, mut y, mut z) = (0.0f64, 0.0f64, 0.0f64);
-    let n = 2 + (r.f() * 8.0) as usize;
+    let n = 2 + (r.next() * 8.0) as usize;
     for _ in 0..n {
-        let kind = r.f();
+        let kind = r.next();
         if kind < 0.35 {
-            let scale = if r.f() < 0.4 { 0.05 } else { 15.0 };
-            x += (r.f() - 0.5) * scale;
-            y += (r.f() - 0.5) * scale;
-            z += (r.f() - 0.5) * scale * 0.3;
+            let scale = if r.next() < 0.4 { 0.05 } else { 15.0 };
+            x += (r.next() - 0.5) * scale;
+            y += (r.next() - 0.5) * scale;
+            z += (r.next() - 0.5) * scale * 0.3;
             text += &format!(
                 "G1 X{x:.4} Y{y:.4} Z{z:.4} F{:.0}\n",
-                300.0 + r.f() * 20_000.0
+                300.0 + r.next() * 20_000.0
             );
         } else if kind < 0.5 {
             // A reversal: out and back.
-            let (dx, dy) = ((r.f() - 0.5) * 4.0, (r.f() - 0.5) * 4.0);
+            let (dx, dy) = ((r.next() - 0.5) * 4.0, (r.next() - 0.5) * 4.0);
             text += &format!("G1 X{:.4} Y{:.4}\nG1 X{x:.4} Y{y:.4}\n", x + dx, y + dy);
         } else if kind < 0.65 {
             // A run of collinear short segments.
-            let (dx, dy) = ((r.f() - 0.5) * 0.02, (r.f() - 0.5) * 0.02);
+            let (dx, dy) = ((r.next() - 0.5) * 0.02, (r.next() - 0.5) * 0.02);
             for _ in 0..20 {
                 x += dx;
                 y += dy;
                 text += &format!("G1 X{x:.6} Y{y:.6}\n");
             }
         } else {
-            let rad = 0.2 + r.f() * 10.0;
-            let ang = r.f() * std::f64::consts::TAU;
+            let rad = 0.2 + r.next() * 10.0;
+            let ang = r.next() * std::f64::consts::TAU;
             let (i, j) = (rad * ang.cos(), rad * ang.sin());
-            let sweep = (r.f() - 0.5) * 5.0;
+            let sweep = (r.next() - 0.5) * 5.0;
             let (cx, cy) = (x + i, y + j);
             let a1 = ang + std::f64::consts::PI + sweep;
             x = cx + rad * a1.cos();
             y = cy + rad * a1.sin();
             let g = if sweep < 0.0 { 2 } else { 3 };
-            let dz = if r.f() < 0.3 { r.f() - 0.5 } else { 0.0 };
+            let dz = if r.next() < 0.3 { r.next() - 0.5 } else { 0.0 };
             z += dz;
             text += &format!("G{g} X{x:.6} Y{y:.6} Z{z:.6} I{i:.6} J{j:.6}\n");
         }
@@ -65,7 +57,7 @@ fn random_program(r: &mut Rng) -> String {
 fn random_programs_hold_axis_limits() {
     let machine = Machine::builtin("mill-3axis").unwrap();
     let axes = machine_limits(&machine);
-    let mut rng = Rng(7);
+    let mut rng = Lcg(7);
     let h = 1e-4;
     let mut worst = [0.0f64; 3];
     for case in 0..1000 {
@@ -200,28 +192,28 @@ fn header_start(text: &str) -> Joints {
 
 /// Lines with sharp corners (random turns in 3-D, some reversals, some collinear runs and
 /// very short moves).
-fn corner_program(r: &mut Rng) -> String {
+fn corner_program(r: &mut Lcg) -> String {
     let mut text = String::from("G90 G17 F6000\n");
     let (mut x, mut y, mut z) = (0.0f64, 0.0f64, 0.0f64);
-    let n = 3 + (r.f() * 8.0) as usize;
+    let n = 3 + (r.next() * 8.0) as usize;
     let mut dir = [1.0f64, 0.0, 0.0];
     for _ in 0..n {
-        let kind = r.f();
-        let len = if r.f() < 0.3 {
-            0.02 + r.f() * 0.3
+        let kind = r.next();
+        let len = if r.next() < 0.3 {
+            0.02 + r.next() * 0.3
         } else {
-            1.0 + r.f() * 20.0
+            1.0 + r.next() * 20.0
         };
         if kind < 0.1 {
             dir = [-dir[0], -dir[1], -dir[2]];
         } else if kind < 0.2 {
             // Collinear continuation.
         } else {
-            let flat = r.f() < 0.6;
+            let flat = r.next() < 0.6;
             let d = [
-                r.f() - 0.5,
-                r.f() - 0.5,
-                if flat { 0.0 } else { r.f() - 0.5 },
+                r.next() - 0.5,
+                r.next() - 0.5,
+                if flat { 0.0 } else { r.next() - 0.5 },
             ];
             let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1e-3);
             dir = [d[0] / l, d[1] / l, d[2] / l];
@@ -229,10 +221,10 @@ fn corner_program(r: &mut Rng) -> String {
         x += dir[0] * len;
         y += dir[1] * len;
         z += dir[2] * len;
-        let feed = if r.f() < 0.5 {
+        let feed = if r.next() < 0.5 {
             6000.0
         } else {
-            300.0 + r.f() * 30_000.0
+            300.0 + r.next() * 30_000.0
         };
         text += &format!("G1 X{x:.6} Y{y:.6} Z{z:.6} F{feed:.0}\n");
     }
@@ -259,7 +251,7 @@ fn blended_corners_hold_limits_and_tolerance() {
     let machine = Machine::builtin("mill-3axis").unwrap();
     let axes = machine_limits(&machine);
     let tol = 0.05;
-    let mut rng = Rng(11);
+    let mut rng = Lcg(11);
     let h = 1e-4;
     let mut worst = [0.0f64; 3];
     let mut worst_dev = 0.0f64;
@@ -408,11 +400,11 @@ fn blending_beats_exact_stop_on_polygons() {
 fn short_block_runs_reach_their_planned_speeds() {
     let machine = Machine::builtin("mill-3axis").unwrap();
     let axes = machine_limits(&machine);
-    let mut rng = Rng(5);
+    let mut rng = Lcg(5);
     let mut text = String::from("G90 G17 F3000\n");
     let mut u = 0.0f64;
     for _ in 0..3000 {
-        u += (0.01 + 0.49 * rng.f()) / 60.0;
+        u += (0.01 + 0.49 * rng.next()) / 60.0;
         let (x, y, z) = (
             40.0 * (1.3 * u).sin(),
             30.0 * (2.1 * u).sin(),

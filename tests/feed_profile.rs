@@ -1,5 +1,8 @@
 //! 1-DoF jerk-limited profiles against hand-derived closed forms.
 
+mod common;
+
+use common::{Lcg, assert_rel_near};
 use talas::feed::{Limits1, Profile, ProfileError, reachable_velocity};
 
 fn lim(v: f64, a: f64, j: f64) -> Limits1 {
@@ -10,21 +13,17 @@ fn lim(v: f64, a: f64, j: f64) -> Limits1 {
     }
 }
 
-fn near(a: f64, b: f64, rel: f64) {
-    assert!((a - b).abs() <= rel * b.abs().max(1e-12), "{a} vs {b}");
-}
-
 #[test]
 fn full_seven_phase_rest_to_rest() {
     // Cruise and constant-acceleration phases: T = s/v + v/a + a/j (v·j ≥ a², s long).
     let p = Profile::rest_to_rest(100.0, &lim(50.0, 500.0, 20_000.0)).unwrap();
-    near(
+    assert_rel_near!(
         p.duration_s(),
         100.0 / 50.0 + 50.0 / 500.0 + 500.0 / 20_000.0,
-        1e-12,
+        1e-12
     );
     let (s, v, a, _) = p.at_time(p.duration_s());
-    near(s, 100.0, 1e-15);
+    assert_rel_near!(s, 100.0, 1e-15);
     assert!(v.abs() < 1e-9 && a.abs() < 1e-9);
 }
 
@@ -33,7 +32,7 @@ fn thesis_v8_line_duration() {
     // V8: L = |(15,20,10)|, v = 50, A = 1000, J = 20000: T = L/v + v/A + A/J = 0.63852 s.
     let l = (15.0f64 * 15.0 + 400.0 + 100.0).sqrt();
     let p = Profile::rest_to_rest(l, &lim(50.0, 1000.0, 20_000.0)).unwrap();
-    near(p.duration_s(), l / 50.0 + 0.1, 1e-12);
+    assert_rel_near!(p.duration_s(), l / 50.0 + 0.1, 1e-12);
     assert!(p.duration_s() <= 0.63852 + 1e-5);
 }
 
@@ -41,7 +40,7 @@ fn thesis_v8_line_duration() {
 fn no_cruise_no_constant_acceleration() {
     // Pure jerk pulses: s = 2·vp^(3/2)/√J, T = 4·(s/(2J))^(1/3).
     let p = Profile::rest_to_rest(1.0, &lim(1e6, 1e6, 1000.0)).unwrap();
-    near(p.duration_s(), 4.0 * (1.0f64 / 2000.0).cbrt(), 1e-10);
+    assert_rel_near!(p.duration_s(), 4.0 * (1.0f64 / 2000.0).cbrt(), 1e-10);
 }
 
 #[test]
@@ -50,8 +49,8 @@ fn constant_acceleration_without_cruise() {
     let (s, a, j) = (10.0f64, 100.0f64, 10_000.0f64);
     let vp = (-a * a / j + (a.powi(4) / (j * j) + 4.0 * s * a).sqrt()) / 2.0;
     let p = Profile::rest_to_rest(s, &lim(1e6, a, j)).unwrap();
-    near(p.duration_s(), 2.0 * (vp / a + a / j), 1e-10);
-    near(p.peak_velocity, vp, 1e-10);
+    assert_rel_near!(p.duration_s(), 2.0 * (vp / a + a / j), 1e-10);
+    assert_rel_near!(p.peak_velocity, vp, 1e-10);
 }
 
 #[test]
@@ -60,19 +59,19 @@ fn boundary_velocities_and_unreachable() {
     // T = 20/100 + 100/1000 = 0.3 s, s = 20·0.3 = 6.
     let l = lim(30.0, 100.0, 1000.0);
     let p = Profile::calculate(6.0, 10.0, 30.0, &l).unwrap();
-    near(p.duration_s(), 0.3, 1e-9);
+    assert_rel_near!(p.duration_s(), 0.3, 1e-9);
     assert!(matches!(
         Profile::calculate(5.0, 10.0, 30.0, &l),
         Err(ProfileError::Unreachable { .. })
     ));
-    near(
+    assert_rel_near!(
         reachable_velocity(10.0, 6.0, 100.0, 100.0, 1000.0),
         30.0,
-        1e-9,
+        1e-9
     );
     // Cruise only when v0 = v1 = vmax.
     let p = Profile::calculate(3.0, 30.0, 30.0, &l).unwrap();
-    near(p.duration_s(), 0.1, 1e-12);
+    assert_rel_near!(p.duration_s(), 0.1, 1e-12);
     assert!(matches!(
         Profile::calculate(f64::NAN, 0.0, 0.0, &l),
         Err(ProfileError::InvalidInput)
@@ -87,13 +86,8 @@ fn boundary_velocities_and_unreachable() {
 
 #[test]
 fn random_profiles_hold_limits_and_reach_target() {
-    let mut seed = 12345u64;
-    let mut rnd = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Lcg(12345);
+    let mut rnd = move || rng.next();
     for _ in 0..5000 {
         let l = lim(
             1.0 + 500.0 * rnd(),

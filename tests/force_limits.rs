@@ -2,9 +2,9 @@
 //! the tool record of a tool path and the machine file's spindle power, used when the
 //! `--max-*` flags are absent; bad limits are refused with the file and place.
 
-mod cli_common;
+mod common;
 
-use cli_common::{data, talas, talas_json, temp_file};
+use common::{data, talas, talas_json, temp_file};
 use serde_json::Value;
 
 const PROGRAM: &str = "G21 G90 G94\nG0 Z5\nG0 X-20 Y0\nG1 Z-3 F600\nG1 X20\nG0 Z5\nM30\n";

@@ -2,8 +2,11 @@
 //! values (shared/spec/seed-001-jerk-limited-trajectory.md §4, V7–V11, V14), hand-checked
 //! arcs in every plane and sense, modes, errors with positions, and a mutation fuzz.
 
+mod common;
+
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use common::{assert_near, data};
 use glam::DVec3;
 use talas::gcode::{InterpretOptions, Joints, MotionBlock, MotionKind, Program, interpret};
 
@@ -12,16 +15,10 @@ fn run_at(text: &str, x: f64, y: f64, z: f64) -> Program {
         .unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
-fn data(name: &str) -> String {
-    let path = format!("{}/tests/data/gcode/{name}", env!("CARGO_MANIFEST_DIR"));
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
-
-fn near(a: f64, b: f64, tol: f64, what: &str) {
-    assert!(
-        (a - b).abs() <= tol,
-        "{what}: got {a}, expected {b} (tol {tol})"
-    );
+/// The text of `tests/data/gcode/<name>`.
+fn program_text(name: &str) -> String {
+    let path = data(&format!("gcode/{name}"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn arc_of(b: &MotionBlock) -> talas::gcode::Arc {
@@ -33,24 +30,29 @@ fn arc_of(b: &MotionBlock) -> talas::gcode::Arc {
 /// sweep 234.33°, L = 20.449."
 #[test]
 fn eq2_21_g17_g02_r5() {
-    let p = run_at(&data("seed-001-eq2-21-g17-g02-r5.nc"), 0.24, 1.53, 0.0);
+    let p = run_at(
+        &program_text("seed-001-eq2-21-g17-g02-r5.nc"),
+        0.24,
+        1.53,
+        0.0,
+    );
     assert_eq!(p.blocks.len(), 1);
     let b = &p.blocks[0];
     assert!(matches!(b.kind, MotionKind::ArcCw(_)));
     let a = arc_of(b);
-    near(a.centre.x, 5.0002, 1.5e-4, "xc");
-    near(a.centre.y, 0.0002, 1.5e-4, "yc");
-    near(a.radius_mm, 5.0, 1e-3, "r");
-    near(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
-    near(b.length_mm(), 10.967, 1e-3, "L");
+    assert_near!(a.centre.x, 5.0002, 1.5e-4, "xc");
+    assert_near!(a.centre.y, 0.0002, 1.5e-4, "yc");
+    assert_near!(a.radius_mm, 5.0, 1e-3, "r");
+    assert_near!(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
+    assert_near!(b.length_mm(), 10.967, 1e-3, "L");
     assert_eq!(b.source_line, 4);
 
     let p = run_at("G17 G02 X9.019 Y2.975 R-5", 0.24, 1.53, 0.0);
     let a = arc_of(&p.blocks[0]);
-    near(a.centre.x, 4.2588, 1.5e-4, "xc");
-    near(a.centre.y, 4.5048, 1.5e-4, "yc");
-    near(a.sweep_rad.to_degrees(), 234.33, 1e-2, "sweep");
-    near(p.blocks[0].length_mm(), 20.449, 1e-3, "L");
+    assert_near!(a.centre.x, 4.2588, 1.5e-4, "xc");
+    assert_near!(a.centre.y, 4.5048, 1.5e-4, "yc");
+    assert_near!(a.sweep_rad.to_degrees(), 234.33, 1e-2, "sweep");
+    assert_near!(p.blocks[0].length_mm(), 20.449, 1e-3, "L");
 }
 
 /// Digest V7: "Eq. 2.22/2.23 use the same numbers in the XZ and YZ planes; note the G18
@@ -60,27 +62,37 @@ fn eq2_21_g17_g02_r5() {
 /// R−5 (4.2588, 4.5048), with the same short sweep 125.674° and L = 10.967.
 #[test]
 fn eq2_22_g18_and_eq2_23_g19() {
-    let p = run_at(&data("seed-001-eq2-22-g18-g02-r5.nc"), 0.24, 0.0, 1.53);
+    let p = run_at(
+        &program_text("seed-001-eq2-22-g18-g02-r5.nc"),
+        0.24,
+        0.0,
+        1.53,
+    );
     let b = &p.blocks[0];
     let a = arc_of(b);
     assert_eq!(a.normal, DVec3::Y);
-    near(a.centre.x, 4.2588, 1.5e-4, "xc");
-    near(a.centre.z, 4.5048, 1.5e-4, "zc");
-    near(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
-    near(b.length_mm(), 10.967, 1e-3, "L");
+    assert_near!(a.centre.x, 4.2588, 1.5e-4, "xc");
+    assert_near!(a.centre.z, 4.5048, 1.5e-4, "zc");
+    assert_near!(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
+    assert_near!(b.length_mm(), 10.967, 1e-3, "L");
     // The ISO sense: the midpoint, seen from +Y, lies clockwise from the start.
     let mid = b.point_at(0.5).xyz - a.centre;
     let st = b.start.xyz - a.centre;
     assert!(st.cross(mid).y < 0.0, "G2 in G18 turns negatively about +Y");
 
-    let p = run_at(&data("seed-001-eq2-23-g19-g02-r5.nc"), 0.0, 0.24, 1.53);
+    let p = run_at(
+        &program_text("seed-001-eq2-23-g19-g02-r5.nc"),
+        0.0,
+        0.24,
+        1.53,
+    );
     let b = &p.blocks[0];
     let a = arc_of(b);
     assert_eq!(a.normal, DVec3::X);
-    near(a.centre.y, 5.0002, 1.5e-4, "yc");
-    near(a.centre.z, 0.0002, 1.5e-4, "zc");
-    near(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
-    near(b.length_mm(), 10.967, 1e-3, "L");
+    assert_near!(a.centre.y, 5.0002, 1.5e-4, "yc");
+    assert_near!(a.centre.z, 0.0002, 1.5e-4, "zc");
+    assert_near!(a.sweep_rad.to_degrees(), 125.674, 1e-3, "sweep");
+    assert_near!(b.length_mm(), 10.967, 1e-3, "L");
 }
 
 /// Digest V7: "Eq. 2.24 (`G17 G03 X14.94 Y1.749 Z2 R14.976` from (14.32, 5.66, 0)): centre
@@ -88,45 +100,55 @@ fn eq2_22_g18_and_eq2_23_g19() {
 /// centre (−0.0315, 1.3803), sweep 344.81°."
 #[test]
 fn eq2_24_helix() {
-    let p = run_at(&data("seed-001-eq2-24-g17-g03-helix.nc"), 14.32, 5.66, 0.0);
+    let p = run_at(
+        &program_text("seed-001-eq2-24-g17-g03-helix.nc"),
+        14.32,
+        5.66,
+        0.0,
+    );
     let b = &p.blocks[0];
     assert!(matches!(b.kind, MotionKind::ArcCcw(_)));
     let a = arc_of(b);
-    near(a.centre.x, 29.2915, 1.5e-4, "xc");
-    near(a.centre.y, 6.0287, 1.5e-4, "yc");
-    near(a.sweep_rad.to_degrees(), 15.194, 1e-3, "sweep");
-    near(a.radius_mm * a.sweep_rad, 3.9715, 1e-4, "planar L");
-    near(a.helix_mm, 2.0, 1e-12, "helix");
-    near(b.length_mm(), 4.4466, 1e-4, "helix L");
-    near(b.point_at(1.0).xyz.distance(b.end.xyz), 0.0, 1e-9, "end");
+    assert_near!(a.centre.x, 29.2915, 1.5e-4, "xc");
+    assert_near!(a.centre.y, 6.0287, 1.5e-4, "yc");
+    assert_near!(a.sweep_rad.to_degrees(), 15.194, 1e-3, "sweep");
+    assert_near!(a.radius_mm * a.sweep_rad, 3.9715, 1e-4, "planar L");
+    assert_near!(a.helix_mm, 2.0, 1e-12, "helix");
+    assert_near!(b.length_mm(), 4.4466, 1e-4, "helix L");
+    assert_near!(b.point_at(1.0).xyz.distance(b.end.xyz), 0.0, 1e-9, "end");
 
     let p = run_at("G17 G03 X14.94 Y1.749 Z2 R-14.976", 14.32, 5.66, 0.0);
     let a = arc_of(&p.blocks[0]);
-    near(a.centre.x, -0.0315, 1.5e-4, "xc");
-    near(a.centre.y, 1.3803, 1.5e-4, "yc");
-    near(a.sweep_rad.to_degrees(), 344.81, 1e-2, "sweep");
+    assert_near!(a.centre.x, -0.0315, 1.5e-4, "xc");
+    assert_near!(a.centre.y, 1.3803, 1.5e-4, "yc");
+    assert_near!(a.sweep_rad.to_degrees(), 344.81, 1e-2, "sweep");
 }
 
 /// Digest V7/V9: "Eq. 3.25: centre (6.9479, −11.8571), θ02 = 243.393°, sweep 34.556°,
 /// L = 9.0322", from (0.2407, 1.533, 0) with F1800.
 #[test]
 fn eq3_25_single_arc() {
-    let p = run_at(&data("seed-001-eq3-25-g02-single.nc"), 0.2407, 1.533, 0.0);
+    let p = run_at(
+        &program_text("seed-001-eq3-25-g02-single.nc"),
+        0.2407,
+        1.533,
+        0.0,
+    );
     let b = &p.blocks[0];
     let a = arc_of(b);
-    near(a.centre.x, 6.9479, 1.5e-4, "xc");
-    near(a.centre.y, -11.8571, 1.5e-4, "yc");
+    assert_near!(a.centre.x, 6.9479, 1.5e-4, "xc");
+    assert_near!(a.centre.y, -11.8571, 1.5e-4, "yc");
     let start_angle = (b.start.xyz.y - a.centre.y).atan2(b.start.xyz.x - a.centre.x);
     // θ02 is measured clockwise (Eq. 2.14): θ02 = −(counter-clockwise angle) mod 360.
-    near(
+    assert_near!(
         (-start_angle.to_degrees()).rem_euclid(360.0),
         243.393,
         1e-3,
-        "θ02",
+        "θ02"
     );
-    near(a.sweep_rad.to_degrees(), 34.556, 1e-3, "sweep");
-    near(b.length_mm(), 9.0322, 1e-4, "L");
-    near(b.feed_mm_per_min, 1800.0, 0.0, "F");
+    assert_near!(a.sweep_rad.to_degrees(), 34.556, 1e-3, "sweep");
+    assert_near!(b.length_mm(), 9.0322, 1e-4, "L");
+    assert_near!(b.feed_mm_per_min, 1800.0, 0.0, "F");
 }
 
 /// Digest V8, V10, V11: line lengths.
@@ -161,11 +183,11 @@ fn line_programs() {
         ),
     ];
     for (name, [x, y, z], lengths) in cases {
-        let p = run_at(&data(name), x, y, z);
+        let p = run_at(&program_text(name), x, y, z);
         let got: Vec<f64> = p.blocks.iter().map(MotionBlock::length_mm).collect();
         assert_eq!(got.len(), lengths.len(), "{name}");
         for (g, e) in got.iter().zip(lengths) {
-            near(*g, *e, 1e-3, name);
+            assert_near!(*g, *e, 1e-3, "{}", name);
         }
         let no_f = name.contains("eq2-");
         // Programs without F get a warning, never silence; F3000 is modal over the blocks.
@@ -186,7 +208,7 @@ fn line_programs() {
 #[test]
 fn fig4_36_pocket_fragment_is_tangent() {
     let p = run_at(
-        &data("seed-001-fig4-36-pocket-fragment.nc"),
+        &program_text("seed-001-fig4-36-pocket-fragment.nc"),
         -105.0,
         82.501,
         0.0,
@@ -236,8 +258,8 @@ fn planes_and_senses() {
         let b = &p.blocks[0];
         let a = arc_of(b);
         assert_eq!(a.normal, normal);
-        near(a.sweep_rad, FRAC_PI_2, 1e-12, text);
-        near(b.length_mm(), 5.0 * PI, 1e-9, text);
+        assert_near!(a.sweep_rad, FRAC_PI_2, 1e-12, "{}", text);
+        assert_near!(b.length_mm(), 5.0 * PI, 1e-9, "{}", text);
         let mid = b.point_at(0.5).xyz;
         let start = DVec3::new(x, y, z);
         // Rotating the start by +45° about the normal (Rodrigues) gives the midpoint.
@@ -247,7 +269,7 @@ fn planes_and_senses() {
         let cw = text.replace("G3", "G2");
         let b = &run_at(&cw, x, y, z).blocks[0];
         assert!(matches!(b.kind, MotionKind::ArcCw(_)));
-        near(arc_of(b).sweep_rad, 3.0 * FRAC_PI_2, 1e-12, &cw);
+        assert_near!(arc_of(b).sweep_rad, 3.0 * FRAC_PI_2, 1e-12, "{}", &cw);
         // A third of 270° clockwise: the start turned by −90° about the normal.
         let mid = b.point_at(1.0 / 3.0).xyz;
         let expect = -normal.cross(start);
@@ -262,28 +284,28 @@ fn r_format_signs() {
     let b = &run_at("G2 X0 Y10 R10", 10.0, 0.0, 0.0).blocks[0];
     let a = arc_of(b);
     assert!(a.centre.distance(DVec3::new(10.0, 10.0, 0.0)) < 1e-9);
-    near(a.sweep_rad, FRAC_PI_2, 1e-12, "short");
+    assert_near!(a.sweep_rad, FRAC_PI_2, 1e-12, "short");
     let b = &run_at("G2 X0 Y10 R-10", 10.0, 0.0, 0.0).blocks[0];
     let a = arc_of(b);
     assert!(a.centre.length() < 1e-9);
-    near(a.sweep_rad, 3.0 * FRAC_PI_2, 1e-12, "long");
+    assert_near!(a.sweep_rad, 3.0 * FRAC_PI_2, 1e-12, "long");
     // A half circle: the chord equals the diameter.
     let a = arc_of(&run_at("G3 X-10 Y0 R10", 10.0, 0.0, 0.0).blocks[0]);
     assert!(a.centre.length() < 1e-9);
-    near(a.sweep_rad, PI, 1e-12, "half");
+    assert_near!(a.sweep_rad, PI, 1e-12, "half");
 }
 
 #[test]
 fn full_circles_and_helices() {
     let b = &run_at("G2 X10 Y0 I-10 J0 F100", 10.0, 0.0, 0.0).blocks[0];
-    near(arc_of(b).sweep_rad, TAU, 0.0, "full");
-    near(b.length_mm(), 20.0 * PI, 1e-9, "circumference");
+    assert_near!(arc_of(b).sweep_rad, TAU, 0.0, "full");
+    assert_near!(b.length_mm(), 20.0 * PI, 1e-9, "circumference");
     // A two-turn helix dropping 5 mm: length = √((2·2π·10)² + 5²).
     let b = &run_at("G3 X10 Y0 Z-5 I-10 J0 P2 F100", 10.0, 0.0, 0.0).blocks[0];
     let a = arc_of(b);
-    near(a.sweep_rad, 2.0 * TAU, 1e-12, "two turns");
-    near(b.length_mm(), (40.0 * PI).hypot(5.0), 1e-9, "helix");
-    near(b.point_at(0.25).xyz.z, -1.25, 1e-12, "helix z");
+    assert_near!(a.sweep_rad, 2.0 * TAU, 1e-12, "two turns");
+    assert_near!(b.length_mm(), (40.0 * PI).hypot(5.0), 1e-9, "helix");
+    assert_near!(b.point_at(0.25).xyz.z, -1.25, 1e-12, "helix z");
     assert!(b.point_at(0.25).xyz.distance(DVec3::new(-10.0, 0.0, -1.25)) < 1e-9);
     // A full circle in R format is impossible.
     let e = interpret("G2 X0 Y0 R5", &InterpretOptions::default()).unwrap_err();
@@ -310,11 +332,11 @@ fn incremental_inch_offsets_and_modes() {
 
     // Inches: coordinates, arc offsets and feed scale by 25.4; angles stay degrees.
     let p = run_at("G20 G1 X1 A90 F10\nG2 X2 Y0 I0.5 J0", 0.0, 0.0, 0.0);
-    near(p.blocks[0].end.xyz.x, 25.4, 1e-12, "x");
-    near(p.blocks[0].feed_mm_per_min, 254.0, 1e-12, "F");
-    near(p.blocks[0].end.a.unwrap(), FRAC_PI_2, 1e-15, "A");
+    assert_near!(p.blocks[0].end.xyz.x, 25.4, 1e-12, "x");
+    assert_near!(p.blocks[0].feed_mm_per_min, 254.0, 1e-12, "F");
+    assert_near!(p.blocks[0].end.a.unwrap(), FRAC_PI_2, 1e-15, "A");
     assert_eq!(p.blocks[0].start.a, Some(0.0));
-    near(arc_of(&p.blocks[1]).radius_mm, 12.7, 1e-12, "r");
+    assert_near!(arc_of(&p.blocks[1]).radius_mm, 12.7, 1e-12, "r");
 
     // Work offsets, G53, G90.1 absolute centres, G43/G49, spindle and tool state.
     let mut opts = InterpretOptions::default();
@@ -332,7 +354,7 @@ fn incremental_inch_offsets_and_modes() {
     );
     let a = arc_of(&p.blocks[1]);
     assert_eq!(a.centre, DVec3::new(100.0, 200.0, 300.0));
-    near(a.sweep_rad, PI, 1e-12, "G90.1 half circle");
+    assert_near!(a.sweep_rad, PI, 1e-12, "G90.1 half circle");
     assert_eq!(p.blocks[2].end.xyz, DVec3::new(99.0, 200.0, 0.0));
     assert_eq!(
         (p.blocks[3].tool_length_h, p.blocks[3].spindle_rpm),
@@ -342,13 +364,13 @@ fn incremental_inch_offsets_and_modes() {
     // G93 inverse time and G28 through an intermediate point.
     let p = run_at("G93 G1 X10 C90 F2\nG94 G28 Z5", 0.0, 0.0, 0.0);
     assert!(p.blocks[0].inverse_time);
-    near(
+    assert_near!(
         p.blocks[0].inverse_time_duration_s().unwrap(),
         30.0,
         1e-12,
-        "1/F min",
+        "1/F min"
     );
-    near(p.blocks[0].rotary_travel_rad(), FRAC_PI_2, 1e-15, "C");
+    assert_near!(p.blocks[0].rotary_travel_rad(), FRAC_PI_2, 1e-15, "C");
     assert_eq!(p.blocks[1].end.xyz, DVec3::new(10.0, 0.0, 5.0));
     assert_eq!(p.blocks[2].end.xyz, DVec3::new(10.0, 0.0, 0.0));
 
@@ -421,7 +443,7 @@ fn mutated_programs_never_panic() {
         "seed-001-eq3-20-g01-sharp-corners.nc",
     ]
     .iter()
-    .map(|n| data(n))
+    .map(|n| program_text(n))
     .collect();
     bases.push("G20 G91 G18 G2 X1 Z1 I1 K0 P3 F5\nG90.1 G19 G3 Y1 Z0 J0 K0\nG93 G1 A30 C-90 F3\nG28 X0\nG53 G0 Z0 M30".into());
     let alphabet: Vec<char> = "GMXYZABCIJKRFPHSTNO0123456789.-+ ()#;/%\n\t[]QéU"
@@ -499,10 +521,10 @@ fn arcs_end_at_their_end_points() {
     // G18 G91: centre at start + (I, K) = (2, 0, 2), a half circle about +Y clockwise.
     let a = arc_of(&p.blocks[0]);
     assert!(a.centre.distance(DVec3::new(2.0, 0.0, 2.0)) < 1e-12);
-    near(a.sweep_rad, PI, 1e-12, "half");
+    assert_near!(a.sweep_rad, PI, 1e-12, "half");
     // Three full turns plus the helix rise of 1 mm.
     let a = arc_of(&p.blocks[2]);
-    near(a.sweep_rad, 3.0 * TAU, 1e-9, "P3");
+    assert_near!(a.sweep_rad, 3.0 * TAU, 1e-9, "P3");
     // G43 without H takes the tool selected in the same block.
     let p = run_at("T7 M6 G43\nG1 X1 F1", 0.0, 0.0, 0.0);
     assert_eq!((p.blocks[0].tool, p.blocks[0].tool_length_h), (7, Some(7)));
@@ -522,9 +544,9 @@ fn thesis_post_format_with_semicolon_end_of_block() {
     assert_eq!(p.blocks.len(), 2);
     let b = &p.blocks[1];
     assert_eq!((b.tool, b.spindle_rpm), (1, 1250.0));
-    near(b.start.c.unwrap().to_degrees(), -164.463, 1e-9, "C0");
-    near(b.end.c.unwrap().to_degrees(), -310.74, 1e-9, "C1");
-    near(b.end.a.unwrap().to_degrees(), 48.547, 1e-9, "A1");
+    assert_near!(b.start.c.unwrap().to_degrees(), -164.463, 1e-9, "C0");
+    assert_near!(b.end.c.unwrap().to_degrees(), -310.74, 1e-9, "C1");
+    assert_near!(b.end.a.unwrap().to_degrees(), 48.547, 1e-9, "A1");
     assert_eq!(b.end.xyz, DVec3::new(-245.379, 112.129, -116.893));
     // Columns count from the start of the whole line.
     let e = interpret("G1 X1 F1; G1 Q2", &opts).unwrap_err();

@@ -2,11 +2,11 @@
 //! exact NURBS cylinder/sphere against ±1/r, fundamental-form identities on a skewed B-spline
 //! patch, Euler's theorem for normal curvature, degenerate points.
 
-mod geometry_common;
+mod common;
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use geometry_common::*;
+use common::geometry::*;
 use talas::geometry::DVec3;
 use talas::geometry::diffgeom::SurfaceDerivs;
 use talas::geometry::frame::Frame;

@@ -1,9 +1,9 @@
 //! B-spline / NURBS kernel: evaluation against the Cox–de Boor definition, derivatives against
 //! central differences, exact conics, span search at the domain end, iso-curves, validation.
 
-mod geometry_common;
+mod common;
 
-use geometry_common::*;
+use common::geometry::*;
 use talas::geometry::curve::CurveGeom;
 use talas::geometry::nurbs::{BSplineCurve, BSplineSurface, expand_knots};
 use talas::geometry::{DVec3, GeometryError};

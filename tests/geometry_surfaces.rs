@@ -2,11 +2,11 @@
 //! extrusion against the analytic kinds they reproduce, point inversion against closed forms
 //! and dense brute-force sampling (far points, boundaries, axis points; never NaN).
 
-mod geometry_common;
+mod common;
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use geometry_common::*;
+use common::geometry::*;
 use talas::geometry::curve::{Circle, CurveGeom, Ellipse, Line};
 use talas::geometry::frame::Frame;
 use talas::geometry::surface::{

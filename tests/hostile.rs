@@ -2,20 +2,19 @@
 //! mutation fuzzing, and hand-made options): each gives a result or one clear error within
 //! 10 s and 2 GiB of address space; silent wrong results are now reported.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/adversarial")
-        .join(name)
+/// A file under `tests/data/adversarial`.
+fn adversarial(name: &str) -> PathBuf {
+    common::data(&format!("adversarial/{name}"))
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("talas-hostile-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::temp_path("hostile", name)
 }
 
 /// Run `talas ARGS` under a 2 GiB address-space limit; kill it after `limit`. Returns the output
@@ -74,7 +73,7 @@ fn json(out: &Output) -> serde_json::Value {
 
 #[test]
 fn every_mutated_step_file_gives_a_result_or_an_error_within_bounds() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/adversarial");
+    let dir = common::data("adversarial");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(Result::ok)
@@ -105,7 +104,7 @@ fn every_mutated_step_file_gives_a_result_or_an_error_within_bounds() {
 #[test]
 fn mutated_five_axis_programs_simulate_or_fail_within_bounds() {
     for name in ["hang-simulate-00083.nc", "hang-simulate-00279.nc"] {
-        let f = data(name);
+        let f = adversarial(name);
         assert_clean(
             &[
                 "simulate",
@@ -126,7 +125,7 @@ fn mutated_five_axis_programs_simulate_or_fail_within_bounds() {
 }
 
 fn simulate_removed(name: &str) -> f64 {
-    let f = data(name);
+    let f = adversarial(name);
     let out = assert_clean(
         &[
             "simulate",
@@ -159,7 +158,7 @@ fn traori_alone_on_its_line_switches_tool_centre_point_control_on() {
 
 #[test]
 fn feed_reports_travel_violations_dwells_and_warnings() {
-    let f = data("overtravel.nc");
+    let f = adversarial("overtravel.nc");
     let out = assert_clean(
         &["feed", f.to_str().unwrap(), "--machine", "trt-ac", "--json"],
         "overtravel.nc",
@@ -180,7 +179,7 @@ fn feed_reports_travel_violations_dwells_and_warnings() {
     );
 
     let cycle = |name: &str| {
-        let f = data(name);
+        let f = adversarial(name);
         let out = assert_clean(
             &[
                 "feed",
@@ -252,7 +251,7 @@ fn unknown_keywords_are_errors_and_known_ones_warnings() {
 
 #[test]
 fn hostile_options_are_refused_or_bounded() {
-    let hills = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");
+    let hills = common::data("bicubic-hills.stp");
     let hills = hills.to_str().unwrap();
     // A tessellation tolerance far below any machine's resolution is refused with the reason.
     let out = assert_clean(&["inspect", hills, "--tolerance", "1e-12"], "tolerance");
@@ -342,10 +341,7 @@ fn a_heidenhain_program_name_cannot_inject_blocks() {
 
 #[test]
 fn a_part_in_metres_or_kilometres_tessellates_within_a_budget() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp"),
-    )
-    .unwrap();
+    let text = std::fs::read_to_string(common::data("pocket-fillets.stp")).unwrap();
     for (unit, name) in [
         ("SI_UNIT($,.METRE.)", "m.stp"),
         ("SI_UNIT(.KILO.,.METRE.)", "km.stp"),

@@ -1,16 +1,14 @@
 //! `talas inspect` against Open CASCADE's own evaluation of the shared parts
 //! (tests/data/*.samples.csv and the reference table in tests/data/README.md).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
+
+use common::data;
 use std::process::Command;
 
 use serde_json::Value;
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
 
 fn inspect_json(file: &Path, extra: &[&str]) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_talas"))

@@ -2,9 +2,9 @@
 //! checked against the planned motion itself sampled at the run's times, against the move
 //! plan the simulation takes, and against `talas feed` planning the same posted program.
 
-mod cli_common;
+mod common;
 
-use cli_common::{talas_json, temp_file};
+use common::{talas_json, temp_file};
 use glam::DVec3;
 use talas::machine::Machine;
 use talas::post::{Dialect, PostOptions};
@@ -233,7 +233,7 @@ fn talas_post_reports_the_cycle_time_talas_feed_plans() {
         .expect("pose 5 moves along X");
     assert!((x - tp.poses[5].tip.x).abs() < 1e-3, "{}", lines[line - 1]);
     // A bad tolerance is refused with exit 2.
-    let out = cli_common::talas(&[
+    let out = common::talas(&[
         "post",
         input.to_str().unwrap(),
         "--machine",

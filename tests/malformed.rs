@@ -1,18 +1,18 @@
 //! Malformed input never panics, hangs or loses its place: every reader returns a value or an
 //! error naming a line inside the input.
 
+mod common;
+
 /// Part 21 (STEP text): the hand-made malformed files are in `tests/data/bad/*.stp` and checked
 /// one by one in `tests/step_part21.rs`; here every prefix and thousands of byte-level
 /// corruptions of real files are read.
 mod part21 {
-    use std::path::Path;
-
     use talas::import::step::part21::parse;
 
+    use crate::common::{Lcg, data};
+
     fn read(rel: &str) -> Vec<u8> {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(rel);
+        let path = data(rel);
         std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
     }
 
@@ -84,29 +84,12 @@ mod part21 {
         }
     }
 
-    /// A small deterministic generator (64-bit LCG, Knuth's constants) so that failures repeat.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> u64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            self.0 >> 33
-        }
-
-        fn below(&mut self, n: usize) -> usize {
-            (self.next() % n as u64) as usize
-        }
-    }
-
     /// Bytes a corruption draws from: Part 21 punctuation (most likely to confuse a parser),
     /// digits, letters, and anything at all.
     fn corrupt_byte(rng: &mut Lcg) -> u8 {
         const SPECIAL: &[u8] = b"()(),;;='\"#$*./-+E0123456789\\\n\r \x00\xFF";
         if rng.below(3) == 0 {
-            rng.next() as u8
+            rng.bits() as u8
         } else {
             SPECIAL[rng.below(SPECIAL.len())]
         }

@@ -1,15 +1,15 @@
 //! Triangle meshes against closed forms (cube, octahedron, sphere), and the BVH against brute
 //! force on random queries (fixed seed) on the bicubic-hills STL and a unit sphere.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
-use std::path::Path;
 
 use glam::DVec3;
 use talas::geometry::Aabb;
 use talas::geometry::bvh::{BvhError, MeshBvh};
 use talas::geometry::mesh::TriMesh;
-use talas::import::stl::{StlOptions, read_stl};
 
 /// Unit cube [0, 1]³, outward triangles; faces split on alternating diagonals so that corners
 /// touch one or two triangles of a face.
@@ -225,11 +225,6 @@ fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
     }
     let s = 1.0 / (va + vb + vc);
     a + ab * (vb * s) + ac * (vc * s)
-}
-
-fn hills() -> TriMesh {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl");
-    read_stl(&path, &StlOptions::default()).unwrap().mesh
 }
 
 // ---- closed forms -------------------------------------------------------------------------
@@ -484,7 +479,7 @@ fn random_box(rng: &mut Rng, lo: DVec3, hi: DVec3, max_size: f64) -> Aabb {
 
 #[test]
 fn bvh_matches_brute_force_on_bicubic_hills() {
-    let m = hills();
+    let m = common::hills_stl();
     let bvh = MeshBvh::new(&m).unwrap();
     assert_eq!(bvh.triangle_count(), m.triangles.len());
     let mut rng = Rng(0x5EED_1234);

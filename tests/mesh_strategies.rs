@@ -2,6 +2,8 @@
 //! the remaining height along the surface normal to the swept ball envelope and the gouge, on
 //! dense samples of the mesh (`checks::oracle::raster`, which does not use the drop-cutter).
 
+mod common;
+
 use std::path::Path;
 
 use talas::checks::oracle::raster::{RemainingOptions, ball_remaining_height};
@@ -14,11 +16,7 @@ use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::parse_tool_spec;
 
 fn load(name: &str) -> (TriMesh, MeshBvh) {
-    let stl = read_stl(
-        Path::new(&format!("tests/data/{name}")),
-        &StlOptions::default(),
-    )
-    .unwrap();
+    let stl = read_stl(&common::data(name), &StlOptions::default()).unwrap();
     let bvh = MeshBvh::new(&stl.mesh).unwrap();
     (stl.mesh, bvh)
 }

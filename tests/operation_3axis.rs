@@ -4,11 +4,11 @@
 //! Z-level roughing with a stock, 5-axis face finishing). Waterline and steep-and-shallow
 //! operations validate their numbers and keep their settings through a project's JSON.
 
-mod cli_common;
+mod common;
 
 use std::path::Path;
 
-use cli_common::{data, talas_json};
+use common::{data, talas_json};
 use talas::diagnostics::Progress;
 use talas::import::{OpenOptions, open};
 use talas::project::pipeline::compute;

@@ -2,8 +2,11 @@
 //! on the default part, checked against closed-form contact conditions and the drop-cutter, not
 //! against itself.
 
+mod common;
+
 use std::path::Path;
 
+use common::data;
 use glam::{DVec2, DVec3};
 use talas::diagnostics::Progress;
 use talas::geometry::bvh::MeshBvh;
@@ -18,12 +21,7 @@ fn hills() -> Workpiece {
     let options = OpenOptions {
         chord_tol_mm: Some(0.01),
     };
-    open(
-        Path::new("tests/data/bicubic-hills.stp"),
-        &options,
-        &Progress::new(),
-    )
-    .expect("bicubic-hills reads")
+    open(&data("bicubic-hills.stp"), &options, &Progress::new()).expect("bicubic-hills reads")
 }
 
 fn project_with(tool: &str, op: Operation) -> Project {

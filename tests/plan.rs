@@ -4,7 +4,7 @@
 //! two-way iso-parametric at the same maximum scallop; closed forms on a plane, a sphere and a
 //! cylinder; the CLI contract.
 
-use std::path::Path;
+mod common;
 
 use glam::DVec3;
 use talas::checks::oracle::surface::VerifyOptions;
@@ -24,12 +24,7 @@ const H: f64 = 0.05;
 const EPS: f64 = 0.01;
 
 fn part(name: &str) -> Part {
-    read_step(
-        &Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(name),
-    )
-    .expect(name)
+    read_step(&common::data(name)).expect(name)
 }
 
 fn opts(lead_deg: f64) -> FinishOptions {
@@ -421,7 +416,7 @@ fn cli_plan_writes_contract_json_and_rejects_bad_input() {
     let dir = std::env::temp_dir().join(format!("talas-plan-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let out = dir.join("path.json");
-    let stp = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp");
+    let stp = common::data("bicubic-hills.stp");
     let run = |extra: &[&str]| {
         std::process::Command::new(exe)
             .arg("plan")

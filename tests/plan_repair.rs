@@ -5,7 +5,7 @@
 //! and tangent) with the ball centre's distance to the exact surface, and the report of gouges
 //! no lead up to 45° fixes.
 
-use std::path::Path;
+mod common;
 
 use glam::DVec3;
 use talas::checks::oracle::surface::VerifyOptions;
@@ -22,12 +22,7 @@ use talas::toolpath::{MoveKind, Pose};
 use talas::tools::parse_tool_spec;
 
 fn part(name: &str) -> Part {
-    read_step(
-        &Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(name),
-    )
-    .expect(name)
+    read_step(&common::data(name)).expect(name)
 }
 
 /// The face's sub-rectangle between the fractions `a..b` of both parameters, and its side.

@@ -5,6 +5,8 @@
 //! within 0.01 mm. A B-spline face trimmed by an outer loop and a hole: no contact in the hole
 //! or outside the outline, and a line of passes that crosses the hole is split into runs.
 
+mod common;
+
 use std::path::Path;
 
 use glam::{DVec2, DVec3};
@@ -28,12 +30,7 @@ use talas::tools::parse_tool_spec;
 const ON_FACE_MM: f64 = 0.01;
 
 fn part(name: &str) -> Part {
-    read_step(
-        &Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data")
-            .join(name),
-    )
-    .expect(name)
+    read_step(&common::data(name)).expect(name)
 }
 
 fn opts() -> FinishOptions {

@@ -2,8 +2,8 @@
 //! interpreter reads back onto the path, and bad input giving exit code 2 with one line naming
 //! the file and the row.
 
-mod cli_common;
-use cli_common::{talas, talas_json, temp_file};
+mod common;
+use common::{talas, talas_json, temp_file};
 
 const V_NOTCH: &str = "# a V notch\nx,y\n-6,4\n-3,4\n0,0\n3,4\n6,4\n";
 

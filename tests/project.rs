@@ -1,8 +1,11 @@
 //! The project document: TOML round trip, atomic save, clear errors with a place, and undo/redo
 //! that restores every earlier state exactly.
 
+mod common;
+
 use std::path::Path;
 
+use common::Lcg;
 use talas::geometry::Aabb;
 use talas::project::{
     Edit, EditError, History, Operation, OperationKind, PartRef, PartStatus, Project, ProjectError,
@@ -15,13 +18,6 @@ fn tool(spec: &str, name: &str) -> ToolEntry {
         name: name.into(),
         cutter: parse_tool_spec(spec).expect("valid spec"),
     }
-}
-
-fn temp_dir(tag: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("talas-project-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
 }
 
 #[allow(clippy::field_reassign_with_default)]
@@ -75,7 +71,7 @@ fn default_project_has_a_selected_ball_end_mill() {
 
 #[test]
 fn save_and_load_round_trip_exactly() {
-    let dir = temp_dir("roundtrip");
+    let dir = common::temp_dir("project-roundtrip");
     let p = rich_project(&dir);
     let path = dir.join("a.talas");
     p.save(&path).expect("save");
@@ -116,7 +112,7 @@ fn cylinder_stock_encloses_the_box_corners() {
 
 #[test]
 fn part_reference_notices_a_changed_or_moved_file() {
-    let dir = temp_dir("partref");
+    let dir = common::temp_dir("project-partref");
     let path = dir.join("p.stl");
     std::fs::write(&path, b"abc").expect("write");
     let r = PartRef::from_file(&path).expect("ref");
@@ -132,7 +128,7 @@ fn part_reference_notices_a_changed_or_moved_file() {
 
 #[test]
 fn a_failed_save_keeps_the_old_file() {
-    let dir = temp_dir("failsave");
+    let dir = common::temp_dir("project-failsave");
     let path = dir.join("keep.talas");
     let old = rich_project(&dir);
     old.save(&path).expect("first save");
@@ -245,21 +241,6 @@ fn refused_edits_change_nothing() {
     ]));
     assert!(r.is_err());
     assert_eq!(p, before);
-}
-
-/// A small deterministic generator (64-bit LCG, Knuth's constants).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        self.0 >> 33
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % (n.max(1) as u64)) as usize
-    }
 }
 
 fn random_edit(rng: &mut Lcg, p: &Project) -> Edit {

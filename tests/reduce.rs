@@ -1,6 +1,8 @@
 //! Z-map SVD reduction against the thesis's example A (Yurtsever 2010, Sec. 6.2, digest V1–V3)
 //! and the point spacings it reports (digest V5).
 
+mod common;
+
 use talas::reduce::{
     Grid, RankRule, ReduceOptions, Resampling, point_spacing, reduce, resampled_count, svd,
 };
@@ -410,8 +412,7 @@ fn surface_zmap_of_bicubic_hills() {
     use talas::geometry::bvh::MeshBvh;
     use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
     use talas::reduce::{zmap_from_mesh, zmap_from_surface};
-    let part = talas::import::step::read_step(std::path::Path::new("tests/data/bicubic-hills.stp"))
-        .unwrap();
+    let part = common::hills_step();
     let surface = &part.faces[0].surface;
     let (origin, step, rows, cols) = (DVec2::new(-4.0, -4.0), 4.0, 33, 43);
     let zm = zmap_from_surface(surface, origin, step, rows, cols, -1000.0, 1e-7).unwrap();
@@ -506,8 +507,7 @@ fn xy_and_surface_zmap_reject_bad_input() {
     assert!(reduce_to_size(&a, 0.1, RankRule::SpectralBound, 21, 5).is_err());
     assert!(reduce_to_size(&a, 0.1, RankRule::SpectralBound, 0, 5).is_err());
     assert!(reduce_to_size(&a, -0.1, RankRule::SpectralBound, 5, 5).is_err());
-    let part = talas::import::step::read_step(std::path::Path::new("tests/data/bicubic-hills.stp"))
-        .unwrap();
+    let part = common::hills_step();
     let s = &part.faces[0].surface;
     assert!(zmap_from_surface(s, DVec2::ZERO, 0.0, 2, 2, 0.0, 1e-6).is_err());
     assert!(zmap_from_surface(s, DVec2::ZERO, 1.0, 0, 2, 0.0, 1e-6).is_err());

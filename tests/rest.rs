@@ -5,9 +5,9 @@
 //! x − 1.5/√2, so its passes must cover |x_axis| < x_t − 1.5/√2 and nothing more (to the
 //! sample step), and each cut pose must be an exact drop-cutter location.
 
-mod cli_common;
+mod common;
 
-use cli_common::{talas, temp_file};
+use common::{talas, temp_file};
 use glam::DVec3;
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;

@@ -4,6 +4,8 @@
 //! crash detection with their block numbers; determinism; the memory check; the STL mesh; the
 //! command line.
 
+mod common;
+
 use std::f64::consts::{PI, TAU};
 use std::path::PathBuf;
 use std::process::Command;
@@ -464,9 +466,7 @@ fn closed_mesh_volume_is_the_stock_volume() {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("talas-sim-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
+    common::temp_path("sim", name)
 }
 
 #[test]
@@ -609,7 +609,7 @@ fn closed_parts_and_open_sheets_are_told_apart() {
     use talas::import::step::read_step;
     use talas::import::stl::{StlOptions, read_stl};
     use talas::simulation::is_closed;
-    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let data = common::data("");
     // A solid tessellated face by face: the seams meet, so it bounds material.
     let solid = read_step(&data.join("pocket-fillets.stp")).unwrap();
     let mesh = tessellate_part(&solid, &TessellationOptions::default()).mesh;

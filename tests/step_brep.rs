@@ -2,18 +2,16 @@
 //! 52-file corpus (`tests/data/real/MANIFEST.csv`, OCCT 8.0.1 outcomes), units, assemblies, and
 //! clean errors on broken files.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::PathBuf;
+
+use common::{Lcg, data};
 
 use talas::geometry::brep::{Loop, Part};
 use talas::geometry::curve::CurveGeom;
 use talas::geometry::surface::SurfaceGeom;
 use talas::import::step::{ErrorKind, build_part, part21, read_step};
-
-fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(rel)
-}
 
 fn count_kinds(part: &Part) -> std::collections::BTreeMap<&'static str, usize> {
     let mut m = std::collections::BTreeMap::new();
@@ -127,7 +125,7 @@ fn pocket_fillets_has_occt_faces_and_watertight_sharing() {
 
 #[test]
 fn single_bspline_faces() {
-    let hills = read_step(&data("bicubic-hills.stp")).unwrap();
+    let hills = common::hills_step();
     assert_eq!(hills.faces.len(), 1);
     let SurfaceGeom::BSpline(s) = &hills.faces[0].surface else {
         panic!("not a B-spline")
@@ -641,19 +639,6 @@ fn shared_components_cannot_multiply_without_end() {
     );
 }
 
-/// A small deterministic generator (64-bit LCG, Knuth's constants).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self, n: usize) -> usize {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 33) as usize) % n.max(1)
-    }
-}
-
 #[test]
 fn mutated_files_never_panic() {
     use part21::Param;
@@ -674,17 +659,17 @@ fn mutated_files_never_panic() {
         let ids: Vec<u64> = base.instances.keys().copied().collect();
         for _ in 0..400 {
             let mut ex = base.clone();
-            for _ in 0..1 + rng.next(3) {
-                let id = ids[rng.next(ids.len())];
+            for _ in 0..1 + rng.below(3) {
+                let id = ids[rng.below(ids.len())];
                 let inst = ex.instances.get_mut(&id).unwrap();
-                let r = rng.next(inst.records.len());
+                let r = rng.below(inst.records.len());
                 let params = &mut inst.records[r].params;
                 if params.is_empty() {
                     continue;
                 }
-                let k = rng.next(params.len());
-                params[k] = match rng.next(8) {
-                    0 => Param::Ref(ids[rng.next(ids.len())]),
+                let k = rng.below(params.len());
+                params[k] = match rng.below(8) {
+                    0 => Param::Ref(ids[rng.below(ids.len())]),
                     1 => Param::Ref(999_999),
                     2 => Param::Unset,
                     3 => Param::Real(0.0),

@@ -1,15 +1,13 @@
 //! ISO 10303-21 reader against real files (Open CASCADE references and the adversarial corpus),
 //! hand-made malformed files, and every syntax feature.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
+
+use common::data;
 
 use talas::import::step::part21::{Param, parse};
-
-fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(rel)
-}
 
 fn read(rel: &str) -> Vec<u8> {
     std::fs::read(data(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))

@@ -2,18 +2,16 @@
 //! trips through the writers, and malformed files (tests/data/bad-stl) that must give an error
 //! naming the file and the place.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
+
+use common::data;
 
 use talas::diagnostics::Severity;
 use talas::import::stl::{
     StlFormat, StlOptions, parse_stl, read_stl, save_stl, write_stl_ascii, write_stl_binary,
 };
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
 
 /// The facet count in a binary STL's header, read independently of the reader under test.
 fn header_count(bytes: &[u8]) -> usize {

@@ -1,13 +1,13 @@
 //! Waterline contours against closed forms (a box, a pyramid frustum, a hemisphere) and against
 //! the drop-cutter on `bicubic-hills.stl`; the planned path's levels, directions and links.
 
+mod common;
+
 use std::f64::consts::PI;
-use std::path::Path;
 
 use glam::{DVec2, DVec3};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
-use talas::import::stl::{StlOptions, read_stl};
 use talas::strategies::waterline::{ContourPoint, Cut, WaterlineOptions, contours_at, waterline};
 use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::dropcutter::drop_cutter_at;
@@ -210,8 +210,7 @@ fn ball_on_a_hemisphere_is_a_circle_of_the_offset_sphere() {
 }
 
 fn hills() -> (TriMesh, MeshBvh) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl");
-    let mesh = read_stl(&path, &StlOptions::default()).unwrap().mesh;
+    let mesh = common::hills_stl();
     let bvh = MeshBvh::new(&mesh).unwrap();
     (mesh, bvh)
 }

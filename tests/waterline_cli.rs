@@ -2,9 +2,9 @@
 //! pose of a flat end mill lies on the box offset by its radius; bad options exit with code 2
 //! and one line.
 
-mod cli_common;
+mod common;
 
-use cli_common::{talas, temp_file};
+use common::{talas, temp_file};
 use talas::toolpath::{MoveKind, Toolpath};
 
 /// A 20 × 20 × 10 mm box at the origin as ASCII STL.

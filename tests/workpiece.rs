@@ -1,17 +1,15 @@
 //! The one reader of parts (`import::open`): the kind decided once by extension, one
 //! tessellation policy, the exact faces kept, one BVH built once and shared.
 
+mod common;
+
 use std::path::Path;
+
+use common::data;
 use std::sync::Arc;
 
 use talas::diagnostics::Progress;
 use talas::import::{FileFormat, OpenOptions, Workpiece, open};
-
-fn data(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
 
 #[test]
 fn a_step_part_keeps_its_faces_and_one_shared_bvh() {

@@ -1,8 +1,8 @@
 //! `talas dropcutter` and `talas reduce` through the command line: the contract's JSON, and bad
 //! input giving exit code 2 with one line naming the file and the line.
 
-mod cli_common;
-use cli_common::{data, talas, talas_json, temp_file};
+mod common;
+use common::{data, talas, talas_json, temp_file};
 
 #[test]
 fn dropcutter_json_keeps_input_order_and_marks_misses() {
@@ -161,7 +161,7 @@ fn reduce_a_part_samples_its_exact_zmap() {
         (Some(61), Some(81))
     );
     assert_eq!(step["zmap"]["exact_nodes"], 61 * 81);
-    let part = talas::import::step::read_step(&data("bicubic-hills.stp")).unwrap();
+    let part = common::hills_step();
     let reference = zmap_from_surface(
         &part.faces[0].surface,
         DVec2::ZERO,
@@ -240,7 +240,7 @@ fn reduce_a_part_and_machine_the_reduced_model() {
     assert!(tp.poses.iter().any(|p| p.kind == MoveKind::Cut));
     // The reference surface: the STEP part tessellated at 2 µm (the shipped STL's chordal sag
     // alone would read as several µm of gouge).
-    let part = talas::import::step::read_step(&data("bicubic-hills.stp")).unwrap();
+    let part = common::hills_step();
     let mesh = talas::geometry::tessellate::tessellate_part(
         &part,
         &talas::geometry::tessellate::TessellationOptions::with_chord_tol(0.002),

@@ -1,7 +1,7 @@
-//! Surface analysis (thesis §2.4, with the corrections of digest §2.3 and §6.2): scan a patch for
-//! its smallest concave and convex radii along the u and v iso-directions (normal curvature of
-//! the iso-parametric curves) and principal, with their locations; and per-point curvatures for
-//! the workstation's colour map.
+//! Surface analysis (thesis §2.4, with signed normal curvatures in place of 3-point circles):
+//! scan a patch for its smallest concave and convex radii along the u and v iso-directions
+//! (normal curvature of the iso-parametric curves) and principal, with their locations; and
+//! per-point curvatures for the workstation's colour map.
 //!
 //! Curvatures come from the analytic fundamental forms (not 3-point circles) and are signed
 //! with respect to the tool-side normal: positive = concave as the tool sees it. Extremes are

@@ -1,4 +1,4 @@
-//! Tool choice against local gouging (thesis §2.8, digest §4.3–4.4).
+//! Tool choice against local gouging (thesis §2.8 and its worked examples).
 //!
 //! - Ball end mill: no local gouge while the ball radius stays below the smallest concave radius
 //!   ρ (both parametric directions, or principal): D < 2ρ.
@@ -126,7 +126,7 @@ mod tests {
 
     #[test]
     fn thesis_ek_b_numbers() {
-        // Digest §4.3: ρ_min concave (u) = 26.0544985816258.
+        // The thesis's worked example: ρ_min concave (u) = 26.0544985816258.
         let rho = 26.054_498_581_625_8;
         let (bound, ball) = ball_for_radius(rho).expect("concave");
         assert!((bound - 52.108_997_163_251_6).abs() < 1e-12);
@@ -142,7 +142,7 @@ mod tests {
 
     #[test]
     fn thesis_worked_examples() {
-        // Digest §4.4: ρ = 20 → D = 13.68 at 20°, standard 10, S = 14.4775°.
+        // The thesis's worked example: ρ = 20 → D = 13.68 at 20°, standard 10, S = 14.4775°.
         let f = flat_for_radius(20.0, 20f64.to_radians()).expect("choice");
         assert!((f.max_diameter_mm - 13.68).abs() < 5e-3);
         assert_eq!(f.diameter_mm, 10.0);

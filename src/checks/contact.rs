@@ -80,8 +80,8 @@ pub fn curvature_margin(
 /// Build the tool placement (tip, unit axis) touching the surface at `cc` with tool-side normal
 /// `n`, feed direction `feed` (projected into the tangent plane), lead `lead_rad` (axis leaning
 /// toward the feed) and tilt `tilt_rad` (sideways, toward `t = f × n`):
-/// `a = cos S cos T n + sin S f + cos S sin T t`, and the cutter-location formula of Choi (digest
-/// §2.10) for torus-type cutters. Cones touch with their apex. `None` when `feed` is along `n`.
+/// `a = cos S cos T n + sin S f + cos S sin T t`, and the cutter-location formula of Choi for
+/// torus-type cutters. Cones touch with their apex. `None` when `feed` is along `n`.
 #[must_use]
 pub fn pose_from_contact(
     cutter: &Cutter,

@@ -3,7 +3,7 @@
 //! Planes follow ISO 6983 / RS274NGC: G17 is XY (normal +Z), G18 is ZX (first axis Z, normal
 //! +Y), G19 is YZ (normal +X). Counter-clockwise (G3) is a positive rotation about the normal.
 //! Note that the Kelekçi thesis maps G18 as X→x, Z→y, which mirrors the sense; Talas follows
-//! the standard (digest seed-001 §2.3 step 1).
+//! the standard, so a G18 G3 arc runs counter-clockwise seen from +Y.
 
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;

@@ -17,7 +17,7 @@
 //! ```
 //! The tool points along machine +Z; the linear joints are the tool tip in machine coordinates.
 //! With `direction = −1` on both axes this is the Kelekçi/Can thesis post-processor
-//! (digest seed-000 §2.13: `R = R_x(a)·R_z(c)`, NC output `A = −a, C = −c`).
+//! (`R = R_x(a)·R_z(c)`, NC output `A = −a, C = −c`).
 
 mod bodies;
 pub mod collision;

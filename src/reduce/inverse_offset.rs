@@ -1,11 +1,10 @@
-//! The cutter-location (CL) Z-map of a Z-map by inverse offset (digest `seed-003` 2.9, thesis
-//! Eqs. 4.7–4.10): the tool dropped onto every node, touching only at nodes.
+//! The cutter-location (CL) Z-map of a Z-map by inverse offset (thesis Eqs. 4.7–4.10): the tool dropped onto every node, touching only at nodes.
 //!
 //! For a ball of radius ρ on a Z-map of step γ the thesis gives the ball centre's height
 //! z_b[m,n] = max{ z[i,j] + √(ρ² − γ²((m−i)² + (n−j)²)) : γ²((m−i)² + (n−j)²) ≤ ρ² }.
 //! **Erratum:** the printed Eq. 4.8 misplaces the parentheses of the distance term; the form
-//! above (the digest's corrected one) is implemented. The generalisation (the digest's [EXT])
-//! works for every cutter through its profile g(d), the height of its lower surface above the
+//! above (distance √((m−i)² + (n−j)²) scaled by γ) is implemented. The generalisation (ours, not
+//! the thesis's) works for every cutter through its profile g(d), the height of its lower surface above the
 //! tip at distance d from the axis: tip_z[m,n] = max{ z[i,j] − g(d_ij) : d_ij ≤ ρ }. For the ball
 //! g(d) = ρ − √(ρ² − d²), so tip_z = z_b − ρ exactly.
 //!

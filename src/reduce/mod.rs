@@ -1,5 +1,5 @@
-//! Z-map data reduction by truncated singular value decomposition (Yurtsever 2010, digest
-//! `seed-003`): Z = Σ σ_k U_k V_kᵀ, keep the first r terms, resample each kept singular vector at
+//! Z-map data reduction by truncated singular value decomposition (Yurtsever 2010):
+//! Z = Σ σ_k U_k V_kᵀ, keep the first r terms, resample each kept singular vector at
 //! the spacing a ball end mill's tolerance allows, multiply back, and report the error.
 //!
 //! **Rank.** [`RankRule::SpectralBound`] (the default) keeps the smallest r with σ_{r+1} ≤ the

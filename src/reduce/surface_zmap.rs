@@ -1,4 +1,4 @@
-//! A regular Z-map sampled from a parametric surface (digest `seed-003` 2.1, "2D Jacobian
+//! A regular Z-map sampled from a parametric surface (the thesis's "2D Jacobian
 //! inversion"): at every XY grid node find (u, v) with x(u,v) = x_i, y(u,v) = y_j by Newton's
 //! method on the 2×2 Jacobian [[x_u, x_v], [y_u, y_v]], seeded from the neighbouring node's
 //! solution (or, failing that, from the nearest point of a coarse parameter lattice), and store

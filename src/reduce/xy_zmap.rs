@@ -1,11 +1,11 @@
-//! The thesis's XY-dependent Z-map (digest `seed-003` 2.3, Eq. 6.9): three matrices X, Y, Z of
+//! The thesis's XY-dependent Z-map (Eq. 6.9): three matrices X, Y, Z of
 //! equal size whose quad topology is regular but whose nodes are real input points, built from
-//! scattered points (mesh vertices or a point cloud), then reduced matrix by matrix (2.7).
+//! scattered points (mesh vertices or a point cloud), then reduced matrix by matrix.
 //!
 //! Construction: a reference grid of step g over the points' XY bounding box, cells centred on
 //! the nodes (r = round((y − y_min)/g), c = round((x − x_min)/g)); each cell keeps its highest
 //! point; empty rows/columns are deleted, then interior rows/columns whose points are collinear
-//! with their neighbours' along every column/row (the digest's [EXT] reading of "rows that repeat
+//! with their neighbours' along every column/row (our reading of the thesis's "rows that repeat
 //! the same values": deleting them leaves the piecewise-linear surface unchanged); remaining
 //! empty cells get the cell centre with z from a vertical ray cast onto the mesh (polygon input)
 //! or linear interpolation along the row and column (point clouds).

@@ -1,5 +1,5 @@
-//! A raster finishing path read straight off a CL Z-map (the thesis's "tool paths on Z-maps",
-//! digest `seed-003` 2.9): every k-th grid row is a pass along X at the CL heights, with k from
+//! A raster finishing path read straight off a CL Z-map (the thesis's "tool paths on Z-maps"):
+//! every k-th grid row is a pass along X at the CL heights, with k from
 //! the step-over; consecutive passes are joined along the grid column at the CL heights
 //! (zig-zag) or by a retract, a rapid and a plunge (one way). Within a pass, nodes are dropped
 //! while the chord between the kept ones stays within the chord tolerance of every dropped
@@ -7,7 +7,7 @@
 //!
 //! The tip is gouge-free at the nodes by construction of the CL Z-map
 //! ([`super::inverse_offset`]); between nodes the path interpolates linearly, as every Z-map
-//! method does (choose the Z-map step accordingly, digest 2.6).
+//! method does (choose the Z-map step accordingly).
 
 use glam::{DVec2, DVec3};
 

@@ -21,11 +21,10 @@
 //!   step stop counting too. Areas steeper than `max_slope_rad` are not held to h (a raster
 //!   pass cannot control the scallop on walls; a Z-level finish does); their area is reported.
 //!
-//!   (Before: the cusp was taken from the tool's profile at the grid point alone, which on a
-//!   slope θ along the pass hangs R·(sec θ − 1) above the surface, and between the two axes,
-//!   where on a cross slope the downhill pass is lowest everywhere. Neither shrinks with the
-//!   step, so the step was cut to a third and the prediction still showed 0.12 mm for a 0.05 mm
-//!   request on bicubic-hills.)
+//!   (The tool's profile at the grid point alone is no measure of the cusp: on a slope θ along
+//!   the pass it hangs R·(sec θ − 1) above the surface, and between the two axes on a cross
+//!   slope the downhill pass is lowest everywhere. Neither shrinks with the step, so a step cut
+//!   to a third would still predict 0.12 mm for a 0.05 mm request on bicubic-hills.)
 //! - **Sampling along a pass**: drop-cutter on a grid of step `sample_step_mm`, then chords are
 //!   bisected until the CL polyline follows the true CL curve within the chord tolerance, lifted
 //!   where a chord would dip under the true CL, and collinear points are dropped (`follow`).

@@ -14,7 +14,7 @@
 //!
 //! `r_eff = r_c + R_f (a·f)² / (1 − (a·n)²)^{3/2}`.
 //!
-//! With lead S only (`a = cos S n + sin S f`) this is `r_c + R_f / sin S`: the digest's `r/sin S`
+//! With lead S only (`a = cos S n + sin S f`) this is `r_c + R_f / sin S`: the thesis's `r/sin S`
 //! for a flat end mill and `R/sin α + r` for a bull-nose (Rao 1997). With a sideways tilt the
 //! `(a·f)²` factor shrinks the radius (pure tilt leaves only the corner, `r_eff = r_c`). This is
 //! the curvature of the swept envelope's section, which is what sets the scallop; the normal

@@ -19,16 +19,12 @@
 //! the path's chord tolerance, which the planners' prediction leaves out, plus the mesh
 //! error), and max gouge ≤ B.
 
-use std::path::Path;
-
 use glam::{DVec2, DVec3};
 use talas::diagnostics::Progress;
 use talas::geometry::Interval;
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
 use talas::geometry::surface::ParamRect;
-use talas::import::step::read_step;
-use talas::import::stl::{StlOptions, read_stl};
 use talas::simulation::{
     DeviationOptions, DeviationReport, DexelMode, DexelStock, SimOptions, StepOptions, StockShape,
     deviation, plan_toolpath, simulate,
@@ -50,12 +46,7 @@ const PART_BOTTOM: f64 = -20.0;
 /// boundary edge to `PART_BOTTOM` and a bottom fan) so that the deviation's inside test (ray
 /// parity) can tell remaining material from gouge.
 fn closed_hills() -> TriMesh {
-    let stl = read_stl(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl"),
-        &StlOptions::default(),
-    )
-    .expect("stl");
-    let mut mesh = stl.mesh;
+    let mut mesh = crate::common::hills_stl();
     let mut count = std::collections::HashMap::new();
     for t in &mesh.triangles {
         for k in 0..3 {
@@ -229,12 +220,8 @@ fn cut(stock: &mut DexelStock, tp: &Toolpath, reach: f64) {
 #[test]
 fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
     let part = closed_hills();
-    let stl = read_stl(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stl"),
-        &StlOptions::default(),
-    )
-    .expect("stl");
-    let bvh = MeshBvh::new(&stl.mesh).expect("bvh");
+    let stl_mesh = crate::common::hills_stl();
+    let bvh = MeshBvh::new(&stl_mesh).expect("bvh");
     let (w0, w1) = (DVec2::new(40.0, 30.0), DVec2::new(64.0, 48.0));
     let h = 0.05;
     let chord = 0.01;
@@ -251,7 +238,7 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
         boundary: Boundary::Polygon(vec![w0, DVec2::new(w1.x, w0.y), w1, DVec2::new(w0.x, w1.y)]),
         ..RasterOptions::default()
     };
-    let plan = raster(&stl.mesh, &bvh, &tool, &opts).expect("raster");
+    let plan = raster(&stl_mesh, &bvh, &tool, &opts).expect("raster");
     let r = 0.1;
     let margin = 2.0;
     let (lo, hi) = (w0 + DVec2::splat(margin), w1 - DVec2::splat(margin));
@@ -330,9 +317,7 @@ fn raster_finish_scallop_and_gouge_agree_with_the_plan() {
 /// max remaining 0.1056 mm, max gouge 0.0024 mm, against verify's 0.1065 mm).
 #[test]
 fn five_axis_isoscallop_agrees_with_the_exact_verification() {
-    let part_step =
-        read_step(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bicubic-hills.stp"))
-            .expect("step");
+    let part_step = crate::common::hills_step();
     let face = part_step.faces.first().expect("face");
     let full = face.surface.domain();
     let side = FacePatch::from_face(face).expect("patch").side;

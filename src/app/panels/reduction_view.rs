@@ -1,4 +1,4 @@
-//! The data-reduction window (seed-003): the part's Z-map reduced by truncated SVD. Settings
+//! The data-reduction window: the part's Z-map reduced by truncated SVD. Settings
 //! (grid step, tolerance, rank rule, resampling for a ball end mill), the singular values on a
 //! log scale with the tolerance and the chosen rank, and the report (rank, error bound, max and
 //! mean error, stored numbers against the Z-map's nodes). The reduced surface with its error map
@@ -494,7 +494,7 @@ mod tests {
 
     #[test]
     fn reduction_ratio_as_the_thesis_counts_it() {
-        // 241 × 241 → 156 × 156 (digest 2.6): 58.1 % fewer points.
+        // The thesis's example: 241 × 241 → 156 × 156, 58.1 % fewer points.
         assert_eq!(
             reduction_ratio_text(241 * 241, 156 * 156),
             "58081 → 24336 points (-58.1 %)"

@@ -1,4 +1,4 @@
-//! Iso-parametric passes (digest 2.6, 2.12): zig-zag two-way and one-way at a constant
+//! Iso-parametric passes: zig-zag two-way and one-way at a constant
 //! parametric side step, and the rectangular spiral. The thesis takes the step from the chord
 //! at the minimum convex radius; here it is the smallest step, over a grid of the face, that
 //! keeps the scallop (from the same cross-feed section as iso-scallop) within h everywhere, so

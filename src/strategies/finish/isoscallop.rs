@@ -1,5 +1,5 @@
-//! Iso-scallop passes (the thesis's ISC-II, "dual iterative scan in parameter space",
-//! digest 2.12), reworked as the digest's section 6 asks: the first pass is the boundary
+//! Iso-scallop passes (the thesis's ISC-II, "dual iterative scan in parameter space"), with the
+//! side step taken on the surface rather than by a parameter crawl: the first pass is the boundary
 //! iso-curve; at every guide point of pass k the cross-feed direction `t = ±n × f` is taken on
 //! the surface, the side step `w` comes from the local normal curvature across the feed and the
 //! cutter's exact cross profile (see [`super::scallop`]), and the next pass's point is reached by

@@ -1,5 +1,5 @@
 //! Scallop height between two neighbouring passes and the side step that gives a requested
-//! height (digest 2.5, generalised).
+//! height (the thesis's ball-on-plane formula, generalised to any cutter and curvature).
 //!
 //! In the cross-feed normal section, the surface is taken to second order (normal curvature κ
 //! across the feed, positive where it bends toward the tool) and each pass's envelope is the
@@ -146,7 +146,7 @@ mod tests {
 
     #[test]
     fn ball_on_curved_matches_eq_3_69() {
-        // Vickers & Quan (digest 4.4): r = 20, ω = 4 on a plane gives h = 0.1003.
+        // Vickers & Quan: r = 20, ω = 4 on a plane gives h = 0.1003.
         let big = ball(20.0);
         let s = Section {
             a: &big,

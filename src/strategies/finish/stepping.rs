@@ -1,8 +1,8 @@
-//! Forward steps from the chord tolerance, on the tool-tip path the machine follows (digest 2.7,
-//! applied to the tip rather than only the contact points): from each accepted pose the step is
+//! Forward steps from the chord tolerance, on the tool-tip path the machine follows (the thesis's
+//! chord criterion, applied to the tip rather than only the contact points): from each accepted pose the step is
 //! grown or halved until the straight tip move stays within ε of the true tip curve (checked at
 //! interior samples) and the axis turns by at most the allowed angle; the step update uses
-//! `Δ ← Δ·√(ε/e)` (e ∝ Δ², the digest's suggestion), bounded.
+//! `Δ ← Δ·√(ε/e)` (the chord error e grows as Δ²), bounded.
 //!
 //! The tolerance is one-sided, outside the part: poses are placed on the surface raised by ε/2
 //! along the normal and chords may deviate by ε/2 from that raised tip curve, so the straight

@@ -83,7 +83,7 @@ fn closed_forms_without_tilt() {
         let rb = effective_radius(&bull, a, n, f).expect("bull");
         assert!((rb - (3.0 / sin + 2.0)).abs() < 1e-9 * rb, "bull {s}: {rb}");
     }
-    // Digest 2.8 / 4.4: ρ = 20, D = 10 → S = asin(5/20) = 14.4775°, r_e = ρ.
+    // The thesis's worked example: ρ = 20, D = 10 → S = asin(5/20) = 14.4775°, r_e = ρ.
     let s = (5.0_f64 / 20.0).asin();
     assert!((s.to_degrees() - 14.4775).abs() < 1e-4);
     let (n, f, _, a) = frame(s.to_degrees(), 0.0);
@@ -160,7 +160,7 @@ fn cutter_outline_cubic(p: &CrossProfile, x: f64) -> f64 {
 
 #[test]
 fn tip_for_flat_with_sturz_is_thesis_form() {
-    // TK = TT − r (cos S f − sin S n) (digest 2.10).
+    // The thesis's tip formula: TK = TT − r (cos S f − sin S n).
     let flat = Cutter::new(CutterKind::Flat, 10.0).expect("flat");
     let (n, f, _, a) = frame(17.88, 0.0);
     let s = 17.88_f64.to_radians();

@@ -11,21 +11,7 @@ use talas::geometry::surface::SurfaceGeom;
 /// √2/2, the corner weight of a rational quadratic quarter circle.
 pub const W45: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, fixed seed).
-pub struct Lcg(pub u64);
-
-impl Lcg {
-    pub fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
+pub use super::Lcg;
 
 /// Relative closeness of vectors.
 pub fn assert_vec_near(a: DVec3, b: DVec3, tol: f64, what: &str) {
