@@ -440,7 +440,6 @@ const KNOWN_CIRCLES: &[(&str, &[&str])] = &[
     ("gcode", &["interpreter", "motion"]),
     ("import/step/brep", &["assembly", "representation"]),
     ("profile", &["read", "read_svg"]),
-    ("project", &["finish_group", "pipeline"]),
     ("simulation", &["batch", "engine"]),
     ("strategies/raster", &["envelope", "passes"]),
 ];

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::pipeline::{ComputeError, Computed};
+use super::computed::{ComputeError, Computed};
 use super::{Operation, Project};
 use crate::checks::part::PartCheck;
 use crate::import::Workpiece;

@@ -5,6 +5,7 @@
 //! The document holds plain data: paths, numbers and validated [`Cutter`]s. It never holds the
 //! loaded mesh; the workstation loads the part the document references.
 
+mod computed;
 mod edit;
 pub mod file;
 pub mod finish_group;
