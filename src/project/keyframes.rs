@@ -159,14 +159,19 @@ pub fn simulate_with_keyframes(
             report = joined(&report, &piece, &plan, m);
             cut = m;
         }
-        let bytes = dexels.memory_bytes();
-        if m < total && (frames.is_empty() || used + bytes <= budget_bytes) {
-            used += bytes;
-            frames.push(Keyframe {
-                moves: m,
-                stock: dexels.clone(),
-                report: report.clone(),
-            });
+        if m < total {
+            let bytes = dexels.memory_bytes();
+            while frames.len() > 1 && used + bytes > budget_bytes {
+                used -= thin(&mut frames, &plan, m);
+            }
+            if frames.is_empty() || used + bytes <= budget_bytes {
+                used += bytes;
+                frames.push(Keyframe {
+                    moves: m,
+                    stock: dexels.clone(),
+                    report: report.clone(),
+                });
+            }
         }
     }
     let mut reports = earlier.clone();
@@ -250,6 +255,21 @@ fn cut_piece(
         progress,
         &continued,
     )
+}
+
+/// Drop the keyframe (never the first) whose neighbours are closest in steps, with a keyframe
+/// about to be kept before move `next`; returns the bytes freed.
+fn thin(frames: &mut Vec<Keyframe>, plan: &MovePlan, next: usize) -> u64 {
+    let step = |m: usize| {
+        plan.moves
+            .get(m)
+            .map_or(plan.steps.len(), |mv| mv.first_step)
+    };
+    let after = |i: usize| frames.get(i + 1).map_or(next, |f| f.moves);
+    let drop = (1..frames.len()).min_by_key(|&i| {
+        step(after(i)).saturating_sub(frames.get(i - 1).map_or(0, |f| step(f.moves)))
+    });
+    drop.map_or(0, |i| frames.remove(i).stock.memory_bytes())
 }
 
 /// How many keyframes fit `budget_bytes` at the stock's present size.
