@@ -12,6 +12,8 @@
 //! (`project::simulate::simulate_toolpaths`: the part's box + 2 mm, Z dexels, at most 250 000
 //! rays, deviation included), and the removal alone on a tri-dexel stock at the same
 //! resolution (what `talas simulate` does with a tilted path), in moves per second.
+//! Then "Stock here" at the last and the middle pose of that path from the stock keyframes
+//! kept by a whole run (`project::keyframes`).
 //! `TALAS_SIM_BENCH_FIVE=0` leaves it out, `TALAS_SIM_BENCH_FIVE_POSES=N` simulates only the
 //! first N poses.
 
@@ -220,6 +222,7 @@ fn five_axis() {
         sim.max_gouge_mm,
         sim.remaining_p99_mm,
     );
+    stock_here_at_the_end(&mesh, tp, &cutter, &settings);
     let res = sim.resolution_mm;
     let step = StepOptions {
         reach_mm: cutter.flute_length,
@@ -257,6 +260,57 @@ fn five_axis() {
         report.removed_volume_mm3,
         report.memory_bytes as f64 / f64::from(1 << 20),
     );
+}
+
+/// "Stock here" at the last pose as the workstation runs it: before keyframes, the whole path
+/// from the start (the workstation figure above); with keyframes, the whole run keeping them,
+/// then the stock at the last pose and at the middle one from them.
+fn stock_here_at_the_end(
+    mesh: &talas::geometry::mesh::TriMesh,
+    tp: &Toolpath,
+    cutter: &Cutter,
+    settings: &talas::project::simulate::SimulationSettings,
+) {
+    use talas::project::Stock;
+    use talas::project::keyframes::{DEFAULT_KEYFRAME_BYTES, simulate_with_keyframes, stock_here};
+    let cpu0 = cpu_seconds();
+    let started = Instant::now();
+    let (whole, frames) = simulate_with_keyframes(
+        &Stock::None,
+        mesh,
+        &[(tp, cutter)],
+        settings,
+        DEFAULT_KEYFRAME_BYTES,
+        &Progress::new(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    #[allow(clippy::cast_precision_loss)]
+    let cpu = cpu_note(cpu0, whole.report.moves as f64);
+    println!(
+        "  whole run keeping keyframes: {:.2} s, {} keyframes, {:.1} MiB, at most {} of {} steps \
+         re-cut, removed {:.1} mm³, {cpu}",
+        started.elapsed().as_secs_f64(),
+        frames.len(),
+        frames.memory_bytes() as f64 / f64::from(1 << 20),
+        frames.max_gap_steps(),
+        whole.report.steps,
+        whole.report.removed_volume_mm3,
+    );
+    let last = tp.poses.len().saturating_sub(1);
+    for pose in [last, last / 2] {
+        let cpu0 = cpu_seconds();
+        let started = Instant::now();
+        let here =
+            stock_here(&frames, mesh, pose, &Progress::new()).unwrap_or_else(|e| panic!("{e}"));
+        let secs = started.elapsed().as_secs_f64();
+        #[allow(clippy::cast_precision_loss)]
+        let cpu = cpu_note(cpu0, here.report.moves as f64);
+        println!(
+            "  stock here at pose {pose} from keyframes (deviation included): {secs:.2} s, \
+             removed {:.1} mm³, max gouge {:.4} mm, {cpu}",
+            here.report.removed_volume_mm3, here.max_gouge_mm,
+        );
+    }
 }
 
 fn main() {

@@ -414,7 +414,14 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     assert_eq!(selected, Some(line));
     assert!(shown.contains(&line), "{line} not in {shown:?}");
 
-    // Stock here: the stock at the playback pose gets its report in the editor.
+    // Stock here: the stock at the playback pose gets its report in the editor (cut from the
+    // stock keyframes the whole simulation kept).
+    h.state_mut().apply(Command::Simulate(0));
+    settle_while(&mut h, "simulation", Workstation::is_simulating);
+    assert_eq!(
+        h.state().simulation_of(0).map(|s| s.up_to_pose()),
+        Some(None)
+    );
     h.state_mut().apply(Command::SimulateToPlayback);
     settle_while(&mut h, "simulation", Workstation::is_simulating);
     h.run_steps(2);

@@ -629,3 +629,124 @@ fn closed_parts_and_open_sheets_are_told_apart() {
     holed.triangles.pop();
     assert!(!is_closed(&holed));
 }
+
+/// A zig-zag over the box part of `a_gouging_slot_is_found_where_it_is`, `rows` rows of 24
+/// poses at depth `z` (every other row deeper, the axis tilting with x), entered by a rapid
+/// plunge into the material (a collision to carry through the keyframes).
+fn zigzag(cutter: &Cutter, rows: usize, z: f64) -> Toolpath {
+    let mut poses = vec![Pose::new(
+        MoveKind::Rapid,
+        DVec3::new(-4.0, -8.0, 5.0),
+        DVec3::Z,
+        0.0,
+    )];
+    poses.push(Pose::new(
+        MoveKind::Rapid,
+        DVec3::new(2.0, -8.0, z),
+        DVec3::Z,
+        0.0,
+    ));
+    for r in 0..rows {
+        let y = -8.0 + 16.0 * r as f64 / (rows - 1).max(1) as f64;
+        for k in 0..24 {
+            let t = k as f64 / 23.0;
+            let x = if r % 2 == 0 {
+                30.0 * t
+            } else {
+                30.0 * (1.0 - t)
+            };
+            let depth = z - 0.3 * (r % 2) as f64 - 0.2 * (x / 30.0 * PI).sin();
+            let axis = DVec3::new(0.3 * (x / 15.0 - 1.0), 0.0, 1.0).normalize();
+            poses.push(Pose::new(
+                MoveKind::Cut,
+                DVec3::new(x, y, depth),
+                axis,
+                600.0,
+            ));
+        }
+    }
+    let tool = ToolRecord {
+        spec: "ball:d=6".into(),
+        cutter: cutter.clone(),
+    };
+    Toolpath::new(tool, poses)
+}
+
+/// "Stock here" from keyframes equals simulating the path cut at the pose from the start, bit
+/// for bit (stock heights, deviation, volumes, collisions), at every kind of pose; with a small
+/// memory budget fewer keyframes are kept. Quick: a 0.5 mm grid, 266 + 122 poses.
+/// `cargo test --no-default-features --test simulation stock_here`
+#[test]
+fn stock_here_from_keyframes_is_the_simulation_up_to_the_pose() {
+    use talas::project::Stock;
+    use talas::project::keyframes::{simulate_with_keyframes, stock_here};
+    use talas::project::simulate::{Simulated, SimulationSettings, simulate_toolpaths};
+    let part = box_mesh(DVec3::new(0.0, -8.0, -6.0), DVec3::new(30.0, 8.0, -1.0));
+    let cutter = Cutter::new(CutterKind::Ball, 6.0).expect("cutter");
+    let rough = zigzag(&cutter, 5, 0.5);
+    let finish = zigzag(&cutter, 11, -0.5);
+    let settings = SimulationSettings {
+        resolution_mm: Some(0.5),
+        ..SimulationSettings::default()
+    };
+    let stock = Stock::None;
+    let paths = [(&rough, &cutter), (&finish, &cutter)];
+    let same = |a: &Simulated, b: &Simulated, what: &str| {
+        assert_eq!(a.reports, b.reports, "{what}");
+        assert_eq!(a.report, b.report, "{what}");
+        assert_eq!(a.stock_mesh.positions, b.stock_mesh.positions, "{what}");
+        assert_eq!(a.deviation_mm, b.deviation_mm, "{what}");
+        assert_eq!(a.max_gouge_mm.to_bits(), b.max_gouge_mm.to_bits(), "{what}");
+    };
+    let progress = Progress::new();
+    let whole = simulate_toolpaths(&stock, &part, &paths, &settings, &progress).expect("whole");
+    assert!(
+        !whole.report.collisions.is_empty(),
+        "the rapid plunge collides"
+    );
+    for budget in [256 << 20, 200_000] {
+        let (sim, frames) =
+            simulate_with_keyframes(&stock, &part, &paths, &settings, budget, &progress)
+                .expect("keyframes");
+        same(&sim, &whole, "whole run");
+        assert!(frames.matches(&stock, &part, &paths, &settings));
+        assert!(!frames.matches(&stock, &part, &paths[..1], &settings));
+        assert!(!frames.is_empty() && frames.memory_bytes() <= budget);
+        assert!(
+            budget > 1 << 20 || frames.len() < 10,
+            "{} keyframes",
+            frames.len()
+        );
+        eprintln!(
+            "budget {budget} B: {} keyframes, {} B, at most {} steps re-cut",
+            frames.len(),
+            frames.memory_bytes(),
+            frames.max_gap_steps()
+        );
+        for pose in [
+            0,
+            1,
+            2,
+            30,
+            131,
+            200,
+            finish.poses.len() - 1,
+            finish.poses.len() + 5,
+        ] {
+            let here = stock_here(&frames, &part, pose, &progress).expect("stock here");
+            let cut = Toolpath::new(
+                finish.tool.clone(),
+                finish.poses.iter().take(pose + 1).copied().collect(),
+            );
+            let direct = simulate_toolpaths(
+                &stock,
+                &part,
+                &[(&rough, &cutter), (&cut, &cutter)],
+                &settings,
+                &progress,
+            )
+            .expect("direct");
+            same(&here, &direct, &format!("pose {pose}, budget {budget}"));
+        }
+    }
+}

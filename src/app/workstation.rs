@@ -11,6 +11,7 @@ mod project_commands;
 mod reduction;
 mod simulation;
 mod state;
+mod stock_here;
 
 pub use simulation::ShownSimulation;
 

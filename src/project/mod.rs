@@ -11,6 +11,7 @@ pub mod file;
 pub mod finish_group;
 pub mod forces;
 mod history;
+pub mod keyframes;
 pub mod operation;
 mod part;
 pub mod pipeline;

@@ -87,21 +87,7 @@ pub fn simulate_toolpaths(
     if paths.is_empty() {
         return Err(SimError::Options("no tool path to simulate".into()));
     }
-    let shape = StockShape::of(stock, &part.bbox());
-    let b = shape.bounds();
-    let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
-    let resolution = settings.resolution_mm.unwrap_or_else(|| {
-        let r = (area / settings.max_rays.max(1) as f64).sqrt();
-        // Round up to 2 significant digits so the grid is reproducible and reads well.
-        let scale = 10f64.powf(r.log10().floor() - 1.0);
-        ((r / scale).ceil() * scale).max(0.01)
-    });
-    let mut dexels = DexelStock::new(
-        vec![shape],
-        resolution,
-        DexelMode::Z,
-        settings.memory_limit_bytes,
-    )?;
+    let (mut dexels, resolution) = stock_grid(stock, part, settings)?;
     let mut reports = Vec::with_capacity(paths.len());
     for (toolpath, cutter) in paths {
         let step = StepOptions::for_resolution(resolution, cutter.flute_length);
@@ -114,13 +100,47 @@ pub fn simulate_toolpaths(
             progress,
         )?);
     }
+    measured(&dexels, part, reports, progress)
+}
+
+/// The project's stock (or the part's box + 2 mm) on a Z-dexel grid, and its spacing, mm.
+pub(super) fn stock_grid(
+    stock: &Stock,
+    part: &TriMesh,
+    settings: &SimulationSettings,
+) -> Result<(DexelStock, f64), SimError> {
+    let shape = StockShape::of(stock, &part.bbox());
+    let b = shape.bounds();
+    let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
+    let resolution = settings.resolution_mm.unwrap_or_else(|| {
+        let r = (area / settings.max_rays.max(1) as f64).sqrt();
+        // Round up to 2 significant digits so the grid is reproducible and reads well.
+        let scale = 10f64.powf(r.log10().floor() - 1.0);
+        ((r / scale).ceil() * scale).max(0.01)
+    });
+    let dexels = DexelStock::new(
+        vec![shape],
+        resolution,
+        DexelMode::Z,
+        settings.memory_limit_bytes,
+    )?;
+    Ok((dexels, resolution))
+}
+
+/// The cut stock's mesh and deviation from `part`, with the reports of the paths cut.
+pub(super) fn measured(
+    dexels: &DexelStock,
+    part: &TriMesh,
+    reports: Vec<SimReport>,
+    progress: &Progress,
+) -> Result<Simulated, SimError> {
     let report = merged(&reports);
     let stock_mesh = dexels.height_field_mesh();
-    let top = top_deviation(&dexels, part, progress)?;
+    let top = top_deviation(dexels, part, progress)?;
     Ok(Simulated {
         report,
         reports,
-        resolution_mm: resolution,
+        resolution_mm: dexels.resolution_mm,
         stock_mesh,
         deviation_mm: top.values_mm,
         max_gouge_mm: top.max_gouge_mm,

@@ -161,6 +161,47 @@ pub fn simulate_moves(
     opts: &SimOptions,
     progress: &Progress,
 ) -> Result<SimReport, SimError> {
+    run_moves(
+        stock,
+        cutter,
+        plan,
+        range,
+        opts,
+        progress,
+        &Continued::default(),
+    )
+}
+
+/// How a run of moves continues an earlier one on the same stock.
+#[derive(Clone, Debug)]
+pub(crate) struct Continued {
+    /// The moves before the range were cut on this stock, in order, by the same cutter (the
+    /// first step may continue the step before it, as in one whole run).
+    pub(crate) after_earlier_moves: bool,
+    /// The share of the progress bar this run fills.
+    pub(crate) progress: Range<f64>,
+}
+
+impl Default for Continued {
+    fn default() -> Self {
+        Self {
+            after_earlier_moves: false,
+            progress: 0.0..1.0,
+        }
+    }
+}
+
+/// [`simulate_moves`] as a piece of a longer run: the stock and collisions are those of the
+/// whole run, bit for bit, when the pieces are run in order.
+pub(crate) fn run_moves(
+    stock: &mut DexelStock,
+    cutter: &Cutter,
+    plan: &MovePlan,
+    range: Range<usize>,
+    opts: &SimOptions,
+    progress: &Progress,
+    continued: &Continued,
+) -> Result<SimReport, SimError> {
     cutter
         .validate()
         .map_err(|e| SimError::Tool(e.to_string()))?;
@@ -197,7 +238,14 @@ pub fn simulate_moves(
     let bounds = stock.bounds;
     for (b, chunk) in steps.chunks(batch).enumerate() {
         progress.check().map_err(|_| SimError::Cancelled)?;
-        let before = (b * batch).checked_sub(1).and_then(|k| steps.get(k));
+        let before = match (b * batch).checked_sub(1) {
+            Some(k) => steps.get(k),
+            None if continued.after_earlier_moves => step_range
+                .start
+                .checked_sub(1)
+                .and_then(|k| plan.steps.get(k)),
+            None => None,
+        };
         prepared.fill(chunk, before, plan, &cutting, &guards, &bounds);
         for (f, (fam, cull)) in stock.families.iter_mut().zip(&mut culls).enumerate() {
             for hit in apply_batch(fam, f, &prepared, cull, opts.contact_tolerance_mm) {
@@ -211,7 +259,9 @@ pub fn simulate_moves(
             }
         }
         #[allow(clippy::cast_precision_loss)]
-        progress.set(((b + 1) * batch).min(total) as f64 / total as f64);
+        let done = ((b + 1) * batch).min(total) as f64 / total as f64;
+        let share = &continued.progress;
+        progress.set(share.start + done * (share.end - share.start));
     }
     let collisions = merged
         .into_values()

@@ -12,7 +12,7 @@ use super::super::job::{Job, JobSlot};
 use super::Workstation;
 use crate::diagnostics::Severity;
 use crate::project::Operation;
-use crate::project::simulate::{Simulated, SimulationSettings, simulate_toolpaths};
+use crate::project::simulate::{Simulated, SimulationSettings};
 use crate::render::{
     ColourMap, DataId, LineData, LineInstance, MeshData, MeshInstance, ScalarMapping,
 };
@@ -120,6 +120,8 @@ pub(super) struct Simulations {
     pub shown: Option<ShownSimulation>,
     /// Draw the simulated stock.
     pub visible: bool,
+    /// Keyframes of the latest whole simulation, for "Stock here".
+    pub(super) keyframes: super::stock_here::KeyframeSlot,
 }
 
 impl Workstation {
@@ -165,14 +167,7 @@ impl Workstation {
         let mut paths = Vec::new();
         for i in 0..=index {
             if let Some((r, true)) = self.operation_result(i) {
-                let tp = match upto.filter(|_| i == index) {
-                    Some(p) => crate::toolpath::Toolpath::new(
-                        r.toolpath().tool.clone(),
-                        r.toolpath().poses.iter().take(p + 1).cloned().collect(),
-                    ),
-                    None => r.toolpath().clone(),
-                };
-                paths.push((tp, r.cutter.clone()));
+                paths.push((r.toolpath().clone(), r.cutter.clone()));
             }
         }
         let part = doc.part.mesh.clone();
@@ -193,10 +188,16 @@ impl Workstation {
         } else {
             format!("{label} (Z dexels, at most 250 000 rays)")
         });
+        let inputs = super::stock_here::SimInputs {
+            stock,
+            part,
+            paths,
+            upto,
+            settings,
+        };
+        let slot = std::sync::Arc::clone(&self.sims.keyframes);
         let job = Job::start(label, &self.run.ctx, move |progress| {
-            let refs: Vec<(&crate::toolpath::Toolpath, &Cutter)> =
-                paths.iter().map(|(t, c)| (t, c)).collect();
-            simulate_toolpaths(&stock, &part, &refs, &settings, progress)
+            super::stock_here::run_simulation(&inputs, &slot, progress)
         });
         self.sims.job.start(key, job);
     }
