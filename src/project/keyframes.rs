@@ -9,13 +9,13 @@
 //! ([`super::simulate::simulate_toolpaths`]).
 
 use super::Stock;
-use super::simulate::{Simulated, SimulationSettings, measured, stock_grid};
+use super::simulate::{Simulated, SimulationSettings, cut_path, measured, stock_grid};
 use crate::diagnostics::Progress;
 use crate::geometry::Aabb;
 use crate::geometry::mesh::TriMesh;
 use crate::simulation::{
     Continued, DexelStock, MovePlan, SimError, SimOptions, SimReport, StepOptions, plan_toolpath,
-    run_moves, simulate,
+    run_moves,
 };
 use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
@@ -133,13 +133,11 @@ pub fn simulate_with_keyframes(
     let (mut dexels, resolution) = stock_grid(stock, part, settings)?;
     let mut earlier = Vec::with_capacity(before.len());
     for (toolpath, cutter) in before {
-        let step = StepOptions::for_resolution(resolution, cutter.flute_length);
-        let plan = plan_toolpath(toolpath, &step)?;
-        earlier.push(simulate(
+        earlier.push(cut_path(
             &mut dexels,
+            resolution,
+            toolpath,
             cutter,
-            &plan,
-            &SimOptions::default(),
             progress,
         )?);
     }

@@ -90,17 +90,28 @@ pub fn simulate_toolpaths(
     let (mut dexels, resolution) = stock_grid(stock, part, settings)?;
     let mut reports = Vec::with_capacity(paths.len());
     for (toolpath, cutter) in paths {
-        let step = StepOptions::for_resolution(resolution, cutter.flute_length);
-        let plan = plan_toolpath(toolpath, &step)?;
-        reports.push(simulate(
+        reports.push(cut_path(
             &mut dexels,
+            resolution,
+            toolpath,
             cutter,
-            &plan,
-            &SimOptions::default(),
             progress,
         )?);
     }
     measured(&dexels, part, reports, progress)
+}
+
+/// Cut one whole tool path into the stock, stepped for the grid's spacing `resolution`, mm.
+pub(super) fn cut_path(
+    dexels: &mut DexelStock,
+    resolution: f64,
+    toolpath: &Toolpath,
+    cutter: &Cutter,
+    progress: &Progress,
+) -> Result<SimReport, SimError> {
+    let step = StepOptions::for_resolution(resolution, cutter.flute_length);
+    let plan = plan_toolpath(toolpath, &step)?;
+    simulate(dexels, cutter, &plan, &SimOptions::default(), progress)
 }
 
 /// The project's stock (or the part's box + 2 mm) on a Z-dexel grid, and its spacing, mm.
