@@ -14,7 +14,8 @@
 //! resolution (what `talas simulate` does with a tilted path), in moves per second.
 //! Then "Stock here" at the last and the middle pose of that path from the stock keyframes
 //! kept by a whole run (`project::keyframes`).
-//! `TALAS_SIM_BENCH_FIVE=0` leaves it out, `TALAS_SIM_BENCH_FIVE_POSES=N` simulates only the
+//! `TALAS_SIM_BENCH_FIVE=0` leaves it out, `TALAS_SIM_BENCH_FIVE=ws` runs only its workstation
+//! line (with a digest of the result, to check that a change keeps it bit for bit), `TALAS_SIM_BENCH_FIVE_POSES=N` simulates only the
 //! first N poses.
 
 use std::hint::black_box;
@@ -222,6 +223,13 @@ fn five_axis() {
         sim.max_gouge_mm,
         sim.remaining_p99_mm,
     );
+    println!(
+        "  workstation digest (stock mesh, deviations, collisions) {:016x}",
+        digest(&sim)
+    );
+    if std::env::var("TALAS_SIM_BENCH_FIVE").is_ok_and(|v| v == "ws") {
+        return;
+    }
     stock_here_at_the_end(&mesh, tp, &cutter, &settings);
     let res = sim.resolution_mm;
     let step = StepOptions {
@@ -260,6 +268,29 @@ fn five_axis() {
         report.removed_volume_mm3,
         report.memory_bytes as f64 / f64::from(1 << 20),
     );
+}
+
+/// A hash (FNV-1a over the f64 bits) of what a simulation shows: the stock mesh, the
+/// deviations, the collisions and the volumes; equal digests mean bit-identical results.
+fn digest(sim: &talas::project::simulate::Simulated) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325_u64;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for p in &sim.stock_mesh.positions {
+        p.to_array().iter().for_each(|v| eat(v.to_bits()));
+    }
+    sim.deviation_mm.iter().for_each(|v| eat(v.to_bits()));
+    for c in &sim.report.collisions {
+        eat(c.move_index as u64);
+        eat(c.depth_mm.to_bits());
+        c.position.to_array().iter().for_each(|v| eat(v.to_bits()));
+    }
+    eat(sim.report.removed_volume_mm3.to_bits());
+    eat(sim.report.collisions.len() as u64);
+    h
 }
 
 /// "Stock here" at the last pose as the workstation runs it: before keyframes, the whole path
@@ -316,6 +347,9 @@ fn stock_here_at_the_end(
 fn main() {
     if std::env::var("TALAS_SIM_BENCH_FIVE").map_or(true, |v| v != "0") {
         five_axis();
+    }
+    if std::env::var("TALAS_SIM_BENCH_FIVE").is_ok_and(|v| v == "ws") {
+        return;
     }
     let moves = std::env::var("TALAS_SIM_BENCH_MOVES")
         .ok()

@@ -604,6 +604,9 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
             .map(|(a, b)| (a - ow, b - ow))
     } else if c.b.body.has_closed_form() {
+        if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, o, g.tol, hits) {
+            return false;
+        }
         c.b.body.interval_prepared(step, o, g.dir, top, &c.prepared)
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
@@ -611,6 +614,7 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
     let Some((a, b)) = interval else {
         return false;
     };
+
     #[allow(clippy::cast_possible_truncation)]
     let (a, b) = (a as f32, b as f32);
     if let Some(kind) = c.b.kind {
@@ -632,6 +636,33 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         }
     }
     c.b.cuts && dexel.subtract(a, b)
+}
+
+/// Whether a collision body's sweep (closed form) can give the ray no hit that would count:
+/// the material within the outer bounds of its interval is at most the contact tolerance, or
+/// less than the depth of a hit this task already recorded for the same move and kind (then
+/// `record` would keep that one, and so would the final merge).
+fn guard_beaten(dexel: &Dexel, c: &BodyCtx, o: DVec3, tol: f64, hits: &[Hit]) -> bool {
+    let Some((lo, hi)) = c.prepared.cylinder_range(o) else {
+        return false;
+    };
+    let Some(kind) = c.b.kind else {
+        return false;
+    };
+    // Beyond the rounding of the interval's ends to f32.
+    let (lo, hi) = (lo - 2e-7 * lo.abs(), hi + 2e-7 * hi.abs());
+    let most: f64 = dexel
+        .intervals()
+        .iter()
+        .map(|[a, b]| (f64::from(*b).min(hi) - f64::from(*a).max(lo)).max(0.0))
+        .sum();
+    if most <= tol {
+        return true;
+    }
+    hits.iter()
+        .rev()
+        .take(4)
+        .any(|h| h.move_index == c.p.move_index && h.kind == kind && most < h.depth)
 }
 
 /// The chord of row `y` through the half-disc of radius `r` at the start of a vertical step

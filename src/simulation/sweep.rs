@@ -24,7 +24,7 @@ use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
 
 use super::exact::{Cyl, capsule_entry, capsule_interval, hull, swept_cylinder};
-use super::prepared::{SweptBall, SweptCyl};
+use super::prepared::{SweepBound, SweptBall, SweptCyl};
 use crate::geometry::Aabb;
 use crate::tools::{Cutter, CutterKind};
 
@@ -428,8 +428,17 @@ impl Body {
         let ea = e.dot(a);
         let d = step.p1 - step.p0;
         let c0 = step.p0 + a * radius;
+        let plane = |c: DVec3| -(o - c).dot(a) / ea;
         let Some(entry) = entry else {
-            return false;
+            // The line misses the ball: the sweep is the shaft's, which starts at or above
+            // the plane through the sphere centre normal to the axis, to the shaft solve's
+            // axial tolerance 1e-9·(1 + |offsets|) (twice it here, over e·a, and 1 nm).
+            if !(body_top > radius && ea > 1e-3) {
+                return false;
+            }
+            let (y, far) = (o - step.p0, 1.0 + body_top);
+            let margin = 1e-6 + 2e-9 * (far + y.x.abs() + y.y.abs() + y.z.abs()) / ea;
+            return f64::from(top) + margin <= plane(c0).min(plane(c0 + d));
         };
         #[allow(clippy::cast_possible_truncation)]
         if !(entry as f32 >= top) {
@@ -443,7 +452,6 @@ impl Body {
         }
         // (o + s·e − c(t))·a ≥ 0 on the shaft, for some t in [0, 1]; 1 nm to spare for the
         // tolerance of the shaft's solve.
-        let plane = |c: DVec3| -(o - c).dot(a) / ea;
         entry + 1e-6 <= plane(c0).min(plane(c0 + d))
     }
 }
@@ -454,6 +462,16 @@ impl Body {
 pub(super) struct Prepared {
     cylinder: Option<SweptCyl>,
     ball: Option<SweptBall>,
+    /// Bounds of the cylinder part's sweep along the lines (no square root).
+    bound: Option<SweepBound>,
+}
+
+impl Prepared {
+    /// Outer bounds `(lo, hi)` of the offsets where the line `o + s·e` can be inside the
+    /// cylinder part's sweep (for a cylinder body: the whole body's).
+    pub(super) fn cylinder_range(&self, o: DVec3) -> Option<(f64, f64)> {
+        self.bound.as_ref().map(|b| b.range(o))
+    }
 }
 
 impl Body {
@@ -470,9 +488,13 @@ impl Body {
             }
             _ => None,
         };
+        let bound = self
+            .cylinder_part(step.axis)
+            .map(|cyl| SweepBound::new(e, step.p0, step.p1 - step.p0, cyl));
         Prepared {
             cylinder: self.prepared_cylinder(step, e),
             ball,
+            bound,
         }
     }
 
@@ -493,6 +515,16 @@ impl Body {
             return self.exact_interval(step, o, e, prep.cylinder.as_ref());
         };
         let (entry, exit) = ball.entry_exit(o);
+        // The interval starts at the capsule's entry or the shaft's, at or above the shaft's
+        // lower bound: both at or above `top` take nothing from the material.
+        #[allow(clippy::cast_possible_truncation)]
+        if entry.is_none_or(|s| s as f32 >= top)
+            && prep
+                .cylinder_range(o)
+                .is_some_and(|(lo, _)| f64::from(top) <= lo)
+        {
+            return None;
+        }
         if self.entry_above_given(step, o, e, top, entry) {
             return None;
         }
