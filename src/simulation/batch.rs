@@ -607,7 +607,8 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, o, g.tol, hits) {
             return false;
         }
-        c.b.body.interval_prepared(step, o, g.dir, top, &c.prepared)
+        c.b.body
+            .interval_prepared(step, (o, g.dir), dexel.intervals(), &c.prepared)
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
     };

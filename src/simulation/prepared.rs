@@ -194,7 +194,26 @@ impl SweptCyl {
 
 /// Side planes per bound (the tangent planes of the cylinder's side at these angles from
 /// the side facing the lines, and the end cap).
-const SIDE_ANGLES_DEG: [f64; 7] = [-60.0, -40.0, -20.0, 0.0, 20.0, 40.0, 60.0];
+const SIDE_ANGLES_DEG: [f64; 13] = [
+    -60.0, -50.0, -40.0, -30.0, -20.0, -10.0, 0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0,
+];
+/// `(cos, sin)` of [`SIDE_ANGLES_DEG`] (the bound holds for any normals; these are only
+/// spared the trigonometry per step).
+const SIDE_COS_SIN: [(f64, f64); 13] = [
+    (0.5, -0.866_025_403_784_438_6),
+    (0.642_787_609_686_539_4, -0.766_044_443_118_978),
+    (0.766_044_443_118_978, -0.642_787_609_686_539_3),
+    (0.866_025_403_784_438_7, -0.5),
+    (0.939_692_620_785_908_4, -0.342_020_143_325_668_7),
+    (0.984_807_753_012_208, -0.173_648_177_666_930_33),
+    (1.0, 0.0),
+    (0.984_807_753_012_208, 0.173_648_177_666_930_33),
+    (0.939_692_620_785_908_4, 0.342_020_143_325_668_7),
+    (0.866_025_403_784_438_7, 0.5),
+    (0.766_044_443_118_978, 0.642_787_609_686_539_3),
+    (0.642_787_609_686_539_4, 0.766_044_443_118_978),
+    (0.5, 0.866_025_403_784_438_6),
+];
 /// Planes of a bound: the side planes and the cap.
 const PLANES: usize = SIDE_ANGLES_DEG.len() + 1;
 /// Slack of a bound beyond the exact sweep, mm: more than the tolerances of the exact
@@ -218,8 +237,10 @@ pub(super) struct SweepBound {
 }
 
 impl SweepBound {
-    /// The bound of `cyl` swept from tip `p0` by `d`, for lines along the unit `e`.
-    pub(super) fn new(e: DVec3, p0: DVec3, d: DVec3, cyl: Cyl) -> Self {
+    /// The bound of `cyl` swept from tip `p0` by `d`, for lines along the unit `e`; with
+    /// `ball` = R, of its union with the sphere of radius R centred R above the tip on the
+    /// axis (a ball end mill: the body is the hull of both, its support the least of theirs).
+    pub(super) fn new(e: DVec3, p0: DVec3, d: DVec3, cyl: Cyl, ball: Option<f64>) -> Self {
         let Cyl { a, rho, z0, z1 } = cyl;
         let mut out = Self {
             lower: [(DVec3::ZERO, 0.0); PLANES],
@@ -229,7 +250,9 @@ impl SweepBound {
         };
         let support = |n: DVec3| {
             let na = n.dot(a);
-            n.dot(p0) + n.dot(d).min(0.0) + (z0 * na).min(z1 * na) - rho * (n - a * na).length()
+            let shaft = (z0 * na).min(z1 * na) - rho * (n - a * na).length();
+            let end = ball.map_or(f64::INFINITY, |r| r * na - r * n.length());
+            n.dot(p0) + n.dot(d).min(0.0) + shaft.min(end)
         };
         let mut add = |n: DVec3| {
             let ne = n.dot(e);
@@ -250,8 +273,7 @@ impl SweepBound {
         let pe = e - a * a.dot(e);
         if let Some(p) = pe.try_normalize() {
             let q = a.cross(p);
-            for deg in SIDE_ANGLES_DEG {
-                let (sin, cos) = deg.to_radians().sin_cos();
+            for (cos, sin) in SIDE_COS_SIN {
                 let n = p * cos + q * sin;
                 add(n);
                 add(-n);
@@ -265,16 +287,25 @@ impl SweepBound {
     /// Bounds `(lo, hi)` of the offsets of the line `o + s·e` inside the sweep (outer: the
     /// exact interval lies within them), widened by [`BOUND_SLACK_MM`].
     pub(super) fn range(&self, o: DVec3) -> (f64, f64) {
+        (self.lower(o), self.upper(o))
+    }
+
+    /// The lower bound of [`SweepBound::range`].
+    pub(super) fn lower(&self, o: DVec3) -> f64 {
         let mut lo = f64::NEG_INFINITY;
         for (m, c) in self.lower.iter().take(self.n_lower) {
             lo = lo.max(c - m.dot(o));
         }
+        lo - (BOUND_SLACK_MM + 1e-12 * lo.abs().min(1e6))
+    }
+
+    /// The upper bound of [`SweepBound::range`].
+    pub(super) fn upper(&self, o: DVec3) -> f64 {
         let mut hi = f64::INFINITY;
         for (m, c) in self.upper.iter().take(self.n_upper) {
             hi = hi.min(c - m.dot(o));
         }
-        let slack = BOUND_SLACK_MM + 1e-12 * (lo.abs().min(1e6) + hi.abs().min(1e6));
-        (lo - slack, hi + slack)
+        hi + (BOUND_SLACK_MM + 1e-12 * hi.abs().min(1e6))
     }
 }
 
@@ -441,7 +472,7 @@ mod tests {
             for d in [DVec3::new(0.08, 0.01, -0.02), DVec3::new(3.0, 2.0, -1.0)] {
                 let p0 = DVec3::new(0.4, -0.3, 1.0);
                 for e in [DVec3::X, DVec3::Y, DVec3::Z] {
-                    let bound = SweepBound::new(e, p0, d, cyl);
+                    let bound = SweepBound::new(e, p0, d, cyl, None);
                     for k in 0..3600 {
                         let (u, v) = (
                             f64::from(k % 60) * 0.5 - 14.7,

@@ -464,6 +464,8 @@ pub(super) struct Prepared {
     ball: Option<SweptBall>,
     /// Bounds of the cylinder part's sweep along the lines (no square root).
     bound: Option<SweepBound>,
+    /// Bounds of a ball end mill's whole sweep (ball and shaft).
+    body_bound: Option<SweepBound>,
 }
 
 impl Prepared {
@@ -488,43 +490,49 @@ impl Body {
             }
             _ => None,
         };
-        let bound = self
-            .cylinder_part(step.axis)
-            .map(|cyl| SweepBound::new(e, step.p0, step.p1 - step.p0, cyl));
+        let (d, cyl) = (step.p1 - step.p0, self.cylinder_part(step.axis));
+        let bound = cyl.map(|c| SweepBound::new(e, step.p0, d, c, None));
+        let body_bound = match (cyl, *self) {
+            (Some(c), Self::Cutting { radius, .. }) if ball.is_some() => {
+                Some(SweepBound::new(e, step.p0, d, c, Some(radius)))
+            }
+            _ => None,
+        };
         Prepared {
             cylinder: self.prepared_cylinder(step, e),
             ball,
             bound,
+            body_bound,
         }
     }
 
     /// The interval of the line `o + s·e` inside the sweep ([`Body::exact_interval`]), or
-    /// `None` also where [`Body::entry_above`] passes the line over for the material `top`.
+    /// `None` also where it cannot change the line's `material` (non-empty, sorted): where
+    /// [`Body::entry_above`] passes the line over, or the material lies outside the sweep's
+    /// bounds.
     pub(super) fn interval_prepared(
         &self,
         step: &SweepStep,
-        o: DVec3,
-        e: DVec3,
-        top: f32,
+        (o, e): (DVec3, DVec3),
+        material: &[[f32; 2]],
         prep: &Prepared,
     ) -> Option<(f64, f64)> {
+        let top = material.last().map_or(f32::NEG_INFINITY, |i| i[1]);
         let Some(ball) = &prep.ball else {
             if self.entry_above(step, o, e, top) {
                 return None;
             }
             return self.exact_interval(step, o, e, prep.cylinder.as_ref());
         };
-        let (entry, exit) = ball.entry_exit(o);
-        // The interval starts at the capsule's entry or the shaft's, at or above the shaft's
-        // lower bound: both at or above `top` take nothing from the material.
-        #[allow(clippy::cast_possible_truncation)]
-        if entry.is_none_or(|s| s as f32 >= top)
-            && prep
-                .cylinder_range(o)
-                .is_some_and(|(lo, _)| f64::from(top) <= lo)
-        {
-            return None;
+        // Lines whose material lies outside the bounds of the sweep keep it all (the rounded
+        // ends of the interval stay on the same side of the material's f32 ends).
+        if let Some(b) = &prep.body_bound {
+            let lo = b.lower(o);
+            if f64::from(top) <= lo || !material_within(material, (lo, b.upper(o))) {
+                return None;
+            }
         }
+        let (entry, exit) = ball.entry_exit(o);
         if self.entry_above_given(step, o, e, top, entry) {
             return None;
         }
@@ -532,6 +540,13 @@ impl Body {
             (Some(a), Some(b)) if a <= b => Some((a, b)),
             _ => None,
         };
+        // The same with the capsule's exact ends and the shaft's bounds.
+        if let Some((lo, hi)) = prep.cylinder_range(o) {
+            let (lo, hi) = capsule.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi)));
+            if !material_within(material, (lo, hi)) {
+                return None;
+            }
+        }
         let d = step.p1 - step.p0;
         let shaft = self
             .cylinder_part(step.axis)
@@ -541,6 +556,13 @@ impl Body {
             });
         hull(capsule, shaft)
     }
+}
+
+/// Whether some of the material (intervals of a ray) lies inside the offsets `(lo, hi)`.
+fn material_within(material: &[[f32; 2]], (lo, hi): (f64, f64)) -> bool {
+    material
+        .iter()
+        .any(|[a, b]| f64::from(*a) < hi && f64::from(*b) > lo)
 }
 
 /// One straight step of the tool: tip from `p0` to `p1`, fixed unit axis.
