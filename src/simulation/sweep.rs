@@ -509,7 +509,9 @@ impl Body {
     /// The interval of the line `o + s·e` inside the sweep ([`Body::exact_interval`]), or
     /// `None` also where it cannot change the line's `material` (non-empty, sorted): where
     /// [`Body::entry_above`] passes the line over, or the material lies outside the sweep's
-    /// bounds.
+    /// bounds. Where the interval leaves the sweep above all the material, its end may be
+    /// any offset at or above the material's top (the ball's exit): removal and collision
+    /// depth are the same.
     pub(super) fn interval_prepared(
         &self,
         step: &SweepStep,
@@ -542,6 +544,16 @@ impl Body {
         };
         // The same with the capsule's exact ends and the shaft's bounds.
         if let Some((lo, hi)) = prep.cylinder_range(o) {
+            // The capsule enters below any point of the shaft and leaves above all the
+            // material: the interval's start is the capsule's, and any end at or above the
+            // material's top takes the same (the shaft's exact solve is spared).
+            #[allow(clippy::cast_possible_truncation)]
+            if let Some((a, b)) = capsule
+                && a <= lo
+                && b as f32 >= top
+            {
+                return capsule;
+            }
             let (lo, hi) = capsule.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi)));
             if !material_within(material, (lo, hi)) {
                 return None;
