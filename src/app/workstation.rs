@@ -22,7 +22,7 @@ use super::actions::{Action, actions, shortcuts};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
-use super::feature::{Feature, FeatureView, find};
+use super::feature::{Feature, FeatureView, OperationResults, find};
 use super::file_chooser::ChooserPurpose;
 use super::file_dialog::{DialogOutcome, SavePurpose};
 use super::job::Job;
@@ -40,6 +40,7 @@ use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
 use super::state::Focus;
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
+use super::toolpaths::ComputedOp;
 use super::viewport::picking::SurfacePick;
 use super::viewport::{ViewportExtras, ViewportState, viewport_ui};
 use super::widgets::grouped;
@@ -113,8 +114,6 @@ pub struct Workstation {
     actions: Vec<Action>,
     /// The machine drawn in the viewport while the operator panel is open.
     machine_view: super::machine_view::MachineView,
-    /// The cutting-forces window.
-    forces: super::forces::ForcesWindow,
 }
 
 impl Workstation {
@@ -158,7 +157,6 @@ impl Workstation {
             features,
             actions: table,
             machine_view: super::machine_view::MachineView::default(),
-            forces: super::forces::ForcesWindow::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -209,11 +207,6 @@ impl Workstation {
     #[must_use]
     pub fn operator_panel(&mut self) -> Option<&mut super::operator_panel::OperatorPanel> {
         self.feature()
-    }
-
-    /// The cutting-forces window.
-    pub fn forces(&mut self) -> &mut super::forces::ForcesWindow {
-        &mut self.forces
     }
 
     /// The active operation (the one inspected last), if any.
@@ -387,7 +380,6 @@ impl Workstation {
             Command::ClearLog => self.log.entries.clear(),
             // No registered feature has this id.
             Command::Feature(_) => {}
-            Command::OpenForces => self.forces.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -610,7 +602,7 @@ impl Workstation {
                     "Opened {} ({}, {} triangles) in {elapsed_s:.2} s",
                     part.path.display(),
                     part.format,
-                    grouped(part.mesh.triangles.len())
+                    grouped(part.mesh().triangles.len())
                 );
                 // The embedded default part has no file to reopen.
                 if part.path.is_file()
@@ -682,7 +674,7 @@ impl Workstation {
                 format!(
                     "{} · {} triangles",
                     d.part.name,
-                    grouped(d.part.mesh.triangles.len())
+                    grouped(d.part.mesh().triangles.len())
                 )
             }),
         }
@@ -893,9 +885,6 @@ impl Workstation {
             f.ui(&ctx, &view, &mut commands);
         }
         self.features = features;
-        let mut forces = std::mem::take(&mut self.forces);
-        forces.window(&ctx, self, &mut commands);
-        self.forces = forces;
         self.chooser_ui(&ctx);
         self.unsaved_ui(&ctx);
         if let Some(recovery) = &self.run.recovery
@@ -923,7 +912,20 @@ impl Workstation {
             active_operation: active,
             posted: active
                 .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
+            data_dir: &self.saved.session.data_dir,
+            tool_pose: self.tool_pose_index(),
+            results: self,
         }
+    }
+}
+
+impl OperationResults for Workstation {
+    fn operation_result(&self, index: usize) -> Option<(&ComputedOp, bool)> {
+        Workstation::operation_result(self, index)
+    }
+
+    fn planned_clock(&self, index: usize) -> Option<&[f64]> {
+        Workstation::planned_clock(self, index)
     }
 }
 
