@@ -19,10 +19,10 @@
 //!
 //! | layer | modules | what lives there |
 //! |---|---|---|
-//! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] | mm/s/rad; warnings and the progress/cancel handle; atomic file writes; curves, surfaces, B-rep, meshes with a BVH |
+//! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] | mm/s/rad; warnings and the progress/cancel handle; atomic file writes; curves, surfaces, B-rep, meshes with a BVH, Z-maps |
 //! | L1 | [`import`], [`tools`], [`machine`], [`gcode`] | STEP and STL readers and the one `Workpiece`; cutters and the drop-cutter; machine kinematics; G-code interpreter |
 //! | L2 | [`toolpath`] | CL poses and tool paths |
-//! | L3 | [`strategies`], [`checks`], [`reduce`] | path strategies; gouge and collision checks and test oracles; Z-maps and their SVD reduction |
+//! | L3 | [`strategies`], [`checks`], [`reduce`] | path strategies (Z-map paths included); gouge and collision checks and test oracles; the SVD reduction of Z-maps |
 //! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] | posting; jerk-limited feed planning; stock simulation; cutting forces; 2D profiles |
 //! | L5 | [`project`], [`control`] | the document, the pipeline and the machining run; the virtual machine control |
 //! | CLI | [`cli`] | thin shells over engine calls |

@@ -299,11 +299,11 @@ fn the_tree_follows_a_picked_face_and_the_pick_follows_the_selection() {
     let part = &h.state().document().expect("loaded").part;
     let face = &part.faces[faces - 1];
     let triangle = part
-        .face_of_triangle
+        .face_of_triangle()
         .iter()
         .position(|&f| f as usize == faces - 1)
         .expect("a triangle of the face");
-    let vertex = part.mesh.positions[part.mesh.triangles[triangle][0] as usize];
+    let vertex = part.mesh().positions[part.mesh().triangles[triangle][0] as usize];
     let pick = talas::app::viewport::picking::surface_pick(faces - 1, face, vertex);
     h.state_mut()
         .apply(Command::Select(Selection::Face(faces - 1)));

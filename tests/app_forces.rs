@@ -8,7 +8,8 @@ use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use talas::app::command::Command;
+use talas::app::command::{Command, FeatureCommand};
+use talas::app::forces::ForcesWindow;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind, Stock, ToolEntry};
 use talas::tools::parse_tool_spec;
@@ -22,6 +23,12 @@ fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
 }
 
 /// Step frames while `busy` says a background job runs (at most 60 s), then one more.
+/// The workstation's cutting-forces window (a registered feature).
+fn forces(ws: &mut Workstation) -> &mut ForcesWindow {
+    ws.feature::<ForcesWindow>()
+        .expect("the forces feature is registered")
+}
+
 fn settle_while(
     h: &mut Harness<'static, Workstation>,
     what: &str,
@@ -109,14 +116,14 @@ fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
     h.get_by_label("Cutting forces…").click();
     h.run_steps(3);
     // 0.3 mm dexels.
-    h.state_mut().forces().max_rays = Some(20_000.0);
+    forces(h.state_mut()).max_rays = Some(20_000.0);
     let started = std::time::Instant::now();
     h.get_by_label("Compute forces").click();
     h.run_steps(2);
-    settle_while(&mut h, "force job", |w| w.forces().is_running());
+    settle_while(&mut h, "force job", |w| forces(w).is_running());
     let (samples, limit, planned, peak, poses) = {
         let ws = h.state_mut();
-        let r = ws.forces().result().expect("a result");
+        let r = forces(ws).result().expect("a result");
         (
             r.samples.clone(),
             r.limits,
@@ -158,7 +165,7 @@ fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
     // A click on the plot in the middle of a piece picks that piece's pose.
     let s = samples[samples.len() / 2];
     let t = 0.5 * (s.t_s[0] + s.t_s[1]);
-    let transform = h.state_mut().forces().plot_transform.expect("drawn");
+    let transform = forces(h.state_mut()).plot_transform.expect("drawn");
     let x = transform.position_from_point_x(t);
     let y = transform.frame().center().y;
     click(&mut h, egui::pos2(x, y));
@@ -180,14 +187,17 @@ fn the_coefficient_editor_validates_and_saves() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    h.state_mut().apply(Command::OpenForces);
+    h.state_mut().apply(Command::Feature(FeatureCommand {
+        feature: ForcesWindow::ID,
+        action: "open",
+    }));
     h.run_steps(2);
     h.get_by_label("Coefficients…").click();
     h.run_steps(3);
     // The built-in library is shown with its units.
     assert!(h.query_all_by_label_contains("N/mm²").next().is_some());
     let n = {
-        let ed = &mut h.state_mut().forces().editor;
+        let ed = &mut forces(h.state_mut()).editor;
         let lib = ed.library.as_mut().expect("loaded");
         // An entry without K_tc is refused.
         lib.entries[0].ktc_n_mm2 = None;
@@ -205,7 +215,7 @@ fn the_coefficient_editor_validates_and_saves() {
     );
     // Fixed, it saves and reads back.
     {
-        let ed = &mut h.state_mut().forces().editor;
+        let ed = &mut forces(h.state_mut()).editor;
         ed.library.as_mut().unwrap().entries[0].ktc_n_mm2 = Some(1234.5);
     }
     h.run_steps(2);

@@ -21,9 +21,16 @@ fn step_and_occt_stl_of_bicubic_hills_agree() {
     let stl = load_part(&data("bicubic-hills.stl"), &Progress::new()).expect("STL loads");
     assert_eq!(step.format, "STEP");
     assert!(!step.faces.is_empty());
-    assert_eq!(step.face_of_triangle.len(), step.mesh.triangles.len());
+    assert_eq!(step.face_of_triangle().len(), step.mesh().triangles.len());
+    // A STEP part draws the workpiece's own mesh (no copy); an STL part its crease-split copy,
+    // with the workpiece's triangles in the same order.
+    assert!(step.display_mesh.is_none());
+    assert!(std::ptr::eq(step.mesh(), &step.workpiece.mesh));
+    let split = stl.display_mesh.as_ref().expect("STL creases split");
+    assert_eq!(split.triangles.len(), stl.workpiece.mesh.triangles.len());
+    assert_eq!(stl.face_of_triangle().len(), split.triangles.len());
     assert!(
-        step.face_of_triangle
+        step.face_of_triangle()
             .iter()
             .all(|&f| (f as usize) < step.faces.len())
     );
@@ -70,7 +77,7 @@ fn the_embedded_default_part_is_the_asset_file() {
         &Progress::new(),
     )
     .expect("asset loads");
-    assert_eq!(embedded.mesh, asset.mesh);
+    assert_eq!(embedded.mesh(), asset.mesh());
     assert_eq!(embedded.faces, asset.faces);
     assert_eq!(embedded.name, "bicubic-hills");
 }

@@ -84,7 +84,7 @@ fn open_select_edit_undo_redo_and_a_malformed_file() {
     // The default part is open and the default ball end mill is the selected tool.
     let doc = h.state().document().expect("default part loaded");
     assert_eq!(doc.part.name, "bicubic-hills");
-    let triangles = doc.part.mesh.triangles.len();
+    let triangles = doc.part.mesh().triangles.len();
     let project = &h.state().session().project;
     let t = project.selected_tool().expect("a selected tool");
     assert_eq!(t.cutter.kind, talas::tools::CutterKind::Ball);
@@ -163,7 +163,7 @@ fn open_select_edit_undo_redo_and_a_malformed_file() {
     settle(&mut h);
     let doc = h.state().document().expect("the old part stays");
     assert_eq!(doc.part.name, "bicubic-hills");
-    assert_eq!(doc.part.mesh.triangles.len(), triangles);
+    assert_eq!(doc.part.mesh().triangles.len(), triangles);
     assert!(
         h.query_all_by_label_contains("Could not open")
             .next()
@@ -274,10 +274,10 @@ fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
     // pocket-fillets: planes (k = 0), R5 cylinders (k = 0 and ±1/5), R5 spheres (±1/5, ±1/5).
     let part = load_part(&data("pocket-fillets.stp"), &Progress::new()).expect("part");
     let field = curvature_field(&part, &Progress::new()).expect("not cancelled");
-    let n = part.mesh.positions.len();
+    let n = part.mesh().positions.len();
     assert_eq!(field.k_min.len(), n);
     let mut face_of_vertex = vec![usize::MAX; n];
-    for (tri, &f) in part.mesh.triangles.iter().zip(&part.face_of_triangle) {
+    for (tri, &f) in part.mesh().triangles.iter().zip(part.face_of_triangle()) {
         for &v in tri {
             face_of_vertex[v as usize] = f as usize;
         }
@@ -546,7 +546,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
 /// every node within t), and the exported STL read back.
 #[test]
 fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
-    use talas::reduce::zmap_from_surface;
+    use talas::geometry::zmap::zmap_from_surface;
     let dir = data_dir("reduction");
     let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
     settle(&mut h);

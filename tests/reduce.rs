@@ -3,8 +3,9 @@
 
 mod common;
 
+use talas::geometry::zmap::Grid;
 use talas::reduce::{
-    Grid, RankRule, ReduceOptions, Resampling, point_spacing, reduce, resampled_count, svd,
+    RankRule, ReduceOptions, Resampling, point_spacing, reduce, resampled_count, svd,
 };
 
 fn example_a() -> Grid {
@@ -200,8 +201,8 @@ fn csv_grid(name: &str) -> Grid {
     Grid::parse_csv(&std::fs::read_to_string(format!("tests/data/zmap/{name}")).unwrap()).unwrap()
 }
 
-fn example_xy() -> talas::reduce::XyZmap {
-    talas::reduce::XyZmap {
+fn example_xy() -> talas::geometry::zmap::XyZmap {
+    talas::geometry::zmap::XyZmap {
         x: csv_grid("seed-003-xydep-X-20x19.csv"),
         y: csv_grid("seed-003-xydep-Y-20x19.csv"),
         z: csv_grid("seed-003-xydep-Z-20x19.csv"),
@@ -214,7 +215,8 @@ fn example_xy() -> talas::reduce::XyZmap {
 fn v4_xy_dependent_example() {
     use glam::DVec3;
     use talas::geometry::bvh::MeshBvh;
-    use talas::reduce::{reduce_xy_zmap, xy_mesh};
+    use talas::geometry::zmap::xy_mesh;
+    use talas::reduce::reduce_xy_zmap;
     let map = example_xy();
     assert_eq!((map.z.rows(), map.z.cols()), (20, 19));
     // σ(Z) as recomputed in the digest (numpy on the printed matrices).
@@ -271,7 +273,7 @@ fn v4_xy_dependent_example() {
 #[test]
 fn xy_zmap_deletes_collinear_rows_and_columns() {
     use glam::DVec3;
-    use talas::reduce::{EmptyCellFill, xy_zmap_from_points};
+    use talas::geometry::zmap::{EmptyCellFill, xy_zmap_from_points};
     let f = |x: f64, _y: f64| (x - 5.0).abs();
     let mut pts = Vec::new();
     for j in 0..=10 {
@@ -296,7 +298,8 @@ fn xy_zmap_deletes_collinear_rows_and_columns() {
 #[test]
 fn xy_zmap_keeps_the_highest_point_per_cell() {
     use glam::DVec3;
-    use talas::reduce::{EmptyCellFill, reduce_xy_zmap, xy_zmap_from_points};
+    use talas::geometry::zmap::{EmptyCellFill, xy_zmap_from_points};
+    use talas::reduce::reduce_xy_zmap;
     let f = |x: f64, y: f64| 3.0 * (-((x - 5.0).powi(2) + (y - 4.0).powi(2)) / 8.0).exp();
     // Deterministic scatter (a Halton-like sequence), 600 points over [0, 10]².
     let halton = |mut i: usize, b: usize| {
@@ -351,7 +354,7 @@ fn xy_zmap_keeps_the_highest_point_per_cell() {
 fn xy_zmap_fills_empty_cells_from_the_mesh() {
     use glam::{DVec2, DVec3};
     use talas::geometry::bvh::MeshBvh;
-    use talas::reduce::{EmptyCellFill, grid_mesh, xy_zmap_from_points};
+    use talas::geometry::zmap::{EmptyCellFill, grid_mesh, xy_zmap_from_points};
     let f = |x: f64, y: f64| 3.0 * (-((x - 5.0).powi(2) + (y - 4.0).powi(2)) / 8.0).exp();
     let coarse = Grid::new(
         11,
@@ -411,7 +414,7 @@ fn surface_zmap_of_bicubic_hills() {
     use glam::{DVec2, DVec3};
     use talas::geometry::bvh::MeshBvh;
     use talas::geometry::tessellate::{TessellationOptions, tessellate_part};
-    use talas::reduce::{zmap_from_mesh, zmap_from_surface};
+    use talas::geometry::zmap::{zmap_from_mesh, zmap_from_surface};
     let part = common::hills_step();
     let surface = &part.faces[0].surface;
     let (origin, step, rows, cols) = (DVec2::new(-4.0, -4.0), 4.0, 33, 43);
@@ -477,28 +480,27 @@ fn surface_zmap_of_bicubic_hills() {
 #[test]
 fn xy_and_surface_zmap_reject_bad_input() {
     use glam::{DVec2, DVec3};
-    use talas::reduce::{
-        EmptyCellFill, ReduceError, reduce_to_size, xy_zmap_from_points, zmap_from_surface,
-    };
+    use talas::geometry::zmap::{EmptyCellFill, ZmapError, xy_zmap_from_points, zmap_from_surface};
+    use talas::reduce::reduce_to_size;
     let lin = EmptyCellFill::Linear;
     assert!(matches!(
         xy_zmap_from_points(&[], 1.0, lin),
-        Err(ReduceError::Shape(_))
+        Err(ZmapError::Shape(_))
     ));
     assert!(matches!(
         xy_zmap_from_points(&[DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 0.0)], 1.0, lin),
-        Err(ReduceError::NonFinite { row: 1, col: 2 })
+        Err(ZmapError::NonFinite { row: 1, col: 2 })
     ));
     for step in [0.0, -1.0, f64::NAN] {
         assert!(matches!(
             xy_zmap_from_points(&[DVec3::ZERO], step, lin),
-            Err(ReduceError::Option(_))
+            Err(ZmapError::Option(_))
         ));
     }
     // A reference grid far too large for memory.
     assert!(matches!(
         xy_zmap_from_points(&[DVec3::ZERO, DVec3::new(1e9, 1e9, 0.0)], 1.0, lin),
-        Err(ReduceError::Shape(_))
+        Err(ZmapError::Shape(_))
     ));
     // One point: a 1×1 map.
     let one = xy_zmap_from_points(&[DVec3::new(1.0, 2.0, 3.0)], 1.0, lin).unwrap();
@@ -523,13 +525,14 @@ fn inverse_offset_agrees_with_drop_cutter_on_the_zmap_mesh() {
     use glam::DVec2;
     use talas::diagnostics::Progress;
     use talas::geometry::bvh::MeshBvh;
-    use talas::reduce::{grid_mesh, inverse_offset};
+    use talas::geometry::zmap::grid_mesh;
+    use talas::strategies::zmap::inverse_offset;
     use talas::tools::dropcutter::drop_cutter;
     use talas::tools::{Cutter, CutterKind};
     let step = 1.0;
     let (rows, cols) = (41, 51);
     // A wavy surface with curvature radii ≥ 1/(0.3·0.04) ≈ 83 mm.
-    let z = talas::reduce::Grid::new(
+    let z = talas::geometry::zmap::Grid::new(
         rows,
         cols,
         (0..rows * cols)

@@ -99,7 +99,8 @@ fn reduce_json_on_example_a() {
 fn reduce_stl_reads_back_within_the_reported_error() {
     use talas::import::stl::{StlOptions, read_stl};
     let file = data("zmap/seed-003-example-A-zmap-20x20.csv");
-    let input = talas::reduce::Grid::parse_csv(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let input =
+        talas::geometry::zmap::Grid::parse_csv(&std::fs::read_to_string(&file).unwrap()).unwrap();
     let out_stl = temp_file("zmap-cli", "reduced-a.stl", "");
     let doc = talas_json(&[
         "reduce",
@@ -143,7 +144,7 @@ fn reduce_stl_reads_back_within_the_reported_error() {
 #[test]
 fn reduce_a_part_samples_its_exact_zmap() {
     use glam::DVec2;
-    use talas::reduce::{Grid, zmap_from_surface};
+    use talas::geometry::zmap::{Grid, zmap_from_surface};
     let run = |file: &str| -> serde_json::Value {
         talas_json(&[
             "reduce",

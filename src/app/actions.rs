@@ -256,9 +256,6 @@ pub fn actions() -> Vec<Action> {
             Some((Machining, 2)),
         )
         .hint("Sample the part's Z-map and reduce it by singular value decomposition"),
-        Action::new(Command::OpenForces, "Cutting forces…", Some((Machining, 2))).hint(
-            "Forces, torque and power along the active operation's path; the coefficient library",
-        ),
         Action::new(
             Command::Playback(PlaybackCommand::Step(-1)),
             "Step back",

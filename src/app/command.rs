@@ -106,8 +106,6 @@ pub enum Command {
     OpenReductionView,
     /// An action of a registered [`super::feature::Feature`] (its menu entry or key).
     Feature(FeatureCommand),
-    /// Show the cutting-forces window.
-    OpenForces,
     /// Reduce the part's Z-map with these settings (in the background).
     Reduce(ReductionSettings),
     /// Draw the reduced surface (instead of the part) or not.

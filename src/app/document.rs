@@ -58,7 +58,7 @@ impl Document {
     /// Derive everything from `part`; `first_id` and `first_id + 1` become the render ids.
     #[must_use]
     pub fn new(part: LoadedPart, first_id: DataId) -> Self {
-        let mesh = &part.mesh;
+        let mesh = part.mesh();
         let bounds = Aabb::from_points(&mesh.positions);
         let face_count = part.faces.len().max(1);
         let mut face_area_mm2 = vec![0.0; face_count];
@@ -67,7 +67,7 @@ impl Document {
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let a = triangle_area(mesh.positions.as_slice(), *tri);
             area_mm2 += a;
-            let face = part.face_of_triangle.get(t).map_or(0, |&f| f as usize);
+            let face = part.face_of_triangle().get(t).map_or(0, |&f| f as usize);
             if let (Some(fa), Some(ft)) =
                 (face_area_mm2.get_mut(face), face_triangles.get_mut(face))
             {
@@ -75,7 +75,7 @@ impl Document {
                 *ft += 1;
             }
         }
-        let bvh = MeshBvh::new(&part.mesh).ok();
+        let bvh = MeshBvh::new(part.mesh()).ok();
         let render_mesh = Arc::new(render_mesh(&part));
         let render_edges = Arc::new(feature_edges(&part));
         Self {
@@ -99,8 +99,8 @@ impl Document {
         let mut out = MeshData::default();
         let mut remap: HashMap<u32, u32> = HashMap::new();
         let src = &self.render_mesh;
-        for (t, tri) in self.part.mesh.triangles.iter().enumerate() {
-            if self.part.face_of_triangle.get(t).map(|&f| f as usize) != Some(face) {
+        for (t, tri) in self.part.mesh().triangles.iter().enumerate() {
+            if self.part.face_of_triangle().get(t).map(|&f| f as usize) != Some(face) {
                 continue;
             }
             for &v in tri {
@@ -130,7 +130,7 @@ fn triangle_area(points: &[DVec3], tri: [u32; 3]) -> f64 {
 }
 
 fn render_mesh(part: &LoadedPart) -> MeshData {
-    let mesh = &part.mesh;
+    let mesh = part.mesh();
     let f = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
     let normals = if mesh.normals.len() == mesh.positions.len() {
         mesh.normals.iter().map(|&n| f(n)).collect()
@@ -166,7 +166,7 @@ fn render_mesh(part: &LoadedPart) -> MeshData {
 /// Edges where the face changes, the mesh is open, or the surface folds by more than 35°.
 /// Vertices are matched by position, so meshes with split normals still give one edge.
 fn feature_edges(part: &LoadedPart) -> LineData {
-    let mesh = &part.mesh;
+    let mesh = part.mesh();
     let mut canonical: HashMap<[u64; 3], u32> = HashMap::new();
     let key_of: Vec<u32> = mesh
         .positions
@@ -205,7 +205,7 @@ fn feature_edges(part: &LoadedPart) -> LineData {
             (b - a).cross(c - a).normalize_or_zero()
         })
     };
-    let face = |t: usize| part.face_of_triangle.get(t).copied().unwrap_or(0);
+    let face = |t: usize| part.face_of_triangle().get(t).copied().unwrap_or(0);
     let mut edges: Vec<(u32, u32)> = uses
         .into_iter()
         .filter(|(_, ts)| match ts.as_slice() {
@@ -253,25 +253,19 @@ mod tests {
             DVec3::new(0.0, 1.0, 2.0),
         ];
         let mesh = TriMesh {
-            positions: positions.clone(),
+            positions,
             normals: Vec::new(),
             triangles: vec![[0, 1, 2], [0, 2, 3], [0, 3, 5], [0, 5, 4]],
         };
+        let mut workpiece =
+            crate::import::Workpiece::from_mesh(std::path::Path::new("test.stl"), mesh, Vec::new());
+        workpiece.face_of_triangle = vec![0, 0, 1, 1];
         LoadedPart {
-            workpiece: std::sync::Arc::new(crate::import::Workpiece::from_mesh(
-                std::path::Path::new("test.stl"),
-                mesh,
-                Vec::new(),
-            )),
+            workpiece: std::sync::Arc::new(workpiece),
             path: "test.stl".into(),
             name: "t".into(),
             product_name: String::new(),
-            mesh: TriMesh {
-                positions,
-                normals: Vec::new(),
-                triangles: vec![[0, 1, 2], [0, 2, 3], [0, 3, 5], [0, 5, 4]],
-            },
-            face_of_triangle: vec![0, 0, 1, 1],
+            display_mesh: None,
             faces: vec![
                 FaceSummary {
                     kind: "plane".into(),

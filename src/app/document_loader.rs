@@ -40,10 +40,9 @@ pub struct LoadedPart {
     pub name: String,
     /// Product name written in the file (STEP), may be empty.
     pub product_name: String,
-    /// The triangles (mm), with per-vertex normals.
-    pub mesh: TriMesh,
-    /// For each triangle of `mesh`, the index into `faces` it belongs to.
-    pub face_of_triangle: Vec<u32>,
+    /// The mesh drawn when it is not the workpiece's own (an STL mesh with its creases split:
+    /// the same triangles, more vertices); `None`: the workpiece's mesh is drawn, not copied.
+    pub display_mesh: Option<TriMesh>,
     /// The B-rep faces (empty for a mesh file: the whole mesh is the part).
     pub faces: Vec<FaceSummary>,
     /// What the importer skipped or repaired.
@@ -56,13 +55,27 @@ pub struct LoadedPart {
 }
 
 impl LoadedPart {
+    /// The triangles shown (mm), with per-vertex normals: [`Self::display_mesh`] or the
+    /// workpiece's mesh.
+    #[must_use]
+    pub fn mesh(&self) -> &TriMesh {
+        self.display_mesh.as_ref().unwrap_or(&self.workpiece.mesh)
+    }
+
+    /// For each triangle of [`Self::mesh`], the index into `faces` it belongs to (all 0 for a
+    /// mesh file; the display mesh keeps the workpiece's triangles in order).
+    #[must_use]
+    pub fn face_of_triangle(&self) -> &[u32] {
+        &self.workpiece.face_of_triangle
+    }
+
     /// Summarise a workpiece for display (an STL mesh has its creases split).
     #[must_use]
     pub fn from_workpiece(workpiece: Workpiece) -> Self {
         let path = workpiece.source.clone();
-        let (mesh, faces, product_name) = match &workpiece.part {
+        let (display_mesh, faces, product_name) = match &workpiece.part {
             Some(part) => (
-                workpiece.mesh.clone(),
+                None,
                 part.faces
                     .iter()
                     .zip(&workpiece.surfaces)
@@ -78,22 +91,16 @@ impl LoadedPart {
                 part.name.trim().to_string(),
             ),
             None => (
-                split_creases(&workpiece.mesh, STL_CREASE_ANGLE_RAD),
+                Some(split_creases(&workpiece.mesh, STL_CREASE_ANGLE_RAD)),
                 Vec::new(),
                 String::new(),
             ),
         };
-        let triangles = mesh.triangles.len();
         Self {
             name: file_stem(&path),
             path,
             product_name,
-            face_of_triangle: if workpiece.part.is_some() {
-                workpiece.face_of_triangle.clone()
-            } else {
-                vec![0; triangles]
-            },
-            mesh,
+            display_mesh,
             faces,
             diagnostics: workpiece.diagnostics.clone(),
             format: workpiece.format.name(),
@@ -200,17 +207,17 @@ mod tests {
         let part = load_part(&path, &Progress::new());
         let _ = std::fs::remove_file(&path);
         let part = part.expect("valid STL");
-        assert_eq!(part.mesh.triangles.len(), 4);
+        assert_eq!(part.mesh().triangles.len(), 4);
         // 6 distinct points; the 2 on the crease are split: 8 vertices.
-        assert_eq!(part.mesh.positions.len(), 8);
-        for (t, tri) in part.mesh.triangles.iter().enumerate() {
+        assert_eq!(part.mesh().positions.len(), 8);
+        for (t, tri) in part.mesh().triangles.iter().enumerate() {
             let expected = if t < 2 {
                 glam::DVec3::Z
             } else {
                 glam::DVec3::X
             };
             for &v in tri {
-                assert!((part.mesh.normals[v as usize].abs() - expected).length() < 1e-9);
+                assert!((part.mesh().normals[v as usize].abs() - expected).length() < 1e-9);
             }
         }
     }

@@ -15,11 +15,13 @@
 //! new feature needs no new [`Command`] variant.
 
 use std::any::Any;
+use std::path::Path;
 
 use super::actions::Action;
 use super::command::{Command, FeatureCommand};
 use super::document::Document;
 use super::job::JobStatus;
+use super::toolpaths::ComputedOp;
 use crate::project::Project;
 use crate::render::{LineInstance, MeshInstance};
 
@@ -34,6 +36,21 @@ pub struct FeatureView<'a> {
     pub active_operation: Option<usize>,
     /// The active operation's posted program, when current: operation name and G-code text.
     pub posted: Option<(&'a str, &'a str)>,
+    /// The data folder (settings files such as the force coefficient library).
+    pub data_dir: &'a Path,
+    /// The pose the tool is drawn at (hovered in a plot, picked, or played back).
+    pub tool_pose: Option<usize>,
+    /// The operations' computed paths and planned clocks.
+    pub results: &'a dyn OperationResults,
+}
+
+/// The computed operations, as features read them.
+pub trait OperationResults {
+    /// Operation `index`'s computed path and whether it is fresh (its settings unchanged since).
+    fn operation_result(&self, index: usize) -> Option<(&ComputedOp, bool)>;
+
+    /// The planned time (s) of every pose of operation `index`, when its posted program is current.
+    fn planned_clock(&self, index: usize) -> Option<&[f64]>;
 }
 
 /// What a feature adds to the 3D view.

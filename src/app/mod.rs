@@ -56,6 +56,7 @@ pub fn features() -> Vec<Box<dyn feature::Feature>> {
     vec![
         Box::new(profile_editor::ProfileEditor::new()) as Box<dyn feature::Feature>,
         Box::new(operator_panel::OperatorPanel::new()),
+        Box::new(forces::ForcesWindow::default()),
     ]
 }
 

@@ -215,7 +215,7 @@ pub fn render_scene(args: &RenderArgs) -> Result<RenderScene, RenderFailure> {
         scene,
         width: args.width,
         height: args.height,
-        triangles: doc.part.mesh.triangles.len(),
+        triangles: doc.part.mesh().triangles.len(),
         path_segments,
         field_range,
     })

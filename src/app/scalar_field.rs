@@ -82,10 +82,10 @@ const LOCAL_INVERSION_TOL_MM: f64 = 1e-4;
 /// `Err(())` when `progress` was cancelled.
 #[allow(clippy::result_unit_err)]
 pub fn curvature_field(part: &LoadedPart, progress: &Progress) -> Result<CurvatureField, ()> {
-    let n = part.mesh.positions.len();
+    let n = part.mesh().positions.len();
     // The face of each vertex (faces keep their own vertices).
     let mut face_of_vertex: Vec<Option<u32>> = vec![None; n];
-    for (tri, &f) in part.mesh.triangles.iter().zip(&part.face_of_triangle) {
+    for (tri, &f) in part.mesh().triangles.iter().zip(part.face_of_triangle()) {
         for &v in tri {
             if let Some(slot) = face_of_vertex.get_mut(v as usize) {
                 *slot = Some(f);
@@ -98,7 +98,13 @@ pub fn curvature_field(part: &LoadedPart, progress: &Progress) -> Result<Curvatu
         mean: vec![0.0; n],
     };
     let mut previous: Option<(u32, DVec2)> = None;
-    for (v, (&p, face)) in part.mesh.positions.iter().zip(&face_of_vertex).enumerate() {
+    for (v, (&p, face)) in part
+        .mesh()
+        .positions
+        .iter()
+        .zip(&face_of_vertex)
+        .enumerate()
+    {
         if v % 4096 == 0 {
             progress.check().map_err(|_| ())?;
             progress.set(v as f64 / n.max(1) as f64);

@@ -22,7 +22,7 @@ use super::actions::{Action, actions, shortcuts};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
-use super::feature::{Feature, FeatureView, find};
+use super::feature::{Feature, FeatureView, OperationResults, find};
 use super::file_chooser::ChooserPurpose;
 use super::file_dialog::{DialogOutcome, SavePurpose};
 use super::job::Job;
@@ -40,6 +40,7 @@ use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
 use super::state::Focus;
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
+use super::toolpaths::ComputedOp;
 use super::viewport::picking::SurfacePick;
 use super::viewport::{ViewportExtras, ViewportState, viewport_ui};
 use super::widgets::grouped;
@@ -113,8 +114,6 @@ pub struct Workstation {
     actions: Vec<Action>,
     /// The machine drawn in the viewport while the operator panel is open.
     machine_view: super::machine_view::MachineView,
-    /// The cutting-forces window.
-    forces: super::forces::ForcesWindow,
 }
 
 impl Workstation {
@@ -158,7 +157,6 @@ impl Workstation {
             features,
             actions: table,
             machine_view: super::machine_view::MachineView::default(),
-            forces: super::forces::ForcesWindow::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -209,11 +207,6 @@ impl Workstation {
     #[must_use]
     pub fn operator_panel(&mut self) -> Option<&mut super::operator_panel::OperatorPanel> {
         self.feature()
-    }
-
-    /// The cutting-forces window.
-    pub fn forces(&mut self) -> &mut super::forces::ForcesWindow {
-        &mut self.forces
     }
 
     /// The active operation (the one inspected last), if any.
@@ -387,7 +380,6 @@ impl Workstation {
             Command::ClearLog => self.log.entries.clear(),
             // No registered feature has this id.
             Command::Feature(_) => {}
-            Command::OpenForces => self.forces.open = true,
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -610,7 +602,7 @@ impl Workstation {
                     "Opened {} ({}, {} triangles) in {elapsed_s:.2} s",
                     part.path.display(),
                     part.format,
-                    grouped(part.mesh.triangles.len())
+                    grouped(part.mesh().triangles.len())
                 );
                 // The embedded default part has no file to reopen.
                 if part.path.is_file()
@@ -682,14 +674,13 @@ impl Workstation {
                 format!(
                     "{} · {} triangles",
                     d.part.name,
-                    grouped(d.part.mesh.triangles.len())
+                    grouped(d.part.mesh().triangles.len())
                 )
             }),
         }
     }
 
     /// Lay out one frame and apply what it asked for.
-    #[expect(clippy::too_many_lines, reason = "the frame's layout in order")]
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         self.poll_background();
         let dt = ui.ctx().input(|i| f64::from(i.stable_dt));
@@ -700,6 +691,17 @@ impl Workstation {
         self.run.ctx = ctx.clone();
         self.on_close_request(&ctx);
         shortcuts(&ctx, &self.actions, &mut commands);
+        self.title_and_drops(&ctx, &mut commands);
+        self.panels_ui(ui, &mut commands);
+        self.central_ui(ui, &ctx, &mut commands);
+        self.windows_ui(&ctx, &mut commands);
+        for c in commands {
+            self.apply(c);
+        }
+    }
+
+    /// Keep the window title current; a dropped file is opened.
+    fn title_and_drops(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
         let title = self.saved.session.title();
         if title != self.run.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
@@ -715,7 +717,11 @@ impl Workstation {
         if let Some(path) = dropped.into_iter().next() {
             commands.push(Command::Open(path));
         }
+    }
 
+    /// The menu bar, the status bar, the log dock, the project tree, the properties and the
+    /// playback bar.
+    fn panels_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
         let flags = ViewFlags {
             projection: self.viewport.camera.projection,
             edges: self.viewport.show_edges,
@@ -740,19 +746,12 @@ impl Workstation {
             redo: self.saved.session.history.redo_label(),
         };
         egui::Panel::top("menu bar").show(ui, |ui| {
-            menu_bar_ui(
-                ui,
-                &self.actions,
-                &self.saved.recent,
-                flags,
-                undo,
-                &mut commands,
-            );
+            menu_bar_ui(ui, &self.actions, &self.saved.recent, flags, undo, commands);
         });
         let status = self.status();
         egui::Panel::bottom("status bar")
             .exact_size(26.0)
-            .show(ui, |ui| status_bar_ui(ui, &status, &mut commands));
+            .show(ui, |ui| status_bar_ui(ui, &status, commands));
         egui::Panel::bottom("log")
             .resizable(true)
             .default_size(190.0)
@@ -765,9 +764,9 @@ impl Workstation {
                     ui.selectable_value(dock, program::DockTab::Motion, "Motion");
                 });
                 match self.programs.dock {
-                    program::DockTab::Log => log_ui(ui, &self.log, &mut commands),
-                    program::DockTab::Gcode => self.gcode_tab_ui(ui, &mut commands),
-                    program::DockTab::Motion => self.motion_tab_ui(ui, &mut commands),
+                    program::DockTab::Log => log_ui(ui, &self.log, commands),
+                    program::DockTab::Gcode => self.gcode_tab_ui(ui, commands),
+                    program::DockTab::Motion => self.motion_tab_ui(ui, commands),
                 }
             });
         egui::Panel::left("project tree")
@@ -780,7 +779,7 @@ impl Workstation {
                     self.document.as_ref(),
                     &self.saved.session.project,
                     self.focus,
-                    &mut commands,
+                    commands,
                 );
             });
         let mut forms = std::mem::take(&mut self.forms);
@@ -800,14 +799,19 @@ impl Workstation {
                     pick: self.pick.as_ref(),
                     operation,
                 };
-                properties_ui(ui, &view, &mut forms, &mut commands);
+                properties_ui(ui, &view, &mut forms, commands);
             });
         self.forms = forms;
         if let Some(view) = self.playback_view() {
             egui::Panel::bottom("playback")
                 .exact_size(30.0)
-                .show(ui, |ui| playback_ui(ui, &view, &mut commands));
+                .show(ui, |ui| playback_ui(ui, &view, commands));
         }
+    }
+
+    /// The 3D view: part, paths, tool, stock or reduced surface, the machine and the features'
+    /// scene parts, with the overlays.
+    fn central_ui(&mut self, ui: &mut egui::Ui, ctx: &egui::Context, commands: &mut Vec<Command>) {
         let (paths, legend) = self.path_instances();
         let mut viewport = std::mem::take(&mut self.viewport);
         // The tool stands at the pose under the pointer in a plot, else the picked one, else the
@@ -870,13 +874,7 @@ impl Workstation {
                 extras.meshes.extend(parts.meshes);
                 extras.paths.extend(parts.lines);
             }
-            viewport_ui(
-                ui,
-                &mut viewport,
-                self.document.as_ref(),
-                extras,
-                &mut commands,
-            );
+            viewport_ui(ui, &mut viewport, self.document.as_ref(), extras, commands);
             overlays_ui(
                 ui,
                 rect,
@@ -885,26 +883,25 @@ impl Workstation {
             );
         });
         self.viewport = viewport;
-        self.compare_ui(&ctx, &mut commands);
-        self.reduction_ui(&ctx, &mut commands);
+    }
+
+    /// The floating windows: comparison, data reduction, the features', file chooser and the
+    /// questions (unsaved changes, recovery).
+    fn windows_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
+        self.compare_ui(ctx, commands);
+        self.reduction_ui(ctx, commands);
         let mut features = std::mem::take(&mut self.features);
         let view = self.feature_view();
         for f in &mut features {
-            f.ui(&ctx, &view, &mut commands);
+            f.ui(ctx, &view, commands);
         }
         self.features = features;
-        let mut forces = std::mem::take(&mut self.forces);
-        forces.window(&ctx, self, &mut commands);
-        self.forces = forces;
-        self.chooser_ui(&ctx);
-        self.unsaved_ui(&ctx);
+        self.chooser_ui(ctx);
+        self.unsaved_ui(ctx);
         if let Some(recovery) = &self.run.recovery
-            && let Some(answer) = recovery_ui(&ctx, recovery, self.saved.session.path.as_deref())
+            && let Some(answer) = recovery_ui(ctx, recovery, self.saved.session.path.as_deref())
         {
             commands.push(answer);
-        }
-        for c in commands {
-            self.apply(c);
         }
     }
 }
@@ -923,7 +920,20 @@ impl Workstation {
             active_operation: active,
             posted: active
                 .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
+            data_dir: &self.saved.session.data_dir,
+            tool_pose: self.tool_pose_index(),
+            results: self,
         }
+    }
+}
+
+impl OperationResults for Workstation {
+    fn operation_result(&self, index: usize) -> Option<(&ComputedOp, bool)> {
+        Workstation::operation_result(self, index)
+    }
+
+    fn planned_clock(&self, index: usize) -> Option<&[f64]> {
+        Workstation::planned_clock(self, index)
     }
 }
 

@@ -11,12 +11,14 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
+use crate::geometry::zmap::{Grid, grid_mesh};
 use crate::import::ImportError;
 use crate::import::stl::{StlFormat, save_stl};
 use crate::reduce::{
-    ExactFaces, Grid, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, ZmapPathOptions,
-    cl_zmap, grid_mesh, part_zmap, point_spacing, reduce as run_reduce, zmap_raster,
+    ExactFaces, PartZmap, RankRule, ReduceError, ReduceOptions, Resampling, part_zmap,
+    point_spacing, reduce as run_reduce,
 };
+use crate::strategies::zmap::{ZmapPathOptions, cl_zmap, zmap_raster};
 use crate::toolpath::ToolRecord;
 use crate::tools::{CutterKind, parse_tool_spec};
 
@@ -94,7 +96,10 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
     } else {
         let text = std::fs::read_to_string(&args.file)
             .map_err(|e| ImportError::new(&args.file, None, format!("cannot read file: {e}")))?;
-        (Grid::parse_csv(&text).map_err(file_err)?, None)
+        (
+            Grid::parse_csv(&text).map_err(|e| file_err(e.into()))?,
+            None,
+        )
     };
     let opts = ReduceOptions {
         tolerance_mm: args.tolerance,
@@ -228,7 +233,7 @@ fn write_path(
         }
     };
     // Drop-cutter on the triangulated model: the node-only inverse offset would let the tool
-    // sink between nodes (see `reduce::inverse_offset`).
+    // sink between nodes (see `strategies::zmap::inverse_offset`).
     let cl = cl_zmap(model, origin, args.step, &cutter, &Progress::new())
         .map_err(|e| opt("--step", e.to_string()))?;
     let tool = ToolRecord {

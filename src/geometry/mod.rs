@@ -16,6 +16,7 @@ pub mod stock;
 pub mod surface;
 pub mod tessellate;
 pub mod trim;
+pub mod zmap;
 
 pub use glam::{DVec2, DVec3};
 

@@ -15,38 +15,25 @@
 //! physical extent ([`reduce_to_size`] resamples to a given size instead, as the thesis's
 //! examples do).
 //!
-//! **Z-maps.** A regular Z-map comes from a mesh ([`zmap_from_mesh`], vertical ray casts) or from
-//! a parametric surface ([`zmap_from_surface`], Newton on x(u,v), y(u,v)); irregular data
-//! (mesh vertices, point clouds) gives the thesis's XY-dependent Z-map ([`xy_zmap_from_points`]),
-//! reduced matrix by matrix with [`reduce_xy_zmap`].
+//! **XY-dependent Z-maps** ([`crate::geometry::zmap::XyZmap`]) are reduced matrix by matrix
+//! with [`reduce_xy_zmap`]; a part's Z-map (exact heights on STEP faces) is sampled and reduced by
+//! [`part_zmap`], [`reduce_part`] and [`reduce_part_xy`].
 //!
-//! **Tool paths on Z-maps.** [`inverse_offset`] gives a cutter's CL Z-map (tip heights, the
-//! thesis's Eqs. 4.7–4.10 generalised to every cutter profile; contacts at the nodes only),
-//! [`cl_zmap`] the exact one of the triangulated Z-map (drop-cutter), and [`zmap_raster`] reads a
-//! raster finishing path off either.
+//! The Z-maps themselves (grids, construction from meshes, surfaces and points) are
+//! [`crate::geometry::zmap`]; tool paths on Z-maps are [`crate::strategies::zmap`].
 
-mod grid;
-mod inverse_offset;
 mod part_reduction;
-mod surface_zmap;
 mod svd;
-mod xy_zmap;
-mod zmap;
-mod zmap_path;
+mod xy_reduction;
 
-pub use grid::Grid;
-pub use inverse_offset::{cl_zmap, inverse_offset};
 pub use part_reduction::{
     ExactFaces, MAX_PART_ZMAP_NODES, PartReduction, PartXyReduction, PartZmap, part_zmap,
     reduce_part, reduce_part_xy, zmap_size,
 };
-pub use surface_zmap::{SurfaceZmap, zmap_from_surface};
 pub use svd::{SvdFactors, svd};
-pub use xy_zmap::{
-    EmptyCellFill, XyReduction, XyZmap, reduce_xy_zmap, xy_mesh, xy_zmap_from_points,
-};
-pub use zmap::{grid_mesh, zmap_from_mesh};
-pub use zmap_path::{ZmapPathOptions, zmap_raster};
+pub use xy_reduction::{XyReduction, reduce_xy_zmap};
+
+use crate::geometry::zmap::{Grid, ZmapError};
 
 /// Why a Z-map could not be reduced.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -79,6 +66,19 @@ pub enum ReduceError {
     /// The work was cancelled.
     #[error("cancelled")]
     Cancelled,
+}
+
+/// A Z-map error as the same reduction error (same variant, same message).
+impl From<ZmapError> for ReduceError {
+    fn from(e: ZmapError) -> Self {
+        match e {
+            ZmapError::Parse { line, message } => Self::Parse { line, message },
+            ZmapError::Shape(m) => Self::Shape(m),
+            ZmapError::NonFinite { row, col } => Self::NonFinite { row, col },
+            ZmapError::Option(m) => Self::Option(m),
+            ZmapError::Cancelled => Self::Cancelled,
+        }
+    }
 }
 
 /// How the number of kept singular values is chosen from the tolerance.

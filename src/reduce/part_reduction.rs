@@ -11,15 +11,17 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::surface_zmap::invert_xy;
 use super::{
-    EmptyCellFill, Grid, ReduceError, ReduceOptions, Reduction, XyReduction, XyZmap, grid_mesh,
-    point_spacing, reduce, reduce_xy_zmap, resampled_count, xy_mesh, xy_zmap_from_points,
+    ReduceError, ReduceOptions, Reduction, XyReduction, point_spacing, reduce, reduce_xy_zmap,
+    resampled_count,
 };
 use crate::diagnostics::Progress;
 use crate::geometry::bvh::{MeshBvh, RayHit};
 use crate::geometry::mesh::TriMesh;
 use crate::geometry::surface::SurfaceGeom;
+use crate::geometry::zmap::{
+    EmptyCellFill, Grid, XyZmap, grid_mesh, invert_xy, xy_mesh, xy_zmap_from_points,
+};
 
 /// XY tolerance of the exact refinement, mm.
 const EXACT_XY_TOL_MM: f64 = 1e-7;

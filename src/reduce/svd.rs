@@ -1,6 +1,7 @@
 //! The thin SVD of a grid (faer), kept as plain vectors.
 
-use super::{Grid, ReduceError};
+use super::ReduceError;
+use crate::geometry::zmap::Grid;
 
 /// Thin SVD A = U S Vᵀ of an m×n grid, k = min(m, n) terms.
 #[derive(Clone, Debug, PartialEq)]

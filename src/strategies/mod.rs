@@ -11,3 +11,4 @@ pub mod rest;
 pub mod steep_shallow;
 pub mod waterline;
 pub mod zlevel;
+pub mod zmap;

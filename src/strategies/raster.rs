@@ -58,8 +58,8 @@ use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
-use crate::tools::CutterKind;
 use crate::tools::dropcutter::{ClPoint, Contact, drop_cutter};
+use crate::tools::{Cutter, CutterKind};
 use follow::{ClSample, Follower};
 use passes::{CoarsePass, Cusp, Region, coarse_pass, contact_normal, cusps};
 use stepover::StepoverTable;
@@ -259,10 +259,6 @@ fn check_options(opts: &RasterOptions) -> Result<(), RasterError> {
 ///
 /// # Errors
 /// As [`raster`], plus [`RasterError::Cancelled`].
-#[expect(
-    clippy::too_many_lines,
-    reason = "one pass over the lines: passes, links and the scallop bookkeeping share state"
-)]
 pub fn raster_progress(
     mesh: &TriMesh,
     bvh: &MeshBvh,
@@ -275,56 +271,17 @@ pub fn raster_progress(
     cutter
         .validate()
         .map_err(|e| RasterError::Option(e.to_string()))?;
-    let big = cutter.radius();
     let h = opts.scallop_mm;
     let frame = Frame::new(opts.angle_rad);
-    let bbox = bvh.bbox();
-    let top = bbox.max.z;
-    let outline: Vec<DVec2> = match &opts.boundary {
-        Boundary::Silhouette => vec![
-            bbox.min.truncate(),
-            DVec2::new(bbox.max.x, bbox.min.y),
-            bbox.max.truncate(),
-            DVec2::new(bbox.min.x, bbox.max.y),
-        ],
-        Boundary::Polygon(p) => p.clone(),
-    };
-    let region = match &opts.boundary {
-        // A flat bottom's contact on a level area is any point under it (often a rim vertex
-        // with the axis well inside), so only ball end mills get the contact boundary.
-        Boundary::Silhouette
-            if opts.contact_boundary && matches!(cutter.kind, CutterKind::Ball) =>
-        {
-            Region::Contact(bvh, top + 1.0)
-        }
-        Boundary::Silhouette => Region::Silhouette(bvh, top + 1.0),
-        Boundary::Polygon(p) => Region::Polygon(p),
-    };
-    // With the contact boundary the axis may stand up to a tool radius beyond the outline.
-    let beyond = if matches!(region, Region::Contact(..)) {
-        big
-    } else {
-        0.0
-    };
-    let (mut tmin, mut tmax, mut wmin, mut wmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for p in &outline {
-        let (t, w) = (p.dot(frame.u), p.dot(frame.c));
-        tmin = tmin.min(t - beyond);
-        tmax = tmax.max(t + beyond);
-        wmin = wmin.min(w - beyond);
-        wmax = wmax.max(w + beyond);
-    }
-    let dt_wanted = opts.sample_step_mm.unwrap_or((0.5 * big).clamp(0.05, 2.0));
-    let count = ((tmax - tmin) / dt_wanted).ceil();
-    if !(count.is_finite() && count <= 1.0e6) {
-        return Err(RasterError::Option(format!(
-            "sample step {dt_wanted} mm gives too many samples over {} mm",
-            tmax - tmin
-        )));
-    }
-    let count = (count as usize).max(1);
-    let dt = (tmax - tmin) / count as f64;
-    let grid: Vec<f64> = (0..=count).map(|j| tmin + dt * j as f64).collect();
+    let top = bvh.bbox().max.z;
+    let PassLines {
+        region,
+        tmin,
+        dt,
+        grid,
+        wmin,
+        wmax,
+    } = PassLines::new(opts, bvh, &frame, cutter)?;
 
     let table = StepoverTable::new(cutter, h, opts.max_slope_rad);
     let s0 = table.step(0.0);
@@ -338,6 +295,18 @@ pub fn raster_progress(
     let eps = 1.0e-3_f64.min(0.25 * (wmax - wmin));
     let (w_first, w_last) = (wmin + eps, wmax - eps);
     let mut diagnostics = Vec::new();
+    let search = StepSearch {
+        frame: &frame,
+        grid: &grid,
+        region: &region,
+        bvh,
+        mesh,
+        cutter,
+        cos_max,
+        h,
+        s_min,
+        w_last,
+    };
 
     // Passes, one after the other, each at the largest step that keeps its cusps ≤ h.
     let mut passes: Vec<CoarsePass> = Vec::new();
@@ -368,7 +337,211 @@ pub fn raster_progress(
                 across.atan2(n.z.max(0.0)).min(opts.max_slope_rad)
             })
             .fold(0.0_f64, f64::max);
-        let mut s = table.step(steepest).max(s_min);
+        let (next, cusp, stuck, gave_up) = search.next_pass(&cur, table.step(steepest).max(s_min));
+        if gave_up {
+            over += 1;
+        }
+        // Only scallops proper stay attached to the poses; the rest is reported apart (not
+        // between two passes that only touch the part's rim: those are dropped but the inner).
+        let (mut run_ends_here, mut unreachable_here) = (&mut run_ends, &mut unreachable);
+        let mut ignored = (Unscalloped::default(), Unscalloped::default());
+        if rim_only(&cur) && rim_only(&next) {
+            run_ends_here = &mut ignored.0;
+            unreachable_here = &mut ignored.1;
+        }
+        let kept: Vec<Option<f64>> = cusp
+            .iter()
+            .zip(&stuck)
+            .map(|(c, st)| {
+                let c = (*c)?;
+                // Material a midway pass would leave as well (or, at stuck points, whatever
+                // stays) is not a scallop; at run ends it is bounded by where the tool stops.
+                let rest = c.unreachable.max(if *st { c.height } else { 0.0 });
+                if c.at_end {
+                    run_ends_here.add(rest.max(c.height), h);
+                } else {
+                    unreachable_here.add(rest, h);
+                }
+                let kept = !*st && (!c.at_end || c.height <= h);
+                kept.then_some(c.height)
+            })
+            .collect();
+        passes.push(std::mem::replace(&mut cur, next));
+        between.push(kept);
+    }
+    let steep = steep_area_mm2(mesh, &region, opts.max_slope_rad);
+    diagnostics.extend(leftover_diagnostics(
+        over,
+        s_min,
+        &unreachable,
+        &run_ends,
+        steep,
+        opts,
+    ));
+    let max_pred = between
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(0.0_f64, |a, b| a.max(*b));
+    drop_outer_rim_passes(&mut passes);
+
+    // Follow every run of every pass (in parallel, results in order).
+    let follower = Follower {
+        bvh,
+        mesh,
+        cutter,
+        chord_tol: opts.chord_tol_mm,
+    };
+    let followed: Vec<Vec<Vec<ClSample>>> = passes
+        .par_iter()
+        .map(|p| {
+            p.runs
+                .iter()
+                .map(|run| follower.follow(frame.at(0.0, p.w), frame.u, run))
+                .filter(|r| !r.is_empty())
+                .collect()
+        })
+        .collect();
+    progress.check().map_err(|_| RasterError::Cancelled)?;
+    if followed.iter().all(Vec::is_empty) {
+        return Err(RasterError::Empty);
+    }
+
+    // Order the runs, attach the predicted scallop, and link them.
+    let runs = ordered_runs(&followed, &between, tmin, dt, opts);
+    let clear_z = top + opts.clearance_mm;
+    let poses = link_runs(&runs, &follower, opts, clear_z, dt);
+    progress.set(1.0);
+    Ok(RasterPlan {
+        toolpath: Toolpath::new(tool.clone(), poses),
+        passes: passes.iter().filter(|p| !p.runs.is_empty()).count(),
+        max_predicted_scallop_mm: max_pred,
+        steep_area_mm2: steep,
+        diagnostics,
+    })
+}
+
+/// Where and how densely the pass lines are sampled: the region passes run in, the extent of the
+/// passes across (w) in the raster frame, and the sample grid along a line (from `tmin` at step
+/// `dt`).
+struct PassLines<'a> {
+    region: Region<'a>,
+    tmin: f64,
+    dt: f64,
+    grid: Vec<f64>,
+    wmin: f64,
+    wmax: f64,
+}
+
+impl<'a> PassLines<'a> {
+    /// The lines over the boundary of `opts` (the part's box for the silhouette, widened by a
+    /// tool radius for the contact boundary).
+    fn new(
+        opts: &'a RasterOptions,
+        bvh: &'a MeshBvh,
+        frame: &Frame,
+        cutter: &Cutter,
+    ) -> Result<Self, RasterError> {
+        let big = cutter.radius();
+        let bbox = bvh.bbox();
+        let top = bbox.max.z;
+        let outline: Vec<DVec2> = match &opts.boundary {
+            Boundary::Silhouette => vec![
+                bbox.min.truncate(),
+                DVec2::new(bbox.max.x, bbox.min.y),
+                bbox.max.truncate(),
+                DVec2::new(bbox.min.x, bbox.max.y),
+            ],
+            Boundary::Polygon(p) => p.clone(),
+        };
+        let region = match &opts.boundary {
+            // A flat bottom's contact on a level area is any point under it (often a rim vertex
+            // with the axis well inside), so only ball end mills get the contact boundary.
+            Boundary::Silhouette
+                if opts.contact_boundary && matches!(cutter.kind, CutterKind::Ball) =>
+            {
+                Region::Contact(bvh, top + 1.0)
+            }
+            Boundary::Silhouette => Region::Silhouette(bvh, top + 1.0),
+            Boundary::Polygon(p) => Region::Polygon(p),
+        };
+        // With the contact boundary the axis may stand up to a tool radius beyond the outline.
+        let beyond = if matches!(region, Region::Contact(..)) {
+            big
+        } else {
+            0.0
+        };
+        let (mut tmin, mut tmax, mut wmin, mut wmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for p in &outline {
+            let (t, w) = (p.dot(frame.u), p.dot(frame.c));
+            tmin = tmin.min(t - beyond);
+            tmax = tmax.max(t + beyond);
+            wmin = wmin.min(w - beyond);
+            wmax = wmax.max(w + beyond);
+        }
+        let dt_wanted = opts.sample_step_mm.unwrap_or((0.5 * big).clamp(0.05, 2.0));
+        let count = ((tmax - tmin) / dt_wanted).ceil();
+        if !(count.is_finite() && count <= 1.0e6) {
+            return Err(RasterError::Option(format!(
+                "sample step {dt_wanted} mm gives too many samples over {} mm",
+                tmax - tmin
+            )));
+        }
+        let count = (count as usize).max(1);
+        let dt = (tmax - tmin) / count as f64;
+        let grid: Vec<f64> = (0..=count).map(|j| tmin + dt * j as f64).collect();
+        Ok(Self {
+            region,
+            tmin,
+            dt,
+            grid,
+            wmin,
+            wmax,
+        })
+    }
+}
+
+/// What the step search between two passes reads.
+#[derive(Clone, Copy)]
+struct StepSearch<'a> {
+    frame: &'a Frame,
+    grid: &'a [f64],
+    region: &'a Region<'a>,
+    bvh: &'a MeshBvh,
+    mesh: &'a TriMesh,
+    cutter: &'a Cutter,
+    /// Cosine of the steepest slope held to the scallop height.
+    cos_max: f64,
+    /// Scallop height, mm.
+    h: f64,
+    /// Smallest step-over, mm.
+    s_min: f64,
+    /// Position of the last pass across, mm.
+    w_last: f64,
+}
+
+impl StepSearch<'_> {
+    /// The pass after `cur` at the largest step (from `s` down, mm) whose cusps stay within h,
+    /// with its cusps, the grid points whose cusp did not shrink with the step (material the
+    /// cutter cannot reach), and whether even the smallest step (or the eighth try) left a cusp
+    /// above h.
+    fn next_pass(
+        &self,
+        cur: &CoarsePass,
+        mut s: f64,
+    ) -> (CoarsePass, Vec<Option<Cusp>>, Vec<bool>, bool) {
+        let Self {
+            frame,
+            grid,
+            region,
+            bvh,
+            mesh,
+            cutter,
+            cos_max,
+            h,
+            s_min,
+            w_last,
+        } = *self;
         let mut tries = 0;
         // Grid points whose cusp does not shrink with the step hold material the cutter cannot
         // reach (a valley narrower than the tool), not a scallop: they stop counting.
@@ -378,11 +551,12 @@ pub fn raster_progress(
         // pass and cusps), for one try at growing back a step that the shrinking overshot.
         let mut failed: Option<(f64, f64)> = None;
         let mut within: Option<(f64, CoarsePass, Vec<Option<Cusp>>)> = None;
+        let mut gave_up = false;
         let (next, cusp) = loop {
             let w = (cur.w + s).min(w_last);
-            let next = coarse_pass(&frame, w, &grid, &region, bvh, mesh, cutter);
-            let mid = coarse_pass(&frame, 0.5 * (cur.w + w), &grid, &region, bvh, mesh, cutter);
-            let cusp = cusps(&frame, &grid, &cur, &next, &mid, cutter, bvh, cos_max);
+            let next = coarse_pass(frame, w, grid, region, bvh, mesh, cutter);
+            let mid = coarse_pass(frame, 0.5 * (cur.w + w), grid, region, bvh, mesh, cutter);
+            let cusp = cusps(frame, grid, cur, &next, &mid, cutter, bvh, cos_max);
             let growing = within.is_some();
             if let Some(prev) = &last
                 && !growing
@@ -431,7 +605,7 @@ pub fn raster_progress(
                 break (next, cusp);
             }
             if s <= s_min || tries >= 8 {
-                over += 1;
+                gave_up = true;
                 break (next, cusp);
             }
             failed = Some((s, worst));
@@ -439,34 +613,23 @@ pub fn raster_progress(
             let f = (0.95 * (h / worst).sqrt()).clamp(0.3, 0.9);
             s = (s * f).max(s_min);
         };
-        // Only scallops proper stay attached to the poses; the rest is reported apart (not
-        // between two passes that only touch the part's rim: those are dropped but the inner).
-        let (mut run_ends_here, mut unreachable_here) = (&mut run_ends, &mut unreachable);
-        let mut ignored = (Unscalloped::default(), Unscalloped::default());
-        if rim_only(&cur) && rim_only(&next) {
-            run_ends_here = &mut ignored.0;
-            unreachable_here = &mut ignored.1;
-        }
-        let kept: Vec<Option<f64>> = cusp
-            .iter()
-            .zip(&stuck)
-            .map(|(c, st)| {
-                let c = (*c)?;
-                // Material a midway pass would leave as well (or, at stuck points, whatever
-                // stays) is not a scallop; at run ends it is bounded by where the tool stops.
-                let rest = c.unreachable.max(if *st { c.height } else { 0.0 });
-                if c.at_end {
-                    run_ends_here.add(rest.max(c.height), h);
-                } else {
-                    unreachable_here.add(rest, h);
-                }
-                let kept = !*st && (!c.at_end || c.height <= h);
-                kept.then_some(c.height)
-            })
-            .collect();
-        passes.push(std::mem::replace(&mut cur, next));
-        between.push(kept);
+        (next, cusp, stuck, gave_up)
     }
+}
+
+/// What the passes leave beyond the scallop height: `over` gaps whose cusp stays above h at the
+/// smallest step `s_min`, unreachable material, material at run ends, and the steep area
+/// (mm²) not held to h.
+fn leftover_diagnostics(
+    over: usize,
+    s_min: f64,
+    unreachable: &Unscalloped,
+    run_ends: &Unscalloped,
+    steep: f64,
+    opts: &RasterOptions,
+) -> Vec<Diagnostic> {
+    let h = opts.scallop_mm;
+    let mut diagnostics = Vec::new();
     if over > 0 {
         diagnostics.push(Diagnostic::warning(
             None,
@@ -493,7 +656,6 @@ pub fn raster_progress(
             ),
         ));
     }
-    let steep = steep_area_mm2(mesh, &region, opts.max_slope_rad);
     if steep > 0.0 {
         diagnostics.push(Diagnostic::info(
             None,
@@ -503,36 +665,19 @@ pub fn raster_progress(
             ),
         ));
     }
-    let max_pred = between
-        .iter()
-        .flatten()
-        .flatten()
-        .fold(0.0_f64, |a, b| a.max(*b));
-    drop_outer_rim_passes(&mut passes);
+    diagnostics
+}
 
-    // Follow every run of every pass (in parallel, results in order).
-    let follower = Follower {
-        bvh,
-        mesh,
-        cutter,
-        chord_tol: opts.chord_tol_mm,
-    };
-    let followed: Vec<Vec<Vec<ClSample>>> = passes
-        .par_iter()
-        .map(|p| {
-            p.runs
-                .iter()
-                .map(|run| follower.follow(frame.at(0.0, p.w), frame.u, run))
-                .filter(|r| !r.is_empty())
-                .collect()
-        })
-        .collect();
-    progress.check().map_err(|_| RasterError::Cancelled)?;
-    if followed.iter().all(Vec::is_empty) {
-        return Err(RasterError::Empty);
-    }
-
-    // Order the runs, attach the predicted scallop, and link them.
+/// The followed runs of every pass as cutting poses, in cutting order (every other pass reversed
+/// for zig-zag), each pose with the scallop predicted on either side of its pass (`between`:
+/// per gap, per grid point from `tmin` at step `dt`).
+fn ordered_runs(
+    followed: &[Vec<Vec<ClSample>>],
+    between: &[Vec<Option<f64>>],
+    tmin: f64,
+    dt: f64,
+    opts: &RasterOptions,
+) -> Vec<Vec<Pose>> {
     let mut runs: Vec<Vec<Pose>> = Vec::new();
     for (k, pass_runs) in followed.iter().enumerate() {
         let prev = k.checked_sub(1).and_then(|i| between.get(i));
@@ -568,16 +713,7 @@ pub fn raster_progress(
         }
         runs.extend(rs);
     }
-    let clear_z = top + opts.clearance_mm;
-    let poses = link_runs(&runs, &follower, opts, clear_z, dt);
-    progress.set(1.0);
-    Ok(RasterPlan {
-        toolpath: Toolpath::new(tool.clone(), poses),
-        passes: passes.iter().filter(|p| !p.runs.is_empty()).count(),
-        max_predicted_scallop_mm: max_pred,
-        steep_area_mm2: steep,
-        diagnostics,
-    })
+    runs
 }
 
 /// Whether the pass touches the part only on its rim (or not at all).

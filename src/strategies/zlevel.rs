@@ -326,10 +326,6 @@ fn check(opts: &ZlevelOptions, cutter: &Cutter) -> Result<(), ZlevelError> {
 /// # Errors
 /// [`ZlevelError::Option`] for a bad option or a grid past 4 million nodes,
 /// [`ZlevelError::Cutter`] for a cone.
-#[expect(
-    clippy::too_many_lines,
-    reason = "levels, regions and links share the Z-map state"
-)]
 pub fn zlevel_rough(
     mesh: &TriMesh,
     bvh: &MeshBvh,
@@ -367,56 +363,8 @@ pub fn zlevel_rough(
         .map(|p| blank.outside_by(*p) <= reach)
         .collect();
 
-    // Levels from the top down to the stock bottom or the part's lowest allowed height.
     let top = blank.top();
-    let floor = blank.bottom().max(bvh.bbox().min.z + da);
-    let mut levels = Vec::new();
-    let mut z = top - opts.step_down_mm;
-    while z > floor + 1e-9 {
-        levels.push(z);
-        z -= opts.step_down_mm;
-    }
-    if levels.last().is_none_or(|l| *l > floor + 1e-6) && floor < top {
-        levels.push(floor);
-    }
-    let mut diagnostics = Vec::new();
-    // Stock above the part's highest point is faced off to the allowance: without a level
-    // there, a slab up to a whole step-down would stay on the part's top.
-    let skim = bvh.bbox().max.z + lift;
-    if skim < top - 1e-6
-        && skim > floor
-        && !levels
-            .iter()
-            .any(|l| *l >= skim - 1e-9 && *l <= skim + 1e-3)
-    {
-        diagnostics.push(Diagnostic::info(
-            None,
-            format!("top of the part: level added at z = {skim:.3}"),
-        ));
-        levels.push(skim);
-        levels.sort_by(|a, b| b.total_cmp(a));
-    }
-    if opts.detect_flats {
-        // On a flat floor the offset cutter's tip touches it, so the lowest allowed tip is the
-        // floor plus the larger stock to leave (the radial stock is kept in every direction).
-        let extra = flat_levels(mesh, &levels, lift, top, big);
-        if !extra.is_empty() {
-            diagnostics.push(Diagnostic::info(
-                None,
-                format!(
-                    "flat areas: {} levels added at z = {}",
-                    extra.len(),
-                    extra
-                        .iter()
-                        .map(|z| format!("{z:.3}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-            levels.extend(extra);
-            levels.sort_by(|a, b| b.total_cmp(a));
-        }
-    }
+    let (levels, mut diagnostics) = cutting_levels(mesh, bvh, &blank, opts, lift, big);
 
     let clear_z = top.max(bvh.bbox().max.z) + opts.clearance_mm;
     let mut poses: Vec<Pose> = Vec::new();
@@ -506,6 +454,72 @@ pub fn zlevel_rough(
         contours,
         diagnostics,
     })
+}
+
+/// The cutting levels, top down: every step-down from the blank's top to the stock bottom or the
+/// part's lowest allowed height (its lowest point plus the axial stock to leave), a level facing
+/// off the stock above the part's highest point, and with `detect_flats` one at each flat floor;
+/// with the diagnostics that name the added levels. `lift` is the larger stock to leave, mm.
+fn cutting_levels(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    blank: &Blank,
+    opts: &ZlevelOptions,
+    lift: f64,
+    tool_radius: f64,
+) -> (Vec<f64>, Vec<Diagnostic>) {
+    let top = blank.top();
+    let floor = blank
+        .bottom()
+        .max(bvh.bbox().min.z + opts.stock_to_leave_axial_mm);
+    let mut levels = Vec::new();
+    let mut z = top - opts.step_down_mm;
+    while z > floor + 1e-9 {
+        levels.push(z);
+        z -= opts.step_down_mm;
+    }
+    if levels.last().is_none_or(|l| *l > floor + 1e-6) && floor < top {
+        levels.push(floor);
+    }
+    let mut diagnostics = Vec::new();
+    // Stock above the part's highest point is faced off to the allowance: without a level
+    // there, a slab up to a whole step-down would stay on the part's top.
+    let skim = bvh.bbox().max.z + lift;
+    if skim < top - 1e-6
+        && skim > floor
+        && !levels
+            .iter()
+            .any(|l| *l >= skim - 1e-9 && *l <= skim + 1e-3)
+    {
+        diagnostics.push(Diagnostic::info(
+            None,
+            format!("top of the part: level added at z = {skim:.3}"),
+        ));
+        levels.push(skim);
+        levels.sort_by(|a, b| b.total_cmp(a));
+    }
+    if opts.detect_flats {
+        // On a flat floor the offset cutter's tip touches it, so the lowest allowed tip is the
+        // floor plus the larger stock to leave (the radial stock is kept in every direction).
+        let extra = flat_levels(mesh, &levels, lift, top, tool_radius);
+        if !extra.is_empty() {
+            diagnostics.push(Diagnostic::info(
+                None,
+                format!(
+                    "flat areas: {} levels added at z = {}",
+                    extra.len(),
+                    extra
+                        .iter()
+                        .map(|z| format!("{z:.3}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+            levels.extend(extra);
+            levels.sort_by(|a, b| b.total_cmp(a));
+        }
+    }
+    (levels, diagnostics)
 }
 
 fn perimeter(lp: &[DVec2]) -> f64 {

@@ -6,16 +6,18 @@
 //! peak or mean per revolution, with the tool's and the spindle's limits as dashed lines and a
 //! cursor at the pose the tool stands at; clicking the plot picks the pose cut then. The
 //! coefficient library (TOML in the data folder, the built-in Al7075-T651 calibration until
-//! edited) is edited in [`library_editor`].
+//! edited) is edited in [`library_editor`]. The window is a workstation [`crate::app::feature::Feature`]
+//! ([`feature`]): Machining → "Cutting forces…" opens it, and its job shows in the status bar.
 
+pub mod feature;
 pub mod library_editor;
 pub mod plot;
 
 use std::path::{Path, PathBuf};
 
 use super::command::Command;
-use super::job::{Job, JobPoll};
-use super::workstation::Workstation;
+use super::feature::FeatureView;
+use super::job::{Job, JobSlot};
 use crate::force::library::Library;
 use crate::force::path::Limits;
 use crate::machine::Machine;
@@ -64,7 +66,7 @@ struct ForceKey {
     planned: bool,
 }
 
-type ForceJob = Job<Result<ForceTimeline, ForceRunError>>;
+type ForceJob = JobSlot<Result<ForceTimeline, ForceRunError>, ForceKey>;
 
 /// What the plot shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -83,7 +85,7 @@ pub enum Shown {
 pub struct ForcesWindow {
     /// Whether the window is shown.
     pub open: bool,
-    job: Option<(ForceKey, ForceJob)>,
+    job: ForceJob,
     result: Option<(ForceKey, ForceTimeline)>,
     /// The last problem (shown in the window).
     pub message: Option<String>,
@@ -100,21 +102,15 @@ pub struct ForcesWindow {
     pub max_rays: Option<f64>,
 }
 
-/// The operation the window works on: the active one, else the first.
-fn operation_index(ws: &Workstation) -> Option<usize> {
-    let n = ws.session().project.operations.len();
-    ws.active_operation().or((n > 0).then_some(0))
-}
-
-fn key_of(ws: &Workstation, index: usize) -> Option<ForceKey> {
-    let project = &ws.session().project;
+fn key_of(view: &FeatureView<'_>, index: usize) -> Option<ForceKey> {
+    let project = view.project;
     let operation = project.operations.get(index)?.clone();
     let cutter = project.tools.get(operation.tool())?.cutter.clone();
     Some(ForceKey {
         index,
         operation,
         cutter,
-        planned: ws.planned_clock(index).is_some(),
+        planned: view.results.planned_clock(index).is_some(),
     })
 }
 
@@ -128,29 +124,25 @@ impl ForcesWindow {
     /// Is a force job running?
     #[must_use]
     pub fn is_running(&self) -> bool {
-        self.job.is_some()
+        self.job.is_running()
     }
 
-    /// Stop the running job.
-    pub fn cancel(&mut self) {
-        if let Some((_, job)) = self.job.take() {
-            job.cancel();
-            self.message = Some("Cancelled".into());
-        }
+    /// Stop the running job; its label when there was one.
+    pub fn cancel(&mut self) -> Option<String> {
+        let label = self.job.cancel()?;
+        self.message = Some("Cancelled".into());
+        Some(label)
     }
 
     /// Start computing the forces of the active operation.
-    pub fn start(&mut self, ws: &Workstation, ctx: &egui::Context) {
-        match prepare(ws, self.max_rays.unwrap_or(DEFAULT_MAX_RAYS)) {
+    pub fn start(&mut self, view: &FeatureView<'_>, ctx: &egui::Context) {
+        match prepare(view, self.max_rays.unwrap_or(DEFAULT_MAX_RAYS)) {
             Ok((key, input)) => {
                 self.cancel();
                 self.message = None;
-                let ctx = ctx.clone();
                 let label = format!("Cutting forces of {}", key.operation.name());
-                self.job = Some((
-                    key,
-                    Job::spawn(label, move |p| input.run(p), move || ctx.request_repaint()),
-                ));
+                self.job
+                    .start(key, Job::start(label, ctx, move |p| input.run(p)));
             }
             Err(m) => self.message = Some(m),
         }
@@ -158,30 +150,24 @@ impl ForcesWindow {
 
     /// Collect a finished job.
     fn poll(&mut self, ctx: &egui::Context) {
-        let Some((_, job)) = &self.job else { return };
-        let outcome = match job.poll() {
-            JobPoll::Running => {
-                ctx.request_repaint_after(std::time::Duration::from_millis(100));
-                return;
-            }
-            JobPoll::Done(r) => r,
-            JobPoll::Lost => Err(ForceRunError::Stock(
+        if self.job.is_running() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        let Some(done) = self.job.poll() else { return };
+        let outcome = done.result.unwrap_or_else(|| {
+            Err(ForceRunError::Stock(
                 "the worker stopped unexpectedly".into(),
-            )),
-        };
-        let Some((key, _)) = self.job.take() else {
-            return;
-        };
+            ))
+        });
         match outcome {
-            Ok(r) => self.result = Some((key, r)),
+            Ok(r) => self.result = Some((done.key, r)),
             Err(ForceRunError::Cancelled) => self.message = Some("Cancelled".into()),
             Err(e) => self.message = Some(format!("Forces not computed: {e}")),
         }
     }
 
-    /// Poll the job and, when open, draw the window.
-    pub fn window(&mut self, ctx: &egui::Context, ws: &Workstation, commands: &mut Vec<Command>) {
-        self.poll(ctx);
+    /// When open, draw the window.
+    fn window(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, commands: &mut Vec<Command>) {
         if !self.open {
             return;
         }
@@ -192,20 +178,19 @@ impl ForcesWindow {
             .default_pos([80.0, 90.0])
             .default_size([900.0, 460.0])
             .resizable(true)
-            .show(ctx, |ui| self.ui(ui, ws, commands));
+            .show(ctx, |ui| self.ui(ui, view, commands));
         self.open = open;
     }
 
     /// The window's contents.
-    pub fn ui(&mut self, ui: &mut egui::Ui, ws: &Workstation, commands: &mut Vec<Command>) {
-        let index = operation_index(ws);
-        let current = index.and_then(|i| key_of(ws, i));
+    pub fn ui(&mut self, ui: &mut egui::Ui, view: &FeatureView<'_>, commands: &mut Vec<Command>) {
+        let current = view.active_operation.and_then(|i| key_of(view, i));
         ui.horizontal(|ui| {
             let name = current
                 .as_ref()
                 .map_or("no operation", |k| k.operation.name());
             ui.label(egui::RichText::new(name).strong());
-            if let Some((_, job)) = &self.job {
+            if let Some(job) = self.job.job() {
                 ui.add(
                     egui::ProgressBar::new(job.progress.fraction() as f32)
                         .desired_width(160.0)
@@ -221,7 +206,7 @@ impl ForcesWindow {
                 )
                 .clicked()
             {
-                self.start(ws, ui.ctx());
+                self.start(view, ui.ctx());
             }
             ui.separator();
             ui.toggle_value(&mut self.editor.open, "Coefficients…");
@@ -230,7 +215,7 @@ impl ForcesWindow {
             ui.colored_label(ui.visuals().warn_fg_color, m);
         }
         if self.editor.open {
-            self.editor.ui(ui, &ws.session().data_dir);
+            self.editor.ui(ui, view.data_dir);
             ui.separator();
         }
         let Some((key, result)) = &self.result else {
@@ -243,8 +228,8 @@ impl ForcesWindow {
                 "The operation, its tool or its posted program changed since: compute again.",
             );
         }
-        let cursor = ws
-            .tool_pose_index()
+        let cursor = view
+            .tool_pose
             .and_then(|p| result.pose_time_s.get(p).copied());
         let (transform, pose) = plot::ui(ui, result, (&mut self.shown, &mut self.mean), cursor);
         self.plot_transform = Some(transform);
@@ -304,12 +289,15 @@ pub fn limits_of(cutter: &Cutter, machine: Option<&Machine>) -> Limits {
     }
 }
 
-fn prepare(ws: &Workstation, max_rays: f64) -> Result<(ForceKey, Prepared), String> {
-    let index = operation_index(ws).ok_or("Add and calculate an operation first")?;
-    let key = key_of(ws, index).ok_or("The operation has no tool")?;
-    let project = &ws.session().project;
-    let doc = ws.document().ok_or("Open a part first")?;
-    let (result, fresh) = ws
+fn prepare(view: &FeatureView<'_>, max_rays: f64) -> Result<(ForceKey, Prepared), String> {
+    let index = view
+        .active_operation
+        .ok_or("Add and calculate an operation first")?;
+    let key = key_of(view, index).ok_or("The operation has no tool")?;
+    let project = view.project;
+    let doc = view.document.ok_or("Open a part first")?;
+    let (result, fresh) = view
+        .results
         .operation_result(index)
         .ok_or("Calculate the operation first")?;
     if !fresh {
@@ -320,11 +308,11 @@ fn prepare(ws: &Workstation, max_rays: f64) -> Result<(ForceKey, Prepared), Stri
     })?;
     let mut earlier = Vec::new();
     for j in 0..index {
-        if let Some((r, true)) = ws.operation_result(j) {
+        if let Some((r, true)) = view.results.operation_result(j) {
             earlier.push((r.toolpath().clone(), r.cutter.clone()));
         }
     }
-    let text = library_text(&ws.session().data_dir)?;
+    let text = library_text(view.data_dir)?;
     let library = Library::parse(&text).map_err(|m| format!("coefficient library: {m}"))?;
     let (coefficients, _) = library
         .mode_coefficients(None)
@@ -343,7 +331,7 @@ fn prepare(ws: &Workstation, max_rays: f64) -> Result<(ForceKey, Prepared), Stri
         cutter: key.cutter.clone(),
         coefficients,
         rpm: project.post.spindle_rpm,
-        clock: ws.planned_clock(index).map(<[f64]>::to_vec),
+        clock: view.results.planned_clock(index).map(<[f64]>::to_vec),
         limits: limits_of(&key.cutter, machine.as_ref()),
         resolution,
     };

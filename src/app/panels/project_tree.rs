@@ -129,7 +129,7 @@ fn part_ui(
             format!(
                 "Part · {} · {} triangles",
                 part.name,
-                grouped(part.mesh.triangles.len())
+                grouped(part.mesh().triangles.len())
             ),
         )
         .clicked()

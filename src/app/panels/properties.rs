@@ -386,8 +386,8 @@ fn part_ui(ui: &mut egui::Ui, doc: &Document) {
         rows.push(("Faces", grouped(part.faces.len())));
     }
     rows.extend([
-        ("Triangles", grouped(part.mesh.triangles.len())),
-        ("Vertices", grouped(part.mesh.positions.len())),
+        ("Triangles", grouped(part.mesh().triangles.len())),
+        ("Vertices", grouped(part.mesh().positions.len())),
         ("Surface area", format!("{:.2} mm²", doc.area_mm2)),
     ]);
     grid(ui, "part", &rows);

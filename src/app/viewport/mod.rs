@@ -266,7 +266,7 @@ pub fn viewport_ui(
             (Some(h), Some(doc)) if !doc.part.faces.is_empty() => {
                 let face = doc
                     .part
-                    .face_of_triangle
+                    .face_of_triangle()
                     .get(h.triangle)
                     .map(|&f| f as usize);
                 let pick =

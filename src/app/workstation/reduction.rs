@@ -92,7 +92,7 @@ impl Workstation {
             .iter()
             .any(|f| f.surface.is_some())
             .then(|| ExactFaces {
-                face_of_triangle: doc.part.face_of_triangle.clone(),
+                face_of_triangle: doc.part.face_of_triangle().to_vec(),
                 surfaces: doc.part.faces.iter().map(|f| f.surface.clone()).collect(),
             });
         self.reductions.settings = Some(settings);
@@ -101,7 +101,7 @@ impl Workstation {
             ZmapSource::Regular => "Z-map",
             ZmapSource::XyDependent => "XY-dependent Z-map",
         };
-        let mesh = doc.part.mesh.clone();
+        let mesh = doc.part.mesh().clone();
         let message = format!(
             "Reducing the {what} of {} at {} mm, tolerance {} mm",
             doc.part.name, settings.step_mm, settings.tolerance_mm

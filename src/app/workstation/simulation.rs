@@ -170,7 +170,7 @@ impl Workstation {
                 paths.push((r.toolpath().clone(), r.cutter.clone()));
             }
         }
-        let part = doc.part.mesh.clone();
+        let part = doc.part.mesh().clone();
         let stock = self.saved.session.project.stock;
         let settings = SimulationSettings {
             max_rays: 250_000,

@@ -6,7 +6,8 @@
 
 use glam::DVec2;
 
-use super::{Grid, ReduceError};
+use super::error::ZmapError;
+use super::grid::Grid;
 use crate::geometry::surface::SurfaceGeom;
 
 /// Lattice size per direction for the fallback seeds.
@@ -32,8 +33,8 @@ pub struct SurfaceZmap {
 /// surface folding over itself in XY gives one of its sheets, not necessarily the top one.
 ///
 /// # Errors
-/// [`ReduceError::Option`] for a non-positive step or tolerance or a non-finite origin or empty
-/// value, [`ReduceError::Shape`] for an empty or oversized grid.
+/// [`ZmapError::Option`] for a non-positive step or tolerance or a non-finite origin or empty
+/// value, [`ZmapError::Shape`] for an empty or oversized grid.
 pub fn zmap_from_surface(
     surface: &SurfaceGeom,
     origin: DVec2,
@@ -42,7 +43,7 @@ pub fn zmap_from_surface(
     cols: usize,
     empty_z: f64,
     xy_tol_mm: f64,
-) -> Result<SurfaceZmap, ReduceError> {
+) -> Result<SurfaceZmap, ZmapError> {
     let valid = step > 0.0
         && step.is_finite()
         && xy_tol_mm > 0.0
@@ -50,7 +51,7 @@ pub fn zmap_from_surface(
         && origin.is_finite()
         && empty_z.is_finite();
     if !valid {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "grid step and tolerance must be positive and origin finite, got step {step}, \
              tolerance {xy_tol_mm}"
         )));
@@ -59,12 +60,12 @@ pub fn zmap_from_surface(
         .checked_mul(cols)
         .is_none_or(|n| n == 0 || n > 10_000_000)
     {
-        return Err(ReduceError::Shape(format!("{rows}×{cols} grid")));
+        return Err(ZmapError::Shape(format!("{rows}×{cols} grid")));
     }
     let rect = surface.domain();
     let (u0, u1, v0, v1) = (rect.u.t0, rect.u.t1, rect.v.t0, rect.v.t1);
     if ![u0, u1, v0, v1].iter().all(|t| t.is_finite()) || u1 < u0 || v1 < v0 {
-        return Err(ReduceError::Option(
+        return Err(ZmapError::Option(
             "the surface's parameter domain is not finite".into(),
         ));
     }

@@ -22,9 +22,9 @@ use rayon::prelude::*;
 
 use glam::DVec2;
 
-use super::{Grid, ReduceError, grid_mesh};
 use crate::diagnostics::Progress;
 use crate::geometry::bvh::MeshBvh;
+use crate::geometry::zmap::{Grid, ZmapError, grid_mesh};
 use crate::tools::Cutter;
 use crate::tools::dropcutter::drop_cutter_progress;
 
@@ -35,23 +35,23 @@ const MAX_STENCIL: usize = 4_000_000;
 /// (rows and columns): every node's tool tip height when the tool rests on the Z-map's nodes.
 ///
 /// # Errors
-/// [`ReduceError::Option`] for a non-positive step, or a tool so much wider than the step that
-/// its stencil has more than 4 M nodes; [`ReduceError::Cancelled`] when `progress` is cancelled.
+/// [`ZmapError::Option`] for a non-positive step, or a tool so much wider than the step that
+/// its stencil has more than 4 M nodes; [`ZmapError::Cancelled`] when `progress` is cancelled.
 pub fn inverse_offset(
     z: &Grid,
     step_mm: f64,
     cutter: &Cutter,
     progress: &Progress,
-) -> Result<Grid, ReduceError> {
+) -> Result<Grid, ZmapError> {
     if !(step_mm > 0.0 && step_mm.is_finite()) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "grid step must be a positive length in mm, got {step_mm}"
         )));
     }
     let rho = cutter.radius();
     let reach = (rho / step_mm).floor();
     if !(reach.is_finite() && std::f64::consts::PI * reach * reach <= MAX_STENCIL as f64) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "a tool of radius {rho} mm spans too many nodes at a {step_mm} mm step"
         )));
     }
@@ -89,7 +89,7 @@ pub fn inverse_offset(
         .collect();
     let mut out = Vec::with_capacity(rows * cols);
     for row in row_values {
-        out.extend(row.ok_or(ReduceError::Cancelled)?);
+        out.extend(row.ok_or(ZmapError::Cancelled)?);
     }
     progress.set(1.0);
     Grid::new(rows, cols, out)
@@ -101,17 +101,17 @@ pub fn inverse_offset(
 /// Nodes where the tool meets nothing (none inside the grid) get the lowest Z-map height.
 ///
 /// # Errors
-/// [`ReduceError::Option`] for a non-positive step or a flat Z-map without a triangle of
-/// non-zero area; [`ReduceError::Cancelled`] when `progress` is cancelled.
+/// [`ZmapError::Option`] for a non-positive step or a flat Z-map without a triangle of
+/// non-zero area; [`ZmapError::Cancelled`] when `progress` is cancelled.
 pub fn cl_zmap(
     z: &Grid,
     origin: DVec2,
     step_mm: f64,
     cutter: &Cutter,
     progress: &Progress,
-) -> Result<Grid, ReduceError> {
+) -> Result<Grid, ZmapError> {
     if !(step_mm > 0.0 && step_mm.is_finite() && origin.is_finite()) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "grid step must be a positive length in mm, got {step_mm}"
         )));
     }
@@ -119,13 +119,13 @@ pub fn cl_zmap(
     let width = cols.saturating_sub(1) as f64 * step_mm;
     let height = rows.saturating_sub(1) as f64 * step_mm;
     let mesh = grid_mesh(z, origin, width, height);
-    let bvh = MeshBvh::new(&mesh).map_err(|e| ReduceError::Option(e.to_string()))?;
+    let bvh = MeshBvh::new(&mesh).map_err(|e| ZmapError::Option(e.to_string()))?;
     let nodes: Vec<DVec2> = (0..rows * cols)
         .map(|k| origin + DVec2::new((k % cols) as f64, (k / cols) as f64) * step_mm)
         .collect();
     let low = z.values().iter().fold(f64::INFINITY, |a, b| a.min(*b));
     let dropped = drop_cutter_progress(&bvh, &mesh, cutter, &nodes, progress)
-        .map_err(|_| ReduceError::Cancelled)?;
+        .map_err(|_| ZmapError::Cancelled)?;
     Grid::new(
         rows,
         cols,
@@ -219,7 +219,7 @@ mod tests {
         p.cancel();
         assert_eq!(
             inverse_offset(&z, 0.5, &ball, &p),
-            Err(ReduceError::Cancelled)
+            Err(ZmapError::Cancelled)
         );
     }
 }

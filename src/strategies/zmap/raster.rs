@@ -11,7 +11,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{Grid, ReduceError};
+use crate::geometry::zmap::{Grid, ZmapError};
 use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 
 /// Options of [`zmap_raster`].
@@ -44,7 +44,7 @@ impl Default for ZmapPathOptions {
 /// The raster path over the CL Z-map `cl` (tip heights; node (r, c) at origin + (c, r)·step).
 ///
 /// # Errors
-/// [`ReduceError::Option`] for a non-positive step, step-over, tolerance or feed, or a grid
+/// [`ZmapError::Option`] for a non-positive step, step-over, tolerance or feed, or a grid
 /// with fewer than two columns.
 pub fn zmap_raster(
     cl: &Grid,
@@ -52,7 +52,7 @@ pub fn zmap_raster(
     step_mm: f64,
     tool: ToolRecord,
     opts: &ZmapPathOptions,
-) -> Result<Toolpath, ReduceError> {
+) -> Result<Toolpath, ZmapError> {
     for (what, v) in [
         ("grid step", step_mm),
         ("step-over", opts.stepover_mm),
@@ -60,20 +60,20 @@ pub fn zmap_raster(
         ("feed", opts.feed_mm_per_min),
     ] {
         if !(v > 0.0 && v.is_finite()) {
-            return Err(ReduceError::Option(format!(
+            return Err(ZmapError::Option(format!(
                 "{what} must be positive, got {v}"
             )));
         }
     }
     if !(opts.clearance_mm >= 0.0 && opts.clearance_mm.is_finite() && origin.is_finite()) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "clearance must be ≥ 0, got {}",
             opts.clearance_mm
         )));
     }
     let (rows, cols) = (cl.rows(), cl.cols());
     if cols < 2 {
-        return Err(ReduceError::Shape(format!(
+        return Err(ZmapError::Shape(format!(
             "a {rows}×{cols} CL Z-map has no pass to cut"
         )));
     }

@@ -1,7 +1,7 @@
 //! A Z-map as a dense matrix of heights: one grid row a line, row index ↔ y, column index ↔ x
 //! (the thesis's orientation), row-major storage.
 
-use super::ReduceError;
+use super::error::ZmapError;
 
 /// A regular grid of heights (mm), row-major.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -15,17 +15,17 @@ impl Grid {
     /// A grid from row-major values.
     ///
     /// # Errors
-    /// [`ReduceError::Shape`] when `values.len() != rows·cols` or the grid is empty,
-    /// [`ReduceError::NonFinite`] for a NaN or infinite value.
-    pub fn new(rows: usize, cols: usize, values: Vec<f64>) -> Result<Self, ReduceError> {
+    /// [`ZmapError::Shape`] when `values.len() != rows·cols` or the grid is empty,
+    /// [`ZmapError::NonFinite`] for a NaN or infinite value.
+    pub fn new(rows: usize, cols: usize, values: Vec<f64>) -> Result<Self, ZmapError> {
         if rows == 0 || cols == 0 || rows.checked_mul(cols) != Some(values.len()) {
-            return Err(ReduceError::Shape(format!(
+            return Err(ZmapError::Shape(format!(
                 "{} values do not make a {rows}×{cols} grid",
                 values.len()
             )));
         }
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(ReduceError::NonFinite {
+            return Err(ZmapError::NonFinite {
                 row: i / cols + 1,
                 col: i % cols + 1,
             });
@@ -48,9 +48,9 @@ impl Grid {
     /// blank lines are skipped.
     ///
     /// # Errors
-    /// [`ReduceError::Parse`] naming the 1-based line for a value that is not a finite number or a
-    /// row of a different length; [`ReduceError::Shape`] for a file without values.
-    pub fn parse_csv(text: &str) -> Result<Self, ReduceError> {
+    /// [`ZmapError::Parse`] naming the 1-based line for a value that is not a finite number or a
+    /// row of a different length; [`ZmapError::Shape`] for a file without values.
+    pub fn parse_csv(text: &str) -> Result<Self, ZmapError> {
         let mut values = Vec::new();
         let mut cols = 0;
         let mut rows = 0;
@@ -64,12 +64,12 @@ impl Grid {
                 .split(|ch: char| ch == ',' || ch == ';' || ch.is_whitespace())
                 .filter(|f| !f.is_empty())
             {
-                let v: f64 = field.parse().map_err(|_| ReduceError::Parse {
+                let v: f64 = field.parse().map_err(|_| ZmapError::Parse {
                     line: i + 1,
                     message: format!("'{field}' is not a number"),
                 })?;
                 if !v.is_finite() {
-                    return Err(ReduceError::Parse {
+                    return Err(ZmapError::Parse {
                         line: i + 1,
                         message: format!("'{field}' is not a finite number"),
                     });
@@ -80,7 +80,7 @@ impl Grid {
             if rows == 0 {
                 cols = n;
             } else if n != cols {
-                return Err(ReduceError::Parse {
+                return Err(ZmapError::Parse {
                     line: i + 1,
                     message: format!("row has {n} values, the first row has {cols}"),
                 });

@@ -4,7 +4,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{Grid, ReduceError};
+use super::error::ZmapError;
+use super::grid::Grid;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 
@@ -13,7 +14,7 @@ use crate::geometry::mesh::TriMesh;
 /// highest point of the mesh above that node; nodes the mesh does not cover get `empty_z`.
 ///
 /// # Errors
-/// [`ReduceError::Shape`] for an empty or oversized grid, [`ReduceError::Option`] for a
+/// [`ZmapError::Shape`] for an empty or oversized grid, [`ZmapError::Option`] for a
 /// non-positive step or non-finite origin.
 pub fn zmap_from_mesh(
     bvh: &MeshBvh,
@@ -22,9 +23,9 @@ pub fn zmap_from_mesh(
     rows: usize,
     cols: usize,
     empty_z: f64,
-) -> Result<Grid, ReduceError> {
+) -> Result<Grid, ZmapError> {
     if !(step > 0.0 && step.is_finite() && origin.is_finite() && empty_z.is_finite()) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "grid step must be positive and origin finite, got step {step}"
         )));
     }
@@ -32,7 +33,7 @@ pub fn zmap_from_mesh(
         .checked_mul(cols)
         .is_none_or(|n| n == 0 || n > 50_000_000)
     {
-        return Err(ReduceError::Shape(format!("{rows}×{cols} grid")));
+        return Err(ZmapError::Shape(format!("{rows}×{cols} grid")));
     }
     let top = bvh.bbox().max.z + 1.0;
     let values = (0..rows * cols)

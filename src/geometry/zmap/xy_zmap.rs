@@ -1,6 +1,6 @@
 //! The thesis's XY-dependent Z-map (Eq. 6.9): three matrices X, Y, Z of
 //! equal size whose quad topology is regular but whose nodes are real input points, built from
-//! scattered points (mesh vertices or a point cloud), then reduced matrix by matrix.
+//! scattered points (mesh vertices or a point cloud).
 //!
 //! Construction: a reference grid of step g over the points' XY bounding box, cells centred on
 //! the nodes (r = round((y − y_min)/g), c = round((x − x_min)/g)); each cell keeps its highest
@@ -9,10 +9,13 @@
 //! the same values": deleting them leaves the piecewise-linear surface unchanged); remaining
 //! empty cells get the cell centre with z from a vertical ray cast onto the mesh (polygon input)
 //! or linear interpolation along the row and column (point clouds).
+//!
+//! Its reduction, matrix by matrix, is [`crate::reduce::reduce_xy_zmap`].
 
 use glam::{DVec2, DVec3};
 
-use super::{Grid, RankRule, ReduceError, Reduction, reduce_to_size};
+use super::error::ZmapError;
+use super::grid::Grid;
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 
@@ -53,24 +56,24 @@ impl XyZmap {
 /// Build the XY-dependent Z-map of `points` with reference step `step` (see the module docs).
 ///
 /// # Errors
-/// [`ReduceError::Option`] for a non-positive step, [`ReduceError::NonFinite`] for a
-/// non-finite point (row 1, column = its 1-based index), [`ReduceError::Shape`] for no points
+/// [`ZmapError::Option`] for a non-positive step, [`ZmapError::NonFinite`] for a
+/// non-finite point (row 1, column = its 1-based index), [`ZmapError::Shape`] for no points
 /// or a reference grid over 20 million cells.
 pub fn xy_zmap_from_points(
     points: &[DVec3],
     step: f64,
     fill: EmptyCellFill<'_>,
-) -> Result<XyZmap, ReduceError> {
+) -> Result<XyZmap, ZmapError> {
     if !(step > 0.0 && step.is_finite()) {
-        return Err(ReduceError::Option(format!(
+        return Err(ZmapError::Option(format!(
             "reference step must be a positive length in mm, got {step}"
         )));
     }
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(ReduceError::NonFinite { row: 1, col: i + 1 });
+        return Err(ZmapError::NonFinite { row: 1, col: i + 1 });
     }
     let Some(first) = points.first() else {
-        return Err(ReduceError::Shape("no points".into()));
+        return Err(ZmapError::Shape("no points".into()));
     };
     let (lo, hi) = points
         .iter()
@@ -80,7 +83,7 @@ pub fn xy_zmap_from_points(
     let size = ((hi - lo) / step).round();
     let (rows, cols) = (size.y as usize + 1, size.x as usize + 1);
     if rows.checked_mul(cols).is_none_or(|n| n > 20_000_000) {
-        return Err(ReduceError::Shape(format!("{rows}×{cols} reference grid")));
+        return Err(ZmapError::Shape(format!("{rows}×{cols} reference grid")));
     }
     let mut cells: Vec<Option<DVec3>> = vec![None; rows * cols];
     for p in points {
@@ -241,73 +244,4 @@ pub fn xy_mesh(map: &XyZmap) -> TriMesh {
         }
     }
     TriMesh::new(positions, triangles)
-}
-
-/// The result of [`reduce_xy_zmap`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct XyReduction {
-    /// Reduction of the X matrix (its own SVD and rank).
-    pub x: Reduction,
-    /// Reduction of the Y matrix.
-    pub y: Reduction,
-    /// Reduction of the Z matrix.
-    pub z: Reduction,
-    /// The reduced model.
-    pub reduced: XyZmap,
-    /// Max vertical distance from the original nodes to the reduced mesh, mm.
-    pub max_error: f64,
-    /// Mean vertical distance from the original nodes to the reduced mesh, mm.
-    pub mean_error: f64,
-    /// Original nodes outside the reduced mesh's XY footprint (not in the error figures).
-    pub uncovered: usize,
-}
-
-/// Reduce X, Y and Z separately (each its own SVD and rank under `rank_rule` and `tolerance_mm`)
-/// to `rows`×`cols` nodes, and measure the vertical error of the original nodes against the
-/// reduced surface (a vertical ray cast onto [`xy_mesh`] of the result).
-///
-/// # Errors
-/// As [`reduce_to_size`]; [`ReduceError::Shape`] when the reduced mesh has non-finite points.
-pub fn reduce_xy_zmap(
-    map: &XyZmap,
-    tolerance_mm: f64,
-    rank_rule: RankRule,
-    rows: usize,
-    cols: usize,
-) -> Result<XyReduction, ReduceError> {
-    let x = reduce_to_size(&map.x, tolerance_mm, rank_rule, rows, cols)?;
-    let y = reduce_to_size(&map.y, tolerance_mm, rank_rule, rows, cols)?;
-    let z = reduce_to_size(&map.z, tolerance_mm, rank_rule, rows, cols)?;
-    let reduced = XyZmap {
-        x: x.reduced.clone(),
-        y: y.reduced.clone(),
-        z: z.reduced.clone(),
-    };
-    let bvh = MeshBvh::new(&xy_mesh(&reduced))
-        .map_err(|e| ReduceError::Shape(format!("reduced mesh: {e}")))?;
-    let top = bvh.bbox().max.z + 1.0;
-    let (mut max_error, mut sum, mut count, mut uncovered) = (0.0_f64, 0.0, 0usize, 0usize);
-    for r in 0..map.z.rows() {
-        for c in 0..map.z.cols() {
-            let Some(p) = map.point(r, c) else { continue };
-            match bvh.ray_cast(p.truncate().extend(top), DVec3::NEG_Z, f64::INFINITY) {
-                Some(h) => {
-                    let e = (h.point.z - p.z).abs();
-                    max_error = max_error.max(e);
-                    sum += e;
-                    count += 1;
-                }
-                None => uncovered += 1,
-            }
-        }
-    }
-    Ok(XyReduction {
-        x,
-        y,
-        z,
-        reduced,
-        max_error,
-        mean_error: if count > 0 { sum / count as f64 } else { 0.0 },
-        uncovered,
-    })
 }

@@ -1,0 +1,74 @@
+//! The cutting-forces window as a workstation [`Feature`]: Machining → "Cutting forces…" opens
+//! it; its job is polled each frame, shown in the status bar and cancelled from there; a new part
+//! or project forgets the result.
+
+use std::any::Any;
+
+use super::ForcesWindow;
+use crate::app::actions::{Action, Menu};
+use crate::app::command::{Command, FeatureCommand};
+use crate::app::feature::{Feature, FeatureView, is_action};
+use crate::app::job::JobStatus;
+
+impl ForcesWindow {
+    /// The feature's id.
+    pub const ID: &'static str = "forces";
+}
+
+impl Feature for ForcesWindow {
+    fn id(&self) -> &'static str {
+        Self::ID
+    }
+
+    fn actions(&self) -> Vec<Action> {
+        let open = FeatureCommand {
+            feature: Self::ID,
+            action: "open",
+        };
+        vec![
+            Action::new(
+                Command::Feature(open),
+                "Cutting forces…",
+                Some((Menu::Machining, 2)),
+            )
+            .hint(
+                "Forces, torque and power along the active operation's path; the coefficient library",
+            ),
+        ]
+    }
+
+    fn apply(&mut self, command: Command) -> Option<Command> {
+        if is_action(&command, Self::ID, "open") {
+            self.open = true;
+            return None;
+        }
+        Some(command)
+    }
+
+    fn poll(&mut self, ctx: &egui::Context) {
+        Self::poll(self, ctx);
+    }
+
+    fn job_status(&self) -> Option<JobStatus> {
+        self.job.status()
+    }
+
+    fn cancel(&mut self) -> Option<String> {
+        Self::cancel(self)
+    }
+
+    fn reset(&mut self) {
+        let _ = self.job.cancel();
+        self.result = None;
+        self.message = None;
+        self.plot_transform = None;
+    }
+
+    fn ui(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, commands: &mut Vec<Command>) {
+        self.window(ctx, view, commands);
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
