@@ -417,7 +417,11 @@ fn real_parts_plan_without_gouges_against_any_face() {
         "real/freecad/as1-ac-214_small.stp",
     ] {
         let p = part(file);
-        let faces = curved_faces(&p);
+        let mut faces = curved_faces(&p);
+        if let Ok(only) = std::env::var("SWEEP_FACES") {
+            let only: Vec<usize> = only.split(',').filter_map(|t| t.parse().ok()).collect();
+            faces.retain(|f| only.contains(f));
+        }
         let wp = Workpiece::from_part(Path::new(file), p.clone(), &OpenOptions::default());
         let bvh = wp.bvh().expect("bvh");
         let cutter = parse_tool_spec("ball:d=6").expect("tool");
@@ -454,6 +458,57 @@ fn real_parts_plan_without_gouges_against_any_face() {
                             part_depth,
                             r.left_out.len()
                         );
+                        if let Some(h) = r
+                            .part_hits
+                            .iter()
+                            .max_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm))
+                        {
+                            let ps = &r.toolpath.poses;
+                            let (a, b) = (&ps[h.pose.saturating_sub(1)], &ps[h.pose]);
+                            let tip = a.tip.lerp(b.tip, h.move_param);
+                            let axis = a.axis.lerp(b.axis, h.move_param).normalize();
+                            let centre = tip + axis * 3.0;
+                            let d = other_face_distance(&wp, i, centre);
+                            eprintln!(
+                                "   deepest hit pose {} ({:?} after {:?}, s {:.2}) {:?} face {} \
+                                 {:.3} mm at {:.2?}; ball centre {:.2?} is {:.3} mm from \
+                                 other faces (independent depth {:.3} mm), move {:.2} mm",
+                                h.pose,
+                                b.kind,
+                                a.kind,
+                                h.move_param,
+                                h.tool_part,
+                                h.face,
+                                h.depth_mm,
+                                h.point,
+                                centre,
+                                d,
+                                3.0 - d,
+                                a.tip.distance(b.tip)
+                            );
+                        }
+                        for d in r
+                            .diagnostics
+                            .iter()
+                            .filter(|d| d.message.contains("unfixed"))
+                            .take(4)
+                        {
+                            let k = d
+                                .place
+                                .as_deref()
+                                .and_then(|l| l.strip_prefix("pose "))
+                                .and_then(|n| n.parse::<usize>().ok())
+                                .map(|n| {
+                                    (
+                                        r.toolpath.poses[n.saturating_sub(1)].kind,
+                                        r.toolpath.poses[n].kind,
+                                    )
+                                });
+                            eprintln!("   {d:?} {k:?}");
+                        }
+                        for l in r.left_out.iter().take(3) {
+                            eprintln!("   left out {l:?}");
+                        }
                         if g.max_depth_mm > 0.001 || part_depth > 0.001 {
                             failures.push(format!(
                                 "{file} face {i} {name}: exact {:.4} mm, other faces {part_depth:.4} mm",
@@ -466,4 +521,56 @@ fn real_parts_plan_without_gouges_against_any_face() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Distance from `p` to the nearest triangle of `wp`'s mesh outside face `skip` (brute force).
+fn other_face_distance(wp: &talas::import::Workpiece, skip: usize, p: DVec3) -> f64 {
+    let mut best = f64::INFINITY;
+    for t in 0..wp.mesh.triangles.len() {
+        if wp
+            .face_of_triangle
+            .get(t)
+            .is_some_and(|&f| f as usize == skip)
+        {
+            continue;
+        }
+        let Some([a, b, c]) = wp.mesh.triangle_corners(t) else {
+            continue;
+        };
+        best = best.min(point_triangle(p, a, b, c).distance(p));
+    }
+    best
+}
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+fn point_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
 }

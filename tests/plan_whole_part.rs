@@ -90,6 +90,9 @@ fn a_neighbouring_wall_entered_by_the_tool_is_reported() {
     let g = r.toolpath.summary.gouge.expect("report");
     assert!(g.exact_check && g.part_checked);
     assert_eq!(g.gouging_poses, 0, "the floor itself is not gouged");
+    // The exact (drive-face) figures stay the floor's: the walls go to part_max_depth_mm.
+    assert_eq!(g.max_depth_mm, 0.0, "exact depth mixed with the walls'");
+    assert!(g.worst_at.is_none(), "{:?}", g.worst_at);
     assert!(!r.part_hits.is_empty(), "the walls must be reported");
     // Independent: the deepest entry at a cutting pose is R − (ball centre to the mesh).
     let mut want: f64 = 0.0;
@@ -285,4 +288,53 @@ fn a_face_group_plans_as_one_path_joined_at_one_clearance() {
             .all(|d| d.place.as_deref().is_some_and(|p| p.starts_with("face "))),
         "every note names its face"
     );
+}
+
+/// A cutting move between two free poses that passes through the part (a long straight step
+/// across a neighbouring face) is found by the tilt-away: the run is split, just the stretch
+/// inside the part is left out (reported), and the two ends stay. The part is the block's
+/// 30 mm high body; the move runs along x at z = 10 from 10 mm before it to 10 mm beyond it,
+/// ball Ø6 with a vertical axis, so the stretch left out is the body's length plus about one
+/// ball diameter (the ball touches the body ±3 mm from its sides), within the 0.25 mm steps.
+#[test]
+fn a_move_through_the_part_between_two_free_poses_is_left_out() {
+    use talas::strategies::finish::tiltaway::{moves_clear, tilt_away};
+    use talas::toolpath::Pose;
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let b = bvh.bbox();
+    let y = 0.5 * (b.min.y + b.max.y);
+    let a = Pose::new(
+        MoveKind::Cut,
+        DVec3::new(b.min.x - 10.0, y, 10.0),
+        DVec3::Z,
+        1000.0,
+    );
+    let e = Pose::new(
+        MoveKind::Cut,
+        DVec3::new(b.max.x + 10.0, y, 10.0),
+        DVec3::Z,
+        1000.0,
+    );
+    let skip: [usize; 0] = [];
+    let check = PartCheck::of_workpiece(&wp, &bvh, &skip);
+    let cutter = parse_tool_spec("ball:d=6").expect("tool");
+    assert!(!moves_clear(&check, &cutter, &[a, e]));
+    let t = tilt_away(&check, &cutter, &[vec![a, e]], &TiltAway::default());
+    assert_eq!(t.runs.len(), 2, "{:?}", t.left_out);
+    assert_eq!(t.left_out.len(), 1, "{:?}", t.left_out);
+    let l = t.left_out[0];
+    assert!(!l.approach);
+    let want = (b.max.x - b.min.x) + 6.0;
+    assert!(
+        (l.length_mm - want).abs() < 0.6,
+        "left out {} mm, body + ball {want} mm",
+        l.length_mm
+    );
+    for run in &t.runs {
+        assert!(
+            check.check_path(&cutter, run).hits.is_empty(),
+            "a kept run hits"
+        );
+    }
 }

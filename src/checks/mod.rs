@@ -22,7 +22,7 @@ pub mod choice;
 mod contact;
 mod footprint;
 pub mod gouge;
-mod motion;
+pub(crate) mod motion;
 pub mod oracle;
 pub mod part;
 pub mod sweep;

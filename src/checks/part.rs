@@ -190,6 +190,12 @@ impl ToolPieces {
     pub fn top(&self) -> f64 {
         self.top
     }
+
+    /// Largest radius of the tool's pieces, mm.
+    #[must_use]
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
 }
 
 /// Signed distance of part-space `p` to `piece` placed at (`tip`, unit `axis`).

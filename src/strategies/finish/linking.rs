@@ -50,7 +50,7 @@ pub fn default_clearance(setup: &Setup<'_>, runs: &[Vec<Pose>]) -> f64 {
 }
 
 /// The point above `p` on its axis at height `z` (straight up when the axis is nearly level).
-fn above(p: &Pose, z: f64) -> DVec3 {
+pub(crate) fn above(p: &Pose, z: f64) -> DVec3 {
     if p.axis.z > 0.1 {
         p.tip + p.axis * ((z - p.tip.z) / p.axis.z).max(0.0)
     } else {
@@ -60,8 +60,16 @@ fn above(p: &Pose, z: f64) -> DVec3 {
 
 /// Join the runs (cut poses per pass) with approach, links, retracts and departure.
 /// `one_way`: never stay down between passes (one-way zig-zag returns at clearance).
+/// `clear`: whether a stay-down link (its moves from the end of one run to the start of the
+/// next, both included) is clear of the rest of the part; a link that is not retracts instead.
 #[must_use]
-pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool) -> Vec<Pose> {
+pub fn link(
+    setup: &Setup<'_>,
+    runs: &[Vec<Pose>],
+    clearance: f64,
+    one_way: bool,
+    clear: &dyn Fn(&[Pose]) -> bool,
+) -> Vec<Pose> {
     let feed = setup.opts.feed;
     let stay_down = 2.5 * setup.cutter.diameter;
     let arcs = Arcs::new(setup);
@@ -81,7 +89,13 @@ pub fn link(setup: &Setup<'_>, runs: &[Vec<Pose>], clearance: f64, one_way: bool
             && turn <= setup.opts.max_axis_step + 1e-6
             && setup.cutter.kind == crate::tools::CutterKind::Ball;
         let link_run = if near && !one_way {
-            surface_link(setup, &last_prev, first)
+            surface_link(setup, &last_prev, first).filter(|l| {
+                let mut chain = Vec::with_capacity(l.len() + 2);
+                chain.push(last_prev);
+                chain.extend_from_slice(l);
+                chain.push(*first);
+                clear(&chain)
+            })
         } else {
             None
         };
@@ -361,7 +375,7 @@ mod tests {
                     .with_contact(cc, crate::toolpath::ContactKind::Ball)
             })
             .collect();
-        let poses = link(&setup, std::slice::from_ref(&run), 30.0, false);
+        let poses = link(&setup, std::slice::from_ref(&run), 30.0, false, &|_| true);
         let first = poses
             .iter()
             .position(|p| p.kind == MoveKind::Cut)

@@ -8,7 +8,7 @@ use super::axis::AxisMode;
 use super::face::FacePatch;
 use super::pass::Pass;
 use super::setup::Setup;
-use super::tiltaway::{PartContext, note_tilt, part_check, tilt_away};
+use super::tiltaway::{PartContext, clear_height, moves_clear, note_tilt, part_check, tilt_away};
 use super::{FinishOptions, Pattern, PlanError, Strategy};
 use super::{isoparam, isoplanar, isoscallop, linking, repair};
 use crate::diagnostics::Diagnostic;
@@ -192,11 +192,16 @@ pub fn plan_finish_in(
         note_tilt(&t.left_out, t.tilted_poses, t.max_tilt_rad, &mut diags);
         left_out = t.left_out;
     }
-    let clearance = used
-        .clearance
-        .unwrap_or_else(|| linking::default_clearance(&setup, &runs));
+    // With the part known, the clearance plane lies above all of it (rapids are not checked).
+    let clearance = used.clearance.unwrap_or_else(|| {
+        let own = linking::default_clearance(&setup, &runs);
+        part.map_or(own, |ctx| {
+            own.max(clear_height(&ctx.check, cutter) + linking::DEFAULT_CLEARANCE_ABOVE)
+        })
+    });
     used.clearance = Some(clearance);
-    let poses = linking::link(&setup, &runs, clearance, !zigzag);
+    let clear = |chain: &[Pose]| part.is_none_or(|ctx| moves_clear(&ctx.check, cutter, chain));
+    let poses = linking::link(&setup, &runs, clearance, !zigzag, &clear);
     let record = ToolRecord {
         spec: spec.to_string(),
         cutter: cutter.clone(),

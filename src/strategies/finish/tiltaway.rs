@@ -22,6 +22,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::checks::motion::{Placement, interpolate, motion_bound};
 use crate::checks::part::{PartCheck, PartHit, PlacementHit, ToolPieces};
 use crate::diagnostics::Diagnostic;
 use crate::toolpath::{GougeReport, Pose, Toolpath};
@@ -85,7 +86,7 @@ pub(crate) fn note_tilt(
             None,
             format!(
                 "left out {:.2} mm ({} poses) from ({:.3}, {:.3}, {:.3}) to ({:.3}, {:.3}, {:.3}) mm: \
-                 the tool's {:?} would enter face {} by {:.3} mm and no allowed tilt frees it",
+                 the tool's {:?} would enter face {} by {:.3} mm {}",
                 l.length_mm,
                 l.poses,
                 l.start.x,
@@ -96,7 +97,12 @@ pub(crate) fn note_tilt(
                 l.end.z,
                 l.tool_part,
                 l.face,
-                l.depth_mm
+                l.depth_mm,
+                if l.approach {
+                    "on the way down to it or up from it"
+                } else {
+                    "and no allowed tilt frees it"
+                }
             ),
         ));
     }
@@ -127,10 +133,6 @@ pub(crate) fn part_check(
     report.part_max_depth_mm = r.max_depth_mm;
     let mut worst: Vec<&PartHit> = r.hits.iter().collect();
     worst.sort_by(|a, b| b.depth_mm.total_cmp(&a.depth_mm));
-    if r.max_depth_mm > report.max_depth_mm {
-        report.max_depth_mm = r.max_depth_mm;
-        report.worst_at = worst.first().map(|h| h.point);
-    }
     for h in worst.iter().take(MAX_LISTED) {
         diags.push(Diagnostic::error(
             Some(format!("pose {}", h.pose)),
@@ -175,6 +177,10 @@ pub struct LeftOut {
     pub tool_part: ToolPart,
     /// The deepest entry, mm.
     pub depth_mm: f64,
+    /// Left out because the tool cannot come down to the span's end (or leave it) along the
+    /// approach line from above the part without entering another face; `false`: the tool
+    /// enters another face on the span itself.
+    pub approach: bool,
 }
 
 /// The runs after the tilt-away.
@@ -314,10 +320,9 @@ fn tilt_run(
         .map(|p| check.placement(tool, p.tip, p.axis))
         .collect();
     if hits.iter().all(Option::is_none) {
-        return TiltResult {
-            runs: vec![run.to_vec()],
-            ..TiltResult::default()
-        };
+        let mut result = TiltResult::default();
+        split_left_out(check, tool, &densify(check, tool, run), &mut result);
+        return result;
     }
     let ball = cutter.kind == CutterKind::Ball;
     let radius = cutter.radius();
@@ -352,29 +357,113 @@ fn tilt_run(
             _ => tilted.push(*p),
         }
     }
-    split_left_out(check, tool, &tilted, &s, &mut result);
+    split_left_out(check, tool, &densify(check, tool, &tilted), &mut result);
     result
 }
 
-/// Check every pose again; split the run at the poses still hitting, and report each span.
-fn split_left_out(
+/// The run with poses inserted into every move that enters the part between its two poses
+/// (a long straight step across a neighbouring face): placements every `step_mm` of tool
+/// motion, so that the split leaves out just the part of the move that enters.
+fn densify(check: &PartCheck<'_>, tool: &ToolPieces, run: &[Pose]) -> Vec<Pose> {
+    let step = if check.step_mm.is_finite() && check.step_mm > 0.0 {
+        check.step_mm
+    } else {
+        0.1
+    };
+    let mut out: Vec<Pose> = Vec::with_capacity(run.len());
+    for (i, b) in run.iter().enumerate() {
+        if let Some(a) = i.checked_sub(1).and_then(|j| run.get(j)) {
+            let (pa, pb) = (Placement::of(a), Placement::of(b));
+            let n = (motion_bound(pa, pb, tool.top(), tool.radius()) / step)
+                .ceil()
+                .clamp(1.0, 1e5) as usize;
+            let mids: Vec<Pose> = (1..n)
+                .map(|k| {
+                    let t = k as f64 / n as f64;
+                    let q = interpolate(pa, pb, t);
+                    let cc = a.cc.zip(b.cc).map(|(x, y)| x.lerp(y, t));
+                    Pose {
+                        tip: q.tip,
+                        axis: q.axis,
+                        cc,
+                        ..*b
+                    }
+                })
+                .collect();
+            if mids.iter().any(|q| !free(check, tool, q)) {
+                out.extend(mids);
+            }
+        }
+        out.push(*b);
+    }
+    out
+}
+
+/// Height above which the tool is clear of the part: the part's top plus the tool's largest
+/// radius (a tilted holder reaches that far below its axis), mm.
+#[must_use]
+pub fn clear_height(check: &PartCheck<'_>, cutter: &Cutter) -> f64 {
+    let tool = ToolPieces::of(cutter, check.whole_tool);
+    check.bvh.bbox().max.z + tool.radius() + 1e-3
+}
+
+/// Where the tool, coming down to `p` along the linking's approach line (from above the
+/// part, the last `APPROACH_HEIGHT` a fed plunge), enters another face; `None` when the line
+/// is clear. Checked every `step_mm` along the plunge, every 1 mm above it.
+fn approach_hit(
     check: &PartCheck<'_>,
     tool: &ToolPieces,
-    run: &[Pose],
-    s: &[f64],
-    result: &mut TiltResult,
-) {
+    p: &Pose,
+    top: f64,
+) -> Option<PlacementHit> {
+    let end = super::linking::above(p, top.max(p.tip.z));
+    let line = end - p.tip;
+    let length = line.length();
+    let dir = line.try_normalize()?;
+    let plunge = super::linking::APPROACH_HEIGHT / dir.z.max(0.1) + check.step_mm.max(0.01);
+    let mut d = 0.0;
+    while d < length {
+        d += if d < plunge {
+            check.step_mm.max(0.01)
+        } else {
+            1.0
+        };
+        let tip = p.tip + dir * d.min(length);
+        if check.enters(tool, tip, p.axis) {
+            return check.placement(tool, tip, p.axis);
+        }
+    }
+    None
+}
+
+/// Whether every move between consecutive `poses` is clear of the part (placements every
+/// `step_mm` of tool motion): for stay-down links over the drive surface.
+#[must_use]
+pub fn moves_clear(check: &PartCheck<'_>, cutter: &Cutter, poses: &[Pose]) -> bool {
+    let tool = ToolPieces::of(cutter, check.whole_tool);
+    let dense = densify(check, &tool, poses);
+    dense.len() == poses.len() && dense.iter().all(|p| free(check, &tool, p))
+}
+
+/// Check every pose again; split the run at the poses still hitting, and report each span.
+/// Then each piece loses its first and last poses while the approach line to them (or the
+/// retract from them) enters the part; those are reported as approach spans.
+fn split_left_out(check: &PartCheck<'_>, tool: &ToolPieces, run: &[Pose], result: &mut TiltResult) {
+    let s = arc_lengths(run);
+    let s = s.as_slice();
     let hits: Vec<_> = run
         .iter()
         .map(|p| check.placement(tool, p.tip, p.axis))
         .collect();
+    let mut pieces: Vec<(usize, usize)> = Vec::new();
     let mut current: Vec<Pose> = Vec::new();
     let mut span: Option<(usize, usize, PlacementHit)> = None;
     for (i, (p, h)) in run.iter().zip(&hits).enumerate() {
         match h {
             Some(hit) => {
                 if !current.is_empty() {
-                    result.runs.push(std::mem::take(&mut current));
+                    pieces.push((i - current.len(), i));
+                    current.clear();
                 }
                 span = Some(match span {
                     Some((a, _, worst)) if worst.1 >= hit.1 => (a, i, worst),
@@ -394,8 +483,62 @@ fn split_left_out(
         result.left_out.push(left_out(run, s, sp));
     }
     if !current.is_empty() {
-        result.runs.push(current);
+        pieces.push((run.len() - current.len(), run.len()));
     }
+    let top = check.bvh.bbox().max.z + tool.radius() + 1e-3;
+    for (a, b) in pieces {
+        let (a, b) = trim_approach(check, tool, run, s, (a, b), top, result);
+        if a < b {
+            result.runs.push(run[a..b].to_vec());
+        }
+    }
+}
+
+/// The piece `run[a..b]` without its leading and trailing poses whose approach line enters
+/// the part (each such stretch reported as an approach span).
+fn trim_approach(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    run: &[Pose],
+    s: &[f64],
+    (mut a, mut b): (usize, usize),
+    top: f64,
+    result: &mut TiltResult,
+) -> (usize, usize) {
+    let mut worst: Option<PlacementHit> = None;
+    let start = a;
+    while a < b {
+        match approach_hit(check, tool, &run[a], top) {
+            Some(h) => {
+                worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
+                a += 1;
+            }
+            None => break,
+        }
+    }
+    if let Some(w) = worst.take() {
+        result.left_out.push(LeftOut {
+            approach: true,
+            ..left_out(run, s, (start, a - 1, w))
+        });
+    }
+    let end = b;
+    while b > a {
+        match approach_hit(check, tool, &run[b - 1], top) {
+            Some(h) => {
+                worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
+                b -= 1;
+            }
+            None => break,
+        }
+    }
+    if let Some(w) = worst {
+        result.left_out.push(LeftOut {
+            approach: true,
+            ..left_out(run, s, (b, end - 1, w))
+        });
+    }
+    (a, b)
 }
 
 fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)) -> LeftOut {
@@ -407,6 +550,7 @@ fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)
         face: worst.2,
         tool_part: worst.3,
         depth_mm: worst.1,
+        approach: false,
     }
 }
 
