@@ -49,7 +49,7 @@ mod state;
 pub mod tool_axis;
 
 pub use cutting::LiveStock;
-pub use motion::{Kinematics, Run, sub_block};
+pub use motion::{CutPiece, Kinematics, Run, sub_block};
 pub use state::{Control, ControlError};
 
 use glam::DVec3;
