@@ -969,6 +969,12 @@ fn the_cutting_worker_cuts_the_same_stock_as_the_inline_cutting() {
     let (a, b) = (inline.stock().unwrap(), worker.stock().unwrap());
     assert_eq!(a.removed_mm3().to_bits(), b.removed_mm3().to_bits());
     assert_eq!(confirmed.to_bits(), b.removed_mm3().to_bits());
+    let reference = reference_removed();
+    assert_eq!(
+        a.removed_mm3().to_bits(),
+        reference.to_bits(),
+        "AUTO vs simulate"
+    );
     // Debug prints every float so that it reads back to the same bits.
     let dexels = |s: &LiveStock| format!("{:?}", s.stock.families);
     assert!(dexels(a) == dexels(b), "the dexels differ");

@@ -12,7 +12,7 @@
 //! outcome stops the machine the worker drops every later job until [`CutWorker::resume`], as
 //! the control would not have cut them.
 
-use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
+use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 
 use crate::control::CutPiece;
@@ -64,7 +64,7 @@ pub enum CutOutcome {
     /// Piece `block` of the job removed `removed_mm3` with the spindle standing.
     SpindleStopped {
         /// The piece of motion that cut.
-        block: MotionBlock,
+        block: Box<MotionBlock>,
         /// Volume it removed, mm³.
         removed_mm3: f64,
     },
@@ -132,7 +132,7 @@ impl LiveStock {
             let removed_mm3 = self.removed_mm3() - before;
             if removed_mm3 > CUT_MM3 {
                 return Ok(CutOutcome::SpindleStopped {
-                    block: p.piece.clone(),
+                    block: Box::new(p.piece.clone()),
                     removed_mm3,
                 });
             }
@@ -377,10 +377,7 @@ impl CutWorker {
         if wait {
             return self.from.recv().ok();
         }
-        match self.from.try_recv() {
-            Ok(d) => Some(d),
-            Err(TryRecvError::Empty | TryRecvError::Disconnected) => None,
-        }
+        self.from.try_recv().ok()
     }
 
     /// Stop the worker after the jobs sent and hand back the stock (None when the worker

@@ -140,7 +140,7 @@ impl Control {
         while self.take_answer(true) {}
     }
 
-    /// With a worker: when the cutting falls [`MAX_PENDING_CUTS`] pieces behind, the motion
+    /// With a worker: when the cutting falls five pieces of motion behind, the motion
     /// waits for it (`paced`, the panel: a frame never waits for the cutting, the simulated
     /// clock slows instead) or the call waits (the default: the motion on the simulated clock
     /// is the same as without a worker).
