@@ -6,7 +6,8 @@
 
 use glam::DVec3;
 use talas::control::{
-    Action, Control, ControlConfig, LiveStock, Mode, OverrideKind, RunState, codes,
+    Action, Control, ControlConfig, CutPiece, LiveStock, Mode, OverrideKind, RunState, codes,
+    sub_block,
 };
 use talas::diagnostics::Progress;
 use talas::feed::{PlanInput, PlanOptions, machine_limits, plan};
@@ -947,4 +948,110 @@ fn rapid_override_0_25_50_100_retimes_a_rapid() {
     }
     let t0 = rapid_time(0.0);
     assert!((t0 - (0.5 + want100)).abs() <= 2e-3, "0 %: {t0} s");
+}
+
+/// The same AUTO run with the stock cut on a worker thread (as the operator panel does) and on
+/// the control's own thread (the command line): the same stock bit for bit, the same end.
+/// `cargo test --no-default-features --test control worker`
+#[test]
+fn the_cutting_worker_cuts_the_same_stock_as_the_inline_cutting() {
+    let mut inline = cutting_control();
+    let mut rec = Recorder::new(&inline);
+    let t_inline = run_auto(&mut inline, &mut rec, None);
+    let mut worker = cutting_control();
+    worker.start_cutting_worker();
+    assert!(worker.stock().is_none() && worker.cutter().is_some());
+    let mut rec = Recorder::new(&worker);
+    let t_worker = run_auto(&mut worker, &mut rec, None);
+    rec.check_limits(worker.machine());
+    let confirmed = worker.snapshot().removed_volume_mm3;
+    worker.stop_cutting_worker();
+    let (a, b) = (inline.stock().unwrap(), worker.stock().unwrap());
+    assert_eq!(a.removed_mm3().to_bits(), b.removed_mm3().to_bits());
+    assert_eq!(confirmed.to_bits(), b.removed_mm3().to_bits());
+    let reference = reference_removed();
+    assert_eq!(
+        a.removed_mm3().to_bits(),
+        reference.to_bits(),
+        "AUTO vs simulate"
+    );
+    // Debug prints every float so that it reads back to the same bits.
+    let dexels = |s: &LiveStock| format!("{:?}", s.stock.families);
+    assert!(dexels(a) == dexels(b), "the dexels differ");
+    assert_eq!(t_inline.to_bits(), t_worker.to_bits());
+    assert_eq!(inline.position(), worker.position());
+    assert!(worker.alarms().is_empty());
+}
+
+/// A rapid into the stock cut by the worker raises the alarm the inline cutting raises (same
+/// line, position and text) and stops the machine short of the programmed end.
+#[test]
+fn the_cutting_worker_raises_the_rapid_collision_at_the_same_block() {
+    let run = |threaded: bool| {
+        let mut c = cutting_control();
+        if threaded {
+            c.start_cutting_worker();
+        }
+        let mut rec = Recorder::new(&c);
+        home(&mut c, &mut rec);
+        c.apply(Action::SetMode(Mode::Mdi)).unwrap();
+        c.apply(Action::Mdi("G0 X-150 Y0 Z-2".into())).unwrap();
+        rec.until_idle(&mut c, 60.0);
+        c.apply(Action::Mdi("G0 X150".into())).unwrap();
+        rec.until_idle(&mut c, 60.0);
+        rec.check_limits(c.machine());
+        let a = c
+            .alarms()
+            .iter()
+            .find(|a| a.code == codes::COLLISION_RAPID)
+            .cloned()
+            .expect("a rapid collision alarm");
+        (a, c.position()[0])
+    };
+    let (inline, x_inline) = run(false);
+    let (worker, x_worker) = run(true);
+    assert_eq!(inline.line, Some(2));
+    assert_eq!(
+        (inline.line, inline.position, &inline.text),
+        (worker.line, worker.position, &worker.text)
+    );
+    assert!(
+        x_worker < 150.0 && x_inline < 150.0,
+        "{x_inline} {x_worker}"
+    );
+}
+
+/// Cutting a program in pieces of its blocks (as the control cuts what each 20 ms of motion
+/// played), each piece continuing the last, gives the stock of one whole `talas simulate` run
+/// bit for bit (arcs are cut in their own steps as the motion passes them).
+#[test]
+fn piecewise_live_cutting_equals_one_whole_run() {
+    let cutter = parse_tool_spec("flat:d=6").unwrap();
+    let m = Machine::builtin("mill-3axis").unwrap();
+    let prog = interpret(PROGRAM, &InterpretOptions::default()).unwrap();
+    let mut whole = LiveStock::new(stock(), cutter.clone(), RES);
+    whole.cut(prog.blocks.clone(), &m).unwrap();
+    let mut pieces = LiveStock::new(stock(), cutter, RES);
+    for b in &prog.blocks {
+        for k in 0..7 {
+            let (u0, u1) = (f64::from(k) / 7.0, f64::from(k + 1) / 7.0);
+            let piece = CutPiece {
+                block: b.clone(),
+                piece: sub_block(b, u0, u1),
+                to: u1,
+            };
+            pieces.cut_pieces(&[piece], &m).unwrap();
+        }
+    }
+    let (w, p) = (whole.removed_mm3(), pieces.removed_mm3());
+    assert!(w > 500.0, "the program cuts: {w} mm³");
+    assert_eq!(w.to_bits(), p.to_bits(), "whole {w} mm³, pieces {p} mm³");
+    let dexels = |s: &LiveStock| format!("{:?}", s.stock.families);
+    assert!(dexels(&whole) == dexels(&pieces), "the dexels differ");
+    let reference = reference_removed();
+    assert_eq!(
+        w.to_bits(),
+        reference.to_bits(),
+        "{w} vs simulate {reference} mm³"
+    );
 }

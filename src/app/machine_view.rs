@@ -152,8 +152,8 @@ impl MachineView {
     pub fn instances_for(&mut self, control: &Control) -> Vec<MeshInstance> {
         let machine = control.machine();
         let joints = machine_joints(machine, &control.position());
-        let gauge = control.stock().map_or(0.0, |s| {
-            s.cutter.overall_length + s.cutter.holder.iter().map(|h| h.length).sum::<f64>()
+        let gauge = control.cutter().map_or(0.0, |c| {
+            c.overall_length + c.holder.iter().map(|h| h.length).sum::<f64>()
         });
         let mut out = self.instances(machine, &joints, gauge);
         out.extend(self.fixture_meshes(control.fixtures()));
@@ -244,13 +244,13 @@ pub fn panel_machine(
         viewport.camera.set_view(v);
         viewport.camera.fit(sphere, viewport.aspect);
     }
-    if let Some(s) = control.stock() {
+    if let Some(cutter) = control.cutter() {
         let machine = control.machine();
         let pose = machine.forward(&machine_joints(machine, &control.position()));
         viewport.tool_pose = Some(crate::app::viewport::ToolPose {
             tip: pose.tip,
             axis: pose.axis,
-            cutter: s.cutter.clone(),
+            cutter: cutter.clone(),
         });
     }
     meshes

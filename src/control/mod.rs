@@ -35,7 +35,12 @@
 //!   jogs: the spindle buttons) raises [`codes::SPINDLE_STOPPED`] naming the line and stops.
 //! - With a stock and a tool, every piece of motion played is cut into the dexel stock
 //!   ([`cutting`]); a rapid through material or a holder/shank in material stops the motion
-//!   with a collision alarm naming the bodies, the line and the position.
+//!   with a collision alarm naming the bodies, the line and the position. The pieces continue
+//!   each other (arcs and rotary moves in their own simulation steps), so a whole program cut
+//!   live leaves the stock of one `talas simulate` run, bit for bit. The cutting runs on the
+//!   caller's thread or, after [`Control::start_cutting_worker`], on a worker thread that owns
+//!   the stock (the operator panel: frames do not wait for the removal); the same pieces go to
+//!   it in the same order, so the stock is the same.
 //! - When the machine file has bodies, every motion is tested against machine collisions
 //!   ([`collide`]): head, spindle, tool and holder against the bed, the table side (table,
 //!   trunnion, cradle, rotary table), the stock's bounding box and the fixtures; the first
@@ -49,7 +54,7 @@ mod state;
 pub mod tool_axis;
 
 pub use cutting::LiveStock;
-pub use motion::{Kinematics, Run, sub_block};
+pub use motion::{CutPiece, Kinematics, Run, sub_block};
 pub use state::{Control, ControlError};
 
 use glam::DVec3;

@@ -399,9 +399,10 @@ impl Run {
         out
     }
 
-    /// The programmed motion between path positions `s0` and `s1` as blocks (for cutting).
+    /// The programmed motion between path positions `s0` and `s1` as pieces of blocks (for
+    /// cutting).
     #[must_use]
-    pub fn pieces(&self, s0: f64, s1: f64) -> Vec<MotionBlock> {
+    pub fn pieces(&self, s0: f64, s1: f64) -> Vec<CutPiece> {
         let mut out = Vec::new();
         if !(s1 > s0) {
             return out;
@@ -422,10 +423,25 @@ impl Run {
             if u1 < 1.0 {
                 piece.end = joints_like(&self.point_on(k, s1 - a), &block.end);
             }
-            out.push(piece);
+            out.push(CutPiece {
+                block: block.clone(),
+                piece,
+                to: u1,
+            });
         }
         out
     }
+}
+
+/// A piece of a programmed block that the motion has played.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CutPiece {
+    /// The whole block.
+    pub block: MotionBlock,
+    /// The piece, as a block of its own.
+    pub piece: MotionBlock,
+    /// Fraction of the block's path where the piece ends (1 at its end).
+    pub to: f64,
 }
 
 /// A slot vector as joints, keeping only the rotary axes `like` has.

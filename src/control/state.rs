@@ -140,6 +140,8 @@ pub struct Control {
     mpg_pending: Option<(char, f64)>,
     /// Machine bodies, tool and table extras (when the machine has bodies).
     collide: Option<crate::machine::collision::CollisionModel>,
+    /// The stock's cutting thread, when the stock is cut off this thread.
+    worker: Option<cut::WorkerLink>,
 }
 
 impl Control {
@@ -179,6 +181,7 @@ impl Control {
             home_queue: VecDeque::new(),
             mpg_pending: None,
             collide: collision_model(&cfg),
+            worker: None,
             cfg,
         };
         control.session = Session::new(control.interp_options())
@@ -201,7 +204,8 @@ impl Control {
         &self.cfg.machine
     }
 
-    /// The live stock, if any.
+    /// The live stock, if any, when it is cut on this thread (`None` while a worker cuts it:
+    /// see [`Control::start_cutting_worker`]).
     #[must_use]
     pub fn stock(&self) -> Option<&super::LiveStock> {
         self.cfg.stock.as_ref()
@@ -246,10 +250,11 @@ impl Control {
     }
 
     /// Whether nothing moves and nothing waits to move by itself (a dwell, the next homing
-    /// axis, the next AUTO stretch).
+    /// axis, the next AUTO stretch) or to be cut by the worker.
     #[must_use]
     pub fn is_idle(&self) -> bool {
         self.active.is_none()
+            && self.cuts_pending() == 0
             && self.dwell_left <= 0.0
             && self.home_queue.is_empty()
             && self.mpg_pending.is_none()
@@ -381,6 +386,8 @@ impl Control {
                 Ok(())
             }
             Action::Reset => {
+                self.wait_for_cutting();
+                self.resume_cutting();
                 self.stop_all();
                 self.alarms.clear();
                 self.estop = false;
@@ -1012,6 +1019,10 @@ impl Control {
         }
         let mut left = dt;
         while left > 1e-12 {
+            if self.active.is_some() && !self.cutting_keeps_up() {
+                // The motion waits for the cutting worker.
+                return;
+            }
             if self.active.as_ref().is_some_and(|a| a.run.finished()) {
                 self.finish_active();
                 continue;
@@ -1067,6 +1078,7 @@ impl Control {
         if self.active.as_ref().is_some_and(|a| a.run.finished()) {
             self.finish_active();
         }
+        self.poll_cutting();
     }
 
     /// Run the clock in steps of a millisecond until the control is idle (or `max_s` has
@@ -1083,6 +1095,7 @@ impl Control {
     /// every 20 ms of motion and at the end of each motion).
     pub fn flush_cutting(&mut self) {
         self.cut_pending();
+        self.wait_for_cutting();
     }
 
     /// Test the motion played since the last test for machine collisions; the first contact
@@ -1142,6 +1155,7 @@ impl Control {
     fn retime_rest(&mut self) {
         self.check_machine();
         self.cut_pending();
+        self.wait_for_cutting();
         let Some(a) = self.active.take() else {
             return;
         };
@@ -1159,6 +1173,7 @@ impl Control {
     fn finish_active(&mut self) {
         self.check_machine();
         self.cut_pending();
+        self.wait_for_cutting();
         let Some(a) = self.active.take() else {
             return;
         };
@@ -1260,11 +1275,7 @@ impl Control {
             line,
             alarms: self.alarms.clone(),
             increment: self.increment,
-            removed_volume_mm3: self
-                .cfg
-                .stock
-                .as_ref()
-                .map_or(0.0, super::LiveStock::removed_mm3),
+            removed_volume_mm3: self.removed_mm3(),
         };
         for a in &self.cfg.machine.axes {
             let Some(k) = slot_of(a.name) else {

@@ -418,7 +418,11 @@ fn build_control(source: &PanelSource<'_>) -> Result<Control, String> {
         ));
         cfg.stock = Some(LiveStock::new(stock, cutter.clone(), STOCK_RESOLUTION_MM));
     }
-    Control::new(cfg).map_err(|e| e.to_string())
+    let mut control = Control::new(cfg).map_err(|e| e.to_string())?;
+    // The stock is cut on a worker thread, so frames stay short while AUTO cuts.
+    control.start_cutting_worker();
+    control.pace_motion_by_cutting(true);
+    Ok(control)
 }
 
 /// The unit of `axis`'s numbers: mm, or ° for a rotary axis.
