@@ -951,7 +951,8 @@ fn rapid_override_0_25_50_100_retimes_a_rapid() {
 }
 
 /// The same AUTO run with the stock cut on a worker thread (as the operator panel does) and on
-/// the control's own thread (the command line): the same stock bit for bit, the same end.
+/// the control's own thread (the command line): the same stock bit for bit, the same end, and the
+/// worker's stock mesh for the machine view is the inline stock's mesh.
 /// `cargo test --no-default-features --test control worker`
 #[test]
 fn the_cutting_worker_cuts_the_same_stock_as_the_inline_cutting() {
@@ -965,6 +966,28 @@ fn the_cutting_worker_cuts_the_same_stock_as_the_inline_cutting() {
     let t_worker = run_auto(&mut worker, &mut rec, None);
     rec.check_limits(worker.machine());
     let confirmed = worker.snapshot().removed_volume_mm3;
+    // The machine view's stock mesh, made by the worker, is the inline stock's mesh; once
+    // taken, no new one is made while the stock stays as it is.
+    let mut drawn = None;
+    for _ in 0..2000 {
+        drawn = worker.stock_mesh();
+        if drawn.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let drawn = drawn.expect("the worker meshes the stock");
+    let here = inline.stock().unwrap().stock.closed_mesh();
+    assert!(!drawn.triangles.is_empty());
+    assert_eq!(
+        (&drawn.positions, &drawn.triangles),
+        (&here.positions, &here.triangles)
+    );
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert!(
+        worker.stock_mesh().is_none(),
+        "an unchanged stock is not meshed again"
+    );
     worker.stop_cutting_worker();
     let (a, b) = (inline.stock().unwrap(), worker.stock().unwrap());
     assert_eq!(a.removed_mm3().to_bits(), b.removed_mm3().to_bits());

@@ -51,21 +51,35 @@ pub struct MachineView {
     /// The fixtures drawn, and their meshes (table frame = world).
     fixtures: Vec<crate::machine::collision::TableExtra>,
     fixture_draws: Vec<(DataId, Arc<MeshData>)>,
+    /// The live stock as last meshed (table frame = world), and when a mesh was last taken.
+    stock_draw: Option<(DataId, Arc<MeshData>)>,
+    stock_taken: Option<std::time::Instant>,
 }
+
+/// Colour of the live stock (sRGB), as the simulation draws it.
+const STOCK_COLOUR: Rgba8 = [196, 170, 120, 255];
+/// Shortest time between two stock meshes in the machine view, s (meshing the stock costs
+/// the cutting worker a few milliseconds each time).
+const STOCK_MESH_EVERY_S: f64 = 0.25;
 
 /// Colour of fixtures (risers, vices): aluminium.
 const FIXTURE_COLOUR: Rgba8 = [200, 186, 150, 255];
 
 /// Flat-shaded mesh data of a body (each triangle its own vertices and face normal).
 fn mesh_data(mesh: &crate::machine::BodyMesh) -> MeshData {
+    flat_triangles(&mesh.vertices, &mesh.triangles)
+}
+
+/// Flat-shaded mesh data of a triangle mesh (the live stock).
+fn flat_mesh_data(mesh: &crate::geometry::mesh::TriMesh) -> MeshData {
+    flat_triangles(&mesh.positions, &mesh.triangles)
+}
+
+/// Each triangle with its own three vertices and its face normal.
+fn flat_triangles(vertices: &[DVec3], triangles: &[[u32; 3]]) -> MeshData {
     let mut out = MeshData::default();
-    for t in &mesh.triangles {
-        let p = t.map(|i| {
-            mesh.vertices
-                .get(i as usize)
-                .copied()
-                .unwrap_or(DVec3::ZERO)
-        });
+    for t in triangles {
+        let p = t.map(|i| vertices.get(i as usize).copied().unwrap_or(DVec3::ZERO));
         let n = (p[1] - p[0])
             .cross(p[2] - p[0])
             .normalize_or_zero()
@@ -160,6 +174,30 @@ impl MachineView {
         out
     }
 
+    /// The live stock as it is cut, meshed at most every [`STOCK_MESH_EVERY_S`] (the
+    /// latest mesh is drawn meanwhile; none before the first arrives or without a stock).
+    pub fn stock_instance(&mut self, control: &mut Control) -> Option<MeshInstance> {
+        let due = self
+            .stock_taken
+            .is_none_or(|t| t.elapsed().as_secs_f64() >= STOCK_MESH_EVERY_S);
+        if due {
+            if let Some(mesh) = control.stock_mesh() {
+                self.next_id = self.next_id.max(FIRST_ID) + 1;
+                self.stock_draw = Some((self.next_id, Arc::new(flat_mesh_data(&mesh))));
+                self.stock_taken = Some(std::time::Instant::now());
+            } else if control.cutter().is_none() {
+                self.stock_draw = None;
+            }
+        }
+        self.stock_draw.as_ref().map(|(id, data)| MeshInstance {
+            id: *id,
+            data: Arc::clone(data),
+            world_from_mesh: Mat4::IDENTITY,
+            colour: STOCK_COLOUR,
+            scalar_map: None,
+        })
+    }
+
     /// The fixtures on the table (table coordinates, which are the world's).
     pub fn fixture_meshes(
         &mut self,
@@ -232,10 +270,11 @@ pub fn panel_machine(
         return Vec::new();
     }
     let preset = panel.take_machine_view();
+    let stock = panel.control_mut().and_then(|c| view.stock_instance(c));
     let Some(control) = panel.control() else {
         return Vec::new();
     };
-    let meshes = view.instances_for(control);
+    let mut meshes = view.instances_for(control);
     let first = view
         .fit_once(&meshes)
         .map(|s| (crate::render::StandardView::Iso, s));
@@ -253,5 +292,7 @@ pub fn panel_machine(
             cutter: cutter.clone(),
         });
     }
+    // After the camera fit: the stock is inside the machine's sphere anyway.
+    meshes.extend(stock);
     meshes
 }

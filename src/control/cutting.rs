@@ -18,6 +18,7 @@ use std::thread::JoinHandle;
 use crate::control::CutPiece;
 use crate::diagnostics::Progress;
 use crate::gcode::{MotionBlock, Program};
+use crate::geometry::mesh::TriMesh;
 use crate::machine::Machine;
 use crate::simulation::{
     Collision, Continued, DexelStock, MovePlan, SimError, SimMove, SimOptions, Step, StepOptions,
@@ -290,6 +291,7 @@ fn append(out: &mut MovePlan, src: &MovePlan, range: std::ops::Range<usize>) {
 enum ToWorker {
     Job(u64, CutJob),
     Resume,
+    Mesh,
 }
 
 /// A finished job of a [`CutWorker`].
@@ -307,6 +309,7 @@ pub struct CutDone {
 pub struct CutWorker {
     to: Option<Sender<ToWorker>>,
     from: Receiver<CutDone>,
+    meshes: Receiver<TriMesh>,
     handle: Option<JoinHandle<LiveStock>>,
     next_id: u64,
 }
@@ -317,11 +320,16 @@ impl CutWorker {
     pub fn spawn(mut stock: LiveStock, machine: Machine) -> Self {
         let (to, jobs) = channel::<ToWorker>();
         let (done, from) = channel::<CutDone>();
+        let (mesh_out, meshes) = channel::<TriMesh>();
         let handle = std::thread::spawn(move || {
             let mut halted = false;
             for msg in jobs {
                 match msg {
                     ToWorker::Resume => halted = false,
+                    ToWorker::Mesh => {
+                        // The panel may have gone; the cutting goes on regardless.
+                        let _ = mesh_out.send(stock.stock.closed_mesh());
+                    }
                     ToWorker::Job(id, job) => {
                         let outcome = if halted {
                             CutOutcome::Clean
@@ -348,6 +356,7 @@ impl CutWorker {
         Self {
             to: Some(to),
             from,
+            meshes,
             handle: Some(handle),
             next_id: 0,
         }
@@ -369,6 +378,19 @@ impl CutWorker {
         if let Some(to) = &self.to {
             let _ = to.send(ToWorker::Resume);
         }
+    }
+
+    /// Ask for a closed mesh of the stock as it is after the jobs sent so far (to draw it);
+    /// [`CutWorker::take_mesh`] hands it over when it is made.
+    pub fn request_mesh(&self) {
+        if let Some(to) = &self.to {
+            let _ = to.send(ToWorker::Mesh);
+        }
+    }
+
+    /// The newest stock mesh the worker has made since the last call, if any.
+    pub fn take_mesh(&self) -> Option<TriMesh> {
+        self.meshes.try_iter().last()
     }
 
     /// A finished job, when one is ready; `wait` blocks until one is (None when the worker

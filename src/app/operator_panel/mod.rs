@@ -199,6 +199,11 @@ impl OperatorPanel {
         self.control.as_ref()
     }
 
+    /// The control, to change (after the panel built it).
+    pub fn control_mut(&mut self) -> Option<&mut Control> {
+        self.control.as_mut()
+    }
+
     /// The mode selected on the panel.
     #[must_use]
     pub fn mode(&self) -> PanelMode {

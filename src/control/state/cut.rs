@@ -16,6 +16,7 @@ use super::{Control, Kind};
 use crate::control::cutting::{CutJob, CutOutcome, CutWorker};
 use crate::control::{CutPiece, codes};
 use crate::gcode::{MotionBlock, MotionKind};
+use crate::geometry::mesh::TriMesh;
 use crate::simulation::{Collision, CollisionKind};
 use crate::tools::Cutter;
 
@@ -32,6 +33,11 @@ pub(super) struct WorkerLink {
     failed: bool,
     /// The motion waits for the cutting instead of the caller.
     paced: bool,
+    /// A stock mesh has been asked for and not yet taken.
+    mesh_asked: bool,
+    /// The removed volume (mm³) confirmed when the last mesh was asked for: a new mesh is
+    /// asked for only after the stock has changed.
+    meshed_at_mm3: Option<f64>,
 }
 
 impl Control {
@@ -51,6 +57,8 @@ impl Control {
             pending: VecDeque::new(),
             failed: false,
             paced: false,
+            mesh_asked: false,
+            meshed_at_mm3: None,
         });
     }
 
@@ -68,6 +76,30 @@ impl Control {
         match &self.worker {
             Some(w) => Some(&w.cutter),
             None => self.cfg.stock.as_ref().map(|s| &s.cutter),
+        }
+    }
+
+    /// A closed mesh of the stock to draw, in table coordinates: at once when the stock is cut
+    /// on this thread; with a worker, the newest mesh it has made since the last call (a new
+    /// one is asked for when none is on its way and the stock has changed since the last, so
+    /// calling this once per frame gives a mesh as often as the worker can make one between
+    /// its cuts). `None` without a stock, while the worker's mesh is on its way, or when the
+    /// stock has not changed since the last mesh.
+    pub fn stock_mesh(&mut self) -> Option<TriMesh> {
+        match &mut self.worker {
+            Some(link) => {
+                let mesh = link.worker.take_mesh();
+                if mesh.is_some() {
+                    link.mesh_asked = false;
+                }
+                if !link.mesh_asked && link.meshed_at_mm3 != Some(link.removed_mm3) {
+                    link.worker.request_mesh();
+                    link.mesh_asked = true;
+                    link.meshed_at_mm3 = Some(link.removed_mm3);
+                }
+                mesh
+            }
+            None => self.cfg.stock.as_ref().map(|s| s.stock.closed_mesh()),
         }
     }
 
