@@ -299,9 +299,20 @@ fn left_over(sim: &Simulated, x_range: (f64, f64), skip: (f64, f64)) -> (f64, DV
 /// right of the corner and the wall as far up the wall, and the material between its contacts
 /// is out of its reach. Everywhere else over the pocket the simulated stock must keep less than
 /// the scallop height plus the chord tolerance and the simulation's step (0.02 mm).
-/// `cargo test --no-default-features --test rest -- rest_after_rough`
+/// `cargo test --no-default-features --test rest -- rest_after --nocapture`
 #[test]
 fn rest_after_roughing_and_finishing_leaves_the_scallop_wherever_the_small_ball_reaches() {
+    rest_acceptance(false);
+}
+
+/// [`rest_after_roughing_and_finishing_leaves_the_scallop_wherever_the_small_ball_reaches`]
+/// with the rest taken from the simulated stock of the roughing and the finishing.
+#[test]
+fn rest_from_the_stock_after_roughing_and_finishing_leaves_the_scallop_where_it_reaches() {
+    rest_acceptance(true);
+}
+
+fn rest_acceptance(stock: bool) {
     let part = Workpiece::from_mesh(Path::new("corner.stl"), corner_part(), Vec::new());
     let spec = |s: &str| parse_tool_spec(s).unwrap();
     let entry = |name: &str, s: &str| ToolEntry {
@@ -316,11 +327,13 @@ fn rest_after_roughing_and_finishing_leaves_the_scallop_wherever_the_small_ball_
     let mut rest_op = Operation::new(OperationKind::Rest, 2, 0);
     if let Operation::Rest {
         reference_tool,
+        from_stock,
         scallop_mm,
         ..
     } = &mut rest_op
     {
         *reference_tool = 1;
+        *from_stock = stock;
         *scallop_mm = h;
     }
     let project = Project {
@@ -333,9 +346,30 @@ fn rest_after_roughing_and_finishing_leaves_the_scallop_wherever_the_small_ball_
         operations: vec![Operation::new(OperationKind::Rough, 0, 0), finish, rest_op],
         ..Project::default()
     };
-    let paths: Vec<_> = (0..3)
-        .map(|i| compute(&project, i, &part, &Progress::new()).unwrap().toolpath)
+    let computed: Vec<_> = (0..3)
+        .map(|i| compute(&project, i, &part, &Progress::new()).unwrap())
         .collect();
+    let paths: Vec<_> = computed.iter().map(|c| c.toolpath.clone()).collect();
+    if stock {
+        let alone = Project {
+            operations: vec![project.operations[2].clone()],
+            ..project.clone()
+        };
+        let e = compute(&alone, 0, &part, &Progress::new()).unwrap_err();
+        assert!(e.to_string().contains("needs an earlier operation"), "{e}");
+        // After the roughing alone (0.3 mm allowance) the stock is rest everywhere: the passes
+        // span the part, where the reference tool's rest lies in the two corners only.
+        let rough_only = Project {
+            operations: vec![project.operations[0].clone(), project.operations[2].clone()],
+            ..project.clone()
+        };
+        let tp = compute(&rough_only, 1, &part, &Progress::new()).unwrap().toolpath;
+        let xs = tp.poses.iter().filter(|p| p.kind == MoveKind::Cut).map(|p| p.tip.x);
+        let (lo, hi) = xs.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+        assert!(lo < 1.0 && hi > 35.0, "rest after roughing spans x {lo}..{hi}");
+    }
+    let said = &computed[2].diagnostics[0].message;
+    assert_eq!(said.contains("simulated stock"), stock, "{said}");
     let settings = SimulationSettings {
         resolution_mm: Some(0.1),
         ..SimulationSettings::default()
@@ -362,8 +396,9 @@ fn rest_after_roughing_and_finishing_leaves_the_scallop_wherever_the_small_ball_
     assert!(w <= tol, "{w} mm left at {at_w} where the 3 mm ball reaches");
     assert!(after.max_gouge_mm < 0.01, "gouge {} mm", after.max_gouge_mm);
     eprintln!(
-        "rest acceptance: before rest {b:.4} mm in the fillet, {sharp:.4} mm at the sharp corner; \
+        "rest acceptance (from the stock: {stock}, {} runs): before rest {b:.4} mm in the fillet, {sharp:.4} mm at the sharp corner; \
          after {a:.4} / {w:.4} mm (tolerance {tol} mm), gouge {:.4} mm",
+        computed[2].passes,
         after.max_gouge_mm
     );
 }
