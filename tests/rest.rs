@@ -12,12 +12,12 @@ use std::path::Path;
 use common::{talas, temp_file};
 use glam::DVec3;
 use talas::diagnostics::Progress;
-use talas::import::Workpiece;
-use talas::project::pipeline::compute;
-use talas::project::simulate::{SimulationSettings, Simulated, simulate_toolpaths};
-use talas::project::{Operation, OperationKind, Project, ToolEntry};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
+use talas::import::Workpiece;
+use talas::project::pipeline::compute;
+use talas::project::simulate::{Simulated, SimulationSettings, simulate_toolpaths};
+use talas::project::{Operation, OperationKind, Project, ToolEntry};
 use talas::strategies::rest::{RestError, RestOptions, rest};
 use talas::toolpath::{MoveKind, ToolRecord, Toolpath};
 use talas::tools::dropcutter::drop_cutter_at;
@@ -259,13 +259,49 @@ fn corner_part() -> TriMesh {
     let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
     for w in prof.windows(2) {
         let ((x0, z0), (x1, z1)) = (w[0], w[1]);
-        quad(v(x0, 0.0, z0), v(x1, 0.0, z1), v(x1, 20.0, z1), v(x0, 20.0, z0), &mut tris);
-        quad(v(x0, 0.0, 0.0), v(x0, 20.0, 0.0), v(x1, 20.0, 0.0), v(x1, 0.0, 0.0), &mut tris);
-        quad(v(x0, 0.0, 0.0), v(x1, 0.0, 0.0), v(x1, 0.0, z1), v(x0, 0.0, z0), &mut tris);
-        quad(v(x0, 20.0, 0.0), v(x0, 20.0, z0), v(x1, 20.0, z1), v(x1, 20.0, 0.0), &mut tris);
+        quad(
+            v(x0, 0.0, z0),
+            v(x1, 0.0, z1),
+            v(x1, 20.0, z1),
+            v(x0, 20.0, z0),
+            &mut tris,
+        );
+        quad(
+            v(x0, 0.0, 0.0),
+            v(x0, 20.0, 0.0),
+            v(x1, 20.0, 0.0),
+            v(x1, 0.0, 0.0),
+            &mut tris,
+        );
+        quad(
+            v(x0, 0.0, 0.0),
+            v(x1, 0.0, 0.0),
+            v(x1, 0.0, z1),
+            v(x0, 0.0, z0),
+            &mut tris,
+        );
+        quad(
+            v(x0, 20.0, 0.0),
+            v(x0, 20.0, z0),
+            v(x1, 20.0, z1),
+            v(x1, 20.0, 0.0),
+            &mut tris,
+        );
     }
-    quad(v(0.0, 0.0, 0.0), v(0.0, 0.0, 12.0), v(0.0, 20.0, 12.0), v(0.0, 20.0, 0.0), &mut tris);
-    quad(v(36.0, 0.0, 0.0), v(36.0, 20.0, 0.0), v(36.0, 20.0, 12.0), v(36.0, 0.0, 12.0), &mut tris);
+    quad(
+        v(0.0, 0.0, 0.0),
+        v(0.0, 0.0, 12.0),
+        v(0.0, 20.0, 12.0),
+        v(0.0, 20.0, 0.0),
+        &mut tris,
+    );
+    quad(
+        v(36.0, 0.0, 0.0),
+        v(36.0, 20.0, 0.0),
+        v(36.0, 20.0, 12.0),
+        v(36.0, 0.0, 12.0),
+        &mut tris,
+    );
     drop(quad);
     TriMesh::new(pos, tris)
 }
@@ -363,10 +399,19 @@ fn rest_acceptance(stock: bool) {
             operations: vec![project.operations[0].clone(), project.operations[2].clone()],
             ..project.clone()
         };
-        let tp = compute(&rough_only, 1, &part, &Progress::new()).unwrap().toolpath;
-        let xs = tp.poses.iter().filter(|p| p.kind == MoveKind::Cut).map(|p| p.tip.x);
+        let tp = compute(&rough_only, 1, &part, &Progress::new())
+            .unwrap()
+            .toolpath;
+        let xs = tp
+            .poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .map(|p| p.tip.x);
         let (lo, hi) = xs.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
-        assert!(lo < 1.0 && hi > 35.0, "rest after roughing spans x {lo}..{hi}");
+        assert!(
+            lo < 1.0 && hi > 35.0,
+            "rest after roughing spans x {lo}..{hi}"
+        );
     }
     let said = &computed[2].diagnostics[0].message;
     assert_eq!(said.contains("simulated stock"), stock, "{said}");
@@ -378,7 +423,14 @@ fn rest_acceptance(stock: bool) {
         let cut: Vec<_> = (0..n)
             .map(|i| (&paths[i], &project.tools[i].cutter))
             .collect();
-        simulate_toolpaths(&project.stock, &part.mesh, &cut, &settings, &Progress::new()).unwrap()
+        simulate_toolpaths(
+            &project.stock,
+            &part.mesh,
+            &cut,
+            &settings,
+            &Progress::new(),
+        )
+        .unwrap()
     };
     let (before, after) = (sim(2), sim(3));
     let tol = h + 0.02;
@@ -387,18 +439,26 @@ fn rest_acceptance(stock: bool) {
     let skip = (SHARP_X - reach * 0.5 - 0.1, SHARP_X + reach + 0.1);
     let fillet = (FILLET_X - 1.0, FILLET_X + 2.5);
     let (b, at_b) = left_over(&before, fillet, (0.0, 0.0));
-    assert!(b > 0.15, "the 6 mm ball leaves only {b} mm in the fillet (at {at_b})");
+    assert!(
+        b > 0.15,
+        "the 6 mm ball leaves only {b} mm in the fillet (at {at_b})"
+    );
     let (a, at_a) = left_over(&after, fillet, (0.0, 0.0));
     assert!(a <= tol, "rest leaves {a} mm in the fillet at {at_a}");
     let (sharp, at_s) = left_over(&before, (SHARP_X - 3.0, SHARP_X + 3.0), skip);
-    assert!(sharp > 0.07, "the 6 mm ball leaves only {sharp} mm at the sharp corner (at {at_s})");
+    assert!(
+        sharp > 0.07,
+        "the 6 mm ball leaves only {sharp} mm at the sharp corner (at {at_s})"
+    );
     let (w, at_w) = left_over(&after, (1.0, 35.0), skip);
-    assert!(w <= tol, "{w} mm left at {at_w} where the 3 mm ball reaches");
+    assert!(
+        w <= tol,
+        "{w} mm left at {at_w} where the 3 mm ball reaches"
+    );
     assert!(after.max_gouge_mm < 0.01, "gouge {} mm", after.max_gouge_mm);
     eprintln!(
         "rest acceptance (from the stock: {stock}, {} runs): before rest {b:.4} mm in the fillet, {sharp:.4} mm at the sharp corner; \
          after {a:.4} / {w:.4} mm (tolerance {tol} mm), gouge {:.4} mm",
-        computed[2].passes,
-        after.max_gouge_mm
+        computed[2].passes, after.max_gouge_mm
     );
 }

@@ -331,7 +331,12 @@ pub fn rest_where(
     })
 }
 
-fn sample(leftover: &(dyn Fn(DVec3, DVec3) -> f64 + Sync), rf: f64, p: DVec2, c: &ClPoint) -> Sample {
+fn sample(
+    leftover: &(dyn Fn(DVec3, DVec3) -> f64 + Sync),
+    rf: f64,
+    p: DVec2,
+    c: &ClPoint,
+) -> Sample {
     let n = (p.extend(c.z + rf) - c.cc).normalize_or(DVec3::Z);
     Sample {
         tip: p.extend(c.z),
