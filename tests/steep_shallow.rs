@@ -69,7 +69,7 @@ fn steep_shallow_on_pocket_fillets_holds_the_scallop_on_walls_and_floors() {
     let rep = ball_remaining_height(&mesh, &plan.toolpath, &check).unwrap();
     let within = rep.fraction_within(h + tol);
     eprintln!(
-        "raster passes {}, waterline runs {} on {} levels, samples {}, within h+tol {:.4}, p99 {:.4} mm, uncovered {}, gouge {:.2e} mm",
+        "raster passes {}, waterline runs {} on {} levels, samples {}, within h+tol {:.4}, p99 {:.4} mm, uncovered {}, gouge {:.2e} mm, reported out of reach {:.1} mm²",
         plan.raster_passes,
         plan.waterline_runs,
         plan.levels,
@@ -77,8 +77,12 @@ fn steep_shallow_on_pocket_fillets_holds_the_scallop_on_walls_and_floors() {
         within,
         rep.quantile(0.99),
         rep.uncovered,
-        rep.max_gouge_mm
+        rep.max_gouge_mm,
+        plan.unreachable_area_mm2
     );
+    for d in &plan.diagnostics {
+        eprintln!("  {}", d.message);
+    }
     for (p, v) in rep.worst.iter().take(8) {
         eprintln!("  worst {v:.4} at {p:.3}");
     }

@@ -301,6 +301,8 @@ pub(crate) struct Cusp {
     /// Material at the cusp that a pass right between the two would not remove either (a
     /// corner or valley narrower than the tool, the foot of a wall), mm.
     pub unreachable: f64,
+    /// Plan-view position of the ridge, mm.
+    pub at: DVec2,
 }
 
 /// Sections sampled across the bracket of the two passes when looking for the cusp.
@@ -421,6 +423,7 @@ pub(crate) fn cusps(
                     height: (hit.distance - left).max(0.0),
                     at_end,
                     unreachable: left,
+                    at: frame.at(t, x),
                 };
                 if best.is_none_or(|b: Cusp| c.height > b.height) {
                     best = Some(c);
