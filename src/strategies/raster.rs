@@ -453,7 +453,8 @@ pub fn raster_progress(
         }
         let cell = dt * (next.w - cur.w).abs();
         // Beyond the part's plan-view box (passes running on past an open sheet's edge) the
-        // material is in the air, not out of reach.
+        // material is in the air, not out of reach; on walls steeper than the limit it is in
+        // the steep area, reported apart.
         let (lo, hi) = (part_box.min.truncate(), part_box.max.truncate());
         let over_part = |p: DVec2| p.cmpge(lo).all() && p.cmple(hi).all();
         let kept: Vec<Option<f64>> = cusp
@@ -466,7 +467,7 @@ pub fn raster_progress(
                 let rest = c.unreachable.max(if *st { c.height } else { 0.0 });
                 if c.at_end {
                     run_ends_here.add(rest.max(c.height), h, cell);
-                } else if over_part(c.at) {
+                } else if over_part(c.at) && !c.steep {
                     unreachable_here.add(rest, h, cell);
                 }
                 let kept = !*st && (!c.at_end || c.height <= h);

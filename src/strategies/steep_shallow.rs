@@ -109,8 +109,9 @@ pub struct SteepShallowPlan {
     pub waterline_runs: usize,
     /// Number of waterline levels.
     pub levels: usize,
-    /// Plan-view area of the shallow part where material stays that the ball cannot reach
-    /// (corners and valleys narrower than the tool, the foot of walls), mm², from the raster.
+    /// Plan-view area of the shallow part where material stays that the raster's ball cannot
+    /// reach (corners and valleys narrower than the tool, the foot of walls), mm²: the raster's
+    /// view, an upper bound, since the waterline levels in the overlap band may finish some.
     pub unreachable_area_mm2: f64,
     /// Notes of both planners.
     pub diagnostics: Vec<Diagnostic>,
