@@ -302,7 +302,6 @@ fn corner_part() -> TriMesh {
         v(36.0, 0.0, 12.0),
         &mut tris,
     );
-    drop(quad);
     TriMesh::new(pos, tris)
 }
 
