@@ -186,6 +186,7 @@ fn mesh_operation(
             name,
             tool: 0,
             reference_tool: 1,
+            from_stock: false,
             scallop_mm: opts.scallop_mm,
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,

@@ -156,6 +156,11 @@ pub enum Operation {
         tool: usize,
         /// Index of the earlier (reference) tool in [`super::Project::tools`].
         reference_tool: usize,
+        /// Take the rest from the simulated stock of the operations before this one (in the
+        /// project's order) instead of from the reference tool: finish where it keeps more
+        /// than the scallop height plus the chord tolerance.
+        #[serde(default)]
+        from_stock: bool,
         /// Rest thickness that counts as finished, and the scallop between passes, mm.
         scallop_mm: f64,
         /// Chord tolerance along the passes, mm.
@@ -331,6 +336,7 @@ impl Operation {
                 name,
                 tool,
                 reference_tool: tool,
+                from_stock: false,
                 scallop_mm: 0.05,
                 tolerance_mm: default_tolerance_mm(),
                 feed_mm_per_min: default_feed(),

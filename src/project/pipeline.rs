@@ -4,6 +4,7 @@
 //! and the tests call it directly.
 
 pub use super::computed::{ComputeError, Computed};
+use super::simulate::StockLeftover;
 use super::{Operation, Project, Stock};
 use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
@@ -14,7 +15,7 @@ use crate::strategies::finish::plan::plan_finish_in;
 use crate::strategies::finish::tiltaway::PartContext;
 use crate::strategies::pencil::{PencilOptions, pencil};
 use crate::strategies::raster::{Boundary, RasterOptions, RasterPattern, raster_progress};
-use crate::strategies::rest::{RestOptions, rest};
+use crate::strategies::rest::{RestOptions, rest, rest_where};
 use crate::strategies::steep_shallow::steep_shallow;
 use crate::strategies::waterline::{WaterlineError, waterline_progress};
 use crate::strategies::zlevel::{ZlevelOptions, roughing_grid_mm, zlevel_rough};
@@ -63,7 +64,7 @@ pub fn compute(
         Operation::Raster { .. } => raster_3axis(op, part, &tool, progress)?,
         Operation::Rough { .. } => rough_3axis(project, op, part, &tool, progress)?,
         Operation::Pencil { .. } | Operation::Rest { .. } => {
-            corners_3axis(project, op, part, &tool, progress)?
+            corners_3axis(project, index, part, &tool, progress)?
         }
         Operation::Waterline { .. } | Operation::SteepShallow { .. } => {
             finish_3axis(op, part, &tool, progress).map_err(|e| match e {
@@ -360,11 +361,12 @@ fn finish_3axis(
 /// the cutting feed and (rest) the runs grown by half the tool's radius past the rest areas.
 fn corners_3axis(
     project: &Project,
-    op: &Operation,
+    index: usize,
     part: &Workpiece,
     tool: &ToolRecord,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
+    let op = &project.operations[index];
     let plan_err = plan_error(op);
     let bvh = part.bvh().map_err(plan_err)?;
     if progress.is_cancelled() {
@@ -392,6 +394,7 @@ fn corners_3axis(
         }
         Operation::Rest {
             reference_tool,
+            from_stock,
             scallop_mm,
             tolerance_mm,
             feed_mm_per_min,
@@ -409,7 +412,12 @@ fn corners_3axis(
                 .clone();
             let opts = RestOptions {
                 reference,
-                threshold_mm: scallop_mm,
+                // The chord tolerance covers the earlier paths' and the stock grid's deviation.
+                threshold_mm: if from_stock {
+                    scallop_mm + tolerance_mm
+                } else {
+                    scallop_mm
+                },
                 scallop_mm,
                 chord_tol_mm: tolerance_mm,
                 sampling_mm: None,
@@ -418,7 +426,19 @@ fn corners_3axis(
                 feed_mm_per_min,
                 plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
             };
-            let plan = rest(&part.mesh, &bvh, tool, &opts).map_err(|e| plan_err(e.to_string()))?;
+            let plan = if from_stock {
+                let stock = earlier_stock(project, index, part, tool, progress)?;
+                let leftover =
+                    |c: glam::DVec3, n: glam::DVec3| stock.thickness(c, n, REST_MAX_LAYER_MM);
+                let source = format!(
+                    "the simulated stock of the earlier operations ({} mm grid)",
+                    stock.resolution_mm()
+                );
+                rest_where(&part.mesh, &bvh, tool, &opts, &leftover, &source)
+            } else {
+                rest(&part.mesh, &bvh, tool, &opts)
+            }
+            .map_err(|e| plan_err(e.to_string()))?;
             (plan.toolpath, plan.diagnostics)
         }
         _ => return Err(plan_err("not a pencil or rest operation".into())),
@@ -432,6 +452,50 @@ fn corners_3axis(
         part_hits: Vec::new(),
         left_out: Vec::new(),
     })
+}
+
+/// Thickest layer the rest from the stock measures along a contact normal, mm.
+const REST_MAX_LAYER_MM: f64 = 10.0;
+
+/// The stock the operations before `index` leave, simulated on a grid of a tenth of the
+/// finishing tool's radius (each computed again here, in the project's order).
+fn earlier_stock(
+    project: &Project,
+    index: usize,
+    part: &Workpiece,
+    tool: &ToolRecord,
+    progress: &Progress,
+) -> Result<StockLeftover, ComputeError> {
+    let plan_err = plan_error(&project.operations[index]);
+    if index == 0 {
+        return Err(plan_err(
+            "rest from the stock needs an earlier operation before it in the list".into(),
+        ));
+    }
+    let mut paths = Vec::with_capacity(index);
+    for (i, earlier) in project.operations.iter().enumerate().take(index) {
+        cancelled(progress)?;
+        let computed = compute(project, i, part, &Progress::new())?;
+        let cutter = project
+            .tools
+            .get(earlier.tool())
+            .ok_or_else(|| ComputeError::NoTool {
+                operation: earlier.name().to_string(),
+                tool: earlier.tool(),
+            })?
+            .cutter
+            .clone();
+        paths.push((computed.toolpath, cutter));
+    }
+    cancelled(progress)?;
+    StockLeftover::simulate(
+        &project.stock,
+        &part.mesh,
+        &paths,
+        0.1 * tool.cutter.radius(),
+        progress,
+    )
+    .map_err(|e| plan_err(format!("simulating the earlier operations: {e}")))
 }
 
 /// Number of cutting runs in `toolpath` (a run starts where a cut follows a non-cut).

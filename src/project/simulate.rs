@@ -2,7 +2,11 @@
 //! (or a box 2 mm around the part when none is defined) on a Z-dexel grid sized to a ray budget,
 //! the operation's path swept through it, and the signed deviation of the cut stock's top from
 //! the part at every vertex of the stock's height-field mesh (+ material left, − gouge), measured
-//! by [`crate::simulation::top_deviation`] as `talas simulate --part` measures it.
+//! by [`crate::simulation::top_deviation`] as `talas simulate --part` measures it; and
+//! [`StockLeftover`], the cut stock's top as a height field that measures the layer left over a
+//! part point (rest finishing from the stock).
+
+use glam::DVec3;
 
 use super::Stock;
 use crate::diagnostics::Progress;
@@ -182,4 +186,111 @@ fn merged(reports: &[SimReport]) -> SimReport {
         out.time_s += r.time_s;
     }
     out
+}
+
+/// The simulated stock's top as a height field, to measure the layer earlier operations left
+/// on the part (rest finishing from the stock).
+pub struct StockLeftover {
+    dexels: DexelStock,
+}
+
+/// Most Z rays of a [`StockLeftover`]: the resolution asked for is coarsened to stay within.
+const LEFTOVER_MAX_RAYS: f64 = 1e6;
+
+impl StockLeftover {
+    /// Cut `paths` in order into the project's stock (or the part's box + 2 mm) on a Z-dexel
+    /// grid of `resolution_mm`, coarsened where the grid would hold more than a million rays.
+    ///
+    /// # Errors
+    /// As [`simulate_toolpaths`].
+    pub fn simulate(
+        stock: &Stock,
+        part: &TriMesh,
+        paths: &[(Toolpath, Cutter)],
+        resolution_mm: f64,
+        progress: &Progress,
+    ) -> Result<Self, SimError> {
+        let b = StockShape::of(stock, &part.bbox()).bounds();
+        let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
+        let settings = SimulationSettings {
+            resolution_mm: Some(resolution_mm.max((area / LEFTOVER_MAX_RAYS).sqrt())),
+            ..SimulationSettings::default()
+        };
+        let (mut dexels, resolution) = stock_grid(stock, part, &settings)?;
+        for (toolpath, cutter) in paths {
+            cut_path(&mut dexels, resolution, toolpath, cutter, progress)?;
+        }
+        Ok(Self { dexels })
+    }
+
+    /// Dexel spacing, mm.
+    #[must_use]
+    pub fn resolution_mm(&self) -> f64 {
+        self.dexels.resolution_mm
+    }
+
+    /// The stock's top at (x, y), interpolated bilinearly between the four nearest Z rays, mm;
+    /// −∞ where one of them holds no material or lies outside the grid.
+    #[must_use]
+    pub fn top(&self, x: f64, y: f64) -> f64 {
+        let Some(fam) = self.dexels.families.first() else {
+            return f64::NEG_INFINITY;
+        };
+        let u = (x - fam.origin.x) / fam.spacing - 0.5;
+        let v = (y - fam.origin.y) / fam.spacing - 0.5;
+        let (i0, j0) = (u.floor(), v.floor());
+        let (fu, fv) = (u - i0, v - j0);
+        #[allow(clippy::cast_precision_loss)]
+        let (nu, nv) = (fam.nu as f64, fam.nv as f64);
+        let at = |i: f64, j: f64| -> f64 {
+            if i < 0.0 || j < 0.0 || i >= nu || j >= nv {
+                return f64::NEG_INFINITY;
+            }
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let (i, j) = (i as usize, j as usize);
+            fam.dexels
+                .get(j * fam.nu + i)
+                .and_then(|d| d.intervals().last())
+                .map_or(f64::NEG_INFINITY, |iv| fam.point(i, j, f64::from(iv[1])).z)
+        };
+        let z = [
+            at(i0, j0),
+            at(i0 + 1.0, j0),
+            at(i0, j0 + 1.0),
+            at(i0 + 1.0, j0 + 1.0),
+        ];
+        if z.iter().any(|z| !z.is_finite()) {
+            return f64::NEG_INFINITY;
+        }
+        (z[0] * (1.0 - fu) + z[1] * fu) * (1.0 - fv) + (z[2] * (1.0 - fu) + z[3] * fu) * fv
+    }
+
+    /// Thickness of the layer over the part point `c` along its unit normal `n`, mm: how far
+    /// along `n` the first point above the interpolated top lies (half-spacing steps, then
+    /// bisection to 1e-5 mm); 0 where the top lies below `c`, at most `max_mm`.
+    #[must_use]
+    pub fn thickness(&self, c: DVec3, n: DVec3, max_mm: f64) -> f64 {
+        let inside = |t: f64| {
+            let q = c + n * t;
+            self.top(q.x, q.y) > q.z
+        };
+        if !inside(0.0) {
+            return 0.0;
+        }
+        let dt = 0.5 * self.dexels.resolution_mm;
+        let mut a = 0.0;
+        while a < max_mm {
+            let b = (a + dt).min(max_mm);
+            if !inside(b) {
+                let mut hi = b;
+                while hi - a > 1e-5 {
+                    let m = 0.5 * (a + hi);
+                    if inside(m) { a = m } else { hi = m }
+                }
+                return a;
+            }
+            a = b;
+        }
+        max_mm
+    }
 }

@@ -172,6 +172,9 @@ pub struct RasterPlan {
     /// Area of the surface inside the boundary steeper than `max_slope_rad`, mm² (not held to
     /// the scallop height).
     pub steep_area_mm2: f64,
+    /// Plan-view area where material stays that no step-over removes (corners and valleys
+    /// narrower than the tool, the foot of walls), mm²: grid step × pass gap per point.
+    pub unreachable_area_mm2: f64,
     /// Notes (passes at the smallest step that still exceed h, ...).
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -315,6 +318,7 @@ pub fn raster_progress(
     let mut over = 0usize;
     let mut unreachable = Unscalloped::default();
     let mut run_ends = Unscalloped::default();
+    let part_box = mesh.bbox();
     loop {
         progress.check().map_err(|_| RasterError::Cancelled)?;
         progress.set(0.5 * (cur.w - wmin) / (wmax - wmin).max(1e-12));
@@ -349,6 +353,12 @@ pub fn raster_progress(
             run_ends_here = &mut ignored.0;
             unreachable_here = &mut ignored.1;
         }
+        let cell = dt * (next.w - cur.w).abs();
+        // Beyond the part's plan-view box (passes running on past an open sheet's edge) the
+        // material is in the air, not out of reach; on walls steeper than the limit it is in
+        // the steep area, reported apart.
+        let (lo, hi) = (part_box.min.truncate(), part_box.max.truncate());
+        let over_part = |p: DVec2| p.cmpge(lo).all() && p.cmple(hi).all();
         let kept: Vec<Option<f64>> = cusp
             .iter()
             .zip(&stuck)
@@ -358,9 +368,9 @@ pub fn raster_progress(
                 // stays) is not a scallop; at run ends it is bounded by where the tool stops.
                 let rest = c.unreachable.max(if *st { c.height } else { 0.0 });
                 if c.at_end {
-                    run_ends_here.add(rest.max(c.height), h);
-                } else {
-                    unreachable_here.add(rest, h);
+                    run_ends_here.add(rest.max(c.height), h, cell);
+                } else if over_part(c.at) && !c.steep {
+                    unreachable_here.add(rest, h, cell);
                 }
                 let kept = !*st && (!c.at_end || c.height <= h);
                 kept.then_some(c.height)
@@ -417,6 +427,7 @@ pub fn raster_progress(
         passes: passes.iter().filter(|p| !p.runs.is_empty()).count(),
         max_predicted_scallop_mm: max_pred,
         steep_area_mm2: steep,
+        unreachable_area_mm2: unreachable.area_mm2,
         diagnostics,
     })
 }
@@ -642,8 +653,8 @@ fn leftover_diagnostics(
         diagnostics.push(Diagnostic::warning(
             None,
             format!(
-                "{} points in corners or valleys narrower than the tool, or at the foot of walls, keep up to {:.4} mm of material no step-over removes (not counted as scallop)",
-                unreachable.count, unreachable.max
+                "{} points (about {:.1} mm² in plan view) in corners or valleys narrower than the tool, or at the foot of walls, keep up to {:.4} mm of material no step-over removes (not counted as scallop)",
+                unreachable.count, unreachable.area_mm2, unreachable.max
             ),
         ));
     }
@@ -749,13 +760,18 @@ const GROW_TARGET: f64 = 0.95;
 struct Unscalloped {
     count: usize,
     max: f64,
+    /// Plan-view area of the grid cells counted, mm².
+    area_mm2: f64,
 }
 
 impl Unscalloped {
-    fn add(&mut self, height: f64, h: f64) {
+    /// Count a grid point whose cell (step along the pass × gap between the passes) covers
+    /// `cell_mm2`, when `height` exceeds `h`.
+    fn add(&mut self, height: f64, h: f64, cell_mm2: f64) {
         if height > h {
             self.count += 1;
             self.max = self.max.max(height);
+            self.area_mm2 += cell_mm2;
         }
     }
 }

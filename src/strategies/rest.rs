@@ -1,6 +1,8 @@
 //! Rest finishing on a triangle mesh with a ball end mill: parallel passes only where a larger
 //! reference tool (the one an earlier operation used) left material.
 //!
+//! - **What is left**: by default where the reference tool leaves it ([`rest`]); [`rest_where`]
+//!   takes the thickness from elsewhere (the simulated stock of the earlier operations).
 //! - **Reference surface**: the reference tool is dropped on a regular XY grid (step
 //!   `sampling_mm`, over the part grown by its radius); what it leaves is bounded by the lower
 //!   envelope of its bodies at those locations.
@@ -79,16 +81,20 @@ pub struct RestPlan {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+fn check_reference(tool: &ToolRecord, o: &RestOptions) -> Result<(), RestError> {
+    if o.reference.validate().is_err() || o.reference.radius() <= tool.cutter.radius() {
+        return Err(RestError::Option(format!(
+            "the reference tool must be a valid cutter larger than the finishing tool ({} mm), got {} mm",
+            tool.cutter.diameter, o.reference.diameter
+        )));
+    }
+    Ok(())
+}
+
 fn check(tool: &ToolRecord, o: &RestOptions) -> Result<(), RestError> {
     let bad = |m: String| Err(RestError::Option(m));
     if tool.cutter.kind != CutterKind::Ball {
         return bad("rest finishing needs a ball end mill (ball:d=...)".into());
-    }
-    if o.reference.validate().is_err() || o.reference.radius() <= tool.cutter.radius() {
-        return bad(format!(
-            "the reference tool must be a valid cutter larger than the finishing tool ({} mm), got {} mm",
-            tool.cutter.diameter, o.reference.diameter
-        ));
     }
     for (what, v) in [
         ("rest threshold (mm)", o.threshold_mm),
@@ -227,9 +233,37 @@ pub fn rest(
     opts: &RestOptions,
 ) -> Result<RestPlan, RestError> {
     check(tool, opts)?;
+    check_reference(tool, opts)?;
+    let reference = ReferenceSurface::new(mesh, bvh, &opts.reference, sampling(tool, opts));
+    let source = format!("the reference tool ({} mm)", opts.reference.diameter);
+    let leftover = |c: DVec3, n: DVec3| reference.thickness_directed(mesh, bvh, c, n);
+    rest_where(mesh, bvh, tool, opts, &leftover, &source)
+}
+
+/// The grid step of the reference tool and of the samples along a pass, mm.
+fn sampling(tool: &ToolRecord, opts: &RestOptions) -> f64 {
+    opts.sampling_mm
+        .unwrap_or((0.25 * tool.cutter.radius()).clamp(0.05, 1.0))
+}
+
+/// Plan rest finishing of `mesh` with `tool` (a ball) where `leftover(c, n)`, the thickness of
+/// the layer an earlier operation left at the finishing contact `c` along its unit normal `n`
+/// (mm), exceeds `opts.threshold_mm`; `source` names what left it in the diagnostics. Used
+/// with the simulated stock of the earlier operations; `opts.reference` is not used here.
+///
+/// # Errors
+/// As [`rest`].
+pub fn rest_where(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    tool: &ToolRecord,
+    opts: &RestOptions,
+    leftover: &(dyn Fn(DVec3, DVec3) -> f64 + Sync),
+    source: &str,
+) -> Result<RestPlan, RestError> {
+    check(tool, opts)?;
     let rf = tool.cutter.radius();
-    let step = opts.sampling_mm.unwrap_or((0.25 * rf).clamp(0.05, 1.0));
-    let reference = ReferenceSurface::new(mesh, bvh, &opts.reference, step);
+    let step = sampling(tool, opts);
     let h = opts.scallop_mm;
     let across = 2.0 * (2.0 * rf * h - h * h).sqrt();
     let bb = mesh.bbox();
@@ -247,7 +281,7 @@ pub fn rest(
             pts.iter()
                 .map(|p| {
                     let c = drop_cutter_at(bvh, mesh, &tool.cutter, *p)?;
-                    Some(sample(mesh, bvh, &reference, rf, *p, &c))
+                    Some(sample(leftover, rf, *p, &c))
                 })
                 .collect()
         })
@@ -283,9 +317,8 @@ pub fn rest(
     let diagnostics = vec![Diagnostic::info(
         None,
         format!(
-            "rest: {} runs where the reference tool ({} mm) leaves more than {} mm; up to {:.3} mm left",
+            "rest: {} runs where {source} leaves more than {} mm; up to {:.3} mm left",
             runs.len(),
-            opts.reference.diameter,
             opts.threshold_mm,
             max_rest
         ),
@@ -299,9 +332,7 @@ pub fn rest(
 }
 
 fn sample(
-    mesh: &TriMesh,
-    bvh: &MeshBvh,
-    reference: &ReferenceSurface,
+    leftover: &(dyn Fn(DVec3, DVec3) -> f64 + Sync),
     rf: f64,
     p: DVec2,
     c: &ClPoint,
@@ -310,7 +341,7 @@ fn sample(
     Sample {
         tip: p.extend(c.z),
         cc: c.cc,
-        rest: reference.thickness_directed(mesh, bvh, c.cc, n),
+        rest: leftover(c.cc, n),
     }
 }
 

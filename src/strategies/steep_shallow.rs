@@ -109,6 +109,10 @@ pub struct SteepShallowPlan {
     pub waterline_runs: usize,
     /// Number of waterline levels.
     pub levels: usize,
+    /// Plan-view area of the shallow part where material stays that the raster's ball cannot
+    /// reach (corners and valleys narrower than the tool, the foot of walls), mm²: the raster's
+    /// view, an upper bound, since the waterline levels in the overlap band may finish some.
+    pub unreachable_area_mm2: f64,
     /// Notes of both planners.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -165,13 +169,30 @@ pub fn steep_shallow(
         ));
     }
     poses.extend(w.toolpath.poses.iter().cloned());
-    let mut diagnostics = r.diagnostics;
+    // The raster's advice to finish its steep walls with a Z-level pass is what the waterline
+    // part does here.
+    let mut diagnostics: Vec<Diagnostic> = r
+        .diagnostics
+        .into_iter()
+        .filter(|d| !d.message.starts_with("steep walls:"))
+        .collect();
+    if r.steep_area_mm2 > 0.0 {
+        diagnostics.push(Diagnostic::info(
+            None,
+            format!(
+                "steep walls: {:.1} mm² of surface beyond {:.0}° finished by the waterline levels",
+                r.steep_area_mm2,
+                (t + o).to_degrees()
+            ),
+        ));
+    }
     diagnostics.extend(w.diagnostics);
     Ok(SteepShallowPlan {
         toolpath: Toolpath::new(tool.clone(), poses),
         raster_passes: r.passes,
         waterline_runs: w.loops,
         levels: w.levels.len(),
+        unreachable_area_mm2: r.unreachable_area_mm2,
         diagnostics,
     })
 }

@@ -301,6 +301,11 @@ pub(crate) struct Cusp {
     /// Material at the cusp that a pass right between the two would not remove either (a
     /// corner or valley narrower than the tool, the foot of a wall), mm.
     pub unreachable: f64,
+    /// Plan-view position of the ridge, mm.
+    pub at: DVec2,
+    /// The ridge's closest part point faces steeper than the slope limit (the foot of a wall
+    /// the raster leaves to a Z-level pass, not a corner narrower than the tool).
+    pub steep: bool,
 }
 
 /// Sections sampled across the bracket of the two passes when looking for the cusp.
@@ -402,9 +407,11 @@ pub(crate) fn cusps(
                 if !z.is_finite() {
                     continue;
                 }
-                let Some(hit) = bvh.closest_point(frame.at(t, x).extend(z)) else {
+                let ridge = frame.at(t, x).extend(z);
+                let Some(hit) = bvh.closest_point(ridge) else {
                     continue;
                 };
+                let steep = (ridge - hit.point).normalize_or_zero().z < cos_max_slope;
                 let zm = swept_lower(cutter, grid, mid, j, x - mid.w);
                 // A midway pass that only rolls over the part's rim there says nothing of what
                 // a pass can reach: all of the ridge's material counts.
@@ -421,6 +428,8 @@ pub(crate) fn cusps(
                     height: (hit.distance - left).max(0.0),
                     at_end,
                     unreachable: left,
+                    at: frame.at(t, x),
+                    steep,
                 };
                 if best.is_none_or(|b: Cusp| c.height > b.height) {
                     best = Some(c);

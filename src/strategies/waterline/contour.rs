@@ -209,6 +209,12 @@ pub(crate) fn level_contours(
             EdgeId::V(i, j) => {
                 let (a, b) = (grid.step * j as f64, grid.step * (j + 1) as f64);
                 let e = crossing(&yf[i], a, b);
+                let margin = 1e-9 * grid.step;
+                if e.is_none_or(|e| e.s <= a + margin || e.s >= b - margin)
+                    && let Some(exact) = tangent_crossing(mesh, bvh, prof, grid, z, &xf, i, j)
+                {
+                    return exact;
+                }
                 let s = e.map_or(0.5 * (a + b), |e| e.s.clamp(a, b));
                 (e, DVec3::new(grid.x(i), grid.y0 + s, z))
             }
@@ -226,6 +232,84 @@ pub(crate) fn level_contours(
         }
     }
     chain_loops(next, point)
+}
+
+/// Bisection steps on a vertical grid edge: 0.1 mm / 2⁴⁴ ≈ 6e-15 mm.
+const EDGE_BISECT_ITERS: usize = 44;
+
+/// The crossing of the vertical edge (i, j)–(i, j+1) where its y fibre has no interval end on
+/// the edge. Node states come from the x fibres, so this happens where the contour touches
+/// the y fibre tangentially and the two fibre families disagree by the sag of the
+/// tessellation; clamping the y fibre's nearest end to the edge would give a point inside the
+/// material. Instead the edge is bisected for the height where short x fibres through it
+/// change state, and the point is that x fibre's interval end nearest to the edge: an exact
+/// cutter location within the bisection's width of where the contour crosses x = x(i).
+/// When short fibres see no difference (the nodes differ only by rounding at an interval end
+/// on a node), the point is that end of either row's x fibre. `None` when no end lies within
+/// a step of the edge.
+#[allow(clippy::too_many_arguments)]
+fn tangent_crossing(
+    mesh: &TriMesh,
+    bvh: &MeshBvh,
+    prof: &Profile,
+    grid: &Grid,
+    z: f64,
+    xf: &[Intervals],
+    i: usize,
+    j: usize,
+) -> Option<ContourPoint> {
+    let x = grid.x(i);
+    let h = grid.step;
+    let short = |y: f64| {
+        let f = Fibre {
+            origin: DVec2::new(x - h, y),
+            dir: DVec2::X,
+            z,
+        };
+        fibre_intervals(mesh, bvh, prof, &f, 2.0 * h)
+    };
+    let (mut lo, mut hi) = (grid.y(j), grid.y(j + 1));
+    let lo_blocked = blocked_at(&short(lo), h);
+    if lo_blocked == blocked_at(&short(hi), h) {
+        // The nodes differ only by rounding at an interval end on the node itself: that
+        // end of either row's x fibre is the exact point.
+        let s0 = h * i as f64;
+        let row = |r: usize| {
+            xf[r]
+                .iter()
+                .flat_map(|(l, u)| [*l, *u])
+                .filter(|e| (e.s - s0).abs() <= h)
+                .map(move |e| (e, grid.y(r)))
+        };
+        let (e, y) = row(j)
+            .chain(row(j + 1))
+            .min_by(|p, q| (p.0.s - s0).abs().total_cmp(&(q.0.s - s0).abs()))?;
+        return Some(ContourPoint {
+            tip: DVec3::new(grid.x0 + e.s, y, z),
+            cc: e.cc,
+            slope: e.slope,
+        });
+    }
+    for _ in 0..EDGE_BISECT_ITERS {
+        let m = 0.5 * (lo + hi);
+        if blocked_at(&short(m), h) == lo_blocked {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    let y = if lo_blocked { hi } else { lo };
+    let iv = short(y);
+    let e = iv
+        .iter()
+        .flat_map(|(l, u)| [*l, *u])
+        .min_by(|p, q| (p.s - h).abs().total_cmp(&(q.s - h).abs()))
+        .filter(|e| (e.s - h).abs() <= h)?;
+    Some(ContourPoint {
+        tip: DVec3::new(x - h + e.s, y, z),
+        cc: e.cc,
+        slope: e.slope,
+    })
 }
 
 /// Marching squares in one cell: walking its corners counter-clockwise, each crossing into
@@ -284,8 +368,14 @@ fn chain_loops(
             ids.push(n);
             cur = n;
         }
-        if ids.len() >= 3 {
-            loops.push(ids.into_iter().map(&point).collect());
+        let mut pts: Vec<ContourPoint> = ids.into_iter().map(&point).collect();
+        // A tangent crossing may resolve to the point of the neighbouring crossing.
+        pts.dedup_by(|b, a| a.tip == b.tip);
+        if pts.len() > 1 && pts[0].tip == pts[pts.len() - 1].tip {
+            pts.pop();
+        }
+        if pts.len() >= 3 {
+            loops.push(pts);
         }
     }
     loops
