@@ -89,6 +89,14 @@ pub fn hills_stl() -> talas::geometry::mesh::TriMesh {
         .mesh
 }
 
+/// The pocket-fillets part as Open CASCADE tessellated it (`tests/data/pocket-fillets.stl`).
+pub fn pocket_fillets_stl() -> talas::geometry::mesh::TriMesh {
+    use talas::import::stl::{StlOptions, read_stl};
+    read_stl(&data("pocket-fillets.stl"), &StlOptions::default())
+        .expect("pocket-fillets.stl reads")
+        .mesh
+}
+
 /// The bicubic-hills part, one B-spline face (`tests/data/bicubic-hills.stp`).
 pub fn hills_step() -> talas::geometry::brep::Part {
     talas::import::step::read_step(&data("bicubic-hills.stp")).expect("bicubic-hills.stp reads")
