@@ -96,3 +96,35 @@ fn a_waterline_operation_is_added_edited_and_calculated() {
     h.get_by_label("Cut length");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A face-finishing operation's editor shows its face group and tilt-away limits with units;
+/// unticking tilt-away edits the operation and hides the limits.
+/// `cargo test --test app_operation_3axis tilt_away`
+#[test]
+fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
+    let dir = std::env::temp_dir().join(format!("talas-app-tilt-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Add Iso-scallop finishing").click();
+    h.run_steps(2);
+    let tilt = |h: &Harness<'static, Workstation>| match &h.state().session().project.operations[0]
+    {
+        Operation::Finish {
+            tilt_away, group, ..
+        } => (tilt_away.enabled, group.len()),
+        other => panic!("not a finishing operation: {:?}", other.kind()),
+    };
+    assert_eq!(tilt(&h), (true, 0));
+    h.get_by_label("this face only");
+    h.get_by_label("Largest tilt");
+    assert!(h.query_all_by_label_contains("°/mm").next().is_some());
+    h.get_by_label("tilt away from walls").click();
+    h.run_steps(3);
+    assert_eq!(tilt(&h), (false, 0), "unticked in the editor");
+    assert!(h.query_by_label("Largest tilt").is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -250,9 +250,12 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             face,
             strategy,
             options,
+            group,
+            tilt_away,
             ..
         } => {
             commit |= face_row(ui, document, face);
+            commit |= group_rows(ui, group, tilt_away);
             commit |= strategy_rows(ui, strategy);
             let l = label(ui, "Scallop height", "Largest cusp left between passes");
             commit |= number(ui, l, &mut options.scallop, 1.0, 1e-4..=5.0, 4, "mm");
@@ -583,6 +586,75 @@ fn finish_3axis_rows(
     commit |= number(ui, l, f.feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
     ui.end_row();
     commit |= clearance_row(ui, f.clearance_mm, "Rapid plane above the part");
+    commit
+}
+
+/// The face group (further faces finished with the face, in order) and the tilt-away limits.
+fn group_rows(
+    ui: &mut egui::Ui,
+    group: &mut Vec<usize>,
+    tilt: &mut crate::project::operation::TiltAwaySettings,
+) -> bool {
+    let mut commit = false;
+    label(
+        ui,
+        "Face group",
+        "Further faces finished with this one, in this order (ctrl-click faces, then a group button in Properties)",
+    );
+    ui.horizontal(|ui| {
+        if group.is_empty() {
+            ui.weak("this face only");
+        } else {
+            let names: Vec<String> = group.iter().map(|g| format!("{}", g + 1)).collect();
+            ui.label(format!("+ faces {}", names.join(", ")));
+            if ui
+                .button("Clear group")
+                .on_hover_text("Finish this face alone")
+                .clicked()
+            {
+                group.clear();
+                commit = true;
+            }
+        }
+    });
+    ui.end_row();
+    label(
+        ui,
+        "Tilt away",
+        "Where the shank or holder would touch the part, tilt the tool axis away within these limits; spans no tilt frees are left out and reported",
+    );
+    commit |= ui
+        .checkbox(&mut tilt.enabled, "tilt away from walls")
+        .changed();
+    ui.end_row();
+    if tilt.enabled {
+        let l = label(
+            ui,
+            "Largest tilt",
+            "Largest tilt from the planned axis (0: never tilt, leave out and report); the machine's tilt travel also limits it",
+        );
+        commit |= number(
+            ui,
+            l,
+            &mut tilt.max_angle_rad,
+            1f64.to_degrees(),
+            0.0..=90.0,
+            1,
+            "°",
+        );
+        ui.end_row();
+        let l = label(ui, "Tilt rate", "Largest change of the tilt along the path");
+        commit |= number(
+            ui,
+            l,
+            &mut tilt.rate_rad_per_mm,
+            1f64.to_degrees(),
+            0.01..=90.0,
+            2,
+            "°/mm",
+        );
+        ui.end_row();
+    }
     commit
 }
 
