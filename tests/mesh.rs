@@ -194,39 +194,6 @@ fn ray_triangle(o: DVec3, d: DVec3, [a, b, c]: [DVec3; 3]) -> Option<f64> {
     (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0).then_some(t)
 }
 
-/// Closest point on a triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let s = 1.0 / (va + vb + vc);
-    a + ab * (vb * s) + ac * (vc * s)
-}
-
 // ---- closed forms -------------------------------------------------------------------------
 
 #[test]
@@ -416,7 +383,7 @@ fn check_rays(m: &TriMesh, bvh: &MeshBvh, rays: &[(DVec3, DVec3)]) -> usize {
                 assert!(h.point.distance(o + d * t) < 1e-8);
                 let tri = corners(m, h.triangle);
                 assert!(
-                    closest_on_triangle(h.point, tri).distance(h.point) < 1e-8,
+                    common::geometry::closest_on_triangle(h.point, tri).distance(h.point) < 1e-8,
                     "ray {i}"
                 );
                 let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
@@ -434,7 +401,7 @@ fn check_closest(m: &TriMesh, bvh: &MeshBvh, points: &[DVec3]) {
     for (i, &p) in points.iter().enumerate() {
         let brute = (0..m.triangles.len())
             .filter(|&t| has_area(m, t))
-            .map(|t| closest_on_triangle(p, corners(m, t)).distance(p))
+            .map(|t| common::geometry::closest_on_triangle(p, corners(m, t)).distance(p))
             .fold(f64::INFINITY, f64::min);
         let h = bvh.closest_point(p).unwrap();
         assert!(
@@ -443,7 +410,8 @@ fn check_closest(m: &TriMesh, bvh: &MeshBvh, points: &[DVec3]) {
             h.distance
         );
         assert!((h.point.distance(p) - h.distance).abs() < 1e-12);
-        let on = closest_on_triangle(h.point, corners(m, h.triangle)).distance(h.point);
+        let on = common::geometry::closest_on_triangle(h.point, corners(m, h.triangle))
+            .distance(h.point);
         assert!(on < 1e-9, "point {i} lies {on} off its triangle");
     }
 }

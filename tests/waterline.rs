@@ -385,40 +385,6 @@ fn bad_options_are_refused() {
     }
 }
 
-/// Closest point of triangle `abc` to `p` (the Voronoi-region walk of Ericson's *Real-Time
-/// Collision Detection*, §5.1.5), written here apart from the planner's own queries.
-fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    a + ab * (vb * denom) + ac * (vc * denom)
-}
-
 /// In the vertical 5 mm corners of pocket-fillets at z = 22 a straight wall's offset falls on a
 /// grid line, so a fibre only touches the contour there: every contour point of a 6 mm ball
 /// still touches the mesh (ball centre exactly r from the nearest triangle, found by brute
@@ -439,7 +405,7 @@ fn ball_contour_points_touch_the_mesh_where_a_fibre_runs_along_a_wall() {
         let d = mesh
             .triangles
             .iter()
-            .map(|t| (closest_on_triangle(centre, p(t[0]), p(t[1]), p(t[2])) - centre).length())
+            .map(|t| (common::geometry::closest_on_triangle(centre, t.map(p)) - centre).length())
             .fold(f64::INFINITY, f64::min);
         worst = worst.max((d - r).abs());
         n += 1;
