@@ -345,11 +345,12 @@ pub(super) fn apply_batch(
             }
         }
     }
+    let sweeps = prepare_sweeps(batch, &grid);
     let ranges = &cull.ranges;
     let cnu = cull.nu;
     let outs: Vec<TaskOut> = tasks
         .into_par_iter()
-        .map(|mut t| run_task(&mut t, batch, &grid, ranges, cnu))
+        .map(|mut t| run_task(&mut t, batch, &sweeps, &grid, (ranges, cnu)))
         .collect();
     let mut hits = Vec::new();
     for (h, updates) in outs {
@@ -363,39 +364,132 @@ pub(super) fn apply_batch(
     hits
 }
 
-/// Apply every step of the batch to the task's rays.
-fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usize) -> TaskOut {
+/// A body of the batch as the family's rays see it, shared by every task: the rays its box
+/// covers and, for a tilted body, its sweep along the step prepared once per batch and
+/// family.
+struct Sweep {
+    /// Rays `i0..i1` × `j0..j1` of the grid within the body's box (empty: none).
+    cells: [usize; 4],
+    tilted: Option<Tilted>,
+}
+
+/// A tilted body's sweep (or any body over X or Y rays) for the family's rays.
+struct Tilted {
+    prepared: Prepared,
+    /// Per row `j0..j1` of [`Sweep::cells`], the rays `a..c` of the row within the body's
+    /// shadow ([`Shadow`]; `a ≥ c` where the row misses it).
+    rows: Vec<(usize, usize)>,
+}
+
+impl Tilted {
+    fn new(p: &PStep, b: &PBody, g: &Grid, (j0, j1): (usize, usize)) -> Self {
+        let (u, v, _) = g.uvw;
+        let shadow = Shadow::new(&p.step, &b.body, g);
+        let rows = (j0..j1)
+            .map(|j| {
+                #[allow(clippy::cast_precision_loss)]
+                let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
+                match shadow.span(y) {
+                    Some((x0, x1)) if x0 <= x1 => {
+                        DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1)
+                    }
+                    _ => (0, 0),
+                }
+            })
+            .collect();
+        Self {
+            prepared: b.body.prepare(&p.step, g.dir),
+            rows,
+        }
+    }
+
+    /// The rays of row `j` (of the body's rows `j0..`) within `ia..ib` in the shadow.
+    fn row(&self, j: usize, j0: usize, (ia, ib): (usize, usize)) -> Option<(usize, usize)> {
+        let (a, c) = self.rows.get(j.checked_sub(j0)?).copied()?;
+        let (a, c) = (a.max(ia), c.min(ib));
+        (a < c).then_some((a, c))
+    }
+}
+
+/// The sweeps of the batch's bodies for the family's rays (in the order of `batch.bodies`);
+/// vertical tools over Z rays (closed forms) and bodies whose box misses the grid get no
+/// prepared sweep.
+fn prepare_sweeps(batch: &Batch, g: &Grid) -> Vec<Sweep> {
+    let (u, v, _) = g.uvw;
+    let owners: Vec<(usize, usize)> = batch
+        .steps
+        .iter()
+        .enumerate()
+        .flat_map(|(s, p)| p.bodies.clone().map(move |k| (s, k)))
+        .collect();
+    owners
+        .par_iter()
+        .map(|&(s, k)| {
+            let none = Sweep {
+                cells: [0; 4],
+                tilted: None,
+            };
+            let (Some(p), Some(b)) = (batch.steps.get(s), batch.bodies.get(k)) else {
+                return none;
+            };
+            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
+            let (i0, i1) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
+            let (j0, j1) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
+            if i0 >= i1 || j0 >= j1 {
+                return none;
+            }
+            Sweep {
+                cells: [i0, i1, j0, j1],
+                tilted: (!(g.z_family && p.vertical)).then(|| Tilted::new(p, b, g, (j0, j1))),
+            }
+        })
+        .collect()
+}
+
+/// Apply every step of the batch to the task's rays (`sweeps`: from [`prepare_sweeps`]).
+fn run_task(
+    t: &mut Task,
+    batch: &Batch,
+    sweeps: &[Sweep],
+    g: &Grid,
+    (ranges, cnu): (&[[f32; 2]], usize),
+) -> TaskOut {
     let mut hits = Vec::new();
     let mut dirty = [false; CPT * CPT];
-    let (u, v, w) = g.uvw;
+    let (_, _, w) = g.uvw;
     let i1 = t.i0 + t.rows.first().map_or(0, |r| r.len());
     let j1 = t.j0 + t.rows.len();
     for p in &batch.steps {
-        for b in batch.bodies.get(p.bodies.clone()).unwrap_or(&[]) {
-            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
-            let (ja, jb) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
+        for k in p.bodies.clone() {
+            let (Some(b), Some(sweep)) = (batch.bodies.get(k), sweeps.get(k)) else {
+                continue;
+            };
+            let [ia, ib, ja, jb] = sweep.cells;
             let (ja, jb) = (ja.max(t.j0), jb.min(j1));
-            let (ia, ib) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
             let (ia, ib) = (ia.max(t.i0), ib.min(i1));
             if ja >= jb || ia >= ib {
                 continue;
             }
             let vertical = g.z_family && p.vertical;
+            if !vertical && sweep.tilted.is_none() {
+                continue;
+            }
+            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
             let ctx = BodyCtx {
                 p,
                 b,
                 w_lo: lo[w] - g.o[w],
                 w_hi: hi[w] - g.o[w],
                 vertical,
-                prepared: if vertical {
-                    Prepared::default()
-                } else {
-                    b.body.prepare(&p.step, g.dir)
-                },
+                prepared: sweep.tilted.as_ref().map(|s| &s.prepared),
             };
-            let shadow = (!ctx.vertical).then(|| Shadow::new(&p.step, &b.body, g));
+            let j0 = sweep.cells[2];
             for j in ja..jb {
-                let Some((sa, sb)) = row_span(&ctx, shadow.as_ref(), g, j, (ia, ib)) else {
+                let span = match &sweep.tilted {
+                    Some(tilted) => tilted.row(j, j0, (ia, ib)),
+                    None => row_span(&ctx, g, j, (ia, ib)),
+                };
+                let Some((sa, sb)) = span else {
                     continue;
                 };
                 let Some(row) = t.rows.get_mut(j - t.j0) else {
@@ -444,16 +538,10 @@ fn run_task(t: &mut Task, batch: &Batch, g: &Grid, ranges: &[[f32; 2]], cnu: usi
     (hits, updates)
 }
 
-/// The rays `sa..sb` of row `j` (within `ia..ib`) that the body can change: for a vertical
-/// tool over Z rays the footprint's stadium less the rear half-disc already cut, otherwise the
-/// body's shadow; `None` when the row misses it.
-fn row_span(
-    ctx: &BodyCtx,
-    shadow: Option<&Shadow>,
-    g: &Grid,
-    j: usize,
-    (ia, ib): (usize, usize),
-) -> Option<(usize, usize)> {
+/// The rays `sa..sb` of row `j` (within `ia..ib`) that a vertical tool over Z rays can
+/// change: the footprint's stadium less the rear half-disc already cut (tilted bodies:
+/// [`Tilted::row`]); `None` when the row misses it.
+fn row_span(ctx: &BodyCtx, g: &Grid, j: usize, (ia, ib): (usize, usize)) -> Option<(usize, usize)> {
     let (u, v, _) = g.uvw;
     #[allow(clippy::cast_precision_loss)]
     let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
@@ -474,8 +562,6 @@ fn row_span(
             Some((r0, r1)) if r1 >= x1 => (x0, x1.min(r0)),
             _ => (x0, x1),
         }
-    } else if let Some(sh) = shadow {
-        sh.span(y)?
     } else {
         return Some((ia, ib));
     };
@@ -541,7 +627,7 @@ struct BodyCtx<'a> {
     /// Vertical tool over Z rays: the closed forms of `vertical_interval`.
     vertical: bool,
     /// The body's sweep along the step prepared for the family's rays (tilted bodies).
-    prepared: Prepared,
+    prepared: Option<&'a Prepared>,
 }
 
 /// Apply a vertical ball's step to the rays `i..end` (at most `LANES`) of row `j` by the row
@@ -607,8 +693,11 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, o, g.tol, hits) {
             return false;
         }
+        let Some(prep) = c.prepared else {
+            return false;
+        };
         c.b.body
-            .interval_prepared(step, (o, g.dir), dexel.intervals(), &c.prepared)
+            .interval_prepared(step, (o, g.dir), dexel.intervals(), prep)
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
     };
@@ -644,7 +733,7 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
 /// less than the depth of a hit this task already recorded for the same move and kind (then
 /// `record` would keep that one, and so would the final merge).
 fn guard_beaten(dexel: &Dexel, c: &BodyCtx, o: DVec3, tol: f64, hits: &[Hit]) -> bool {
-    let Some((lo, hi)) = c.prepared.cylinder_range(o) else {
+    let Some((lo, hi)) = c.prepared.and_then(|p| p.cylinder_range(o)) else {
         return false;
     };
     let Some(kind) = c.b.kind else {

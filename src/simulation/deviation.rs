@@ -302,7 +302,12 @@ pub fn top_deviation(
             };
             match sheet_side(part, &bvh, *p, DVec3::Z, &hit, None) {
                 Some(_) if closed => {
-                    let inside = signed_distance(&bvh, &bounds, *p).is_some_and(|d| d < 0.0);
+                    // The signed distance of `p` (`signed_distance`) with this closest point:
+                    // negative inside the part, and +0 on its surface.
+                    let inside = hit.distance > 0.0
+                        && mesh_intervals(&bvh, &bounds, *p, super::dexel::RayAxis::Z)
+                            .iter()
+                            .any(|[lo, hi]| p.z > *lo && p.z < *hi);
                     (if inside { -hit.distance } else { hit.distance }, true)
                 }
                 Some(along) => (along, true),

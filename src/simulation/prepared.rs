@@ -226,14 +226,101 @@ const BOUND_SLACK_MM: f64 = 1e-5;
 /// `s ≥ (H − n·o)/(n·e)` where `n·e > 0` and `s ≤` the same where `n·e < 0`. The planes are
 /// the cap's and tangent planes of the side facing the line (below: lower bounds; above:
 /// upper bounds); where the line meets the sweep the bounds are within about
-/// `ρ·(1/cos 10° − 1)/(n·e)` of its ends. Per line: one dot product per plane.
+/// `ρ·(1/cos 10° − 1)/(n·e)` of its ends. Per line: one dot product per plane, four planes
+/// at a time (the planes are stored by coordinate, padded with planes that bound nothing).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SweepBound {
-    /// Per plane: `s ≥ c − m·o` (lower) or `s ≤ c − m·o` (upper).
-    lower: [(DVec3, f64); PLANES],
-    upper: [(DVec3, f64); PLANES],
-    n_lower: usize,
-    n_upper: usize,
+    /// `s ≥ c − m·o` for every plane.
+    lower: Planes,
+    /// `s ≤ c − m·o` for every plane.
+    upper: Planes,
+}
+
+/// Plane slots of a [`Planes`]: [`PLANES`] rounded up to whole groups of four.
+const SLOTS: usize = PLANES.div_ceil(4) * 4;
+
+/// Planes `c − m·o` of one side of a [`SweepBound`], by coordinate in groups of four.
+#[derive(Clone, Copy, Debug)]
+struct Planes {
+    mx: [[f64; 4]; SLOTS / 4],
+    my: [[f64; 4]; SLOTS / 4],
+    mz: [[f64; 4]; SLOTS / 4],
+    c: [[f64; 4]; SLOTS / 4],
+    /// Planes set.
+    count: usize,
+}
+
+impl Planes {
+    /// No plane: every slot `c = fill`, `m = 0`.
+    fn new(fill: f64) -> Self {
+        Self {
+            mx: [[0.0; 4]; SLOTS / 4],
+            my: [[0.0; 4]; SLOTS / 4],
+            mz: [[0.0; 4]; SLOTS / 4],
+            c: [[fill; 4]; SLOTS / 4],
+            count: 0,
+        }
+    }
+
+    fn push(&mut self, m: DVec3, c: f64) {
+        let (g, l) = (self.count / 4, self.count % 4);
+        if let (Some(x), Some(y), Some(z), Some(cc)) = (
+            self.mx.get_mut(g).and_then(|r| r.get_mut(l)),
+            self.my.get_mut(g).and_then(|r| r.get_mut(l)),
+            self.mz.get_mut(g).and_then(|r| r.get_mut(l)),
+            self.c.get_mut(g).and_then(|r| r.get_mut(l)),
+        ) {
+            (*x, *y, *z, *cc) = (m.x, m.y, m.z, c);
+            self.count += 1;
+        }
+    }
+
+    /// `c − m·o` of every slot (the dot product in the order of `DVec3::dot`).
+    fn values(&self, o: DVec3) -> [[f64; 4]; SLOTS / 4] {
+        let mut out = [[0.0; 4]; SLOTS / 4];
+        for (g, row) in out.iter_mut().enumerate() {
+            let (Some(x), Some(y), Some(z), Some(c)) = (
+                self.mx.get(g),
+                self.my.get(g),
+                self.mz.get(g),
+                self.c.get(g),
+            ) else {
+                continue;
+            };
+            for l in 0..4 {
+                row[l] = c[l] - (x[l] * o.x + y[l] * o.y + z[l] * o.z);
+            }
+        }
+        out
+    }
+
+    /// The greatest value (−∞ with no plane).
+    fn max(&self, o: DVec3) -> f64 {
+        let v = self.values(o);
+        let mut acc = [f64::NEG_INFINITY; 4];
+        for row in &v {
+            for l in 0..4 {
+                acc[l] = if row[l] > acc[l] { row[l] } else { acc[l] };
+            }
+        }
+        let a = if acc[1] > acc[0] { acc[1] } else { acc[0] };
+        let b = if acc[3] > acc[2] { acc[3] } else { acc[2] };
+        if b > a { b } else { a }
+    }
+
+    /// The least value (+∞ with no plane).
+    fn min(&self, o: DVec3) -> f64 {
+        let v = self.values(o);
+        let mut acc = [f64::INFINITY; 4];
+        for row in &v {
+            for l in 0..4 {
+                acc[l] = if row[l] < acc[l] { row[l] } else { acc[l] };
+            }
+        }
+        let a = if acc[1] < acc[0] { acc[1] } else { acc[0] };
+        let b = if acc[3] < acc[2] { acc[3] } else { acc[2] };
+        if b < a { b } else { a }
+    }
 }
 
 impl SweepBound {
@@ -243,10 +330,8 @@ impl SweepBound {
     pub(super) fn new(e: DVec3, p0: DVec3, d: DVec3, cyl: Cyl, ball: Option<f64>) -> Self {
         let Cyl { a, rho, z0, z1 } = cyl;
         let mut out = Self {
-            lower: [(DVec3::ZERO, 0.0); PLANES],
-            upper: [(DVec3::ZERO, 0.0); PLANES],
-            n_lower: 0,
-            n_upper: 0,
+            lower: Planes::new(f64::NEG_INFINITY),
+            upper: Planes::new(f64::INFINITY),
         };
         let support = |n: DVec3| {
             let na = n.dot(a);
@@ -260,14 +345,10 @@ impl SweepBound {
                 return;
             }
             let (m, c) = (n / ne, support(n) / ne);
-            let (list, count) = if ne > 0.0 {
-                (&mut out.lower, &mut out.n_lower)
+            if ne > 0.0 {
+                out.lower.push(m, c);
             } else {
-                (&mut out.upper, &mut out.n_upper)
-            };
-            if let Some(slot) = list.get_mut(*count) {
-                *slot = (m, c);
-                *count += 1;
+                out.upper.push(m, c);
             }
         };
         let pe = e - a * a.dot(e);
@@ -292,19 +373,13 @@ impl SweepBound {
 
     /// The lower bound of [`SweepBound::range`].
     pub(super) fn lower(&self, o: DVec3) -> f64 {
-        let mut lo = f64::NEG_INFINITY;
-        for (m, c) in self.lower.iter().take(self.n_lower) {
-            lo = lo.max(c - m.dot(o));
-        }
+        let lo = self.lower.max(o);
         lo - (BOUND_SLACK_MM + 1e-12 * lo.abs().min(1e6))
     }
 
     /// The upper bound of [`SweepBound::range`].
     pub(super) fn upper(&self, o: DVec3) -> f64 {
-        let mut hi = f64::INFINITY;
-        for (m, c) in self.upper.iter().take(self.n_upper) {
-            hi = hi.min(c - m.dot(o));
-        }
+        let hi = self.upper.min(o);
         hi + (BOUND_SLACK_MM + 1e-12 * hi.abs().min(1e6))
     }
 }
