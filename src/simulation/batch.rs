@@ -4,6 +4,10 @@
 //!   buffers are reused): clipped to the part of the tool that can reach the stock's box
 //!   (the rest of a long tool only meets air), their boxes, and for a vertical tool over Z
 //!   rays the footprint's row spans (the stadium of the tool radius around the tip's path).
+//! - For each ray family, a tilted body's sweep is prepared for the family's rays once (the
+//!   sweep bounds and exact-interval constants of `sweep::Prepared`, the shadow's row spans),
+//!   `SWEEP_STEPS` steps at a time, and shared by every task (the row spans are the one
+//!   allocation per tilted body and family).
 //! - The grid is cut into square tasks of `TASK` rays; rayon runs the tasks in parallel, each
 //!   applying every step of the batch, in order, to its own rays (disjoint slices, no locks).
 //!   A ray's result depends only on the steps in order, never on the thread count.
@@ -33,6 +37,8 @@ const CULL: usize = 16;
 const TASK: usize = 32;
 /// Culling tiles per task side.
 const CPT: usize = TASK / CULL;
+/// Steps whose bodies' sweeps are prepared at a time (and held: a few kB each).
+const SWEEP_STEPS: usize = 256;
 /// A ball end mill's step that would take less than this off a Z ray's top passes the ray
 /// over (the quick test of `ray`; it spares the exact interval on the rays the previous
 /// step already cut to the same surface), mm.
@@ -345,19 +351,23 @@ pub(super) fn apply_batch(
             }
         }
     }
-    let sweeps = prepare_sweeps(batch, &grid);
-    let ranges = &cull.ranges;
-    let cnu = cull.nu;
-    let outs: Vec<TaskOut> = tasks
-        .into_par_iter()
-        .map(|mut t| run_task(&mut t, batch, &sweeps, &grid, (ranges, cnu)))
-        .collect();
+    // The tasks run the batch's steps a part at a time, each part's sweeps prepared once.
     let mut hits = Vec::new();
-    for (h, updates) in outs {
-        hits.extend(h);
-        for (k, e) in updates {
-            if let Some(slot) = cull.ranges.get_mut(k) {
-                *slot = e;
+    for steps in batch.steps.chunks(SWEEP_STEPS) {
+        let sweeps = prepare_sweeps(batch, steps, &grid);
+        let base = steps.first().map_or(0, |p| p.bodies.start);
+        let ranges = &cull.ranges;
+        let cnu = cull.nu;
+        let outs: Vec<TaskOut> = tasks
+            .par_iter_mut()
+            .map(|t| run_task(t, (batch, steps), (&sweeps, base), &grid, (ranges, cnu)))
+            .collect();
+        for (h, updates) in outs {
+            hits.extend(h);
+            for (k, e) in updates {
+                if let Some(slot) = cull.ranges.get_mut(k) {
+                    *slot = e;
+                }
             }
         }
     }
@@ -411,13 +421,12 @@ impl Tilted {
     }
 }
 
-/// The sweeps of the batch's bodies for the family's rays (in the order of `batch.bodies`);
-/// vertical tools over Z rays (closed forms) and bodies whose box misses the grid get no
-/// prepared sweep.
-fn prepare_sweeps(batch: &Batch, g: &Grid) -> Vec<Sweep> {
+/// The sweeps of the bodies of `steps` (some of the batch's) for the family's rays, in the
+/// order of `batch.bodies`; vertical tools over Z rays (closed forms) and bodies whose box
+/// misses the grid get no prepared sweep.
+fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Vec<Sweep> {
     let (u, v, _) = g.uvw;
-    let owners: Vec<(usize, usize)> = batch
-        .steps
+    let owners: Vec<(usize, usize)> = steps
         .iter()
         .enumerate()
         .flat_map(|(s, p)| p.bodies.clone().map(move |k| (s, k)))
@@ -429,7 +438,7 @@ fn prepare_sweeps(batch: &Batch, g: &Grid) -> Vec<Sweep> {
                 cells: [0; 4],
                 tilted: None,
             };
-            let (Some(p), Some(b)) = (batch.steps.get(s), batch.bodies.get(k)) else {
+            let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) else {
                 return none;
             };
             let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
@@ -446,11 +455,12 @@ fn prepare_sweeps(batch: &Batch, g: &Grid) -> Vec<Sweep> {
         .collect()
 }
 
-/// Apply every step of the batch to the task's rays (`sweeps`: from [`prepare_sweeps`]).
+/// Apply `steps` (some of the batch's, in order) to the task's rays; `sweeps` from
+/// [`prepare_sweeps`] for them, the first for the batch's body `base`.
 fn run_task(
     t: &mut Task,
-    batch: &Batch,
-    sweeps: &[Sweep],
+    (batch, steps): (&Batch, &[PStep]),
+    (sweeps, base): (&[Sweep], usize),
     g: &Grid,
     (ranges, cnu): (&[[f32; 2]], usize),
 ) -> TaskOut {
@@ -459,9 +469,10 @@ fn run_task(
     let (_, _, w) = g.uvw;
     let i1 = t.i0 + t.rows.first().map_or(0, |r| r.len());
     let j1 = t.j0 + t.rows.len();
-    for p in &batch.steps {
+    for p in steps {
         for k in p.bodies.clone() {
-            let (Some(b), Some(sweep)) = (batch.bodies.get(k), sweeps.get(k)) else {
+            let (Some(b), Some(sweep)) = (batch.bodies.get(k), sweeps.get(k.wrapping_sub(base)))
+            else {
                 continue;
             };
             let [ia, ib, ja, jb] = sweep.cells;
