@@ -6,8 +6,8 @@
 //!   rays the footprint's row spans (the stadium of the tool radius around the tip's path).
 //! - For each ray family, a tilted body's sweep is prepared for the family's rays once (the
 //!   sweep bounds and exact-interval constants of `sweep::Prepared`, the shadow's row spans),
-//!   `SWEEP_STEPS` steps at a time, and shared by every task (the row spans are the one
-//!   allocation per tilted body and family).
+//!   `SWEEP_STEPS` steps at a time (their buffers allocated once per part), and shared by
+//!   every task.
 //! - The grid is cut into square tasks of `TASK` rays; rayon runs the tasks in parallel, each
 //!   applying every step of the batch, in order, to its own rays (disjoint slices, no locks).
 //!   A ray's result depends only on the steps in order, never on the thread count.
@@ -386,52 +386,59 @@ struct Sweep {
 /// A tilted body's sweep (or any body over X or Y rays) for the family's rays.
 struct Tilted {
     prepared: Prepared,
-    /// Per row `j0..j1` of [`Sweep::cells`], the rays `a..c` of the row within the body's
-    /// shadow ([`Shadow`]; `a ≥ c` where the row misses it).
+    /// Where [`Sweeps::rows`] holds the body's rows `j0..j1` of [`Sweep::cells`].
+    rows: Range<usize>,
+}
+
+/// The sweeps of some steps' bodies, and the row spans of the tilted ones: per row, the rays
+/// `a..c` within the body's shadow ([`Shadow`]; `a ≥ c` where the row misses it).
+struct Sweeps {
+    list: Vec<Sweep>,
     rows: Vec<(usize, usize)>,
 }
 
-impl Tilted {
-    fn new(p: &PStep, b: &PBody, g: &Grid, (j0, j1): (usize, usize)) -> Self {
-        let (u, v, _) = g.uvw;
-        let shadow = Shadow::new(&p.step, &b.body, g);
-        let rows = (j0..j1)
-            .map(|j| {
-                #[allow(clippy::cast_precision_loss)]
-                let y = g.o[v] + (j as f64 + 0.5) * g.spacing;
-                match shadow.span(y) {
-                    Some((x0, x1)) if x0 <= x1 => {
-                        DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1)
-                    }
-                    _ => (0, 0),
-                }
-            })
-            .collect();
-        Self {
-            prepared: b.body.prepare(&p.step, g.dir),
-            rows,
-        }
-    }
-
-    /// The rays of row `j` (of the body's rows `j0..`) within `ia..ib` in the shadow.
-    fn row(&self, j: usize, j0: usize, (ia, ib): (usize, usize)) -> Option<(usize, usize)> {
-        let (a, c) = self.rows.get(j.checked_sub(j0)?).copied()?;
+impl Sweeps {
+    /// The rays of row `j` within `ia..ib` in the shadow of the tilted body `t` (rows from
+    /// `j0`).
+    fn row(
+        &self,
+        t: &Tilted,
+        j: usize,
+        j0: usize,
+        (ia, ib): (usize, usize),
+    ) -> Option<(usize, usize)> {
+        let rows = self.rows.get(t.rows.clone())?;
+        let (a, c) = rows.get(j.checked_sub(j0)?).copied()?;
         let (a, c) = (a.max(ia), c.min(ib));
         (a < c).then_some((a, c))
+    }
+}
+
+/// The row spans `j0..` of a body's shadow into `out` (one per row).
+fn shadow_rows(p: &PStep, b: &PBody, g: &Grid, j0: usize, out: &mut [(usize, usize)]) {
+    let (u, v, _) = g.uvw;
+    let shadow = Shadow::new(&p.step, &b.body, g);
+    for (k, slot) in out.iter_mut().enumerate() {
+        #[allow(clippy::cast_precision_loss)]
+        let y = g.o[v] + ((j0 + k) as f64 + 0.5) * g.spacing;
+        *slot = match shadow.span(y) {
+            Some((x0, x1)) if x0 <= x1 => DexelFamily::cell_range(g.o[u], g.spacing, g.nu, x0, x1),
+            _ => (0, 0),
+        };
     }
 }
 
 /// The sweeps of the bodies of `steps` (some of the batch's) for the family's rays, in the
 /// order of `batch.bodies`; vertical tools over Z rays (closed forms) and bodies whose box
 /// misses the grid get no prepared sweep.
-fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Vec<Sweep> {
+fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Sweeps {
     let (u, v, _) = g.uvw;
     let owners: Vec<(usize, usize)> = steps
         .iter()
         .enumerate()
         .flat_map(|(s, p)| p.bodies.clone().map(move |k| (s, k)))
         .collect();
-    owners
+    let mut list: Vec<Sweep> = owners
         .par_iter()
         .map(|&(s, k)| {
             let none = Sweep {
@@ -449,10 +456,41 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Vec<Sweep> {
             }
             Sweep {
                 cells: [i0, i1, j0, j1],
-                tilted: (!(g.z_family && p.vertical)).then(|| Tilted::new(p, b, g, (j0, j1))),
+                tilted: (!(g.z_family && p.vertical)).then(|| Tilted {
+                    prepared: b.body.prepare(&p.step, g.dir),
+                    rows: 0..0,
+                }),
             }
         })
-        .collect()
+        .collect();
+    let mut total = 0;
+    for sw in &mut list {
+        if let Some(t) = &mut sw.tilted {
+            let n = sw.cells[3] - sw.cells[2];
+            t.rows = total..total + n;
+            total += n;
+        }
+    }
+    let mut rows = vec![(0, 0); total];
+    let mut jobs = Vec::with_capacity(list.len());
+    let mut rest: &mut [(usize, usize)] = &mut rows;
+    for (sw, &(s, k)) in list.iter().zip(&owners) {
+        let Some(t) = &sw.tilted else {
+            continue;
+        };
+        let Some((head, tail)) = std::mem::take(&mut rest).split_at_mut_checked(t.rows.len())
+        else {
+            break;
+        };
+        jobs.push((head, s, k, sw.cells[2]));
+        rest = tail;
+    }
+    jobs.into_par_iter().for_each(|(out, s, k, j0)| {
+        if let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) {
+            shadow_rows(p, b, g, j0, out);
+        }
+    });
+    Sweeps { list, rows }
 }
 
 /// Apply `steps` (some of the batch's, in order) to the task's rays; `sweeps` from
@@ -460,7 +498,7 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Vec<Sweep> {
 fn run_task(
     t: &mut Task,
     (batch, steps): (&Batch, &[PStep]),
-    (sweeps, base): (&[Sweep], usize),
+    (sweeps, base): (&Sweeps, usize),
     g: &Grid,
     (ranges, cnu): (&[[f32; 2]], usize),
 ) -> TaskOut {
@@ -471,7 +509,8 @@ fn run_task(
     let j1 = t.j0 + t.rows.len();
     for p in steps {
         for k in p.bodies.clone() {
-            let (Some(b), Some(sweep)) = (batch.bodies.get(k), sweeps.get(k.wrapping_sub(base)))
+            let (Some(b), Some(sweep)) =
+                (batch.bodies.get(k), sweeps.list.get(k.wrapping_sub(base)))
             else {
                 continue;
             };
@@ -497,7 +536,7 @@ fn run_task(
             let j0 = sweep.cells[2];
             for j in ja..jb {
                 let span = match &sweep.tilted {
-                    Some(tilted) => tilted.row(j, j0, (ia, ib)),
+                    Some(tilted) => sweeps.row(tilted, j, j0, (ia, ib)),
                     None => row_span(&ctx, g, j, (ia, ib)),
                 };
                 let Some((sa, sb)) = span else {
@@ -551,7 +590,7 @@ fn run_task(
 
 /// The rays `sa..sb` of row `j` (within `ia..ib`) that a vertical tool over Z rays can
 /// change: the footprint's stadium less the rear half-disc already cut (tilted bodies:
-/// [`Tilted::row`]); `None` when the row misses it.
+/// [`Sweeps::row`]); `None` when the row misses it.
 fn row_span(ctx: &BodyCtx, g: &Grid, j: usize, (ia, ib): (usize, usize)) -> Option<(usize, usize)> {
     let (u, v, _) = g.uvw;
     #[allow(clippy::cast_precision_loss)]

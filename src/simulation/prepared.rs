@@ -577,6 +577,61 @@ mod tests {
         assert!(worst < 5.0, "{worst}");
     }
 
+    /// The planes in lanes give the same greatest / least value as one plane at a time
+    /// (`c − m·o` with `DVec3::dot`, folded by `f64::max` / `f64::min`), to the bit.
+    #[test]
+    fn bound_lanes_are_the_planes_one_at_a_time() {
+        let scalar = |p: &Planes, o: DVec3, upper: bool| {
+            let mut out = if upper {
+                f64::INFINITY
+            } else {
+                f64::NEG_INFINITY
+            };
+            for k in 0..p.count {
+                let (g, l) = (k / 4, k % 4);
+                let m = DVec3::new(p.mx[g][l], p.my[g][l], p.mz[g][l]);
+                let v = p.c[g][l] - m.dot(o);
+                out = if upper { out.min(v) } else { out.max(v) };
+            }
+            out
+        };
+        let cyl = Cyl {
+            a: DVec3::new(0.3, -0.2, 0.9).normalize(),
+            rho: 3.0,
+            z0: 3.0,
+            z1: 18.0,
+        };
+        let mut planes = 0;
+        for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+            for ball in [None, Some(3.0)] {
+                let b = SweepBound::new(
+                    e,
+                    DVec3::new(0.4, -0.3, 1.0),
+                    DVec3::new(0.1, 0.02, -0.01),
+                    cyl,
+                    ball,
+                );
+                planes += b.lower.count + b.upper.count;
+                for k in 0..400 {
+                    let o = DVec3::new(
+                        f64::from(k % 20) * 0.37 - 3.5,
+                        f64::from(k / 20) * 0.41 - 4.0,
+                        f64::from(k % 7) - 20.0,
+                    );
+                    assert_eq!(
+                        b.lower.max(o).to_bits(),
+                        scalar(&b.lower, o, false).to_bits()
+                    );
+                    assert_eq!(
+                        b.upper.min(o).to_bits(),
+                        scalar(&b.upper, o, true).to_bits()
+                    );
+                }
+            }
+        }
+        assert!(planes > 60, "{planes}");
+    }
+
     #[test]
     fn prepared_ball_is_capsule_entry_to_the_bit() {
         use crate::simulation::exact::capsule_entry;
