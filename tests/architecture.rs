@@ -318,10 +318,22 @@ fn the_data_walk_in_architecture_md_names_existing_types_in_order() {
         .expect("ARCHITECTURE.md draws the data walk in a code block");
     let stages = [
         ("file", None),
-        ("Workpiece", Some(("src/import/workpiece.rs", "pub struct Workpiece"))),
-        ("Toolpath", Some(("src/toolpath/mod.rs", "pub struct Toolpath"))),
-        ("MachiningRun", Some(("src/project/run.rs", "pub struct MachiningRun"))),
-        ("TimedPath", Some(("src/feed/timed_path.rs", "pub struct TimedPath"))),
+        (
+            "Workpiece",
+            Some(("src/import/workpiece.rs", "pub struct Workpiece")),
+        ),
+        (
+            "Toolpath",
+            Some(("src/toolpath/mod.rs", "pub struct Toolpath")),
+        ),
+        (
+            "MachiningRun",
+            Some(("src/project/run.rs", "pub struct MachiningRun")),
+        ),
+        (
+            "TimedPath",
+            Some(("src/feed/timed_path.rs", "pub struct TimedPath")),
+        ),
         ("simulation", None),
         ("force model", None),
         ("virtual control", None),
