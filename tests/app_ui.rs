@@ -14,6 +14,7 @@ use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
 use talas::app::document_loader::load_part;
 use talas::app::panels::properties::Focus;
+use talas::app::reduction::DataReduction;
 use talas::app::scalar_field::curvature_field;
 use talas::app::viewport::picking::surface_pick;
 use talas::app::{Workstation, WorkstationConfig};
@@ -540,6 +541,17 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The data-reduction feature.
+fn reduction(ws: &Workstation) -> &DataReduction {
+    ws.feature_ref::<DataReduction>()
+        .expect("data reduction is a registered feature")
+}
+
+/// Is a reduction running?
+fn reducing(ws: &Workstation) -> bool {
+    reduction(ws).is_running()
+}
+
 /// Machining → Data reduction: the part's Z-map reduced in the background. The Z-map's heights
 /// against the exact B-spline surface (Newton inversion of x(u,v), y(u,v)), the singular values
 /// against the Frobenius norm (Σσ² = Σz²), the rank rule's guarantee (σ_r > t ≥ σ_(r+1) and
@@ -558,14 +570,14 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.get_by_label_contains("161 × 121 nodes");
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    settle_while(&mut h, "reduction", Workstation::is_reducing);
+    settle_while(&mut h, "reduction", reducing);
     h.run_steps(2);
-    let Some(talas::app::panels::reduction_view::ReductionResult::Regular(r)) =
-        h.state().reduction().cloned()
+    let Some(talas::app::reduction::ReductionResult::Regular(r)) =
+        reduction(h.state()).result().cloned()
     else {
         panic!("no regular reduction");
     };
-    assert!(h.state().reduction_visible());
+    assert!(reduction(h.state()).is_visible());
     h.get_by_label("Bound σ(r+1)");
     let tol = 0.01;
     let red = &r.reduction;
@@ -634,19 +646,19 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     let back_max = back.mesh.positions.iter().fold(f64::MIN, |a, p| a.max(p.z));
     assert!((zmax - back_max).abs() < 1e-4, "{zmax} vs {back_max}");
     // Hiding it shows the part again.
-    h.state_mut().apply(Command::SetReductionVisible(false));
+    h.state_mut().apply(DataReduction::command("hide"));
     h.run_steps(2);
-    assert!(!h.state().reduction_visible());
+    assert!(!reduction(h.state()).is_visible());
     // The XY-dependent Z-map of the mesh's vertices: X, Y and Z reduced separately; the report
     // shows the three ranks and the vertical error, which is the largest node error measured.
     h.get_by_label("XY-dependent").click();
     h.run_steps(2);
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    settle_while(&mut h, "reduction", Workstation::is_reducing);
+    settle_while(&mut h, "reduction", reducing);
     h.run_steps(2);
-    let Some(talas::app::panels::reduction_view::ReductionResult::Xy(xy)) =
-        h.state().reduction().cloned()
+    let Some(talas::app::reduction::ReductionResult::Xy(xy)) =
+        reduction(h.state()).result().cloned()
     else {
         panic!("no XY-dependent reduction");
     };

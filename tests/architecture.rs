@@ -273,6 +273,84 @@ fn the_layer_tables_in_the_docs_match_the_checked_layers() {
     assert!(parsed[&2].contains("toolpath"));
 }
 
+/// The same-layer uses ARCHITECTURE.md allows ("`a` → `b`" in its "Same-layer uses allowed"
+/// line) are exactly `SAME_LAYER`.
+#[test]
+fn the_same_layer_uses_in_architecture_md_are_the_checked_ones() {
+    let text = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
+        .unwrap_or_default();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("Same-layer uses allowed:"))
+        .expect("ARCHITECTURE.md has a \"Same-layer uses allowed:\" line");
+    let mut listed = BTreeSet::new();
+    // "`user` → `used`, `used2`; …": each clause up to ';' names one user and its used modules.
+    for clause in line.split(';') {
+        let Some((user, used)) = clause.split_once('→') else {
+            continue;
+        };
+        let Some(user) = user.split('`').rev().nth(1) else {
+            continue;
+        };
+        let used_part = used.split('(').next().unwrap_or_default();
+        for used in used_part.split('`').skip(1).step_by(2) {
+            listed.insert((user.to_string(), used.to_string()));
+        }
+    }
+    let checked: BTreeSet<(String, String)> = SAME_LAYER
+        .iter()
+        .map(|(a, b)| ((*a).to_string(), (*b).to_string()))
+        .collect();
+    assert_eq!(listed, checked);
+}
+
+/// The one-way data walk drawn in ARCHITECTURE.md names the engine's types in order (file →
+/// Workpiece → Toolpath → MachiningRun → TimedPath → stock / forces / virtual control), and
+/// each of those types exists where the drawing says.
+#[test]
+fn the_data_walk_in_architecture_md_names_existing_types_in_order() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap_or_default();
+    let walk = text
+        .split("## Pipeline: the one-way data walk")
+        .nth(1)
+        .and_then(|t| t.split("```").nth(1))
+        .expect("ARCHITECTURE.md draws the data walk in a code block");
+    let stages = [
+        ("file", None),
+        (
+            "Workpiece",
+            Some(("src/import/workpiece.rs", "pub struct Workpiece")),
+        ),
+        (
+            "Toolpath",
+            Some(("src/toolpath/mod.rs", "pub struct Toolpath")),
+        ),
+        (
+            "MachiningRun",
+            Some(("src/project/run.rs", "pub struct MachiningRun")),
+        ),
+        (
+            "TimedPath",
+            Some(("src/feed/timed_path.rs", "pub struct TimedPath")),
+        ),
+        ("simulation", None),
+        ("force model", None),
+        ("virtual control", None),
+    ];
+    let mut from = 0;
+    for (name, def) in stages {
+        let at = walk[from..]
+            .find(name)
+            .unwrap_or_else(|| panic!("the data walk does not name {name} after byte {from}"));
+        from += at + name.len();
+        if let Some((file, decl)) = def {
+            let code = fs::read_to_string(root.join(file)).unwrap_or_default();
+            assert!(code.contains(decl), "{file} has no `{decl}`");
+        }
+    }
+}
+
 /// The code of a file without its `#[cfg(test)]` module (whose `super` is the file itself).
 fn without_test_module(code: &str) -> &str {
     code.find("#[cfg(test)]\nmod ").map_or(code, |i| &code[..i])

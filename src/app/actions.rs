@@ -251,12 +251,6 @@ pub fn actions() -> Vec<Action> {
         )
         .keys(&[plain(Key::Space)]),
         Action::new(
-            Command::OpenReductionView,
-            "Data reduction (Z-map SVD)…",
-            Some((Machining, 2)),
-        )
-        .hint("Sample the part's Z-map and reduce it by singular value decomposition"),
-        Action::new(
             Command::Playback(PlaybackCommand::Step(-1)),
             "Step back",
             None,

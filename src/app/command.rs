@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use super::document::Selection;
 use super::scalar_field::ScalarField;
-use super::state::{Focus, ReductionSettings};
+use super::state::Focus;
 use super::toolpaths::PathColouring;
 use super::viewport::picking::SurfacePick;
 use crate::project::{Edit, OperationKind};
@@ -102,17 +102,10 @@ pub enum Command {
     CompareOperations,
     /// Playback of the active path.
     Playback(PlaybackCommand),
-    /// Open the data-reduction window.
-    OpenReductionView,
     /// An action of a registered [`super::feature::Feature`] (its menu entry or key).
     Feature(FeatureCommand),
-    /// Reduce the part's Z-map with these settings (in the background).
-    Reduce(ReductionSettings),
-    /// Draw the reduced surface (instead of the part) or not.
-    SetReductionVisible(bool),
-    /// Ask where to export the reduced surface (STL).
-    ExportReductionDialog,
-    /// Export the reduced surface as binary STL to this path.
+    /// Export the reduced surface as binary STL to this path (taken by the data-reduction
+    /// feature; the save dialog's answer).
     ExportReductionTo(PathBuf),
 }
 

@@ -8,22 +8,31 @@
 //!    ([`Feature::job_status`]) and cancels it from there ([`Feature::cancel`]);
 //! 3. lets each feature draw its windows or panels ([`Feature::ui`]) from a read-only
 //!    [`FeatureView`] of the workstation, collecting the commands they return;
-//! 4. adds the features' meshes and lines to the viewport ([`Feature::scene`]).
+//! 4. adds the features' meshes and lines to the viewport ([`Feature::scene`]); one feature
+//!    may draw a surface instead of the part ([`SceneParts::instead_of_part`]).
+//!
+//! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
+//! read-only view, the egui context its jobs wake, fresh render ids, and a list of [`Notice`]s
+//! (log lines, a save dialog, a view switch such as hiding the stock) that the workstation
+//! carries out afterwards, so that no feature reaches into the workstation's fields.
 //!
 //! The features' menu entries and keys join the one table of [`super::actions`]
 //! ([`Feature::actions`]); their commands are [`Command::Feature`] with the feature's id, so a
 //! new feature needs no new [`Command`] variant.
 
 use std::any::Any;
-use std::path::Path;
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
 
 use super::actions::Action;
 use super::command::{Command, FeatureCommand};
 use super::document::Document;
+use super::file_dialog::SavePurpose;
 use super::job::JobStatus;
 use super::toolpaths::ComputedOp;
+use crate::diagnostics::Severity;
 use crate::project::Project;
-use crate::render::{LineInstance, MeshInstance};
+use crate::render::{DataId, LineInstance, MeshInstance, ScalarMapping};
 
 /// What a feature may read of the workstation while it draws.
 #[derive(Clone, Copy)]
@@ -38,6 +47,8 @@ pub struct FeatureView<'a> {
     pub posted: Option<(&'a str, &'a str)>,
     /// The data folder (settings files such as the force coefficient library).
     pub data_dir: &'a Path,
+    /// The project's file, once saved.
+    pub project_path: Option<&'a Path>,
     /// The pose the tool is drawn at (hovered in a plot, picked, or played back).
     pub tool_pose: Option<usize>,
     /// The operations' computed paths and planned clocks.
@@ -53,6 +64,106 @@ pub trait OperationResults {
     fn planned_clock(&self, index: usize) -> Option<&[f64]>;
 }
 
+/// What a feature uses of the workstation while it applies a command or collects its jobs.
+pub struct FeatureContext<'a> {
+    /// What it may read.
+    pub view: FeatureView<'a>,
+    /// The egui context its background jobs wake.
+    pub egui: &'a egui::Context,
+    /// The last render id handed out (shared with the workstation's own scene).
+    ids: &'a Cell<DataId>,
+    /// What the workstation is to do afterwards, in order.
+    notices: Vec<Notice>,
+}
+
+/// What a feature asks the workstation to do (carried out after the feature returns).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Notice {
+    /// Add a line to the log (`toast`: also shown over the viewport for a while).
+    Log {
+        /// How serious.
+        severity: Severity,
+        /// The line.
+        text: String,
+        /// Also a notification over the viewport.
+        toast: bool,
+    },
+    /// Ask where to save for `purpose`, starting at `suggestion`; the chosen path comes back as
+    /// the purpose's command.
+    SaveDialog {
+        /// What is saved.
+        purpose: SavePurpose,
+        /// The suggested file.
+        suggestion: PathBuf,
+    },
+    /// Change what the 3D view shows.
+    Switch(ViewSwitch),
+}
+
+/// A switch of the workstation's own view that a feature may ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewSwitch {
+    /// Stop drawing the simulated stock (the feature's surface replaces it).
+    HideStock,
+}
+
+impl<'a> FeatureContext<'a> {
+    /// A context reading `view`, waking `egui`, handing out ids after `ids`.
+    #[must_use]
+    pub fn new(view: FeatureView<'a>, egui: &'a egui::Context, ids: &'a Cell<DataId>) -> Self {
+        Self {
+            view,
+            egui,
+            ids,
+            notices: Vec::new(),
+        }
+    }
+
+    /// A render id no other mesh or line of the scene has.
+    pub fn next_id(&mut self) -> DataId {
+        let id = self.ids.get() + 1;
+        self.ids.set(id);
+        id
+    }
+
+    /// Add a line to the log.
+    pub fn log(&mut self, severity: Severity, text: impl Into<String>) {
+        self.notices.push(Notice::Log {
+            severity,
+            text: text.into(),
+            toast: false,
+        });
+    }
+
+    /// Add a line to the log and show it over the viewport for a while.
+    pub fn notify(&mut self, severity: Severity, text: impl Into<String>) {
+        self.notices.push(Notice::Log {
+            severity,
+            text: text.into(),
+            toast: true,
+        });
+    }
+
+    /// Ask where to save for `purpose`, starting at `suggestion`.
+    pub fn ask_save_path(&mut self, purpose: SavePurpose, suggestion: PathBuf) {
+        self.notices.push(Notice::SaveDialog {
+            purpose,
+            suggestion,
+        });
+    }
+
+    /// Switch the workstation's view.
+    pub fn switch(&mut self, switch: ViewSwitch) {
+        self.notices.push(Notice::Switch(switch));
+    }
+
+    /// What was asked for, in order.
+    #[must_use]
+    pub fn into_notices(self) -> Vec<Notice> {
+        self.notices
+    }
+}
+
 /// What a feature adds to the 3D view.
 #[derive(Default)]
 pub struct SceneParts {
@@ -60,6 +171,18 @@ pub struct SceneParts {
     pub meshes: Vec<MeshInstance>,
     /// Polylines drawn over it.
     pub lines: Vec<LineInstance>,
+    /// A surface drawn instead of the part and the stock (the first feature's wins).
+    pub instead_of_part: Option<InsteadOfPart>,
+}
+
+/// A surface drawn instead of the part, coloured by a scalar with a legend.
+pub struct InsteadOfPart {
+    /// The mesh (its scalar mapped by `mapping`).
+    pub mesh: MeshInstance,
+    /// The legend's title, with the unit.
+    pub legend: String,
+    /// How its scalar maps to colours.
+    pub mapping: ScalarMapping,
 }
 
 /// A workstation feature (see the module documentation for when each method is called).
@@ -73,12 +196,12 @@ pub trait Feature: Any {
     }
 
     /// Apply `command` when it is this feature's (`None`: taken); give it back otherwise.
-    fn apply(&mut self, command: Command) -> Option<Command> {
+    fn apply(&mut self, command: Command, _cx: &mut FeatureContext<'_>) -> Option<Command> {
         Some(command)
     }
 
     /// Collect finished background work (once a frame, before the layout).
-    fn poll(&mut self, _ctx: &egui::Context) {}
+    fn poll(&mut self, _cx: &mut FeatureContext<'_>) {}
 
     /// Its running job, as the status bar shows it.
     fn job_status(&self) -> Option<JobStatus> {
@@ -109,6 +232,14 @@ pub trait Feature: Any {
 #[must_use]
 pub fn is_action(command: &Command, id: &str, action: &str) -> bool {
     matches!(command, Command::Feature(FeatureCommand { feature, action: a }) if *feature == id && *a == action)
+}
+
+/// The registered feature of type `T`, to read.
+#[must_use]
+pub fn find_ref<T: Feature>(features: &[Box<dyn Feature>]) -> Option<&T> {
+    features
+        .iter()
+        .find_map(|f| (f.as_ref() as &dyn Any).downcast_ref::<T>())
 }
 
 /// The registered feature of type `T`.

@@ -4,7 +4,7 @@
 //!   in one place.
 //! - [`actions`]: the one table of menu entries and keyboard shortcuts.
 //! - [`job`]: the one background-job type (progress, cancel, poll; dropped = cancelled).
-//! - [`state`]: the state types the panels show (focus, dock tab, reduction settings/result);
+//! - [`state`]: the state types the panels show (focus, dock tab);
 //!   [`widgets`]: the small widgets and formatters the panels share.
 //! - [`panels`]: menu bar, project tree, properties, log, status bar (they return commands).
 //! - [`viewport`]: the 3D view; [`viewport::bridge`] joins egui to [`crate::render`].
@@ -12,6 +12,7 @@
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
 //! - [`feature`]: the [`feature::Feature`] trait a tool window or panel implements to plug into
 //!   the workstation (state, commands, jobs, windows, scene); [`features`] registers them:
+//!   - [`reduction`]: data reduction (the part's Z-map reduced by SVD, its error map, STL);
 //!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO);
 //!   - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths.
 
@@ -36,6 +37,7 @@ pub mod panels;
 pub mod profile_editor;
 pub mod project_session;
 pub mod recent_files;
+pub mod reduction;
 pub mod scalar_field;
 pub mod state;
 pub mod theme;
@@ -54,7 +56,8 @@ pub use workstation::{Workstation, WorkstationConfig};
 #[must_use]
 pub fn features() -> Vec<Box<dyn feature::Feature>> {
     vec![
-        Box::new(profile_editor::ProfileEditor::new()) as Box<dyn feature::Feature>,
+        Box::new(reduction::DataReduction::default()) as Box<dyn feature::Feature>,
+        Box::new(profile_editor::ProfileEditor::new()),
         Box::new(operator_panel::OperatorPanel::new()),
         Box::new(forces::ForcesWindow::default()),
     ]

@@ -8,13 +8,13 @@ mod dialogs;
 mod operations;
 mod program;
 mod project_commands;
-mod reduction;
 mod simulation;
 mod state;
 mod stock_here;
 
 pub use simulation::ShownSimulation;
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -22,7 +22,10 @@ use super::actions::{Action, actions, shortcuts};
 use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
-use super::feature::{Feature, FeatureView, OperationResults, find};
+use super::feature::{
+    Feature, FeatureContext, FeatureView, Notice, OperationResults, SceneParts, ViewSwitch, find,
+    find_ref,
+};
 use super::file_chooser::ChooserPurpose;
 use super::file_dialog::{DialogOutcome, SavePurpose};
 use super::job::Job;
@@ -105,7 +108,6 @@ pub struct Workstation {
     forms: Forms,
     ops: operations::Operations,
     sims: simulation::Simulations,
-    reductions: reduction::Reductions,
     programs: program::Programs,
     pick: Option<SurfacePick>,
     /// The registered features ([`super::features`]).
@@ -151,7 +153,6 @@ impl Workstation {
             forms: Forms::default(),
             ops: operations::Operations::new(),
             sims: simulation::Simulations::default(),
-            reductions: reduction::Reductions::default(),
             programs: program::Programs::default(),
             pick: None,
             features,
@@ -195,6 +196,12 @@ impl Workstation {
     #[must_use]
     pub fn feature<T: Feature>(&mut self) -> Option<&mut T> {
         find(&mut self.features)
+    }
+
+    /// The registered feature of type `T`, to read.
+    #[must_use]
+    pub fn feature_ref<T: Feature>(&self) -> Option<&T> {
+        find_ref(&self.features)
     }
 
     /// The profile editor (2D profiles and ball electrodes).
@@ -297,11 +304,9 @@ impl Workstation {
             return;
         }
         // A feature's command is taken by that feature.
-        let Some(command) = self
-            .features
-            .iter_mut()
-            .try_fold(command, |c, f| f.apply(c))
-        else {
+        let Some(command) = self.with_features(|features, cx| {
+            features.iter_mut().try_fold(command, |c, f| f.apply(c, cx))
+        }) else {
             return;
         };
         match command {
@@ -337,7 +342,6 @@ impl Workstation {
                     .cancel()
                     .or_else(|| self.sims.job.cancel())
                     .or_else(|| self.programs.job.cancel())
-                    .or_else(|| self.reductions.job.cancel())
                     .or_else(|| self.features.iter_mut().find_map(|f| f.cancel()))
                     .or_else(|| self.run.load_job.cancel())
                     .or_else(|| {
@@ -378,8 +382,8 @@ impl Workstation {
                 }
             }
             Command::ClearLog => self.log.entries.clear(),
-            // No registered feature has this id.
-            Command::Feature(_) => {}
+            // No registered feature took it.
+            Command::Feature(_) | Command::ExportReductionTo(_) => {}
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -422,20 +426,15 @@ impl Workstation {
             | Command::SetShowAxisVectors(_)
             | Command::CompareOperations
             | Command::Playback(_) => self.apply_operation(command),
-            Command::OpenReductionView
-            | Command::Reduce(_)
-            | Command::SetReductionVisible(_)
-            | Command::ExportReductionDialog
-            | Command::ExportReductionTo(_) => self.apply_reduction(command),
         }
     }
 
     /// Forget everything derived from the project or part being replaced: computed paths,
-    /// playback, simulations, posted programs and reductions (their jobs are cancelled). View
-    /// preferences (path colouring, all paths, axis vectors, playback speed) stay.
+    /// playback, simulations, posted programs and the features' results (their jobs are
+    /// cancelled). View preferences (path colouring, all paths, axis vectors, playback speed)
+    /// stay.
     fn reset_derived(&mut self) {
         // Replaced job slots drop their jobs, which cancels them without a word.
-        self.reductions.job = Default::default();
         let old = std::mem::replace(&mut self.ops, operations::Operations::new());
         self.ops.colouring = old.colouring;
         self.ops.show_all = old.show_all;
@@ -444,7 +443,6 @@ impl Workstation {
         self.ops.next_id = old.next_id;
         self.sims = simulation::Simulations::default();
         self.programs = program::Programs::default();
-        self.reductions.forget_result();
         for f in &mut self.features {
             f.reset();
         }
@@ -513,10 +511,11 @@ impl Workstation {
         self.poll_calc_job();
         self.poll_sim_job();
         self.poll_post_job();
-        self.poll_reduction_job();
-        for f in &mut self.features {
-            f.poll(&self.run.ctx);
-        }
+        self.with_features(|features, cx| {
+            for f in features {
+                f.poll(cx);
+            }
+        });
         if self.status().job.is_some() {
             // Each job wakes the UI when it ends; this is the fallback (and moves the bar).
             self.run
@@ -666,7 +665,6 @@ impl Workstation {
                 .status()
                 .or_else(|| self.sims.job.status())
                 .or_else(|| self.programs.job.status())
-                .or_else(|| self.reductions.job.status())
                 .or_else(|| self.features.iter().find_map(|f| f.job_status()))
                 .or_else(|| self.run.load_job.status())
                 .or_else(|| self.run.field_job.status()),
@@ -837,11 +835,17 @@ impl Workstation {
             }
             None => Vec::new(),
         };
+        let mut scene = SceneParts::default();
+        for f in &self.features {
+            let parts = f.scene();
+            scene.meshes.extend(parts.meshes);
+            scene.lines.extend(parts.lines);
+            scene.instead_of_part = scene.instead_of_part.or(parts.instead_of_part);
+        }
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
             let stock = self.stock_instance();
-            let reduced = self.reduction_instance();
             // Over the simulated stock the path would hide the deviation map: it is drawn only
             // while playing back.
             let mut paths = if stock.is_some() && up_to.is_none() {
@@ -850,16 +854,14 @@ impl Workstation {
                 paths
             };
             paths.extend(self.collision_instance());
-            // The reduced surface replaces the part (and the stock) while it is shown.
-            let (shown_mesh, legend_title) = match (reduced, stock) {
-                (Some(r), _) => (Some(r), "Reduction error, model − part (mm)"),
-                (None, s) => (s, "Stock deviation (mm)"),
+            // A feature's surface (the reduced one) replaces the part and the stock while shown.
+            let (shown_mesh, legend_title) = match (scene.instead_of_part, stock) {
+                (Some(r), _) => (Some((r.mesh, r.mapping)), r.legend),
+                (None, s) => (s, "Stock deviation (mm)".to_string()),
             };
             let mut extras = ViewportExtras {
                 hide_part: shown_mesh.is_some(),
-                stock_legend: shown_mesh
-                    .as_ref()
-                    .map(|(_, m)| (legend_title.to_string(), *m)),
+                stock_legend: shown_mesh.as_ref().map(|(_, m)| (legend_title, *m)),
                 meshes: shown_mesh
                     .into_iter()
                     .map(|(m, _)| m)
@@ -869,11 +871,8 @@ impl Workstation {
                 path_legend: legend,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
             };
-            for f in &self.features {
-                let parts = f.scene();
-                extras.meshes.extend(parts.meshes);
-                extras.paths.extend(parts.lines);
-            }
+            extras.meshes.extend(scene.meshes);
+            extras.paths.extend(scene.lines);
             viewport_ui(ui, &mut viewport, self.document.as_ref(), extras, commands);
             overlays_ui(
                 ui,
@@ -885,11 +884,10 @@ impl Workstation {
         self.viewport = viewport;
     }
 
-    /// The floating windows: comparison, data reduction, the features', file chooser and the
-    /// questions (unsaved changes, recovery).
+    /// The floating windows: comparison, the features', file chooser and the questions
+    /// (unsaved changes, recovery).
     fn windows_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
         self.compare_ui(ctx, commands);
-        self.reduction_ui(ctx, commands);
         let mut features = std::mem::take(&mut self.features);
         let view = self.feature_view();
         for f in &mut features {
@@ -921,8 +919,57 @@ impl Workstation {
             posted: active
                 .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
             data_dir: &self.saved.session.data_dir,
+            project_path: self.saved.session.path.as_deref(),
             tool_pose: self.tool_pose_index(),
             results: self,
+        }
+    }
+}
+
+impl Workstation {
+    /// Run `f` on the features with a [`FeatureContext`], then carry out what they asked for.
+    fn with_features<R>(
+        &mut self,
+        f: impl FnOnce(&mut [Box<dyn Feature>], &mut FeatureContext<'_>) -> R,
+    ) -> R {
+        let mut features = std::mem::take(&mut self.features);
+        let ids = Cell::new(self.ops.next_id);
+        let (out, notices) = {
+            let mut cx = FeatureContext::new(self.feature_view(), &self.run.ctx, &ids);
+            let out = f(&mut features, &mut cx);
+            (out, cx.into_notices())
+        };
+        self.features = features;
+        self.ops.next_id = ids.get();
+        for n in notices {
+            self.carry_out(n);
+        }
+        out
+    }
+
+    /// Do what a feature asked for.
+    fn carry_out(&mut self, notice: Notice) {
+        match notice {
+            Notice::Log {
+                severity,
+                text,
+                toast,
+            } => {
+                let t = self.now_s();
+                if toast {
+                    self.log.notify(t, severity, text);
+                } else {
+                    self.log.push(t, severity, text);
+                }
+            }
+            Notice::SaveDialog {
+                purpose,
+                suggestion,
+            } => {
+                self.run.feature_save_start = Some(suggestion);
+                self.save_dialog_for(purpose);
+            }
+            Notice::Switch(ViewSwitch::HideStock) => self.sims.visible = false,
         }
     }
 }

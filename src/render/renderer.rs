@@ -145,10 +145,6 @@ impl Renderer {
     /// Upload what `scene` needs and is not on the GPU yet, drop what it no longer names, size the
     /// target to `size_px`, and write this frame's uniforms. Returns one line for each mesh or
     /// line set that cannot be drawn (it is skipped).
-    #[expect(
-        clippy::too_many_lines,
-        reason = "the upload steps of one frame in order"
-    )]
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
@@ -176,6 +172,22 @@ impl Renderer {
 
         self.draws.clear();
         let mut slot = 0;
+        self.prepare_meshes(device, queue, scene, &mut slot, &mut problems);
+        self.prepare_lines(device, queue, scene, &mut slot, &mut problems);
+        let frame = self.write_frame(queue, scene, aspect);
+        self.prepare_triad(device, queue, scene, size, &frame, slot);
+        problems
+    }
+
+    /// Upload the scene's meshes not on the GPU yet and queue their draws from object `slot` on.
+    fn prepare_meshes(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        slot: &mut usize,
+        problems: &mut Vec<String>,
+    ) {
         for m in &scene.meshes {
             if let Entry::Vacant(vacant) = self.meshes.entry(m.id) {
                 if let Some(p) = m.data.problem() {
@@ -204,15 +216,27 @@ impl Renderer {
                 None => ([0.0; 4], m.colour),
             };
             let uniform = object_uniform(m.world_from_mesh, colour, scalar);
-            self.write_object(device, queue, slot, &uniform);
+            self.write_object(device, queue, *slot, &uniform);
             self.draws.push(Draw {
                 kind: DrawKind::Mesh,
                 id: m.id,
-                slot,
+                slot: *slot,
                 index_count,
             });
-            slot += 1;
+            *slot += 1;
         }
+    }
+
+    /// Upload the scene's line sets not on the GPU yet and queue their draws from object `slot`
+    /// on (each up to its `draw_segments`).
+    fn prepare_lines(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        slot: &mut usize,
+        problems: &mut Vec<String>,
+    ) {
         for l in &scene.lines {
             if let Entry::Vacant(vacant) = self.lines.entry(l.id) {
                 if let Some(p) = l.data.problem() {
@@ -233,17 +257,19 @@ impl Renderer {
                     .min(total)
             });
             let uniform = object_uniform(l.world_from_lines, [255; 4], [0.0; 4]);
-            self.write_object(device, queue, slot, &uniform);
+            self.write_object(device, queue, *slot, &uniform);
             self.draws.push(Draw {
                 kind: DrawKind::Line,
                 id: l.id,
-                slot,
+                slot: *slot,
                 index_count: count,
             });
-            slot += 1;
+            *slot += 1;
         }
+    }
 
-        // Frame uniforms.
+    /// Write the frame uniforms (camera, background, grid) and return them.
+    fn write_frame(&self, queue: &wgpu::Queue, scene: &Scene, aspect: f32) -> FrameUniform {
         let camera = &scene.camera;
         let view = camera.view_from_world();
         let view_proj = camera.clip_from_view(aspect) * view;
@@ -280,7 +306,21 @@ impl Renderer {
         };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
 
-        // Triad: the camera's rotation about the origin, orthographic, in a corner viewport.
+        frame
+    }
+
+    /// Triad: the camera's rotation about the origin, orthographic, in a corner viewport of a
+    /// target of `size` (objects from `slot` on).
+    fn prepare_triad(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        size: [u32; 2],
+        frame: &FrameUniform,
+        mut slot: usize,
+    ) {
+        let (camera, o) = (&scene.camera, &scene.options);
         self.triad_draws.clear();
         self.triad_viewport = None;
         if o.triad
@@ -299,7 +339,7 @@ impl Renderer {
                 view: triad_view.to_cols_array_2d(),
                 eye: [0.0; 4],
                 grid: [0.0; 4],
-                ..frame
+                ..*frame
             };
             queue.write_buffer(
                 &self.triad_frame_buffer,
@@ -313,7 +353,6 @@ impl Renderer {
                 slot += 1;
             }
         }
-        problems
     }
 
     /// Record the frame prepared by [`Renderer::prepare`] into `encoder`.

@@ -7,7 +7,7 @@ use std::any::Any;
 use super::ForcesWindow;
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
-use crate::app::feature::{Feature, FeatureView, is_action};
+use crate::app::feature::{Feature, FeatureContext, FeatureView, is_action};
 use crate::app::job::JobStatus;
 
 impl ForcesWindow {
@@ -37,7 +37,7 @@ impl Feature for ForcesWindow {
         ]
     }
 
-    fn apply(&mut self, command: Command) -> Option<Command> {
+    fn apply(&mut self, command: Command, _cx: &mut FeatureContext<'_>) -> Option<Command> {
         if is_action(&command, Self::ID, "open") {
             self.open = true;
             return None;
@@ -45,8 +45,8 @@ impl Feature for ForcesWindow {
         Some(command)
     }
 
-    fn poll(&mut self, ctx: &egui::Context) {
-        Self::poll(self, ctx);
+    fn poll(&mut self, cx: &mut FeatureContext<'_>) {
+        Self::poll(self, cx.egui);
     }
 
     fn job_status(&self) -> Option<JobStatus> {

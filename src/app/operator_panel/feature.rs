@@ -8,7 +8,7 @@ use super::camera::MACHINE_VIEWS;
 use super::{OperatorPanel, PanelSource};
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
-use crate::app::feature::{Feature, FeatureView, is_action};
+use crate::app::feature::{Feature, FeatureContext, FeatureView, is_action};
 use crate::project::Operation;
 
 impl OperatorPanel {
@@ -63,7 +63,7 @@ impl Feature for OperatorPanel {
         out
     }
 
-    fn apply(&mut self, command: Command) -> Option<Command> {
+    fn apply(&mut self, command: Command, _cx: &mut FeatureContext<'_>) -> Option<Command> {
         if is_action(&command, Self::ID, "open") {
             self.open = true;
             return None;

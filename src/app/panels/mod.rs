@@ -12,7 +12,6 @@ pub mod playback;
 pub mod project_dialogs;
 pub mod project_tree;
 pub mod properties;
-pub mod reduction_view;
 pub mod status_bar;
 pub mod tool_library;
 

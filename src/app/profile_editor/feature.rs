@@ -6,7 +6,7 @@ use std::any::Any;
 use super::ProfileEditor;
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
-use crate::app::feature::{Feature, FeatureView, is_action};
+use crate::app::feature::{Feature, FeatureContext, FeatureView, is_action};
 
 impl ProfileEditor {
     /// The feature's id.
@@ -33,7 +33,7 @@ impl Feature for ProfileEditor {
         ]
     }
 
-    fn apply(&mut self, command: Command) -> Option<Command> {
+    fn apply(&mut self, command: Command, _cx: &mut FeatureContext<'_>) -> Option<Command> {
         if is_action(&command, Self::ID, "open") {
             self.open = true;
             return None;

@@ -185,7 +185,7 @@ impl Workstation {
                 std::env::current_dir().ok().map(|d| d.join(name))
             }),
             SavePurpose::Program => Some(self.program_suggestion()),
-            SavePurpose::ReducedStl => Some(self.reduction_suggestion()),
+            SavePurpose::ReducedStl => self.run.feature_save_start.clone(),
         }
     }
 

@@ -75,6 +75,8 @@ pub(super) struct Runtime {
     pub quit_confirmed: bool,
     /// The camera of an opened project, applied once its part is loaded.
     pub restore_view: Option<crate::project::ViewState>,
+    /// Where the save dialog a feature asked for starts (its suggested file).
+    pub feature_save_start: Option<PathBuf>,
 }
 
 impl Runtime {
@@ -109,6 +111,7 @@ impl Runtime {
             confirmed: false,
             quit_confirmed: false,
             restore_view: None,
+            feature_save_start: None,
         }
     }
 }

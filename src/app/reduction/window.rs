@@ -8,10 +8,11 @@ use egui::Color32;
 use egui_plot::{HLine, LineStyle, MarkerShape, Plot, Points, VLine};
 use glam::DVec2;
 
-use super::super::command::Command;
-use super::super::number_field::NumberField;
-pub use super::super::state::{RankChoice, ReductionResult, ReductionSettings, ZmapSource};
-use super::super::theme;
+use super::DataReduction;
+use super::settings::{RankChoice, ReductionResult, ReductionSettings, ZmapSource};
+use crate::app::command::Command;
+use crate::app::number_field::NumberField;
+use crate::app::theme;
 use crate::reduce::{
     MAX_PART_ZMAP_NODES, PartReduction, PartXyReduction, point_spacing, zmap_size,
 };
@@ -71,7 +72,7 @@ pub fn reduction_window(
                     .on_disabled_hover_text("Too many nodes: choose a coarser step")
                     .clicked()
                 {
-                    commands.push(Command::Reduce(*settings));
+                    commands.push(DataReduction::command("reduce"));
                 }
                 let has = view.result.is_some();
                 let mut visible = view.visible;
@@ -79,14 +80,18 @@ pub fn reduction_window(
                     .add_enabled(has, egui::Checkbox::new(&mut visible, "Show in viewport"))
                     .changed()
                 {
-                    commands.push(Command::SetReductionVisible(visible));
+                    commands.push(DataReduction::command(if visible {
+                        "show"
+                    } else {
+                        "hide"
+                    }));
                 }
                 if ui
                     .add_enabled(has, egui::Button::new("Export STL…"))
                     .on_hover_text("The reduced grid as a binary STL (mm)")
                     .clicked()
                 {
-                    commands.push(Command::ExportReductionDialog);
+                    commands.push(DataReduction::command("export"));
                 }
             });
             let Some((r, used, elapsed_s)) = view.result else {
