@@ -23,7 +23,7 @@ use super::document::Document;
 use super::job::JobStatus;
 use super::toolpaths::ComputedOp;
 use crate::project::Project;
-use crate::render::{LineInstance, MeshInstance};
+use crate::render::{LineInstance, MeshInstance, ScalarMapping};
 
 /// What a feature may read of the workstation while it draws.
 #[derive(Clone, Copy)]
@@ -60,6 +60,19 @@ pub struct SceneParts {
     pub meshes: Vec<MeshInstance>,
     /// Polylines drawn over it.
     pub lines: Vec<LineInstance>,
+    /// A legend for its coloured lines, in place of the path colouring's.
+    pub path_legend: Option<SceneLegend>,
+}
+
+/// The legend of a feature's coloured lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLegend {
+    /// Title with the unit.
+    pub title: String,
+    /// The colour bar.
+    pub mapping: ScalarMapping,
+    /// A value marked on the bar (e.g. a limit) and its label with the unit.
+    pub mark: Option<(f32, String)>,
 }
 
 /// A workstation feature (see the module documentation for when each method is called).

@@ -418,6 +418,7 @@ impl Workstation {
             | Command::SetDeviationBand(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
+            | Command::ReplacePath(..)
             | Command::SetShowAllPaths(_)
             | Command::SetShowAxisVectors(_)
             | Command::CompareOperations
@@ -867,12 +868,16 @@ impl Workstation {
                     .collect(),
                 paths,
                 path_legend: legend,
+                path_legend_mark: None,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
             };
             for f in &self.features {
                 let parts = f.scene();
                 extras.meshes.extend(parts.meshes);
                 extras.paths.extend(parts.lines);
+                if let Some(l) = parts.path_legend {
+                    (extras.path_legend, extras.path_legend_mark) = (Some((l.title, l.mapping)), l.mark);
+                }
             }
             viewport_ui(ui, &mut viewport, self.document.as_ref(), extras, commands);
             overlays_ui(
