@@ -876,7 +876,8 @@ impl Workstation {
                 extras.meshes.extend(parts.meshes);
                 extras.paths.extend(parts.lines);
                 if let Some(l) = parts.path_legend {
-                    (extras.path_legend, extras.path_legend_mark) = (Some((l.title, l.mapping)), l.mark);
+                    (extras.path_legend, extras.path_legend_mark) =
+                        (Some((l.title, l.mapping)), l.mark);
                 }
             }
             viewport_ui(ui, &mut viewport, self.document.as_ref(), extras, commands);

@@ -21,11 +21,11 @@ use crate::force::{EndMill, Force, ForceError};
 use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
+use crate::project::force_schedule::{CORNER_TOLERANCE_MM, ScheduleInput, schedule_path};
 use crate::simulation::{
     DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, MovePlan, StepOptions, plan_program,
     plan_toolpath,
 };
-use crate::project::force_schedule::{CORNER_TOLERANCE_MM, ScheduleInput, schedule_path};
 use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
 

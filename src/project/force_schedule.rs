@@ -71,7 +71,10 @@ pub struct Schedule {
 /// # Errors
 /// [`ForceError::Input`] for a tilted tool, a target or feed range out of range, a cancel, or
 /// a plan the feed planner refuses; the errors of [`schedule_feeds`].
-pub fn schedule_path(input: &ScheduleInput<'_>, progress: &Progress) -> Result<Schedule, ForceError> {
+pub fn schedule_path(
+    input: &ScheduleInput<'_>,
+    progress: &Progress,
+) -> Result<Schedule, ForceError> {
     let tilted = input
         .moves
         .iter()

@@ -315,9 +315,7 @@ pub fn pose_deflection(
     beam: &crate::force::deflection::BeamSpec,
     points: usize,
 ) -> Result<Option<PoseDeflection>, ForceError> {
-    use crate::force::deflection::{
-        Cantilever, deflection_profile, peak_disk_loads, wall_profile,
-    };
+    use crate::force::deflection::{Cantilever, deflection_profile, peak_disk_loads, wall_profile};
     let forces = &timeline.forces;
     let block_of = |move_index: usize| {
         forces

@@ -30,7 +30,13 @@ pub fn pose_values(toolpath: &Toolpath, r: &ForceTimeline, shown: Shown, mean: b
     let mut out: Vec<f32> = toolpath
         .poses
         .iter()
-        .map(|p| if p.kind == MoveKind::Cut { 0.0 } else { f32::NAN })
+        .map(|p| {
+            if p.kind == MoveKind::Cut {
+                0.0
+            } else {
+                f32::NAN
+            }
+        })
         .collect();
     for s in &r.samples {
         if let Some(v) = out.get_mut(s.pose)
@@ -107,7 +113,12 @@ pub struct ColouredPath {
 
 /// Build the coloured path of `toolpath` for the result `r`.
 #[must_use]
-pub fn coloured_path(toolpath: &Toolpath, r: &ForceTimeline, key: ColourKey, id: DataId) -> ColouredPath {
+pub fn coloured_path(
+    toolpath: &Toolpath,
+    r: &ForceTimeline,
+    key: ColourKey,
+    id: DataId,
+) -> ColouredPath {
     let values = pose_values(toolpath, r, key.shown, key.mean);
     let (title, limit) = title_and_limit(key.shown, key.mean, r);
     let mapping = mapping(&values, limit);

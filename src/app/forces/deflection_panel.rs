@@ -71,7 +71,11 @@ pub fn compute(
 }
 
 /// Draw the profile (or why there is none).
-pub fn ui(ui: &mut egui::Ui, pose: Option<usize>, profile: Option<&Result<Option<PoseDeflection>, String>>) {
+pub fn ui(
+    ui: &mut egui::Ui,
+    pose: Option<usize>,
+    profile: Option<&Result<Option<PoseDeflection>, String>>,
+) {
     let Some(pose) = pose else {
         ui.label("Pick a pose (click the path or the plot) to see the tool's deflection there.");
         return;
@@ -104,7 +108,11 @@ pub fn ui(ui: &mut egui::Ui, pose: Option<usize>, profile: Option<&Result<Option
         tip.map_or(0.0, |p| p.dx_um),
         tip.map_or(0.0, |p| p.dy_um),
         wall_max,
-        if wall_max < 0.0 { "overcut" } else { "undercut" },
+        if wall_max < 0.0 {
+            "overcut"
+        } else {
+            "undercut"
+        },
     ));
     ui.label(egui::RichText::new(assumptions(&d.beam)).small().weak());
     let height = ui.available_height().clamp(140.0, 220.0);

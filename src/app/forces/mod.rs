@@ -90,7 +90,10 @@ pub struct Outcome {
 type ForceJob = JobSlot<Result<Outcome, ForceRunError>, ForceKey>;
 
 /// The profile of the tool's deflection at a pose: (result serial, pose) and the profile.
-type DeflectionCache = ((u64, usize), Result<Option<crate::project::forces::PoseDeflection>, String>);
+type DeflectionCache = (
+    (u64, usize),
+    Result<Option<crate::project::forces::PoseDeflection>, String>,
+);
 
 /// What the plot shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -170,14 +173,19 @@ impl ForcesWindow {
     /// The coloured path as last built (while "Colour the path" is on).
     #[must_use]
     pub fn coloured_path(&self) -> Option<&colour::ColouredPath> {
-        self.coloured.as_ref().filter(|_| self.colour_path && self.current)
+        self.coloured
+            .as_ref()
+            .filter(|_| self.colour_path && self.current)
     }
 
     /// The deflection profile last computed: the pose and the profile.
     #[must_use]
     pub fn deflection(
         &self,
-    ) -> Option<(usize, &Result<Option<crate::project::forces::PoseDeflection>, String>)> {
+    ) -> Option<(
+        usize,
+        &Result<Option<crate::project::forces::PoseDeflection>, String>,
+    )> {
         self.deflection.as_ref().map(|((_, p), d)| (*p, d))
     }
 
@@ -277,7 +285,12 @@ impl ForcesWindow {
             return;
         }
         self.next_id = self.next_id.max(COLOUR_IDS) + 1;
-        self.coloured = Some(colour::coloured_path(&o.toolpath, &o.timeline, key, self.next_id));
+        self.coloured = Some(colour::coloured_path(
+            &o.toolpath,
+            &o.timeline,
+            key,
+            self.next_id,
+        ));
     }
 
     /// The window's contents.
@@ -346,33 +359,38 @@ impl ForcesWindow {
         if let Some(pose) = pose {
             commands.push(Command::PickPose(Some(pose)));
         }
-        if self.show_deflection {
-            ui.separator();
-            ui.label(egui::RichText::new("Deflection and wall error at the tool's pose").strong());
-            if let Some(p) = view.tool_pose {
-                let k = (self.serial, p);
-                if self.deflection.as_ref().is_none_or(|(c, _)| *c != k) {
-                    let d = deflection_panel::compute(
-                        result,
-                        p,
-                        &outcome.cutter,
-                        &outcome.coefficients,
-                    );
-                    self.deflection = Some((k, d));
-                }
-            }
-            let shown = self
-                .deflection
-                .as_ref()
-                .filter(|((_, p), _)| Some(*p) == view.tool_pose)
-                .map(|(_, d)| d);
-            deflection_panel::ui(ui, view.tool_pose, shown);
-        }
         ui.separator();
         ui.label(egui::RichText::new("Feed schedule").strong());
         let machine = view.project.machine.clone();
         self.schedule
             .ui(ui, &outcome, (index, self.serial), &machine, commands);
+        if self.show_deflection {
+            self.deflection_ui(ui, view, &outcome);
+        }
+    }
+
+    /// The deflection profile of the pose the tool stands at (computed once per pose).
+    fn deflection_ui(&mut self, ui: &mut egui::Ui, view: &FeatureView<'_>, outcome: &Outcome) {
+        ui.separator();
+        ui.label(egui::RichText::new("Deflection and wall error at the tool's pose").strong());
+        if let Some(p) = view.tool_pose {
+            let k = (self.serial, p);
+            if self.deflection.as_ref().is_none_or(|(c, _)| *c != k) {
+                let d = deflection_panel::compute(
+                    &outcome.timeline,
+                    p,
+                    &outcome.cutter,
+                    &outcome.coefficients,
+                );
+                self.deflection = Some((k, d));
+            }
+        }
+        let shown = self
+            .deflection
+            .as_ref()
+            .filter(|((_, p), _)| Some(*p) == view.tool_pose)
+            .map(|(_, d)| d);
+        deflection_panel::ui(ui, view.tool_pose, shown);
     }
 }
 

@@ -163,7 +163,9 @@ impl SchedulePanel {
                     .speed(1.0)
                     .suffix(" N"),
             )
-            .on_hover_text("The peak resultant force per revolution the feeds are set to (1 N to 1 MN)");
+            .on_hover_text(
+                "The peak resultant force per revolution the feeds are set to (1 N to 1 MN)",
+            );
             if let Some(job) = self.job.job() {
                 ui.add(
                     egui::ProgressBar::new(job.progress.fraction() as f32)
@@ -198,7 +200,7 @@ impl SchedulePanel {
         ui.horizontal(|ui| {
             let dt = s.after.cycle_time_s - s.before.cycle_time_s;
             ui.label(format!(
-                "Cycle time {:.2} s → {:.2} s ({dt:+.2} s); feeds {:.0}–{:.0} mm/min",
+                "Cycle time {:.2} s before, {:.2} s after ({dt:+.2} s); feeds {:.0}–{:.0} mm/min",
                 s.before.cycle_time_s,
                 s.after.cycle_time_s,
                 s.feed_range_mm_per_min[0],
@@ -213,7 +215,10 @@ impl SchedulePanel {
                 )
                 .clicked()
             {
-                commands.push(Command::ReplacePath(key.index, Arc::new(s.toolpath.clone())));
+                commands.push(Command::ReplacePath(
+                    key.index,
+                    Arc::new(s.toolpath.clone()),
+                ));
                 self.applied = Some(key.clone());
             }
             if applied {

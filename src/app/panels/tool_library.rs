@@ -222,7 +222,7 @@ fn complete_tool(mut tool: ToolEntry, form: &ToolForm) -> Result<ToolEntry, Stri
 fn limits_ui(ui: &mut egui::Ui, index: usize, form: &mut ToolForm) -> bool {
     let mut commit = false;
     ui.label("Load limits (empty: none)")
-        .on_hover_text("Checked by Machining → Cutting forces: moves above a limit are flagged");
+        .on_hover_text("Checked by the Cutting forces window: moves above a limit are flagged");
     egui::Grid::new(("tool limits", index))
         .num_columns(2)
         .spacing([8.0, 4.0])

@@ -340,7 +340,9 @@ pub fn viewport_ui(
     for (slot, (title, mapping)) in (first..).zip(legends) {
         legend::legend_ui(ui, rect, title, *mapping, slot);
     }
-    if let (Some((_, mapping)), Some((value, label))) = (&extras.path_legend, &extras.path_legend_mark) {
+    if let (Some((_, mapping)), Some((value, label))) =
+        (&extras.path_legend, &extras.path_legend_mark)
+    {
         legend::legend_mark_ui(ui, rect, *mapping, first, *value, label);
     }
     if let Some(view) = view_cube::view_cube_ui(ui, rect, &state.camera) {
