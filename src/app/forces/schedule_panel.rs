@@ -65,7 +65,7 @@ pub fn variant_text(label: &str, v: &TimedVariant, target_n: f64) -> String {
         v.blocks,
         100.0 * s.within_5_percent,
         s.cutting_time_s,
-        100.0 * s.above_5_percent,
+        100.0 * s.above_5_percent + 0.0,
         s.p50_n,
         s.p05_n,
         s.p95_n,
