@@ -146,3 +146,121 @@ fn earlier_paths_cut_the_stock_first_and_cancel_stops() {
     let e = operation_forces(&input(&stock, &tp, vec![], &c, None), &cancelled).unwrap_err();
     assert_eq!(e, ForceRunError::Cancelled);
 }
+
+/// A uniform round carbide bar (the fluted section as thick as the shank, fluted to the
+/// holder): EI = E·π·D⁴/64.
+fn uniform_beam(d: f64, length: f64) -> (talas::force::deflection::Cantilever, f64) {
+    use talas::force::deflection::{BeamSpec, CARBIDE_E, Cantilever};
+    let beam = Cantilever::end_mill(&BeamSpec {
+        diameter: d,
+        flute_length: length,
+        shank_diameter: d,
+        overhang: length,
+        youngs_modulus: CARBIDE_E,
+        flute_diameter_ratio: 1.0,
+    })
+    .unwrap();
+    (beam, CARBIDE_E * std::f64::consts::PI * d.powi(4) / 64.0)
+}
+
+#[test]
+fn the_deflection_profile_is_the_cantilevers_closed_form() {
+    use talas::force::deflection::deflection_profile;
+    let (l, f) = (40.0, 120.0);
+    let (beam, ei) = uniform_beam(10.0, l);
+    // A point load F at the free end (the tip): δ(0) = F·L³/(3EI) and, z above the tip,
+    // δ(z) = F·(2L³ − 3L²z + z³)/(6EI).
+    let p = deflection_profile(&beam, &[(0.0, f, -0.5 * f)], 10.0, 11).unwrap();
+    assert_eq!(p.len(), 11);
+    // By hand: EI = 600 000 N/mm² · π · 10⁴/64 mm⁴ = 2.945e8 N·mm²; 120·40³/(3·2.945e8) mm.
+    assert!((p[0].dx_um - 8.692).abs() < 1e-3, "{}", p[0].dx_um);
+    assert!((p[0].dx_um - 1e3 * f * l.powi(3) / (3.0 * ei)).abs() < 1e-9 * p[0].dx_um.abs());
+    for q in &p {
+        let z = q.z_mm;
+        let expect = 1e3 * f * (2.0 * l.powi(3) - 3.0 * l * l * z + z.powi(3)) / (6.0 * ei);
+        assert!(
+            (q.dx_um - expect).abs() < 1e-9 * expect,
+            "z {z}: {} vs {expect}",
+            q.dx_um
+        );
+        assert!((q.dy_um + 0.5 * expect).abs() < 1e-9 * expect);
+    }
+    // A load a = 30 mm from the clamp (10 mm above the tip): at the tip F·a²(3L − a)/(6EI).
+    let a = 30.0;
+    let p = deflection_profile(&beam, &[(l - a, f, 0.0)], 10.0, 2).unwrap();
+    let expect = 1e3 * f * a * a * (3.0 * l - a) / (6.0 * ei);
+    assert!((p[0].dx_um - expect).abs() < 1e-9 * expect);
+    assert!(deflection_profile(&beam, &[], 50.0, 5).is_err());
+    assert!(deflection_profile(&beam, &[], 5.0, 1).is_err());
+}
+
+#[test]
+fn a_poses_deflection_is_its_heaviest_pieces() {
+    use talas::force::deflection::{BeamSpec, Cantilever, deflection_profile};
+    use talas::project::forces::pose_deflection;
+    let stock = Stock::Box {
+        min_mm: [-10.0, -10.0, -10.0],
+        max_mm: [10.0, 10.0, 0.0],
+    };
+    let tp = slot();
+    let c = coefficients();
+    let r = operation_forces(&input(&stock, &tp, vec![], &c, None), &Progress::new()).unwrap();
+    let cutter = &tp.tool.cutter;
+    let spec = BeamSpec {
+        diameter: 10.0,
+        flute_length: 40.0,
+        shank_diameter: 10.0,
+        overhang: 40.0,
+        youngs_modulus: talas::force::deflection::CARBIDE_E,
+        flute_diameter_ratio: 1.0,
+    };
+    // The rapid and the plunge cut no side material.
+    assert_eq!(pose_deflection(&r, 0, cutter, &c, &spec, 21).unwrap(), None);
+    assert_eq!(pose_deflection(&r, 1, cutter, &c, &spec, 21).unwrap(), None);
+    let d = pose_deflection(&r, 2, cutter, &c, &spec, 21)
+        .unwrap()
+        .expect("the slot move cuts");
+    assert_eq!(Some(d.mode), r.forces.pieces[d.piece].mode);
+    let heaviest = r
+        .forces
+        .pieces
+        .iter()
+        .map(|p| p.peak_resultant_n)
+        .fold(0.0, f64::max);
+    assert_eq!(r.forces.pieces[d.piece].peak_resultant_n, heaviest);
+    // 3 mm deep: the profiles run from the tip to 3 mm.
+    assert!((d.depth_mm - 3.0).abs() < 1e-9);
+    assert_eq!(d.deflection.len(), 21);
+    assert!((d.deflection[20].z_mm - 3.0).abs() < 1e-9);
+    assert_eq!(d.wall.len(), 21);
+    // All disks load within 3 mm of the tip of a 40 mm uniform bar: the tip deflection lies
+    // between the closed forms of the summed load at the tip and at 3 mm, F·u²(3L − u)/(6EI)
+    // with u = L and u = L − 3 (the disk loads point alike at a slot's peak).
+    let (_, ei) = uniform_beam(10.0, 40.0);
+    let (beam, _) = uniform_beam(10.0, 40.0);
+    let tip = d.deflection[0].dx_um.hypot(d.deflection[0].dy_um);
+    let (phi, loads) = talas::force::deflection::peak_disk_loads(
+        &talas::force::EndMill::from_cutter(cutter).unwrap(),
+        c.get(d.mode),
+        &r.forces.pieces[d.piece].engagement,
+        360,
+    );
+    assert!((phi - d.phi_rad).abs() < 1e-12);
+    let (fx, fy) = loads
+        .iter()
+        .fold((0.0, 0.0), |(a, b), l| (a + l.1, b + l.2));
+    let f = fx.hypot(fy);
+    let at = |u: f64| 1e3 * f * u * u * (3.0 * 40.0 - u) / (6.0 * ei);
+    assert!(f > 100.0, "a 3 mm slot in Al7075 with a D10: {f} N");
+    assert!(
+        tip <= at(40.0) * 1.0001 && tip >= at(37.0) * 0.9999,
+        "{tip} µm vs [{}, {}]",
+        at(37.0),
+        at(40.0)
+    );
+    let again = deflection_profile(&beam, &loads, 3.0, 21).unwrap();
+    assert_eq!(again, d.deflection);
+    // The slot's wall error: a few µm to tens of µm on this stiff bar.
+    assert!(d.wall.iter().all(|w| w.error_um.abs() < 100.0));
+    let _ = Cantilever::end_mill(&spec).unwrap();
+}

@@ -94,6 +94,8 @@ pub enum Command {
     PickPose(Option<usize>),
     /// How tool paths are coloured.
     SetPathColouring(PathColouring),
+    /// Make this path operation `.0`'s computed path (a feed schedule applied).
+    ReplacePath(usize, std::sync::Arc<crate::toolpath::Toolpath>),
     /// Draw every operation's path (true) or only the active one's.
     SetShowAllPaths(bool),
     /// Draw tool-axis vectors at the active path's cutting poses.

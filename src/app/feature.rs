@@ -173,6 +173,8 @@ pub struct SceneParts {
     pub lines: Vec<LineInstance>,
     /// A surface drawn instead of the part and the stock (the first feature's wins).
     pub instead_of_part: Option<InsteadOfPart>,
+    /// A legend for its coloured lines, in place of the path colouring's.
+    pub path_legend: Option<SceneLegend>,
 }
 
 /// A surface drawn instead of the part, coloured by a scalar with a legend.
@@ -183,6 +185,17 @@ pub struct InsteadOfPart {
     pub legend: String,
     /// How its scalar maps to colours.
     pub mapping: ScalarMapping,
+}
+
+/// The legend of a feature's coloured lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLegend {
+    /// Title with the unit.
+    pub title: String,
+    /// The colour bar.
+    pub mapping: ScalarMapping,
+    /// A value marked on the bar (e.g. a limit) and its label with the unit.
+    pub mark: Option<(f32, String)>,
 }
 
 /// A workstation feature (see the module documentation for when each method is called).

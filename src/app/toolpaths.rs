@@ -382,6 +382,19 @@ impl ToolpathStore {
         self.results.get_mut(index)
     }
 
+    /// Replace the path of the result at `index` (e.g. by its feed schedule): its clock and
+    /// render data follow; false when there is no such result.
+    pub fn replace_toolpath(&mut self, index: usize, toolpath: Toolpath) -> bool {
+        let Some(r) = self.results.get_mut(index) else {
+            return false;
+        };
+        r.clock_s = pose_clock(&toolpath);
+        r.computed.toolpath = toolpath;
+        r.render = None;
+        r.axes = None;
+        true
+    }
+
     /// The latest result computed for an operation named `name` (shown as stale when the
     /// operation has changed since).
     #[must_use]

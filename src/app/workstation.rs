@@ -422,6 +422,7 @@ impl Workstation {
             | Command::SetDeviationBand(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
+            | Command::ReplacePath(..)
             | Command::SetShowAllPaths(_)
             | Command::SetShowAxisVectors(_)
             | Command::CompareOperations
@@ -841,6 +842,7 @@ impl Workstation {
             scene.meshes.extend(parts.meshes);
             scene.lines.extend(parts.lines);
             scene.instead_of_part = scene.instead_of_part.or(parts.instead_of_part);
+            scene.path_legend = parts.path_legend.or(scene.path_legend);
         }
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
@@ -869,10 +871,15 @@ impl Workstation {
                     .collect(),
                 paths,
                 path_legend: legend,
+                path_legend_mark: None,
                 pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
             };
             extras.meshes.extend(scene.meshes);
             extras.paths.extend(scene.lines);
+            if let Some(l) = scene.path_legend {
+                (extras.path_legend, extras.path_legend_mark) =
+                    (Some((l.title, l.mapping)), l.mark);
+            }
             viewport_ui(ui, &mut viewport, self.document.as_ref(), extras, commands);
             overlays_ui(
                 ui,

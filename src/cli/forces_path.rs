@@ -8,26 +8,25 @@
 
 use std::path::Path;
 
-use glam::DVec3;
 use serde_json::{Value, json};
 
 use super::forces::ForcesArgs;
-use crate::feed::{CornerPolicy, PlanInput, PlanOptions, TimedPath, machine_limits, plan};
+use crate::diagnostics::Progress;
 use crate::force::library::Library;
 use crate::force::path::{
     Limits, ModeCoefficients, MoveClass, PathForces, PathMove, PathOptions, path_forces,
 };
-use crate::force::schedule::{ScheduleOptions, Spread, TimeSample, schedule_feeds, spread};
 use crate::force::stock::{SampleOptions, SimulatedStock, path_moves};
 use crate::force::{EndMill, Force, ForceError};
-use crate::gcode::{InterpretOptions, Joints, MotionBlock, MotionKind, Syntax, interpret};
+use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
+use crate::project::force_schedule::{CORNER_TOLERANCE_MM, ScheduleInput, schedule_path};
 use crate::simulation::{
     DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, MovePlan, StepOptions, plan_program,
     plan_toolpath,
 };
-use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
+use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
 
 /// The program or tool path as read.
@@ -278,7 +277,7 @@ pub fn path_cmd(args: &ForcesArgs, file: &Path) -> Result<Value, ImportError> {
                 "feed scheduling writes a tool path: give -o OUT.json",
             )
         })?;
-        doc["schedule"] = schedule(args, &input, &mill, &coefficients, &forces, target, out)?;
+        doc["schedule"] = schedule(args, &input, &coefficients, &forces, target, out)?;
     }
     Ok(doc)
 }
@@ -327,145 +326,11 @@ fn forces_json(f: &PathForces, input: &Input, o: &PathOptions, material: &str) -
     })
 }
 
-/// A straight segment of the rewritten path: the pieces it covers (consecutive, collinear).
-struct Segment {
-    from: DVec3,
-    to: DVec3,
-    feed: f64,
-    kind: MoveKind,
-    rpm: f64,
-    pieces: Vec<usize>,
-}
-
-/// Segments of the path with `feed[piece]` on the pieces of modelled moves and the programmed
-/// feed elsewhere; collinear neighbours of one move whose feeds agree within 0.5 % merge (at
-/// the lower feed).
-fn segments(input: &Input, forces: &PathForces, feed: &[f64]) -> Vec<Segment> {
-    let mut out: Vec<Segment> = Vec::new();
-    let mut k = 0;
-    for (i, m) in input.moves.iter().enumerate() {
-        let kind = match forces.moves.get(i).map(|f| f.class) {
-            Some(MoveClass::Rapid) => MoveKind::Rapid,
-            Some(MoveClass::Plunge) => MoveKind::Plunge,
-            _ => MoveKind::Cut,
-        };
-        let start = k;
-        while forces.pieces.get(k).is_some_and(|p| p.move_index == i) {
-            k += 1;
-        }
-        if start == k {
-            for s in &m.steps {
-                out.push(Segment {
-                    from: s.from,
-                    to: s.to,
-                    feed: m.feed_mm_per_min,
-                    kind,
-                    rpm: m.spindle_rpm,
-                    pieces: Vec::new(),
-                });
-            }
-            continue;
-        }
-        for (j, p) in forces.pieces.iter().enumerate().take(k).skip(start) {
-            let f = feed.get(j).copied().unwrap_or(m.feed_mm_per_min);
-            if let Some(last) = out.last_mut() {
-                let (a, b) = (
-                    (last.to - last.from).normalize_or_zero(),
-                    (p.to - p.from).normalize_or_zero(),
-                );
-                let mergeable = last
-                    .pieces
-                    .last()
-                    .is_some_and(|q| forces.pieces.get(*q).is_some_and(|q| q.move_index == i))
-                    && a.dot(b) > 1.0 - 1e-12
-                    && last.to.distance(p.from) < 1e-9
-                    && (last.feed - f).abs() <= 0.005 * last.feed.max(f);
-                if mergeable {
-                    last.to = p.to;
-                    last.feed = last.feed.min(f);
-                    last.pieces.push(j);
-                    continue;
-                }
-            }
-            out.push(Segment {
-                from: p.from,
-                to: p.to,
-                feed: f,
-                kind,
-                rpm: m.spindle_rpm,
-                pieces: vec![j],
-            });
-        }
-    }
-    out
-}
-
-fn blocks(segs: &[Segment], rapid_feed: f64) -> Vec<MotionBlock> {
-    segs.iter()
-        .enumerate()
-        .map(|(i, s)| MotionBlock {
-            kind: if s.kind == MoveKind::Rapid {
-                MotionKind::Rapid
-            } else {
-                MotionKind::Linear
-            },
-            start: Joints::xyz(s.from.x, s.from.y, s.from.z),
-            end: Joints::xyz(s.to.x, s.to.y, s.to.z),
-            feed_mm_per_min: if s.kind == MoveKind::Rapid {
-                rapid_feed
-            } else {
-                s.feed
-            },
-            inverse_time: false,
-            source_line: i + 1,
-            tool: 1,
-            tool_length_h: None,
-            spindle_rpm: s.rpm,
-            coolant: false,
-            tcp: false,
-        })
-        .collect()
-}
-
-/// The time samples of `timed` mapped to the pieces (by projecting the position on the
-/// block's segment), every 2 ms.
-fn time_samples(timed: &TimedPath, segs: &[Segment], forces: &PathForces) -> Vec<TimeSample> {
-    let period = 2e-3;
-    timed
-        .samples_every(period)
-        .filter_map(|s| {
-            let seg = segs.get(s.block)?;
-            let first = *seg.pieces.first()?;
-            let pos = DVec3::new(s.position[0], s.position[1], s.position[2]);
-            let d = seg.to - seg.from;
-            let len = d.length();
-            let t = if len > 0.0 {
-                ((pos - seg.from).dot(d) / len).clamp(0.0, len)
-            } else {
-                0.0
-            };
-            let mut piece = first;
-            for &j in &seg.pieces {
-                let p = forces.pieces.get(j)?;
-                if p.from.distance(seg.from) <= t + 1e-9 {
-                    piece = j;
-                }
-            }
-            Some(TimeSample {
-                dt_s: period,
-                piece,
-                feed_mm_per_min: s.feed * 60.0,
-                programmed_mm_per_min: seg.feed,
-            })
-        })
-        .collect()
-}
-
-#[allow(clippy::too_many_arguments)]
+/// The feed schedule at `target` N ([`crate::project::force_schedule::schedule_path`]),
+/// the scheduled path written to `out`; its JSON report.
 fn schedule(
     args: &ForcesArgs,
     input: &Input,
-    mill: &EndMill,
     coefficients: &ModeCoefficients,
     forces: &PathForces,
     target: f64,
@@ -480,91 +345,32 @@ fn schedule(
     let name = args.machine.clone().unwrap_or_else(|| "mill-3axis".into());
     let machine = Machine::resolve(&name)
         .map_err(|e| ImportError::new(Path::new(&name), None, e.to_string()))?;
-    let axes = machine_limits(&machine);
-    let vmax = axes
-        .iter()
-        .filter(|(n, _)| matches!(n, 'X' | 'Y'))
-        .map(|(_, l)| l.velocity * 60.0)
-        .fold(f64::INFINITY, f64::min);
-    let max_feed = args.max_feed.unwrap_or(vmax).min(vmax);
-    let steps = PathOptions::default().revolution_steps;
-    let feeds = schedule_feeds(
-        mill,
-        coefficients,
-        &forces.pieces,
-        |i| input.moves.get(i).map_or(0.0, |m| m.feed_mm_per_min),
-        &ScheduleOptions {
+    let sc = schedule_path(
+        &ScheduleInput {
+            moves: &input.moves,
+            forces,
+            tool: &input.tool,
+            coefficients,
+            machine: &machine,
             target_n: target,
             min_feed_mm_per_min: args.min_feed,
-            max_feed_mm_per_min: max_feed,
-            revolution_steps: steps,
+            max_feed_mm_per_min: args.max_feed,
         },
+        &Progress::new(),
     )
     .map_err(|e| opt(e.to_string()))?;
-    let programmed: Vec<f64> = forces
-        .pieces
-        .iter()
-        .map(|p| {
-            input
-                .moves
-                .get(p.move_index)
-                .map_or(0.0, |m| m.feed_mm_per_min)
-        })
-        .collect();
-    let mut report = Vec::new();
-    for (label, f) in [("before", &programmed), ("after", &feeds)] {
-        let segs = segments(input, forces, f);
-        let bl = blocks(&segs, max_feed);
-        let timed = plan(&PlanInput {
-            blocks: &bl,
-            axes: axes.clone(),
-            options: PlanOptions {
-                corner: CornerPolicy::Blend { tolerance_mm: 0.05 },
-                ..PlanOptions::default()
-            },
-        })
-        .map_err(|e| opt(e.to_string()))?;
-        let samples = time_samples(&timed, &segs, forces);
-        let sp: Spread = spread(mill, coefficients, &forces.pieces, target, steps, samples)
-            .map_err(|e| opt(e.to_string()))?;
-        if label == "after" {
-            write_toolpath(input, &segs, out)?;
-        }
-        report.push((label, timed.cycle_time_s, segs.len(), sp));
-    }
-    let part = |i: usize| {
-        report.get(i).map_or(
-            Value::Null,
-            |(_, t, n, sp)| json!({"cycle_time_s": t, "blocks": n, "force_spread": sp}),
-        )
-    };
+    sc.toolpath
+        .save(out)
+        .map_err(|e| ImportError::new(out, None, e.message))?;
     Ok(json!({
         "target_n": target,
         "machine": machine.name,
-        "corner_tolerance_mm": 0.05,
-        "feed_range_mm_per_min": [args.min_feed, max_feed],
-        "before": part(0),
-        "after": part(1),
+        "corner_tolerance_mm": CORNER_TOLERANCE_MM,
+        "feed_range_mm_per_min": sc.feed_range_mm_per_min,
+        "before": sc.before,
+        "after": sc.after,
         "output": out.display().to_string(),
     }))
-}
-
-fn write_toolpath(input: &Input, segs: &[Segment], out: &Path) -> Result<(), ImportError> {
-    let Some(first) = segs.first() else {
-        return Err(ImportError::new(out, None, "the path has no moves"));
-    };
-    let mut poses = vec![Pose::new(MoveKind::Rapid, first.from, DVec3::Z, 0.0)];
-    for s in segs {
-        let feed = if s.kind == MoveKind::Rapid {
-            0.0
-        } else {
-            s.feed
-        };
-        poses.push(Pose::new(s.kind, s.to, DVec3::Z, feed));
-    }
-    let tp = Toolpath::new(input.tool.clone(), poses);
-    tp.save(out)
-        .map_err(|e| ImportError::new(out, None, e.message))
 }
 
 /// A short human summary of the path forces (and the schedule).

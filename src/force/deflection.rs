@@ -174,3 +174,83 @@ pub fn wall_profile(
     }
     Ok(out)
 }
+
+/// One point of the tool's deflection profile.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct DeflectionPoint {
+    /// Height above the tool tip, mm.
+    pub z_mm: f64,
+    /// Deflection along x (the feed direction in the cut's frame), µm.
+    pub dx_um: f64,
+    /// Deflection along y (normal to the feed, towards the material side of up milling), µm.
+    pub dy_um: f64,
+}
+
+/// A point load on the tool: height above the tip (mm) and the force's x and y parts (N).
+pub type PointLoad = (f64, f64, f64);
+
+/// The deflection of `beam` at `points` heights evenly from the tip to `top_mm` under the
+/// point `loads` (superposed through [`Cantilever::influence`]).
+///
+/// # Errors
+/// [`ForceError::Input`] for fewer than 2 or more than 10 000 points, or a top outside the
+/// beam.
+pub fn deflection_profile(
+    beam: &Cantilever,
+    loads: &[PointLoad],
+    top_mm: f64,
+    points: usize,
+) -> Result<Vec<DeflectionPoint>, ForceError> {
+    if !(2..=10_000).contains(&points) {
+        return Err(ForceError::Input(format!(
+            "deflection profile points must be 2 to 10000, got {points}"
+        )));
+    }
+    super::check_range("profile top", top_mm, 0.0, beam.length, "mm")?;
+    Ok((0..points)
+        .map(|p| {
+            let zs = top_mm * p as f64 / (points - 1) as f64;
+            let (mut dx, mut dy) = (0.0, 0.0);
+            for &(zm, fx, fy) in loads {
+                let c = beam.influence(zs, zm);
+                dx += fx * c;
+                dy += fy * c;
+            }
+            DeflectionPoint {
+                z_mm: zs,
+                dx_um: dx * 1e3,
+                dy_um: dy * 1e3,
+            }
+        })
+        .collect())
+}
+
+/// The per-disk loads (disk mid-height, F_x, F_y) at the rotation angle, of `steps` per
+/// revolution, where the tool's resultant force is largest, with that angle (rad).
+#[must_use]
+pub fn peak_disk_loads(
+    mill: &EndMill,
+    coefficients: &Coefficients,
+    engagement: &Engagement,
+    steps: usize,
+) -> (f64, Vec<PointLoad>) {
+    let model = DiskForces::new(mill, coefficients, engagement);
+    let steps = steps.max(1);
+    let mut best = (0.0, f64::NEG_INFINITY);
+    for k in 0..steps {
+        let phi = 2.0 * PI * k as f64 / steps as f64;
+        let f = model.load(phi, None).force;
+        let r = (f.fx * f.fx + f.fy * f.fy + f.fz * f.fz).sqrt();
+        if r > best.1 {
+            best = (phi, r);
+        }
+    }
+    let mut per_disk = vec![Load::default(); model.len()];
+    model.load(best.0, Some(&mut per_disk));
+    let loads = per_disk
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (model.disk_mid(i), l.force.fx, l.force.fy))
+        .collect();
+    (best.0, loads)
+}

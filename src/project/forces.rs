@@ -9,7 +9,7 @@ use super::Stock;
 
 use crate::diagnostics::Progress;
 use crate::force::path::{
-    Limits, ModeCoefficients, PathForces, PathOptions, Workpiece, path_forces,
+    Limits, ModeCoefficients, PathForces, PathMove, PathOptions, Workpiece, path_forces,
 };
 use crate::force::stock::{Material, SampleOptions, SimulatedStock, path_moves};
 use crate::force::{EndMill, ForceError};
@@ -74,6 +74,8 @@ pub struct ForceTimeline {
     pub planned_time: bool,
     /// The limits flagged.
     pub limits: Limits,
+    /// The path's moves at the programmed feeds (what feed scheduling rewrites).
+    pub moves: Vec<PathMove>,
 }
 
 impl ForceTimeline {
@@ -165,6 +167,7 @@ pub fn operation_forces(
     progress.set(0.2);
     let step = StepOptions::for_resolution(input.resolution_mm, input.cutter.flute_length);
     let mut plan = plan_toolpath(input.toolpath, &step).map_err(stock_err)?;
+    let programmed_moves = path_moves(&plan, |_| input.spindle_rpm);
     let clock = input
         .pose_time_s
         .filter(|c| c.len() == input.toolpath.poses.len());
@@ -206,6 +209,7 @@ pub fn operation_forces(
         pose_time_s,
         planned_time: clock.is_some(),
         limits: input.limits,
+        moves: programmed_moves,
     })
 }
 
@@ -272,4 +276,81 @@ fn samples(
         });
     }
     out
+}
+
+/// How the tool bends at one pose, and the wall it leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PoseDeflection {
+    /// The pose.
+    pub pose: usize,
+    /// Index of the piece shown (the heaviest of the move into the pose) in
+    /// [`PathForces::pieces`].
+    pub piece: usize,
+    /// Its milling mode.
+    pub mode: crate::force::Mode,
+    /// Rotation angle of the largest resultant, rad.
+    pub phi_rad: f64,
+    /// Top of the cut above the tip, mm.
+    pub depth_mm: f64,
+    /// The tool's deflection along the depth at that angle (x: feed, y: normal to it).
+    pub deflection: Vec<crate::force::deflection::DeflectionPoint>,
+    /// The wall (form) error along the depth, µm (negative: overcut).
+    pub wall: Vec<crate::force::deflection::WallPoint>,
+    /// The beam.
+    pub beam: crate::force::deflection::BeamSpec,
+}
+
+/// The deflection profile and wall error of the heaviest engaged piece of the move into `pose`
+/// (`None` when that move cuts no material), with the tool as the cantilever `beam` and
+/// `points` heights from the tip to the top of the cut.
+///
+/// # Errors
+/// [`ForceError`] for a tool without flutes, a beam out of range or a point count outside
+/// 2..=10 000.
+pub fn pose_deflection(
+    timeline: &ForceTimeline,
+    pose: usize,
+    cutter: &Cutter,
+    coefficients: &ModeCoefficients,
+    beam: &crate::force::deflection::BeamSpec,
+    points: usize,
+) -> Result<Option<PoseDeflection>, ForceError> {
+    use crate::force::deflection::{Cantilever, deflection_profile, peak_disk_loads, wall_profile};
+    let forces = &timeline.forces;
+    let block_of = |move_index: usize| {
+        forces
+            .moves
+            .iter()
+            .find(|m| m.move_index == move_index)
+            .map(|m| m.block)
+    };
+    let heaviest = forces
+        .pieces
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.mode.is_some() && block_of(p.move_index) == Some(pose))
+        .max_by(|a, b| a.1.peak_resultant_n.total_cmp(&b.1.peak_resultant_n));
+    let Some((index, piece)) = heaviest else {
+        return Ok(None);
+    };
+    let Some(mode) = piece.mode else {
+        return Ok(None);
+    };
+    let mill = EndMill::from_cutter(cutter)?;
+    let k = coefficients.get(mode);
+    let cantilever = Cantilever::end_mill(beam)?;
+    let depth = piece.engagement.disks.last().map_or(0.0, |d| d.z1);
+    let (phi, loads) = peak_disk_loads(&mill, k, &piece.engagement, 360);
+    let deflection = deflection_profile(&cantilever, &loads, depth.min(beam.overhang), points)?;
+    let wall = wall_profile(&mill, k, &piece.engagement, &cantilever, mode, points)?;
+    Ok(Some(PoseDeflection {
+        pose,
+        piece: index,
+        mode,
+        phi_rad: phi,
+        depth_mm: depth,
+        deflection,
+        wall,
+        beam: *beam,
+    }))
 }

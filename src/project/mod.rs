@@ -9,6 +9,7 @@ mod computed;
 mod edit;
 pub mod file;
 pub mod finish_group;
+pub mod force_schedule;
 pub mod forces;
 mod history;
 pub mod keyframes;

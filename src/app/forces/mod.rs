@@ -6,14 +6,23 @@
 //! peak or mean per revolution, with the tool's and the spindle's limits as dashed lines and a
 //! cursor at the pose the tool stands at; clicking the plot picks the pose cut then. The
 //! coefficient library (TOML in the data folder, the built-in Al7075-T651 calibration until
-//! edited) is edited in [`library_editor`]. The window is a workstation [`crate::app::feature::Feature`]
-//! ([`feature`]): Machining → "Cutting forces…" opens it, and its job shows in the status bar.
+//! edited) is edited in [`library_editor`]. With "Colour the path" the viewport draws the path
+//! coloured by the plotted quantity per move, with a legend in its unit and the limit marked
+//! ([`colour`]); for the pose the tool stands at, the tool's deflection and the wall error
+//! along the depth are plotted ([`deflection_panel`]); "Schedule feeds" rewrites the feeds for
+//! a target peak force and can apply the scheduled path to the operation ([`schedule_panel`]).
+//! The window is a workstation [`crate::app::feature::Feature`] ([`feature`]): Machining →
+//! "Cutting forces…" opens it, and its jobs show in the status bar.
 
+pub mod colour;
+pub mod deflection_panel;
 pub mod feature;
 pub mod library_editor;
 pub mod plot;
+pub mod schedule_panel;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::command::Command;
 use super::feature::FeatureView;
@@ -66,7 +75,25 @@ struct ForceKey {
     planned: bool,
 }
 
-type ForceJob = JobSlot<Result<ForceTimeline, ForceRunError>, ForceKey>;
+/// A computed force result with what it was computed from.
+pub struct Outcome {
+    /// The forces and their timeline.
+    pub timeline: ForceTimeline,
+    /// The path they were computed along.
+    pub toolpath: Arc<Toolpath>,
+    /// The tool.
+    pub cutter: Cutter,
+    /// The coefficients used.
+    pub coefficients: crate::force::path::ModeCoefficients,
+}
+
+type ForceJob = JobSlot<Result<Outcome, ForceRunError>, ForceKey>;
+
+/// The profile of the tool's deflection at a pose: (result serial, pose) and the profile.
+type DeflectionCache = (
+    (u64, usize),
+    Result<Option<crate::project::forces::PoseDeflection>, String>,
+);
 
 /// What the plot shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -86,7 +113,23 @@ pub struct ForcesWindow {
     /// Whether the window is shown.
     pub open: bool,
     job: ForceJob,
-    result: Option<(ForceKey, ForceTimeline)>,
+    result: Option<(ForceKey, Arc<Outcome>)>,
+    /// Serial number of the current result (bumped per result).
+    serial: u64,
+    /// Is the result computed for the operation, tool and clock as they are now?
+    current: bool,
+    /// Draw the path coloured by the plotted quantity.
+    pub colour_path: bool,
+    /// The coloured path as last built.
+    coloured: Option<colour::ColouredPath>,
+    /// Render ids of the coloured path.
+    next_id: crate::render::DataId,
+    /// The deflection profile at the tool's pose.
+    deflection: Option<DeflectionCache>,
+    /// Show the deflection profile.
+    pub show_deflection: bool,
+    /// Feed scheduling.
+    pub schedule: schedule_panel::SchedulePanel,
     /// The last problem (shown in the window).
     pub message: Option<String>,
     /// What the plot shows.
@@ -118,7 +161,32 @@ impl ForcesWindow {
     /// The finished result, when there is one.
     #[must_use]
     pub fn result(&self) -> Option<&ForceTimeline> {
+        self.result.as_ref().map(|(_, r)| &r.timeline)
+    }
+
+    /// The finished result with the path, tool and coefficients it was computed from.
+    #[must_use]
+    pub fn outcome(&self) -> Option<&Arc<Outcome>> {
         self.result.as_ref().map(|(_, r)| r)
+    }
+
+    /// The coloured path as last built (while "Colour the path" is on).
+    #[must_use]
+    pub fn coloured_path(&self) -> Option<&colour::ColouredPath> {
+        self.coloured
+            .as_ref()
+            .filter(|_| self.colour_path && self.current)
+    }
+
+    /// The deflection profile last computed: the pose and the profile.
+    #[must_use]
+    pub fn deflection(
+        &self,
+    ) -> Option<(
+        usize,
+        &Result<Option<crate::project::forces::PoseDeflection>, String>,
+    )> {
+        self.deflection.as_ref().map(|((_, p), d)| (*p, d))
     }
 
     /// Is a force job running?
@@ -129,6 +197,9 @@ impl ForcesWindow {
 
     /// Stop the running job; its label when there was one.
     pub fn cancel(&mut self) -> Option<String> {
+        if let Some(label) = self.schedule.cancel() {
+            return Some(label);
+        }
         let label = self.job.cancel()?;
         self.message = Some("Cancelled".into());
         Some(label)
@@ -150,7 +221,8 @@ impl ForcesWindow {
 
     /// Collect a finished job.
     fn poll(&mut self, ctx: &egui::Context) {
-        if self.job.is_running() {
+        self.schedule.poll();
+        if self.job.is_running() || self.schedule.is_running() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         }
         let Some(done) = self.job.poll() else { return };
@@ -160,14 +232,26 @@ impl ForcesWindow {
             ))
         });
         match outcome {
-            Ok(r) => self.result = Some((done.key, r)),
+            Ok(r) => {
+                self.serial += 1;
+                self.result = Some((done.key, Arc::new(r)));
+                self.coloured = None;
+                self.deflection = None;
+            }
             Err(ForceRunError::Cancelled) => self.message = Some("Cancelled".into()),
             Err(e) => self.message = Some(format!("Forces not computed: {e}")),
         }
     }
 
-    /// When open, draw the window.
+    /// Keep the coloured path and the deflection profile up to date, then, when open, draw
+    /// the window.
     fn window(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, commands: &mut Vec<Command>) {
+        let now = view.active_operation.and_then(|i| key_of(view, i));
+        self.current = self
+            .result
+            .as_ref()
+            .is_some_and(|(k, _)| now.as_ref() == Some(k));
+        self.update_colouring();
         if !self.open {
             return;
         }
@@ -176,10 +260,37 @@ impl ForcesWindow {
             .id(egui::Id::unique("talas cutting forces"))
             .open(&mut open)
             .default_pos([80.0, 90.0])
-            .default_size([900.0, 460.0])
+            .default_size([900.0, 640.0])
             .resizable(true)
+            .vscroll(true)
             .show(ctx, |ui| self.ui(ui, view, commands));
         self.open = open;
+    }
+
+    /// Rebuild the coloured path when the result or the plotted quantity changed.
+    fn update_colouring(&mut self) {
+        let Some((_, o)) = &self.result else {
+            self.coloured = None;
+            return;
+        };
+        if !self.colour_path {
+            return;
+        }
+        let key = colour::ColourKey {
+            result: self.serial,
+            shown: self.shown,
+            mean: self.mean,
+        };
+        if self.coloured.as_ref().is_some_and(|c| c.key == key) {
+            return;
+        }
+        self.next_id = self.next_id.max(COLOUR_IDS) + 1;
+        self.coloured = Some(colour::coloured_path(
+            &o.toolpath,
+            &o.timeline,
+            key,
+            self.next_id,
+        ));
     }
 
     /// The window's contents.
@@ -210,6 +321,10 @@ impl ForcesWindow {
             }
             ui.separator();
             ui.toggle_value(&mut self.editor.open, "Coefficients…");
+            ui.separator();
+            ui.checkbox(&mut self.colour_path, "Colour the path")
+                .on_hover_text("Colour each cutting move of the path in the viewport by the plotted quantity (its largest value over the move), with the limit marked on the legend");
+            ui.checkbox(&mut self.show_deflection, "Deflection at the pose");
         });
         if let Some(m) = &self.message {
             ui.colored_label(ui.visuals().warn_fg_color, m);
@@ -218,26 +333,69 @@ impl ForcesWindow {
             self.editor.ui(ui, view.data_dir);
             ui.separator();
         }
-        let Some((key, result)) = &self.result else {
+        let Some((key, outcome)) = &self.result else {
             ui.label("Compute the forces of the active operation (its tool needs flutes, e.g. flat:d=10,flutes=3).");
             return;
         };
+        let outcome = Arc::clone(outcome);
+        let index = key.index;
         if current.as_ref() != Some(key) {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
                 "The operation, its tool or its posted program changed since: compute again.",
             );
         }
+        let result = &outcome.timeline;
         let cursor = view
             .tool_pose
             .and_then(|p| result.pose_time_s.get(p).copied());
-        let (transform, pose) = plot::ui(ui, result, (&mut self.shown, &mut self.mean), cursor);
+        let plot_height = if self.show_deflection { 220.0 } else { 300.0 };
+        let (transform, pose) = ui
+            .allocate_ui(egui::vec2(ui.available_width(), plot_height + 60.0), |ui| {
+                plot::ui(ui, result, (&mut self.shown, &mut self.mean), cursor)
+            })
+            .inner;
         self.plot_transform = Some(transform);
         if let Some(pose) = pose {
             commands.push(Command::PickPose(Some(pose)));
         }
+        ui.separator();
+        ui.label(egui::RichText::new("Feed schedule").strong());
+        let machine = view.project.machine.clone();
+        self.schedule
+            .ui(ui, &outcome, (index, self.serial), &machine, commands);
+        if self.show_deflection {
+            self.deflection_ui(ui, view, &outcome);
+        }
+    }
+
+    /// The deflection profile of the pose the tool stands at (computed once per pose).
+    fn deflection_ui(&mut self, ui: &mut egui::Ui, view: &FeatureView<'_>, outcome: &Outcome) {
+        ui.separator();
+        ui.label(egui::RichText::new("Deflection and wall error at the tool's pose").strong());
+        if let Some(p) = view.tool_pose {
+            let k = (self.serial, p);
+            if self.deflection.as_ref().is_none_or(|(c, _)| *c != k) {
+                let d = deflection_panel::compute(
+                    &outcome.timeline,
+                    p,
+                    &outcome.cutter,
+                    &outcome.coefficients,
+                );
+                self.deflection = Some((k, d));
+            }
+        }
+        let shown = self
+            .deflection
+            .as_ref()
+            .filter(|((_, p), _)| Some(*p) == view.tool_pose)
+            .map(|(_, d)| d);
+        deflection_panel::ui(ui, view.tool_pose, shown);
     }
 }
+
+/// Render ids of the coloured path start here (above the workstation's own).
+const COLOUR_IDS: crate::render::DataId = 1 << 52;
 
 /// Everything the worker needs, owned.
 struct Prepared {
@@ -254,8 +412,8 @@ struct Prepared {
 }
 
 impl Prepared {
-    fn run(&self, progress: &crate::diagnostics::Progress) -> Result<ForceTimeline, ForceRunError> {
-        operation_forces(
+    fn run(&self, progress: &crate::diagnostics::Progress) -> Result<Outcome, ForceRunError> {
+        let timeline = operation_forces(
             &ForceRunInput {
                 stock: &self.stock,
                 part_bounds: self.bounds,
@@ -269,7 +427,13 @@ impl Prepared {
                 resolution_mm: self.resolution,
             },
             progress,
-        )
+        )?;
+        Ok(Outcome {
+            timeline,
+            toolpath: Arc::new(self.toolpath.clone()),
+            cutter: self.cutter.clone(),
+            coefficients: self.coefficients.clone(),
+        })
     }
 }
 

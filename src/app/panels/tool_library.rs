@@ -3,7 +3,8 @@
 //! name and holder as text, and applied when the field loses focus (Enter, Tab or a click
 //! elsewhere): one undo step per field. An invalid value (out of range, or a tool that is not
 //! valid, such as a corner radius above the tool radius) is shown in red with the reason and is
-//! not applied. Every change is a
+//! not applied. The load limits (force N, torque N·m, power W, each optional) are typed as text
+//! and range-checked as the engine checks them. Every change is a
 //! [`Command::Edit`].
 
 use super::super::command::Command;
@@ -110,6 +111,8 @@ pub struct ToolForm {
     source: Option<(usize, ToolEntry)>,
     name: String,
     holder: String,
+    /// The load limits as typed: force (N), torque (N·m), power (W); empty for none.
+    limits: [String; 3],
     /// Why the last typed value was refused.
     pub error: Option<String>,
 }
@@ -160,6 +163,9 @@ impl ToolForm {
     fn fill(&mut self, index: usize, tool: &ToolEntry) {
         self.name.clone_from(&tool.name);
         self.holder = holder_text(&tool.cutter.holder);
+        let l = tool.cutter.limits;
+        self.limits = [l.max_force_n, l.max_torque_nm, l.max_power_w]
+            .map(|v| v.map_or_else(String::new, tidy));
         self.error = None;
         self.source = Some((index, tool.clone()));
     }
@@ -192,8 +198,50 @@ fn complete_tool(mut tool: ToolEntry, form: &ToolForm) -> Result<ToolEntry, Stri
         return Err("name: empty".into());
     }
     tool.cutter.holder = parse_holder(&form.holder)?;
+    let [force, torque, power] = &form.limits;
+    let limit = |text: &str, what: &str, unit: &str| -> Result<Option<f64>, String> {
+        let t = text.trim().trim_end_matches(unit).trim();
+        if t.is_empty() {
+            return Ok(None);
+        }
+        t.parse::<f64>()
+            .map(Some)
+            .map_err(|_| format!("{what}: '{t}' is not a number"))
+    };
+    tool.cutter.limits = crate::tools::ToolLimits {
+        max_force_n: limit(force, "max force", "N")?,
+        max_torque_nm: limit(torque, "max torque", "N·m")?,
+        max_power_w: limit(power, "max power", "W")?,
+    };
     tool.cutter.validate().map_err(|e| e.to_string())?;
     Ok(tool)
+}
+
+/// The load-limit fields (force N, torque N·m, power W; empty for none), checked by the
+/// cutting-force window; true when one lost focus.
+fn limits_ui(ui: &mut egui::Ui, index: usize, form: &mut ToolForm) -> bool {
+    let mut commit = false;
+    ui.label("Load limits (empty: none)")
+        .on_hover_text("Checked by the Cutting forces window: moves above a limit are flagged");
+    egui::Grid::new(("tool limits", index))
+        .num_columns(2)
+        .spacing([8.0, 4.0])
+        .show(ui, |ui| {
+            let labels = ["Max force (N)", "Max torque (N·m)", "Max power (W)"];
+            for (label, text) in labels.into_iter().zip(form.limits.iter_mut()) {
+                let l = ui.label(label);
+                let r = ui
+                    .add(
+                        egui::TextEdit::singleline(text)
+                            .desired_width(90.0)
+                            .id_salt(("tool limit", label)),
+                    )
+                    .labelled_by(l.id);
+                commit |= r.lost_focus();
+                ui.end_row();
+            }
+        });
+    commit
 }
 
 /// The same tool with another cutting-end kind, sizes kept where they still fit.
@@ -304,6 +352,7 @@ pub fn tool_editor_ui(
             .on_hover_text("Sections from the bottom up, e.g. 20×30, 40×20");
         commit |= r.lost_focus();
     });
+    commit |= limits_ui(ui, index, form);
     if commit {
         match complete_tool(next, form) {
             Ok(new) if new != *tool => {

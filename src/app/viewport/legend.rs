@@ -1,5 +1,5 @@
 //! The colour-map legend over the viewport: a vertical bar with the field's name, unit, and the
-//! values at its ends and middle.
+//! values at its ends and middle, and a marked value (a limit) when asked.
 
 use crate::render::{ColourMap, ScalarMapping};
 
@@ -93,6 +93,37 @@ pub fn legend_ui(
         note,
         egui::FontId::proportional(10.0),
         egui::Color32::from_gray(160),
+    );
+}
+
+/// Mark `value` (e.g. a limit) on the bar of the legend in `slot` (drawn by [`legend_ui`] with
+/// `mapping`): a red line across the bar and `label` beside it.
+pub fn legend_mark_ui(
+    ui: &egui::Ui,
+    rect: egui::Rect,
+    mapping: ScalarMapping,
+    slot: usize,
+    value: f32,
+    label: &str,
+) {
+    let origin = rect.left_top() + egui::vec2(14.0, 34.0 + slot as f32 * LEGEND_HEIGHT);
+    let t = ((value - mapping.min) / (mapping.max - mapping.min).max(1e-12)).clamp(0.0, 1.0);
+    let y = origin.y + (1.0 - t) * BAR_HEIGHT;
+    let red = egui::Color32::from_rgb(255, 60, 60);
+    let painter = ui.painter();
+    painter.line_segment(
+        [
+            egui::pos2(origin.x - 4.0, y),
+            egui::pos2(origin.x + BAR_WIDTH + 4.0, y),
+        ],
+        egui::Stroke::new(2.0, red),
+    );
+    painter.text(
+        egui::pos2(origin.x + BAR_WIDTH + 52.0, y),
+        egui::Align2::LEFT_CENTER,
+        label,
+        egui::FontId::proportional(11.0),
+        red,
     );
 }
 

@@ -204,6 +204,8 @@ pub struct ViewportExtras<'a> {
     pub paths: Vec<LineInstance>,
     /// Legend of the path colouring, when it maps a scalar (title with unit, mapping).
     pub path_legend: Option<(String, ScalarMapping)>,
+    /// A value marked on the path legend's bar (a limit) and its label.
+    pub path_legend_mark: Option<(f32, String)>,
     /// More meshes (the simulated stock).
     pub meshes: Vec<MeshInstance>,
     /// Legend of the stock's deviation colouring.
@@ -337,6 +339,11 @@ pub fn viewport_ui(
     let legends = extras.path_legend.iter().chain(&extras.stock_legend);
     for (slot, (title, mapping)) in (first..).zip(legends) {
         legend::legend_ui(ui, rect, title, *mapping, slot);
+    }
+    if let (Some((_, mapping)), Some((value, label))) =
+        (&extras.path_legend, &extras.path_legend_mark)
+    {
+        legend::legend_mark_ui(ui, rect, *mapping, first, *value, label);
     }
     if let Some(view) = view_cube::view_cube_ui(ui, rect, &state.camera) {
         commands.push(Command::StandardView(view));

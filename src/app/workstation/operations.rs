@@ -180,11 +180,28 @@ impl Workstation {
             Command::SetStockVisible(on) => self.sims.visible = on,
             Command::SetDeviationBand(band_mm) => self.set_deviation_band(band_mm),
             Command::SetPathColouring(c) => self.ops.colouring = c,
+            Command::ReplacePath(index, toolpath) => self.replace_path(index, &toolpath),
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
             Command::SetShowAxisVectors(on) => self.ops.show_axes = on,
             Command::CompareOperations => self.ops.compare_open = true,
             Command::Playback(p) => self.playback(p),
             _ => {}
+        }
+    }
+
+    /// Make `toolpath` operation `index`'s computed path (a feed schedule applied); the posted
+    /// program and the stock keyframes, made from the old path, are dropped.
+    fn replace_path(&mut self, index: usize, toolpath: &crate::toolpath::Toolpath) {
+        match self.result_index(index) {
+            Some((k, true)) if self.ops.store.replace_toolpath(k, toolpath.clone()) => {
+                self.programs.current = None;
+                if let Ok(mut k) = self.sims.keyframes.lock() {
+                    *k = None;
+                }
+                (self.ops.highlight, self.ops.picked_pose, self.ops.t_s) = (None, None, None);
+                self.log_info(format!("Operation {}: scheduled path applied", index + 1));
+            }
+            _ => self.log_info("Calculate the operation first"),
         }
     }
 
