@@ -229,9 +229,12 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
     // junction speeds final.
     let mut peaks = Vec::with_capacity(segments.len());
     let mut start_times = Vec::with_capacity(segments.len() + 1);
-    let mut t = 0.0;
+    let mut path_starts = Vec::with_capacity(segments.len());
+    let (mut t, mut along) = (0.0, 0.0);
     start_times.push(t);
     for (k, s) in segments.iter().enumerate() {
+        path_starts.push(along);
+        along += s.length;
         lookahead::forward_step(&mut speeds, k, s);
         let (peak, duration) =
             Profile::peak_and_duration(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(
@@ -251,6 +254,7 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
             junctions: speeds,
             peaks,
             start_times,
+            path_starts,
         },
         &input.axes,
         opts.sample_period_s,

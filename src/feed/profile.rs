@@ -329,11 +329,12 @@ mod reachable_tests {
 fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
     let (a, j) = (lim.acceleration, lim.jerk);
     let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
-    peak_velocity_known(v0, v1, distance, lim, total(v0.max(v1)), total(lim.velocity))
+    peak_velocity_known(v0, v1, distance, lim, total(v0.max(v1)), total(lim.velocity)).0
 }
 
 /// [`peak_velocity`] given the distance of both changes at the peak `max(v0, v1)` (that is
-/// `change_distance(v0, v1)`) and at `V`, which the caller has already computed.
+/// `change_distance(v0, v1)`) and at `V`, which the caller has already computed; with the
+/// two changes at the peak where the closed forms evaluated them already.
 fn peak_velocity_known(
     v0: f64,
     v1: f64,
@@ -341,13 +342,13 @@ fn peak_velocity_known(
     lim: &Limits1,
     total_lo: f64,
     total_vmax: f64,
-) -> f64 {
+) -> (f64, Option<Changes>) {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let lo = v0.max(v1);
     let threshold = a * a / j;
     let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
     if !(distance > total_lo) {
-        return lo;
+        return (lo, None);
     }
     // Quadratic region: vp²/A + vp·A/J + c0 = distance. Its root is taken only within
     // [lo + A²/J, V], which is empty when lo + A²/J > V.
@@ -358,7 +359,7 @@ fn peak_velocity_known(
         // Positive root, cancellation-free.
         let r = -2.0 * qc / (qb + disc.sqrt());
         if r >= lo + threshold && r <= vmax {
-            return r;
+            return (r, None);
         }
     }
     if v0 == v1 {
@@ -374,7 +375,7 @@ fn peak_velocity_known(
         }
         let vp = v0 + j * x * x;
         if vp.is_finite() && vp - v0 <= threshold && vp >= lo && vp <= vmax {
-            return vp;
+            return (vp, None);
         }
     }
     if v0 != v1 {
@@ -392,8 +393,8 @@ fn peak_velocity_known(
         } else {
             peak_velocity_mixed(v0, v1, distance, lim)
         };
-        if let Some(vp) = closed {
-            return vp;
+        if let Some((vp, changes)) = closed {
+            return (vp, Some(changes));
         }
     }
     // Bracketed Newton in x = sqrt(vp − lo); g(x) = total(lo + x²) − distance is increasing.
@@ -452,7 +453,7 @@ fn peak_velocity_known(
             0.5 * (xa + xb)
         };
     }
-    lo + x * x
+    (lo + x * x, None)
 }
 
 /// The mixed case of [`peak_velocity`] in closed form: the change from the lower end velocity
@@ -466,7 +467,12 @@ fn peak_velocity_known(
 /// `z² ∓ √(2m)·z + p/2 + m ± √(2m)·q/(4m) = 0`. The root in the case's range is polished by two
 /// Newton steps on the quartic; `None` (the caller iterates) when no root lands in the range or
 /// the distance is not met to round-off.
-fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+fn peak_velocity_mixed(
+    v0: f64,
+    v1: f64,
+    distance: f64,
+    lim: &Limits1,
+) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let (alpha, beta) = (a / j, 2.0 * h / j);
@@ -509,15 +515,14 @@ fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
         }
     }
     let vp = h + j * x * x;
-    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
     let in_case = vp - w >= threshold && vp - h <= threshold && vp >= h && vp <= vmax;
     if !(vp.is_finite() && in_case) {
         return None;
     }
     // Settle on the feasible side (a few ulps at most), as the iteration does.
-    let (vp, at_vp) = settle(vp, distance, total);
-    let err = (at_vp - distance).abs();
-    (err <= 1e-12 * distance.max(1e-300) && vp >= h).then_some(vp)
+    let (vp, at_vp) = settle(vp, distance, v0, v1, a, j);
+    let err = (at_vp.total - distance).abs();
+    (err <= 1e-12 * distance.max(1e-300) && vp >= h).then_some((vp, at_vp))
 }
 
 /// The case of [`peak_velocity`] where neither change has a constant-acceleration phase, with
@@ -527,7 +532,12 @@ fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
 /// for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic `2J·x³ + (w + 3h)·x = d` (Cardano) give a
 /// start at or right of the root, from which Newton's iterates decrease monotonically to it
 /// (quadratic convergence; 2–4 steps in practice). `None` when the result leaves the case.
-fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+fn peak_velocity_short(
+    v0: f64,
+    v1: f64,
+    distance: f64,
+    lim: &Limits1,
+) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let delta = (h - w) / j;
@@ -553,23 +563,30 @@ fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
             break;
         }
     }
-    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
     // Settle on the feasible side (a few ulps at most).
-    let (vp, at_vp) = settle(h + j * x * x, distance, total);
+    let (vp, at_vp) = settle(h + j * x * x, distance, v0, v1, a, j);
     let in_case = vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
-    let err = (at_vp - distance).abs();
-    (in_case && err <= 1e-12 * distance.max(1e-300)).then_some(vp)
+    let err = (at_vp.total - distance).abs();
+    (in_case && err <= 1e-12 * distance.max(1e-300)).then_some((vp, at_vp))
 }
 
-/// Step `vp` down by ulps (16 at most) until `total(vp) ≤ distance`; the result and its total.
-fn settle(mut vp: f64, distance: f64, total: impl Fn(f64) -> f64) -> (f64, f64) {
-    let mut at = total(vp);
+/// Step the peak `vp` down by ulps (16 at most) until both changes `v0 → vp → v1` fit in
+/// `distance`; the result and its changes.
+fn settle(
+    mut vp: f64,
+    distance: f64,
+    v0: f64,
+    v1: f64,
+    acceleration: f64,
+    jerk: f64,
+) -> (f64, Changes) {
+    let mut at = Changes::of(v0, vp, v1, acceleration, jerk);
     for _ in 0..16 {
-        if at <= distance {
+        if at.total <= distance {
             break;
         }
         vp = vp.next_down();
-        at = total(vp);
+        at = Changes::of(v0, vp, v1, acceleration, jerk);
     }
     (vp, at)
 }
@@ -762,8 +779,9 @@ impl Profile {
         }
         // `needed` is also the distance of both changes at the peak max(v0, v1) (one of them
         // is empty and adds +0).
-        let vp = peak_velocity_known(v0, v1, distance, lim, needed, at_vmax.total);
-        Ok((v0, v1, vp, Changes::of(v0, vp, v1, a, j)))
+        let (vp, changes) = peak_velocity_known(v0, v1, distance, lim, needed, at_vmax.total);
+        let changes = changes.unwrap_or_else(|| Changes::of(v0, vp, v1, a, j));
+        Ok((v0, v1, vp, changes))
     }
 
     /// The profile [`Profile::calculate`] gives for the same input, rebuilt from its peak
