@@ -442,7 +442,11 @@ fn velocity_bound(
         let Some(l) = lim else { continue };
         let name = "XYZABC".as_bytes()[k] as char;
         if d1[k] > 0.0 {
-            lower(&mut bound, l.velocity / d1[k], VelocityCap::AxisVelocity(name));
+            lower(
+                &mut bound,
+                l.velocity / d1[k],
+                VelocityCap::AxisVelocity(name),
+            );
         }
         // A root is skipped where its radicand is above the bound's power by a margin that
         // covers the rounding of both (and the cube root's error below an ulp): the root is

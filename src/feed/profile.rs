@@ -304,7 +304,7 @@ mod reachable_tests {
                     bh = mid;
                 }
             }
-            let vp = peak_velocity(v0, v1, d, &lim);
+            let vp = peak_velocity_of(v0, v1, d, &lim);
             assert!(
                 (vp - bl).abs() <= 1e-9 * bl.max(1e-9),
                 "v0 {v0} v1 {v1} d {d} {lim:?}: {vp} vs {bl}"
@@ -313,6 +313,22 @@ mod reachable_tests {
         }
         assert!(n > 10_000, "{n}");
     }
+}
+
+/// `peak_velocity` from the inputs alone (the reference the unit tests call).
+#[cfg(test)]
+fn peak_velocity_of(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
+    let (a, j) = (lim.acceleration, lim.jerk);
+    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    peak_velocity(
+        v0,
+        v1,
+        distance,
+        lim,
+        total(v0.max(v1)),
+        total(lim.velocity),
+    )
+    .0
 }
 
 /// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
@@ -325,17 +341,11 @@ mod reachable_tests {
 ///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
 /// - `v0 = v1 = w` and no constant-acceleration phase: `2·(2w + J·x²)·x = distance` with
 ///   `x = sqrt((vp − w)/J)`, the cubic of [`reachable_velocity`].
-#[cfg(test)]
-fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
-    let (a, j) = (lim.acceleration, lim.jerk);
-    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
-    peak_velocity_known(v0, v1, distance, lim, total(v0.max(v1)), total(lim.velocity)).0
-}
-
-/// [`peak_velocity`] given the distance of both changes at the peak `max(v0, v1)` (that is
-/// `change_distance(v0, v1)`) and at `V`, which the caller has already computed; with the
-/// two changes at the peak where the closed forms evaluated them already.
-fn peak_velocity_known(
+///
+/// The caller passes the distance of both changes at the peak `max(v0, v1)` (that is
+/// `change_distance(v0, v1)`) and at `V`, which it has already computed; the two changes at
+/// the peak come back where a closed form evaluated them already.
+fn peak_velocity(
     v0: f64,
     v1: f64,
     distance: f64,
@@ -467,12 +477,7 @@ fn peak_velocity_known(
 /// `z² ∓ √(2m)·z + p/2 + m ± √(2m)·q/(4m) = 0`. The root in the case's range is polished by two
 /// Newton steps on the quartic; `None` (the caller iterates) when no root lands in the range or
 /// the distance is not met to round-off.
-fn peak_velocity_mixed(
-    v0: f64,
-    v1: f64,
-    distance: f64,
-    lim: &Limits1,
-) -> Option<(f64, Changes)> {
+fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let (alpha, beta) = (a / j, 2.0 * h / j);
@@ -532,12 +537,7 @@ fn peak_velocity_mixed(
 /// for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic `2J·x³ + (w + 3h)·x = d` (Cardano) give a
 /// start at or right of the root, from which Newton's iterates decrease monotonically to it
 /// (quadratic convergence; 2–4 steps in practice). `None` when the result leaves the case.
-fn peak_velocity_short(
-    v0: f64,
-    v1: f64,
-    distance: f64,
-    lim: &Limits1,
-) -> Option<(f64, Changes)> {
+fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let delta = (h - w) / j;
@@ -779,7 +779,7 @@ impl Profile {
         }
         // `needed` is also the distance of both changes at the peak max(v0, v1) (one of them
         // is empty and adds +0).
-        let (vp, changes) = peak_velocity_known(v0, v1, distance, lim, needed, at_vmax.total);
+        let (vp, changes) = peak_velocity(v0, v1, distance, lim, needed, at_vmax.total);
         let changes = changes.unwrap_or_else(|| Changes::of(v0, vp, v1, a, j));
         Ok((v0, v1, vp, changes))
     }
