@@ -5,6 +5,7 @@ Run from the repository root:
     cargo build --no-default-features --example 02_feed_profile_durations
     .venv/bin/python benches/feed_ruckig.py
 """
+import os
 import random
 import subprocess
 import sys
@@ -21,7 +22,8 @@ for _ in range(N):
     j = 10 ** rng.uniform(2, 6)
     cases.append((s, v, a, j))
 
-exe = "target/debug/examples/02_feed_profile_durations"
+target = os.environ.get("CARGO_TARGET_DIR", "target")
+exe = os.path.join(target, "debug", "examples", "02_feed_profile_durations")
 text = "\n".join(",".join(repr(x) for x in c) for c in cases) + "\n"
 out = subprocess.run([exe], input=text, capture_output=True, text=True, check=True).stdout.split("\n")
 

@@ -222,14 +222,20 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
     {
         return Err(FeedError::InvalidTolerance);
     }
-    let speeds = lookahead::junction_speeds(&segments, &slots, opts.corner);
+    let mut speeds = lookahead::backward_speeds(&segments, &slots, opts.corner);
     // Each profile is kept as its peak velocity (with the junction speeds and the segment it
-    // is rebuilt on demand), and its duration as the next start time.
+    // is rebuilt on demand), and its duration as the next start time. The look-ahead's
+    // forward pass runs in the same loop: its step at a segment makes both of the segment's
+    // junction speeds final.
     let mut peaks = Vec::with_capacity(segments.len());
     let mut start_times = Vec::with_capacity(segments.len() + 1);
-    let mut t = 0.0;
+    let mut path_starts = Vec::with_capacity(segments.len());
+    let (mut t, mut along) = (0.0, 0.0);
     start_times.push(t);
     for (k, s) in segments.iter().enumerate() {
+        path_starts.push(along);
+        along += s.length;
+        lookahead::forward_step(&mut speeds, k, s);
         let (peak, duration) =
             Profile::peak_and_duration(s.length, speeds[k], speeds[k + 1], &s.limits).map_err(
                 |e| FeedError::Profile {
@@ -248,6 +254,7 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
             junctions: speeds,
             peaks,
             start_times,
+            path_starts,
         },
         &input.axes,
         opts.sample_period_s,
@@ -360,12 +367,14 @@ fn best_blend(
 ) -> Option<path::Segment> {
     let feed = a.limits.velocity.min(b.limits.velocity);
     // The cost of slowing to v at the corner on one side.
+    // change_time(v, F) − change_distance(v, F)/F with the time taken once; no change
+    // (v = F) costs exactly 0.
     let side = |s: &path::Segment, f: f64, v: f64| {
         let l = s.limits;
         let v = v.min(f);
-        if f > 0.0 {
-            profile::change_time(v, f, l.acceleration, l.jerk)
-                - profile::change_distance(v, f, l.acceleration, l.jerk) / f
+        if f > 0.0 && v < f {
+            let t = profile::change_time(v, f, l.acceleration, l.jerk);
+            t - 0.5 * (v + f) * t / f
         } else {
             0.0
         }

@@ -423,46 +423,55 @@ fn velocity_bound(
             }
         }
     }
-    let least_root = least_ratio.cbrt();
+    // Taken when first needed (straight segments have no jerk term).
+    let mut least_root = None;
     // A ratio this close above the least may have the same cube root.
     let near = least_ratio * (1.0 + 1e-12);
-    let mut v_b = f64::INFINITY;
-    let mut cap = VelocityCap::Feed;
-    let mut lower = |value: f64, why: VelocityCap| {
-        if value < v_b {
-            v_b = value;
-            cap = why;
+    // The bound so far and what sets it; a value lowers it only if strictly less.
+    let mut bound = (f64::INFINITY, VelocityCap::Feed);
+    let lower = |bound: &mut (f64, VelocityCap), value: f64, why: VelocityCap| {
+        if value < bound.0 {
+            *bound = (value, why);
         }
     };
-    lower(feed, VelocityCap::Feed);
+    lower(&mut bound, feed, VelocityCap::Feed);
     if let Some(p) = path {
-        lower(p.velocity, VelocityCap::Path);
+        lower(&mut bound, p.velocity, VelocityCap::Path);
     }
     for (k, lim) in axes.iter().enumerate() {
         let Some(l) = lim else { continue };
         let name = "XYZABC".as_bytes()[k] as char;
         if d1[k] > 0.0 {
-            lower(l.velocity / d1[k], VelocityCap::AxisVelocity(name));
-        }
-        if d2[k] > 0.0 {
             lower(
-                (share.acceleration * l.acceleration / d2[k]).sqrt(),
-                VelocityCap::Centripetal(name),
+                &mut bound,
+                l.velocity / d1[k],
+                VelocityCap::AxisVelocity(name),
             );
         }
-        if d3[k] > 0.0 {
+        // A root is skipped where its radicand is above the bound's power by a margin that
+        // covers the rounding of both (and the cube root's error below an ulp): the root is
+        // then at least the bound and could not lower it.
+        let v_b = bound.0;
+        if d2[k] > 0.0 {
+            let squared = share.acceleration * l.acceleration / d2[k];
+            if !(squared >= v_b * v_b * (1.0 + 1e-14)) {
+                lower(&mut bound, squared.sqrt(), VelocityCap::Centripetal(name));
+            }
+        }
+        let v_b = bound.0;
+        if d3[k] > 0.0 && !(ratio[k] >= v_b * v_b * v_b * (1.0 + 1e-12)) {
             // Terms above the least root cannot lower the bound below it.
             let root = if ratio[k] == least_ratio {
-                least_root
+                *least_root.get_or_insert_with(|| least_ratio.cbrt())
             } else if ratio[k] <= near {
                 ratio[k].cbrt()
             } else {
                 continue;
             };
-            lower(root, VelocityCap::CentripetalJerk(name));
+            lower(&mut bound, root, VelocityCap::CentripetalJerk(name));
         }
     }
-    Some((v_b, cap))
+    Some(bound)
 }
 
 /// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds

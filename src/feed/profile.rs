@@ -62,11 +62,48 @@ pub enum ProfileError {
 /// Duration of the velocity change `va → vb` (a = 0 at both ends), closed form.
 #[must_use]
 pub fn change_time(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
-    let dv = (vb - va).abs();
+    change_parts((vb - va).abs(), acceleration, jerk).2
+}
+
+/// The jerk-phase time, the constant-acceleration time (it may round below 0) and the total
+/// time of a velocity change by `dv` ≥ 0 (a = 0 at both ends), from one division or square
+/// root: `(A/J, dv/A − A/J, dv/A + A/J)` when `dv·J ≥ A²`, else `(t, 0, 2t)` with
+/// `t = sqrt(dv/J)`.
+#[inline]
+fn change_parts(dv: f64, acceleration: f64, jerk: f64) -> (f64, f64, f64) {
     if dv * jerk >= acceleration * acceleration {
-        dv / acceleration + acceleration / jerk
+        let (q, r) = (dv / acceleration, acceleration / jerk);
+        (r, q - r, q + r)
     } else {
-        2.0 * (dv / jerk).sqrt()
+        let t = (dv / jerk).sqrt();
+        (t, 0.0, 2.0 * t)
+    }
+}
+
+/// A move's two velocity changes `v0 → vp → v1` evaluated once: their summed distance
+/// (`change_distance(v0, vp) + change_distance(vp, v1)`) and each change's jerk-phase and
+/// constant-acceleration times (as [`change_parts`] gives them).
+#[derive(Clone, Copy, Debug)]
+struct Changes {
+    /// Distance of both changes.
+    total: f64,
+    /// Jerk-phase and constant-acceleration time of `v0 → vp`.
+    up: (f64, f64),
+    /// The same of `vp → v1`.
+    down: (f64, f64),
+}
+
+impl Changes {
+    /// Both changes of a move from `v0` through the peak `vp` to `v1`.
+    #[inline]
+    fn of(v0: f64, vp: f64, v1: f64, acceleration: f64, jerk: f64) -> Self {
+        let (u1, u2, tu) = change_parts((vp - v0).abs(), acceleration, jerk);
+        let (d1, d2, td) = change_parts((v1 - vp).abs(), acceleration, jerk);
+        Self {
+            total: 0.5 * (v0 + vp) * tu + 0.5 * (vp + v1) * td,
+            up: (u1, u2),
+            down: (d1, d2),
+        }
     }
 }
 
@@ -105,6 +142,18 @@ pub fn reachable_velocity(
     if change_distance(v_from, cap, acceleration, jerk) <= distance {
         return cap;
     }
+    reachable_velocity_below_cap(v_from, distance, cap, acceleration, jerk)
+}
+
+/// [`reachable_velocity`] where the caller knows that `v_from < cap`, `distance > 0` and that
+/// the change to `cap` does not fit: the closed form itself.
+pub(super) fn reachable_velocity_below_cap(
+    v_from: f64,
+    distance: f64,
+    cap: f64,
+    acceleration: f64,
+    jerk: f64,
+) -> f64 {
     let (a, j) = (acceleration, jerk);
     let threshold = a * a / j;
     // Distance of the change by exactly the threshold: (2·v_from + A²/J)·A/J.
@@ -255,7 +304,7 @@ mod reachable_tests {
                     bh = mid;
                 }
             }
-            let vp = peak_velocity(v0, v1, d, &lim);
+            let vp = peak_velocity_of(v0, v1, d, &lim);
             assert!(
                 (vp - bl).abs() <= 1e-9 * bl.max(1e-9),
                 "v0 {v0} v1 {v1} d {d} {lim:?}: {vp} vs {bl}"
@@ -264,6 +313,22 @@ mod reachable_tests {
         }
         assert!(n > 10_000, "{n}");
     }
+}
+
+/// `peak_velocity` from the inputs alone (the reference the unit tests call).
+#[cfg(test)]
+fn peak_velocity_of(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
+    let (a, j) = (lim.acceleration, lim.jerk);
+    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+    peak_velocity(
+        v0,
+        v1,
+        distance,
+        lim,
+        total(v0.max(v1)),
+        total(lim.velocity),
+    )
+    .0
 }
 
 /// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
@@ -276,23 +341,35 @@ mod reachable_tests {
 ///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
 /// - `v0 = v1 = w` and no constant-acceleration phase: `2·(2w + J·x²)·x = distance` with
 ///   `x = sqrt((vp − w)/J)`, the cubic of [`reachable_velocity`].
-fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
+///
+/// The caller passes the distance of both changes at the peak `max(v0, v1)` (that is
+/// `change_distance(v0, v1)`) and at `V`, which it has already computed; the two changes at
+/// the peak come back where a closed form evaluated them already.
+fn peak_velocity(
+    v0: f64,
+    v1: f64,
+    distance: f64,
+    lim: &Limits1,
+    total_lo: f64,
+    total_vmax: f64,
+) -> (f64, Option<Changes>) {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let lo = v0.max(v1);
     let threshold = a * a / j;
     let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
-    if !(distance > total(lo)) {
-        return lo;
+    if !(distance > total_lo) {
+        return (lo, None);
     }
-    // Quadratic region: vp²/A + vp·A/J + c0 = distance.
+    // Quadratic region: vp²/A + vp·A/J + c0 = distance. Its root is taken only within
+    // [lo + A²/J, V], which is empty when lo + A²/J > V.
     let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
     let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
     let disc = qb * qb - 4.0 * qa * qc;
-    if disc >= 0.0 && qc < 0.0 {
+    if lo + threshold <= vmax && disc >= 0.0 && qc < 0.0 {
         // Positive root, cancellation-free.
         let r = -2.0 * qc / (qb + disc.sqrt());
         if r >= lo + threshold && r <= vmax {
-            return r;
+            return (r, None);
         }
     }
     if v0 == v1 {
@@ -308,21 +385,26 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
         }
         let vp = v0 + j * x * x;
         if vp.is_finite() && vp - v0 <= threshold && vp >= lo && vp <= vmax {
-            return vp;
+            return (vp, None);
         }
     }
     if v0 != v1 {
         // Which change has a constant-acceleration phase: neither when the peak is at most
         // min(v0, v1) + A²/J, else only the one from the lower end (the quadratic above covers
         // both).
-        let short = total((v0.min(v1) + threshold).min(vmax)) >= distance;
+        let bound = (v0.min(v1) + threshold).min(vmax);
+        let short = if bound == vmax {
+            total_vmax
+        } else {
+            total(bound)
+        } >= distance;
         let closed = if short {
             peak_velocity_short(v0, v1, distance, lim)
         } else {
             peak_velocity_mixed(v0, v1, distance, lim)
         };
-        if let Some(vp) = closed {
-            return vp;
+        if let Some((vp, changes)) = closed {
+            return (vp, Some(changes));
         }
     }
     // Bracketed Newton in x = sqrt(vp − lo); g(x) = total(lo + x²) − distance is increasing.
@@ -381,7 +463,7 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
             0.5 * (xa + xb)
         };
     }
-    lo + x * x
+    (lo + x * x, None)
 }
 
 /// The mixed case of [`peak_velocity`] in closed form: the change from the lower end velocity
@@ -395,7 +477,7 @@ fn peak_velocity(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
 /// `z² ∓ √(2m)·z + p/2 + m ± √(2m)·q/(4m) = 0`. The root in the case's range is polished by two
 /// Newton steps on the quartic; `None` (the caller iterates) when no root lands in the range or
 /// the distance is not met to round-off.
-fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let (alpha, beta) = (a / j, 2.0 * h / j);
@@ -438,21 +520,14 @@ fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
         }
     }
     let vp = h + j * x * x;
-    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
     let in_case = vp - w >= threshold && vp - h <= threshold && vp >= h && vp <= vmax;
     if !(vp.is_finite() && in_case) {
         return None;
     }
     // Settle on the feasible side (a few ulps at most), as the iteration does.
-    let mut vp = vp;
-    for _ in 0..16 {
-        if total(vp) <= distance {
-            break;
-        }
-        vp = vp.next_down();
-    }
-    let err = (total(vp) - distance).abs();
-    (err <= 1e-12 * distance.max(1e-300) && vp >= h).then_some(vp)
+    let (vp, at_vp) = settle(vp, distance, v0, v1, a, j);
+    let err = (at_vp.total - distance).abs();
+    (err <= 1e-12 * distance.max(1e-300) && vp >= h).then_some((vp, at_vp))
 }
 
 /// The case of [`peak_velocity`] where neither change has a constant-acceleration phase, with
@@ -462,7 +537,7 @@ fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
 /// for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic `2J·x³ + (w + 3h)·x = d` (Cardano) give a
 /// start at or right of the root, from which Newton's iterates decrease monotonically to it
 /// (quadratic convergence; 2–4 steps in practice). `None` when the result leaves the case.
-fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<f64> {
+fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let delta = (h - w) / j;
@@ -488,18 +563,32 @@ fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
             break;
         }
     }
-    let mut vp = h + j * x * x;
-    let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
     // Settle on the feasible side (a few ulps at most).
+    let (vp, at_vp) = settle(h + j * x * x, distance, v0, v1, a, j);
+    let in_case = vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
+    let err = (at_vp.total - distance).abs();
+    (in_case && err <= 1e-12 * distance.max(1e-300)).then_some((vp, at_vp))
+}
+
+/// Step the peak `vp` down by ulps (16 at most) until both changes `v0 → vp → v1` fit in
+/// `distance`; the result and its changes.
+fn settle(
+    mut vp: f64,
+    distance: f64,
+    v0: f64,
+    v1: f64,
+    acceleration: f64,
+    jerk: f64,
+) -> (f64, Changes) {
+    let mut at = Changes::of(v0, vp, v1, acceleration, jerk);
     for _ in 0..16 {
-        if total(vp) <= distance {
+        if at.total <= distance {
             break;
         }
         vp = vp.next_down();
+        at = Changes::of(v0, vp, v1, acceleration, jerk);
     }
-    let in_case = vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
-    let err = (total(vp) - distance).abs();
-    (in_case && err <= 1e-12 * distance.max(1e-300)).then_some(vp)
+    (vp, at)
 }
 
 /// The largest real root of `m³ + b·m² + c·m + d = 0` (Cardano with one real root, else the
@@ -578,13 +667,6 @@ pub struct Profile {
     pub peak_velocity: f64,
 }
 
-/// Durations of the jerk phases and of the constant-acceleration phase of the velocity change
-/// `va → vb` (as [`change_phases`] lays them out).
-fn change_durations(va: f64, vb: f64, lim: &Limits1) -> (f64, f64) {
-    let (t1, t2) = change_times(vb - va, lim);
-    (t1, t2.max(0.0))
-}
-
 /// Jerk-phase and constant-acceleration time of a velocity change by `dv` (the latter may
 /// round below 0).
 fn change_times(dv: f64, lim: &Limits1) -> (f64, f64) {
@@ -636,7 +718,7 @@ impl Profile {
     /// [`ProfileError`] for invalid input, a boundary velocity above the limit, or a velocity
     /// change that needs more distance than given (relative slack 1e-9 is accepted).
     pub fn calculate(distance: f64, v0: f64, v1: f64, lim: &Limits1) -> Result<Self, ProfileError> {
-        let (v0, v1, vp) = Self::peak_of(distance, v0, v1, lim)?;
+        let (v0, v1, vp, _) = Self::peak_of(distance, v0, v1, lim)?;
         Ok(Self::with_peak_clamped(distance, v0, v1, vp, lim))
     }
 
@@ -651,28 +733,27 @@ impl Profile {
         v1: f64,
         lim: &Limits1,
     ) -> Result<(f64, f64), ProfileError> {
-        let (v0, v1, vp) = Self::peak_of(distance, v0, v1, lim)?;
-        let (a, j) = (lim.acceleration, lim.jerk);
-        let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+        let (_, _, vp, changes) = Self::peak_of(distance, v0, v1, lim)?;
         let cruise = if vp > 0.0 {
-            ((distance - total(vp)) / vp).max(0.0)
+            ((distance - changes.total) / vp).max(0.0)
         } else {
             0.0
         };
-        let (u1, u2) = change_durations(v0, vp, lim);
-        let (d1, d2) = change_durations(vp, v1, lim);
+        let ((u1, u2), (d1, d2)) = (changes.up, changes.down);
+        let (u2, d2) = (u2.max(0.0), d2.max(0.0));
         // The phase durations summed in order, as `duration_s` does.
         let duration = [u1, u2, u1, cruise, d1, d2, d1].into_iter().sum::<f64>();
         Ok((vp, duration))
     }
 
-    /// The boundary velocities (clamped to the limit) and the peak velocity of the profile.
+    /// The boundary velocities (clamped to the limit), the peak velocity of the profile and
+    /// its two velocity changes.
     fn peak_of(
         distance: f64,
         v0: f64,
         v1: f64,
         lim: &Limits1,
-    ) -> Result<(f64, f64, f64), ProfileError> {
+    ) -> Result<(f64, f64, f64, Changes), ProfileError> {
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
         if !lim.is_valid() || !finite_nonneg(distance) || !finite_nonneg(v0) || !finite_nonneg(v1) {
             return Err(ProfileError::InvalidInput);
@@ -692,13 +773,15 @@ impl Profile {
         if needed > distance * (1.0 + 1e-9) + 1e-12 {
             return Err(ProfileError::Unreachable { distance, needed });
         }
-        let total = |vp: f64| change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
-        let vp = if total(lim.velocity) <= distance {
-            lim.velocity
-        } else {
-            peak_velocity(v0, v1, distance, lim)
-        };
-        Ok((v0, v1, vp))
+        let at_vmax = Changes::of(v0, lim.velocity, v1, a, j);
+        if at_vmax.total <= distance {
+            return Ok((v0, v1, lim.velocity, at_vmax));
+        }
+        // `needed` is also the distance of both changes at the peak max(v0, v1) (one of them
+        // is empty and adds +0).
+        let (vp, changes) = peak_velocity(v0, v1, distance, lim, needed, at_vmax.total);
+        let changes = changes.unwrap_or_else(|| Changes::of(v0, vp, v1, a, j));
+        Ok((v0, v1, vp, changes))
     }
 
     /// The profile [`Profile::calculate`] gives for the same input, rebuilt from its peak

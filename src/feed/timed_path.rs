@@ -67,6 +67,8 @@ pub(super) struct Speeds {
     pub peaks: Vec<f64>,
     /// Each segment's start time, and the cycle time last.
     pub start_times: Vec<f64>,
+    /// Each segment's start along the path (the sum of the lengths before it).
+    pub path_starts: Vec<f64>,
 }
 
 /// A planned program: profiles per block laid end to end in time.
@@ -88,16 +90,11 @@ impl TimedPath {
     pub(super) fn new(
         blocks: &[MotionBlock],
         segments: Vec<Segment>,
-        speeds: Speeds,
+        mut speeds: Speeds,
         axes: &[(char, AxisLimit)],
         sample_period_s: f64,
     ) -> Self {
-        let mut path_starts = Vec::with_capacity(segments.len());
-        let mut s = 0.0;
-        for seg in &segments {
-            path_starts.push(s);
-            s += seg.length;
-        }
+        let path_starts = std::mem::take(&mut speeds.path_starts);
         Self {
             blocks: blocks.to_vec(),
             cycle_time_s: speeds.start_times.last().copied().unwrap_or(0.0),
