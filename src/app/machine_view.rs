@@ -174,7 +174,7 @@ impl MachineView {
         out
     }
 
-    /// The live stock as it is cut, meshed at most every [`STOCK_MESH_EVERY_S`] (the
+    /// The live stock as it is cut, meshed at most every `STOCK_MESH_EVERY_S` (the
     /// latest mesh is drawn meanwhile; none before the first arrives or without a stock).
     pub fn stock_instance(&mut self, control: &mut Control) -> Option<MeshInstance> {
         let due = self
