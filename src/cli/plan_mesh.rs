@@ -8,7 +8,7 @@ use super::plan::compute_one;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
-use crate::project::pipeline::Computed;
+use crate::project::pipeline::{ComputeError, Computed, compute_rest_after};
 use crate::project::{Operation, Stock, ToolEntry};
 use crate::strategies::boundary::BoundaryRule;
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
@@ -17,7 +17,7 @@ use crate::strategies::steep_shallow::{
 };
 use crate::strategies::waterline::Cut;
 use crate::toolpath::Toolpath;
-use crate::tools::parse_tool_spec;
+use crate::tools::{Cutter, parse_tool_spec};
 
 /// Options of [`plan_mesh`] (each strategy reads the ones it needs).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -51,6 +51,12 @@ pub struct MeshPlanOptions {
     /// Rest finishing: the earlier, larger tool's spec (e.g. `ball:d=10`).
     #[serde(default)]
     pub reference_tool: Option<String>,
+    /// Rest finishing: the rest is what the `after` paths left in the stock (`stock`).
+    #[serde(default)]
+    pub from_stock: bool,
+    /// Rest finishing from the stock: the earlier tool path files, in cutting order.
+    #[serde(default)]
+    pub after: Vec<std::path::PathBuf>,
     /// Finishing: limit the path to a boundary (`silhouette` or a polygon `X,Y;X,Y;X,Y`, mm).
     #[serde(default)]
     pub boundary: Option<String>,
@@ -79,6 +85,8 @@ impl Default for MeshPlanOptions {
             clearance_mm: 5.0,
             detect_flats: true,
             reference_tool: None,
+            from_stock: false,
+            after: Vec::new(),
             boundary: None,
             boundary_rule: BoundaryRule::ToolCentre,
         }
@@ -186,7 +194,7 @@ fn mesh_operation(
             name,
             tool: 0,
             reference_tool: 1,
-            from_stock: false,
+            from_stock: opts.from_stock,
             scallop_mm: opts.scallop_mm,
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
@@ -256,12 +264,20 @@ pub fn plan_mesh_computed(
         name: tool_spec.to_string(),
         cutter,
     }];
+    let earlier = earlier_paths(file, strategy, opts)?;
     if strategy == "rest" {
-        let Some(spec) = opts.reference_tool.as_deref() else {
-            return Err(bad(
-                "--reference-tool",
-                "rest finishing needs the earlier tool, e.g. --reference-tool ball:d=10".into(),
-            ));
+        let spec = match (opts.reference_tool.as_deref(), &earlier) {
+            (Some(spec), _) => spec,
+            // From the stock the reference tool is not used: the finishing tool stands in.
+            (None, Some(_)) => tool_spec,
+            (None, None) => {
+                return Err(bad(
+                    "--reference-tool",
+                    "rest finishing needs the earlier tool, e.g. --reference-tool ball:d=10, \
+                     or --from-stock with --after PATH.json"
+                        .into(),
+                ));
+            }
         };
         tools.push(ToolEntry {
             name: spec.to_string(),
@@ -269,7 +285,7 @@ pub fn plan_mesh_computed(
         });
     }
     let part = crate::import::open(file, &options, &Progress::new())?;
-    let stock = if strategy == "zlevel-rough" {
+    let stock = if strategy == "zlevel-rough" || earlier.is_some() {
         match StockSpec::parse(&opts.stock, Some(&part.mesh.bbox())) {
             Ok(StockSpec::Shape(stock)) => stock,
             Ok(StockSpec::Mesh(_)) => {
@@ -283,7 +299,10 @@ pub fn plan_mesh_computed(
     } else {
         Stock::None
     };
-    let computed = compute_one(&part, tools, stock, operation, machine, strategy)?;
+    let computed = match &earlier {
+        Some(paths) => rest_after(&part, tools, stock, operation, paths)?,
+        None => compute_one(&part, tools, stock, operation, machine, strategy)?,
+    };
     match &opts.boundary {
         Some(text) if strategy != "zlevel-rough" => {
             super::plan_boundary::limit_computed(&part, computed, text, opts.boundary_rule)
@@ -294,4 +313,63 @@ pub fn plan_mesh_computed(
         )),
         None => Ok(computed),
     }
+}
+
+/// The `--after` tool paths of a rest from the stock (`None` unless `--from-stock`), each with
+/// its own cutter; `--after` without `--from-stock`, or `--from-stock` on another strategy or
+/// without `--after`, is refused.
+fn earlier_paths(
+    file: &Path,
+    strategy: &str,
+    opts: &MeshPlanOptions,
+) -> Result<Option<Vec<(Toolpath, Cutter)>>, ImportError> {
+    let bad = |what: &str, msg: &str| ImportError::new(file, Some(what.to_string()), msg);
+    match (opts.from_stock, opts.after.is_empty()) {
+        (false, true) => return Ok(None),
+        (false, false) => return Err(bad("--after", "--after needs --from-stock")),
+        (true, _) if strategy != "rest" => {
+            return Err(bad("--from-stock", "--from-stock is for --strategy rest"));
+        }
+        (true, true) => {
+            return Err(bad(
+                "--from-stock",
+                "rest from the stock needs the earlier paths: --after PATH.json (repeat in order)",
+            ));
+        }
+        (true, false) => {}
+    }
+    opts.after
+        .iter()
+        .map(|p| {
+            let tp = Toolpath::load(p)
+                .map_err(|e| ImportError::new(p, Some(e.place.clone()), e.message.clone()))?;
+            let cutter = tp.tool.cutter.clone();
+            Ok((tp, cutter))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// A rest from the stock as a one-operation project after `earlier`.
+fn rest_after(
+    part: &crate::import::Workpiece,
+    tools: Vec<ToolEntry>,
+    stock: Stock,
+    operation: Operation,
+    earlier: &[(Toolpath, Cutter)],
+) -> Result<Computed, ImportError> {
+    let project = crate::project::Project {
+        stock,
+        tools,
+        selected_tool: Some(0),
+        operations: vec![operation],
+        ..crate::project::Project::default()
+    };
+    compute_rest_after(&project, 0, part, earlier, &Progress::new()).map_err(|e| {
+        let message = match e {
+            ComputeError::Plan { message, .. } => message,
+            other => other.to_string(),
+        };
+        ImportError::new(&part.source, Some("rest".into()), message)
+    })
 }

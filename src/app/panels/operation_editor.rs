@@ -477,12 +477,21 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
         }
         Operation::Rest {
+            from_stock,
             scallop_mm,
             tolerance_mm,
             feed_mm_per_min,
             clearance_mm,
             ..
         } => {
+            label(
+                ui,
+                "Rest of",
+                "What is finished: what the earlier operations left in the simulated stock, or \
+                 (unticked) what the reference tool alone would leave",
+            );
+            commit |= ui.checkbox(from_stock, "from simulated stock").changed();
+            ui.end_row();
             let l = label(
                 ui,
                 "Scallop height",
