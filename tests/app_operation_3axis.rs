@@ -10,6 +10,7 @@ use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind};
+use talas::strategies::boundary::{BoundaryRule, Region};
 use talas::strategies::waterline::Cut;
 use talas::toolpath::MoveKind;
 
@@ -130,7 +131,7 @@ fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
 }
 
 /// Rest finishing's editor: the reference tool and the "from simulated stock" tick box, which
-/// edits the operation (and unticks back); pencil finishing's editor shows its corner angle
+/// edits the operation (and unticks back), and the boundary (silhouette, contact rule); pencil finishing's editor shows its corner angle
 /// and is calculated on the default part.
 /// `cargo test --test app_operation_3axis rest_and_pencil`
 #[test]
@@ -157,6 +158,23 @@ fn the_rest_and_pencil_editors_edit_their_fields() {
     h.get_by_label("from simulated stock").click();
     h.run_steps(3);
     assert!(!stock(&h), "unticked again");
+    // The boundary: the part's silhouette, then the contact-point rule.
+    let boundary = |h: &Harness<'static, Workstation>| {
+        h.state().session().project.operations[0]
+            .boundary()
+            .cloned()
+    };
+    assert_eq!(boundary(&h), None);
+    h.get_by_label("whole part").click();
+    h.run_steps(3);
+    h.get_by_label("part silhouette").click();
+    h.run_steps(3);
+    let b = boundary(&h).expect("a boundary after choosing the silhouette");
+    assert_eq!(b.region, Region::Silhouette);
+    assert_eq!(b.rule, BoundaryRule::ToolCentre);
+    h.get_by_label("contact point").click();
+    h.run_steps(3);
+    assert_eq!(boundary(&h).map(|b| b.rule), Some(BoundaryRule::Contact));
 
     h.get_by_label("Machining").click();
     h.run_steps(3);

@@ -161,8 +161,9 @@ pub struct PlanArgs {
     /// cut into the stock before this one; repeat in cutting order.
     #[arg(long, value_name = "PATH.json")]
     pub after: Vec<PathBuf>,
-    /// 3-axis finishing: cut only inside `silhouette` (the part's outline from above) or a
-    /// polygon `X,Y;X,Y;X,Y` (mm).
+    /// 3-axis finishing: cut only inside `silhouette` (the part's outline from above),
+    /// `faces:F,F,...` (part face numbers), a polygon `X,Y;X,Y;X,Y` (mm), or the closed loop
+    /// of a `.csv` (`X,Y` a line) or `.dxf` (first LWPOLYLINE / POLYLINE) file.
     #[arg(long, value_name = "REGION", allow_hyphen_values = true)]
     pub boundary: Option<String>,
     /// Which point must lie inside the boundary: `centre` (tool tip) or `contact`.

@@ -10,7 +10,9 @@ use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
 use crate::project::pipeline::{ComputeError, Computed, compute_rest_after};
 use crate::project::{Operation, Stock, ToolEntry};
-use crate::strategies::boundary::BoundaryRule;
+use crate::strategies::boundary::{
+    Boundary, BoundaryRule, Region, polygon_from_csv, polygon_from_dxf,
+};
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
@@ -57,7 +59,8 @@ pub struct MeshPlanOptions {
     /// Rest finishing from the stock: the earlier tool path files, in cutting order.
     #[serde(default)]
     pub after: Vec<std::path::PathBuf>,
-    /// Finishing: limit the path to a boundary (`silhouette` or a polygon `X,Y;X,Y;X,Y`, mm).
+    /// Finishing: limit the path to a boundary (`silhouette`, `faces:F,F`, a polygon
+    /// `X,Y;X,Y;X,Y` in mm, or a `.csv` / `.dxf` file holding a closed loop).
     #[serde(default)]
     pub boundary: Option<String>,
     /// The boundary's rule: the tool centre or the contact point must lie inside.
@@ -130,7 +133,7 @@ fn mesh_operation(
             format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
         )),
     };
-    Ok(match strategy {
+    let mut op = match strategy {
         "raster" => Operation::Raster {
             name,
             tool: 0,
@@ -149,6 +152,7 @@ fn mesh_operation(
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "waterline" => Operation::Waterline {
             name,
@@ -159,6 +163,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "steep-shallow" => Operation::SteepShallow {
             name,
@@ -169,6 +174,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "zlevel-rough" => Operation::Rough {
             name,
@@ -189,6 +195,7 @@ fn mesh_operation(
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "rest" => Operation::Rest {
             name,
@@ -199,6 +206,7 @@ fn mesh_operation(
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         other => {
             return Err(bad(
@@ -209,7 +217,43 @@ fn mesh_operation(
                 ),
             ));
         }
-    })
+    };
+    if let Some(text) = &opts.boundary {
+        let boundary = cli_boundary(text, opts.boundary_rule).map_err(|e| bad("--boundary", e))?;
+        let Some(slot) = op.boundary_mut() else {
+            return Err(bad(
+                "--boundary",
+                "boundaries limit the finishing strategies, not roughing".into(),
+            ));
+        };
+        *slot = Some(boundary);
+    }
+    Ok(op)
+}
+
+/// `--boundary`'s region: a `.csv` or `.dxf` file holding a closed loop
+/// ([`polygon_from_csv`], [`polygon_from_dxf`]), else the text [`Boundary::parse`] reads.
+fn cli_boundary(text: &str, rule: BoundaryRule) -> Result<Boundary, String> {
+    let path = Path::new(text.trim());
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let loop_of: fn(&str) -> Result<Vec<[f64; 2]>, String> = match ext.as_deref() {
+        Some("csv") => polygon_from_csv,
+        Some("dxf") => polygon_from_dxf,
+        _ => return Boundary::parse(text, rule),
+    };
+    let content = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let boundary = Boundary {
+        region: Region::Polygon(loop_of(&content).map_err(|e| format!("{}: {e}", path.display()))?),
+        rule,
+    };
+    boundary
+        .validate()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(boundary)
 }
 
 /// Plan `strategy` (one of [`MESH_STRATEGIES`]) on the part in `file` with the tool `tool_spec`.
@@ -303,16 +347,7 @@ pub fn plan_mesh_computed(
         Some(paths) => rest_after(&part, tools, stock, operation, paths)?,
         None => compute_one(&part, tools, stock, operation, machine, strategy)?,
     };
-    match &opts.boundary {
-        Some(text) if strategy != "zlevel-rough" => {
-            super::plan_boundary::limit_computed(&part, computed, text, opts.boundary_rule)
-        }
-        Some(_) => Err(bad(
-            "--boundary",
-            "boundaries limit the finishing strategies, not roughing".into(),
-        )),
-        None => Ok(computed),
-    }
+    Ok(computed)
 }
 
 /// The `--after` tool paths of a rest from the stock (`None` unless `--from-stock`), each with

@@ -10,6 +10,7 @@ use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
+use crate::strategies::boundary::{Boundary as PathBoundary, Region, limit};
 use crate::strategies::finish::face::FacePatch;
 use crate::strategies::finish::plan::plan_finish_in;
 use crate::strategies::finish::tiltaway::PartContext;
@@ -100,6 +101,9 @@ fn compute_with(
         }
     };
     cancelled(progress)?;
+    if let Some(boundary) = op.boundary() {
+        computed = within_boundary(computed, boundary, part).map_err(plan_err)?;
+    }
     // Flag tool axes the project's machine cannot hold now, not only when posting.
     if let Ok(machine) = crate::machine::Machine::resolve(&project.machine)
         && let Some(d) = super::reach::unreachable_axes(&computed.toolpath, &machine)
@@ -479,6 +483,51 @@ fn corners_3axis(
         part_hits: Vec::new(),
         left_out: Vec::new(),
     })
+}
+
+/// `computed` limited to `boundary` ([`crate::strategies::boundary::limit`]); a region of faces
+/// names the part's faces, turned here into the triangles they were tessellated into.
+fn within_boundary(
+    mut computed: Computed,
+    boundary: &PathBoundary,
+    part: &Workpiece,
+) -> Result<Computed, String> {
+    let mut boundary = boundary.clone();
+    if let Region::Faces(faces) = &boundary.region {
+        let count = part
+            .face_of_triangle
+            .iter()
+            .max()
+            .map_or(0, |m| *m as usize + 1);
+        if let Some(f) = faces.iter().find(|f| **f >= count) {
+            return Err(format!(
+                "boundary face {f} is not a face of the part (it has {count})"
+            ));
+        }
+        let triangles = part
+            .face_of_triangle
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| faces.contains(&(**f as usize)))
+            .map(|(t, _)| t)
+            .collect();
+        boundary.region = Region::Faces(triangles);
+    }
+    let bvh = part.bvh()?;
+    let (toolpath, report) = limit(&computed.toolpath, &bvh, &boundary)?;
+    if report.pieces == 0 {
+        return Err("no cutting move of the path lies inside the boundary".into());
+    }
+    computed.diagnostics.push(Diagnostic::info(
+        None,
+        format!(
+            "boundary: {} cutting pieces kept, {} cutting poses outside removed",
+            report.pieces, report.removed
+        ),
+    ));
+    computed.toolpath = toolpath;
+    computed.passes = report.pieces;
+    Ok(computed)
 }
 
 /// Thickest layer the rest from the stock measures along a contact normal, mm.

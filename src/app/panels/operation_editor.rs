@@ -6,6 +6,8 @@
 //! confirmed, and refused with the reason when out of range. Values are shown in mm, mm/min and
 //! degrees; the document keeps rad.
 
+mod boundary;
+
 use glam::DVec3;
 
 use super::super::command::Command;
@@ -91,6 +93,7 @@ pub fn operation_editor_ui(
             commit |= tool_row(ui, view.project, &mut draft);
             commit |= reference_row(ui, view.project, &mut draft);
             commit |= kind_rows(ui, view.document, &mut draft);
+            commit |= boundary::boundary_rows(ui, view.document, &mut draft);
         });
     if commit && draft != *current {
         commands.push(Command::Edit(Edit::SetOperation {
