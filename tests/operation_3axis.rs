@@ -644,7 +644,6 @@ fn a_boundary_limits_a_finishing_operation_by_centre_and_by_contact() {
         up[*f as usize] += normal(t).z.max(0.0);
     }
     let face = (0..faces).max_by(|a, b| up[*a].total_cmp(&up[*b])).unwrap();
-    let mut op = op;
     *op.boundary_mut().unwrap() = Some(Boundary {
         region: Region::Faces(vec![face]),
         rule: BoundaryRule::Contact,

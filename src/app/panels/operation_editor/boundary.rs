@@ -147,7 +147,7 @@ fn region_row(ui: &mut egui::Ui, kind: Kind, boundary: &mut Boundary) -> bool {
         ("Faces", "Face numbers of the part, separated by ','")
     };
     let l = label(ui, title, hint);
-    let id = ui.id().with(("boundary text", kind == Kind::Polygon));
+    let id = l.with("boundary text");
     let shown = region_text(&boundary.region);
     let mut text: String = ui.data(|d| d.get_temp(id)).unwrap_or_else(|| shown.clone());
     let mut commit = false;
