@@ -10,6 +10,7 @@ use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind};
+use talas::strategies::boundary::{BoundaryRule, Region};
 use talas::strategies::waterline::Cut;
 use talas::toolpath::MoveKind;
 
@@ -126,5 +127,76 @@ fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
     h.run_steps(3);
     assert_eq!(tilt(&h), (false, 0), "unticked in the editor");
     assert!(h.query_by_label("Largest tilt").is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Rest finishing's editor: the reference tool and the "from simulated stock" tick box, which
+/// edits the operation (and unticks back), and the boundary (silhouette, contact rule); pencil finishing's editor shows its corner angle
+/// and is calculated on the default part.
+/// `cargo test --test app_operation_3axis rest_and_pencil`
+#[test]
+fn the_rest_and_pencil_editors_edit_their_fields() {
+    let dir = std::env::temp_dir().join(format!("talas-app-rest-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Add Rest finishing").click();
+    h.run_steps(2);
+    let stock = |h: &Harness<'static, Workstation>| match &h.state().session().project.operations[0]
+    {
+        Operation::Rest { from_stock, .. } => *from_stock,
+        other => panic!("not a rest operation: {:?}", other.kind()),
+    };
+    assert!(!stock(&h));
+    h.get_by_label("Reference tool");
+    h.get_by_label("from simulated stock").click();
+    h.run_steps(3);
+    assert!(stock(&h), "ticked in the editor");
+    h.get_by_label("from simulated stock").click();
+    h.run_steps(3);
+    assert!(!stock(&h), "unticked again");
+    // The boundary: the part's silhouette, then the contact-point rule.
+    let boundary = |h: &Harness<'static, Workstation>| {
+        h.state().session().project.operations[0]
+            .boundary()
+            .cloned()
+    };
+    assert_eq!(boundary(&h), None);
+    h.get_by_label("whole part").click();
+    h.run_steps(3);
+    h.get_by_label("part silhouette").click();
+    h.run_steps(3);
+    let b = boundary(&h).expect("a boundary after choosing the silhouette");
+    assert_eq!(b.region, Region::Silhouette);
+    assert_eq!(b.rule, BoundaryRule::ToolCentre);
+    h.get_by_label("contact point").click();
+    h.run_steps(3);
+    assert_eq!(boundary(&h).map(|b| b.rule), Some(BoundaryRule::Contact));
+
+    h.get_by_label("Machining").click();
+    h.run_steps(3);
+    h.get_by_label("Add Pencil finishing").click();
+    h.run_steps(2);
+    let ops = &h.state().session().project.operations;
+    assert_eq!(ops.len(), 2);
+    assert_eq!(ops[1].kind(), OperationKind::Pencil);
+    h.get_by_label("Corner angle");
+    assert!(h.query_all_by_label_contains("°").next().is_some());
+    h.state_mut().apply(Command::Calculate(1));
+    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    let (result, fresh) = h.state().operation_result(1).expect("a result");
+    assert!(fresh);
+    let tp = result.toolpath();
+    let b = h.state().document().expect("the default part").bounds;
+    for p in tp.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let t = p.tip;
+        assert!(
+            t.z >= b.min.z - 1e-6 && t.z <= b.max.z + 1e-6,
+            "pencil pose {t} outside the part's heights"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -202,6 +202,7 @@ fn raster_operation_plans_the_same_path_as_talas_plan() {
         tolerance_mm: TOL_MM,
         feed_mm_per_min: FEED,
         clearance_mm: 8.0,
+        boundary: None,
     };
     let args = [
         "--strategy",
@@ -310,6 +311,7 @@ fn pencil_operation_plans_the_same_path_as_talas_plan() {
         tolerance_mm: TOL_MM,
         feed_mm_per_min: FEED,
         clearance_mm: 6.0,
+        boundary: None,
     };
     let mut project = project_with(op);
     project.tools[0].cutter = parse_tool_spec("ball:d=12").expect("tool");
@@ -341,6 +343,7 @@ fn rest_operation_plans_the_same_path_as_talas_plan() {
         tolerance_mm: TOL_MM,
         feed_mm_per_min: FEED,
         clearance_mm: 5.0,
+        boundary: None,
     };
     let mut project = project_with(op);
     project.tools.push(ToolEntry {
@@ -411,6 +414,7 @@ fn rest_reference_tool_follows_the_library() {
                     tolerance_mm,
                     feed_mm_per_min,
                     clearance_mm,
+                    boundary: None,
                 },
                 other => panic!("{other:?}"),
             },
@@ -541,4 +545,136 @@ fn face_group_operation_plans_the_same_path_as_talas_plan_face_list() {
         ours.part_hits.len(),
         plain.part_hits.len()
     );
+}
+
+/// A boundary on a 3-axis finishing operation: a raster on pocket-fillets limited to a drawn
+/// polygon (tool-centre rule) plans the same path through the pipeline as `talas plan
+/// --boundary` given the polygon as a CSV file and as a DXF LWPOLYLINE, every cutting tip lies
+/// inside the polygon, and the boundary survives the project file (a file without one loads
+/// with none). By the contact rule on selected faces of the STEP part every cutting pose's
+/// contact (the mesh point nearest the ball's centre) lies on those faces.
+/// `cargo test --no-default-features --test operation_3axis boundary`
+#[test]
+fn a_boundary_limits_a_finishing_operation_by_centre_and_by_contact() {
+    use talas::strategies::boundary::{Boundary, BoundaryRule, Region, in_polygon};
+    let poly = vec![[20.0, 10.0], [70.0, 15.0], [60.0, 55.0], [25.0, 45.0]];
+    let mut op = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster { scallop_mm, .. } = &mut op {
+        *scallop_mm = SCALLOP_MM;
+    }
+    *op.boundary_mut().unwrap() = Some(Boundary {
+        region: Region::Polygon(poly.clone()),
+        rule: BoundaryRule::ToolCentre,
+    });
+    let project = project_with(op.clone());
+    let text = project.to_toml().unwrap();
+    let back = Project::from_toml(&text, Path::new("b.toml")).unwrap();
+    assert_eq!(back.operations[0], op);
+    let mut plain = op.clone();
+    *plain.boundary_mut().unwrap() = None;
+    let plain_text = project_with(plain.clone()).to_toml().unwrap();
+    assert!(!plain_text.contains("boundary"), "{plain_text}");
+    let plain_back = Project::from_toml(&plain_text, Path::new("p.toml")).unwrap();
+    assert_eq!(plain_back.operations[0].boundary(), None);
+
+    let dir = std::env::temp_dir().join(format!("talas-op3-bnd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("loop.csv");
+    let mut csv_text = String::from("x,y\n");
+    for p in &poly {
+        csv_text.push_str(&format!("{},{}\n", p[0], p[1]));
+    }
+    std::fs::write(&csv, csv_text).unwrap();
+    let dxf = dir.join("loop.dxf");
+    let mut dxf_text = String::from("0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n8\n0\n90\n4\n70\n1\n");
+    for p in &poly {
+        dxf_text.push_str(&format!("10\n{}\n20\n{}\n", p[0], p[1]));
+    }
+    dxf_text.push_str("0\nENDSEC\n0\nEOF\n");
+    std::fs::write(&dxf, dxf_text).unwrap();
+    let part = data("pocket-fillets.stl");
+    for (tag, file) in [("bcsv", &csv), ("bdxf", &dxf)] {
+        let args = [
+            "--strategy",
+            "raster",
+            "--scallop",
+            "0.2",
+            "--boundary",
+            file.to_str().unwrap(),
+        ];
+        same_path_as(tag, &part, &args, project.clone(), None, 50);
+    }
+    let workpiece = open(&part, &OpenOptions::default(), &Progress::new()).unwrap();
+    let tp = compute(&project, 0, &workpiece, &Progress::new())
+        .unwrap()
+        .toolpath;
+    for p in tp.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let xy = p.tip.truncate();
+        // On the boundary itself (cut ends) or inside.
+        let near_edge = (0..poly.len()).any(|i| {
+            let (a, b) = (
+                glam::DVec2::from(poly[i]),
+                glam::DVec2::from(poly[(i + 1) % poly.len()]),
+            );
+            let t = ((xy - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            xy.distance(a + (b - a) * t) < 1e-6
+        });
+        assert!(
+            in_polygon(&poly, xy) || near_edge,
+            "cut tip {} outside",
+            p.tip
+        );
+    }
+
+    // Contact rule on the part's most upward-facing face (STEP, faces by number).
+    let step = data("pocket-fillets.stp");
+    let wp = open(&step, &OpenOptions::default(), &Progress::new()).unwrap();
+    let mesh = &wp.mesh;
+    let normal = |t: usize| {
+        let [a, b, c] = mesh.triangles[t].map(|v| mesh.positions[v as usize]);
+        (b - a).cross(c - a)
+    };
+    let faces = wp
+        .face_of_triangle
+        .iter()
+        .max()
+        .map_or(0, |m| *m as usize + 1);
+    let mut up = vec![0.0; faces];
+    for (t, f) in wp.face_of_triangle.iter().enumerate() {
+        up[*f as usize] += normal(t).z.max(0.0);
+    }
+    let face = (0..faces).max_by(|a, b| up[*a].total_cmp(&up[*b])).unwrap();
+    *op.boundary_mut().unwrap() = Some(Boundary {
+        region: Region::Faces(vec![face]),
+        rule: BoundaryRule::Contact,
+    });
+    let tp = compute(&project_with(op), 0, &wp, &Progress::new())
+        .unwrap()
+        .toolpath;
+    let r = 3.0;
+    let bvh = wp.bvh().unwrap();
+    let mut n = 0;
+    for p in tp.poses.iter().filter(|p| p.kind == MoveKind::Cut) {
+        let c = p.tip + glam::DVec3::Z * r;
+        let hit = bvh.closest_point(c).unwrap();
+        if wp.face_of_triangle[hit.triangle] as usize == face {
+            n += 1;
+            continue;
+        }
+        // A contact on an edge of the face may be reported on the neighbour's triangle.
+        let on_face = (0..mesh.triangles.len())
+            .filter(|t| wp.face_of_triangle[*t] as usize == face)
+            .any(|t| {
+                let tri = mesh.triangles[t].map(|v| mesh.positions[v as usize]);
+                common::geometry::closest_on_triangle(c, tri).distance(c) <= hit.distance + 1e-6
+            });
+        assert!(
+            on_face,
+            "contact {} of {} not on face {face}",
+            hit.point, p.tip
+        );
+        n += 1;
+    }
+    assert!(n > 50, "{n} cutting poses on face {face}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -47,6 +47,7 @@ fn rich_project(dir: &Path) -> Project {
         tolerance_mm: 0.002,
         feed_mm_per_min: 1500.0,
         clearance_mm: 7.5,
+        boundary: None,
     });
     p.operations
         .push(Operation::new(OperationKind::IsoScallop, 1, 0));
@@ -470,6 +471,7 @@ fn loading_validates_like_editing_and_fills_defaults() {
             tolerance_mm,
             feed_mm_per_min,
             clearance_mm,
+            boundary: None,
         },
         other => other,
     };

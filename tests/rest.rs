@@ -216,6 +216,85 @@ fn pencil_and_rest_from_the_command_line() {
     }
 }
 
+/// `talas plan --strategy rest --from-stock --after PATH.json`: a Ø10 ball raster cut into the
+/// default stock leaves the 30° groove's bottom, where the ball rests on both flanks (contacts
+/// at |x| = 5·sin 30° = 2.5 mm), and scallops of 0.01 mm on the flanks, under the 0.06 mm
+/// threshold (scallop + tolerance). So the Ø3 ball's rest passes lie inside |x| < 2.5 mm, like
+/// the reference-tool rest, and the note names the simulated stock. Bad combinations are refused
+/// on one line naming the option.
+#[test]
+fn rest_from_the_stock_from_the_command_line() {
+    let stl = temp_file("rest-stock-cli", "groove.stl", &groove_stl());
+    let (first, out) = (
+        stl.with_file_name("raster.json"),
+        stl.with_file_name("rest.json"),
+    );
+    let (stl_s, first_s, out_s) = (
+        stl.to_str().unwrap(),
+        first.to_str().unwrap(),
+        out.to_str().unwrap(),
+    );
+    let o = talas(&[
+        "plan",
+        stl_s,
+        "--tool",
+        "ball:d=10",
+        "--strategy",
+        "raster",
+        "--scallop",
+        "0.01",
+        "-o",
+        first_s,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let run_rest = |extra: &[&str]| {
+        let mut a = vec![
+            "plan",
+            stl_s,
+            "--tool",
+            "ball:d=3",
+            "--strategy",
+            "rest",
+            "--scallop",
+            "0.05",
+            "--json",
+            "-o",
+            out_s,
+        ];
+        a.extend_from_slice(extra);
+        talas(&a)
+    };
+    let o = run_rest(&["--from-stock", "--after", first_s]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let said = doc["diagnostics"].to_string();
+    assert!(said.contains("simulated stock"), "{said}");
+    let tp = Toolpath::load(&out).unwrap();
+    let cuts: Vec<_> = tp
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut && (0.0..=20.0).contains(&p.tip.y))
+        .collect();
+    assert!(cuts.len() > 20, "{} cuts", cuts.len());
+    let widest = cuts.iter().map(|p| p.tip.x.abs()).fold(0.0, f64::max);
+    assert!(widest < 2.5, "rest passes reach |x| = {widest}");
+    let bad: [(&[&str], &str); 3] = [
+        (&["--from-stock"], "--after"),
+        (
+            &["--after", first_s, "--reference-tool", "ball:d=10"],
+            "--after",
+        ),
+        (&["--from-stock", "--after", "missing.json"], "missing.json"),
+    ];
+    for (b, word) in bad {
+        let o = run_rest(b);
+        assert_eq!(o.status.code(), Some(2), "{b:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{b:?}: {err}");
+        assert!(err.contains(word), "{err}");
+    }
+}
+
 /// The corner part's top profile (x, z), x rising: a plateau at z = 12, a 60° wall down into a
 /// sharp corner at (`SHARP_X`, 4), a floor, a concave fillet of radius `FILLET_R` centred at
 /// (`FILLET_X`, 4 + `FILLET_R`), a 60° wall up and a plateau to x = 36.

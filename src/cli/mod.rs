@@ -10,7 +10,6 @@ pub mod forces;
 pub mod forces_path;
 pub mod inspect;
 pub mod plan;
-pub mod plan_boundary;
 pub mod plan_group;
 pub mod plan_mesh;
 pub mod post;

@@ -153,8 +153,17 @@ pub struct PlanArgs {
     /// `rest`: the earlier, larger tool whose leftovers are finished, e.g. `ball:d=10`.
     #[arg(long, value_name = "SPEC")]
     pub reference_tool: Option<String>,
-    /// 3-axis finishing: cut only inside `silhouette` (the part's outline from above) or a
-    /// polygon `X,Y;X,Y;X,Y` (mm).
+    /// `rest`: finish what the `--after` paths, cut in order into `--stock`, left (instead of
+    /// what `--reference-tool` alone would leave).
+    #[arg(long)]
+    pub from_stock: bool,
+    /// `rest --from-stock`: an earlier tool path (`talas plan … -o PATH.json`, its tool inside),
+    /// cut into the stock before this one; repeat in cutting order.
+    #[arg(long, value_name = "PATH.json")]
+    pub after: Vec<PathBuf>,
+    /// 3-axis finishing: cut only inside `silhouette` (the part's outline from above),
+    /// `faces:F,F,...` (part face numbers), a polygon `X,Y;X,Y;X,Y` (mm), or the closed loop
+    /// of a `.csv` (`X,Y` a line) or `.dxf` (first LWPOLYLINE / POLYLINE) file.
     #[arg(long, value_name = "REGION", allow_hyphen_values = true)]
     pub boundary: Option<String>,
     /// Which point must lie inside the boundary: `centre` (tool tip) or `contact`.
@@ -455,6 +464,8 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         clearance_mm: args.clearance.unwrap_or(FINISH_3AXIS_CLEARANCE_MM),
         detect_flats: !args.no_flat_levels,
         reference_tool: args.reference_tool.clone(),
+        from_stock: args.from_stock,
+        after: args.after.clone(),
         boundary: args.boundary.clone(),
         boundary_rule: match args.boundary_rule.as_str() {
             "centre" | "center" => BoundaryRule::ToolCentre,

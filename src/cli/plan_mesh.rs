@@ -8,16 +8,18 @@ use super::plan::compute_one;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::stock::StockSpec;
 use crate::import::ImportError;
-use crate::project::pipeline::Computed;
+use crate::project::pipeline::{ComputeError, Computed, compute_rest_after};
 use crate::project::{Operation, Stock, ToolEntry};
-use crate::strategies::boundary::BoundaryRule;
+use crate::strategies::boundary::{
+    Boundary, BoundaryRule, Region, polygon_from_csv, polygon_from_dxf,
+};
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
 use crate::strategies::waterline::Cut;
 use crate::toolpath::Toolpath;
-use crate::tools::parse_tool_spec;
+use crate::tools::{Cutter, parse_tool_spec};
 
 /// Options of [`plan_mesh`] (each strategy reads the ones it needs).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -51,7 +53,14 @@ pub struct MeshPlanOptions {
     /// Rest finishing: the earlier, larger tool's spec (e.g. `ball:d=10`).
     #[serde(default)]
     pub reference_tool: Option<String>,
-    /// Finishing: limit the path to a boundary (`silhouette` or a polygon `X,Y;X,Y;X,Y`, mm).
+    /// Rest finishing: the rest is what the `after` paths left in the stock (`stock`).
+    #[serde(default)]
+    pub from_stock: bool,
+    /// Rest finishing from the stock: the earlier tool path files, in cutting order.
+    #[serde(default)]
+    pub after: Vec<std::path::PathBuf>,
+    /// Finishing: limit the path to a boundary (`silhouette`, `faces:F,F`, a polygon
+    /// `X,Y;X,Y;X,Y` in mm, or a `.csv` / `.dxf` file holding a closed loop).
     #[serde(default)]
     pub boundary: Option<String>,
     /// The boundary's rule: the tool centre or the contact point must lie inside.
@@ -79,6 +88,8 @@ impl Default for MeshPlanOptions {
             clearance_mm: 5.0,
             detect_flats: true,
             reference_tool: None,
+            from_stock: false,
+            after: Vec::new(),
             boundary: None,
             boundary_rule: BoundaryRule::ToolCentre,
         }
@@ -122,7 +133,7 @@ fn mesh_operation(
             format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
         )),
     };
-    Ok(match strategy {
+    let mut op = match strategy {
         "raster" => Operation::Raster {
             name,
             tool: 0,
@@ -141,6 +152,7 @@ fn mesh_operation(
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "waterline" => Operation::Waterline {
             name,
@@ -151,6 +163,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "steep-shallow" => Operation::SteepShallow {
             name,
@@ -161,6 +174,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "zlevel-rough" => Operation::Rough {
             name,
@@ -181,16 +195,18 @@ fn mesh_operation(
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         "rest" => Operation::Rest {
             name,
             tool: 0,
             reference_tool: 1,
-            from_stock: false,
+            from_stock: opts.from_stock,
             scallop_mm: opts.scallop_mm,
             tolerance_mm: opts.tolerance_mm,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            boundary: None,
         },
         other => {
             return Err(bad(
@@ -201,7 +217,43 @@ fn mesh_operation(
                 ),
             ));
         }
-    })
+    };
+    if let Some(text) = &opts.boundary {
+        let boundary = cli_boundary(text, opts.boundary_rule).map_err(|e| bad("--boundary", e))?;
+        let Some(slot) = op.boundary_mut() else {
+            return Err(bad(
+                "--boundary",
+                "boundaries limit the finishing strategies, not roughing".into(),
+            ));
+        };
+        *slot = Some(boundary);
+    }
+    Ok(op)
+}
+
+/// `--boundary`'s region: a `.csv` or `.dxf` file holding a closed loop
+/// ([`polygon_from_csv`], [`polygon_from_dxf`]), else the text [`Boundary::parse`] reads.
+fn cli_boundary(text: &str, rule: BoundaryRule) -> Result<Boundary, String> {
+    let path = Path::new(text.trim());
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let loop_of: fn(&str) -> Result<Vec<[f64; 2]>, String> = match ext.as_deref() {
+        Some("csv") => polygon_from_csv,
+        Some("dxf") => polygon_from_dxf,
+        _ => return Boundary::parse(text, rule),
+    };
+    let content = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let boundary = Boundary {
+        region: Region::Polygon(loop_of(&content).map_err(|e| format!("{}: {e}", path.display()))?),
+        rule,
+    };
+    boundary
+        .validate()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(boundary)
 }
 
 /// Plan `strategy` (one of [`MESH_STRATEGIES`]) on the part in `file` with the tool `tool_spec`.
@@ -256,12 +308,20 @@ pub fn plan_mesh_computed(
         name: tool_spec.to_string(),
         cutter,
     }];
+    let earlier = earlier_paths(file, strategy, opts)?;
     if strategy == "rest" {
-        let Some(spec) = opts.reference_tool.as_deref() else {
-            return Err(bad(
-                "--reference-tool",
-                "rest finishing needs the earlier tool, e.g. --reference-tool ball:d=10".into(),
-            ));
+        let spec = match (opts.reference_tool.as_deref(), &earlier) {
+            (Some(spec), _) => spec,
+            // From the stock the reference tool is not used: the finishing tool stands in.
+            (None, Some(_)) => tool_spec,
+            (None, None) => {
+                return Err(bad(
+                    "--reference-tool",
+                    "rest finishing needs the earlier tool, e.g. --reference-tool ball:d=10, \
+                     or --from-stock with --after PATH.json"
+                        .into(),
+                ));
+            }
         };
         tools.push(ToolEntry {
             name: spec.to_string(),
@@ -269,7 +329,7 @@ pub fn plan_mesh_computed(
         });
     }
     let part = crate::import::open(file, &options, &Progress::new())?;
-    let stock = if strategy == "zlevel-rough" {
+    let stock = if strategy == "zlevel-rough" || earlier.is_some() {
         match StockSpec::parse(&opts.stock, Some(&part.mesh.bbox())) {
             Ok(StockSpec::Shape(stock)) => stock,
             Ok(StockSpec::Mesh(_)) => {
@@ -283,15 +343,68 @@ pub fn plan_mesh_computed(
     } else {
         Stock::None
     };
-    let computed = compute_one(&part, tools, stock, operation, machine, strategy)?;
-    match &opts.boundary {
-        Some(text) if strategy != "zlevel-rough" => {
-            super::plan_boundary::limit_computed(&part, computed, text, opts.boundary_rule)
+    let computed = match &earlier {
+        Some(paths) => rest_after(&part, tools, stock, operation, paths)?,
+        None => compute_one(&part, tools, stock, operation, machine, strategy)?,
+    };
+    Ok(computed)
+}
+
+/// The `--after` tool paths of a rest from the stock (`None` unless `--from-stock`), each with
+/// its own cutter; `--after` without `--from-stock`, or `--from-stock` on another strategy or
+/// without `--after`, is refused.
+fn earlier_paths(
+    file: &Path,
+    strategy: &str,
+    opts: &MeshPlanOptions,
+) -> Result<Option<Vec<(Toolpath, Cutter)>>, ImportError> {
+    let bad = |what: &str, msg: &str| ImportError::new(file, Some(what.to_string()), msg);
+    match (opts.from_stock, opts.after.is_empty()) {
+        (false, true) => return Ok(None),
+        (false, false) => return Err(bad("--after", "--after needs --from-stock")),
+        (true, _) if strategy != "rest" => {
+            return Err(bad("--from-stock", "--from-stock is for --strategy rest"));
         }
-        Some(_) => Err(bad(
-            "--boundary",
-            "boundaries limit the finishing strategies, not roughing".into(),
-        )),
-        None => Ok(computed),
+        (true, true) => {
+            return Err(bad(
+                "--from-stock",
+                "rest from the stock needs the earlier paths: --after PATH.json (repeat in order)",
+            ));
+        }
+        (true, false) => {}
     }
+    opts.after
+        .iter()
+        .map(|p| {
+            let tp = Toolpath::load(p)
+                .map_err(|e| ImportError::new(p, Some(e.place.clone()), e.message.clone()))?;
+            let cutter = tp.tool.cutter.clone();
+            Ok((tp, cutter))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// A rest from the stock as a one-operation project after `earlier`.
+fn rest_after(
+    part: &crate::import::Workpiece,
+    tools: Vec<ToolEntry>,
+    stock: Stock,
+    operation: Operation,
+    earlier: &[(Toolpath, Cutter)],
+) -> Result<Computed, ImportError> {
+    let project = crate::project::Project {
+        stock,
+        tools,
+        selected_tool: Some(0),
+        operations: vec![operation],
+        ..crate::project::Project::default()
+    };
+    compute_rest_after(&project, 0, part, earlier, &Progress::new()).map_err(|e| {
+        let message = match e {
+            ComputeError::Plan { message, .. } => message,
+            other => other.to_string(),
+        };
+        ImportError::new(&part.source, Some("rest".into()), message)
+    })
 }

@@ -1,6 +1,7 @@
 //! Machining operations as the document stores them: which tool, what it cuts, and the
 //! strategy's parameters (mm, rad, mm/min), with defaults a machinist would start from.
 
+use crate::strategies::boundary::Boundary;
 use crate::strategies::finish::{FinishOptions, Pattern, Strategy};
 use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
@@ -59,6 +60,10 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
+        /// holds the part's face indices (STEP order).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        boundary: Option<Boundary>,
     },
     /// Z-level (waterline) roughing of the project's stock down to the part plus an allowance
     /// (3-axis).
@@ -108,6 +113,10 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
+        /// holds the part's face indices (STEP order).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        boundary: Option<Boundary>,
     },
     /// Steep-and-shallow finishing of the whole part (3-axis): waterline above the threshold
     /// angle, raster below it, overlapping in a band around it.
@@ -129,6 +138,10 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
+        /// holds the part's face indices (STEP order).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        boundary: Option<Boundary>,
     },
     /// Pencil finishing (3-axis, ball end mill): along the valleys and corners where the ball
     /// touches the part twice.
@@ -146,6 +159,10 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
+        /// holds the part's face indices (STEP order).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        boundary: Option<Boundary>,
     },
     /// Rest finishing (3-axis, ball end mill): parallel passes where an earlier, larger tool
     /// left more than the scallop height.
@@ -170,6 +187,10 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
+        /// holds the part's face indices (STEP order).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        boundary: Option<Boundary>,
     },
 }
 
@@ -290,6 +311,7 @@ impl Operation {
                 tolerance_mm: default_tolerance_mm(),
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                boundary: None,
             },
             OperationKind::Rough => Self::Rough {
                 name,
@@ -312,6 +334,7 @@ impl Operation {
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                boundary: None,
             },
             OperationKind::SteepShallow => Self::SteepShallow {
                 name,
@@ -322,6 +345,7 @@ impl Operation {
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                boundary: None,
             },
             OperationKind::Pencil => Self::Pencil {
                 name,
@@ -330,6 +354,7 @@ impl Operation {
                 tolerance_mm: default_tolerance_mm(),
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                boundary: None,
             },
             // The reference starts as the same tool: the user picks the earlier, larger one.
             OperationKind::Rest => Self::Rest {
@@ -341,6 +366,7 @@ impl Operation {
                 tolerance_mm: default_tolerance_mm(),
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                boundary: None,
             },
         }
     }
@@ -436,6 +462,36 @@ impl Operation {
         }
     }
 
+    /// The region a 3-axis finishing operation is limited to (`None`: the whole part, and
+    /// always for face finishing and roughing).
+    #[must_use]
+    pub fn boundary(&self) -> Option<&Boundary> {
+        self.boundary_slot().and_then(|b| b.as_ref())
+    }
+
+    /// The boundary field of a 3-axis finishing operation (`None` for the kinds without one).
+    pub fn boundary_mut(&mut self) -> Option<&mut Option<Boundary>> {
+        match self {
+            Self::Raster { boundary, .. }
+            | Self::Waterline { boundary, .. }
+            | Self::SteepShallow { boundary, .. }
+            | Self::Pencil { boundary, .. }
+            | Self::Rest { boundary, .. } => Some(boundary),
+            Self::Finish { .. } | Self::Rough { .. } => None,
+        }
+    }
+
+    fn boundary_slot(&self) -> Option<&Option<Boundary>> {
+        match self {
+            Self::Raster { boundary, .. }
+            | Self::Waterline { boundary, .. }
+            | Self::SteepShallow { boundary, .. }
+            | Self::Pencil { boundary, .. }
+            | Self::Rest { boundary, .. } => Some(boundary),
+            Self::Finish { .. } | Self::Rough { .. } => None,
+        }
+    }
+
     /// The same operation with tool index `tool`.
     #[must_use]
     pub fn with_tool(mut self, new_tool: usize) -> Self {
@@ -500,6 +556,13 @@ impl Operation {
     /// # Errors
     /// What is wrong.
     pub fn validate(&self) -> Result<(), String> {
+        if let Some(b) = self.boundary() {
+            b.validate().map_err(|e| format!("boundary: {e}"))?;
+        }
+        self.validate_fields()
+    }
+
+    fn validate_fields(&self) -> Result<(), String> {
         let positive = |what: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())

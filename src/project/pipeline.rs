@@ -10,6 +10,7 @@ use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
 use crate::geometry::trim::{REGION_CHORD_MM, TrimRegion};
 use crate::import::Workpiece;
+use crate::strategies::boundary::{Boundary as PathBoundary, Region, limit};
 use crate::strategies::finish::face::FacePatch;
 use crate::strategies::finish::plan::plan_finish_in;
 use crate::strategies::finish::tiltaway::PartContext;
@@ -20,7 +21,7 @@ use crate::strategies::steep_shallow::steep_shallow;
 use crate::strategies::waterline::{WaterlineError, waterline_progress};
 use crate::strategies::zlevel::{ZlevelOptions, roughing_grid_mm, zlevel_rough};
 use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
-use crate::tools::tool_spec;
+use crate::tools::{Cutter, tool_spec};
 
 /// Run operation `index` of `project` on `part`. Reports progress through `progress` and stops
 /// early when it is cancelled (finishing checks between its stages only).
@@ -31,6 +32,32 @@ pub fn compute(
     project: &Project,
     index: usize,
     part: &Workpiece,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    compute_with(project, index, part, None, progress)
+}
+
+/// Run operation `index` of `project`, a rest finishing from the simulated stock, with the
+/// stock cut by `earlier` (paths and their cutters, in order, into the project's stock) instead
+/// of by the project's operations before it (the command line's `--after` paths).
+///
+/// # Errors
+/// As [`compute`]; also when `earlier` is empty.
+pub fn compute_rest_after(
+    project: &Project,
+    index: usize,
+    part: &Workpiece,
+    earlier: &[(Toolpath, Cutter)],
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    compute_with(project, index, part, Some(earlier), progress)
+}
+
+fn compute_with(
+    project: &Project,
+    index: usize,
+    part: &Workpiece,
+    earlier: Option<&[(Toolpath, Cutter)]>,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let op = project
@@ -64,7 +91,7 @@ pub fn compute(
         Operation::Raster { .. } => raster_3axis(op, part, &tool, progress)?,
         Operation::Rough { .. } => rough_3axis(project, op, part, &tool, progress)?,
         Operation::Pencil { .. } | Operation::Rest { .. } => {
-            corners_3axis(project, index, part, &tool, progress)?
+            corners_3axis(project, index, part, &tool, earlier, progress)?
         }
         Operation::Waterline { .. } | Operation::SteepShallow { .. } => {
             finish_3axis(op, part, &tool, progress).map_err(|e| match e {
@@ -74,6 +101,9 @@ pub fn compute(
         }
     };
     cancelled(progress)?;
+    if let Some(boundary) = op.boundary() {
+        computed = within_boundary(computed, boundary, part).map_err(plan_err)?;
+    }
     // Flag tool axes the project's machine cannot hold now, not only when posting.
     if let Ok(machine) = crate::machine::Machine::resolve(&project.machine)
         && let Some(d) = super::reach::unreachable_axes(&computed.toolpath, &machine)
@@ -364,6 +394,7 @@ fn corners_3axis(
     index: usize,
     part: &Workpiece,
     tool: &ToolRecord,
+    earlier: Option<&[(Toolpath, Cutter)]>,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let op = &project.operations[index];
@@ -427,7 +458,7 @@ fn corners_3axis(
                 plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
             };
             let plan = if from_stock {
-                let stock = earlier_stock(project, index, part, tool, progress)?;
+                let stock = earlier_stock(project, index, part, tool, earlier, progress)?;
                 let leftover =
                     |c: glam::DVec3, n: glam::DVec3| stock.thickness(c, n, REST_MAX_LAYER_MM);
                 let source = format!(
@@ -454,19 +485,85 @@ fn corners_3axis(
     })
 }
 
+/// `computed` limited to `boundary` ([`crate::strategies::boundary::limit`]); a region of faces
+/// names the part's faces, turned here into the triangles they were tessellated into.
+fn within_boundary(
+    mut computed: Computed,
+    boundary: &PathBoundary,
+    part: &Workpiece,
+) -> Result<Computed, String> {
+    let mut boundary = boundary.clone();
+    if let Region::Faces(faces) = &boundary.region {
+        let count = part
+            .face_of_triangle
+            .iter()
+            .max()
+            .map_or(0, |m| *m as usize + 1);
+        if let Some(f) = faces.iter().find(|f| **f >= count) {
+            return Err(format!(
+                "boundary face {f} is not a face of the part (it has {count})"
+            ));
+        }
+        let triangles = part
+            .face_of_triangle
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| faces.contains(&(**f as usize)))
+            .map(|(t, _)| t)
+            .collect();
+        boundary.region = Region::Faces(triangles);
+    }
+    let bvh = part.bvh()?;
+    let (toolpath, report) = limit(&computed.toolpath, &bvh, &boundary)?;
+    if report.pieces == 0 {
+        return Err("no cutting move of the path lies inside the boundary".into());
+    }
+    computed.diagnostics.push(Diagnostic::info(
+        None,
+        format!(
+            "boundary: {} cutting pieces kept, {} cutting poses outside removed",
+            report.pieces, report.removed
+        ),
+    ));
+    computed.toolpath = toolpath;
+    computed.passes = report.pieces;
+    Ok(computed)
+}
+
 /// Thickest layer the rest from the stock measures along a contact normal, mm.
 const REST_MAX_LAYER_MM: f64 = 10.0;
 
 /// The stock the operations before `index` leave, simulated on a grid of a tenth of the
-/// finishing tool's radius (each computed again here, in the project's order).
+/// finishing tool's radius (each computed again here, in the project's order), or the stock
+/// the `given` paths leave.
 fn earlier_stock(
     project: &Project,
     index: usize,
     part: &Workpiece,
     tool: &ToolRecord,
+    given: Option<&[(Toolpath, Cutter)]>,
     progress: &Progress,
 ) -> Result<StockLeftover, ComputeError> {
     let plan_err = plan_error(&project.operations[index]);
+    let simulate = |paths: &[(Toolpath, Cutter)]| {
+        StockLeftover::simulate(
+            &project.stock,
+            &part.mesh,
+            paths,
+            0.1 * tool.cutter.radius(),
+            progress,
+        )
+        .map_err(|e| plan_err(format!("simulating the earlier operations: {e}")))
+    };
+    match given {
+        Some([]) => {
+            return Err(plan_err(
+                "rest from the stock needs at least one earlier path".into(),
+            ));
+        }
+        Some(paths) => return simulate(paths),
+        None => {}
+    }
     if index == 0 {
         return Err(plan_err(
             "rest from the stock needs an earlier operation before it in the list".into(),
@@ -488,14 +585,7 @@ fn earlier_stock(
         paths.push((computed.toolpath, cutter));
     }
     cancelled(progress)?;
-    StockLeftover::simulate(
-        &project.stock,
-        &part.mesh,
-        &paths,
-        0.1 * tool.cutter.radius(),
-        progress,
-    )
-    .map_err(|e| plan_err(format!("simulating the earlier operations: {e}")))
+    simulate(&paths)
 }
 
 /// Number of cutting runs in `toolpath` (a run starts where a cut follows a non-cut).

@@ -69,7 +69,8 @@ pub struct LimitReport {
 const PROBE_STEP_MM: f64 = 0.25;
 
 impl Boundary {
-    /// Parse the command line's text: `silhouette`, or a polygon `X,Y;X,Y;X,Y[;...]` in mm.
+    /// Parse the command line's text: `silhouette`, `faces:F,F,...` (face numbers), or a
+    /// polygon `X,Y;X,Y;X,Y[;...]` in mm.
     ///
     /// # Errors
     /// A message naming the vertex that is not two finite numbers, or a polygon of fewer than
@@ -81,6 +82,22 @@ impl Boundary {
                 region: Region::Silhouette,
                 rule,
             });
+        }
+        if let Some(list) = t.strip_prefix("faces:") {
+            let mut faces = Vec::new();
+            for v in list.split(',') {
+                let f = v
+                    .trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("boundary face '{}' is not a face number", v.trim()))?;
+                faces.push(f);
+            }
+            let b = Self {
+                region: Region::Faces(faces),
+                rule,
+            };
+            b.validate()?;
+            return Ok(b);
         }
         let mut poly = Vec::new();
         for (k, v) in t.split(';').enumerate() {
@@ -136,6 +153,92 @@ impl Boundary {
             _ => Ok(()),
         }
     }
+}
+
+/// A closed loop from CSV text: one vertex `X,Y` (mm) a line (`;`, tab or spaces also
+/// separate), blank lines and lines starting with `#` skipped, a first line of column names
+/// allowed.
+///
+/// # Errors
+/// The line (1-based) that is not two finite numbers, or a loop of fewer than three vertices.
+pub fn polygon_from_csv(text: &str) -> Result<Vec<[f64; 2]>, String> {
+    let mut poly = Vec::new();
+    let mut header = false;
+    for (k, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let parts: Vec<&str> = l
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|p| !p.is_empty())
+            .collect();
+        let xy: Vec<f64> = parts.iter().filter_map(|p| p.parse::<f64>().ok()).collect();
+        if parts.len() == 2 && xy.len() == 2 && xy.iter().all(|v| v.is_finite()) {
+            poly.push([xy[0], xy[1]]);
+        } else if poly.is_empty() && xy.is_empty() && !header {
+            header = true;
+        } else {
+            return Err(format!("line {}: '{l}' is not X,Y in mm", k + 1));
+        }
+    }
+    if poly.len() < 3 {
+        return Err(format!(
+            "a boundary loop needs at least 3 vertices, got {}",
+            poly.len()
+        ));
+    }
+    Ok(poly)
+}
+
+/// The first closed loop of a DXF file's ENTITIES: an `LWPOLYLINE` (its group 10/20 pairs) or
+/// a `POLYLINE` (its `VERTEX` entities), in mm; bulges are ignored (straight edges).
+///
+/// # Errors
+/// The line (1-based) of a group code or coordinate that is not a number, or no loop of at
+/// least three vertices.
+pub fn polygon_from_dxf(text: &str) -> Result<Vec<[f64; 2]>, String> {
+    let lines: Vec<&str> = text.lines().map(str::trim).collect();
+    let mut poly: Vec<[f64; 2]> = Vec::new();
+    let (mut started, mut entity) = (false, "");
+    let mut x = None;
+    for k in (0..lines.len().saturating_sub(1)).step_by(2) {
+        let code: i32 = lines[k]
+            .parse()
+            .map_err(|_| format!("line {}: group code '{}' is not a number", k + 1, lines[k]))?;
+        let value = lines[k + 1];
+        let number = || {
+            value
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("line {}: '{value}' is not a number", k + 2))
+        };
+        match code {
+            0 => {
+                let vertex = value == "VERTEX" && matches!(entity, "POLYLINE" | "VERTEX");
+                if started && !vertex {
+                    break;
+                }
+                entity = value;
+                started |= matches!(value, "LWPOLYLINE" | "POLYLINE");
+            }
+            10 if matches!(entity, "LWPOLYLINE" | "VERTEX") => x = Some(number()?),
+            20 if matches!(entity, "LWPOLYLINE" | "VERTEX") => {
+                if let Some(px) = x.take() {
+                    poly.push([px, number()?]);
+                }
+            }
+            _ => {}
+        }
+    }
+    if poly.len() < 3 {
+        return Err(format!(
+            "no LWPOLYLINE or POLYLINE of at least 3 vertices (found {})",
+            poly.len()
+        ));
+    }
+    Ok(poly)
 }
 
 /// Whether `p` lies inside the polygon (even-odd rule).

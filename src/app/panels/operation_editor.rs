@@ -6,6 +6,8 @@
 //! confirmed, and refused with the reason when out of range. Values are shown in mm, mm/min and
 //! degrees; the document keeps rad.
 
+mod boundary;
+
 use glam::DVec3;
 
 use super::super::command::Command;
@@ -91,6 +93,7 @@ pub fn operation_editor_ui(
             commit |= tool_row(ui, view.project, &mut draft);
             commit |= reference_row(ui, view.project, &mut draft);
             commit |= kind_rows(ui, view.document, &mut draft);
+            commit |= boundary::boundary_rows(ui, view.document, &mut draft);
         });
     if commit && draft != *current {
         commands.push(Command::Edit(Edit::SetOperation {
@@ -477,12 +480,21 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
         }
         Operation::Rest {
+            from_stock,
             scallop_mm,
             tolerance_mm,
             feed_mm_per_min,
             clearance_mm,
             ..
         } => {
+            label(
+                ui,
+                "Rest of",
+                "What is finished: what the earlier operations left in the simulated stock, or \
+                 (unticked) what the reference tool alone would leave",
+            );
+            commit |= ui.checkbox(from_stock, "from simulated stock").changed();
+            ui.end_row();
             let l = label(
                 ui,
                 "Scallop height",

@@ -327,6 +327,20 @@ pub fn ball_remaining_height(
     path: &Toolpath,
     opts: &RemainingOptions,
 ) -> Result<RemainingReport, RemainingError> {
+    ball_remaining_height_where(mesh, path, opts, &|_, _| true)
+}
+
+/// [`ball_remaining_height`] over the samples `keep(point, upward unit normal)` accepts only (a
+/// reach mask, a region of interest).
+///
+/// # Errors
+/// As [`ball_remaining_height`].
+pub fn ball_remaining_height_where(
+    mesh: &TriMesh,
+    path: &Toolpath,
+    opts: &RemainingOptions,
+    keep: &(dyn Fn(DVec3, DVec3) -> bool + Sync),
+) -> Result<RemainingReport, RemainingError> {
     use rayon::prelude::*;
     if path.tool.cutter.kind != CutterKind::Ball {
         return Err(RemainingError::NotBall);
@@ -344,7 +358,10 @@ pub fn ball_remaining_height(
     }
     let bvh = MeshBvh::new(mesh).map_err(|e| RemainingError::Mesh(e.to_string()))?;
     let env = Envelope::new(path, path.tool.cutter.radius());
-    let pts = samples(mesh, &bvh, opts);
+    let pts: Vec<(DVec3, DVec3)> = samples(mesh, &bvh, opts)
+        .into_par_iter()
+        .filter(|&(p, n)| keep(p, n))
+        .collect();
     let inside = |p: DVec3| p.z >= env.lower(p.truncate());
     let results: Vec<(Option<f64>, f64)> = pts
         .par_iter()
