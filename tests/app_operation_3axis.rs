@@ -145,7 +145,16 @@ fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose()
     std::fs::create_dir_all(&dir).unwrap();
     let part =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp");
-    let mut h = harness(WorkstationConfig::isolated(Some(part), dir.clone()));
+    // A tall window: the list lies below the summary, and a click goes where the entry is drawn.
+    let ws = Workstation::new(
+        &egui::Context::default(),
+        None,
+        WorkstationConfig::isolated(Some(part), dir.clone()),
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 3000.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
     settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     let cutter = talas::tools::parse_tool_spec("ball:d=6,flute=12,length=30,holder=12x30")
         .expect("tool spec");
@@ -182,10 +191,13 @@ fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose()
     );
     h.run_steps(2);
     h.get_by_label("REMAINING GOUGES AND COLLISIONS");
-    // Two different entries, clicked in turn: the tool follows each.
-    let (first, last) = (&list[0], &list[list.len() - 1]);
-    assert_ne!(first.pose, last.pose);
-    for f in [last, first] {
+    // Two entries at different poses, clicked in turn: the tool follows each.
+    let first = &list[0];
+    let other = list
+        .iter()
+        .find(|f| f.pose != first.pose)
+        .expect("findings at two poses");
+    for f in [other, first] {
         h.get_by_label(&f.label()).click();
         h.run_steps(2);
         assert_eq!(h.state().tool_pose_index(), Some(f.pose), "{}", f.label());
