@@ -131,7 +131,7 @@ pub fn link(
 
 /// The sideways approach of a pose on a part: `Some(l)` when the tool reaches it from the
 /// point `l` mm out along its own axis (reached from the clearance plane straight down), `None`
-/// for the straight approach (see [`above`]).
+/// for the straight approach (up the axis, or out along a level axis by [`APPROACH_HEIGHT`]).
 pub type Route<'r> = &'r dyn Fn(&Pose) -> Option<f64>;
 
 /// The sideways length of `p`'s approach: `route`'s, else [`APPROACH_HEIGHT`] for a level axis.

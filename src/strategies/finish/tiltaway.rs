@@ -564,8 +564,8 @@ fn escape(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose, top: f64) -> Optio
 }
 
 /// The linking's approach route to (and retract from) pose `p` on a part: the length of the
-/// sideways escape along the tool axis where the straight approach enters the part (see
-/// [`escape`]), `None` for the straight approach.
+/// sideways escape along the tool axis where the straight approach enters the part (out along
+/// the axis by the least of 10–320 mm that is clear, then up), `None` for the straight approach.
 #[must_use]
 pub fn approach_route(check: &PartCheck<'_>, cutter: &Cutter, p: &Pose) -> Option<f64> {
     let tool = ToolPieces::of(cutter, check.whole_tool);
