@@ -200,3 +200,80 @@ fn the_rest_and_pencil_editors_edit_their_fields() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The remaining collisions of a 5-axis finishing operation on a real face are listed under its
+/// summary, and clicking one puts the tool at that pose (the pose panel shows it). The tool's
+/// 12 × 30 mm holder enters the pocket's wall beside fillet face 13 when the tilt-away is off
+/// (with it on, or with a tool without holder, the path is clean and the list says so).
+/// `cargo test --test app_operation_3axis findings`
+#[test]
+fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose() {
+    use talas::app::panels::properties::Focus;
+    use talas::project::ToolEntry;
+    use talas::project::finish_group::{FindingKind, findings};
+    use talas::tools::solid::ToolPart;
+    let dir = std::env::temp_dir().join(format!("talas-app-findings-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let part =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp");
+    // A tall window: the list lies below the summary, and a click goes where the entry is drawn.
+    let ws = Workstation::new(
+        &egui::Context::default(),
+        None,
+        WorkstationConfig::isolated(Some(part), dir.clone()),
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 3000.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
+    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let cutter = talas::tools::parse_tool_spec("ball:d=6,flute=12,length=30,holder=12x30")
+        .expect("tool spec");
+    let tool = ToolEntry {
+        name: "Ball 6 in a 12 mm holder".into(),
+        cutter,
+    };
+    let mut op = Operation::new(OperationKind::IsoParametric, 0, 13);
+    if let Operation::Finish {
+        options, tilt_away, ..
+    } = &mut op
+    {
+        options.scallop = 0.1;
+        options.tolerance = 0.02;
+        options.exact_check = true;
+        tilt_away.enabled = false;
+    }
+    h.state_mut().apply(Command::Edit(Edit::Batch(vec![
+        Edit::AddTool { index: 0, tool },
+        Edit::SetMachine("trt-ac".into()),
+        Edit::AddOperation {
+            index: 0,
+            operation: op,
+        },
+    ])));
+    h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
+    h.state_mut().apply(Command::Calculate(0));
+    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    let list = findings(&h.state().operation_result(0).expect("a result").0.computed);
+    assert!(
+        list.iter()
+            .any(|f| matches!(f.kind, FindingKind::Collision(ToolPart::Holder(_)))),
+        "{list:?}"
+    );
+    h.run_steps(2);
+    h.get_by_label("REMAINING GOUGES AND COLLISIONS");
+    // Two entries at different poses, clicked in turn: the tool follows each.
+    let first = &list[0];
+    let other = list
+        .iter()
+        .find(|f| f.pose != first.pose)
+        .expect("findings at two poses");
+    for f in [other, first] {
+        h.get_by_label(&f.label()).click();
+        h.run_steps(2);
+        assert_eq!(h.state().tool_pose_index(), Some(f.pose), "{}", f.label());
+        h.get_by_label("Picked pose");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -429,7 +429,10 @@ fn real_parts_plan_without_gouges_against_any_face() {
             let skip = [i];
             let context = PartContext {
                 check: PartCheck::of_workpiece(&wp, &bvh, &skip),
-                tilt: Some(TiltAway::default()),
+                tilt: Some(TiltAway {
+                    steep_angle_rad: std::f64::consts::FRAC_PI_2,
+                    ..TiltAway::default()
+                }),
             };
             for (name, s) in [
                 ("iso-scallop", Strategy::IsoScallop),

@@ -147,6 +147,11 @@ pub struct PlanArgs {
     /// machine's tilt travel).
     #[arg(long, value_name = "DEG", default_value_t = 90.0)]
     pub max_tilt: f64,
+    /// Largest tilt-away where no tilt within `--tilt-away` frees the tool (the wall of a hole
+    /// whose far side the flutes reach), degrees, still within `--max-tilt` (0: never beyond
+    /// `--tilt-away`).
+    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    pub steep_tilt: f64,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]
     pub json: bool,
@@ -339,6 +344,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
         tilt: args.tilt_away.map(|deg| TiltAway {
             max_angle_rad: deg.to_radians(),
             max_from_vertical_rad: args.max_tilt.to_radians(),
+            steep_angle_rad: args.steep_tilt.to_radians(),
             ..TiltAway::default()
         }),
     });
@@ -389,6 +395,7 @@ pub(crate) fn whole_part(
     for (name, v) in [
         ("--tilt-away", args.tilt_away),
         ("--max-tilt", Some(args.max_tilt)),
+        ("--steep-tilt", Some(args.steep_tilt)),
     ] {
         if let Some(v) = v
             && !(v.is_finite() && (0.0..=90.0).contains(&v))

@@ -34,6 +34,7 @@ pub fn plan_group_cli(
         tilt: args.tilt_away.map(|deg| TiltAway {
             max_angle_rad: deg.to_radians(),
             max_from_vertical_rad: args.max_tilt.to_radians(),
+            steep_angle_rad: args.steep_tilt.to_radians(),
             ..TiltAway::default()
         }),
     });

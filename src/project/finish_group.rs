@@ -43,12 +43,15 @@ impl Default for TiltAwaySettings {
 }
 
 impl TiltAwaySettings {
-    /// The planner's limits on `machine` (its tilt travel), `None` when off.
+    /// The planner's limits on `machine` (its tilt travel), `None` when off. Where no tilt
+    /// within the angle frees the tool (a hole's wall, a pin between plates), the planner tilts
+    /// further, up to the machine's tilt travel.
     #[must_use]
     pub fn limits(&self, machine: Option<&Machine>) -> Option<TiltAway> {
         self.enabled.then(|| TiltAway {
             max_angle_rad: self.max_angle_rad,
             rate_rad_per_mm: self.rate_rad_per_mm,
+            steep_angle_rad: std::f64::consts::FRAC_PI_2,
             ..super::reach::tilt_away_limits(machine)
         })
     }

@@ -49,9 +49,14 @@ pub fn default_clearance(setup: &Setup<'_>, runs: &[Vec<Pose>]) -> f64 {
     }
 }
 
+/// An axis with at most this upward component is level: the tool reaches its pose out along
+/// the axis by [`APPROACH_HEIGHT`] from the point straight above (a vertical plunge would drag
+/// the ball along a wall).
+pub(crate) const LEVEL_AXIS_Z: f64 = 0.1;
+
 /// The point above `p` on its axis at height `z` (straight up when the axis is nearly level).
 pub(crate) fn above(p: &Pose, z: f64) -> DVec3 {
-    if p.axis.z > 0.1 {
+    if p.axis.z > LEVEL_AXIS_Z {
         p.tip + p.axis * ((z - p.tip.z) / p.axis.z).max(0.0)
     } else {
         DVec3::new(p.tip.x, p.tip.y, z.max(p.tip.z))
@@ -62,6 +67,8 @@ pub(crate) fn above(p: &Pose, z: f64) -> DVec3 {
 /// `one_way`: never stay down between passes (one-way zig-zag returns at clearance).
 /// `clear`: whether a stay-down link (its moves from the end of one run to the start of the
 /// next, both included) is clear of the rest of the part; a link that is not retracts instead.
+/// `route`: for a run's first or last pose, the length along the tool axis of a sideways
+/// approach or retract ([`Route`]), `None` for the straight one.
 #[must_use]
 pub fn link(
     setup: &Setup<'_>,
@@ -69,6 +76,7 @@ pub fn link(
     clearance: f64,
     one_way: bool,
     clear: &dyn Fn(&[Pose]) -> bool,
+    route: Route<'_>,
 ) -> Vec<Pose> {
     let feed = setup.opts.feed;
     let stay_down = 2.5 * setup.cutter.diameter;
@@ -77,7 +85,7 @@ pub fn link(
     for run in runs.iter().filter(|r| !r.is_empty()) {
         let (Some(first), Some(last_prev)) = (run.first(), out.last().copied()) else {
             if !run.is_empty() {
-                out.extend(arcs.enter(run, clearance));
+                out.extend(arcs.enter(run, clearance, route));
                 out.extend(run.iter().skip(1).copied());
             }
             continue;
@@ -107,43 +115,73 @@ pub fn link(
             None => {
                 out.extend(arcs.leave(&out));
                 if let Some(last) = out.last().copied() {
-                    out.push(Pose::new(
-                        MoveKind::Rapid,
-                        above(&last, clearance),
-                        last.axis,
-                        feed,
-                    ));
+                    out.extend(retract(&last, clearance, feed, route));
                 }
-                out.extend(arcs.enter(run, clearance));
+                out.extend(arcs.enter(run, clearance, route));
                 out.extend(run.iter().skip(1).copied());
             }
         }
     }
     out.extend(arcs.leave(&out));
     if let Some(last) = out.last().copied() {
-        out.push(Pose::new(
-            MoveKind::Rapid,
-            above(&last, clearance),
-            last.axis,
-            feed,
-        ));
+        out.extend(retract(&last, clearance, feed, route));
     }
     out
 }
 
-/// Rapid to the clearance plane above `first`, rapid down to the approach height, plunge to it.
-/// `arc`: lead-in arc poses ending at `first` (excluded); the plunge then goes to the arc's
-/// start and the arc follows.
-fn approach(first: &Pose, arc: &[Pose], clearance: f64, feed: f64) -> Vec<Pose> {
+/// The sideways approach of a pose on a part: `Some(l)` when the tool reaches it from the
+/// point `l` mm out along its own axis (reached from the clearance plane straight down), `None`
+/// for the straight approach (up the axis, or out along a level axis by [`APPROACH_HEIGHT`]).
+pub type Route<'r> = &'r dyn Fn(&Pose) -> Option<f64>;
+
+/// The sideways length of `p`'s approach: `route`'s, else [`APPROACH_HEIGHT`] for a level axis.
+fn sideways(p: &Pose, route: Route<'_>) -> Option<f64> {
+    route(p).or_else(|| (p.axis.z <= LEVEL_AXIS_Z).then_some(APPROACH_HEIGHT))
+}
+
+/// The point `l` mm out along `p`'s axis, and the point above it at the clearance plane.
+fn escape_points(p: &Pose, l: f64, clearance: f64) -> (DVec3, DVec3) {
+    let out = p.tip + p.axis * l;
+    (out, DVec3::new(out.x, out.y, clearance.max(out.z)))
+}
+
+/// Rapid retract from `last` to the clearance plane: straight (see [`above`]), or out along
+/// the axis first where `route` says so.
+fn retract(last: &Pose, clearance: f64, feed: f64, route: Route<'_>) -> Vec<Pose> {
+    let rapid = |tip| Pose::new(MoveKind::Rapid, tip, last.axis, feed);
+    match sideways(last, route) {
+        Some(l) => {
+            let (out, up) = escape_points(last, l, clearance);
+            vec![rapid(out), rapid(up)]
+        }
+        None => vec![rapid(above(last, clearance))],
+    }
+}
+
+/// Rapid to the clearance plane above `first`, rapid down to the approach height, plunge to it
+/// (sideways, and for a level axis: rapid to the clearance plane above the point out along the
+/// axis, down to it, in along the axis to the approach height, plunge). `arc`: lead-in arc poses ending at `first`
+/// (excluded); the plunge then goes to the arc's start and the arc follows.
+fn approach(first: &Pose, arc: &[Pose], clearance: f64, feed: f64, route: Route<'_>) -> Vec<Pose> {
     let start = arc.first().unwrap_or(first);
-    let top = above(start, clearance);
-    let near = above(start, (start.tip.z + APPROACH_HEIGHT).min(clearance));
+    let rapid = |tip| Pose::new(MoveKind::Rapid, tip, first.axis, feed);
+    let mut out = match sideways(start, route) {
+        Some(l) => {
+            let (away, up) = escape_points(start, l, clearance);
+            let mut v = vec![rapid(up), rapid(away)];
+            if l > APPROACH_HEIGHT {
+                v.push(rapid(start.tip + start.axis * APPROACH_HEIGHT));
+            }
+            v
+        }
+        None => {
+            let top = above(start, clearance);
+            let near = above(start, (start.tip.z + APPROACH_HEIGHT).min(clearance));
+            vec![rapid(top), rapid(near)]
+        }
+    };
     let mut plunge = *first;
     plunge.kind = MoveKind::Plunge;
-    let mut out = vec![
-        Pose::new(MoveKind::Rapid, top, first.axis, feed),
-        Pose::new(MoveKind::Rapid, near, first.axis, feed),
-    ];
     out.extend(arc.iter().copied());
     out.push(plunge);
     out
@@ -164,7 +202,7 @@ impl<'s, 'a> Arcs<'s, 'a> {
     }
 
     /// Approach into the run's first pose (with a lead-in arc when asked and clear).
-    fn enter(&self, run: &[Pose], clearance: f64) -> Vec<Pose> {
+    fn enter(&self, run: &[Pose], clearance: f64, route: Route<'_>) -> Vec<Pose> {
         let feed = self.setup.opts.feed;
         let Some(first) = run.first() else {
             return Vec::new();
@@ -173,7 +211,7 @@ impl<'s, 'a> Arcs<'s, 'a> {
             (Some(second), Some(gp)) => self.clear_arc(gp, first, second.tip - first.tip, true),
             _ => Vec::new(),
         };
-        approach(first, &arc, clearance, feed)
+        approach(first, &arc, clearance, feed, route)
     }
 
     /// Lead-out arc after the last pose of `out` when it is a cut (empty otherwise).
@@ -375,7 +413,14 @@ mod tests {
                     .with_contact(cc, crate::toolpath::ContactKind::Ball)
             })
             .collect();
-        let poses = link(&setup, std::slice::from_ref(&run), 30.0, false, &|_| true);
+        let poses = link(
+            &setup,
+            std::slice::from_ref(&run),
+            30.0,
+            false,
+            &|_| true,
+            &|_| None,
+        );
         let first = poses
             .iter()
             .position(|p| p.kind == MoveKind::Cut)

@@ -8,7 +8,9 @@ use super::axis::AxisMode;
 use super::face::FacePatch;
 use super::pass::Pass;
 use super::setup::Setup;
-use super::tiltaway::{PartContext, clear_height, moves_clear, note_tilt, part_check, tilt_away};
+use super::tiltaway::{
+    PartContext, approach_route, clear_height, moves_clear, note_tilt, part_check, tilt_away,
+};
 use super::{FinishOptions, Pattern, PlanError, Strategy};
 use super::{isoparam, isoplanar, isoscallop, linking, repair};
 use crate::diagnostics::Diagnostic;
@@ -201,7 +203,8 @@ pub fn plan_finish_in(
     });
     used.clearance = Some(clearance);
     let clear = |chain: &[Pose]| part.is_none_or(|ctx| moves_clear(&ctx.check, cutter, chain));
-    let poses = linking::link(&setup, &runs, clearance, !zigzag, &clear);
+    let route = |p: &Pose| part.and_then(|ctx| approach_route(&ctx.check, cutter, p));
+    let poses = linking::link(&setup, &runs, clearance, !zigzag, &clear, &route);
     let record = ToolRecord {
         spec: spec.to_string(),
         cutter: cutter.clone(),

@@ -3,13 +3,15 @@
 //! limits, smoothly; where no allowed tilt is free, leave that span out and report it.
 //!
 //! The rule, per cutting run:
-//! 1. Every pose is checked against the part (drive faces left out). A hit in the cutting end
-//!    cannot be tilted away (the cutting end is what touches the face); a hit higher up can.
+//! 1. Every pose is checked against the part (drive faces left out). A hit in the ball cannot
+//!    be tilted away (the ball is what touches the face); a hit in the flutes above it, the
+//!    shank or the holder can.
 //! 2. Ball cutters only: the axis turns about the ball centre (the contact and the cut surface
 //!    stay the same; the tip follows), in the plane of the axis and the hit point, away from
 //!    the hit (else toward the contact normal, else toward +z: the first free one), by the
 //!    least whole degree `θ ≤ max_angle_rad` that leaves the pose free and keeps the axis
-//!    within `max_from_vertical_rad` of +z (the machine's tilt travel).
+//!    within `max_from_vertical_rad` of +z (the machine's tilt travel); where no such tilt
+//!    frees it (a hole wall whose far side the flutes reach), up to `steep_angle_rad` when set.
 //! 3. Smoothing: the tilt angle along the run is the upper envelope of the required tilts
 //!    falling off at `rate_rad_per_mm` of path on each side (two sweeps); a pose takes the
 //!    direction of the requirement that set its angle. The axis therefore turns at most at that
@@ -18,6 +20,10 @@
 //!    another cutter kind) are left out: the run splits there, the linking retracts over the
 //!    gap, and each left-out span is reported with where it starts and ends, its length, the
 //!    face hit and the tool part.
+//! 5. The approach to each piece's ends: straight down the axis (vertically when the axis is
+//!    level) when clear, else out along the tool axis far enough to leave the part sideways,
+//!    then up ([`approach_route`], a pin between plates); ends reachable by neither are left
+//!    out and reported as approach spans.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -39,15 +45,20 @@ pub struct TiltAway {
     pub rate_rad_per_mm: f64,
     /// Largest angle of the axis from +z, rad (the machine's tilt travel).
     pub max_from_vertical_rad: f64,
+    /// Largest tilt for a pose that no tilt within `max_angle_rad` frees (the wall of a hole
+    /// whose far side the flutes reach, a pin between plates), rad; 0: never beyond
+    /// `max_angle_rad`. Still bounded by `max_from_vertical_rad`.
+    pub steep_angle_rad: f64,
 }
 
 impl Default for TiltAway {
-    /// 30° at most, 2° per mm, up to 90° from vertical.
+    /// 30° at most, 2° per mm, up to 90° from vertical, never steeper.
     fn default() -> Self {
         Self {
             max_angle_rad: 30f64.to_radians(),
             rate_rad_per_mm: 2f64.to_radians(),
             max_from_vertical_rad: std::f64::consts::FRAC_PI_2,
+            steep_angle_rad: 0.0,
         }
     }
 }
@@ -219,6 +230,12 @@ pub fn tilt_away(
     out
 }
 
+/// Whether `point` lies above the ball's equator: in the flutes, which a turn about the ball
+/// centre moves (the ball itself it does not).
+fn above_ball(p: &Pose, point: DVec3, radius: f64) -> bool {
+    (point - (p.tip + p.axis * radius)).dot(p.axis) > 1e-9
+}
+
 /// `axis` turned by `theta` toward `-away` (about the ball centre); `away` ⟂ `axis`, unit.
 fn turned(axis: DVec3, away: DVec3, theta: f64) -> DVec3 {
     (axis * theta.cos() - away * theta.sin()).normalize_or(axis)
@@ -266,7 +283,8 @@ fn required(
     .flatten()
     .collect();
     let steps = (limits.max_angle_rad.to_degrees().floor() as usize).min(90);
-    (1..=steps).find_map(|k| {
+    let steep = (limits.steep_angle_rad.to_degrees().floor() as usize).min(90);
+    (1..=steps.max(steep)).find_map(|k| {
         let theta = (k as f64).to_radians();
         dirs.iter().find_map(|&away| {
             let q = pose_turned(p, radius, away, theta);
@@ -331,7 +349,9 @@ fn tilt_run(
         .iter()
         .zip(&hits)
         .map(|(p, h)| match h {
-            Some((point, _, _, part)) if can_tilt && *part != ToolPart::CuttingEnd => {
+            Some((point, _, _, part))
+                if can_tilt && (*part != ToolPart::CuttingEnd || above_ball(p, *point, radius)) =>
+            {
                 required(check, tool, radius, p, *point, limits).unwrap_or((0.0, DVec3::ZERO))
             }
             _ => (0.0, DVec3::ZERO),
@@ -357,8 +377,51 @@ fn tilt_run(
             _ => tilted.push(*p),
         }
     }
+    let tilted = follow_planned(run, &tilted, radius);
     split_left_out(check, tool, &densify(check, tool, &tilted), &mut result);
     result
+}
+
+/// Largest distance between the ball centre on a move between tilted poses and on the planned
+/// move it replaces, mm.
+const CENTRE_DRIFT_MM: f64 = 5e-5;
+
+/// The tilted run with poses inserted into each move whose ends were tilted, so that the ball
+/// centre follows the planned move. The machine moves the tip on a straight line and turns the
+/// axis on a great circle, so the ball centre (tip + R·axis) bulges from the line of the
+/// centres by about R·θ²/8 for an axis turn θ; the planned poses' steps (chord tolerance) rely
+/// on the bulge of the planned axis turn, and a tilt that turns the axis less than the planned
+/// axis turns lets the centre sag toward a convex face (1.4 µm on a 9 mm sphere). Inserted
+/// poses put the centre on the planned move's centre at the tilted move's axis; between them
+/// the difference falls with the square of the number of pieces.
+fn follow_planned(run: &[Pose], tilted: &[Pose], radius: f64) -> Vec<Pose> {
+    let mut out = Vec::with_capacity(tilted.len());
+    for (i, qb) in tilted.iter().enumerate() {
+        let prev = i
+            .checked_sub(1)
+            .and_then(|j| Some((run.get(j)?, run.get(i)?, tilted.get(j)?)));
+        if let Some((a, b, qa)) = prev
+            && (qa.axis != a.axis || qb.axis != b.axis)
+        {
+            let (pa, pb) = (Placement::of(a), Placement::of(b));
+            let (ta, tb) = (Placement::of(qa), Placement::of(qb));
+            let centre = |q: Placement| q.tip + q.axis * radius;
+            let drift = centre(interpolate(ta, tb, 0.5)).distance(centre(interpolate(pa, pb, 0.5)));
+            let pieces = ((drift / CENTRE_DRIFT_MM).sqrt().ceil() as usize).clamp(1, 64);
+            out.extend((1..pieces).map(|k| {
+                let s = k as f64 / pieces as f64;
+                let axis = interpolate(ta, tb, s).axis;
+                Pose {
+                    tip: centre(interpolate(pa, pb, s)) - axis * radius,
+                    axis,
+                    cc: qa.cc.zip(qb.cc).map(|(x, y)| x.lerp(y, s)),
+                    ..*qb
+                }
+            }));
+        }
+        out.push(*qb);
+    }
+    out
 }
 
 /// The run with poses inserted into every move that enters the part between its two poses
@@ -407,33 +470,118 @@ pub fn clear_height(check: &PartCheck<'_>, cutter: &Cutter) -> f64 {
     check.bvh.bbox().max.z + tool.radius() + 1e-3
 }
 
-/// Where the tool, coming down to `p` along the linking's approach line (from above the
-/// part, the last `APPROACH_HEIGHT` a fed plunge), enters another face; `None` when the line
-/// is clear. Checked every `step_mm` along the plunge, every 1 mm above it.
+/// Where the tool, coming down to `p` along the linking's straight approach line (from above
+/// the part, the last `APPROACH_HEIGHT` a fed plunge), enters another face; `None` when the
+/// line is clear.
 fn approach_hit(
     check: &PartCheck<'_>,
     tool: &ToolPieces,
     p: &Pose,
     top: f64,
 ) -> Option<PlacementHit> {
+    let height = super::linking::APPROACH_HEIGHT;
+    if p.axis.z <= super::linking::LEVEL_AXIS_Z {
+        // Out along the level axis, then up (as the linking does).
+        let out = p.tip + p.axis * height;
+        let up = DVec3::new(out.x, out.y, top.max(out.z));
+        return line_hit(check, tool, p.axis, p.tip, out, height)
+            .or_else(|| line_hit(check, tool, p.axis, out, up, 0.0));
+    }
     let end = super::linking::above(p, top.max(p.tip.z));
-    let line = end - p.tip;
+    let dir = (end - p.tip).try_normalize()?;
+    let plunge = super::linking::APPROACH_HEIGHT / dir.z.max(0.1);
+    line_hit(check, tool, p.axis, p.tip, end, plunge)
+}
+
+/// Where the tool (axis `axis`) moving with its tip from `from` to `to` enters another face;
+/// checked every `step_mm` over the first `fine_mm`, every 1 mm beyond.
+fn line_hit(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    axis: DVec3,
+    from: DVec3,
+    to: DVec3,
+    fine_mm: f64,
+) -> Option<PlacementHit> {
+    let line = to - from;
     let length = line.length();
     let dir = line.try_normalize()?;
-    let plunge = super::linking::APPROACH_HEIGHT / dir.z.max(0.1) + check.step_mm.max(0.01);
+    let step = check.step_mm.max(0.01);
+    let fine = fine_mm + step;
     let mut d = 0.0;
     while d < length {
-        d += if d < plunge {
-            check.step_mm.max(0.01)
-        } else {
-            1.0
-        };
-        let tip = p.tip + dir * d.min(length);
-        if check.enters(tool, tip, p.axis) {
-            return check.placement(tool, tip, p.axis);
+        d += if d < fine { step } else { 1.0 };
+        let tip = from + dir * d.min(length);
+        if check.enters(tool, tip, axis) {
+            return check.placement(tool, tip, axis);
         }
     }
     None
+}
+
+/// Distances along the tool axis tried for a sideways approach, mm.
+const ESCAPES_MM: [f64; 6] = [10.0, 20.0, 40.0, 80.0, 160.0, 320.0];
+
+/// The sideways approach to `p` where its straight approach (see
+/// [`super::linking::above`]) enters the part: the least of [`ESCAPES_MM`] such that the tool
+/// moving out along its own axis by that length, then straight up above the part, stays clear
+/// (the linking plunges back along the same line). `None` when the straight approach is clear
+/// or no escape is.
+fn escape(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose, top: f64) -> Option<f64> {
+    approach_hit(check, tool, p, top)?;
+    // Beyond the part's box (grown by the tool's radius) a longer escape frees nothing more.
+    let b = check.bvh.bbox();
+    let grow = DVec3::splat(tool.radius());
+    let exit = (0..3)
+        .filter_map(|k| {
+            let (d, t) = (p.axis[k], p.tip[k]);
+            let wall = if d > 0.0 {
+                b.max[k] + grow[k]
+            } else {
+                b.min[k] - grow[k]
+            };
+            (d.abs() > 1e-9).then(|| ((wall - t) / d).max(0.0))
+        })
+        .fold(f64::INFINITY, f64::min);
+    let beyond = ESCAPES_MM
+        .iter()
+        .position(|&l| l >= exit)
+        .unwrap_or(ESCAPES_MM.len() - 1);
+    ESCAPES_MM[..=beyond].iter().copied().find(|&l| {
+        let out = p.tip + p.axis * l;
+        let up = DVec3::new(out.x, out.y, top.max(out.z));
+        line_hit(
+            check,
+            tool,
+            p.axis,
+            p.tip,
+            out,
+            super::linking::APPROACH_HEIGHT,
+        )
+        .is_none()
+            && line_hit(check, tool, p.axis, out, up, 0.0).is_none()
+    })
+}
+
+/// The linking's approach route to (and retract from) pose `p` on a part: the length of the
+/// sideways escape along the tool axis where the straight approach enters the part (out along
+/// the axis by the least of 10–320 mm that is clear, then up), `None` for the straight approach.
+#[must_use]
+pub fn approach_route(check: &PartCheck<'_>, cutter: &Cutter, p: &Pose) -> Option<f64> {
+    let tool = ToolPieces::of(cutter, check.whole_tool);
+    escape(check, &tool, p, clear_height(check, cutter))
+}
+
+/// The approach to `p` enters the part both straight and along every escape: the hit of the
+/// straight one.
+fn approach_blocked(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    p: &Pose,
+    top: f64,
+) -> Option<PlacementHit> {
+    let hit = approach_hit(check, tool, p, top)?;
+    escape(check, tool, p, top).is_none().then_some(hit)
 }
 
 /// Whether every move between consecutive `poses` is clear of the part (placements every
@@ -508,7 +656,7 @@ fn trim_approach(
     let mut worst: Option<PlacementHit> = None;
     let start = a;
     while a < b {
-        match approach_hit(check, tool, &run[a], top) {
+        match approach_blocked(check, tool, &run[a], top) {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 a += 1;
@@ -524,7 +672,7 @@ fn trim_approach(
     }
     let end = b;
     while b > a {
-        match approach_hit(check, tool, &run[b - 1], top) {
+        match approach_blocked(check, tool, &run[b - 1], top) {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 b -= 1;
