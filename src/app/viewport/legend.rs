@@ -17,7 +17,9 @@ pub fn legend_value(v: f32) -> String {
     if a == 0.0 {
         "0".into()
     } else if (1e-2..1e4).contains(&a) {
-        format!("{v:.4}")
+        // Decimals for 4 significant digits (483.3 N, 0.2000 mm, 12.00 µm).
+        let decimals = (3 - a.log10().floor() as i32).clamp(0, 5) as usize;
+        format!("{v:.decimals$}")
     } else {
         format!("{v:.3e}")
     }
@@ -129,10 +131,19 @@ pub fn legend_mark_ui(
 
 #[cfg(test)]
 mod tests {
+    use super::legend_value;
+
     #[test]
-    fn legend_values_keep_four_digits() {
-        assert_eq!(super::legend_value(0.2), "0.2000");
-        assert_eq!(super::legend_value(-0.000_5), "-5.000e-4");
-        assert_eq!(super::legend_value(0.0), "0");
+    fn legend_values_keep_four_significant_digits() {
+        assert_eq!(legend_value(0.2), "0.2000");
+        assert_eq!(legend_value(-0.000_5), "-5.000e-4");
+        assert_eq!(legend_value(0.0), "0");
+        assert_eq!(legend_value(483.266_9), "483.3");
+        assert_eq!(legend_value(241.633_4), "241.6");
+        assert_eq!(legend_value(0.05), "0.05000");
+        assert_eq!(legend_value(-0.012_345), "-0.01235");
+        assert_eq!(legend_value(1234.4), "1234");
+        assert_eq!(legend_value(12.0), "12.00");
+        assert_eq!(legend_value(25_000.0), "2.500e4");
     }
 }
