@@ -595,7 +595,7 @@ fn ramp_entry_descends_along_the_loop_at_the_angle() {
             .map(|q| q.tip)
             .collect();
         let level = run.last().unwrap().z;
-        assert!(plan.levels.iter().any(|z| *z == level));
+        assert!(plan.levels.contains(&level));
         assert_near!(start.z - level, RAMP_HEIGHT_MM, 1e-12);
         let reach = run.iter().position(|p| p.z == level).unwrap();
         let (down, round) = (&run[..=reach], &run[reach..]);
