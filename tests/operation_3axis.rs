@@ -13,7 +13,7 @@ use talas::diagnostics::Progress;
 use talas::import::{OpenOptions, open};
 use talas::project::pipeline::compute;
 use talas::project::{Operation, OperationKind, Project, ToolEntry};
-use talas::strategies::waterline::Cut;
+use talas::strategies::waterline::{Cut, Entry};
 use talas::toolpath::{MoveKind, Toolpath};
 use talas::tools::parse_tool_spec;
 
@@ -677,4 +677,111 @@ fn a_boundary_limits_a_finishing_operation_by_centre_and_by_contact() {
     }
     assert!(n > 50, "{n} cutting poses on face {face}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `talas plan --strategy waterline --entry arc:2` and a waterline operation with a 2 mm arc
+/// entry plan the same path; steep-shallow's ramp entry too; a bad
+/// entry is refused in one line with exit code 2; the entry goes through the project file and
+/// an operation saved without one reads as a plunge.
+/// `cargo test --no-default-features --test operation_3axis entry`
+#[test]
+fn waterline_entry_through_the_cli_and_the_project() {
+    let part = data("pocket-fillets.stl");
+    let mut wl = op(OperationKind::Waterline, 40.0, Cut::Climb);
+    let arc = Entry::Arc {
+        radius_mm: Some(2.0),
+    };
+    if let Operation::Waterline { entry, .. } = &mut wl {
+        *entry = arc;
+    }
+    let args = |strategy: &'static str, entry: &'static str| {
+        [
+            "--strategy",
+            strategy,
+            "--scallop",
+            "0.2",
+            "--tolerance",
+            "0.1",
+            "--angle",
+            "40",
+            "--feed",
+            "1200",
+            "--entry",
+            entry,
+        ]
+    };
+    same_path_as(
+        "wl-arc",
+        &part,
+        &args("waterline", "arc:2"),
+        project_with(wl.clone()),
+        Some(TOL_MM),
+        100,
+    );
+    let mut ss = op(OperationKind::SteepShallow, 50.0, Cut::Climb);
+    let ramp = Entry::Ramp {
+        angle_rad: 5f64.to_radians(),
+    };
+    if let Operation::SteepShallow { entry, .. } = &mut ss {
+        *entry = ramp;
+    }
+    let mut ss_args = args("steep-shallow", "ramp").to_vec();
+    ss_args[7] = "50";
+    same_path_as(
+        "ss-ramp",
+        &part,
+        &ss_args,
+        project_with(ss.clone()),
+        Some(TOL_MM),
+        100,
+    );
+
+    let out_path =
+        std::env::temp_dir().join(format!("talas-op3-entry-{}.json", std::process::id()));
+    for bad in ["arc:-1", "ramp:60", "spiral", "arc:x"] {
+        let out = common::talas(&[
+            "plan",
+            part.to_str().unwrap(),
+            "--tool",
+            TOOL,
+            "--strategy",
+            "waterline",
+            "--entry",
+            bad,
+            "-o",
+            out_path.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(
+            err.contains("--entry") && err.contains("pocket-fillets.stl"),
+            "{err}"
+        );
+    }
+
+    let mut project = project_with(wl.clone());
+    project.operations.push(ss.clone());
+    let text = project.to_toml().expect("writes");
+    let back = Project::from_toml(&text, Path::new("p.talas")).expect("reads");
+    assert_eq!(back.operations, vec![wl.clone(), ss], "{text}");
+    let mut bad = wl.clone();
+    if let Operation::Waterline { entry, .. } = &mut bad {
+        *entry = Entry::Arc {
+            radius_mm: Some(0.0),
+        };
+    }
+    assert!(bad.validate().unwrap_err().contains("mm"));
+    // Without an entry (as saved before entries existed): a plunge, and saved without one.
+    let plain = op(OperationKind::Waterline, 40.0, Cut::Climb);
+    let json = serde_json::to_string(&plain).unwrap();
+    assert!(!json.contains("entry"), "{json}");
+    let old: Operation = serde_json::from_str(&json).unwrap();
+    assert!(matches!(
+        old,
+        Operation::Waterline {
+            entry: Entry::Plunge,
+            ..
+        }
+    ));
 }

@@ -3,12 +3,17 @@
 
 mod common;
 
+use common::assert_near;
+
 use std::f64::consts::PI;
 
 use glam::{DVec2, DVec3};
 use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
-use talas::strategies::waterline::{ContourPoint, Cut, WaterlineOptions, contours_at, waterline};
+use talas::strategies::waterline::{
+    ContourPoint, Cut, Entry, RAMP_HEIGHT_MM, WaterlineOptions, WaterlinePlan, contours_at,
+    waterline,
+};
 use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::dropcutter::drop_cutter_at;
 use talas::tools::{Cutter, CutterKind, parse_tool_spec};
@@ -412,4 +417,243 @@ fn ball_contour_points_touch_the_mesh_where_a_fibre_runs_along_a_wall() {
     }
     assert!(n > 1000, "{n} contour points");
     assert!(worst < 1e-7, "a contour point is {worst} mm off the mesh");
+}
+
+/// The 20 mm box of `frustum(10, 10, 20)` planned coarsely with a 6 mm ball, every loop entered
+/// from the clearance plane (no fed links), with `entry` and `cut`.
+fn box_plan(entry: Entry, cut: Cut) -> (TriMesh, WaterlinePlan) {
+    let mesh = frustum(10.0, 10.0, 20.0);
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let opts = WaterlineOptions {
+        scallop_mm: 1.0,
+        chord_tol_mm: 0.05,
+        max_link_mm: 0.0,
+        entry,
+        cut,
+        ..WaterlineOptions::default()
+    };
+    let plan = waterline(&mesh, &bvh, &tool("ball:d=6"), &opts).unwrap();
+    (mesh, plan)
+}
+
+/// The 6 mm ball (radius `r`) with its tip at `tip` and its endless shank keeps at least
+/// `r − 1e-6` from every triangle: brute force over the triangles at the ball's centre and up
+/// the shank's axis in 0.25 mm steps to above the part.
+fn assert_clear(mesh: &TriMesh, tip: DVec3, r: f64) {
+    let p = |i: u32| mesh.positions[i as usize];
+    let top = mesh.positions.iter().map(|q| q.z).fold(f64::MIN, f64::max);
+    let mut c = tip + DVec3::Z * r;
+    while c.z <= top + r {
+        let d = mesh
+            .triangles
+            .iter()
+            .map(|t| (common::geometry::closest_on_triangle(c, t.map(p)) - c).length())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            d >= r - 1e-6,
+            "the cutter at {tip} meets the part ({d} mm from {c})"
+        );
+        c.z += 0.25;
+    }
+}
+
+/// Centre and radius of the circle through three points of a plane.
+fn circle3(a: DVec2, b: DVec2, c: DVec2) -> (DVec2, f64) {
+    let d = 2.0 * (a.x * (b.y - c.y) + b.x * (c.y - a.y) + c.x * (a.y - b.y));
+    let (a2, b2, c2) = (a.length_squared(), b.length_squared(), c.length_squared());
+    let centre = DVec2::new(
+        (a2 * (b.y - c.y) + b2 * (c.y - a.y) + c2 * (a.y - b.y)) / d,
+        (a2 * (c.x - b.x) + b2 * (a.x - c.x) + c2 * (b.x - a.x)) / d,
+    );
+    (centre, centre.distance(a))
+}
+
+/// Checks one quarter-circle lead (`pts` in travel order, `on_loop` its end on the loop, `t`
+/// the cut direction there): at one height, radius `want`, tangent to `t` at the loop, its
+/// centre on the free side (`side` +1: left of the travel), every point clear of the part.
+fn check_lead(mesh: &TriMesh, pts: &[DVec3], on_loop: DVec3, t: DVec2, want: f64, side: f64) {
+    assert!(pts.len() >= 5, "{} points", pts.len());
+    assert!(
+        pts.iter().all(|p| p.z == on_loop.z),
+        "a lead leaves the level"
+    );
+    let xy: Vec<DVec2> = pts.iter().map(|p| p.truncate()).collect();
+    let (c, r) = circle3(xy[0], xy[xy.len() / 2], xy[xy.len() - 1]);
+    assert_near!(r, want, 1e-9);
+    for q in &xy {
+        assert_near!(q.distance(c), want, 1e-9);
+    }
+    let radial = (on_loop.truncate() - c) / r;
+    assert!(radial.dot(t).abs() < 1e-9, "not tangent: {}", radial.dot(t));
+    assert!(
+        side * t.perp_dot(c - on_loop.truncate()) > 0.0,
+        "centre on the part's side"
+    );
+    // A quarter circle.
+    let (u, v) = ((xy[0] - c) / r, (xy[xy.len() - 1] - c) / r);
+    assert_near!(u.dot(v), 0.0, 1e-9);
+    for w in pts.windows(2) {
+        for k in 0..4 {
+            assert_clear(mesh, w[0].lerp(w[1], f64::from(k) / 4.0), 3.0);
+        }
+    }
+}
+
+/// Arc entry on a box, climb and conventional: each loop starts with a quarter-circle of the
+/// asked radius at its level, tangent to the first cut, on the free side, clear of the box
+/// (brute-force distance), and ends with a lead-out tangent to its last cut.
+/// `cargo test --no-default-features --test waterline arc_entry`
+#[test]
+fn arc_entry_leads_in_and_out_tangentially_on_the_free_side() {
+    for (cut, side) in [(Cut::Climb, 1.0), (Cut::Conventional, -1.0)] {
+        let radius = 2.0;
+        let (mesh, plan) = box_plan(
+            Entry::Arc {
+                radius_mm: Some(radius),
+            },
+            cut,
+        );
+        assert_eq!(plan.entry_fallbacks, 0, "{:?}", plan.diagnostics);
+        let poses = &plan.toolpath.poses;
+        let mut arcs = 0;
+        for (i, p) in poses.iter().enumerate() {
+            if p.kind != MoveKind::Plunge {
+                continue;
+            }
+            let lead: Vec<DVec3> = std::iter::once(p.tip)
+                .chain(
+                    poses[i + 1..]
+                        .iter()
+                        .take_while(|q| q.kind == MoveKind::Link)
+                        .map(|q| q.tip),
+                )
+                .collect();
+            let start = *lead.last().unwrap();
+            let j = i + lead.len();
+            assert_eq!(poses[j].kind, MoveKind::Cut);
+            let t = (poses[j].tip - start).truncate().normalize();
+            check_lead(&mesh, &lead, start, t, radius, side);
+            // The loop closes at its start; the lead-out leaves from there.
+            let cuts = poses[j..]
+                .iter()
+                .take_while(|q| q.kind == MoveKind::Cut)
+                .count();
+            let end = poses[j + cuts - 1].tip;
+            assert!(end.distance(start) < 1e-12);
+            let te = (end - poses[j + cuts - 2].tip).truncate().normalize();
+            let out: Vec<DVec3> = std::iter::once(end)
+                .chain(
+                    poses[j + cuts..]
+                        .iter()
+                        .take_while(|q| q.kind == MoveKind::Link)
+                        .map(|q| q.tip),
+                )
+                .collect();
+            check_lead(&mesh, &out, end, te, radius, side);
+            arcs += 1;
+        }
+        assert_eq!(arcs, plan.loops);
+        assert!(arcs >= 5, "{arcs} loops");
+    }
+    // Without a radius the arc has the cutter's.
+    let (mesh, plan) = box_plan(Entry::Arc { radius_mm: None }, Cut::Climb);
+    let poses = &plan.toolpath.poses;
+    let i = poses
+        .iter()
+        .position(|p| p.kind == MoveKind::Plunge)
+        .unwrap();
+    let lead: Vec<DVec3> = poses[i..]
+        .iter()
+        .take_while(|q| matches!(q.kind, MoveKind::Plunge | MoveKind::Link))
+        .map(|q| q.tip)
+        .collect();
+    let start = *lead.last().unwrap();
+    let t = (poses[i + lead.len()].tip - start).truncate().normalize();
+    check_lead(&mesh, &lead, start, t, 3.0, 1.0);
+}
+
+/// Ramp entry on a box: from 1 mm above each level the tool descends along the loop at the
+/// asked angle (within 1e-6 rad), every ramp point on the loop's polyline, then cuts round the
+/// loop back to where the ramp reached the level. `cargo test --no-default-features --test
+/// waterline ramp_entry`
+#[test]
+fn ramp_entry_descends_along_the_loop_at_the_angle() {
+    let angle = 7f64.to_radians();
+    let (_, plan) = box_plan(Entry::Ramp { angle_rad: angle }, Cut::Climb);
+    assert_eq!(plan.entry_fallbacks, 0, "{:?}", plan.diagnostics);
+    let poses = &plan.toolpath.poses;
+    assert!(poses.iter().all(|p| p.kind != MoveKind::Plunge));
+    let mut ramps = 0;
+    for i in 1..poses.len() {
+        if !(poses[i].kind == MoveKind::Cut && poses[i - 1].kind == MoveKind::Rapid) {
+            continue;
+        }
+        let start = poses[i - 1].tip;
+        let run: Vec<DVec3> = poses[i..]
+            .iter()
+            .take_while(|q| q.kind == MoveKind::Cut)
+            .map(|q| q.tip)
+            .collect();
+        let level = run.last().unwrap().z;
+        assert!(plan.levels.contains(&level));
+        assert_near!(start.z - level, RAMP_HEIGHT_MM, 1e-12);
+        let reach = run.iter().position(|p| p.z == level).unwrap();
+        let (down, round) = (&run[..=reach], &run[reach..]);
+        // Descent angle of every ramp segment.
+        let mut prev = start;
+        for p in down {
+            let (dz, dxy) = (prev.z - p.z, (p.tip_xy() - prev.tip_xy()).length());
+            assert!(dxy > 1e-9);
+            assert_near!(dz.atan2(dxy), angle, 1e-6);
+            prev = *p;
+        }
+        // The ramp lies on the loop cut at the level, which closes where the ramp reached it.
+        assert!(round.iter().all(|p| p.z == level));
+        assert!(round[0].distance(*round.last().unwrap()) < 1e-12);
+        for p in std::iter::once(&start).chain(down) {
+            let d = round
+                .windows(2)
+                .map(|w| segment_distance(p.tip_xy(), w[0].tip_xy(), w[1].tip_xy()))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-9, "ramp point {p} is {d} mm off the loop");
+        }
+        ramps += 1;
+    }
+    assert_eq!(ramps, plan.loops);
+    assert!(ramps >= 5);
+    // A plunge is the default, entered straight down onto each loop's first cut.
+    let (_, plunged) = box_plan(Entry::Plunge, Cut::Climb);
+    let opts = WaterlineOptions::default();
+    assert_eq!(opts.entry, Entry::Plunge);
+    let poses = &plunged.toolpath.poses;
+    // Each run is entered straight down (a plunge from the clearance plane, or a fed vertical
+    // link from the level above where the loops lie over each other).
+    let mut runs = 0;
+    for w in poses.windows(3) {
+        if w[2].kind == MoveKind::Cut && w[1].kind != MoveKind::Cut {
+            runs += 1;
+            assert!(matches!(w[1].kind, MoveKind::Plunge | MoveKind::Link));
+            assert_eq!(w[0].tip.truncate(), w[1].tip.truncate());
+            assert!(w[0].tip.z > w[1].tip.z);
+        }
+    }
+    assert_eq!(runs, plunged.loops);
+    assert!(poses.iter().any(|p| p.kind == MoveKind::Plunge));
+}
+
+/// Horizontal distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let f = ((p - a).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
+    p.distance(a + d * f)
+}
+
+trait TipXy {
+    fn tip_xy(&self) -> DVec2;
+}
+
+impl TipXy for DVec3 {
+    fn tip_xy(&self) -> DVec2 {
+        self.truncate()
+    }
 }

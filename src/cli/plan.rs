@@ -110,6 +110,11 @@ pub struct PlanArgs {
     /// steep-shallow: `climb` (default) or `conventional`.
     #[arg(long, value_name = "PATTERN", default_value = "zigzag")]
     pub pattern: String,
+    /// Waterline and steep-shallow: how each loop is entered: `plunge` (default), `arc[:R]`
+    /// (tangential lead-in and lead-out of radius R mm, default the tool's radius) or
+    /// `ramp[:DEG]` (down along the loop from 1 mm above, default 5°).
+    #[arg(long, value_name = "plunge|arc[:R]|ramp[:DEG]")]
+    pub entry: Option<String>,
     /// Iso-planar: angle of the planes' normal from +x about +z; raster: direction of the
     /// passes from +x; degrees.
     #[arg(
@@ -474,6 +479,7 @@ fn plan_on_mesh(args: &PlanArgs) -> Result<Value, ImportError> {
         from_stock: args.from_stock,
         after: args.after.clone(),
         boundary: args.boundary.clone(),
+        entry: args.entry.clone(),
         boundary_rule: match args.boundary_rule.as_str() {
             "centre" | "center" => BoundaryRule::ToolCentre,
             "contact" => BoundaryRule::Contact,

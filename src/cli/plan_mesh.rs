@@ -17,7 +17,7 @@ use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
-use crate::strategies::waterline::Cut;
+use crate::strategies::waterline::{Cut, Entry};
 use crate::toolpath::Toolpath;
 use crate::tools::{Cutter, parse_tool_spec};
 
@@ -66,6 +66,10 @@ pub struct MeshPlanOptions {
     /// The boundary's rule: the tool centre or the contact point must lie inside.
     #[serde(default)]
     pub boundary_rule: BoundaryRule,
+    /// Waterline and steep-and-shallow: the loops' entry (`plunge`, `arc[:R]`, `ramp[:DEG]`;
+    /// `None`: plunge).
+    #[serde(default)]
+    pub entry: Option<String>,
 }
 
 fn detect_flats_default() -> bool {
@@ -92,6 +96,7 @@ impl Default for MeshPlanOptions {
             after: Vec::new(),
             boundary: None,
             boundary_rule: BoundaryRule::ToolCentre,
+            entry: None,
         }
     }
 }
@@ -133,6 +138,16 @@ fn mesh_operation(
             format!("waterline direction must be 'climb' or 'conventional', got '{other}'"),
         )),
     };
+    let entry = match opts.entry.as_deref() {
+        None => Entry::Plunge,
+        Some(_) if !matches!(strategy, "waterline" | "steep-shallow") => {
+            return Err(bad(
+                "--entry",
+                "an entry is only for waterline and steep-shallow".into(),
+            ));
+        }
+        Some(s) => s.parse::<Entry>().map_err(|e| bad("--entry", e))?,
+    };
     let mut op = match strategy {
         "raster" => Operation::Raster {
             name,
@@ -163,6 +178,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            entry,
             boundary: None,
         },
         "steep-shallow" => Operation::SteepShallow {
@@ -174,6 +190,7 @@ fn mesh_operation(
             cut: cut()?,
             feed_mm_per_min: opts.feed_mm_per_min,
             clearance_mm: opts.clearance_mm,
+            entry,
             boundary: None,
         },
         "zlevel-rough" => Operation::Rough {

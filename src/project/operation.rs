@@ -7,7 +7,7 @@ use crate::strategies::pencil::PENCIL_DEFAULT_ANGLE_DEG;
 use crate::strategies::steep_shallow::{
     Finish3Settings, STEEP_SHALLOW_DEFAULT_ANGLE_DEG, WATERLINE_DEFAULT_ANGLE_DEG,
 };
-use crate::strategies::waterline::Cut;
+use crate::strategies::waterline::{Cut, Entry};
 
 pub use super::finish_group::TiltAwaySettings;
 
@@ -113,6 +113,9 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// How the waterline's loops are entered (plunge, arc or ramp).
+        #[serde(default, skip_serializing_if = "is_plunge")]
+        entry: Entry,
         /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
         /// holds the part's face indices (STEP order).
         #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -138,6 +141,9 @@ pub enum Operation {
         /// Clearance plane above the part, mm.
         #[serde(default = "default_clearance_mm")]
         clearance_mm: f64,
+        /// How the waterline's loops are entered (plunge, arc or ramp).
+        #[serde(default, skip_serializing_if = "is_plunge")]
+        entry: Entry,
         /// Limits the path to a region with a rule (`None`: the whole part); a region of faces
         /// holds the part's face indices (STEP order).
         #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -196,6 +202,10 @@ pub enum Operation {
 
 /// Default clearance plane of the 3-axis operations above the part (roughing: the stock), mm.
 pub const FINISH_3AXIS_CLEARANCE_MM: f64 = 5.0;
+
+fn is_plunge(e: &Entry) -> bool {
+    *e == Entry::Plunge
+}
 
 fn default_clearance_mm() -> f64 {
     FINISH_3AXIS_CLEARANCE_MM
@@ -334,6 +344,7 @@ impl Operation {
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                entry: Entry::Plunge,
                 boundary: None,
             },
             OperationKind::SteepShallow => Self::SteepShallow {
@@ -345,6 +356,7 @@ impl Operation {
                 cut: Cut::Climb,
                 feed_mm_per_min: default_feed(),
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
+                entry: Entry::Plunge,
                 boundary: None,
             },
             OperationKind::Pencil => Self::Pencil {
@@ -382,6 +394,7 @@ impl Operation {
                 cut,
                 feed_mm_per_min,
                 clearance_mm,
+                entry,
                 ..
             }
             | Self::SteepShallow {
@@ -391,6 +404,7 @@ impl Operation {
                 cut,
                 feed_mm_per_min,
                 clearance_mm,
+                entry,
                 ..
             } => Some(Finish3Settings {
                 scallop_mm: *scallop_mm,
@@ -399,6 +413,7 @@ impl Operation {
                 cut: *cut,
                 feed_mm_per_min: *feed_mm_per_min,
                 clearance_mm: *clearance_mm,
+                entry: *entry,
             }),
             _ => None,
         }
@@ -558,6 +573,9 @@ impl Operation {
     pub fn validate(&self) -> Result<(), String> {
         if let Some(b) = self.boundary() {
             b.validate().map_err(|e| format!("boundary: {e}"))?;
+        }
+        if let Some(e) = self.finish_3axis_settings().map(|s| s.entry) {
+            e.validate()?;
         }
         self.validate_fields()
     }

@@ -11,7 +11,7 @@ use crate::geometry::mesh::TriMesh;
 use crate::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
 
 use super::raster::{RasterOptions, raster};
-use super::waterline::{Cut, WaterlineOptions, waterline};
+use super::waterline::{Cut, Entry, WaterlineOptions, waterline};
 
 /// Default slope of [`Finish3Settings::angle_rad`] for waterline finishing, degrees.
 pub const WATERLINE_DEFAULT_ANGLE_DEG: f64 = 30.0;
@@ -36,6 +36,8 @@ pub struct Finish3Settings {
     pub feed_mm_per_min: f64,
     /// Clearance plane above the part, mm.
     pub clearance_mm: f64,
+    /// How the waterline's loops are entered.
+    pub entry: Entry,
 }
 
 impl Finish3Settings {
@@ -50,6 +52,7 @@ impl Finish3Settings {
             clearance_mm: self.clearance_mm,
             feed_mm_per_min: self.feed_mm_per_min,
             plunge_feed_mm_per_min: 0.3 * self.feed_mm_per_min,
+            entry: self.entry,
             ..WaterlineOptions::default()
         }
     }

@@ -23,11 +23,16 @@
 //!   the two heights without meeting the mesh (checked with the same push-cutter) and shorter
 //!   than `max_link_mm` is a fed move; otherwise the tool retracts to the clearance plane,
 //!   rapids across, rapids down to 1 mm above the loop and plunges.
+//! - **Entry** (`entry`): a plunge onto the loop's start, a tangential arc lead-in and
+//!   lead-out in the level's plane on the free side, or a ramp down along the loop; an arc or
+//!   ramp that the push-cutter finds not clear falls back to the plunge, counted in the plan
+//!   (`entry`).
 //! - **Steep parts only** (`steep_only`): with a threshold, only the runs of each loop whose
 //!   contacts are at least `min_slope_rad` steep are cut (less an overlap band), each as an
 //!   open pass; that is the waterline half of steep-and-shallow finishing.
 
 mod contour;
+mod entry;
 mod gaps;
 mod push;
 
@@ -40,6 +45,9 @@ use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
 use crate::tools::CutterKind;
 pub use contour::ContourPoint;
 use contour::{Grid, fibre_intervals, level_contours};
+pub use entry::{
+    ARC_RADIUS_RANGE_MM, Entry, RAMP_ANGLE_RANGE_DEG, RAMP_DEFAULT_ANGLE_DEG, RAMP_HEIGHT_MM,
+};
 use push::{Fibre, Profile};
 
 /// Climb or conventional milling along the contours.
@@ -81,6 +89,9 @@ pub struct WaterlineOptions {
     pub plunge_feed_mm_per_min: f64,
     /// Longest link on which the tool stays down, mm (≥ 0).
     pub max_link_mm: f64,
+    /// How each loop (or steep run) is entered.
+    #[serde(default)]
+    pub entry: Entry,
 }
 
 impl Default for WaterlineOptions {
@@ -98,6 +109,7 @@ impl Default for WaterlineOptions {
             feed_mm_per_min: 1000.0,
             plunge_feed_mm_per_min: 300.0,
             max_link_mm: 10.0,
+            entry: Entry::Plunge,
         }
     }
 }
@@ -125,6 +137,9 @@ pub struct WaterlinePlan {
     pub levels: Vec<f64>,
     /// Number of loops (or steep runs) cut.
     pub loops: usize,
+    /// Loops whose arc or ramp entry was not clear of the part (or a ramp on an open run) and
+    /// that are entered by a plunge instead.
+    pub entry_fallbacks: usize,
     /// Notes.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -163,6 +178,7 @@ fn check_options(o: &WaterlineOptions) -> Result<(), WaterlineError> {
             )));
         }
     }
+    o.entry.validate().map_err(WaterlineError::Option)?;
     for (what, v) in [("clearance", o.clearance_mm), ("max link", o.max_link_mm)] {
         if !(v >= 0.0 && v.is_finite()) {
             return Err(WaterlineError::Option(format!(
@@ -302,17 +318,34 @@ pub fn waterline_progress(
         levels = gaps::fill(&level, levels, limit, sampling);
     }
     let mut diagnostics = Vec::new();
-    let plan = link(
+    let ctx = entry::Ctx {
         mesh,
         bvh,
-        &prof,
-        tool,
-        opts,
-        &levels,
-        top + opts.clearance_mm,
-    );
+        prof: &prof,
+        contact: contact_kind(cutter.kind),
+    };
+    let plan = link(&ctx, opts, &levels, top + opts.clearance_mm);
     if plan.1 == 0 {
         return Err(WaterlineError::Empty);
+    }
+    if plan.2 > 0 {
+        let what = match opts.entry {
+            Entry::Ramp { .. } => "ramp",
+            _ => "arc",
+        };
+        diagnostics.push(Diagnostic::warning(
+            None,
+            format!(
+                "{} of {} loops are entered by a plunge: their {what} entry would meet the part{}",
+                plan.2,
+                plan.1,
+                if what == "ramp" {
+                    " or they are open runs"
+                } else {
+                    ""
+                }
+            ),
+        ));
     }
     diagnostics.push(Diagnostic::info(
         None,
@@ -329,6 +362,7 @@ pub fn waterline_progress(
         toolpath: Toolpath::new(tool.clone(), plan.0),
         levels: levels.iter().map(|l| l.z).collect(),
         loops: plan.1,
+        entry_fallbacks: plan.2,
         diagnostics,
     })
 }
@@ -402,22 +436,18 @@ fn contact_kind(kind: CutterKind) -> ContactKind {
     }
 }
 
-/// Order the runs of every level, link them and make the poses; returns the poses and the
-/// number of runs.
+/// Order the runs of every level, link them and make the poses; returns the poses, the
+/// number of runs and the number of entries that fell back to a plunge.
 fn link(
-    mesh: &TriMesh,
-    bvh: &MeshBvh,
-    prof: &Profile,
-    tool: &ToolRecord,
+    ctx: &entry::Ctx,
     opts: &WaterlineOptions,
     levels: &[Level],
     clear: f64,
-) -> (Vec<Pose>, usize) {
+) -> (Vec<Pose>, usize, usize) {
     let axis = DVec3::Z;
     let feed = opts.feed_mm_per_min;
-    let ck = contact_kind(tool.cutter.kind);
     let mut poses: Vec<Pose> = Vec::new();
-    let mut count = 0;
+    let (mut count, mut fallbacks) = (0, 0);
     for lv in levels {
         let mut pending: Vec<Vec<ContourPoint>> =
             lv.loops.iter().flat_map(|lp| runs(lp, opts)).collect();
@@ -432,11 +462,22 @@ fn link(
                 let first = run[0];
                 run.push(first);
             }
-            let from = run[0].tip;
-            enter(mesh, bvh, prof, &mut poses, from, clear, opts);
-            for p in &run[1..] {
-                poses.push(Pose::new(MoveKind::Cut, p.tip, axis, feed).with_contact(p.cc, ck));
+            let z = run[0].tip.z;
+            let ramp_h = entry::RAMP_HEIGHT_MM.min(clear - z);
+            let mut ap = entry::approach(ctx, &run, opts, ramp_h);
+            let fed = poses
+                .last()
+                .copied()
+                .filter(|last| fed_link(ctx, opts, last.tip, ap.start.truncate().extend(z)));
+            if let Some(last) = fed
+                && matches!(opts.entry, Entry::Ramp { .. })
+            {
+                // A fed link arrives at its own height: the ramp starts there (at most 1 mm up).
+                ap = entry::approach(ctx, &run, opts, ramp_h.min(last.tip.z - z));
             }
+            fallbacks += usize::from(ap.fell_back);
+            arrive(&mut poses, fed.is_some(), &ap, clear, opts);
+            poses.extend(ap.moves);
             count += 1;
         }
     }
@@ -444,7 +485,7 @@ fn link(
         let up = last.tip.truncate().extend(clear);
         poses.push(Pose::new(MoveKind::Rapid, up, axis, feed));
     }
-    (poses, count)
+    (poses, count, fallbacks)
 }
 
 /// The run nearest to `here` and the index of its point to start at (a closed loop may start
@@ -467,22 +508,30 @@ fn nearest_run(pending: &[Vec<ContourPoint>], here: DVec2, closed: bool) -> (usi
     (best.0, best.1)
 }
 
-/// Move from the last pose to `to`: a fed link when short and free, else retract and plunge.
-fn enter(
-    mesh: &TriMesh,
-    bvh: &MeshBvh,
-    prof: &Profile,
+/// Whether the tool at `from` may link fed to `to` (at `to`'s level or below `from`): short,
+/// and the straight XY path clear at the lower of the two heights.
+fn fed_link(ctx: &entry::Ctx, opts: &WaterlineOptions, from: DVec3, to: DVec3) -> bool {
+    let (a, b) = (from.truncate(), to.truncate());
+    a.distance(b) <= opts.max_link_mm
+        && to.z <= from.z + 1e-9
+        && link_free(ctx.mesh, ctx.bvh, ctx.prof, a, b, to.z.min(from.z))
+}
+
+/// Move from the last pose to the approach's start: a fed link (`fed`) across at the old
+/// height and down, else retract, rapid across and down, and plunge the last `gap`.
+fn arrive(
     poses: &mut Vec<Pose>,
-    to: DVec3,
+    fed: bool,
+    ap: &entry::Approach,
     clear: f64,
     opts: &WaterlineOptions,
 ) {
     let axis = DVec3::Z;
     let feed = opts.feed_mm_per_min;
+    let to = ap.start;
     if let Some(last) = poses.last().copied() {
         let (a, b) = (last.tip.truncate(), to.truncate());
-        let short = a.distance(b) <= opts.max_link_mm && to.z <= last.tip.z + 1e-9;
-        if short && link_free(mesh, bvh, prof, a, b, to.z.min(last.tip.z)) {
+        if fed {
             // Across at the old height, then down (the vertical is free: it is above `to`).
             if a.distance(b) > 1e-9 {
                 poses.push(Pose::new(MoveKind::Link, b.extend(last.tip.z), axis, feed));
@@ -501,12 +550,16 @@ fn enter(
     }
     let b = to.truncate();
     poses.push(Pose::new(MoveKind::Rapid, b.extend(clear), axis, feed));
-    let above = (to.z + 1.0).min(clear);
-    poses.push(Pose::new(MoveKind::Rapid, b.extend(above), axis, feed));
-    poses.push(Pose::new(
-        MoveKind::Plunge,
-        to,
-        axis,
-        opts.plunge_feed_mm_per_min,
-    ));
+    if ap.gap > 0.0 {
+        let above = (to.z + ap.gap).min(clear);
+        poses.push(Pose::new(MoveKind::Rapid, b.extend(above), axis, feed));
+        poses.push(Pose::new(
+            MoveKind::Plunge,
+            to,
+            axis,
+            opts.plunge_feed_mm_per_min,
+        ));
+    } else if clear - to.z > 1e-9 {
+        poses.push(Pose::new(MoveKind::Rapid, to, axis, feed));
+    }
 }

@@ -559,9 +559,11 @@ fn segment_free(field: &Field, a: DVec2, b: DVec2, d0: f64) -> bool {
     })
 }
 
-/// Ramp along the closed loop `lp` from `z_from` down to `z_to` at slope `k`, going round as
-/// often as needed; ends back at the loop's start at `z_to`.
-fn ramp(lp: &[DVec2], z_from: f64, z_to: f64, k: f64, out: &mut Vec<Pose>, feed: f64) {
+/// Ramp along the closed loop `lp` (its last point equal to its first) from `z_from` down to
+/// `z_to` at slope `k` (dz/dxy), going round as often as needed; ends back at the loop's start
+/// at `z_to`. Pushes cutting moves from the loop's start at `z_from` (not pushed) onwards.
+/// Shared with the waterline's ramp entry.
+pub(crate) fn ramp(lp: &[DVec2], z_from: f64, z_to: f64, k: f64, out: &mut Vec<Pose>, feed: f64) {
     let per = perimeter(lp);
     if !(per > 0.0) || !(k > 0.0) || z_from <= z_to {
         return;

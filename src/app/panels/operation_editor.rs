@@ -23,7 +23,7 @@ use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
 use crate::strategies::finish::axis::AxisMode;
 use crate::strategies::finish::{Direction, Pattern, Strategy};
-use crate::strategies::waterline::Cut;
+use crate::strategies::waterline::{Cut, Entry, RAMP_DEFAULT_ANGLE_DEG};
 use crate::toolpath::MoveKind;
 
 /// The working copy of the operation being edited (so a drag shows its value at once and is
@@ -416,6 +416,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             cut,
             feed_mm_per_min,
             clearance_mm,
+            entry,
             ..
         } => {
             let angle = (
@@ -430,6 +431,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 cut,
                 feed_mm_per_min,
                 clearance_mm,
+                entry,
             };
             commit |= finish_3axis_rows(ui, fields, angle);
         }
@@ -440,6 +442,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             cut,
             feed_mm_per_min,
             clearance_mm,
+            entry,
             ..
         } => {
             let angle = (
@@ -454,6 +457,7 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
                 cut,
                 feed_mm_per_min,
                 clearance_mm,
+                entry,
             };
             commit |= finish_3axis_rows(ui, fields, angle);
         }
@@ -522,6 +526,7 @@ struct Finish3Fields<'a> {
     cut: &'a mut Cut,
     feed_mm_per_min: &'a mut f64,
     clearance_mm: &'a mut f64,
+    entry: &'a mut Entry,
 }
 
 /// The clearance plane's row (mm above the part or the stock).
@@ -594,10 +599,65 @@ fn finish_3axis_rows(
         *f.cut = c;
         commit = true;
     }
+    commit |= entry_row(ui, f.entry);
     let l = label(ui, "Feed", "Cutting feed");
     commit |= number(ui, l, f.feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
     ui.end_row();
     commit |= clearance_row(ui, f.clearance_mm, "Rapid plane above the part");
+    commit
+}
+
+/// How the waterline's loops are entered, with the arc's radius (mm; unticked: the tool's) or
+/// the ramp's angle (°).
+fn entry_row(ui: &mut egui::Ui, entry: &mut Entry) -> bool {
+    let l = label(
+        ui,
+        "Entry",
+        "How each loop is entered: a plunge, a tangential arc lead-in and lead-out on the \
+         free side, or a ramp down along the loop from 1 mm above",
+    );
+    let mut commit = false;
+    ui.horizontal(|ui| {
+        let before = std::mem::discriminant(entry);
+        let mut pick = *entry;
+        ui.selectable_value(&mut pick, Entry::Plunge, "plunge");
+        let arc = match *entry {
+            e @ Entry::Arc { .. } => e,
+            _ => Entry::Arc { radius_mm: None },
+        };
+        ui.selectable_value(&mut pick, arc, "arc");
+        let ramp = match *entry {
+            e @ Entry::Ramp { .. } => e,
+            _ => Entry::Ramp {
+                angle_rad: RAMP_DEFAULT_ANGLE_DEG.to_radians(),
+            },
+        };
+        ui.selectable_value(&mut pick, ramp, "ramp");
+        if std::mem::discriminant(&pick) != before {
+            *entry = pick;
+            commit = true;
+        }
+        match entry {
+            Entry::Arc { radius_mm } => {
+                let mut own = radius_mm.is_some();
+                let tick = ui
+                    .checkbox(&mut own, "radius")
+                    .on_hover_text("Unticked: the tool's radius");
+                if tick.changed() {
+                    *radius_mm = own.then_some(3.0);
+                    commit = true;
+                }
+                if let Some(r) = radius_mm.as_mut() {
+                    commit |= number(ui, l, r, 1.0, 0.01..=1000.0, 2, "mm");
+                }
+            }
+            Entry::Ramp { angle_rad } => {
+                commit |= number(ui, l, angle_rad, 1f64.to_degrees(), 0.5..=45.0, 1, "°");
+            }
+            Entry::Plunge => {}
+        }
+    });
+    ui.end_row();
     commit
 }
 
