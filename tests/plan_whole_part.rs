@@ -320,7 +320,7 @@ fn a_move_through_the_part_between_two_free_poses_is_left_out() {
     let check = PartCheck::of_workpiece(&wp, &bvh, &skip);
     let cutter = parse_tool_spec("ball:d=6").expect("tool");
     assert!(!moves_clear(&check, &cutter, &[a, e]));
-    let t = tilt_away(&check, &cutter, &[vec![a, e]], &TiltAway::default());
+    let t = tilt_away(&check, &cutter, &[vec![a, e]], &TiltAway::default(), None);
     assert_eq!(t.runs.len(), 2, "{:?}", t.left_out);
     assert_eq!(t.left_out.len(), 1, "{:?}", t.left_out);
     let l = t.left_out[0];
