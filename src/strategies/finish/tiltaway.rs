@@ -24,7 +24,8 @@
 //!    another cutter kind) are left out: the run splits there, the linking retracts over the
 //!    gap, and each left-out span is reported with where it starts and ends, its length, the
 //!    face hit and the tool part.
-//! 5. The approach to each piece's ends: straight down the axis (vertically when the axis is
+//! 5. The approach to each piece's ends (in a run that tilted, the fed plunge along the axis also
+//!    checked exactly against the drive face): straight down the axis (vertically when the axis is
 //!    level) when clear, else out along the tool axis far enough to leave the part sideways,
 //!    then up ([`approach_route`], a pin between plates); ends reachable by neither are left
 //!    out and reported as approach spans.
@@ -701,7 +702,7 @@ fn split_left_out(
     }
     let top = check.bvh.bbox().max.z + tool.radius() + 1e-3;
     for (a, b) in pieces {
-        let (a, b) = trim_approach(check, tool, run, s, (a, b), top, result);
+        let (a, b) = trim_approach((check, tool, drive), run, s, (a, b), top, result);
         if a < b {
             result.runs.push(run[a..b].to_vec());
         }
@@ -711,8 +712,11 @@ fn split_left_out(
 /// The piece `run[a..b]` without its leading and trailing poses whose approach line enters
 /// the part (each such stretch reported as an approach span).
 fn trim_approach(
-    check: &PartCheck<'_>,
-    tool: &ToolPieces,
+    (check, tool, drive): (
+        &PartCheck<'_>,
+        &ToolPieces,
+        Option<(&DriveFace<'_>, &Cutter)>,
+    ),
     run: &[Pose],
     s: &[f64],
     (mut a, mut b): (usize, usize),
@@ -722,7 +726,7 @@ fn trim_approach(
     let mut worst: Option<PlacementHit> = None;
     let start = a;
     while a < b {
-        match approach_blocked(check, tool, &run[a], top) {
+        match approach_blocked(check, tool, &run[a], top).or_else(|| plunge_gouge(drive, &run[a])) {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 a += 1;
@@ -738,7 +742,9 @@ fn trim_approach(
     }
     let end = b;
     while b > a {
-        match approach_blocked(check, tool, &run[b - 1], top) {
+        match approach_blocked(check, tool, &run[b - 1], top)
+            .or_else(|| plunge_gouge(drive, &run[b - 1]))
+        {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 b -= 1;
@@ -753,6 +759,30 @@ fn trim_approach(
         });
     }
     (a, b)
+}
+
+/// Step of the exact check along the fed plunge, mm.
+const PLUNGE_STEP_MM: f64 = 0.05;
+
+/// Where the fed plunge into `p` (along its axis: the last [`super::linking::APPROACH_HEIGHT`]
+/// of the approach, measured in z unless the axis is level) gouges the drive face, exactly.
+fn plunge_gouge(drive: Option<(&DriveFace<'_>, &Cutter)>, p: &Pose) -> Option<PlacementHit> {
+    let (d, cutter) = drive?;
+    let height = super::linking::APPROACH_HEIGHT;
+    let length = if p.axis.z <= super::linking::LEVEL_AXIS_Z {
+        height
+    } else {
+        height / p.axis.z.max(0.1)
+    };
+    let n = (length / PLUNGE_STEP_MM).ceil() as usize;
+    (1..=n).find_map(|k| {
+        let q = Pose {
+            tip: p.tip + p.axis * (length * k as f64 / n as f64),
+            cc: None,
+            ..*p
+        };
+        d.hit(cutter, None, &q)
+    })
 }
 
 fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)) -> LeftOut {
