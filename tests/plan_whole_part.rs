@@ -202,6 +202,56 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     );
 }
 
+/// Steep tilts (5° lead limit, then up to 90°) on the floor fillet (a concave quarter cylinder
+/// R5): the tilt-away goes beyond the lead limit, and every kept pose and move stays within
+/// 1 µm of the fillet (exact check) and of the other faces, with the holder clean. The tilts
+/// here stay below 30°, short of swinging the flutes level across the fillet (the own-wall case
+/// of a horizontal hole, which the ignored real-part sweep covers).
+#[test]
+fn a_steep_tilt_beyond_the_lead_limit_keeps_the_path_clean() {
+    let wp = pocket();
+    let bvh = wp.bvh().expect("bvh");
+    let tool = "ball:d=6,flute=12,length=30,holder=12x30";
+    let part = wp.part.as_ref().expect("B-rep");
+    let region = TrimRegion::of_face(&part.faces[13], part, 0.002).expect("region");
+    let patch = FacePatch::trimmed(part, 13, &region).expect("patch");
+    let skip = [13];
+    let context = PartContext {
+        check: PartCheck::of_workpiece(&wp, &bvh, &skip),
+        tilt: Some(TiltAway {
+            max_angle_rad: 5f64.to_radians(),
+            steep_angle_rad: std::f64::consts::FRAC_PI_2,
+            ..TiltAway::default()
+        }),
+    };
+    let cutter = parse_tool_spec(tool).expect("tool");
+    let strategy = Strategy::IsoParametric {
+        pattern: Pattern::Zigzag,
+    };
+    let r = plan_finish_in(patch, &cutter, tool, strategy, &opts(), Some(&context)).expect("plan");
+    let g = r.toolpath.summary.gouge.expect("checked");
+    let steepest = r
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .filter_map(|p| {
+            let n = (p.tip + p.axis * 3.0 - p.cc?).normalize();
+            Some(p.axis.angle_between(n).to_degrees())
+        })
+        .fold(0.0_f64, f64::max);
+    eprintln!(
+        "steepest tilt {steepest:.1}°, exact gouge {:.4} mm at {} poses, {} left out",
+        g.max_depth_mm,
+        g.gouging_poses,
+        r.left_out.len()
+    );
+    assert!(steepest > 5.0, "steep tilts used: {steepest}°");
+    assert!(g.max_depth_mm <= 1e-3, "{:?}", g);
+    assert!(r.part_hits.is_empty(), "{:?}", r.part_hits);
+    assert!(holder_clean(&wp, &bvh, &r, tool));
+}
+
 #[test]
 fn tangent_connected_faces_of_the_pocket_floor() {
     let wp = pocket();
@@ -320,7 +370,7 @@ fn a_move_through_the_part_between_two_free_poses_is_left_out() {
     let check = PartCheck::of_workpiece(&wp, &bvh, &skip);
     let cutter = parse_tool_spec("ball:d=6").expect("tool");
     assert!(!moves_clear(&check, &cutter, &[a, e]));
-    let t = tilt_away(&check, &cutter, &[vec![a, e]], &TiltAway::default());
+    let t = tilt_away(&check, &cutter, &[vec![a, e]], &TiltAway::default(), None);
     assert_eq!(t.runs.len(), 2, "{:?}", t.left_out);
     assert_eq!(t.left_out.len(), 1, "{:?}", t.left_out);
     let l = t.left_out[0];

@@ -9,7 +9,8 @@ use super::face::FacePatch;
 use super::pass::Pass;
 use super::setup::Setup;
 use super::tiltaway::{
-    PartContext, approach_route, clear_height, moves_clear, note_tilt, part_check, tilt_away,
+    DriveFace, PartContext, approach_route, clear_height, moves_clear, note_tilt, part_check,
+    tilt_away,
 };
 use super::{FinishOptions, Pattern, PlanError, Strategy};
 use super::{isoparam, isoplanar, isoscallop, linking, repair};
@@ -189,7 +190,12 @@ pub fn plan_finish_in(
     if let Some(ctx) = part
         && let Some(limits) = ctx.tilt
     {
-        let t = tilt_away(&ctx.check, cutter, &runs, &limits);
+        let drive = repair::check_patch(&setup).map(|patch| DriveFace {
+            patch,
+            opts: repair::check_options(),
+            face: ctx.check.skip_faces.first().copied().unwrap_or(usize::MAX),
+        });
+        let t = tilt_away(&ctx.check, cutter, &runs, &limits, drive.as_ref());
         runs = t.runs;
         note_tilt(&t.left_out, t.tilted_poses, t.max_tilt_rad, &mut diags);
         left_out = t.left_out;

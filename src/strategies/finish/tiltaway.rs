@@ -16,11 +16,16 @@
 //!    falling off at `rate_rad_per_mm` of path on each side (two sweeps); a pose takes the
 //!    direction of the requirement that set its angle. The axis therefore turns at most at that
 //!    rate (plus the change of the planned axis itself).
-//! 4. Every pose is checked again; the poses still hitting (no free tilt, a cutting-end hit,
+//!    With the drive face given ([`DriveFace`]), a candidate tilt must also leave the drive face
+//!    itself ungouged (exact check, depth ≤ its tolerance): a steep tilt across a hole swings
+//!    the flutes toward the hole's own far wall.
+//! 4. Every pose is checked again (and, in a run that tilted, every pose and move against the
+//!    drive face); the poses still hitting (no free tilt, a cutting-end hit,
 //!    another cutter kind) are left out: the run splits there, the linking retracts over the
 //!    gap, and each left-out span is reported with where it starts and ends, its length, the
 //!    face hit and the tool part.
-//! 5. The approach to each piece's ends: straight down the axis (vertically when the axis is
+//! 5. The approach to each piece's ends (in a run that tilted, the fed plunge along the axis also
+//!    checked exactly against the drive face): straight down the axis (vertically when the axis is
 //!    level) when clear, else out along the tool axis far enough to leave the part sideways,
 //!    then up ([`approach_route`], a pin between plates); ends reachable by neither are left
 //!    out and reported as approach spans.
@@ -28,6 +33,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::checks::FacePatch;
+use crate::checks::gouge::{GougeOptions, check_move, check_pose};
 use crate::checks::motion::{Placement, interpolate, motion_bound};
 use crate::checks::part::{PartCheck, PartHit, PlacementHit, ToolPieces};
 use crate::diagnostics::Diagnostic;
@@ -60,6 +67,31 @@ impl Default for TiltAway {
             max_from_vertical_rad: std::f64::consts::FRAC_PI_2,
             steep_angle_rad: 0.0,
         }
+    }
+}
+
+/// The drive face for the tilt-away: tilted poses must not gouge it (exact check).
+#[derive(Clone, Copy, Debug)]
+pub struct DriveFace<'a> {
+    /// The drive face's exact patch.
+    pub patch: FacePatch<'a>,
+    /// Its exact check's options (tolerance, motion step).
+    pub opts: GougeOptions,
+    /// Its face index (for the report of left-out spans).
+    pub face: usize,
+}
+
+impl DriveFace<'_> {
+    /// The exact gouge of pose `p` (and of the move from `prev` into it) into the drive face.
+    fn hit(&self, cutter: &Cutter, prev: Option<&Pose>, p: &Pose) -> Option<PlacementHit> {
+        let g = check_pose(&self.patch, cutter, p, 0, &self.opts)
+            .or_else(|| check_move(&self.patch, cutter, prev?, p, 0, &self.opts))?;
+        let part = match g.kind {
+            crate::checks::gouge::GougeKind::Flank => ToolPart::Flutes,
+            crate::checks::gouge::GougeKind::Shank => ToolPart::Shank,
+            _ => ToolPart::CuttingEnd,
+        };
+        Some((g.point, g.depth_mm, self.face, part))
     }
 }
 
@@ -208,17 +240,19 @@ pub struct TiltResult {
 }
 
 /// Apply the tilt-away to every run (see the module doc); the check should have `whole_tool`.
+/// With `drive`, tilts that gouge the drive face are refused.
 #[must_use]
 pub fn tilt_away(
     check: &PartCheck<'_>,
     cutter: &Cutter,
     runs: &[Vec<Pose>],
     limits: &TiltAway,
+    drive: Option<&DriveFace<'_>>,
 ) -> TiltResult {
     let tool = ToolPieces::of(cutter, check.whole_tool);
     let per_run: Vec<TiltResult> = runs
         .par_iter()
-        .map(|run| tilt_run(check, &tool, cutter, run, limits))
+        .map(|run| tilt_run(check, &tool, cutter, run, limits, drive))
         .collect();
     let mut out = TiltResult::default();
     for r in per_run {
@@ -264,8 +298,11 @@ fn free(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose) -> bool {
 /// centre) in these directions, the first free one wins: away from the hit point, toward the
 /// contact normal (ball centre − contact), toward +z.
 fn required(
-    check: &PartCheck<'_>,
-    tool: &ToolPieces,
+    (check, tool, drive): (
+        &PartCheck<'_>,
+        &ToolPieces,
+        Option<(&DriveFace<'_>, &Cutter)>,
+    ),
     radius: f64,
     p: &Pose,
     point: DVec3,
@@ -289,7 +326,8 @@ fn required(
         dirs.iter().find_map(|&away| {
             let q = pose_turned(p, radius, away, theta);
             let vertical_ok = q.axis.z.clamp(-1.0, 1.0).acos() <= limits.max_from_vertical_rad;
-            (vertical_ok && free(check, tool, &q)).then_some((theta, away))
+            let own_ok = || drive.is_none_or(|(d, c)| d.hit(c, None, &q).is_none());
+            (vertical_ok && free(check, tool, &q) && own_ok()).then_some((theta, away))
         })
     })
 }
@@ -332,6 +370,7 @@ fn tilt_run(
     cutter: &Cutter,
     run: &[Pose],
     limits: &TiltAway,
+    drive: Option<&DriveFace<'_>>,
 ) -> TiltResult {
     let hits: Vec<_> = run
         .iter()
@@ -339,7 +378,7 @@ fn tilt_run(
         .collect();
     if hits.iter().all(Option::is_none) {
         let mut result = TiltResult::default();
-        split_left_out(check, tool, &densify(check, tool, run), &mut result);
+        split_left_out(check, tool, &densify(check, tool, run), None, &mut result);
         return result;
     }
     let ball = cutter.kind == CutterKind::Ball;
@@ -352,7 +391,14 @@ fn tilt_run(
             Some((point, _, _, part))
                 if can_tilt && (*part != ToolPart::CuttingEnd || above_ball(p, *point, radius)) =>
             {
-                required(check, tool, radius, p, *point, limits).unwrap_or((0.0, DVec3::ZERO))
+                required(
+                    (check, tool, drive.map(|d| (d, cutter))),
+                    radius,
+                    p,
+                    *point,
+                    limits,
+                )
+                .unwrap_or((0.0, DVec3::ZERO))
             }
             _ => (0.0, DVec3::ZERO),
         })
@@ -378,7 +424,16 @@ fn tilt_run(
         }
     }
     let tilted = follow_planned(run, &tilted, radius);
-    split_left_out(check, tool, &densify(check, tool, &tilted), &mut result);
+    let own = drive
+        .filter(|_| result.tilted_poses > 0)
+        .map(|d| (d, cutter));
+    split_left_out(
+        check,
+        tool,
+        &densify(check, tool, &tilted),
+        own,
+        &mut result,
+    );
     result
 }
 
@@ -593,15 +648,27 @@ pub fn moves_clear(check: &PartCheck<'_>, cutter: &Cutter, poses: &[Pose]) -> bo
     dense.len() == poses.len() && dense.iter().all(|p| free(check, &tool, p))
 }
 
-/// Check every pose again; split the run at the poses still hitting, and report each span.
-/// Then each piece loses its first and last poses while the approach line to them (or the
+/// Check every pose again (with `drive`, also every pose and the move into it against the
+/// drive face, exactly); split the run at the poses still hitting, and report each span. Then each piece loses its first and last poses while the approach line to them (or the
 /// retract from them) enters the part; those are reported as approach spans.
-fn split_left_out(check: &PartCheck<'_>, tool: &ToolPieces, run: &[Pose], result: &mut TiltResult) {
+fn split_left_out(
+    check: &PartCheck<'_>,
+    tool: &ToolPieces,
+    run: &[Pose],
+    drive: Option<(&DriveFace<'_>, &Cutter)>,
+    result: &mut TiltResult,
+) {
     let s = arc_lengths(run);
     let s = s.as_slice();
     let hits: Vec<_> = run
-        .iter()
-        .map(|p| check.placement(tool, p.tip, p.axis))
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            check.placement(tool, p.tip, p.axis).or_else(|| {
+                let (d, c) = drive?;
+                d.hit(c, i.checked_sub(1).and_then(|j| run.get(j)), p)
+            })
+        })
         .collect();
     let mut pieces: Vec<(usize, usize)> = Vec::new();
     let mut current: Vec<Pose> = Vec::new();
@@ -635,7 +702,7 @@ fn split_left_out(check: &PartCheck<'_>, tool: &ToolPieces, run: &[Pose], result
     }
     let top = check.bvh.bbox().max.z + tool.radius() + 1e-3;
     for (a, b) in pieces {
-        let (a, b) = trim_approach(check, tool, run, s, (a, b), top, result);
+        let (a, b) = trim_approach((check, tool, drive), run, s, (a, b), top, result);
         if a < b {
             result.runs.push(run[a..b].to_vec());
         }
@@ -645,8 +712,11 @@ fn split_left_out(check: &PartCheck<'_>, tool: &ToolPieces, run: &[Pose], result
 /// The piece `run[a..b]` without its leading and trailing poses whose approach line enters
 /// the part (each such stretch reported as an approach span).
 fn trim_approach(
-    check: &PartCheck<'_>,
-    tool: &ToolPieces,
+    (check, tool, drive): (
+        &PartCheck<'_>,
+        &ToolPieces,
+        Option<(&DriveFace<'_>, &Cutter)>,
+    ),
     run: &[Pose],
     s: &[f64],
     (mut a, mut b): (usize, usize),
@@ -656,7 +726,7 @@ fn trim_approach(
     let mut worst: Option<PlacementHit> = None;
     let start = a;
     while a < b {
-        match approach_blocked(check, tool, &run[a], top) {
+        match approach_blocked(check, tool, &run[a], top).or_else(|| plunge_gouge(drive, &run[a])) {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 a += 1;
@@ -672,7 +742,9 @@ fn trim_approach(
     }
     let end = b;
     while b > a {
-        match approach_blocked(check, tool, &run[b - 1], top) {
+        match approach_blocked(check, tool, &run[b - 1], top)
+            .or_else(|| plunge_gouge(drive, &run[b - 1]))
+        {
             Some(h) => {
                 worst = Some(worst.filter(|w| w.1 >= h.1).unwrap_or(h));
                 b -= 1;
@@ -687,6 +759,30 @@ fn trim_approach(
         });
     }
     (a, b)
+}
+
+/// Step of the exact check along the fed plunge, mm.
+const PLUNGE_STEP_MM: f64 = 0.05;
+
+/// Where the fed plunge into `p` (along its axis: the last [`super::linking::APPROACH_HEIGHT`]
+/// of the approach, measured in z unless the axis is level) gouges the drive face, exactly.
+fn plunge_gouge(drive: Option<(&DriveFace<'_>, &Cutter)>, p: &Pose) -> Option<PlacementHit> {
+    let (d, cutter) = drive?;
+    let height = super::linking::APPROACH_HEIGHT;
+    let length = if p.axis.z <= super::linking::LEVEL_AXIS_Z {
+        height
+    } else {
+        height / p.axis.z.max(0.1)
+    };
+    let n = (length / PLUNGE_STEP_MM).ceil() as usize;
+    (1..=n).find_map(|k| {
+        let q = Pose {
+            tip: p.tip + p.axis * (length * k as f64 / n as f64),
+            cc: None,
+            ..*p
+        };
+        d.hit(cutter, None, &q)
+    })
 }
 
 fn left_out(run: &[Pose], s: &[f64], (a, b, worst): (usize, usize, PlacementHit)) -> LeftOut {
