@@ -192,11 +192,11 @@ pub fn polygon_from_csv(text: &str) -> Result<Vec<[f64; 2]>, String> {
 }
 
 /// The first closed loop of a DXF file's ENTITIES: an `LWPOLYLINE` (its group 10/20 pairs) or
-/// a `POLYLINE` (its `VERTEX` entities), in mm; bulges are ignored (straight edges).
+/// a `POLYLINE` (its `VERTEX` entities), in mm, with straight edges.
 ///
 /// # Errors
-/// The line (1-based) of a group code or coordinate that is not a number, or no loop of at
-/// least three vertices.
+/// The line (1-based) of a group code or coordinate that is not a number or of an arc segment
+/// (a non-zero bulge, group 42), or no loop of at least three vertices.
 pub fn polygon_from_dxf(text: &str) -> Result<Vec<[f64; 2]>, String> {
     let lines: Vec<&str> = text.lines().map(str::trim).collect();
     let mut poly: Vec<[f64; 2]> = Vec::new();
@@ -228,6 +228,13 @@ pub fn polygon_from_dxf(text: &str) -> Result<Vec<[f64; 2]>, String> {
                 if let Some(px) = x.take() {
                     poly.push([px, number()?]);
                 }
+            }
+            42 if matches!(entity, "LWPOLYLINE" | "VERTEX") && number()? != 0.0 => {
+                return Err(format!(
+                    "line {}: an arc segment (bulge {value}) is not supported: give the outline \
+                     as straight segments",
+                    k + 2
+                ));
             }
             _ => {}
         }
@@ -475,5 +482,24 @@ fn interpolate(a: &Pose, b: &Pose, t: f64) -> Pose {
         feed_mm_per_min: b.feed_mm_per_min,
         scallop_mm: b.scallop_mm,
         contact: b.contact,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::polygon_from_dxf;
+
+    const SQUARE: &str = "0\nLWPOLYLINE\n90\n4\n10\n0\n20\n0\n10\n10\n20\n0\n42\nBULGE\n10\n10\n20\n10\n10\n0\n20\n10\n0\nENDSEC\n";
+
+    #[test]
+    fn a_dxf_outline_with_an_arc_is_refused_naming_the_line() {
+        let straight = SQUARE.replace("42\nBULGE\n", "42\n0\n");
+        assert_eq!(
+            polygon_from_dxf(&straight).expect("straight outline"),
+            vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
+        );
+        let arc = SQUARE.replace("BULGE", "0.5");
+        let e = polygon_from_dxf(&arc).expect_err("an arc");
+        assert!(e.starts_with("line 14: an arc segment (bulge 0.5)"), "{e}");
     }
 }
