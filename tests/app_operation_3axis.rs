@@ -3,6 +3,8 @@
 //! calculated in the background, and its path has poses on the part.
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::time::Duration;
 
 use egui_kittest::Harness;
@@ -44,9 +46,7 @@ fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Wor
 
 #[test]
 fn a_waterline_operation_is_added_edited_and_calculated() {
-    let dir = std::env::temp_dir().join(format!("talas-app-op3-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("app-op3");
     let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
     settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
 
@@ -110,9 +110,7 @@ fn a_waterline_operation_is_added_edited_and_calculated() {
 /// `cargo test --test app_operation_3axis tilt_away`
 #[test]
 fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
-    let dir = std::env::temp_dir().join(format!("talas-app-tilt-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("app-tilt");
     let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
     settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     h.get_by_label("Machining").click();
@@ -143,9 +141,7 @@ fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
 /// `cargo test --test app_operation_3axis rest_and_pencil`
 #[test]
 fn the_rest_and_pencil_editors_edit_their_fields() {
-    let dir = std::env::temp_dir().join(format!("talas-app-rest-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("app-rest");
     let mut h = harness_sized(WorkstationConfig::isolated(None, dir.clone()), 2000.0);
     settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     h.get_by_label("Machining").click();
@@ -227,9 +223,7 @@ fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose()
     use talas::project::ToolEntry;
     use talas::project::finish_group::{FindingKind, findings};
     use talas::tools::solid::ToolPart;
-    let dir = std::env::temp_dir().join(format!("talas-app-findings-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("app-findings");
     let part =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp");
     // A tall window: the list lies below the summary.
