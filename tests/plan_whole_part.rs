@@ -173,16 +173,7 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     assert!(holder_clean(&wp, &bvh, &tilted, tool));
     // The planned axis is the contact normal (lead and tilt 0): the tilt-away angle is the
     // angle between the axis and the normal (ball centre − contact).
-    let max_tilt = tilted
-        .toolpath
-        .poses
-        .iter()
-        .filter(|p| p.kind == MoveKind::Cut)
-        .filter_map(|p| {
-            let n = (p.tip + p.axis * 3.0 - p.cc?).normalize();
-            Some(p.axis.angle_between(n).to_degrees())
-        })
-        .fold(0.0_f64, f64::max);
+    let max_tilt = largest_tilt_deg(&tilted.toolpath);
     assert!(max_tilt > 1.0 && max_tilt <= 30.0 + 1e-6, "{max_tilt}°");
     // 5° allowed: the horizontal top pass cannot be freed: left out, reported, and what is
     // kept is clean.
@@ -230,16 +221,7 @@ fn a_steep_tilt_beyond_the_lead_limit_keeps_the_path_clean() {
     };
     let r = plan_finish_in(patch, &cutter, tool, strategy, &opts(), Some(&context)).expect("plan");
     let g = r.toolpath.summary.gouge.expect("checked");
-    let steepest = r
-        .toolpath
-        .poses
-        .iter()
-        .filter(|p| p.kind == MoveKind::Cut)
-        .filter_map(|p| {
-            let n = (p.tip + p.axis * 3.0 - p.cc?).normalize();
-            Some(p.axis.angle_between(n).to_degrees())
-        })
-        .fold(0.0_f64, f64::max);
+    let steepest = largest_tilt_deg(&r.toolpath);
     eprintln!(
         "steepest tilt {steepest:.1}°, exact gouge {:.4} mm at {} poses, {} left out",
         g.max_depth_mm,
@@ -387,4 +369,17 @@ fn a_move_through_the_part_between_two_free_poses_is_left_out() {
             "a kept run hits"
         );
     }
+}
+
+/// The largest angle (°) between a cutting pose's axis and its contact normal (ball centre −
+/// contact, for the 3 mm ball of these tests): the tilt-away's tilt where lead and tilt are 0.
+fn largest_tilt_deg(tp: &talas::toolpath::Toolpath) -> f64 {
+    tp.poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .filter_map(|p| {
+            let n = (p.tip + p.axis * 3.0 - p.cc?).normalize();
+            Some(p.axis.angle_between(n).to_degrees())
+        })
+        .fold(0.0_f64, f64::max)
 }
