@@ -69,14 +69,17 @@ fn input<'a>(
     }
 }
 
-#[test]
-fn pieces_are_timed_at_the_feed_or_on_the_planned_clock() {
-    let stock = Stock::Box {
+/// The block the slot is cut in: 20 × 20 × 10 mm, its top at z = 0.
+fn slot_stock() -> Stock {
+    Stock::Box {
         min_mm: [-10.0, -10.0, -10.0],
         max_mm: [10.0, 10.0, 0.0],
-    };
-    let tp = slot();
-    let c = coefficients();
+    }
+}
+
+#[test]
+fn pieces_are_timed_at_the_feed_or_on_the_planned_clock() {
+    let (stock, tp, c) = (slot_stock(), slot(), coefficients());
     let r = operation_forces(&input(&stock, &tp, vec![], &c, None), &Progress::new()).unwrap();
     assert!(!r.planned_time);
     // Programmed clock: rapids at the default rapid rate, the plunge 8 mm and the slot 40 mm
@@ -198,12 +201,7 @@ fn the_deflection_profile_is_the_cantilevers_closed_form() {
 fn a_poses_deflection_is_its_heaviest_pieces() {
     use talas::force::deflection::{BeamSpec, Cantilever, deflection_profile};
     use talas::project::forces::pose_deflection;
-    let stock = Stock::Box {
-        min_mm: [-10.0, -10.0, -10.0],
-        max_mm: [10.0, 10.0, 0.0],
-    };
-    let tp = slot();
-    let c = coefficients();
+    let (stock, tp, c) = (slot_stock(), slot(), coefficients());
     let r = operation_forces(&input(&stock, &tp, vec![], &c, None), &Progress::new()).unwrap();
     let cutter = &tp.tool.cutter;
     let spec = BeamSpec {
