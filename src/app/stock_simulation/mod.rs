@@ -4,7 +4,7 @@
 //! against a tolerance band (graded blue → white → orange within the band; violet for gouges
 //! and red for material left beyond it), its legend, red crosses at the collisions, and the
 //! report in the operation editor ([`editor`]). "Stock here" cuts up to the playback pose from
-//! the keyframes a whole run kept ([`stock_here`]).
+//! the keyframes a whole run kept (`stock_here`).
 
 pub mod editor;
 pub mod feature;
