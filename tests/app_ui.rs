@@ -530,6 +530,16 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     let out = dir.join("raster.ngc");
     h.state_mut().apply(Command::ExportProgramTo(out.clone()));
     assert_eq!(std::fs::read_to_string(&out).expect("exported"), text);
+    // Showing the reduced surface hides the simulated stock (the reduction asks the
+    // workstation, which passes it on to the stock simulation).
+    assert!(simulation(h.state()).is_visible());
+    h.state_mut().apply(DataReduction::command("open"));
+    h.run_steps(2);
+    h.get_by_label("Reduce").click();
+    h.run_steps(2);
+    settle_while(&mut h, "reduction", reducing);
+    assert!(reduction(h.state()).is_visible());
+    assert!(!simulation(h.state()).is_visible());
     // A stock change makes the simulation stale (not shown for the operation any more).
     h.state_mut()
         .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {
