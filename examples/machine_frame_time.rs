@@ -24,7 +24,7 @@ mod measure {
     use std::time::Instant;
 
     use glam::DVec3;
-    use talas::app::machine_view::{MachineView, machine_sphere};
+    use talas::app::operator_panel::machine_view::{MachineView, machine_sphere};
     use talas::control::{Action, Control, ControlConfig, LiveStock, Mode, collide};
     use talas::machine::{Machine, MachineJoints};
     use talas::render::{Camera, DisplayOptions, OffscreenRenderer, Scene, StandardView};

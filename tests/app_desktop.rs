@@ -16,6 +16,7 @@ use talas::app::command::{Command, PlaybackCommand};
 use talas::app::document::Selection;
 use talas::app::file_chooser::ChooserPurpose;
 use talas::app::panels::properties::Focus;
+use talas::app::stock_simulation::{ShownSimulation, StockSimulation};
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind, Project};
 use talas::render::{Projection, StandardView};
@@ -417,18 +418,15 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     // Stock here: the stock at the playback pose gets its report in the editor (cut from the
     // stock keyframes the whole simulation kept).
     h.state_mut().apply(Command::Simulate(0));
-    settle_while(&mut h, "simulation", Workstation::is_simulating);
+    settle_while(&mut h, "simulation", is_simulating);
     assert_eq!(
-        h.state().simulation_of(0).map(|s| s.up_to_pose()),
+        simulation_of(h.state(), 0).map(|s| s.up_to_pose()),
         Some(None)
     );
     h.state_mut().apply(Command::SimulateToPlayback);
-    settle_while(&mut h, "simulation", Workstation::is_simulating);
+    settle_while(&mut h, "simulation", is_simulating);
     h.run_steps(2);
-    let sim = h
-        .state()
-        .simulation_of(0)
-        .expect("the report of the stock here");
+    let sim = simulation_of(h.state(), 0).expect("the report of the stock here");
     assert_eq!(sim.up_to_pose(), Some(stepped));
     // The deviation is coloured against ± the operation's scallop (0.1 mm), not ± the largest
     // deviation.
@@ -438,7 +436,7 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     h.get_by_label("Deepest gouge");
     h.get_by_label_contains("(Stock here)");
     type_number(&mut h, "Tolerance band ±", "0.02");
-    let band = h.state().shown_simulation().expect("shown").band_mm;
+    let band = simulation(h.state()).shown().expect("shown").band_mm;
     assert!((band - 0.02).abs() < 1e-12, "{band}");
 
     // New project (Discard the changes): nothing of the old one stays attached.
@@ -454,7 +452,7 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     h.run_steps(2);
     assert!(h.state().operation_result(0).is_none(), "no old path");
     assert!(h.state().gcode_pane().is_none(), "no old program");
-    assert!(h.state().shown_simulation().is_none(), "no old stock");
+    assert!(simulation(h.state()).shown().is_none(), "no old stock");
     assert_eq!(h.state().tool_pose_index(), None);
     h.get_by_label("Not calculated yet.");
     let _ = std::fs::remove_dir_all(&dir);
@@ -497,4 +495,20 @@ fn a_face_group_is_selected_by_clicks_and_tangent_chain_and_becomes_one_operatio
     assert_eq!(op.kind(), OperationKind::IsoPlanar);
 
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The stock-simulation feature.
+fn simulation(ws: &Workstation) -> &StockSimulation {
+    ws.feature_ref()
+        .expect("the stock simulation is registered")
+}
+
+/// Is a simulation running?
+fn is_simulating(ws: &Workstation) -> bool {
+    simulation(ws).is_running()
+}
+
+/// The simulation shown for operation `index`, when it matches the project as it is now.
+fn simulation_of(ws: &Workstation, index: usize) -> Option<&ShownSimulation> {
+    simulation(ws).simulation_of(index, &ws.feature_view())
 }

@@ -250,16 +250,24 @@ fn the_workstation_menu_opens_the_panel() {
         .with_accessibility_check(false)
         .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
     h.run_steps(3);
-    assert!(h.state_mut().operator_panel().is_some_and(|p| !p.open));
+    assert!(
+        h.state_mut()
+            .feature::<OperatorPanel>()
+            .is_some_and(|p| !p.open)
+    );
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("Operator panel…").click();
     h.run_steps(3);
-    assert!(h.state_mut().operator_panel().is_some_and(|p| p.open));
+    assert!(
+        h.state_mut()
+            .feature::<OperatorPanel>()
+            .is_some_and(|p| p.open)
+    );
     h.get_by_label_contains("Operator panel · virtual control");
     assert!(
         h.state_mut()
-            .operator_panel()
+            .feature::<OperatorPanel>()
             .is_some_and(|p| p.control().is_some())
     );
     assert!(h.query_by_label("Cycle start").is_some());
@@ -353,7 +361,11 @@ fn machine_camera_presets_in_the_view_menu_frame_the_whole_machine() {
         h.run_steps(2);
         h.get_by_label(label).click();
         h.run_steps(3);
-        assert!(h.state_mut().operator_panel().is_some_and(|p| p.open));
+        assert!(
+            h.state_mut()
+                .feature::<OperatorPanel>()
+                .is_some_and(|p| p.open)
+        );
         let cam = *h.state().camera();
         assert!(
             (cam.yaw_rad - yaw).abs() < 1e-6 && (cam.pitch_rad - pitch).abs() < 1e-6,

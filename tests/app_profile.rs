@@ -289,19 +289,27 @@ fn the_workstation_menu_opens_the_editor() {
         .with_accessibility_check(false)
         .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws);
     h.run_steps(3);
-    assert!(h.state_mut().profile_editor().is_some_and(|p| !p.open));
+    assert!(
+        h.state_mut()
+            .feature::<ProfileEditor>()
+            .is_some_and(|p| !p.open)
+    );
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("2D profile / EDM electrode…").click();
     h.run_steps(3);
-    assert!(h.state_mut().profile_editor().is_some_and(|p| p.open));
+    assert!(
+        h.state_mut()
+            .feature::<ProfileEditor>()
+            .is_some_and(|p| p.open)
+    );
     h.get_by_label_contains("Profile editor · ball electrode");
     // The example profile is computed and its gouges listed.
     for _ in 0..2000 {
         h.step();
         if !h
             .state_mut()
-            .profile_editor()
+            .feature::<ProfileEditor>()
             .is_some_and(|p| p.is_computing())
         {
             break;
@@ -311,7 +319,7 @@ fn the_workstation_menu_opens_the_editor() {
     h.run_steps(2);
     let flags = h
         .state_mut()
-        .profile_editor()
+        .feature::<ProfileEditor>()
         .and_then(|p| p.result())
         .map_or(0, |r| r.flags.len());
     assert!(flags > 0);

@@ -16,6 +16,7 @@ use talas::app::document_loader::load_part;
 use talas::app::panels::properties::Focus;
 use talas::app::reduction::DataReduction;
 use talas::app::scalar_field::curvature_field;
+use talas::app::stock_simulation::{ShownSimulation, StockSimulation};
 use talas::app::viewport::picking::surface_pick;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::diagnostics::Progress;
@@ -451,9 +452,9 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     // Simulate from the operation editor's button.
     h.get_by_label("Simulate").click();
     h.run_steps(2);
-    settle_while(&mut h, "simulation", Workstation::is_simulating);
+    settle_while(&mut h, "simulation", is_simulating);
     h.run_steps(2);
-    let sim = h.state().simulation_of(0).expect("simulated");
+    let sim = simulation_of(h.state(), 0).expect("simulated");
     let whole_removed = sim.simulated.report.removed_volume_mm3;
     assert!(sim.simulated.report.removed_volume_mm3 > 0.0);
     // The default tool's flutes (18 mm) are shorter than the stock is deep over the valleys:
@@ -470,10 +471,9 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         talas::app::command::PlaybackCommand::Seek(60.0),
     ));
     h.state_mut().apply(Command::SimulateToPlayback);
-    settle_while(&mut h, "simulation", Workstation::is_simulating);
-    let partial = h
-        .state()
-        .shown_simulation()
+    settle_while(&mut h, "simulation", is_simulating);
+    let partial = simulation(h.state())
+        .shown()
         .expect("partial stock")
         .simulated
         .report
@@ -530,6 +530,16 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     let out = dir.join("raster.ngc");
     h.state_mut().apply(Command::ExportProgramTo(out.clone()));
     assert_eq!(std::fs::read_to_string(&out).expect("exported"), text);
+    // Showing the reduced surface hides the simulated stock (the reduction asks the
+    // workstation, which passes it on to the stock simulation).
+    assert!(simulation(h.state()).is_visible());
+    h.state_mut().apply(DataReduction::command("open"));
+    h.run_steps(2);
+    h.get_by_label("Reduce").click();
+    h.run_steps(2);
+    settle_while(&mut h, "reduction", reducing);
+    assert!(reduction(h.state()).is_visible());
+    assert!(!simulation(h.state()).is_visible());
     // A stock change makes the simulation stale (not shown for the operation any more).
     h.state_mut()
         .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {
@@ -537,7 +547,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
             max_mm: [160.0, 120.0, 20.0],
         })));
     h.run_steps(2);
-    assert!(h.state().simulation_of(0).is_none());
+    assert!(simulation_of(h.state(), 0).is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -691,4 +701,20 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
     let (m2, n2) = (red.reduced.z.rows(), red.reduced.z.cols());
     assert_eq!(back.mesh.triangles.len(), 2 * (m2 - 1) * (n2 - 1));
+}
+
+/// The stock-simulation feature.
+fn simulation(ws: &Workstation) -> &StockSimulation {
+    ws.feature_ref()
+        .expect("the stock simulation is registered")
+}
+
+/// Is a simulation running?
+fn is_simulating(ws: &Workstation) -> bool {
+    simulation(ws).is_running()
+}
+
+/// The simulation shown for operation `index`, when it matches the project as it is now.
+fn simulation_of(ws: &Workstation, index: usize) -> Option<&ShownSimulation> {
+    simulation(ws).simulation_of(index, &ws.feature_view())
 }

@@ -3,7 +3,7 @@
 //! The menu bar ([`super::panels::menu_bar`]) draws its entries from [`actions`] and
 //! [`shortcuts`] turns key presses into the same commands, so a menu entry and its key cannot
 //! disagree. (The menus' check boxes and radio buttons, which show state rather than issue one
-//! command, are laid out by the menu bar itself.)
+//! command, are laid out by the menu bar itself; a feature's check boxes are [`Toggle`]s.)
 //!
 //! Adding an entry or a key is one [`Action`] in [`actions`].
 
@@ -59,6 +59,20 @@ pub enum Menu {
     View,
     /// Operations, calculate, simulate, post and the tool windows.
     Machining,
+}
+
+/// A check box a feature adds at the end of View → Tool Paths: it shows `on` and, when
+/// clicked, issues `set` with the new value.
+#[derive(Clone, Copy, Debug)]
+pub struct Toggle {
+    /// The label.
+    pub label: &'static str,
+    /// Checked.
+    pub on: bool,
+    /// Can be clicked (greyed out otherwise).
+    pub enabled: bool,
+    /// The command that sets it.
+    pub set: fn(bool) -> Command,
 }
 
 /// When an action can be taken: the menu greys it out otherwise (its key still asks, and the

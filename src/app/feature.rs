@@ -6,10 +6,13 @@
 //! 1. offers every [`Command`] to each feature ([`Feature::apply`]) before its own router;
 //! 2. polls the features' jobs ([`Feature::poll`]), shows a running one in the status bar
 //!    ([`Feature::job_status`]) and cancels it from there ([`Feature::cancel`]);
-//! 3. lets each feature draw its windows or panels ([`Feature::ui`]) from a read-only
-//!    [`FeatureView`] of the workstation, collecting the commands they return;
-//! 4. adds the features' meshes and lines to the viewport ([`Feature::scene`]); one feature
-//!    may draw a surface instead of the part ([`SceneParts::instead_of_part`]).
+//! 3. lets each feature draw its windows or panels ([`Feature::ui`]), its section of the
+//!    operation editor ([`Feature::operation_ui`]) and its View-menu check boxes
+//!    ([`Feature::toggles`]) from a read-only [`FeatureView`] of the workstation, collecting the
+//!    commands they return;
+//! 4. lets each feature steer the viewport (camera, drawn tool: [`Feature::steer_view`]) and
+//!    adds the features' meshes and lines to it ([`Feature::scene`]); one feature may draw a
+//!    surface instead of the part ([`SceneParts::instead_of_part`]).
 //!
 //! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
 //! read-only view, the egui context its jobs wake, fresh render ids, and a list of [`Notice`]s
@@ -18,18 +21,22 @@
 //!
 //! The features' menu entries and keys join the one table of [`super::actions`]
 //! ([`Feature::actions`]); their commands are [`Command::Feature`] with the feature's id, so a
-//! new feature needs no new [`Command`] variant.
+//! new feature needs no new [`Command`] variant. (Every command passes the features first, so
+//! a feature may also take one of the workstation's own variants, as the stock simulation
+//! takes `Simulate`, or watch one go by, as it watches `ReplacePath`.)
 
 use std::any::Any;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
 use super::actions::Action;
+pub use super::actions::Toggle;
 use super::command::{Command, FeatureCommand};
 use super::document::Document;
 use super::file_dialog::SavePurpose;
 use super::job::JobStatus;
 use super::toolpaths::ComputedOp;
+use super::viewport::ViewportState;
 use crate::diagnostics::Severity;
 use crate::project::Project;
 use crate::render::{DataId, LineInstance, MeshInstance, ScalarMapping};
@@ -43,6 +50,13 @@ pub struct FeatureView<'a> {
     pub document: Option<&'a Document>,
     /// The active operation (the one played back, posted, simulated), else the first.
     pub active_operation: Option<usize>,
+    /// The operation a menu entry or key acts on: the one in the properties panel, else the
+    /// active one, else the first.
+    pub target_operation: Option<usize>,
+    /// The pose picked on the active operation's path.
+    pub picked_pose: Option<usize>,
+    /// The pose the playback has reached on the active path (`None`: the whole path shown).
+    pub playback_pose: Option<usize>,
     /// The active operation's posted program, when current: operation name and G-code text.
     pub posted: Option<(&'a str, &'a str)>,
     /// The data folder (settings files such as the force coefficient library).
@@ -175,6 +189,8 @@ pub struct SceneParts {
     pub instead_of_part: Option<InsteadOfPart>,
     /// A legend for its coloured lines, in place of the path colouring's.
     pub path_legend: Option<SceneLegend>,
+    /// The computed paths are drawn only while playing back (they would hide its surface).
+    pub hide_paths: bool,
 }
 
 /// A surface drawn instead of the part, coloured by a scalar with a legend.
@@ -235,6 +251,28 @@ pub trait Feature: Any {
     /// What it adds to the 3D view this frame.
     fn scene(&self) -> SceneParts {
         SceneParts::default()
+    }
+
+    /// Its section in operation `index`'s editor, under the computed path's summary (shown once
+    /// the operation has a path).
+    fn operation_ui(
+        &self,
+        _ui: &mut egui::Ui,
+        _index: usize,
+        _view: &FeatureView<'_>,
+        _commands: &mut Vec<Command>,
+    ) {
+    }
+
+    /// Its check boxes at the end of View → Tool Paths.
+    fn toggles(&self) -> Vec<Toggle> {
+        Vec::new()
+    }
+
+    /// Steer the 3D view before it is drawn (fit the camera, place the drawn tool); the meshes
+    /// it adds, drawn before the [`Feature::scene`] ones (the operator panel's machine).
+    fn steer_view(&mut self, _viewport: &mut ViewportState) -> Vec<MeshInstance> {
+        Vec::new()
     }
 
     /// Itself, for [`find`].

@@ -13,7 +13,9 @@
 //! - [`feature`]: the [`feature::Feature`] trait a tool window or panel implements to plug into
 //!   the workstation (state, commands, jobs, windows, scene); [`features`] registers them:
 //!   - [`reduction`]: data reduction (the part's Z-map reduced by SVD, its error map, STL);
-//!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO);
+//!   - [`stock_simulation`]: the stock cut by the active path, coloured by its deviation;
+//!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO) and the
+//!     machine drawn in the viewport;
 //!   - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths.
 
 pub mod actions;
@@ -28,7 +30,6 @@ pub mod file_dialog;
 pub mod findings_list;
 pub mod forces;
 pub mod job;
-pub mod machine_view;
 pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;
@@ -40,6 +41,7 @@ pub mod recent_files;
 pub mod reduction;
 pub mod scalar_field;
 pub mod state;
+pub mod stock_simulation;
 pub mod theme;
 pub mod tool_library;
 pub mod toolpaths;
@@ -57,6 +59,7 @@ pub use workstation::{Workstation, WorkstationConfig};
 pub fn features() -> Vec<Box<dyn feature::Feature>> {
     vec![
         Box::new(reduction::DataReduction::default()) as Box<dyn feature::Feature>,
+        Box::new(stock_simulation::StockSimulation::default()),
         Box::new(profile_editor::ProfileEditor::new()),
         Box::new(operator_panel::OperatorPanel::new()),
         Box::new(forces::ForcesWindow::default()),

@@ -1,18 +1,15 @@
 //! The workstation: owns the project session (document, history, file), the loaded part, the
 //! viewport state, the log and the background jobs; lays out the panels each frame; applies the
 //! commands they return in one place ([`Workstation::apply`], with the project commands in
-//! `project_commands`; operations, simulation, the posted program and the dialogs in their own
-//! submodules).
+//! `project_commands`; operations, the posted program and the dialogs in their own
+//! submodules). The registered features ([`super::features`]) plug in through
+//! [`super::feature::Feature`].
 
 mod dialogs;
 mod operations;
 mod program;
 mod project_commands;
-mod simulation;
 mod state;
-mod stock_here;
-
-pub use simulation::ShownSimulation;
 
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
@@ -107,15 +104,12 @@ pub struct Workstation {
     focus: Focus,
     forms: Forms,
     ops: operations::Operations,
-    sims: simulation::Simulations,
     programs: program::Programs,
     pick: Option<SurfacePick>,
     /// The registered features ([`super::features`]).
     features: Vec<Box<dyn Feature>>,
     /// The menu entries and keyboard shortcuts (the workstation's and the features').
     actions: Vec<Action>,
-    /// The machine drawn in the viewport while the operator panel is open.
-    machine_view: super::machine_view::MachineView,
 }
 
 impl Workstation {
@@ -152,12 +146,10 @@ impl Workstation {
             focus: Focus::Selection,
             forms: Forms::default(),
             ops: operations::Operations::new(),
-            sims: simulation::Simulations::default(),
             programs: program::Programs::default(),
             pick: None,
             features,
             actions: table,
-            machine_view: super::machine_view::MachineView::default(),
         };
         if let Some(e) = library_error {
             let t = ws.now_s();
@@ -202,18 +194,6 @@ impl Workstation {
     #[must_use]
     pub fn feature_ref<T: Feature>(&self) -> Option<&T> {
         find_ref(&self.features)
-    }
-
-    /// The profile editor (2D profiles and ball electrodes).
-    #[must_use]
-    pub fn profile_editor(&mut self) -> Option<&mut super::profile_editor::ProfileEditor> {
-        self.feature()
-    }
-
-    /// The operator panel of the virtual control.
-    #[must_use]
-    pub fn operator_panel(&mut self) -> Option<&mut super::operator_panel::OperatorPanel> {
-        self.feature()
     }
 
     /// The active operation (the one inspected last), if any.
@@ -340,7 +320,6 @@ impl Workstation {
                     .ops
                     .job
                     .cancel()
-                    .or_else(|| self.sims.job.cancel())
                     .or_else(|| self.programs.job.cancel())
                     .or_else(|| self.features.iter_mut().find_map(|f| f.cancel()))
                     .or_else(|| self.run.load_job.cancel())
@@ -383,7 +362,13 @@ impl Workstation {
             }
             Command::ClearLog => self.log.entries.clear(),
             // No registered feature took it.
-            Command::Feature(_) | Command::ExportReductionTo(_) => {}
+            Command::Feature(_)
+            | Command::ExportReductionTo(_)
+            | Command::Simulate(_)
+            | Command::SimulateActive
+            | Command::SimulateToPlayback
+            | Command::SetStockVisible(_)
+            | Command::SetDeviationBand(_) => {}
             Command::Inspect(focus) => {
                 if let Focus::Operation(i) = focus
                     && self.ops.active != Some(i)
@@ -411,15 +396,10 @@ impl Workstation {
             Command::AddOperation(_)
             | Command::Calculate(_)
             | Command::CalculateActive
-            | Command::Simulate(_)
-            | Command::SimulateActive
-            | Command::SimulateToPlayback
             | Command::PostActive
             | Command::OpenMachineFileDialog
             | Command::ExportProgramDialog
             | Command::ExportProgramTo(_)
-            | Command::SetStockVisible(_)
-            | Command::SetDeviationBand(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
             | Command::ReplacePath(..)
@@ -431,8 +411,8 @@ impl Workstation {
     }
 
     /// Forget everything derived from the project or part being replaced: computed paths,
-    /// playback, simulations, posted programs and the features' results (their jobs are
-    /// cancelled). View preferences (path colouring, all paths, axis vectors, playback speed)
+    /// playback, posted programs and the features' results, the simulation among them (their
+    /// jobs are cancelled). View preferences (path colouring, all paths, axis vectors, playback speed)
     /// stay.
     fn reset_derived(&mut self) {
         // Replaced job slots drop their jobs, which cancels them without a word.
@@ -442,7 +422,6 @@ impl Workstation {
         self.ops.show_axes = old.show_axes;
         self.ops.speed = old.speed;
         self.ops.next_id = old.next_id;
-        self.sims = simulation::Simulations::default();
         self.programs = program::Programs::default();
         for f in &mut self.features {
             f.reset();
@@ -510,7 +489,6 @@ impl Workstation {
         }
         self.poll_field_job();
         self.poll_calc_job();
-        self.poll_sim_job();
         self.poll_post_job();
         self.with_features(|features, cx| {
             for f in features {
@@ -664,7 +642,6 @@ impl Workstation {
                 .ops
                 .job
                 .status()
-                .or_else(|| self.sims.job.status())
                 .or_else(|| self.programs.job.status())
                 .or_else(|| self.features.iter().find_map(|f| f.job_status()))
                 .or_else(|| self.run.load_job.status())
@@ -733,8 +710,6 @@ impl Workstation {
             path_colouring: self.ops.colouring,
             all_paths: self.ops.show_all,
             axis_vectors: self.ops.show_axes,
-            stock: self.sims.visible,
-            stock_available: self.sims.shown.is_some(),
             has_faces: self
                 .document
                 .as_ref()
@@ -744,8 +719,17 @@ impl Workstation {
             undo: self.saved.session.history.undo_label(),
             redo: self.saved.session.history.redo_label(),
         };
+        let toggles: Vec<_> = self.features.iter().flat_map(|f| f.toggles()).collect();
         egui::Panel::top("menu bar").show(ui, |ui| {
-            menu_bar_ui(ui, &self.actions, &self.saved.recent, flags, undo, commands);
+            menu_bar_ui(
+                ui,
+                &self.actions,
+                &self.saved.recent,
+                flags,
+                &toggles,
+                undo,
+                commands,
+            );
         });
         let status = self.status();
         egui::Panel::bottom("status bar")
@@ -782,15 +766,26 @@ impl Workstation {
                 );
             });
         let mut forms = std::mem::take(&mut self.forms);
+        let operation = match self.focus {
+            Focus::Operation(i) => Some(i),
+            _ => None,
+        };
+        // The features' sections of the operation editor (the stock simulation's).
+        let view = self.feature_view();
+        let features = &self.features;
+        let sections = |ui: &mut egui::Ui, commands: &mut Vec<Command>| {
+            if let Some(i) = operation {
+                for f in features {
+                    f.operation_ui(ui, i, &view, commands);
+                }
+            }
+        };
         egui::Panel::right("properties")
             .resizable(true)
             .default_size(290.0)
             .size_range(180.0..=520.0)
             .show(ui, |ui| {
-                let operation = match self.focus {
-                    Focus::Operation(i) => Some(self.operation_view(i)),
-                    _ => None,
-                };
+                let operation = operation.map(|i| self.operation_view(i, &sections));
                 let view = PropertiesView {
                     focus: self.focus,
                     document: self.document.as_ref(),
@@ -827,15 +822,12 @@ impl Workstation {
         viewport.work_offset = Some(glam::DVec3::from_array(
             self.saved.session.project.setup.origin_mm,
         ));
-        // The machine at the operator panel's axis values (machine_view.rs).
-        let machine_meshes = match super::feature::find::<super::operator_panel::OperatorPanel>(
-            &mut self.features,
-        ) {
-            Some(panel) => {
-                super::machine_view::panel_machine(&mut self.machine_view, panel, &mut viewport)
-            }
-            None => Vec::new(),
-        };
+        // The features' steering (the operator panel's machine, its camera and tool).
+        let machine_meshes: Vec<_> = self
+            .features
+            .iter_mut()
+            .flat_map(|f| f.steer_view(&mut viewport))
+            .collect();
         let mut scene = SceneParts::default();
         for f in &self.features {
             let parts = f.scene();
@@ -843,30 +835,26 @@ impl Workstation {
             scene.lines.extend(parts.lines);
             scene.instead_of_part = scene.instead_of_part.or(parts.instead_of_part);
             scene.path_legend = parts.path_legend.or(scene.path_legend);
+            scene.hide_paths |= parts.hide_paths;
         }
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let up_to = self.playback_pose();
-            let stock = self.stock_instance();
-            // Over the simulated stock the path would hide the deviation map: it is drawn only
-            // while playing back.
-            let mut paths = if stock.is_some() && up_to.is_none() {
+            // Over a feature's surface (the simulated stock) the path would hide it: it is drawn
+            // only while playing back.
+            let paths = if scene.hide_paths && up_to.is_none() {
                 Vec::new()
             } else {
                 paths
             };
-            paths.extend(self.collision_instance());
-            // A feature's surface (the reduced one) replaces the part and the stock while shown.
-            let (shown_mesh, legend_title) = match (scene.instead_of_part, stock) {
-                (Some(r), _) => (Some((r.mesh, r.mapping)), r.legend),
-                (None, s) => (s, "Stock deviation (mm)".to_string()),
-            };
+            // A feature's surface (the reduced one, the simulated stock) replaces the part.
+            let shown = scene.instead_of_part;
             let mut extras = ViewportExtras {
-                hide_part: shown_mesh.is_some(),
-                stock_legend: shown_mesh.as_ref().map(|(_, m)| (legend_title, *m)),
-                meshes: shown_mesh
+                hide_part: shown.is_some(),
+                stock_legend: shown.as_ref().map(|r| (r.legend.clone(), r.mapping)),
+                meshes: shown
                     .into_iter()
-                    .map(|(m, _)| m)
+                    .map(|r| r.mesh)
                     .chain(machine_meshes)
                     .collect(),
                 paths,
@@ -913,7 +901,8 @@ impl Workstation {
 
 impl Workstation {
     /// What the features may read this frame.
-    fn feature_view(&self) -> FeatureView<'_> {
+    #[must_use]
+    pub fn feature_view(&self) -> FeatureView<'_> {
         let project = &self.saved.session.project;
         let active = self
             .ops
@@ -923,6 +912,9 @@ impl Workstation {
             project,
             document: self.document.as_ref(),
             active_operation: active,
+            target_operation: self.target_operation(),
+            picked_pose: self.ops.picked_pose,
+            playback_pose: self.playback_pose(),
             posted: active
                 .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
             data_dir: &self.saved.session.data_dir,
@@ -976,7 +968,7 @@ impl Workstation {
                 self.run.feature_save_start = Some(suggestion);
                 self.save_dialog_for(purpose);
             }
-            Notice::Switch(ViewSwitch::HideStock) => self.sims.visible = false,
+            Notice::Switch(ViewSwitch::HideStock) => self.apply(Command::SetStockVisible(false)),
         }
     }
 }

@@ -9,7 +9,9 @@ use super::{OperatorPanel, PanelSource};
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
 use crate::app::feature::{Feature, FeatureContext, FeatureView, is_action};
+use crate::app::viewport::ViewportState;
 use crate::project::Operation;
+use crate::render::MeshInstance;
 
 impl OperatorPanel {
     /// The feature's id.
@@ -82,6 +84,10 @@ impl Feature for OperatorPanel {
         if self.open {
             self.window(ctx, &source(view));
         }
+    }
+
+    fn steer_view(&mut self, viewport: &mut ViewportState) -> Vec<MeshInstance> {
+        super::machine_view::panel_machine(self, viewport)
     }
 
     fn as_any_mut(&mut self) -> &mut dyn Any {

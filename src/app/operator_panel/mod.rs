@@ -19,6 +19,7 @@ mod camera;
 mod feature;
 mod keys;
 mod layout;
+pub mod machine_view;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -152,6 +153,8 @@ pub struct OperatorPanel {
     panel_rect: Option<egui::Rect>,
     /// A machine camera preset to carry out (`camera.rs`).
     camera_request: Option<crate::render::StandardView>,
+    /// The machine's meshes drawn in the viewport while the panel is open.
+    machine_view: machine_view::MachineView,
 }
 
 impl Default for OperatorPanel {
@@ -190,6 +193,7 @@ impl OperatorPanel {
             chooser: None,
             panel_rect: None,
             camera_request: None,
+            machine_view: machine_view::MachineView::default(),
         }
     }
 

@@ -3,7 +3,7 @@
 //! that issue a command, with their keys, come from the one table in [`super::super::actions`];
 //! the check boxes, radio buttons and the recent-files list are laid out here.
 
-use super::super::actions::{Action, ActionState, Menu, section_ui};
+use super::super::actions::{Action, ActionState, Menu, Toggle, section_ui};
 use super::super::command::Command;
 use super::super::recent_files::RecentFiles;
 use super::super::scalar_field::ScalarField;
@@ -31,10 +31,6 @@ pub struct ViewFlags {
     pub axis_vectors: bool,
     /// Does the part have exact faces (finishing operations possible)?
     pub has_faces: bool,
-    /// The simulated stock is drawn.
-    pub stock: bool,
-    /// There is a simulated stock to draw.
-    pub stock_available: bool,
 }
 
 /// What the Edit menu shows: descriptions of the steps undo and redo would take.
@@ -47,12 +43,13 @@ pub struct UndoLabels {
 }
 
 /// The menu bar: the table's entries (`actions`) in their menus and sections, and the view
-/// toggles.
+/// toggles (the features' `toggles` at the end of View → Tool Paths).
 pub fn menu_bar_ui(
     ui: &mut egui::Ui,
     actions: &[Action],
     recent: &RecentFiles,
     view: ViewFlags,
+    toggles: &[Toggle],
     undo: UndoLabels,
     commands: &mut Vec<Command>,
 ) {
@@ -79,7 +76,7 @@ pub fn menu_bar_ui(
             ui.separator();
             section(ui, (Menu::View, 1), commands);
             ui.separator();
-            view_toggles_ui(ui, view, commands);
+            view_toggles_ui(ui, view, toggles, commands);
         });
         ui.menu_button("Machining", |ui| {
             section(ui, (Menu::Machining, 0), commands);
@@ -113,7 +110,12 @@ fn recent_ui(ui: &mut egui::Ui, recent: &RecentFiles, commands: &mut Vec<Command
 }
 
 /// View: projection, edges, grid, colour by, tool paths (state shown and changed in place).
-fn view_toggles_ui(ui: &mut egui::Ui, view: ViewFlags, commands: &mut Vec<Command>) {
+fn view_toggles_ui(
+    ui: &mut egui::Ui,
+    view: ViewFlags,
+    toggles: &[Toggle],
+    commands: &mut Vec<Command>,
+) {
     let mut projection = view.projection;
     ui.radio_value(&mut projection, Projection::Perspective, "Perspective");
     ui.radio_value(&mut projection, Projection::Orthographic, "Orthographic");
@@ -159,15 +161,14 @@ fn view_toggles_ui(ui: &mut egui::Ui, view: ViewFlags, commands: &mut Vec<Comman
         if ui.checkbox(&mut axes, "Tool-axis vectors").changed() {
             commands.push(Command::SetShowAxisVectors(axes));
         }
-        let mut stock = view.stock;
-        if ui
-            .add_enabled(
-                view.stock_available,
-                egui::Checkbox::new(&mut stock, "Simulated stock"),
-            )
-            .changed()
-        {
-            commands.push(Command::SetStockVisible(stock));
+        for t in toggles {
+            let mut on = t.on;
+            if ui
+                .add_enabled(t.enabled, egui::Checkbox::new(&mut on, t.label))
+                .changed()
+            {
+                commands.push((t.set)(on));
+            }
         }
     });
 }

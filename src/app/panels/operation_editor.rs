@@ -18,7 +18,6 @@ use super::super::theme;
 use super::super::toolpaths::ComputedOp;
 pub use super::super::widgets::duration_text;
 use super::super::widgets::{grid, grouped, mm3};
-use super::super::workstation::ShownSimulation;
 use crate::diagnostics::Severity;
 use crate::project::{Edit, Operation, OperationKind, Project};
 use crate::strategies::finish::axis::AxisMode;
@@ -34,6 +33,9 @@ pub struct OperationForm {
     draft: Option<Operation>,
     name: String,
 }
+
+/// Draws the features' sections of the operation editor, returning their commands.
+pub type Sections<'a> = &'a dyn Fn(&mut egui::Ui, &mut Vec<Command>);
 
 /// What the operation editor reads.
 pub struct OperationView<'a> {
@@ -51,10 +53,8 @@ pub struct OperationView<'a> {
     pub picked_pose: Option<usize>,
     /// The pose the playback shows.
     pub playback_pose: Option<usize>,
-    /// The simulation of this operation as it is now, if run.
-    pub simulation: Option<&'a ShownSimulation>,
-    /// The running simulation: fraction done, seconds running.
-    pub simulating: Option<(f64, f64)>,
+    /// The features' sections under the computed path's summary (the stock simulation).
+    pub sections: Option<Sections<'a>>,
 }
 
 /// The operation editor.
@@ -146,8 +146,9 @@ pub fn operation_editor_ui(
         ui.add_space(8.0);
         summary_ui(ui, result, fresh);
         super::super::findings_list::findings_ui(ui, &result.computed, commands);
-        ui.add_space(8.0);
-        simulation_ui(ui, view, fresh, commands);
+        if let Some(sections) = view.sections {
+            sections(ui, commands);
+        }
         if let Some(i) = view.picked_pose.or(view.playback_pose) {
             ui.add_space(8.0);
             pose_ui(ui, result, i, view.picked_pose.is_some());
@@ -242,173 +243,13 @@ fn reference_row(ui: &mut egui::Ui, project: &Project, draft: &mut Operation) ->
     true
 }
 
-#[expect(
-    clippy::too_many_lines,
-    reason = "one match arm of rows per operation kind"
-)]
+/// The rows of the operation kind's own parameters; whether one was changed.
 fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operation) -> bool {
     let mut commit = false;
     match draft {
-        Operation::Finish {
-            face,
-            strategy,
-            options,
-            group,
-            tilt_away,
-            ..
-        } => {
-            commit |= face_row(ui, document, face);
-            commit |= group_rows(ui, group, tilt_away);
-            commit |= strategy_rows(ui, strategy);
-            let l = label(ui, "Scallop height", "Largest cusp left between passes");
-            commit |= number(ui, l, &mut options.scallop, 1.0, 1e-4..=5.0, 4, "mm");
-            ui.end_row();
-            let l = label(
-                ui,
-                "Chord tolerance",
-                "Largest deviation of the straight tool-tip moves from the true tip curve",
-            );
-            commit |= number(ui, l, &mut options.tolerance, 1.0, 1e-4..=2.0, 4, "mm");
-            ui.end_row();
-            commit |= axis_rows(ui, &mut options.axis);
-            label(ui, "Direction", "Parameter the passes run along");
-            let mut d = options.direction;
-            ui.horizontal(|ui| {
-                ui.selectable_value(&mut d, Direction::V, "along v");
-                ui.selectable_value(&mut d, Direction::U, "along u");
-            });
-            ui.end_row();
-            if d != options.direction {
-                options.direction = d;
-                commit = true;
-            }
-            let l = label(
-                ui,
-                "Clearance plane",
-                "Height of retracts between passes (z)",
-            );
-            ui.horizontal(|ui| {
-                let mut auto = options.clearance.is_none();
-                if ui.checkbox(&mut auto, "auto").changed() {
-                    options.clearance = if auto { None } else { Some(50.0) };
-                    commit = true;
-                }
-                if let Some(c) = options.clearance.as_mut() {
-                    commit |= number(ui, l, c, 1.0, -1e4..=1e4, 3, "mm");
-                }
-            });
-            ui.end_row();
-            let l = label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, l, &mut options.feed, 1.0, 1.0..=1e5, 0, "mm/min");
-            ui.end_row();
-            let l = label(
-                ui,
-                "Lead-in/out arc",
-                "Radius of the tangential arcs into and out of each pass (0: none)",
-            );
-            commit |= number(ui, l, &mut options.lead_arc_mm, 1.0, 0.0..=50.0, 2, "mm");
-            ui.end_row();
-            let l = label(
-                ui,
-                "Largest axis step",
-                "Largest tool-axis change between poses",
-            );
-            commit |= number(
-                ui,
-                l,
-                &mut options.max_axis_step,
-                1f64.to_degrees(),
-                0.1..=45.0,
-                2,
-                "°",
-            );
-            ui.end_row();
-            label(
-                ui,
-                "Exact gouge check",
-                "Check every pose and move against the exact surface (slower)",
-            );
-            commit |= ui.checkbox(&mut options.exact_check, "").changed();
-            ui.end_row();
-        }
-        Operation::Raster {
-            scallop_mm,
-            angle_rad,
-            one_way,
-            tolerance_mm,
-            feed_mm_per_min,
-            clearance_mm,
-            ..
-        } => {
-            let l = label(
-                ui,
-                "Scallop height",
-                "Largest cusp between passes on slopes",
-            );
-            commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
-            ui.end_row();
-            let l = label(ui, "Angle", "Direction of the passes from +X");
-            commit |= number(ui, l, angle_rad, 1f64.to_degrees(), -180.0..=180.0, 2, "°");
-            ui.end_row();
-            label(ui, "One way", "Cut every pass in the same direction");
-            commit |= ui.checkbox(one_way, "").changed();
-            ui.end_row();
-            let l = label(
-                ui,
-                "Chord tolerance",
-                "Deviation of the cutter-location polyline",
-            );
-            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
-            ui.end_row();
-            let l = label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
-            ui.end_row();
-            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
-        }
-        Operation::Rough {
-            step_down_mm,
-            step_over_fraction,
-            stock_to_leave_mm,
-            stock_to_leave_axial_mm,
-            tolerance_mm,
-            feed_mm_per_min,
-            flat_levels,
-            clearance_mm,
-            ..
-        } => {
-            let l = label(ui, "Step-down", "Depth of each level");
-            commit |= number(ui, l, step_down_mm, 1.0, 0.01..=100.0, 3, "mm");
-            ui.end_row();
-            let l = label(
-                ui,
-                "Step-over",
-                "Distance between contours, % of the tool diameter",
-            );
-            commit |= number(ui, l, step_over_fraction, 100.0, 1.0..=100.0, 1, "%");
-            ui.end_row();
-            let l = label(
-                ui,
-                "Stock to leave",
-                "Material left for finishing on the walls (and the floors unless set apart)",
-            );
-            commit |= number(ui, l, stock_to_leave_mm, 1.0, 0.0..=20.0, 3, "mm");
-            ui.end_row();
-            commit |= floor_allowance_row(ui, stock_to_leave_axial_mm, *stock_to_leave_mm);
-            label(
-                ui,
-                "Flat levels",
-                "A level of its own at each flat floor between two levels",
-            );
-            commit |= ui.checkbox(flat_levels, "").changed();
-            ui.end_row();
-            let l = label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
-            commit |= number(ui, l, tolerance_mm, 1.0, 1e-3..=5.0, 3, "mm");
-            ui.end_row();
-            let l = label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
-            ui.end_row();
-            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the stock");
-        }
+        Operation::Finish { .. } => commit = finish_rows(ui, document, draft),
+        Operation::Raster { .. } => commit = raster_rows(ui, draft),
+        Operation::Rough { .. } => commit = rough_rows(ui, draft),
         Operation::Waterline {
             scallop_mm,
             tolerance_mm,
@@ -461,63 +302,264 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
             };
             commit |= finish_3axis_rows(ui, fields, angle);
         }
-        Operation::Pencil {
-            angle_rad,
-            tolerance_mm,
-            feed_mm_per_min,
-            clearance_mm,
-            ..
-        } => {
-            let l = label(
-                ui,
-                "Corner angle",
-                "Smallest angle between the ball's two contact normals that makes a pencil line",
-            );
-            commit |= number(ui, l, angle_rad, 1f64.to_degrees(), 1.0..=170.0, 1, "°");
-            ui.end_row();
-            let l = label(ui, "Chord tolerance", "Deviation of the pencil lines");
-            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
-            ui.end_row();
-            let l = label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
-            ui.end_row();
-            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
-        }
-        Operation::Rest {
-            from_stock,
-            scallop_mm,
-            tolerance_mm,
-            feed_mm_per_min,
-            clearance_mm,
-            ..
-        } => {
-            label(
-                ui,
-                "Rest of",
-                "What is finished: what the earlier operations left in the simulated stock, or \
-                 (unticked) what the reference tool alone would leave",
-            );
-            commit |= ui.checkbox(from_stock, "from simulated stock").changed();
-            ui.end_row();
-            let l = label(
-                ui,
-                "Scallop height",
-                "Rest thicker than this is finished; also the cusp between the passes",
-            );
-            commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
-            ui.end_row();
-            let l = label(ui, "Chord tolerance", "Deviation of the passes");
-            commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
-            ui.end_row();
-            let l = label(ui, "Feed", "Cutting feed");
-            commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
-            ui.end_row();
-            commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
-        }
+        Operation::Pencil { .. } => commit = pencil_rows(ui, draft),
+        Operation::Rest { .. } => commit = rest_rows(ui, draft),
     }
     commit
 }
 
+/// The rows of a face-finishing operation.
+fn finish_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operation) -> bool {
+    let Operation::Finish {
+        face,
+        strategy,
+        options,
+        group,
+        tilt_away,
+        ..
+    } = draft
+    else {
+        return false;
+    };
+    let mut commit = false;
+    commit |= face_row(ui, document, face);
+    commit |= group_rows(ui, group, tilt_away);
+    commit |= strategy_rows(ui, strategy);
+    let l = label(ui, "Scallop height", "Largest cusp left between passes");
+    commit |= number(ui, l, &mut options.scallop, 1.0, 1e-4..=5.0, 4, "mm");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Chord tolerance",
+        "Largest deviation of the straight tool-tip moves from the true tip curve",
+    );
+    commit |= number(ui, l, &mut options.tolerance, 1.0, 1e-4..=2.0, 4, "mm");
+    ui.end_row();
+    commit |= axis_rows(ui, &mut options.axis);
+    label(ui, "Direction", "Parameter the passes run along");
+    let mut d = options.direction;
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut d, Direction::V, "along v");
+        ui.selectable_value(&mut d, Direction::U, "along u");
+    });
+    ui.end_row();
+    if d != options.direction {
+        options.direction = d;
+        commit = true;
+    }
+    let l = label(
+        ui,
+        "Clearance plane",
+        "Height of retracts between passes (z)",
+    );
+    ui.horizontal(|ui| {
+        let mut auto = options.clearance.is_none();
+        if ui.checkbox(&mut auto, "auto").changed() {
+            options.clearance = if auto { None } else { Some(50.0) };
+            commit = true;
+        }
+        if let Some(c) = options.clearance.as_mut() {
+            commit |= number(ui, l, c, 1.0, -1e4..=1e4, 3, "mm");
+        }
+    });
+    ui.end_row();
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, &mut options.feed, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Lead-in/out arc",
+        "Radius of the tangential arcs into and out of each pass (0: none)",
+    );
+    commit |= number(ui, l, &mut options.lead_arc_mm, 1.0, 0.0..=50.0, 2, "mm");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Largest axis step",
+        "Largest tool-axis change between poses",
+    );
+    commit |= number(
+        ui,
+        l,
+        &mut options.max_axis_step,
+        1f64.to_degrees(),
+        0.1..=45.0,
+        2,
+        "°",
+    );
+    ui.end_row();
+    label(
+        ui,
+        "Exact gouge check",
+        "Check every pose and move against the exact surface (slower)",
+    );
+    commit |= ui.checkbox(&mut options.exact_check, "").changed();
+    ui.end_row();
+    commit
+}
+
+/// The rows of a raster operation.
+fn raster_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
+    let Operation::Raster {
+        scallop_mm,
+        angle_rad,
+        one_way,
+        tolerance_mm,
+        feed_mm_per_min,
+        clearance_mm,
+        ..
+    } = draft
+    else {
+        return false;
+    };
+    let mut commit = false;
+    let l = label(
+        ui,
+        "Scallop height",
+        "Largest cusp between passes on slopes",
+    );
+    commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, "Angle", "Direction of the passes from +X");
+    commit |= number(ui, l, angle_rad, 1f64.to_degrees(), -180.0..=180.0, 2, "°");
+    ui.end_row();
+    label(ui, "One way", "Cut every pass in the same direction");
+    commit |= ui.checkbox(one_way, "").changed();
+    ui.end_row();
+    let l = label(
+        ui,
+        "Chord tolerance",
+        "Deviation of the cutter-location polyline",
+    );
+    commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
+    commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
+    commit
+}
+
+/// The rows of a roughing operation.
+fn rough_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
+    let Operation::Rough {
+        step_down_mm,
+        step_over_fraction,
+        stock_to_leave_mm,
+        stock_to_leave_axial_mm,
+        tolerance_mm,
+        feed_mm_per_min,
+        flat_levels,
+        clearance_mm,
+        ..
+    } = draft
+    else {
+        return false;
+    };
+    let mut commit = false;
+    let l = label(ui, "Step-down", "Depth of each level");
+    commit |= number(ui, l, step_down_mm, 1.0, 0.01..=100.0, 3, "mm");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Step-over",
+        "Distance between contours, % of the tool diameter",
+    );
+    commit |= number(ui, l, step_over_fraction, 100.0, 1.0..=100.0, 1, "%");
+    ui.end_row();
+    let l = label(
+        ui,
+        "Stock to leave",
+        "Material left for finishing on the walls (and the floors unless set apart)",
+    );
+    commit |= number(ui, l, stock_to_leave_mm, 1.0, 0.0..=20.0, 3, "mm");
+    ui.end_row();
+    commit |= floor_allowance_row(ui, stock_to_leave_axial_mm, *stock_to_leave_mm);
+    label(
+        ui,
+        "Flat levels",
+        "A level of its own at each flat floor between two levels",
+    );
+    commit |= ui.checkbox(flat_levels, "").changed();
+    ui.end_row();
+    let l = label(ui, "Tolerance", "Contour tolerance (the roughing grid)");
+    commit |= number(ui, l, tolerance_mm, 1.0, 1e-3..=5.0, 3, "mm");
+    ui.end_row();
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
+    commit |= clearance_row(ui, clearance_mm, "Rapid plane above the stock");
+    commit
+}
+
+/// The rows of a pencil operation.
+fn pencil_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
+    let Operation::Pencil {
+        angle_rad,
+        tolerance_mm,
+        feed_mm_per_min,
+        clearance_mm,
+        ..
+    } = draft
+    else {
+        return false;
+    };
+    let mut commit = false;
+    let l = label(
+        ui,
+        "Corner angle",
+        "Smallest angle between the ball's two contact normals that makes a pencil line",
+    );
+    commit |= number(ui, l, angle_rad, 1f64.to_degrees(), 1.0..=170.0, 1, "°");
+    ui.end_row();
+    let l = label(ui, "Chord tolerance", "Deviation of the pencil lines");
+    commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
+    commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
+    commit
+}
+
+/// The rows of a rest-finishing operation.
+fn rest_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
+    let Operation::Rest {
+        from_stock,
+        scallop_mm,
+        tolerance_mm,
+        feed_mm_per_min,
+        clearance_mm,
+        ..
+    } = draft
+    else {
+        return false;
+    };
+    let mut commit = false;
+    label(
+        ui,
+        "Rest of",
+        "What is finished: what the earlier operations left in the simulated stock, or \
+         (unticked) what the reference tool alone would leave",
+    );
+    commit |= ui.checkbox(from_stock, "from simulated stock").changed();
+    ui.end_row();
+    let l = label(
+        ui,
+        "Scallop height",
+        "Rest thicker than this is finished; also the cusp between the passes",
+    );
+    commit |= number(ui, l, scallop_mm, 1.0, 1e-4..=5.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, "Chord tolerance", "Deviation of the passes");
+    commit |= number(ui, l, tolerance_mm, 1.0, 1e-4..=2.0, 4, "mm");
+    ui.end_row();
+    let l = label(ui, "Feed", "Cutting feed");
+    commit |= number(ui, l, feed_mm_per_min, 1.0, 1.0..=1e5, 0, "mm/min");
+    ui.end_row();
+    commit |= clearance_row(ui, clearance_mm, "Rapid plane above the part");
+    commit
+}
 /// The fields of a waterline or steep-and-shallow operation.
 struct Finish3Fields<'a> {
     scallop_mm: &'a mut f64,
@@ -903,113 +945,6 @@ fn summary_ui(ui: &mut egui::Ui, result: &ComputedOp, fresh: bool) {
             Severity::Info => ui.visuals().weak_text_color(),
         };
         ui.colored_label(colour, d.to_string());
-    }
-}
-
-fn simulation_ui(
-    ui: &mut egui::Ui,
-    view: &OperationView<'_>,
-    fresh: bool,
-    commands: &mut Vec<Command>,
-) {
-    ui.horizontal(|ui| {
-        ui.label(egui::RichText::new("Stock simulation").strong());
-        match view.simulating {
-            Some((fraction, elapsed)) => {
-                ui.add(
-                    egui::ProgressBar::new(fraction as f32)
-                        .desired_width(120.0)
-                        .text(format!("{:.0} % · {elapsed:.1} s", fraction * 100.0)),
-                );
-                if ui.button("Cancel").clicked() {
-                    commands.push(Command::CancelJob);
-                }
-            }
-            None => {
-                if ui
-                    .add_enabled(fresh, egui::Button::new("Simulate"))
-                    .on_hover_text(
-                        "Cut the stock with this path (dexels) and compare it with the part",
-                    )
-                    .on_disabled_hover_text("Calculate the operation first")
-                    .clicked()
-                {
-                    commands.push(Command::Simulate(view.index));
-                }
-            }
-        }
-    });
-    let Some(sim) = view.simulation else {
-        return;
-    };
-    let s = &sim.simulated;
-    let r = &s.report;
-    grid(
-        ui,
-        "simulation",
-        &[
-            (
-                "Path cut",
-                sim.up_to_pose().map_or_else(
-                    || "whole".to_string(),
-                    |p| format!("up to pose {} (Stock here)", grouped(p + 1)),
-                ),
-            ),
-            (
-                "Dexel spacing",
-                format!("{:.3} mm (Z rays)", s.resolution_mm),
-            ),
-            ("Removed", format!("{:.0} mm³", r.removed_volume_mm3)),
-            ("Stock left", format!("{:.0} mm³", r.final_volume_mm3)),
-            (
-                "Deepest gouge",
-                format!("{:.1} µm", s.max_gouge_mm * 1000.0),
-            ),
-            (
-                "Material left (99 %)",
-                format!("{:.1} µm", s.remaining_p99_mm * 1000.0),
-            ),
-            ("Collisions", grouped(r.collisions.len())),
-            ("Simulated in", format!("{:.1} s", sim.elapsed_s)),
-        ],
-    );
-    ui.horizontal(|ui| {
-        let l = ui
-            .label("Tolerance band ±")
-            .on_hover_text("Deviation within ± this is graded blue → white → orange; gouges beyond it are violet, material left beyond it red");
-        let mut band = sim.band_mm;
-        if NumberField::new("deviation band", &mut band)
-            .labelled_by(l.id)
-            .range(0.001..=50.0)
-            .decimals(4)
-            .unit("mm")
-            .show(ui)
-        {
-            commands.push(Command::SetDeviationBand(band));
-        }
-    });
-    if !r.collisions.is_empty() {
-        egui::ScrollArea::vertical()
-            .id_salt("collisions")
-            .max_height(140.0)
-            .show(ui, |ui| {
-                for c in r.collisions.iter().take(500) {
-                    let text = format!(
-                        "{:?} at pose {}: {:.2} mm deep at {}",
-                        c.kind,
-                        grouped(c.block + 1),
-                        c.depth_mm,
-                        mm3(c.position)
-                    );
-                    if ui
-                        .selectable_label(view.picked_pose == Some(c.block), text)
-                        .on_hover_text("Show this pose")
-                        .clicked()
-                    {
-                        commands.push(Command::PickPose(Some(c.block)));
-                    }
-                }
-            });
     }
 }
 

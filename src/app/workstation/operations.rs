@@ -9,7 +9,7 @@ use glam::Mat4;
 use super::super::command::{Command, PlaybackCommand};
 use super::super::document::Selection;
 use super::super::job::{Job, JobSlot};
-use super::super::panels::operation_editor::OperationView;
+use super::super::panels::operation_editor::{OperationView, Sections};
 use super::super::panels::playback::PlaybackView;
 use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
@@ -141,10 +141,6 @@ impl Workstation {
                 Some(i) => self.start_calculation(i),
                 None => self.log_info("Select an operation to calculate"),
             },
-            Command::SimulateActive => match self.target_operation() {
-                Some(i) => self.start_simulation(i, None),
-                None => self.log_info("Select an operation to simulate"),
-            },
             Command::PickPose(pose) => {
                 self.ops.picked_pose = pose;
                 if let Some(p) = pose {
@@ -172,13 +168,6 @@ impl Workstation {
                     start,
                 );
             }
-            Command::Simulate(index) => self.start_simulation(index, None),
-            Command::SimulateToPlayback => match (self.ops.active, self.playback_pose()) {
-                (Some(i), Some(p)) => self.start_simulation(i, Some(p)),
-                _ => self.log_info("Play back or step the path to a pose first"),
-            },
-            Command::SetStockVisible(on) => self.sims.visible = on,
-            Command::SetDeviationBand(band_mm) => self.set_deviation_band(band_mm),
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::ReplacePath(index, toolpath) => self.replace_path(index, &toolpath),
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
@@ -190,14 +179,11 @@ impl Workstation {
     }
 
     /// Make `toolpath` operation `index`'s computed path (a feed schedule applied); the posted
-    /// program and the stock keyframes, made from the old path, are dropped.
+    /// program, made from the old path, is dropped (the stock simulation drops its keyframes).
     fn replace_path(&mut self, index: usize, toolpath: &crate::toolpath::Toolpath) {
         match self.result_index(index) {
             Some((k, true)) if self.ops.store.replace_toolpath(k, toolpath.clone()) => {
                 self.programs.current = None;
-                if let Ok(mut k) = self.sims.keyframes.lock() {
-                    *k = None;
-                }
                 (self.ops.highlight, self.ops.picked_pose, self.ops.t_s) = (None, None, None);
                 self.log_info(format!("Operation {}: scheduled path applied", index + 1));
             }
@@ -207,7 +193,7 @@ impl Workstation {
 
     /// The operation a menu entry or key acts on: the focused one, else the active one, else
     /// the first.
-    fn target_operation(&self) -> Option<usize> {
+    pub(super) fn target_operation(&self) -> Option<usize> {
         let focused = match self.focus {
             Focus::Operation(i) => Some(i),
             _ => None,
@@ -330,8 +316,12 @@ impl Workstation {
         self.ops.store.get(i)
     }
 
-    /// What the operation editor shows for operation `index`.
-    pub(super) fn operation_view(&self, index: usize) -> OperationView<'_> {
+    /// What the operation editor shows for operation `index`, with the features' `sections`.
+    pub(super) fn operation_view<'a>(
+        &'a self,
+        index: usize,
+        sections: Sections<'a>,
+    ) -> OperationView<'a> {
         let result = self
             .result_index(index)
             .and_then(|(i, fresh)| Some((self.ops.store.get(i)?, fresh)));
@@ -343,15 +333,8 @@ impl Workstation {
             .and(self.ops.job.job())
             .map(|j| (j.progress.fraction(), j.elapsed_s()));
         let active = self.ops.active == Some(index);
-        let simulating = self
-            .sims
-            .job
-            .status()
-            .filter(|_| active)
-            .map(|(_, f, e)| (f, e));
         OperationView {
-            simulation: self.simulation_of(index),
-            simulating,
+            sections: Some(sections),
             project: &self.saved.session.project,
             index,
             document: self.document.as_ref(),

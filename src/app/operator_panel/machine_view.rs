@@ -256,13 +256,11 @@ pub fn machine_sphere(instances: &[MeshInstance]) -> Option<BoundingSphere> {
     lo.is_finite().then(|| BoundingSphere::from_box(lo, hi))
 }
 
-/// The workstation's hook: while the operator panel is open and its control exists, the
-/// machine's bodies at the control's axis values and the fixtures on its table (to add to the
-/// viewport's meshes), the control's tool drawn at its tip, and the camera fitted to the
-/// machine the first time it is shown or when a machine camera preset is asked for. Empty
-/// otherwise.
+/// The panel's part of the 3D view: while it is open and its control exists, the machine's
+/// bodies at the control's axis values and the fixtures on its table (to add to the viewport's
+/// meshes), the control's tool drawn at its tip, and the camera fitted to the machine the first
+/// time it is shown or when a machine camera preset is asked for. Empty otherwise.
 pub fn panel_machine(
-    view: &mut MachineView,
     panel: &mut crate::app::operator_panel::OperatorPanel,
     viewport: &mut crate::app::viewport::ViewportState,
 ) -> Vec<MeshInstance> {
@@ -270,10 +268,25 @@ pub fn panel_machine(
         return Vec::new();
     }
     let preset = panel.take_machine_view();
+    let mut view = std::mem::take(&mut panel.machine_view);
     let stock = panel.control_mut().and_then(|c| view.stock_instance(c));
-    let Some(control) = panel.control() else {
-        return Vec::new();
+    let meshes = match panel.control() {
+        Some(control) => place_machine(&mut view, control, stock, preset, viewport),
+        None => Vec::new(),
     };
+    panel.machine_view = view;
+    meshes
+}
+
+/// The machine's meshes for `control` with the live `stock`; fits the camera (first showing or
+/// `preset`) and draws the control's tool.
+fn place_machine(
+    view: &mut MachineView,
+    control: &Control,
+    stock: Option<MeshInstance>,
+    preset: Option<crate::render::StandardView>,
+    viewport: &mut crate::app::viewport::ViewportState,
+) -> Vec<MeshInstance> {
     let mut meshes = view.instances_for(control);
     let first = view
         .fit_once(&meshes)

@@ -1,15 +1,21 @@
-//! Stock simulation of the active operation's path: a background job (progress, Cancel) through
-//! [`crate::project::simulate::simulate_toolpath`], the cut stock drawn coloured by its signed
-//! deviation from the part against a tolerance band (graded blue → white → orange within the
-//! band; violet for gouges and red for material left beyond it), its legend, and the report in
-//! the operation editor.
+//! Stock simulation of the active operation's path, a workstation feature ([`feature`]): a
+//! background job (progress, Cancel) through [`crate::project::simulate::simulate_toolpath`],
+//! the cut stock drawn instead of the part coloured by its signed deviation from the part
+//! against a tolerance band (graded blue → white → orange within the band; violet for gouges
+//! and red for material left beyond it), its legend, red crosses at the collisions, and the
+//! report in the operation editor ([`editor`]). "Stock here" cuts up to the playback pose from
+//! the keyframes a whole run kept (`stock_here`).
+
+pub mod editor;
+pub mod feature;
+mod stock_here;
 
 use std::sync::Arc;
 
 use glam::Mat4;
 
-use super::super::job::{Job, JobSlot};
-use super::Workstation;
+use super::feature::{FeatureContext, FeatureView, InsteadOfPart};
+use super::job::{Job, JobSlot};
 use crate::diagnostics::Severity;
 use crate::project::Operation;
 use crate::project::simulate::{Simulated, SimulationSettings};
@@ -24,7 +30,7 @@ const STOCK_COLOUR: [u8; 4] = [196, 170, 120, 255];
 
 /// What a simulation was run on (it is shown while these are unchanged).
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct SimKey {
+struct SimKey {
     /// The operations simulated, in order (the last is the one asked for), with their tools.
     operations: Vec<(Operation, Cutter)>,
     part_id: DataId,
@@ -112,66 +118,68 @@ pub fn default_band_mm(operation: &Operation) -> f64 {
     band.max(MIN_BAND_MM)
 }
 
-/// The simulation state of the workstation.
+/// The stock-simulation feature's state.
 #[derive(Default)]
-pub(super) struct Simulations {
-    pub(super) job: JobSlot<Result<Simulated, SimError>, SimKey>,
+pub struct StockSimulation {
+    job: JobSlot<Result<Simulated, SimError>, SimKey>,
     /// The latest simulation.
-    pub shown: Option<ShownSimulation>,
+    shown: Option<ShownSimulation>,
     /// Draw the simulated stock.
-    pub visible: bool,
+    visible: bool,
     /// Keyframes of the latest whole simulation, for "Stock here".
-    pub(super) keyframes: super::stock_here::KeyframeSlot,
+    keyframes: stock_here::KeyframeSlot,
 }
 
-impl Workstation {
-    /// What simulating operation `index` runs: every operation before it that has a fresh path
-    /// (in order: the stock after each one is the next one's stock), then operation `index`.
-    fn sim_key(&self, index: usize) -> Option<SimKey> {
-        let project = &self.saved.session.project;
-        let mut operations = Vec::new();
-        for i in 0..=index {
-            let operation = project.operations.get(i)?.clone();
-            let cutter = project.tools.get(operation.tool())?.cutter.clone();
-            let fresh = matches!(self.result_index(i), Some((_, true)));
-            if fresh || i == index {
-                operations.push((operation, cutter));
-            }
+/// What simulating operation `index` runs: every operation before it that has a fresh path
+/// (in order: the stock after each one is the next one's stock), then operation `index`.
+fn sim_key(view: &FeatureView<'_>, index: usize) -> Option<SimKey> {
+    let project = view.project;
+    let mut operations = Vec::new();
+    for i in 0..=index {
+        let operation = project.operations.get(i)?.clone();
+        let cutter = project.tools.get(operation.tool())?.cutter.clone();
+        let fresh = matches!(view.results.operation_result(i), Some((_, true)));
+        if fresh || i == index {
+            operations.push((operation, cutter));
         }
-        Some(SimKey {
-            operations,
-            part_id: self.document.as_ref()?.ids[0],
-            stock: project.stock,
-            upto: None,
-        })
     }
+    Some(SimKey {
+        operations,
+        part_id: view.document?.ids[0],
+        stock: project.stock,
+        upto: None,
+    })
+}
+
+impl StockSimulation {
+    /// The feature's id.
+    pub const ID: &'static str = "stock_simulation";
 
     /// Simulate operation `index`'s computed path (it must be fresh), after the earlier
     /// calculated operations, up to pose `upto` (the playback position) or whole.
-    pub(super) fn start_simulation(&mut self, index: usize, upto: Option<usize>) {
-        let t = self.now_s();
-        let Some(mut key) = self.sim_key(index) else {
+    fn start(&mut self, index: usize, upto: Option<usize>, cx: &mut FeatureContext<'_>) {
+        let view = cx.view;
+        let Some(mut key) = sim_key(&view, index) else {
             return;
         };
         key.upto = upto;
-        let Some((_, true)) = self.operation_result(index) else {
-            self.log.notify(
-                t,
+        let Some((_, true)) = view.results.operation_result(index) else {
+            cx.notify(
                 Severity::Warning,
                 "Calculate the operation before simulating it",
             );
             return;
         };
-        let Some(doc) = &self.document else { return };
+        let Some(doc) = view.document else { return };
         // The fresh paths of the operations in the key, in order.
         let mut paths = Vec::new();
         for i in 0..=index {
-            if let Some((r, true)) = self.operation_result(i) {
+            if let Some((r, true)) = view.results.operation_result(i) {
                 paths.push((r.toolpath().clone(), r.cutter.clone()));
             }
         }
         let part = doc.part.mesh().clone();
-        let stock = self.saved.session.project.stock;
+        let stock = view.project.stock;
         let settings = SimulationSettings {
             max_rays: 250_000,
             ..SimulationSettings::default()
@@ -181,59 +189,66 @@ impl Workstation {
             None => format!("Simulating {}", key.name()),
         };
         let before = key.operations.len().saturating_sub(1);
-        self.log_info(if before > 0 {
-            format!(
-                "{label} after {before} earlier operation(s) on the same stock (Z dexels, at most 250 000 rays)"
-            )
-        } else {
-            format!("{label} (Z dexels, at most 250 000 rays)")
-        });
-        let inputs = super::stock_here::SimInputs {
+        cx.log(
+            Severity::Info,
+            if before > 0 {
+                format!(
+                    "{label} after {before} earlier operation(s) on the same stock (Z dexels, at most 250 000 rays)"
+                )
+            } else {
+                format!("{label} (Z dexels, at most 250 000 rays)")
+            },
+        );
+        let inputs = stock_here::SimInputs {
             stock,
             part,
             paths,
             upto,
             settings,
         };
-        let slot = std::sync::Arc::clone(&self.sims.keyframes);
-        let job = Job::start(label, &self.run.ctx, move |progress| {
-            super::stock_here::run_simulation(&inputs, &slot, progress)
+        let slot = Arc::clone(&self.keyframes);
+        let job = Job::start(label, cx.egui, move |progress| {
+            stock_here::run_simulation(&inputs, &slot, progress)
         });
-        self.sims.job.start(key, job);
+        self.job.start(key, job);
     }
 
     /// Is a simulation running?
     #[must_use]
-    pub fn is_simulating(&self) -> bool {
-        self.sims.job.is_running()
+    pub fn is_running(&self) -> bool {
+        self.job.is_running()
     }
 
     /// The simulation shown for operation `index` (whole, or up to a playback pose), when it
-    /// matches the operation, tool, part and stock as they are now.
+    /// matches the operation, tool, part and stock as they are in `view`.
     #[must_use]
-    pub fn simulation_of(&self, index: usize) -> Option<&ShownSimulation> {
-        let key = self.sim_key(index)?;
-        self.sims.shown.as_ref().filter(|s| s.key.same_run(&key))
+    pub fn simulation_of(&self, index: usize, view: &FeatureView<'_>) -> Option<&ShownSimulation> {
+        let key = sim_key(view, index)?;
+        self.shown.as_ref().filter(|s| s.key.same_run(&key))
     }
 
     /// The simulation on display (whole or up to a playback pose), if any.
     #[must_use]
-    pub fn shown_simulation(&self) -> Option<&ShownSimulation> {
-        self.sims.shown.as_ref()
+    pub fn shown(&self) -> Option<&ShownSimulation> {
+        self.shown.as_ref()
+    }
+
+    /// Is the simulated stock drawn (when there is one)?
+    #[must_use]
+    pub fn is_visible(&self) -> bool {
+        self.visible
     }
 
     /// Collect a finished simulation.
-    pub(super) fn poll_sim_job(&mut self) {
-        let Some(done) = self.sims.job.poll() else {
+    fn poll_job(&mut self, cx: &mut FeatureContext<'_>) {
+        let Some(done) = self.job.poll() else {
             return;
         };
         let (key, elapsed_s) = (done.key, done.elapsed_s);
-        let t = self.now_s();
         match done.result {
             Some(Ok(simulated)) => {
                 let r = &simulated.report;
-                self.log.push(
-                    t,
+                cx.log(
                     Severity::Info,
                     format!(
                         "Simulated '{}': {:.0} mm³ removed, {} collisions, deepest gouge {:.1} µm, 99 % of the surface within {:.1} µm, {:.2} mm dexels, in {elapsed_s:.1} s",
@@ -246,8 +261,7 @@ impl Workstation {
                     ),
                 );
                 if !r.collisions.is_empty() {
-                    self.log.notify(
-                        t,
+                    cx.notify(
                         Severity::Warning,
                         format!(
                             "'{}': {} collisions of the shank, holder or a rapid with the stock",
@@ -256,24 +270,23 @@ impl Workstation {
                         ),
                     );
                 }
-                self.ops.next_id += 1;
+                cx.next_id();
                 let mesh = deviation_mesh(&simulated);
                 let band_mm = key
                     .operations
                     .last()
                     .map_or(MIN_BAND_MM, |(o, _)| default_band_mm(o));
-                let id = self.ops.next_id;
-                self.ops.next_id += 1;
-                let size = self
+                let id = cx.next_id();
+                let size = cx
+                    .view
                     .document
-                    .as_ref()
                     .map_or(2.0, |d| 0.015 * (d.bounds.max - d.bounds.min).max_element())
                     .max(0.5);
                 let markers = (
-                    self.ops.next_id,
+                    cx.next_id(),
                     Arc::new(collision_markers(&simulated, size as f32)),
                 );
-                self.sims.shown = Some(ShownSimulation {
+                self.shown = Some(ShownSimulation {
                     key,
                     simulated,
                     elapsed_s,
@@ -282,14 +295,11 @@ impl Workstation {
                     markers,
                     band_mm,
                 });
-                self.sims.visible = true;
+                self.visible = true;
             }
             Some(Err(SimError::Cancelled)) => {}
-            Some(Err(e)) => self
-                .log
-                .notify(t, Severity::Error, format!("Simulation failed: {e}")),
-            None => self.log.notify(
-                t,
+            Some(Err(e)) => cx.notify(Severity::Error, format!("Simulation failed: {e}")),
+            None => cx.notify(
                 Severity::Error,
                 "Simulation failed: the worker stopped unexpectedly",
             ),
@@ -297,8 +307,8 @@ impl Workstation {
     }
 
     /// Red crosses at the collisions of the shown simulation, when visible.
-    pub(super) fn collision_instance(&self) -> Option<LineInstance> {
-        let s = self.sims.shown.as_ref().filter(|_| self.sims.visible)?;
+    fn collision_instance(&self) -> Option<LineInstance> {
+        let s = self.shown.as_ref().filter(|_| self.visible)?;
         (s.markers.1.segment_count() > 0).then(|| LineInstance {
             id: s.markers.0,
             data: Arc::clone(&s.markers.1),
@@ -307,29 +317,37 @@ impl Workstation {
         })
     }
 
-    /// The stock mesh to draw and its legend, when visible.
-    pub(super) fn stock_instance(&self) -> Option<(MeshInstance, ScalarMapping)> {
-        let s = self.sims.shown.as_ref().filter(|_| self.sims.visible)?;
+    /// The stock mesh drawn instead of the part, with its legend, when visible.
+    fn stock_instance(&self) -> Option<InsteadOfPart> {
+        let s = self.shown.as_ref().filter(|_| self.visible)?;
         let mapping = s.mapping();
-        Some((
-            MeshInstance {
+        Some(InsteadOfPart {
+            mesh: MeshInstance {
                 id: s.id,
                 data: Arc::clone(&s.mesh),
                 world_from_mesh: Mat4::IDENTITY,
                 colour: STOCK_COLOUR,
                 scalar_map: Some(mapping),
             },
+            legend: "Stock deviation (mm)".to_string(),
             mapping,
-        ))
+        })
     }
 
     /// Colour the shown stock's deviation against a tolerance band of ±`band_mm`.
-    pub(super) fn set_deviation_band(&mut self, band_mm: f64) {
-        if let Some(s) = &mut self.sims.shown
+    fn set_deviation_band(&mut self, band_mm: f64) {
+        if let Some(s) = &mut self.shown
             && band_mm.is_finite()
             && band_mm >= MIN_BAND_MM
         {
             s.band_mm = band_mm;
+        }
+    }
+
+    /// Drop the stock keyframes (the paths they were cut from changed).
+    fn drop_keyframes(&self) {
+        if let Ok(mut k) = self.keyframes.lock() {
+            *k = None;
         }
     }
 }

@@ -16,22 +16,22 @@ use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
 
 /// The keyframes of the latest whole simulation, shared with its job.
-pub(super) type KeyframeSlot = Arc<Mutex<Option<Arc<StockKeyframes>>>>;
+pub(crate) type KeyframeSlot = Arc<Mutex<Option<Arc<StockKeyframes>>>>;
 
 /// What one simulation job cuts.
-pub(super) struct SimInputs {
-    pub(super) stock: Stock,
-    pub(super) part: TriMesh,
+pub(crate) struct SimInputs {
+    pub(crate) stock: Stock,
+    pub(crate) part: TriMesh,
     /// Whole paths with their tools, in order.
-    pub(super) paths: Vec<(Toolpath, Cutter)>,
+    pub(crate) paths: Vec<(Toolpath, Cutter)>,
     /// Cut the last path only up to this pose.
-    pub(super) upto: Option<usize>,
-    pub(super) settings: SimulationSettings,
+    pub(crate) upto: Option<usize>,
+    pub(crate) settings: SimulationSettings,
 }
 
 /// Simulate `inputs`: whole (keeping keyframes in `slot`) or up to a pose (from the keyframes
 /// in `slot` when they match).
-pub(super) fn run_simulation(
+pub(crate) fn run_simulation(
     inputs: &SimInputs,
     slot: &KeyframeSlot,
     progress: &Progress,
