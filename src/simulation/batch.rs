@@ -28,7 +28,7 @@ use super::dexel::{Dexel, DexelFamily};
 use super::engine::{CollisionKind, Hit};
 use super::exact::stadium_span;
 use super::motion::{MovePlan, Step};
-use super::sweep::{Body, Prepared, SweepStep, general_interval, vertical_interval};
+use super::sweep::{Body, Prepared, PreparedRow, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
 
 /// Rays per side of a culling tile.
@@ -545,6 +545,10 @@ fn run_task(
                 let Some(row) = t.rows.get_mut(j - t.j0) else {
                     continue;
                 };
+                // A ball end mill's sweep bounds along the row, made for the row's first ray
+                // that needs them.
+                let mut made = None;
+                let bounded = ctx.prepared.is_some_and(Prepared::has_body_bound);
                 let mut i = sa;
                 while i < sb {
                     let (ci, cj) = (i / CULL, j / CULL);
@@ -554,9 +558,10 @@ fn run_task(
                         let changed = match b.fast.filter(|_| ctx.vertical) {
                             Some(fb) => ball_run(row, (i, end, j), &fb, &ctx, (t.i0, g), &mut hits),
                             None => (i..end).fold(false, |changed, k| {
-                                row.get_mut(k - t.i0)
-                                    .is_some_and(|d| ray(d, k, j, &ctx, g, &mut hits))
-                                    | changed
+                                row.get_mut(k - t.i0).is_some_and(|d| {
+                                    let row = bounded.then_some(&mut made);
+                                    ray(d, (k, j), &ctx, (g, row), &mut hits)
+                                }) | changed
                             }),
                         };
                         if changed
@@ -705,14 +710,22 @@ fn ball_run(
         };
         changed |= match cut_below(d, z - ow, limit) {
             Some(c) => c,
-            None => ray(d, i + k, j, ctx, g, hits),
+            None => ray(d, (i + k, j), ctx, (g, None), hits),
         };
     }
     changed
 }
 
 /// Apply one body to ray (i, j); returns whether its material changed.
-fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut Vec<Hit>) -> bool {
+/// `row`: where the body's sweep bounds along the ray's row are kept (see
+/// [`Prepared::along`]; made here when first needed).
+fn ray(
+    dexel: &mut Dexel,
+    (i, j): (usize, usize),
+    c: &BodyCtx,
+    (g, row): (&Grid, Option<&mut Option<PreparedRow>>),
+    hits: &mut Vec<Hit>,
+) -> bool {
     let (first, top) = match dexel {
         Dexel::Empty => return false,
         Dexel::One([a, b]) => (*a, *b),
@@ -746,8 +759,13 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         let Some(prep) = c.prepared else {
             return false;
         };
+        #[allow(clippy::cast_precision_loss)]
+        let row = row.map(|r| {
+            let r = &*r.get_or_insert_with(|| prep.along(g.ray_origin(0, j), g.uvw.0));
+            (r, i as f64 * g.spacing)
+        });
         c.b.body
-            .interval_prepared(step, (o, g.dir), dexel.intervals(), prep)
+            .interval_prepared(step, (o, g.dir), dexel.intervals(), (prep, row))
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
     };
