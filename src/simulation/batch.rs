@@ -545,10 +545,10 @@ fn run_task(
                 let Some(row) = t.rows.get_mut(j - t.j0) else {
                     continue;
                 };
-                // A ball end mill's sweep bounds along the row, made for the row's first ray
-                // that needs them.
+                // The sweep's bounds along the row, made for the row's first ray that needs
+                // them.
                 let mut made = None;
-                let bounded = ctx.prepared.is_some_and(Prepared::has_body_bound);
+                let bounded = ctx.prepared.is_some_and(Prepared::has_bounds);
                 let mut i = sa;
                 while i < sb {
                     let (ci, cj) = (i / CULL, j / CULL);
@@ -753,9 +753,6 @@ fn ray(
         vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
             .map(|(a, b)| (a - ow, b - ow))
     } else if c.b.body.has_closed_form() {
-        if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, o, g.tol, hits) {
-            return false;
-        }
         let Some(prep) = c.prepared else {
             return false;
         };
@@ -764,6 +761,9 @@ fn ray(
             let r = &*r.get_or_insert_with(|| prep.along(g.ray_origin(0, j), g.uvw.0));
             (r, i as f64 * g.spacing)
         });
+        if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, (o, prep, row), g.tol, hits) {
+            return false;
+        }
         c.b.body
             .interval_prepared(step, (o, g.dir), dexel.intervals(), (prep, row))
     } else {
@@ -800,8 +800,14 @@ fn ray(
 /// the material within the outer bounds of its interval is at most the contact tolerance, or
 /// less than the depth of a hit this task already recorded for the same move and kind (then
 /// `record` would keep that one, and so would the final merge).
-fn guard_beaten(dexel: &Dexel, c: &BodyCtx, o: DVec3, tol: f64, hits: &[Hit]) -> bool {
-    let Some((lo, hi)) = c.prepared.and_then(|p| p.cylinder_range(o)) else {
+fn guard_beaten(
+    dexel: &Dexel,
+    c: &BodyCtx,
+    (o, prep, row): (DVec3, &Prepared, Option<(&PreparedRow, f64)>),
+    tol: f64,
+    hits: &[Hit],
+) -> bool {
+    let Some((lo, hi)) = prep.cylinder_at(o, row) else {
         return false;
     };
     let Some(kind) = c.b.kind else {

@@ -670,6 +670,18 @@ mod tests {
                         };
                         let (lo, hi) = bound.range(o);
                         assert!(lo <= s0 && s1 <= hi, "{a} {d} {e} {o}: {lo} {hi} {s0} {s1}");
+                        // Along the row from u = −14.7: the same bounds but for rounding.
+                        let (axis, o0) = if e == DVec3::X {
+                            (1, DVec3::new(-40.0, -14.7, v))
+                        } else if e == DVec3::Y {
+                            (2, DVec3::new(v, -40.0, -14.7))
+                        } else {
+                            (0, DVec3::new(-14.7, v, -40.0))
+                        };
+                        let row = bound.along(o0, axis);
+                        let (rlo, rhi) = (row.lower(u + 14.7), row.upper(u + 14.7));
+                        assert!(rlo <= s0 && s1 <= rhi, "{a} {d} {e} {o}: {rlo} {rhi}");
+                        assert!((rlo - lo).abs() < 1e-9 && (rhi - hi).abs() < 1e-9, "{o}");
                         worst = worst.max((s0 - lo).max(hi - s1) * e.dot(a).abs().max(0.1));
                         hits += 1;
                     }

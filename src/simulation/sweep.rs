@@ -484,14 +484,18 @@ impl Prepared {
         }
     }
 
-    /// Whether [`Prepared::along`] spares work: a ball end mill's bounds.
-    pub(super) fn has_body_bound(&self) -> bool {
-        self.body_bound.is_some()
+    /// Whether it has bounds (then [`Prepared::along`] spares work).
+    pub(super) fn has_bounds(&self) -> bool {
+        self.bound.is_some() || self.body_bound.is_some()
     }
 
     /// [`Prepared::cylinder_range`] of the line at `o`, from the row's bounds where given
     /// (`x` along the row).
-    fn cylinder_at(&self, o: DVec3, row: Option<(&PreparedRow, f64)>) -> Option<(f64, f64)> {
+    pub(super) fn cylinder_at(
+        &self,
+        o: DVec3,
+        row: Option<(&PreparedRow, f64)>,
+    ) -> Option<(f64, f64)> {
         match row {
             Some((r, x)) => r.bound.as_ref().map(|b| (b.lower(x), b.upper(x))),
             None => self.cylinder_range(o),
