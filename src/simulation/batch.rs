@@ -7,7 +7,8 @@
 //! - For each ray family, a tilted body's sweep is prepared for the family's rays once (the
 //!   sweep bounds and exact-interval constants of `sweep::Prepared`, the shadow's row spans),
 //!   `SWEEP_STEPS` steps at a time (their buffers allocated once per part), and shared by
-//!   every task.
+//!   every task; the sweep bounds are taken along each row of rays once, when its first ray
+//!   needs them.
 //! - The grid is cut into square tasks of `TASK` rays; rayon runs the tasks in parallel, each
 //!   applying every step of the batch, in order, to its own rays (disjoint slices, no locks).
 //!   A ray's result depends only on the steps in order, never on the thread count.

@@ -17,6 +17,9 @@
 //! - [`SweptBall`]: a sphere swept along the step (a capsule): the entry and the exit of a
 //!   line from one set of dot products, with the operations of [`capsule_entry`] in the same
 //!   order, so the values are the same to the bit.
+//! - [`SweepBound`]: outer bounds of a line's interval in a cylinder's sweep from planes of
+//!   support, one dot product per plane; [`RowBound`]: the same planes for a row of lines
+//!   along a grid axis, their constants taken once per row (one product per plane and line).
 
 use glam::{DVec2, DVec3};
 

@@ -555,7 +555,6 @@ impl Body {
         (prep, row): (&Prepared, Option<(&PreparedRow, f64)>),
     ) -> Option<(f64, f64)> {
         let top = material.last().map_or(f32::NEG_INFINITY, |i| i[1]);
-        if prep.ball.is_some() {}
         let Some(ball) = &prep.ball else {
             if self.entry_above(step, o, e, top) {
                 return None;
@@ -564,29 +563,18 @@ impl Body {
         };
         // Lines whose material lies outside the bounds of the sweep keep it all (the rounded
         // ends of the interval stay on the same side of the material's f32 ends).
-        match row {
-            Some((r, x)) => {
-                if let Some(b) = &r.body_bound {
-                    let lo = b.lower(x);
-                    if f64::from(top) <= lo {
-                        return None;
-                    }
-                    if !material_within(material, (lo, b.upper(x))) {
-                        return None;
-                    }
-                }
-            }
-            None => {
-                if let Some(b) = &prep.body_bound {
-                    let lo = b.lower(o);
-                    if f64::from(top) <= lo {
-                        return None;
-                    }
-                    if !material_within(material, (lo, b.upper(o))) {
-                        return None;
-                    }
-                }
-            }
+        let outside = match row {
+            Some((r, x)) => r.body_bound.as_ref().is_some_and(|b| {
+                let lo = b.lower(x);
+                f64::from(top) <= lo || !material_within(material, (lo, b.upper(x)))
+            }),
+            None => prep.body_bound.as_ref().is_some_and(|b| {
+                let lo = b.lower(o);
+                f64::from(top) <= lo || !material_within(material, (lo, b.upper(o)))
+            }),
+        };
+        if outside {
+            return None;
         }
         let (entry, exit) = ball.entry_exit(o);
         if self.entry_above_given(step, o, e, top, entry) {
