@@ -7,7 +7,8 @@
 //! - For each ray family, a tilted body's sweep is prepared for the family's rays once (the
 //!   sweep bounds and exact-interval constants of `sweep::Prepared`, the shadow's row spans),
 //!   `SWEEP_STEPS` steps at a time (their buffers allocated once per part), and shared by
-//!   every task.
+//!   every task; the sweep bounds are taken along each row of rays once, when its first ray
+//!   needs them.
 //! - The grid is cut into square tasks of `TASK` rays; rayon runs the tasks in parallel, each
 //!   applying every step of the batch, in order, to its own rays (disjoint slices, no locks).
 //!   A ray's result depends only on the steps in order, never on the thread count.
@@ -28,7 +29,7 @@ use super::dexel::{Dexel, DexelFamily};
 use super::engine::{CollisionKind, Hit};
 use super::exact::stadium_span;
 use super::motion::{MovePlan, Step};
-use super::sweep::{Body, Prepared, SweepStep, general_interval, vertical_interval};
+use super::sweep::{Body, Prepared, PreparedRow, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
 
 /// Rays per side of a culling tile.
@@ -545,6 +546,10 @@ fn run_task(
                 let Some(row) = t.rows.get_mut(j - t.j0) else {
                     continue;
                 };
+                // The sweep's bounds along the row, made for the row's first ray that needs
+                // them.
+                let mut made = None;
+                let bounded = ctx.prepared.is_some_and(Prepared::has_bounds);
                 let mut i = sa;
                 while i < sb {
                     let (ci, cj) = (i / CULL, j / CULL);
@@ -554,9 +559,10 @@ fn run_task(
                         let changed = match b.fast.filter(|_| ctx.vertical) {
                             Some(fb) => ball_run(row, (i, end, j), &fb, &ctx, (t.i0, g), &mut hits),
                             None => (i..end).fold(false, |changed, k| {
-                                row.get_mut(k - t.i0)
-                                    .is_some_and(|d| ray(d, k, j, &ctx, g, &mut hits))
-                                    | changed
+                                row.get_mut(k - t.i0).is_some_and(|d| {
+                                    let row = bounded.then_some(&mut made);
+                                    ray(d, (k, j), &ctx, (g, row), &mut hits)
+                                }) | changed
                             }),
                         };
                         if changed
@@ -705,14 +711,22 @@ fn ball_run(
         };
         changed |= match cut_below(d, z - ow, limit) {
             Some(c) => c,
-            None => ray(d, i + k, j, ctx, g, hits),
+            None => ray(d, (i + k, j), ctx, (g, None), hits),
         };
     }
     changed
 }
 
 /// Apply one body to ray (i, j); returns whether its material changed.
-fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut Vec<Hit>) -> bool {
+/// `row`: where the body's sweep bounds along the ray's row are kept (see
+/// [`Prepared::along`]; made here when first needed).
+fn ray(
+    dexel: &mut Dexel,
+    (i, j): (usize, usize),
+    c: &BodyCtx,
+    (g, row): (&Grid, Option<&mut Option<PreparedRow>>),
+    hits: &mut Vec<Hit>,
+) -> bool {
     let (first, top) = match dexel {
         Dexel::Empty => return false,
         Dexel::One([a, b]) => (*a, *b),
@@ -740,14 +754,19 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
         vertical_interval(&c.b.body, step.p0, step.p1, DVec2::new(o.x, o.y))
             .map(|(a, b)| (a - ow, b - ow))
     } else if c.b.body.has_closed_form() {
-        if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, o, g.tol, hits) {
-            return false;
-        }
         let Some(prep) = c.prepared else {
             return false;
         };
+        #[allow(clippy::cast_precision_loss)]
+        let row = row.map(|r| {
+            let r = &*r.get_or_insert_with(|| prep.along(g.ray_origin(0, j), g.uvw.0));
+            (r, i as f64 * g.spacing)
+        });
+        if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, (o, prep, row), g.tol, hits) {
+            return false;
+        }
         c.b.body
-            .interval_prepared(step, (o, g.dir), dexel.intervals(), prep)
+            .interval_prepared(step, (o, g.dir), dexel.intervals(), (prep, row))
     } else {
         general_interval(&c.b.body, step, o, g.dir, c.w_lo - 1.0, c.w_hi + 1.0)
     };
@@ -782,8 +801,14 @@ fn ray(dexel: &mut Dexel, i: usize, j: usize, c: &BodyCtx, g: &Grid, hits: &mut 
 /// the material within the outer bounds of its interval is at most the contact tolerance, or
 /// less than the depth of a hit this task already recorded for the same move and kind (then
 /// `record` would keep that one, and so would the final merge).
-fn guard_beaten(dexel: &Dexel, c: &BodyCtx, o: DVec3, tol: f64, hits: &[Hit]) -> bool {
-    let Some((lo, hi)) = c.prepared.and_then(|p| p.cylinder_range(o)) else {
+fn guard_beaten(
+    dexel: &Dexel,
+    c: &BodyCtx,
+    (o, prep, row): (DVec3, &Prepared, Option<(&PreparedRow, f64)>),
+    tol: f64,
+    hits: &[Hit],
+) -> bool {
+    let Some((lo, hi)) = prep.cylinder_at(o, row) else {
         return false;
     };
     let Some(kind) = c.b.kind else {

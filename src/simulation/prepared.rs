@@ -17,6 +17,9 @@
 //! - [`SweptBall`]: a sphere swept along the step (a capsule): the entry and the exit of a
 //!   line from one set of dot products, with the operations of [`capsule_entry`] in the same
 //!   order, so the values are the same to the bit.
+//! - [`SweepBound`]: outer bounds of a line's interval in a cylinder's sweep from planes of
+//!   support, one dot product per plane; [`RowBound`]: the same planes for a row of lines
+//!   along a grid axis, their constants taken once per row (one product per plane and line).
 
 use glam::{DVec2, DVec3};
 
@@ -135,6 +138,10 @@ impl SweptCyl {
         let q_tol = 1e-9 * self.rr + 1e-12;
         let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
         let mut take = |x: DVec2, check_q: bool| {
+            // Within the ends found so far it changes nothing (the checks are spared).
+            if s_lo <= x.x && x.x <= s_hi {
+                return;
+            }
             let v = ax.dot(x);
             let inside = x.is_finite()
                 && x.y >= -eps_t
@@ -323,7 +330,108 @@ impl Planes {
     }
 }
 
+/// The planes of one side of a [`SweepBound`] along a row of lines `o = o₀ + x·û` (`û` a
+/// grid axis): `c − m·o = k − (m·û)·x` with `k = c − m·o₀`, one product per plane and line.
+#[derive(Clone, Copy, Debug)]
+struct RowPlanes {
+    k: [[f64; 4]; SLOTS / 4],
+    m: [[f64; 4]; SLOTS / 4],
+}
+
+impl Planes {
+    /// The planes along the row from `o₀` along the grid axis `u` (0, 1, 2: x, y, z).
+    fn along(&self, o0: DVec3, u: usize) -> RowPlanes {
+        let m = match u {
+            0 => self.mx,
+            1 => self.my,
+            _ => self.mz,
+        };
+        RowPlanes {
+            k: self.values(o0),
+            m,
+        }
+    }
+}
+
+impl RowPlanes {
+    /// `k − m·x` of every slot.
+    #[inline]
+    fn values(&self, x: f64) -> [[f64; 4]; SLOTS / 4] {
+        let mut out = self.k;
+        for (row, m) in out.iter_mut().zip(&self.m) {
+            for l in 0..4 {
+                row[l] -= m[l] * x;
+            }
+        }
+        out
+    }
+
+    /// The greatest value (−∞ with no plane).
+    #[inline]
+    fn max(&self, x: f64) -> f64 {
+        let v = self.values(x);
+        let mut acc = [f64::NEG_INFINITY; 4];
+        for row in &v {
+            for l in 0..4 {
+                acc[l] = if row[l] > acc[l] { row[l] } else { acc[l] };
+            }
+        }
+        let a = if acc[1] > acc[0] { acc[1] } else { acc[0] };
+        let b = if acc[3] > acc[2] { acc[3] } else { acc[2] };
+        if b > a { b } else { a }
+    }
+
+    /// The least value (+∞ with no plane).
+    #[inline]
+    fn min(&self, x: f64) -> f64 {
+        let v = self.values(x);
+        let mut acc = [f64::INFINITY; 4];
+        for row in &v {
+            for l in 0..4 {
+                acc[l] = if row[l] < acc[l] { row[l] } else { acc[l] };
+            }
+        }
+        let a = if acc[1] < acc[0] { acc[1] } else { acc[0] };
+        let b = if acc[3] < acc[2] { acc[3] } else { acc[2] };
+        if b < a { b } else { a }
+    }
+}
+
+/// A [`SweepBound`] for the lines of one row, `o = o₀ + x·û`: the same planes, their
+/// constants taken at `o₀` once per row. The values differ from [`SweepBound::range`] at
+/// `o` only by rounding (about 1e-16 of `|m|·|o|`), far inside [`BOUND_SLACK_MM`], so they
+/// bound the exact interval all the same.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RowBound {
+    lower: RowPlanes,
+    upper: RowPlanes,
+}
+
+impl RowBound {
+    /// The lower bound at `x` along the row (as [`SweepBound::lower`]).
+    #[inline]
+    pub(super) fn lower(&self, x: f64) -> f64 {
+        let lo = self.lower.max(x);
+        lo - (BOUND_SLACK_MM + 1e-12 * lo.abs().min(1e6))
+    }
+
+    /// The upper bound at `x` along the row (as [`SweepBound::upper`]).
+    #[inline]
+    pub(super) fn upper(&self, x: f64) -> f64 {
+        let hi = self.upper.min(x);
+        hi + (BOUND_SLACK_MM + 1e-12 * hi.abs().min(1e6))
+    }
+}
+
 impl SweepBound {
+    /// The bound for the row of lines `o₀ + x·û` along the grid axis `u`.
+    pub(super) fn along(&self, o0: DVec3, u: usize) -> RowBound {
+        RowBound {
+            lower: self.lower.along(o0, u),
+            upper: self.upper.along(o0, u),
+        }
+    }
+
     /// The bound of `cyl` swept from tip `p0` by `d`, for lines along the unit `e`; with
     /// `ball` = R, of its union with the sphere of radius R centred R above the tip on the
     /// axis (a ball end mill: the body is the hull of both, its support the least of theirs).
@@ -565,6 +673,18 @@ mod tests {
                         };
                         let (lo, hi) = bound.range(o);
                         assert!(lo <= s0 && s1 <= hi, "{a} {d} {e} {o}: {lo} {hi} {s0} {s1}");
+                        // Along the row from u = −14.7: the same bounds but for rounding.
+                        let (axis, o0) = if e == DVec3::X {
+                            (1, DVec3::new(-40.0, -14.7, v))
+                        } else if e == DVec3::Y {
+                            (2, DVec3::new(v, -40.0, -14.7))
+                        } else {
+                            (0, DVec3::new(-14.7, v, -40.0))
+                        };
+                        let row = bound.along(o0, axis);
+                        let (rlo, rhi) = (row.lower(u + 14.7), row.upper(u + 14.7));
+                        assert!(rlo <= s0 && s1 <= rhi, "{a} {d} {e} {o}: {rlo} {rhi}");
+                        assert!((rlo - lo).abs() < 1e-9 && (rhi - hi).abs() < 1e-9, "{o}");
                         worst = worst.max((s0 - lo).max(hi - s1) * e.dot(a).abs().max(0.1));
                         hits += 1;
                     }

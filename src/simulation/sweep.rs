@@ -24,7 +24,7 @@ use parry3d_f64::query::gjk::{VoronoiSimplex, cast_local_ray};
 use parry3d_f64::shape::SupportMap;
 
 use super::exact::{Cyl, capsule_entry, capsule_interval, hull, swept_cylinder};
-use super::prepared::{SweepBound, SweptBall, SweptCyl};
+use super::prepared::{RowBound, SweepBound, SweptBall, SweptCyl};
 use crate::geometry::Aabb;
 use crate::tools::{Cutter, CutterKind};
 
@@ -474,6 +474,41 @@ impl Prepared {
     pub(super) fn cylinder_range(&self, o: DVec3) -> Option<(f64, f64)> {
         self.bound.as_ref().map(|b| b.range(o))
     }
+
+    /// The bounds for the row of lines `o₀ + x·û` along the grid axis `u` (see
+    /// [`RowBound`]).
+    pub(super) fn along(&self, o0: DVec3, u: usize) -> PreparedRow {
+        PreparedRow {
+            bound: self.bound.as_ref().map(|b| b.along(o0, u)),
+            body_bound: self.body_bound.as_ref().map(|b| b.along(o0, u)),
+        }
+    }
+
+    /// Whether it has bounds (then [`Prepared::along`] spares work).
+    pub(super) fn has_bounds(&self) -> bool {
+        self.bound.is_some() || self.body_bound.is_some()
+    }
+
+    /// [`Prepared::cylinder_range`] of the line at `o`, from the row's bounds where given
+    /// (`x` along the row).
+    pub(super) fn cylinder_at(
+        &self,
+        o: DVec3,
+        row: Option<(&PreparedRow, f64)>,
+    ) -> Option<(f64, f64)> {
+        match row {
+            Some((r, x)) => r.bound.as_ref().map(|b| (b.lower(x), b.upper(x))),
+            None => self.cylinder_range(o),
+        }
+    }
+}
+
+/// The sweep bounds of a [`Prepared`] for the lines of one row (constants per row, one
+/// product per plane and line).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PreparedRow {
+    bound: Option<RowBound>,
+    body_bound: Option<RowBound>,
 }
 
 impl Body {
@@ -517,7 +552,7 @@ impl Body {
         step: &SweepStep,
         (o, e): (DVec3, DVec3),
         material: &[[f32; 2]],
-        prep: &Prepared,
+        (prep, row): (&Prepared, Option<(&PreparedRow, f64)>),
     ) -> Option<(f64, f64)> {
         let top = material.last().map_or(f32::NEG_INFINITY, |i| i[1]);
         let Some(ball) = &prep.ball else {
@@ -528,11 +563,18 @@ impl Body {
         };
         // Lines whose material lies outside the bounds of the sweep keep it all (the rounded
         // ends of the interval stay on the same side of the material's f32 ends).
-        if let Some(b) = &prep.body_bound {
-            let lo = b.lower(o);
-            if f64::from(top) <= lo || !material_within(material, (lo, b.upper(o))) {
-                return None;
-            }
+        let outside = match row {
+            Some((r, x)) => r.body_bound.as_ref().is_some_and(|b| {
+                let lo = b.lower(x);
+                f64::from(top) <= lo || !material_within(material, (lo, b.upper(x)))
+            }),
+            None => prep.body_bound.as_ref().is_some_and(|b| {
+                let lo = b.lower(o);
+                f64::from(top) <= lo || !material_within(material, (lo, b.upper(o)))
+            }),
+        };
+        if outside {
+            return None;
         }
         let (entry, exit) = ball.entry_exit(o);
         if self.entry_above_given(step, o, e, top, entry) {
@@ -543,7 +585,7 @@ impl Body {
             _ => None,
         };
         // The same with the capsule's exact ends and the shaft's bounds.
-        if let Some((lo, hi)) = prep.cylinder_range(o) {
+        if let Some((lo, hi)) = prep.cylinder_at(o, row) {
             // The capsule enters below any point of the shaft and leaves above all the
             // material: the interval's start is the capsule's, and any end at or above the
             // material's top takes the same (the shaft's exact solve is spared).
