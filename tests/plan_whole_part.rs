@@ -180,17 +180,38 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     let tight = plan(&wp, &bvh, 13, tool, Some(5.0));
     assert!(!tight.left_out.is_empty());
     for l in &tight.left_out {
+        eprintln!("left out {l:?}");
         assert!(l.length_mm > 40.0, "a whole 50 mm pass: {l:?}");
         assert!(matches!(l.tool_part, ToolPart::Holder(_)));
+        assert!(!l.approach, "on the span itself: {l:?}");
+        // Where: the fillet's top line (the fillet runs along x from the floor at z = 15 up
+        // to z = 20), straight along x; the length is the distance between its ends.
+        assert!((l.start.y - l.end.y).abs() < 1e-6 && (l.start.z - l.end.z).abs() < 1e-6);
+        assert!(l.start.z > 19.0 && l.start.z < 20.0 + 1e-6, "{l:?}");
+        assert!(
+            (l.length_mm - l.start.distance(l.end)).abs() < 1e-6,
+            "{l:?}"
+        );
+        let named = format!(
+            "left out {:.2} mm ({} poses) from ({:.3}, {:.3}, {:.3})",
+            l.length_mm, l.poses, l.start.x, l.start.y, l.start.z
+        );
+        assert!(
+            tight
+                .diagnostics
+                .iter()
+                .any(|d| d.message.starts_with(&named)),
+            "{named}"
+        );
+        // No kept cutting pose lies on the span.
+        assert!(tight.toolpath.poses.iter().all(|p| {
+            p.kind != MoveKind::Cut
+                || (p.tip.y - l.start.y).abs() > 1e-3
+                || (p.tip.z - l.start.z).abs() > 1e-3
+        }));
     }
     assert!(tight.part_hits.is_empty());
     assert!(holder_clean(&wp, &bvh, &tight, tool));
-    assert!(
-        tight
-            .diagnostics
-            .iter()
-            .any(|d| d.message.starts_with("left out"))
-    );
 }
 
 /// Steep tilts (5° lead limit, then up to 90°) on the floor fillet (a concave quarter cylinder

@@ -9,9 +9,12 @@
 //! The signed distance to a convex solid is a convex function of the point, so its minimum over
 //! a (flat) triangle is found exactly by nested golden-section searches over the triangle's
 //! parameters `p(s, t) = (1 − s)·a + s·((1 − t)·b + t·c)` (for fixed `s` the point runs on a
-//! segment; the minimum over that segment is convex in `s`). A triangle whose bounding sphere
-//! lies farther from the solid than the tolerance is skipped first (the distance is
-//! 1-Lipschitz). Depth = −(minimum signed distance).
+//! segment; the minimum over that segment is convex in `s`). A triangle is skipped first where
+//! a lower bound of the signed distance over it rules out a depth beyond the tolerance (or
+//! beyond the deepest found): its bounding sphere's distance (the distance is 1-Lipschitz) or
+//! its distance to the axis segment of a capsule holding the piece less the capsule's radius
+//! (a ball end's capsule starts at its centre). The rest are searched by that bound, most promising first.
+//! Depth = −(minimum signed distance).
 //!
 //! The mesh is the exact faces within the tessellation's chord tolerance, so depths up to that
 //! tolerance are not reported (give it as [`PartCheck::tolerance_mm`]). Along a move,
@@ -109,8 +112,9 @@ pub struct PartReport {
 /// One convex piece of the tool, in the tool frame (tip at the origin, axis +z).
 #[derive(Clone, Debug)]
 enum Convex {
-    /// The cutting solid.
-    Cutting(ToolSolid),
+    /// The cutting solid, and the height from which the capsule holding it starts (a ball
+    /// end: its centre; else the tip).
+    Cutting(ToolSolid, f64),
     /// A cylinder of `radius` from `z0` to `z1`.
     Cylinder { z0: f64, z1: f64, radius: f64 },
 }
@@ -118,7 +122,7 @@ enum Convex {
 impl Convex {
     fn signed_distance(&self, rho: f64, z: f64) -> f64 {
         match self {
-            Self::Cutting(s) => s.signed_distance_rz(rho, z),
+            Self::Cutting(s, _) => s.signed_distance_rz(rho, z),
             Self::Cylinder { z0, z1, radius } => {
                 let dx = rho - radius;
                 let dz = (z0 - z).max(z - z1);
@@ -134,7 +138,15 @@ impl Convex {
     /// Height range and radius bounding the piece.
     fn extent(&self) -> (f64, f64, f64) {
         match self {
-            Self::Cutting(s) => (0.0, s.top(), s.max_radius()),
+            Self::Cutting(s, _) => (0.0, s.top(), s.max_radius()),
+            Self::Cylinder { z0, z1, radius } => (*z0, *z1, *radius),
+        }
+    }
+
+    /// A capsule holding the piece: the segment of the axis (heights) and the radius.
+    fn capsule(&self) -> (f64, f64, f64) {
+        match self {
+            Self::Cutting(s, start) => (*start, s.top(), s.max_radius()),
             Self::Cylinder { z0, z1, radius } => (*z0, *z1, *radius),
         }
     }
@@ -156,7 +168,13 @@ impl ToolPieces {
         let cutting = cutter.cutting_solid();
         let mut top = cutting.top();
         let mut radius = cutting.max_radius();
-        let mut pieces = vec![(Convex::Cutting(cutting), ToolPart::CuttingEnd)];
+        // A ball end below its centre lies within its radius of the centre.
+        let start = if cutter.kind == crate::tools::CutterKind::Ball {
+            cutter.radius().clamp(0.0, top)
+        } else {
+            0.0
+        };
+        let mut pieces = vec![(Convex::Cutting(cutting, start), ToolPart::CuttingEnd)];
         if whole_tool {
             let mut z = cutter.flute_length;
             let mut push = |z0: f64, z1: f64, r: f64, part: ToolPart| {
@@ -224,11 +242,11 @@ fn piece_box(piece: &Convex, tip: DVec3, axis: DVec3, margin: f64) -> Aabb {
 }
 
 /// A lower bound of `piece`'s signed distance over triangle `tri` (the piece placed at
-/// (`tip`, `axis`)): the distance from the triangle to the segment of the axis the piece spans,
-/// less the piece's largest radius. The piece lies inside that capsule, and a convex solid's
-/// signed distance is never below that of a convex solid holding it.
+/// (`tip`, `axis`)): the distance from the triangle to the axis segment of a capsule holding
+/// the piece ([`Convex::capsule`]), less the capsule's radius. A convex solid's signed distance
+/// is never below that of a convex solid holding it.
 fn capsule_bound(piece: &Convex, tip: DVec3, axis: DVec3, tri: [DVec3; 3]) -> f64 {
-    let (z0, z1, r) = piece.extent();
+    let (z0, z1, r) = piece.capsule();
     let d = segment_triangle_distance(tip + axis * z0, tip + axis * z1, tri);
     // Rounding of the closest-point arithmetic: a margin far below any tolerance.
     if d.is_finite() {
