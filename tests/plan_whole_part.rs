@@ -180,14 +180,16 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     let tight = plan(&wp, &bvh, 13, tool, Some(5.0));
     assert!(!tight.left_out.is_empty());
     for l in &tight.left_out {
-        eprintln!("left out {l:?}");
         assert!(l.length_mm > 40.0, "a whole 50 mm pass: {l:?}");
         assert!(matches!(l.tool_part, ToolPart::Holder(_)));
         assert!(!l.approach, "on the span itself: {l:?}");
-        // Where: the fillet's top line (the fillet runs along x from the floor at z = 15 up
-        // to z = 20), straight along x; the length is the distance between its ends.
+        // Where: a whole pass on the fillet (radius 5 about the line y = 25, z = 20, from the
+        // floor z = 15 up to the wall y = 20), straight along x, in its upper half; the length
+        // is the distance between its ends.
         assert!((l.start.y - l.end.y).abs() < 1e-6 && (l.start.z - l.end.z).abs() < 1e-6);
-        assert!(l.start.z > 19.0 && l.start.z < 20.0 + 1e-6, "{l:?}");
+        let from_axis = (l.start.y - 25.0).hypot(l.start.z - 20.0);
+        assert!((from_axis - 5.0).abs() < 0.01, "{l:?}");
+        assert!(l.start.z > 17.5 && l.start.z < 20.0 + 1e-6, "{l:?}");
         assert!(
             (l.length_mm - l.start.distance(l.end)).abs() < 1e-6,
             "{l:?}"
@@ -204,10 +206,13 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
             "{named}"
         );
         // No kept cutting pose lies on the span.
+        let (x0, x1) = (l.start.x.min(l.end.x), l.start.x.max(l.end.x));
         assert!(tight.toolpath.poses.iter().all(|p| {
             p.kind != MoveKind::Cut
                 || (p.tip.y - l.start.y).abs() > 1e-3
                 || (p.tip.z - l.start.z).abs() > 1e-3
+                || p.tip.x < x0 - 1e-3
+                || p.tip.x > x1 + 1e-3
         }));
     }
     assert!(tight.part_hits.is_empty());
