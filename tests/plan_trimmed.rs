@@ -402,7 +402,8 @@ fn a_five_axis_path_is_flagged_at_planning_on_a_three_axis_machine() {
 /// and iso-planar, ball Ø6, h 0.05 mm, each path checked exactly against its own face and
 /// against every other face of the part, the tool tilting away as the pipeline does). Prints
 /// one line per face and strategy; fails on a planning error, an exact gouge deeper than
-/// 1 µm, or a remaining entry into another face deeper than 1 µm.
+/// 1 µm, a remaining entry into another face deeper than 1 µm, or a cut contact farther than
+/// 0.01 mm from the face's own fine tessellation.
 /// `cargo test --release --no-default-features --test plan_trimmed -- --ignored --nocapture`
 #[test]
 #[ignore = "minutes in the debug build; run by hand, figures in benches/README.md"]
@@ -430,6 +431,7 @@ fn real_parts_plan_without_gouges_against_any_face() {
         let cutter = parse_tool_spec("ball:d=6").expect("tool");
         for &i in &faces {
             let skip = [i];
+            let face_mesh = face_bvh(&p, i);
             let context = PartContext {
                 check: PartCheck::of_workpiece(&wp, &bvh, &skip),
                 tilt: Some(TiltAway {
@@ -453,10 +455,12 @@ fn real_parts_plan_without_gouges_against_any_face() {
                     Ok(r) => {
                         let g = r.toolpath.summary.gouge.unwrap_or_default();
                         let part_depth = r.part_hits.iter().map(|h| h.depth_mm).fold(0.0, f64::max);
+                        let seconds = t0.elapsed().as_secs_f64();
+                        let (off, contacts) = worst_contact(&r, &face_mesh);
                         eprintln!(
-                            "{file} face {i} {name}: {:.2} s, {} poses, exact gouge {:.4} mm \
-                             at {} poses, other faces {} hits {:.4} mm, {} spans left out",
-                            t0.elapsed().as_secs_f64(),
+                            "{file} face {i} {name}: {seconds:.2} s, {} poses, exact gouge {:.4} mm \
+                             at {} poses, other faces {} hits {:.4} mm, {} spans left out, \
+                             {contacts} contacts, worst {off:.5} mm off the face",
                             r.toolpath.poses.len(),
                             g.max_depth_mm,
                             g.gouging_poses,
@@ -514,6 +518,11 @@ fn real_parts_plan_without_gouges_against_any_face() {
                         }
                         for l in r.left_out.iter().take(3) {
                             eprintln!("   left out {l:?}");
+                        }
+                        if off > ON_FACE_MM {
+                            failures.push(format!(
+                                "{file} face {i} {name}: a contact {off:.4} mm off the face"
+                            ));
                         }
                         if g.max_depth_mm > 0.001 || part_depth > 0.001 {
                             failures.push(format!(

@@ -182,15 +182,41 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     for l in &tight.left_out {
         assert!(l.length_mm > 40.0, "a whole 50 mm pass: {l:?}");
         assert!(matches!(l.tool_part, ToolPart::Holder(_)));
+        assert!(!l.approach, "on the span itself: {l:?}");
+        // Where: a whole pass on the fillet (radius 5 about the line y = 25, z = 20, from the
+        // floor z = 15 up to the wall y = 20), straight along x, in its upper half; the length
+        // is the distance between its ends.
+        assert!((l.start.y - l.end.y).abs() < 1e-6 && (l.start.z - l.end.z).abs() < 1e-6);
+        let from_axis = (l.start.y - 25.0).hypot(l.start.z - 20.0);
+        assert!((from_axis - 5.0).abs() < 0.01, "{l:?}");
+        assert!(l.start.z > 17.5 && l.start.z < 20.0 + 1e-6, "{l:?}");
+        assert!(
+            (l.length_mm - l.start.distance(l.end)).abs() < 1e-6,
+            "{l:?}"
+        );
+        let named = format!(
+            "left out {:.2} mm ({} poses) from ({:.3}, {:.3}, {:.3})",
+            l.length_mm, l.poses, l.start.x, l.start.y, l.start.z
+        );
+        assert!(
+            tight
+                .diagnostics
+                .iter()
+                .any(|d| d.message.starts_with(&named)),
+            "{named}"
+        );
+        // No kept cutting pose lies on the span.
+        let (x0, x1) = (l.start.x.min(l.end.x), l.start.x.max(l.end.x));
+        assert!(tight.toolpath.poses.iter().all(|p| {
+            p.kind != MoveKind::Cut
+                || (p.tip.y - l.start.y).abs() > 1e-3
+                || (p.tip.z - l.start.z).abs() > 1e-3
+                || p.tip.x < x0 - 1e-3
+                || p.tip.x > x1 + 1e-3
+        }));
     }
     assert!(tight.part_hits.is_empty());
     assert!(holder_clean(&wp, &bvh, &tight, tool));
-    assert!(
-        tight
-            .diagnostics
-            .iter()
-            .any(|d| d.message.starts_with("left out"))
-    );
 }
 
 /// Steep tilts (5° lead limit, then up to 90°) on the floor fillet (a concave quarter cylinder

@@ -9,9 +9,12 @@
 //! The signed distance to a convex solid is a convex function of the point, so its minimum over
 //! a (flat) triangle is found exactly by nested golden-section searches over the triangle's
 //! parameters `p(s, t) = (1 − s)·a + s·((1 − t)·b + t·c)` (for fixed `s` the point runs on a
-//! segment; the minimum over that segment is convex in `s`). A triangle whose bounding sphere
-//! lies farther from the solid than the tolerance is skipped first (the distance is
-//! 1-Lipschitz). Depth = −(minimum signed distance).
+//! segment; the minimum over that segment is convex in `s`). A triangle is skipped first where
+//! a lower bound of the signed distance over it rules out a depth beyond the tolerance (or
+//! beyond the deepest found): its bounding sphere's distance (the distance is 1-Lipschitz) or
+//! its distance to the axis segment of a capsule holding the piece less the capsule's radius
+//! (a ball end's capsule starts at its centre). The rest are searched by that bound, most promising first.
+//! Depth = −(minimum signed distance).
 //!
 //! The mesh is the exact faces within the tessellation's chord tolerance, so depths up to that
 //! tolerance are not reported (give it as [`PartCheck::tolerance_mm`]). Along a move,
@@ -109,8 +112,9 @@ pub struct PartReport {
 /// One convex piece of the tool, in the tool frame (tip at the origin, axis +z).
 #[derive(Clone, Debug)]
 enum Convex {
-    /// The cutting solid.
-    Cutting(ToolSolid),
+    /// The cutting solid, and the height from which the capsule holding it starts (a ball
+    /// end: its centre; else the tip).
+    Cutting(ToolSolid, f64),
     /// A cylinder of `radius` from `z0` to `z1`.
     Cylinder { z0: f64, z1: f64, radius: f64 },
 }
@@ -118,7 +122,7 @@ enum Convex {
 impl Convex {
     fn signed_distance(&self, rho: f64, z: f64) -> f64 {
         match self {
-            Self::Cutting(s) => s.signed_distance_rz(rho, z),
+            Self::Cutting(s, _) => s.signed_distance_rz(rho, z),
             Self::Cylinder { z0, z1, radius } => {
                 let dx = rho - radius;
                 let dz = (z0 - z).max(z - z1);
@@ -134,7 +138,15 @@ impl Convex {
     /// Height range and radius bounding the piece.
     fn extent(&self) -> (f64, f64, f64) {
         match self {
-            Self::Cutting(s) => (0.0, s.top(), s.max_radius()),
+            Self::Cutting(s, _) => (0.0, s.top(), s.max_radius()),
+            Self::Cylinder { z0, z1, radius } => (*z0, *z1, *radius),
+        }
+    }
+
+    /// A capsule holding the piece: the segment of the axis (heights) and the radius.
+    fn capsule(&self) -> (f64, f64, f64) {
+        match self {
+            Self::Cutting(s, start) => (*start, s.top(), s.max_radius()),
             Self::Cylinder { z0, z1, radius } => (*z0, *z1, *radius),
         }
     }
@@ -156,7 +168,13 @@ impl ToolPieces {
         let cutting = cutter.cutting_solid();
         let mut top = cutting.top();
         let mut radius = cutting.max_radius();
-        let mut pieces = vec![(Convex::Cutting(cutting), ToolPart::CuttingEnd)];
+        // A ball end below its centre lies within its radius of the centre.
+        let start = if cutter.kind == crate::tools::CutterKind::Ball {
+            cutter.radius().clamp(0.0, top)
+        } else {
+            0.0
+        };
+        let mut pieces = vec![(Convex::Cutting(cutting, start), ToolPart::CuttingEnd)];
         if whole_tool {
             let mut z = cutter.flute_length;
             let mut push = |z0: f64, z1: f64, r: f64, part: ToolPart| {
@@ -223,6 +241,120 @@ fn piece_box(piece: &Convex, tip: DVec3, axis: DVec3, margin: f64) -> Aabb {
     }
 }
 
+/// A lower bound of `piece`'s signed distance over triangle `tri` (the piece placed at
+/// (`tip`, `axis`)): the distance from the triangle to the axis segment of a capsule holding
+/// the piece ([`Convex::capsule`]), less the capsule's radius. A convex solid's signed distance
+/// is never below that of a convex solid holding it.
+fn capsule_bound(piece: &Convex, tip: DVec3, axis: DVec3, tri: [DVec3; 3]) -> f64 {
+    let (z0, z1, r) = piece.capsule();
+    let d = segment_triangle_distance(tip + axis * z0, tip + axis * z1, tri);
+    // Rounding of the closest-point arithmetic: a margin far below any tolerance.
+    if d.is_finite() {
+        d - r - 1e-7
+    } else {
+        f64::NEG_INFINITY
+    }
+}
+
+/// Distance between segment `[p, q]` and triangle `tri`: 0 where the segment crosses it, else
+/// the least of the ends' distances to the triangle and the segment's distances to its edges.
+fn segment_triangle_distance(p: DVec3, q: DVec3, tri: [DVec3; 3]) -> f64 {
+    let [a, b, c] = tri;
+    let n = (b - a).cross(c - a);
+    let (dp, dq) = ((p - a).dot(n), (q - a).dot(n));
+    let mut best = point_triangle_distance(p, tri).min(point_triangle_distance(q, tri));
+    if dp * dq < 0.0 {
+        let x = p + (q - p) * (dp / (dp - dq));
+        best = best.min(point_triangle_distance(x, tri));
+    }
+    for (e0, e1) in [(a, b), (b, c), (c, a)] {
+        best = best.min(segment_distance(p, q, e0, e1));
+    }
+    best
+}
+
+/// Distance from `p` to triangle `[a, b, c]` (closest point by the triangle's Voronoi regions);
+/// NaN-free for a degenerate triangle only through its edges, so `+∞` is returned there and the
+/// edges decide.
+fn point_triangle_distance(p: DVec3, [a, b, c]: [DVec3; 3]) -> f64 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return p.distance(a);
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return p.distance(b);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return p.distance(a + ab * (d1 / (d1 - d3)));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return p.distance(c);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return p.distance(a + ac * (d2 / (d2 - d6)));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return p.distance(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    }
+    let sum = va + vb + vc;
+    if sum.abs() < 1e-300 {
+        return f64::INFINITY;
+    }
+    let d = p.distance(a + ab * (vb / sum) + ac * (vc / sum));
+    if d.is_finite() { d } else { f64::INFINITY }
+}
+
+/// Distance between segments `[p1, q1]` and `[p2, q2]` (closest points by clamped parameters).
+fn segment_distance(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> f64 {
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
+    let tiny = 1e-30;
+    let (s, t) = if a <= tiny && e <= tiny {
+        (0.0, 0.0)
+    } else if a <= tiny {
+        (0.0, (f / e).clamp(0.0, 1.0))
+    } else {
+        let c = d1.dot(r);
+        if e <= tiny {
+            ((-c / a).clamp(0.0, 1.0), 0.0)
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            let s = if denom > 0.0 {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let t = (b * s + f) / e;
+            if t < 0.0 {
+                ((-c / a).clamp(0.0, 1.0), 0.0)
+            } else if t > 1.0 {
+                (((b - c) / a).clamp(0.0, 1.0), 1.0)
+            } else {
+                (s, t)
+            }
+        }
+    };
+    (p1 + d1 * s).distance(p2 + d2 * t)
+}
+
+/// A candidate triangle of [`PartCheck::placement`]: the lower bound of the signed distance
+/// over it, its key (piece, place in the piece's candidates), corners and face.
+struct Bounded {
+    bound: f64,
+    key: (usize, usize),
+    tri: [DVec3; 3],
+    face: usize,
+}
+
 /// Minimum of a convex `f` on [0, 1] by golden section to `tol`: (argmin, min).
 fn golden(f: impl Fn(f64) -> f64, tol: f64) -> (f64, f64) {
     let steps = crate::geometry::minimize::golden_iterations(1.0, tol, 200);
@@ -263,38 +395,70 @@ impl PartCheck<'_> {
 
     /// The deepest point of the part (outside the skipped faces) inside the tool placed at
     /// (`tip`, unit `axis`), when deeper than the tolerance: (point, depth, face, tool part).
+    /// The triangles are searched in the order of their lower bounds (most promising first), so
+    /// the deepest found early skips the rest; of equal depths the first piece's, lowest
+    /// triangle's wins, so the result does not depend on that order.
     #[must_use]
     pub fn placement(&self, tool: &ToolPieces, tip: DVec3, axis: DVec3) -> Option<PlacementHit> {
         let tol = self.tolerance_mm.max(0.0);
-        let mut best: Option<PlacementHit> = None;
-        for (piece, part) in &tool.pieces {
-            for (tri, face) in self.candidates(piece, tip, axis) {
+        let mut order = self.bounded(tool, tip, axis, tol);
+        order.sort_by(|a, b| a.bound.total_cmp(&b.bound));
+        let mut best: Option<(PlacementHit, (usize, usize))> = None;
+        for c in &order {
+            // Lower bound of the distance over the triangle (1-Lipschitz): it cannot be deeper
+            // than the tolerance or than the deepest found (nor can any later one).
+            let floor = tol.max(best.map_or(0.0, |b| b.0.1));
+            if c.bound > -floor {
+                break;
+            }
+            let (piece, part) = &tool.pieces[c.key.0];
+            let (p, d) = triangle_min(c.tri, |q| sd_at(piece, q, tip, axis));
+            let depth = -d;
+            let wins = best.is_none_or(|(b, key)| depth > b.1 || (depth == b.1 && c.key < key));
+            if depth > tol && wins {
+                best = Some(((p, depth, c.face, *part), c.key));
+            }
+        }
+        best.map(|b| b.0)
+    }
+
+    /// Every candidate triangle of every piece whose lower bound (the larger of `sd(centre) −
+    /// reach`, the distance being 1-Lipschitz, and [`capsule_bound`]) does not rule out a depth
+    /// beyond `tol`.
+    fn bounded(&self, tool: &ToolPieces, tip: DVec3, axis: DVec3, tol: f64) -> Vec<Bounded> {
+        let mut out = Vec::new();
+        for (k, (piece, _)) in tool.pieces.iter().enumerate() {
+            for (i, (tri, face)) in self.candidates(piece, tip, axis).enumerate() {
                 let centre = (tri[0] + tri[1] + tri[2]) / 3.0;
                 let reach = tri.iter().fold(0.0_f64, |m, v| m.max(v.distance(centre)));
-                // Lower bound of the distance over the triangle (1-Lipschitz): skip it when
-                // it cannot be deeper than the tolerance or than the deepest found.
-                let floor = tol.max(best.map_or(0.0, |b| b.1));
-                if sd_at(piece, centre, tip, axis) - reach > -floor {
-                    continue;
-                }
-                let (p, d) = triangle_min(tri, |q| sd_at(piece, q, tip, axis));
-                let depth = -d;
-                if depth > tol && best.is_none_or(|b| depth > b.1) {
-                    best = Some((p, depth, face, *part));
+                let bound = sd_at(piece, centre, tip, axis) - reach;
+                let bound = if bound <= -tol {
+                    bound.max(capsule_bound(piece, tip, axis, tri))
+                } else {
+                    bound
+                };
+                if bound <= -tol {
+                    out.push(Bounded {
+                        bound,
+                        key: (k, i),
+                        tri,
+                        face,
+                    });
                 }
             }
         }
-        best
+        out
     }
 
     /// Whether the tool placed at (`tip`, unit `axis`) enters the part (outside the skipped
     /// faces) deeper than the tolerance: as [`Self::placement`] is `Some`, faster where the
-    /// tool is deep in the part (a triangle's corner or centre inside answers at once).
+    /// tool is deep in the part (a triangle's corner or centre inside answers at once, and the
+    /// search ends at the first triangle found deeper than the tolerance).
     #[must_use]
     pub fn enters(&self, tool: &ToolPieces, tip: DVec3, axis: DVec3) -> bool {
         let tol = self.tolerance_mm.max(0.0);
-        let mut doubtful = false;
-        for (piece, _) in &tool.pieces {
+        let mut doubtful = Vec::new();
+        for (k, (piece, _)) in tool.pieces.iter().enumerate() {
             for (tri, _) in self.candidates(piece, tip, axis) {
                 let centre = (tri[0] + tri[1] + tri[2]) / 3.0;
                 let c = sd_at(piece, centre, tip, axis);
@@ -302,10 +466,20 @@ impl PartCheck<'_> {
                     return true;
                 }
                 let reach = tri.iter().fold(0.0_f64, |m, v| m.max(v.distance(centre)));
-                doubtful |= c - reach <= -tol;
+                if c - reach <= -tol {
+                    let bound = (c - reach).max(capsule_bound(piece, tip, axis, tri));
+                    if bound <= -tol {
+                        doubtful.push((bound, k, tri));
+                    }
+                }
             }
         }
-        doubtful && self.placement(tool, tip, axis).is_some()
+        // `placement` is `Some` exactly when one of these triangles' minimum is below −tol.
+        doubtful.sort_by(|a, b| a.0.total_cmp(&b.0));
+        doubtful.iter().any(|&(_, k, tri)| {
+            let piece = &tool.pieces[k].0;
+            triangle_min(tri, |q| sd_at(piece, q, tip, axis)).1 < -tol
+        })
     }
 
     /// Check every cutting pose and move of `poses` (in parallel): the deepest hit per pose.
@@ -425,5 +599,44 @@ mod tests {
         let (_, d) = triangle_min(tri, |q| sd_at(piece, q, DVec3::ZERO, axis));
         let want = -(3.0 - (centre.z - 0.5));
         assert!((d - want).abs() < 1e-6, "{d} {want}");
+    }
+
+    #[test]
+    fn segment_triangle_distance_matches_sampling() {
+        // Independent: the least distance between sample points of the segment and of the
+        // triangle (an upper bound, within the sampling's spacing of the true distance).
+        let mut seed = 12_345_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 10.0 - 5.0
+        };
+        for _ in 0..40 {
+            let mut v = || DVec3::new(next(), next(), next());
+            let tri = [v(), v(), v()];
+            let (p, q) = (v(), v());
+            let d = segment_triangle_distance(p, q, tri);
+            let n = 60;
+            let mut sampled = f64::INFINITY;
+            for i in 0..=n {
+                for j in 0..=n - i {
+                    let (u, w) = (i as f64 / n as f64, j as f64 / n as f64);
+                    let x = tri[0] + (tri[1] - tri[0]) * u + (tri[2] - tri[0]) * w;
+                    for k in 0..=n {
+                        let y = p.lerp(q, k as f64 / n as f64);
+                        sampled = sampled.min(x.distance(y));
+                    }
+                }
+            }
+            assert!(d <= sampled + 1e-9, "{d} above sampled {sampled}");
+            assert!(d >= sampled - 0.5, "{d} far below sampled {sampled}");
+        }
+        // A segment through the triangle: 0; one above it: the height.
+        let tri = [DVec3::ZERO, DVec3::X * 4.0, DVec3::Y * 4.0];
+        let through =
+            segment_triangle_distance(DVec3::new(1.0, 1.0, -1.0), DVec3::new(1.0, 1.0, 1.0), tri);
+        assert!(through.abs() < 1e-12, "{through}");
+        let above =
+            segment_triangle_distance(DVec3::new(1.0, 1.0, 2.0), DVec3::new(3.0, -1.0, 2.5), tri);
+        assert!((above - 2.0).abs() < 1e-12, "{above}");
     }
 }

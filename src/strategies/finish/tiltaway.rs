@@ -584,6 +584,15 @@ const ESCAPES_MM: [f64; 6] = [10.0, 20.0, 40.0, 80.0, 160.0, 320.0];
 /// or no escape is.
 fn escape(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose, top: f64) -> Option<f64> {
     approach_hit(check, tool, p, top)?;
+    sideways(check, tool, p, top)
+}
+
+/// The least of [`ESCAPES_MM`] whose escape (out along `p`'s axis, then up to `top`) is clear.
+/// The line out along the axis is scanned once, with the samples [`line_hit`] takes on each
+/// length (every `step_mm` over the first [`super::linking::APPROACH_HEIGHT`], every 1 mm
+/// beyond, and the length's end): a hit at distance `d` blocks every length beyond `d`, so the
+/// search ends there.
+fn sideways(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose, top: f64) -> Option<f64> {
     // Beyond the part's box (grown by the tool's radius) a longer escape frees nothing more.
     let b = check.bvh.bbox();
     let grow = DVec3::splat(tool.radius());
@@ -602,20 +611,25 @@ fn escape(check: &PartCheck<'_>, tool: &ToolPieces, p: &Pose, top: f64) -> Optio
         .iter()
         .position(|&l| l >= exit)
         .unwrap_or(ESCAPES_MM.len() - 1);
-    ESCAPES_MM[..=beyond].iter().copied().find(|&l| {
-        let out = p.tip + p.axis * l;
+    let dir = p.axis.try_normalize()?;
+    let step = check.step_mm.max(0.01);
+    let fine = super::linking::APPROACH_HEIGHT + step;
+    let mut next = step;
+    for &l in &ESCAPES_MM[..=beyond] {
+        while next < l {
+            if check.enters(tool, p.tip + dir * next, p.axis) {
+                return None;
+            }
+            next += if next < fine { step } else { 1.0 };
+        }
+        let out = p.tip + dir * l;
         let up = DVec3::new(out.x, out.y, top.max(out.z));
-        line_hit(
-            check,
-            tool,
-            p.axis,
-            p.tip,
-            out,
-            super::linking::APPROACH_HEIGHT,
-        )
-        .is_none()
-            && line_hit(check, tool, p.axis, out, up, 0.0).is_none()
-    })
+        if !check.enters(tool, out, p.axis) && line_hit(check, tool, p.axis, out, up, 0.0).is_none()
+        {
+            return Some(l);
+        }
+    }
+    None
 }
 
 /// The linking's approach route to (and retract from) pose `p` on a part: the length of the
@@ -636,7 +650,7 @@ fn approach_blocked(
     top: f64,
 ) -> Option<PlacementHit> {
     let hit = approach_hit(check, tool, p, top)?;
-    escape(check, tool, p, top).is_none().then_some(hit)
+    sideways(check, tool, p, top).is_none().then_some(hit)
 }
 
 /// Whether every move between consecutive `poses` is clear of the part (placements every
