@@ -370,6 +370,22 @@ pub fn blend_limits(
     tangential_limits(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
 }
 
+/// The velocity bound alone of [`blend_limits`] (the same value and cap), for weighing
+/// candidate blends before the tangential acceleration and jerk of the chosen one are taken;
+/// `None` where it is not finite and positive. Where it is, `blend_limits` gives valid limits:
+/// the shares leave `a_b ≥ (1 − share)·A/d1` and `j_b ≥ (1 − share)/2·J/d1` (the
+/// construction in the module docs), and a blend's `d1` is not zero on every axis.
+#[must_use]
+pub fn blend_velocity(
+    blend: &super::blend::ClothoidBlend,
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+) -> Option<(f64, VelocityCap)> {
+    velocity_bound(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
+        .filter(|(v, _)| v.is_finite() && *v > 0.0)
+}
+
 /// Shares of the axis acceleration and jerk limits given to the curvature terms.
 #[derive(Clone, Copy, Debug)]
 struct Share {
@@ -462,9 +478,9 @@ fn velocity_bound(
         if d3[k] > 0.0 && !(ratio[k] >= v_b * v_b * v_b * (1.0 + 1e-12)) {
             // Terms above the least root cannot lower the bound below it.
             let root = if ratio[k] == least_ratio {
-                *least_root.get_or_insert_with(|| least_ratio.cbrt())
+                *least_root.get_or_insert_with(|| super::profile::cbrt(least_ratio))
             } else if ratio[k] <= near {
-                ratio[k].cbrt()
+                super::profile::cbrt(ratio[k])
             } else {
                 continue;
             };
