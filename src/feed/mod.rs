@@ -401,17 +401,18 @@ fn best_blend(
             deviation *= 0.25;
             first.shrunk_to(deviation)
         };
-        let Some((c, v)) = candidate.and_then(|c| {
-            path::blend_velocity(&c, feed, axes, path_limits).map(|(v, _)| (c, v))
-        }) else {
+        let Some((c, weighed)) =
+            candidate.and_then(|c| path::blend_velocity(&c, feed, axes, path_limits).map(|w| (c, w)))
+        else {
             continue;
         };
+        let v = weighed.velocity;
         // Half the blend replaces each neighbour's line at that neighbour's speed.
         let half = 0.5 * c.length();
         let cost = slow_down(v)
             + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
         if cost < best_cost {
-            let Some((limits, cap)) = path::blend_limits(&c, feed, axes, path_limits) else {
+            let Some((limits, cap)) = path::blend_limits_at(&weighed, axes, path_limits) else {
                 continue;
             };
             best_cost = cost;

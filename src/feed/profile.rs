@@ -428,14 +428,16 @@ fn peak_velocity(
     }
     // Quadratic region: vp²/A + vp·A/J + c0 = distance. Its root is taken only within
     // [lo + A²/J, V], which is empty when lo + A²/J > V.
-    let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
-    let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
-    let disc = qb * qb - 4.0 * qa * qc;
-    if lo + threshold <= vmax && disc >= 0.0 && qc < 0.0 {
-        // Positive root, cancellation-free.
-        let r = -2.0 * qc / (qb + disc.sqrt());
-        if r >= lo + threshold && r <= vmax {
-            return (r, None);
+    if lo + threshold <= vmax {
+        let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
+        let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 && qc < 0.0 {
+            // Positive root, cancellation-free.
+            let r = -2.0 * qc / (qb + disc.sqrt());
+            if r >= lo + threshold && r <= vmax {
+                return (r, None);
+            }
         }
     }
     if v0 == v1 {
@@ -626,9 +628,10 @@ fn peak_velocity_short_quartic(
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let (dd, sum) = (h - w, w + h);
-    let k = distance * (j / dd).sqrt();
+    let inv = 1.0 / dd;
+    let k = distance * (j * inv).sqrt();
     // Cardano on z³ + p·z = q (cancellation-free form), p = 4(w + h)/D, q = 4k/D.
-    let (p, q) = (4.0 * sum / dd, 4.0 * k / dd);
+    let (p, q) = (4.0 * sum * inv, 4.0 * k * inv);
     let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
     let wu = p / (3.0 * u);
     let mut z = q / (u * u + p / 3.0 + wu * wu);
