@@ -401,8 +401,8 @@ fn best_blend(
             deviation *= 0.25;
             first.shrunk_to(deviation)
         };
-        let Some((c, weighed)) =
-            candidate.and_then(|c| path::blend_velocity(&c, feed, axes, path_limits).map(|w| (c, w)))
+        let Some((c, weighed)) = candidate
+            .and_then(|c| path::blend_velocity(&c, feed, axes, path_limits).map(|w| (c, w)))
         else {
             continue;
         };

@@ -329,7 +329,16 @@ mod reachable_tests {
             let ulp = exact.abs().next_up() - exact.abs();
             assert!((fast - exact).abs() <= ulp, "{x}: {fast} vs {exact}");
         }
-        for x in [0.0, -0.0, 1e-310, -1e-310, 8.0, -27.0, f64::INFINITY, f64::MAX] {
+        for x in [
+            0.0,
+            -0.0,
+            1e-310,
+            -1e-310,
+            8.0,
+            -27.0,
+            f64::INFINITY,
+            f64::MAX,
+        ] {
             assert_eq!(cbrt(x).to_bits(), x.cbrt().to_bits(), "{x}");
         }
         assert!(cbrt(f64::NAN).is_nan());
@@ -372,7 +381,10 @@ mod reachable_tests {
             };
             closed += 1;
             assert!(at.total <= d, "{v0} {v1} {d} {lim:?}");
-            assert!((got - vp).abs() <= 1e-12 * vp, "{v0} {v1} {d}: {got} vs {vp}");
+            assert!(
+                (got - vp).abs() <= 1e-12 * vp,
+                "{v0} {v1} {d}: {got} vs {vp}"
+            );
             if let Some((newton, _)) = peak_velocity_short_in_x(v0, v1, d, &lim) {
                 assert!((got - newton).abs() <= 1e-14 * vp, "{got} vs {newton}");
             }
