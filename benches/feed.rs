@@ -13,7 +13,9 @@
 //! stop, junction deviation and blends of 0.05 and 1 mm: two builds that print the same hashes
 //! plan the same, bit for bit. Run it from the repository root (the thesis programs are read
 //! from there): `FEED_DIGEST=1 cargo bench --no-default-features --bench feed`.
-//! `FEED_ONLY=curve_blend` times only the programs whose name contains it.
+//! `FEED_ONLY=curve_blend` times only the programs whose name contains it. `FEED_VALUES=<file>`
+//! with `FEED_DIGEST=1` also writes every hashed value to the file (compare two builds' files
+//! with `benches/feed_values_diff.py`).
 
 use criterion::{Criterion, Throughput, criterion_group};
 use std::fmt::Write as _;
@@ -148,20 +150,39 @@ fn bench(c: &mut Criterion) {
 
 criterion_group!(benches, bench);
 
+/// With `FEED_VALUES=<file>` (and `FEED_DIGEST=1`) every value hashed is also written to the
+/// file, one per line (`f <value>`, `u <integer>`, `s <text>`, `plan` between plans), so that
+/// two builds' outputs can be compared value by value where their digests differ.
+static VALUES: std::sync::Mutex<Option<std::io::BufWriter<std::fs::File>>> =
+    std::sync::Mutex::new(None);
+
+fn record(line: std::fmt::Arguments<'_>) {
+    use std::io::Write as _;
+    if let Some(w) = VALUES.lock().unwrap().as_mut() {
+        w.write_fmt(line).unwrap();
+    }
+}
+
 /// FNV-1a over the bits of what the planner outputs.
 struct H(u64);
 
 impl H {
     fn f(&mut self, x: f64) {
-        self.u(x.to_bits());
+        record(format_args!("f {x:e}\n"));
+        self.hash(x.to_bits());
     }
     fn u(&mut self, x: u64) {
+        record(format_args!("u {x}\n"));
+        self.hash(x);
+    }
+    fn hash(&mut self, x: u64) {
         for b in x.to_le_bytes() {
             self.0 ^= u64::from(b);
             self.0 = self.0.wrapping_mul(0x100000001b3);
         }
     }
     fn s(&mut self, s: &str) {
+        record(format_args!("s {s}\n"));
         for b in s.bytes() {
             self.0 ^= u64::from(b);
             self.0 = self.0.wrapping_mul(0x100000001b3);
@@ -287,6 +308,7 @@ fn digest(
                 ..PlanOptions::default()
             },
         };
+        record(format_args!("plan\n"));
         match plan(&input) {
             Err(e) => h.s(&format!("{e}")),
             Ok(tp) => {
@@ -352,6 +374,10 @@ fn digest(
 
 /// Print the four digests (random programs, thesis programs, curve, raster).
 fn digest_all() {
+    if let Some(path) = std::env::var_os("FEED_VALUES") {
+        let file = std::fs::File::create(path).expect("FEED_VALUES names a writable file");
+        *VALUES.lock().unwrap() = Some(std::io::BufWriter::new(file));
+    }
     let m3 = machine_limits(&Machine::builtin("mill-3axis").unwrap());
     let m5 = machine_limits(&Machine::builtin("trt-ac").unwrap());
     let mut rng = Rng(7);
@@ -414,6 +440,10 @@ fn digest_all() {
         20_000,
     );
     println!("raster: {:016x}", h.0);
+    if let Some(mut w) = VALUES.lock().unwrap().take() {
+        use std::io::Write as _;
+        w.flush().unwrap();
+    }
 }
 
 fn main() {

@@ -156,7 +156,15 @@ impl ClothoidBlend {
         let n0 = perp0 / sin;
         let n1 = -(t0 - t1 * cos).normalize_or_zero();
         let (xh, yh) = fresnel(turn, 1.0);
-        let (sh, ch) = (0.5 * turn).sin_cos();
+        // sin and cos of θ/2 by the half-angle formulas, each root taken where its radicand
+        // does not cancel (1 + cos θ ≥ 1 or 1 − cos θ ≥ 1).
+        let (sh, ch) = if cos >= 0.0 {
+            let ch = (0.5 * (1.0 + cos)).sqrt();
+            (0.5 * sin / ch, ch)
+        } else {
+            let sh = (0.5 * (1.0 - cos)).sqrt();
+            (sh, 0.5 * sin / sh)
+        };
         // Set-back per unit L: x̂ + ŷ·tan(θ/2); deviation per unit L: ŷ/cos(θ/2).
         let setback_unit = xh + yh * sh / ch;
         let deviation_unit = yh / ch;

@@ -382,6 +382,8 @@ fn best_blend(
     let (fa, fb) = corner.reached;
     let slow_down = |v: f64| side(a, fa, v) + side(b, fb, v);
     let mut best: Option<(blend::ClothoidBlend, Limits1, path::VelocityCap)> = None;
+    // Candidates are weighed by their velocity bound; the tangential limits are taken only
+    // for one that is the best so far (`blend_velocity` says why they then exist).
     let mut best_cost = slow_down(0.0);
     let first = blend::ClothoidBlend::new(
         corner.point,
@@ -399,17 +401,20 @@ fn best_blend(
             deviation *= 0.25;
             first.shrunk_to(deviation)
         };
-        let Some((c, (limits, cap))) =
-            candidate.and_then(|c| path::blend_limits(&c, feed, axes, path_limits).map(|l| (c, l)))
+        let Some((c, weighed)) = candidate
+            .and_then(|c| path::blend_velocity(&c, feed, axes, path_limits).map(|w| (c, w)))
         else {
             continue;
         };
-        let v = limits.velocity;
+        let v = weighed.velocity;
         // Half the blend replaces each neighbour's line at that neighbour's speed.
         let half = 0.5 * c.length();
         let cost = slow_down(v)
             + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
         if cost < best_cost {
+            let Some((limits, cap)) = path::blend_limits_at(&weighed, axes, path_limits) else {
+                continue;
+            };
             best_cost = cost;
             best = Some((c, limits, cap));
         }

@@ -370,6 +370,56 @@ pub fn blend_limits(
     tangential_limits(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
 }
 
+/// A candidate corner blend weighed by its velocity bound alone (see [`blend_velocity`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BlendVelocity {
+    /// The blend's per-axis derivative bounds.
+    bounds: [JointVector; 3],
+    /// The velocity bound.
+    pub velocity: f64,
+    /// What sets it.
+    pub cap: VelocityCap,
+}
+
+/// The velocity bound alone of [`blend_limits`] (the same value and cap), for weighing
+/// candidate blends before the tangential acceleration and jerk of the chosen one are taken
+/// ([`blend_limits_at`]); `None` where it is not finite and positive. Where it is,
+/// `blend_limits_at` gives valid limits: the shares leave `a_b ≥ (1 − share)·A/d1` and
+/// `j_b ≥ (1 − share)/2·J/d1` (the construction in the module docs), and a blend's `d1` is not
+/// zero on every axis.
+#[must_use]
+pub fn blend_velocity(
+    blend: &super::blend::ClothoidBlend,
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+) -> Option<BlendVelocity> {
+    let bounds = blend.derivative_bounds();
+    let (velocity, cap) = velocity_bound(&bounds, feed, axes, path, Share::BLEND)?;
+    (velocity.is_finite() && velocity > 0.0).then_some(BlendVelocity {
+        bounds,
+        velocity,
+        cap,
+    })
+}
+
+/// [`blend_limits`] of a blend already weighed by [`blend_velocity`] (the same limits, without
+/// taking the velocity bound again).
+#[must_use]
+pub fn blend_limits_at(
+    weighed: &BlendVelocity,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+) -> Option<(super::Limits1, VelocityCap)> {
+    limits_at(
+        &weighed.bounds,
+        (weighed.velocity, weighed.cap),
+        axes,
+        path,
+        Share::BLEND,
+    )
+}
+
 /// Shares of the axis acceleration and jerk limits given to the curvature terms.
 #[derive(Clone, Copy, Debug)]
 struct Share {
@@ -423,8 +473,12 @@ fn velocity_bound(
             }
         }
     }
-    // Taken when first needed (straight segments have no jerk term).
-    let mut least_root = None;
+    // Straight segments have no jerk term (and no root to take).
+    let least_root = if least_ratio < f64::INFINITY {
+        super::profile::cbrt(least_ratio)
+    } else {
+        f64::INFINITY
+    };
     // A ratio this close above the least may have the same cube root.
     let near = least_ratio * (1.0 + 1e-12);
     // The bound so far and what sets it; a value lowers it only if strictly less.
@@ -462,9 +516,9 @@ fn velocity_bound(
         if d3[k] > 0.0 && !(ratio[k] >= v_b * v_b * v_b * (1.0 + 1e-12)) {
             // Terms above the least root cannot lower the bound below it.
             let root = if ratio[k] == least_ratio {
-                *least_root.get_or_insert_with(|| least_ratio.cbrt())
+                least_root
             } else if ratio[k] <= near {
-                ratio[k].cbrt()
+                super::profile::cbrt(ratio[k])
             } else {
                 continue;
             };
@@ -490,8 +544,19 @@ fn tangential_limits(
     path: Option<super::Limits1>,
     share: Share,
 ) -> Option<(super::Limits1, VelocityCap)> {
+    let bound = velocity_bound(bounds, feed, axes, path, share)?;
+    limits_at(bounds, bound, axes, path, share)
+}
+
+/// [`tangential_limits`] given its velocity bound and cap.
+fn limits_at(
+    bounds: &[JointVector; 3],
+    (v_b, cap): (f64, VelocityCap),
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+    share: Share,
+) -> Option<(super::Limits1, VelocityCap)> {
     let [d1, d2, d3] = bounds;
-    let (v_b, cap) = velocity_bound(bounds, feed, axes, path, share)?;
     let mut a_b = path.map_or(f64::INFINITY, |p| p.acceleration);
     for (k, lim) in axes.iter().enumerate() {
         if let Some(l) = lim {

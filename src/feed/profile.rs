@@ -9,9 +9,9 @@
 //! and, because the acceleration pulse is symmetric, covers `(va + vb)/2 · T`. A move over `s`
 //! is accelerate `v0 → vp`, cruise at `vp`, decelerate `vp → v1` (7 phases of constant jerk);
 //! `vp` is the largest peak ≤ `vmax` whose two changes fit in `s`: in closed form when both
-//! changes or only one have a constant-acceleration phase and when `v0 = v1`, by Newton's method
-//! from a closed-form bound when neither has one, with a bracketed iteration as the fallback
-//! (see `peak_velocity`; it never yields NaN).
+//! changes or only one have a constant-acceleration phase and when `v0 = v1`, by a quartic
+//! solved by Newton's method from a closed-form bound when neither has one, with a bracketed
+//! iteration as the fallback (see `peak_velocity`; it never yields NaN).
 
 /// Tangential limits of one 1-DoF move (all positive, finite).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -161,7 +161,7 @@ pub(super) fn reachable_velocity_below_cap(
     let dv = if distance <= d_threshold {
         let p = 2.0 * v_from / j;
         let q = distance / j;
-        let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+        let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
         let w = p / (3.0 * u);
         let mut x = q / (u * u + p / 3.0 + w * w);
         // One Newton step on x³ + p·x − q polishes the round-off.
@@ -313,6 +313,84 @@ mod reachable_tests {
         }
         assert!(n > 10_000, "{n}");
     }
+
+    #[test]
+    fn fast_cbrt_is_within_an_ulp_of_the_correctly_rounded_one() {
+        let mut state = 11u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..100_000 {
+            let x = (rnd() - 0.5) * 10f64.powf(600.0 * rnd() - 300.0);
+            let (fast, exact) = (cbrt(x), x.cbrt());
+            let ulp = exact.abs().next_up() - exact.abs();
+            assert!((fast - exact).abs() <= ulp, "{x}: {fast} vs {exact}");
+        }
+        for x in [
+            0.0,
+            -0.0,
+            1e-310,
+            -1e-310,
+            8.0,
+            -27.0,
+            f64::INFINITY,
+            f64::MAX,
+        ] {
+            assert_eq!(cbrt(x).to_bits(), x.cbrt().to_bits(), "{x}");
+        }
+        assert!(cbrt(f64::NAN).is_nan());
+    }
+
+    /// The quartic of the short peak case gives the peak of the distance it was built from
+    /// (both changes without a constant-acceleration phase), and the same as the Newton
+    /// iteration in `x` to round-off.
+    #[test]
+    fn short_peak_quartic_matches_its_distance_and_the_iteration() {
+        let mut state = 7u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
+        let (mut n, mut closed) = (0, 0);
+        for _ in 0..20_000 {
+            let lim = Limits1 {
+                velocity: scale(rnd(), 0.1, 2000.0),
+                acceleration: scale(rnd(), 10.0, 1e5),
+                jerk: scale(rnd(), 100.0, 1e7),
+            };
+            let (a, j) = (lim.acceleration, lim.jerk);
+            let top = lim.velocity.min(a * a / j);
+            // w < h < vp ≤ w + A²/J, spread over many orders of magnitude of h − w.
+            let w = rnd() * (lim.velocity - top);
+            let vp = w + top * scale(rnd(), 1e-6, 1.0);
+            let h = vp - (vp - w) * rnd();
+            if !(w < h && h < vp) {
+                continue;
+            }
+            let (v0, v1) = if rnd() < 0.5 { (w, h) } else { (h, w) };
+            let d = change_distance(v0, vp, a, j) + change_distance(vp, v1, a, j);
+            n += 1;
+            let Some((got, at)) = peak_velocity_short_quartic(v0, v1, d, &lim) else {
+                continue;
+            };
+            closed += 1;
+            assert!(at.total <= d, "{v0} {v1} {d} {lim:?}");
+            assert!(
+                (got - vp).abs() <= 1e-12 * vp,
+                "{v0} {v1} {d}: {got} vs {vp}"
+            );
+            if let Some((newton, _)) = peak_velocity_short_in_x(v0, v1, d, &lim) {
+                assert!((got - newton).abs() <= 1e-14 * vp, "{got} vs {newton}");
+            }
+        }
+        assert!(n > 15_000 && closed >= n - n / 100, "{closed} of {n}");
+    }
 }
 
 /// `peak_velocity` from the inputs alone (the reference the unit tests call).
@@ -334,8 +412,8 @@ fn peak_velocity_of(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> f64 {
 /// The peak velocity `vp ∈ [max(v0, v1), V)` with `change_distance(v0, vp) +
 /// change_distance(vp, v1) = distance`, given that the distance is too short to cruise at `V`
 /// and long enough for `v0 → v1`. Closed forms where they exist ([`peak_velocity_mixed`] for
-/// one change with a constant-acceleration phase), Newton from a closed-form bound
-/// ([`peak_velocity_short`]) for none, else a bracketed Newton iteration in
+/// one change with a constant-acceleration phase), a quartic solved by Newton from a
+/// closed-form bound ([`peak_velocity_short`]) for none, else a bracketed Newton iteration in
 /// `x = sqrt(vp − max(v0, v1))` (the distance has an infinite slope in `vp` there):
 /// - both changes with a constant-acceleration phase (`vp − v0`, `vp − v1` ≥ A²/J): the distance
 ///   is `vp²/A + vp·A/J + (v0 + v1)·A/(2J) − (v0² + v1²)/(2A)`, a quadratic;
@@ -362,20 +440,22 @@ fn peak_velocity(
     }
     // Quadratic region: vp²/A + vp·A/J + c0 = distance. Its root is taken only within
     // [lo + A²/J, V], which is empty when lo + A²/J > V.
-    let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
-    let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
-    let disc = qb * qb - 4.0 * qa * qc;
-    if lo + threshold <= vmax && disc >= 0.0 && qc < 0.0 {
-        // Positive root, cancellation-free.
-        let r = -2.0 * qc / (qb + disc.sqrt());
-        if r >= lo + threshold && r <= vmax {
-            return (r, None);
+    if lo + threshold <= vmax {
+        let c0 = (v0 + v1) * a / (2.0 * j) - (v0 * v0 + v1 * v1) / (2.0 * a);
+        let (qa, qb, qc) = (1.0 / a, a / j, c0 - distance);
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 && qc < 0.0 {
+            // Positive root, cancellation-free.
+            let r = -2.0 * qc / (qb + disc.sqrt());
+            if r >= lo + threshold && r <= vmax {
+                return (r, None);
+            }
         }
     }
     if v0 == v1 {
         // 2·(2w + J·x²)·x = d  ⇔  x³ + p·x = q with p = 2w/J, q = d/(2J).
         let (p, q) = (2.0 * v0 / j, distance / (2.0 * j));
-        let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+        let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
         let w = p / (3.0 * u);
         let mut x = q / (u * u + p / 3.0 + w * w);
         let f = x * (x * x + p) - q;
@@ -531,18 +611,93 @@ fn peak_velocity_mixed(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
 }
 
 /// The case of [`peak_velocity`] where neither change has a constant-acceleration phase, with
-/// `w = min(v0, v1) < h = max(v0, v1)`. With `x = sqrt((vp − h)/J)` and `δ = (h − w)/J` the
-/// condition is `G(x) = (w + h + J·x²)·sqrt(δ + x²) + (2h + J·x²)·x − d = 0` (squaring out both
-/// roots leaves a polynomial of degree 8, so no useful closed form). `G` is increasing and convex
-/// for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic `2J·x³ + (w + 3h)·x = d` (Cardano) give a
-/// start at or right of the root, from which Newton's iterates decrease monotonically to it
-/// (quadratic convergence; 2–4 steps in practice). `None` when the result leaves the case.
+/// `w = min(v0, v1) < h = max(v0, v1)`, in closed form. With `x = sqrt((vp − h)/J)`,
+/// `D = h − w` and `δ = D/J` the condition is
+/// `G(x) = (w + h + J·x²)·sqrt(δ + x²) + (2h + J·x²)·x − d = 0`; the substitution
+/// `x = sqrt(δ)·sinh t`, `z = e^t` (so `sqrt(δ + x²) = sqrt(δ)·cosh t`) turns it, times
+/// `4z/sqrt(δ)`, into the quartic
+/// `f(z) = D·z⁴ + 4(w + h)·z² − 4k·z − D = 0`, `k = d·sqrt(J/D)`, and the peak is
+/// `vp = h + J·x² = h + D/4·(z − 1/z)²`. `f` is convex (`f'' > 0`) with `f(0) = −D < 0`, so it
+/// has one positive root (`z ≥ 1` as `x ≥ 0`), and the root is well conditioned (at the root
+/// `z·f'(z) = 3D·z⁴ + 4(w + h)·z² + D` exceeds every term). Dropping `−D` leaves the cubic
+/// `D·z³ + 4(w + h)·z = 4k` (Cardano) whose root is a lower bound with `f' > 0`; one Newton step
+/// from it lands at or right of the root, from where the iterates decrease monotonically to it
+/// (quadratic convergence, no square root per step). Where that fails (non-finite values when
+/// `D` is below round-off of `w + h`, a result outside the case) the Newton iteration in `x`
+/// ([`peak_velocity_short_in_x`]) decides; `None` when that fails too.
 fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option<(f64, Changes)> {
+    peak_velocity_short_quartic(v0, v1, distance, lim)
+        .or_else(|| peak_velocity_short_in_x(v0, v1, distance, lim))
+}
+
+/// The quartic of [`peak_velocity_short`]; `None` where it does not give a root in the case.
+fn peak_velocity_short_quartic(
+    v0: f64,
+    v1: f64,
+    distance: f64,
+    lim: &Limits1,
+) -> Option<(f64, Changes)> {
+    let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
+    let (w, h) = (v0.min(v1), v0.max(v1));
+    let (dd, sum) = (h - w, w + h);
+    let inv = 1.0 / dd;
+    let k = distance * (j * inv).sqrt();
+    // Cardano on z³ + p·z = q (cancellation-free form), p = 4(w + h)/D, q = 4k/D.
+    let (p, q) = (4.0 * sum * inv, 4.0 * k * inv);
+    let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
+    let wu = p / (3.0 * u);
+    let mut z = q / (u * u + p / 3.0 + wu * wu);
+    let mut converged = false;
+    for _ in 0..12 {
+        let z2 = z * z;
+        let f = (dd * z2 + 4.0 * sum) * z2 - 4.0 * k * z - dd;
+        let df = (4.0 * dd * z2 + 8.0 * sum) * z - 4.0 * k;
+        if !(df > 0.0) {
+            break;
+        }
+        let step = f / df;
+        z -= step;
+        // The next step would move z by about (z·f''/2f')·step²/z ≤ 2·step²/z (at the root
+        // z·f' = 3D·z⁴ + 4(w + h)·z² + D): below 2e-16·z after this one.
+        if step.abs() <= 1e-8 * z {
+            converged = true;
+            break;
+        }
+    }
+    let vp = if converged && z >= 1.0 {
+        // z − 1/z = (z − 1)(z + 1)/z: z − 1 is exact near 1.
+        let s = (z - 1.0) * (z + 1.0) / z;
+        h + 0.25 * dd * s * s
+    } else {
+        f64::NAN
+    };
+    let in_case = |vp: f64| vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
+    if in_case(vp) {
+        // Settle on the feasible side (a few ulps at most).
+        let (vp, at_vp) = settle(vp, distance, v0, v1, a, j);
+        let err = (at_vp.total - distance).abs();
+        if in_case(vp) && err <= 1e-12 * distance.max(1e-300) {
+            return Some((vp, at_vp));
+        }
+    }
+    None
+}
+
+/// [`peak_velocity_short`] by Newton's method on `G(x)` itself (its fallback). `G` is
+/// increasing and convex for `x ≥ 0`, and `sqrt(δ + x²) ≥ x` makes the cubic
+/// `2J·x³ + (w + 3h)·x = d` (Cardano) give a start at or right of the root, from which
+/// Newton's iterates decrease monotonically to it. `None` when the result leaves the case.
+fn peak_velocity_short_in_x(
+    v0: f64,
+    v1: f64,
+    distance: f64,
+    lim: &Limits1,
+) -> Option<(f64, Changes)> {
     let (a, j, vmax) = (lim.acceleration, lim.jerk, lim.velocity);
     let (w, h) = (v0.min(v1), v0.max(v1));
     let delta = (h - w) / j;
     let (p, q) = ((w + 3.0 * h) / (2.0 * j), distance / (2.0 * j));
-    let u = (0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt()).cbrt();
+    let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
     let wu = p / (3.0 * u);
     let mut x = q / (u * u + p / 3.0 + wu * wu);
     for _ in 0..16 {
@@ -568,6 +723,43 @@ fn peak_velocity_short(v0: f64, v1: f64, distance: f64, lim: &Limits1) -> Option
     let in_case = vp.is_finite() && vp >= h && vp <= vmax && vp - w <= a * a / j;
     let err = (at_vp.total - distance).abs();
     (in_case && err <= 1e-12 * distance.max(1e-300)).then_some((vp, at_vp))
+}
+
+/// The cube root of `x` to within an ulp (error < 0.667 ulp), about a fifth of the cost of the
+/// correctly rounded `f64::cbrt` (which is what the standard library resolves to here, with
+/// out-of-line fused multiply-adds). The algorithm of FreeBSD's `s_cbrt.c`: an estimate from
+/// the exponent bits divided by 3, a polynomial for `1/cbrt` to 23 bits, rounded to 23 bits so
+/// its square is exact, then one Newton-type step to 53 bits. Zero, subnormal, infinite and NaN
+/// input goes to `f64::cbrt`. Hand-written because no maintained crate offers the fast, not
+/// correctly rounded variant (the `libm` crate's is the correctly rounded one).
+#[must_use]
+#[inline]
+pub(crate) fn cbrt(x: f64) -> f64 {
+    /// `(1023 − 1023/3 − 0.03306235651)·2²⁰`: the exponent estimate's bias.
+    const B1: u64 = 715_094_163;
+    /// The polynomial for `1/cbrt` (error below 2^−23.5).
+    const P: [f64; 5] = [
+        f64::from_bits(0x3ffe_03e6_0f61_e692),
+        f64::from_bits(0xbffe_28e0_92f0_2420),
+        f64::from_bits(0x3ff9_f160_4a49_d6c2),
+        f64::from_bits(0xbfe8_44cb_bee7_51d9),
+        f64::from_bits(0x3fc2_b000_d4e4_edd7),
+    ];
+    let bits = x.to_bits();
+    let high = (bits >> 32) & 0x7fff_ffff;
+    if !(0x0010_0000..0x7ff0_0000).contains(&high) {
+        return x.cbrt();
+    }
+    let t = f64::from_bits((bits & (1 << 63)) | ((high / 3 + B1) << 32));
+    // 1/cbrt to 23 bits.
+    let r = (t * t) * (t / x);
+    let t = t * ((P[0] + r * (P[1] + r * P[2])) + ((r * r) * r) * (P[3] + r * P[4]));
+    // Round away from zero to 23 bits: t·t is then exact.
+    let t = f64::from_bits((t.to_bits() + 0x8000_0000) & 0xffff_ffff_c000_0000);
+    let s = t * t;
+    let r = x / s;
+    let r = (r - t) / (t + t + r);
+    t + t * r
 }
 
 /// Step the peak `vp` down by ulps (16 at most) until both changes `v0 → vp → v1` fit in
@@ -601,7 +793,7 @@ fn largest_cubic_root(b: f64, c: f64, d: f64) -> Option<f64> {
     let t = if disc >= 0.0 {
         let sq = disc.sqrt();
         // u·v = −pp/3; take u from the larger magnitude side to avoid cancellation.
-        let u = (-0.5 * qq + if qq <= 0.0 { sq } else { -sq }).cbrt();
+        let u = cbrt(-0.5 * qq + if qq <= 0.0 { sq } else { -sq });
         if u == 0.0 { 0.0 } else { u - pp / (3.0 * u) }
     } else {
         let rad = (-pp / 3.0).sqrt();
