@@ -10,6 +10,9 @@
 //!   30° allowed the path tilts and nothing is left out; an independent check of the shank and
 //!   holder (axis points against the mesh) is clean. With 5° the spans are left out and reported.
 //! - Tangent-connected faces: the pocket's floor fillets, corner spheres and floor.
+//! - The own-wall case on `plate-hole.stp` (a 5 mm plate with a Ø10 mm hole): the normal axis
+//!   lays the tool across the hole into the wall's far side; the steep tilt stands it up, checked
+//!   against the hole's closed form.
 
 use std::path::Path;
 
@@ -17,6 +20,7 @@ use glam::DVec3;
 use talas::checks::part::PartCheck;
 use talas::geometry::brep::tangent_connected;
 use talas::geometry::bvh::MeshBvh;
+use talas::geometry::surface::SurfaceGeom;
 use talas::geometry::trim::TrimRegion;
 use talas::import::{OpenOptions, Workpiece, open};
 use talas::strategies::finish::axis::AxisMode;
@@ -408,4 +412,136 @@ fn largest_tilt_deg(tp: &talas::toolpath::Toolpath) -> f64 {
             Some(p.axis.angle_between(n).to_degrees())
         })
         .fold(0.0_f64, f64::max)
+}
+
+/// The plate with a Ø10 mm vertical through hole (`tests/data/plate-hole.stp`, made by Open
+/// CASCADE: x, y −15…15, z 0…5, the hole on the z axis).
+fn plate_hole() -> (Workpiece, usize) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plate-hole.stp");
+    let wp = open(
+        &path,
+        &OpenOptions::default(),
+        &talas::diagnostics::Progress::new(),
+    )
+    .expect("plate-hole.stp");
+    let part = wp.part.as_ref().expect("B-rep");
+    let holes: Vec<usize> = (0..part.faces.len())
+        .filter(|&i| matches!(part.faces[i].surface, SurfaceGeom::Cylinder(_)))
+        .collect();
+    assert_eq!(holes.len(), 1, "one cylinder face");
+    (wp, holes[0])
+}
+
+/// How far (mm) the tool's flutes and shank at `p` reach beyond the hole's wall inside the
+/// plate, by the closed form of the hole: sections every 0.1 mm along the axis from the ball
+/// centre to the shank's top, 128 points round each (radius 3 mm), and a point inside the
+/// plate (0 < z < 5, |x|, |y| < 15) more than 5 mm from the z axis is in the material.
+fn own_wall_depth(p: &talas::toolpath::Pose, length: f64) -> f64 {
+    let axis = p.axis.normalize();
+    let side = axis.any_orthonormal_vector();
+    let other = axis.cross(side);
+    let mut deepest = 0.0_f64;
+    let steps = ((length - 3.0) / 0.1).ceil() as usize;
+    for k in 0..=steps {
+        let c = p.tip + axis * (3.0 + (length - 3.0) * k as f64 / steps as f64);
+        for j in 0..128 {
+            let t = std::f64::consts::TAU * f64::from(j) / 128.0;
+            let q = c + (side * t.cos() + other * t.sin()) * 3.0;
+            let in_plate = q.z > 0.0 && q.z < 5.0 && q.x.abs() < 15.0 && q.y.abs() < 15.0;
+            if in_plate {
+                deepest = deepest.max(q.truncate().length() - 5.0);
+            }
+        }
+    }
+    deepest
+}
+
+/// The own-wall case: with the axis along the hole wall's normal the tool lies level across
+/// the hole and its flutes reach the far half of the same face, which no tilt within 30°
+/// frees (a Ø6 tool must stand within about 39° of vertical here: the ball centre is 2 mm
+/// from the hole's axis, so tan θ ≤ (2 + 5 − 3) / 5). The steep tilt stands the tool up: every
+/// cut pose's ball centre lies 2 mm from the hole axis (the contact on the wall), the flutes
+/// and shank stay inside the hole (closed form of the hole, independent of the planner's
+/// checks), the exact check finds no gouge. Without the steep tilt the spans are left out and
+/// reported, and nothing kept enters the wall.
+#[test]
+fn a_hole_wall_is_cut_with_a_steep_tilt_clear_of_its_own_far_side() {
+    let (wp, hole) = plate_hole();
+    let bvh = wp.bvh().expect("bvh");
+    let part = wp.part.as_ref().expect("B-rep");
+    let tool = "ball:d=6,flute=12,length=30,holder=12x30";
+    let cutter = parse_tool_spec(tool).expect("tool");
+    let run = |steep: f64| {
+        let region = TrimRegion::of_face(&part.faces[hole], part, 0.002).expect("region");
+        let patch = FacePatch::trimmed(part, hole, &region).expect("patch");
+        let skip = [hole];
+        let context = PartContext {
+            check: PartCheck::of_workpiece(&wp, &bvh, &skip),
+            tilt: Some(TiltAway {
+                steep_angle_rad: steep,
+                ..TiltAway::default()
+            }),
+        };
+        let strategy = Strategy::IsoPlanar { angle: 0.0 };
+        plan_finish_in(patch, &cutter, tool, strategy, &opts(), Some(&context)).expect("plan")
+    };
+    let steep = run(std::f64::consts::FRAC_PI_2);
+    let cuts: Vec<_> = steep
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .collect();
+    let g = steep.toolpath.summary.gouge.expect("checked");
+    let wall = cuts
+        .iter()
+        .map(|p| own_wall_depth(p, cutter.overall_length))
+        .fold(0.0_f64, f64::max);
+    let off_wall = cuts
+        .iter()
+        .map(|p| ((p.tip + p.axis * 3.0).truncate().length() - 2.0).abs())
+        .fold(0.0_f64, f64::max);
+    let lowest_axis_z = cuts.iter().map(|p| p.axis.z).fold(1.0_f64, f64::min);
+    eprintln!(
+        "steep: {} cut poses, own wall {wall:.4} mm, ball centre off the wall circle {off_wall:.5} \
+         mm, lowest axis z {lowest_axis_z:.3}, exact gouge {:.4} mm, {} left out, {} hits",
+        cuts.len(),
+        g.max_depth_mm,
+        steep.left_out.len(),
+        steep.part_hits.len()
+    );
+    assert!(cuts.len() > 50, "the wall is cut: {} poses", cuts.len());
+    assert!(
+        wall <= 0.01,
+        "flutes or shank {wall} mm into the hole's far side"
+    );
+    assert!(off_wall <= 0.01, "ball centre {off_wall} mm off its circle");
+    assert!(g.max_depth_mm <= 1e-3, "{g:?}");
+    assert!(steep.part_hits.is_empty(), "{:?}", steep.part_hits);
+    assert!(holder_clean(&wp, &bvh, &steep, tool));
+
+    let tight = run(0.0);
+    let kept = tight
+        .toolpath
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .map(|p| own_wall_depth(p, cutter.overall_length))
+        .fold(0.0_f64, f64::max);
+    eprintln!(
+        "30° only: {} spans left out, kept poses reach {kept:.4} mm into the wall",
+        tight.left_out.len()
+    );
+    assert!(
+        !tight.left_out.is_empty(),
+        "no tilt within 30° frees the tool"
+    );
+    assert!(kept <= 0.01, "a kept pose enters the wall by {kept} mm");
+    assert!(
+        tight
+            .diagnostics
+            .iter()
+            .any(|d| d.message.contains("left out")),
+        "the spans are reported"
+    );
 }
