@@ -309,6 +309,88 @@ fn bspline_face_with_a_hole_has_no_contact_outside_its_region() {
     }
 }
 
+/// The holed face's finish over its whole region, by the checks module's swept-tool oracle
+/// (independent of the planner: samples on a 121 × 121 grid of the surface, the remaining
+/// height along the normal to the union of the balls swept along the cutting moves), counting
+/// only samples inside the outline and outside the hole: the fraction within h + chord
+/// tolerance (0.06 mm) and the deepest penetration of the face.
+fn region_coverage(strategy: Strategy) -> (f64, f64) {
+    use talas::checks::oracle::surface::{VerifyOptions, verify_masked};
+    let (p, c, r) = holed_hills();
+    let face = &p.faces[0];
+    let side = FacePatch::from_face(face).expect("patch").side;
+    let check = talas::checks::FacePatch::new(&face.surface, face.surface.domain(), side < 0.0)
+        .expect("check patch");
+    let inside =
+        |uv: DVec2| uv.min_element() >= 0.1 && uv.max_element() <= 0.9 && uv.distance(c) >= r;
+    let o = opts();
+    let limit = o.scallop + o.tolerance;
+    let res = plan(&p, 0, strategy).expect("plan");
+    let v = VerifyOptions {
+        nu: 121,
+        nv: 121,
+        threshold_mm: limit,
+        ..VerifyOptions::default()
+    };
+    let cutter = &res.toolpath.tool.cutter;
+    let rep = verify_masked(&check, cutter, &res.toolpath.poses, &v, &inside).expect("verify");
+    eprintln!(
+        "{strategy:?}: {} samples counted ({} masked), {} uncovered, {:.4} within {limit:.2} mm, \
+         p50/90/99/99.9 {:.4?} mm, max {:.4} mm at {:?}, penetration {:.5} mm",
+        rep.counted,
+        rep.masked,
+        rep.uncovered,
+        rep.within_threshold,
+        rep.remaining_percentiles_mm,
+        rep.max_remaining_mm,
+        rep.max_remaining_at.map(|a| a.uv),
+        rep.max_penetration_mm
+    );
+    assert!(
+        rep.counted > 5_000 && rep.masked > 1_000,
+        "{strategy:?}: the mask counts"
+    );
+    (rep.within_threshold, rep.max_penetration_mm)
+}
+
+/// Iso-planar finishes the holed face's whole region: at least 99 % of the samples within
+/// h + chord tolerance (100 % measured) and no penetration beyond the chord tolerance.
+#[test]
+fn bspline_face_with_a_hole_is_finished_within_the_scallop_over_its_region() {
+    let (within, penetration) = region_coverage(Strategy::IsoPlanar { angle: 0.3 });
+    assert!(within >= 0.99, "only {within} within h + ε");
+    assert!(
+        penetration <= opts().tolerance,
+        "entered by {penetration} mm"
+    );
+}
+
+/// The same for iso-scallop and iso-parametric: NOT met today. Where the outline's sides run
+/// along the passes, the clipped pass nearest a side can lie up to a side step inside it (and
+/// an iso-line exactly on the side can be clipped away), leaving 0.21 mm (iso-scallop, 98.2 %
+/// within) and 0.26 mm (iso-parametric, 97.7 %) on the edge strip; the interior and the hole's
+/// edge are within. Passes along the region's loops cure it on this face (100 % for both) but,
+/// tried on the pocket's floor fillet, their poses at the corners are left out by the
+/// tilt-away, so they are not in the planner yet. Run:
+/// `cargo test --no-default-features --test plan_trimmed edges -- --ignored --nocapture`.
+#[test]
+#[ignore = "fails: the edge strips along the outline (issue 14); see the doc comment"]
+fn bspline_face_with_a_hole_edges_by_iso_scallop_and_iso_parametric() {
+    for strategy in [
+        Strategy::IsoScallop,
+        Strategy::IsoParametric {
+            pattern: Pattern::Zigzag,
+        },
+    ] {
+        let (within, penetration) = region_coverage(strategy);
+        assert!(within >= 0.99, "{strategy:?}: only {within} within h + ε");
+        assert!(
+            penetration <= opts().tolerance,
+            "{strategy:?}: {penetration} mm"
+        );
+    }
+}
+
 /// Is `p` inside the closed mesh? Parity of the crossings of a ray (skewed off the axes so it
 /// misses edges and vertices).
 fn inside_solid(bvh: &MeshBvh, p: DVec3) -> bool {
