@@ -170,9 +170,19 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
             .iter()
             .any(|h| matches!(h.tool_part, ToolPart::Holder(_) | ToolPart::Shank))
     );
-    // 30° allowed: tilted, nothing left out, holder clean, whole-part check clean.
+    // 30° allowed: tilted, holder clean, whole-part check clean, and nothing left out but
+    // where the pass along the fillet's end arc (x = 25 or 75, where the corner spheres join)
+    // meets the floor: there the shank would enter the top face within 30°, and under 1 mm
+    // of that arc is left out and reported.
     let tilted = plan(&wp, &bvh, 13, tool, Some(30.0));
-    assert!(tilted.left_out.is_empty(), "{:?}", tilted.left_out);
+    assert!(
+        tilted
+            .left_out
+            .iter()
+            .all(|l| end_arc(l) && l.length_mm < 1.0),
+        "{:?}",
+        tilted.left_out
+    );
     assert!(tilted.part_hits.is_empty(), "{:?}", tilted.part_hits);
     assert!(holder_clean(&wp, &bvh, &tilted, tool));
     // The planned axis is the contact normal (lead and tilt 0): the tilt-away angle is the
@@ -182,8 +192,8 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     // 5° allowed: the horizontal top pass cannot be freed: left out, reported, and what is
     // kept is clean.
     let tight = plan(&wp, &bvh, 13, tool, Some(5.0));
-    assert!(!tight.left_out.is_empty());
-    for l in &tight.left_out {
+    assert!(tight.left_out.iter().any(|l| !end_arc(l)));
+    for l in tight.left_out.iter().filter(|l| !end_arc(l)) {
         assert!(l.length_mm > 40.0, "a whole 50 mm pass: {l:?}");
         assert!(matches!(l.tool_part, ToolPart::Holder(_)));
         assert!(!l.approach, "on the span itself: {l:?}");
@@ -221,6 +231,14 @@ fn the_tool_tilts_away_from_the_pocket_or_the_span_is_left_out() {
     }
     assert!(tight.part_hits.is_empty());
     assert!(holder_clean(&wp, &bvh, &tight, tool));
+}
+
+/// Is the span on one of the floor fillet's end arcs (both ends' tips within 0.5 mm of x = 25
+/// or of x = 75; the passes of the scan run the fillet's whole 50 mm along x)?
+fn end_arc(l: &talas::strategies::finish::tiltaway::LeftOut) -> bool {
+    [25.0, 75.0]
+        .iter()
+        .any(|x| (l.start.x - x).abs() < 0.5 && (l.end.x - x).abs() < 0.5)
 }
 
 /// Steep tilts (5° lead limit, then up to 90°) on the floor fillet (a concave quarter cylinder

@@ -4,7 +4,8 @@
 //! keeps the scallop (from the same cross-feed section as iso-scallop) within h everywhere, so
 //! both strategies meet the same maximum scallop. On a trimmed face every iso-line is clipped
 //! to the region: a line that leaves and re-enters it (a hole, a notch) gives several runs,
-//! each ending on the boundary, and the step is chosen over the runs only.
+//! each ending on the boundary, and the step is chosen over the runs only; passes along the
+//! region's loops finish its edges.
 
 use super::pass::Pass;
 use super::setup::Setup;
@@ -97,6 +98,13 @@ pub fn passes(
             out.push(p);
         }
     }
+    // A trimmed face's edges: an iso-line along an edge can fall just outside the region and be
+    // clipped away, and the nearest kept one can then be a whole step inside it.
+    out.extend(
+        super::isoscallop::boundary_passes(setup)
+            .into_iter()
+            .filter(|p| p.length(&setup.patch) >= 0.05 * setup.min_pass_length),
+    );
     diags.push(Diagnostic::info(
         None,
         format!(

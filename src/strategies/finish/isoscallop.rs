@@ -19,7 +19,9 @@
 //!
 //! Trimmed faces: the scan runs over the rectangle that bounds the face's region (so the
 //! fronts stay smooth across holes and notches) and every pass is clipped to the region: a pass
-//! that leaves and re-enters it gives several runs, each ending on the boundary.
+//! that leaves and re-enters it gives several runs, each ending on the boundary. Passes along
+//! the region's loops (outline and holes, less any stretch on a periodic seam) then finish the
+//! edge strips that the clipped passes, running alongside an edge, leave up to a side step wide.
 
 use glam::DVec2;
 
@@ -57,7 +59,83 @@ pub fn passes(setup: &Setup<'_>, diags: &mut Vec<Diagnostic>) -> Result<Vec<Pass
             }
         }
     }
+    for run in boundary_passes(setup) {
+        if run.uv.len() >= 2 && run.length(&setup.patch) >= 0.05 * setup.min_pass_length {
+            out.push(run);
+        }
+    }
     Ok(out)
+}
+
+/// Passes along the trimmed region's loops, resampled to the guide spacing. The clipped scan
+/// passes end on the boundary where they cross it, but where the boundary runs along the
+/// passes the nearest one can lie up to a side step `w` inside it, leaving up to `w²/(2R)` on
+/// the edge strip; a pass with its contact on the loop finishes it. Stretches of a loop that
+/// lie on a periodic seam (a line inside the face) are left out.
+pub(super) fn boundary_passes(setup: &Setup<'_>) -> Vec<Pass> {
+    let Some(region) = setup.patch.region else {
+        return Vec::new();
+    };
+    let surface = setup.patch.surface;
+    let (pu, pv) = surface.periods();
+    let dom = surface.domain();
+    let on_seam = |a: f64, b: f64, period: Option<f64>, t0: f64| {
+        period.is_some_and(|p| {
+            let tol = 1e-9 * p.max(1.0);
+            let k = ((a - t0) / p).round();
+            (a - b).abs() <= tol && (a - t0 - k * p).abs() <= 1e-7 * p.max(1.0)
+        })
+    };
+    let t0 = |i: crate::geometry::Interval| {
+        if i.t0.is_finite() { i.t0 } else { 0.0 }
+    };
+    let (u0, v0) = (t0(dom.u), t0(dom.v));
+    let mut out = Vec::new();
+    for l in region.loops() {
+        let mut run: Vec<DVec2> = Vec::new();
+        for k in 0..l.len() {
+            let (a, b) = (l[k], l[(k + 1) % l.len()]);
+            let seam = on_seam(a.x, b.x, pu, u0) || on_seam(a.y, b.y, pv, v0);
+            if seam {
+                if run.len() >= 2 {
+                    out.push(Pass::new(std::mem::take(&mut run)));
+                }
+                run.clear();
+                continue;
+            }
+            // A corner of the loop (the face's vertex) ends the run: each side is its own
+            // pass, so the tilt-away treats the sides apart.
+            if let Some(&prev) = run.iter().rev().nth(1)
+                && corner(surface, prev, a, b)
+            {
+                out.push(Pass::new(std::mem::take(&mut run)));
+            }
+            if run.is_empty() {
+                run.push(a);
+            }
+            run.push(b);
+        }
+        if run.len() >= 2 {
+            out.push(Pass::new(run));
+        }
+    }
+    out.into_iter()
+        .map(|p| p.resampled(&setup.patch, setup.guide_spacing))
+        .collect()
+}
+
+/// Does the boundary turn by more than 30° at `b` (between the chords `a b` and `b c` on the
+/// surface)?
+fn corner(surface: &crate::geometry::surface::SurfaceGeom, a: DVec2, b: DVec2, c: DVec2) -> bool {
+    let (pa, pb, pc) = (
+        surface.point(a.x, a.y),
+        surface.point(b.x, b.y),
+        surface.point(c.x, c.y),
+    );
+    match ((pb - pa).try_normalize(), (pc - pb).try_normalize()) {
+        (Some(d0), Some(d1)) => d0.dot(d1) < 30f64.to_radians().cos(),
+        _ => false,
+    }
 }
 
 /// The scan over the whole patch.
