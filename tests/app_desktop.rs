@@ -7,16 +7,18 @@
 //! file chooser with its file types and recent files.
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use common::app::{is_simulating, simulation, simulation_of};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::{Command, PlaybackCommand};
 use talas::app::document::Selection;
 use talas::app::file_chooser::ChooserPurpose;
 use talas::app::panels::properties::Focus;
-use talas::app::stock_simulation::{ShownSimulation, StockSimulation};
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind, Project};
 use talas::render::{Projection, StandardView};
@@ -495,20 +497,4 @@ fn a_face_group_is_selected_by_clicks_and_tangent_chain_and_becomes_one_operatio
     assert_eq!(op.kind(), OperationKind::IsoPlanar);
 
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The stock-simulation feature.
-fn simulation(ws: &Workstation) -> &StockSimulation {
-    ws.feature_ref()
-        .expect("the stock simulation is registered")
-}
-
-/// Is a simulation running?
-fn is_simulating(ws: &Workstation) -> bool {
-    simulation(ws).is_running()
-}
-
-/// The simulation shown for operation `index`, when it matches the project as it is now.
-fn simulation_of(ws: &Workstation, index: usize) -> Option<&ShownSimulation> {
-    simulation(ws).simulation_of(index, &ws.feature_view())
 }

@@ -6,9 +6,12 @@
 //! the closed-form radii of a filleted pocket.
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use common::app::{is_simulating, simulation, simulation_of};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
@@ -16,7 +19,6 @@ use talas::app::document_loader::load_part;
 use talas::app::panels::properties::Focus;
 use talas::app::reduction::DataReduction;
 use talas::app::scalar_field::curvature_field;
-use talas::app::stock_simulation::{ShownSimulation, StockSimulation};
 use talas::app::viewport::picking::surface_pick;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::diagnostics::Progress;
@@ -701,20 +703,4 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
     let (m2, n2) = (red.reduced.z.rows(), red.reduced.z.cols());
     assert_eq!(back.mesh.triangles.len(), 2 * (m2 - 1) * (n2 - 1));
-}
-
-/// The stock-simulation feature.
-fn simulation(ws: &Workstation) -> &StockSimulation {
-    ws.feature_ref()
-        .expect("the stock simulation is registered")
-}
-
-/// Is a simulation running?
-fn is_simulating(ws: &Workstation) -> bool {
-    simulation(ws).is_running()
-}
-
-/// The simulation shown for operation `index`, when it matches the project as it is now.
-fn simulation_of(ws: &Workstation, index: usize) -> Option<&ShownSimulation> {
-    simulation(ws).simulation_of(index, &ws.feature_view())
 }

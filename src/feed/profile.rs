@@ -226,15 +226,20 @@ pub fn reachable_velocity_bisection(
 mod reachable_tests {
     use super::*;
 
-    #[test]
-    fn closed_form_matches_bisection() {
-        let mut state = 3u64;
-        let mut rnd = || {
+    /// A uniform generator on [0, 1) (the PCG multiplier's LCG, top 53 bits) seeded by `seed`.
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
             state = state
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    #[test]
+    fn closed_form_matches_bisection() {
+        let mut rnd = uniform(3);
         let mut worst = 0.0f64;
         for _ in 0..20_000 {
             let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
@@ -262,13 +267,7 @@ mod reachable_tests {
 
     #[test]
     fn peak_velocity_matches_bisection() {
-        let mut state = 5u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform(5);
         let mut n = 0;
         for case in 0..20_000 {
             let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
@@ -316,13 +315,7 @@ mod reachable_tests {
 
     #[test]
     fn fast_cbrt_is_within_an_ulp_of_the_correctly_rounded_one() {
-        let mut state = 11u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform(11);
         for _ in 0..100_000 {
             let x = (rnd() - 0.5) * 10f64.powf(600.0 * rnd() - 300.0);
             let (fast, exact) = (cbrt(x), x.cbrt());
@@ -349,13 +342,7 @@ mod reachable_tests {
     /// iteration in `x` to round-off.
     #[test]
     fn short_peak_quartic_matches_its_distance_and_the_iteration() {
-        let mut state = 7u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform(7);
         let scale = |r: f64, lo: f64, hi: f64| lo * (hi / lo).powf(r);
         let (mut n, mut closed) = (0, 0);
         for _ in 0..20_000 {

@@ -303,31 +303,41 @@ impl Planes {
 
     /// The greatest value (−∞ with no plane).
     fn max(&self, o: DVec3) -> f64 {
-        let v = self.values(o);
-        let mut acc = [f64::NEG_INFINITY; 4];
-        for row in &v {
-            for l in 0..4 {
-                acc[l] = if row[l] > acc[l] { row[l] } else { acc[l] };
-            }
-        }
-        let a = if acc[1] > acc[0] { acc[1] } else { acc[0] };
-        let b = if acc[3] > acc[2] { acc[3] } else { acc[2] };
-        if b > a { b } else { a }
+        lane_max(&self.values(o))
     }
 
     /// The least value (+∞ with no plane).
     fn min(&self, o: DVec3) -> f64 {
-        let v = self.values(o);
-        let mut acc = [f64::INFINITY; 4];
-        for row in &v {
-            for l in 0..4 {
-                acc[l] = if row[l] < acc[l] { row[l] } else { acc[l] };
-            }
-        }
-        let a = if acc[1] < acc[0] { acc[1] } else { acc[0] };
-        let b = if acc[3] < acc[2] { acc[3] } else { acc[2] };
-        if b < a { b } else { a }
+        lane_min(&self.values(o))
     }
+}
+
+/// The greatest of the slots (−∞ with none): four lanes reduced together, then pairwise.
+#[inline]
+fn lane_max(v: &[[f64; 4]; SLOTS / 4]) -> f64 {
+    let mut acc = [f64::NEG_INFINITY; 4];
+    for row in v {
+        for l in 0..4 {
+            acc[l] = if row[l] > acc[l] { row[l] } else { acc[l] };
+        }
+    }
+    let a = if acc[1] > acc[0] { acc[1] } else { acc[0] };
+    let b = if acc[3] > acc[2] { acc[3] } else { acc[2] };
+    if b > a { b } else { a }
+}
+
+/// The least of the slots (+∞ with none), as [`lane_max`].
+#[inline]
+fn lane_min(v: &[[f64; 4]; SLOTS / 4]) -> f64 {
+    let mut acc = [f64::INFINITY; 4];
+    for row in v {
+        for l in 0..4 {
+            acc[l] = if row[l] < acc[l] { row[l] } else { acc[l] };
+        }
+    }
+    let a = if acc[1] < acc[0] { acc[1] } else { acc[0] };
+    let b = if acc[3] < acc[2] { acc[3] } else { acc[2] };
+    if b < a { b } else { a }
 }
 
 /// The planes of one side of a [`SweepBound`] along a row of lines `o = o₀ + x·û` (`û` a
@@ -369,31 +379,13 @@ impl RowPlanes {
     /// The greatest value (−∞ with no plane).
     #[inline]
     fn max(&self, x: f64) -> f64 {
-        let v = self.values(x);
-        let mut acc = [f64::NEG_INFINITY; 4];
-        for row in &v {
-            for l in 0..4 {
-                acc[l] = if row[l] > acc[l] { row[l] } else { acc[l] };
-            }
-        }
-        let a = if acc[1] > acc[0] { acc[1] } else { acc[0] };
-        let b = if acc[3] > acc[2] { acc[3] } else { acc[2] };
-        if b > a { b } else { a }
+        lane_max(&self.values(x))
     }
 
     /// The least value (+∞ with no plane).
     #[inline]
     fn min(&self, x: f64) -> f64 {
-        let v = self.values(x);
-        let mut acc = [f64::INFINITY; 4];
-        for row in &v {
-            for l in 0..4 {
-                acc[l] = if row[l] < acc[l] { row[l] } else { acc[l] };
-            }
-        }
-        let a = if acc[1] < acc[0] { acc[1] } else { acc[0] };
-        let b = if acc[3] < acc[2] { acc[3] } else { acc[2] };
-        if b < a { b } else { a }
+        lane_min(&self.values(x))
     }
 }
 

@@ -1,12 +1,15 @@
 //! Helpers the integration tests share: `assert_near!` and `assert_rel_near!`, a seeded
 //! random-number generator, the files under `tests/data` (bicubic-hills as STL mesh and as STEP
 //! part), temporary folders, and running the `talas` binary. `geometry` holds the geometry
-//! tests' reference builders (finite differences, Cox–de Boor, exact conics).
+//! tests' reference builders (finite differences, Cox–de Boor, exact conics); `app` (GUI
+//! builds) the workstation tests' accessors of the stock simulation.
 //!
 //! A test file takes them with `mod common;` and `use common::…`.
 
 #![allow(dead_code, unused_imports, unused_macros)] // each test file uses its own subset
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod geometry;
 
 use std::path::{Path, PathBuf};

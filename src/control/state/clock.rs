@@ -321,17 +321,24 @@ impl Control {
         self.stop_all();
     }
 
-    /// At rest between two blocks after an override change: the rest of the motion is
-    /// planned again with the overrides now set.
-    pub(super) fn retime_rest(&mut self) {
+    /// Bring the cut and the machine up to date and take the active motion out, its end
+    /// position made the control's (`None` when nothing moves).
+    fn settle_active(&mut self) -> Option<Active> {
         self.check_machine();
         self.cut_pending();
         self.wait_for_cutting();
-        let Some(a) = self.active.take() else {
-            return;
-        };
+        let a = self.active.take()?;
         self.pos = a.run.kinematics().position;
         self.session.set_position(self.joints(&self.pos));
+        Some(a)
+    }
+
+    /// At rest between two blocks after an override change: the rest of the motion is
+    /// planned again with the overrides now set.
+    pub(super) fn retime_rest(&mut self) {
+        let Some(a) = self.settle_active() else {
+            return;
+        };
         let blocks = a.run.remaining_blocks();
         if blocks.is_empty() || self.blocked {
             self.active = Some(a);
@@ -342,14 +349,9 @@ impl Control {
 
     /// The motion has ended (or braked to rest): settle the position and go on.
     pub(super) fn finish_active(&mut self) {
-        self.check_machine();
-        self.cut_pending();
-        self.wait_for_cutting();
-        let Some(a) = self.active.take() else {
+        let Some(a) = self.settle_active() else {
             return;
         };
-        self.pos = a.run.kinematics().position;
-        self.session.set_position(self.joints(&self.pos));
         if a.run.braking() {
             if let AfterBrake::Hold { by_override } = a.after_brake {
                 let blocks = a.run.remaining_blocks();
