@@ -590,3 +590,130 @@ fn the_circle_checker_finds_circles() {
     let code = "fn f() {}\n#[cfg(test)]\nmod tests {\n use super::x;\n}";
     assert!(!without_test_module(code).contains("super"));
 }
+
+/// The registered workstation features, `(module, type)`, from the `features!` list in
+/// src/app/mod.rs (one `module::Type,` line each).
+fn registered_features(mod_rs: &str) -> Vec<(String, String)> {
+    let Some(start) = mod_rs.find("\nfeatures! {") else {
+        return Vec::new();
+    };
+    let body = &mod_rs[start + "\nfeatures! {".len()..];
+    let body = &body[..body.find('}').unwrap_or(body.len())];
+    code_only(body)
+        .split(',')
+        .filter_map(|entry| {
+            let (module, ty) = entry.trim().split_once("::")?;
+            Some((module.trim().to_string(), ty.trim().to_string()))
+        })
+        .collect()
+}
+
+/// The names of `features` that `code` uses: a feature's module as a path segment
+/// (`reduction::`, `super::reduction::`, but not the engine's `crate::reduction::`) or its type
+/// as a word (`DataReduction`). Doc links count: they tie the file to the feature too.
+fn feature_names_in(code: &str, features: &[&(String, String)]) -> Vec<String> {
+    let word_char = |c: char| c.is_alphanumeric() || c == '_';
+    let mut found = Vec::new();
+    for (module, ty) in features {
+        let as_path = format!("{module}::");
+        let names_module = code.match_indices(&as_path).any(|(i, _)| {
+            let before = &code[..i];
+            !before.ends_with(word_char)
+                && !before.ends_with("crate::")
+                && !before.ends_with("talas::")
+        });
+        let names_type = code.match_indices(ty.as_str()).any(|(i, _)| {
+            !code[..i].ends_with(word_char) && !code[i + ty.len()..].starts_with(word_char)
+        });
+        if names_module {
+            found.push(as_path);
+        }
+        if names_type {
+            found.push(ty.clone());
+        }
+    }
+    found
+}
+
+/// Files of src/app that must name a registered feature, and why (none so far).
+const FEATURE_NAMING_EXCEPTIONS: &[(&str, &str)] = &[];
+
+/// A workstation feature is its own folder plus one line of the `features!` list: no shared
+/// file of src/app (and no other feature) names a feature's module or type, so adding or
+/// removing one touches nothing else. Run: `cargo test --no-default-features --test architecture`.
+#[test]
+fn no_shared_file_of_the_workstation_names_a_feature() {
+    let app = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/app");
+    let mod_rs = fs::read_to_string(app.join("mod.rs")).expect("src/app/mod.rs");
+    let features = registered_features(&mod_rs);
+    assert!(
+        features.len() >= 5,
+        "the features! list in src/app/mod.rs was not found: {features:?}"
+    );
+    let mut files = Vec::new();
+    rust_files(&app, &mut files);
+    let mut bad = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&app).expect("under src/app");
+        let owner = rel
+            .components()
+            .next()
+            .and_then(|c| c.as_os_str().to_str())
+            .map(|first| first.strip_suffix(".rs").unwrap_or(first).to_string());
+        let others: Vec<_> = features
+            .iter()
+            .filter(|(m, _)| Some(m) != owner.as_ref())
+            .collect();
+        let mut text = fs::read_to_string(file).expect("readable");
+        if rel == Path::new("mod.rs") {
+            // The registration list itself.
+            let start = text.find("\nfeatures! {").expect("the list");
+            let end = start + text[start..].find('}').expect("its end");
+            text.replace_range(start..=end, "");
+        }
+        let rel = rel.to_string_lossy().replace('\\', "/");
+        if FEATURE_NAMING_EXCEPTIONS.iter().any(|(f, _)| *f == rel) {
+            continue;
+        }
+        let names = feature_names_in(&text, &others);
+        if !names.is_empty() {
+            bad.push(format!("src/app/{rel}: {}", names.join(", ")));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "shared workstation files naming a feature (reach it through the Feature trait, \
+         FeatureView, Command::Feature / FeatureFile instead):\n{}",
+        bad.join("\n")
+    );
+}
+
+#[test]
+fn the_feature_name_checker_finds_names() {
+    let list = "x\nfeatures! {\n    reduction::DataReduction,\n    // a comment\n    forces::ForcesWindow,\n}\n";
+    let features = registered_features(list);
+    assert_eq!(
+        features,
+        vec![
+            ("reduction".to_string(), "DataReduction".to_string()),
+            ("forces".to_string(), "ForcesWindow".to_string())
+        ]
+    );
+    let all: Vec<_> = features.iter().collect();
+    assert_eq!(
+        feature_names_in("use super::super::reduction::window;", &all),
+        vec!["reduction::"]
+    );
+    assert_eq!(
+        feature_names_in("/// [`ForcesWindow`] draws", &all),
+        vec!["ForcesWindow"]
+    );
+    // The engine's module of the same name, longer names and plain words do not count.
+    assert!(
+        feature_names_in(
+            "use crate::forces::x; let data_reduction = 1; // the reduction\nMyForcesWindow",
+            &all
+        )
+        .is_empty()
+    );
+}

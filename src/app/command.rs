@@ -106,9 +106,14 @@ pub enum Command {
     Playback(PlaybackCommand),
     /// An action of a registered [`super::feature::Feature`] (its menu entry or key).
     Feature(FeatureCommand),
-    /// Export the reduced surface as binary STL to this path (taken by the data-reduction
-    /// feature; the save dialog's answer).
-    ExportReductionTo(PathBuf),
+    /// The file chosen in a feature's save dialog
+    /// ([`super::file_dialog::SavePurpose::Feature`]), taken by the feature with this id.
+    FeatureFile {
+        /// The feature's [`super::feature::Feature::id`].
+        feature: &'static str,
+        /// The chosen file.
+        path: PathBuf,
+    },
 }
 
 /// What the playback bar asks for.

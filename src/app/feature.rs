@@ -17,7 +17,10 @@
 //! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
 //! read-only view, the egui context its jobs wake, fresh render ids, and a list of [`Notice`]s
 //! (log lines, a save dialog, a view switch such as hiding the stock) that the workstation
-//! carries out afterwards, so that no feature reaches into the workstation's fields.
+//! carries out afterwards, so that no feature reaches into the workstation's fields. A file a
+//! feature writes is asked for with [`FeatureContext::ask_save_path`] (its id, title and file
+//! types in a [`FeatureSave`]): the system's Save dialog or the in-window chooser, and the
+//! chosen path comes back as [`Command::FeatureFile`] with the feature's id ([`chosen_file`]).
 //!
 //! The features' menu entries and keys join the one table of [`super::actions`]
 //! ([`Feature::actions`]); their commands are [`Command::Feature`] with the feature's id, so a
@@ -33,6 +36,7 @@ use super::actions::Action;
 pub use super::actions::Toggle;
 use super::command::{Command, FeatureCommand};
 use super::document::Document;
+pub use super::file_dialog::FeatureSave;
 use super::file_dialog::SavePurpose;
 use super::job::JobStatus;
 use super::toolpaths::ComputedOp;
@@ -158,10 +162,11 @@ impl<'a> FeatureContext<'a> {
         });
     }
 
-    /// Ask where to save for `purpose`, starting at `suggestion`.
-    pub fn ask_save_path(&mut self, purpose: SavePurpose, suggestion: PathBuf) {
+    /// Ask where to save the feature's `file`, starting at `suggestion`; the chosen path comes
+    /// back to the feature as [`Command::FeatureFile`] (see [`chosen_file`]).
+    pub fn ask_save_path(&mut self, file: FeatureSave, suggestion: PathBuf) {
         self.notices.push(Notice::SaveDialog {
-            purpose,
+            purpose: SavePurpose::Feature(file),
             suggestion,
         });
     }
@@ -283,6 +288,15 @@ pub trait Feature: Any {
 #[must_use]
 pub fn is_action(command: &Command, id: &str, action: &str) -> bool {
     matches!(command, Command::Feature(FeatureCommand { feature, action: a }) if *feature == id && *a == action)
+}
+
+/// The file chosen in feature `id`'s save dialog, when `command` carries it.
+#[must_use]
+pub fn chosen_file<'c>(command: &'c Command, id: &str) -> Option<&'c Path> {
+    match command {
+        Command::FeatureFile { feature, path } if *feature == id => Some(path),
+        _ => None,
+    }
 }
 
 /// The registered feature of type `T`, to read.

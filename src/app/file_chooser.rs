@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use egui_file::FileDialog;
 
 use super::command::Command;
+pub use super::file_dialog::FileType;
 use super::file_dialog::SavePurpose;
 use crate::project::Edit;
 
@@ -24,7 +25,7 @@ pub enum ChooserPurpose {
     OpenProject,
     /// A machine definition (JSON).
     MachineFile,
-    /// Where to save (a project, the program, the reduced surface).
+    /// Where to save (a project, the program, a feature's file).
     Save(SavePurpose),
     /// A file for a feature that uses the chosen path itself (the profile editor): its title,
     /// file types, and whether it is saved.
@@ -37,9 +38,6 @@ pub enum ChooserPurpose {
         save: bool,
     },
 }
-
-/// A file type the chooser can show: its name and extensions (lower case; empty: every file).
-pub type FileType = (&'static str, &'static [&'static str]);
 
 const PARTS_AND_PROJECTS: FileType = (
     "Parts and projects (STEP, STL, Talas)",
@@ -65,7 +63,7 @@ impl ChooserPurpose {
             Self::MachineFile => &[MACHINE, ALL_FILES],
             Self::Save(SavePurpose::Project) => &[PROJECT],
             Self::Save(SavePurpose::Program) => &[GCODE, ALL_FILES],
-            Self::Save(SavePurpose::ReducedStl) => &[STL],
+            Self::Save(SavePurpose::Feature(f)) => f.types,
             Self::Feature { types, .. } => types,
         }
     }
@@ -83,7 +81,7 @@ impl ChooserPurpose {
             Self::MachineFile => "Machine definition file",
             Self::Save(SavePurpose::Project) => "Save project as",
             Self::Save(SavePurpose::Program) => "Export G-code",
-            Self::Save(SavePurpose::ReducedStl) => "Export reduced surface (STL)",
+            Self::Save(SavePurpose::Feature(f)) => f.title,
             Self::Feature { title, .. } => title,
         }
     }
@@ -104,11 +102,15 @@ impl ChooserPurpose {
                 Command::SaveProjectAs(path)
             }
             Self::Save(SavePurpose::Program) => Command::ExportProgramTo(path),
-            Self::Save(SavePurpose::ReducedStl) => {
-                if path.extension().is_none() {
-                    path.set_extension("stl");
+            Self::Save(SavePurpose::Feature(f)) => {
+                let default = f.types.first().and_then(|(_, e)| e.first());
+                if let (None, Some(ext)) = (path.extension(), default) {
+                    path.set_extension(ext);
                 }
-                Command::ExportReductionTo(path)
+                Command::FeatureFile {
+                    feature: f.feature,
+                    path,
+                }
             }
         })
     }

@@ -129,6 +129,9 @@ fn answer<K>(done: &Finished<Option<PathBuf>, K>) -> Option<PathBuf> {
     done.result.clone().flatten()
 }
 
+/// A file type a dialog offers: its name and extensions (lower case; empty: every file).
+pub type FileType = (&'static str, &'static [&'static str]);
+
 /// What a save dialog is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SavePurpose {
@@ -136,8 +139,21 @@ pub enum SavePurpose {
     Project,
     /// Export the posted program.
     Program,
-    /// Export the reduced Z-map surface (STL).
-    ReducedStl,
+    /// A file a workstation feature writes: the chosen path goes back to that feature as
+    /// [`Command::FeatureFile`](super::command::Command::FeatureFile).
+    Feature(FeatureSave),
+}
+
+/// A feature's save dialog: which feature, the dialog's title and the file types offered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FeatureSave {
+    /// The feature's id ([`super::feature::Feature::id`]); the chosen path goes to it.
+    pub feature: &'static str,
+    /// The dialog's title.
+    pub title: &'static str,
+    /// The file types offered, the default first (its first extension is added to a chosen
+    /// name without one in the in-window chooser).
+    pub types: &'static [FileType],
 }
 
 /// The native Save dialog on a worker thread (as [`OpenDialog`]); when no dialog answers, the
@@ -197,9 +213,14 @@ impl SaveDialog {
                         .set_title("Export G-code")
                         .add_filter("G-code", &["ngc", "nc", "tap", "mpf", "h", "gcode"])
                         .add_filter("All files", &["*"]),
-                    SavePurpose::ReducedStl => dialog
-                        .set_title("Export reduced surface")
-                        .add_filter("STL", &["stl"]),
+                    SavePurpose::Feature(f) => {
+                        let every: &[&str] = &["*"];
+                        f.types
+                            .iter()
+                            .fold(dialog.set_title(f.title), |d, &(name, ext)| {
+                                d.add_filter(name, if ext.is_empty() { every } else { ext })
+                            })
+                    }
                 };
                 if let Some(start) = start {
                     if let Some(dir) = start.parent().filter(|d| d.is_dir()) {

@@ -11,12 +11,9 @@
 //! - [`number_field`]: the one widget every numeric property is typed in.
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
 //! - [`feature`]: the [`feature::Feature`] trait a tool window or panel implements to plug into
-//!   the workstation (state, commands, jobs, windows, scene); [`features`] registers them:
-//!   - [`reduction`]: data reduction (the part's Z-map reduced by SVD, its error map, STL);
-//!   - [`stock_simulation`]: the stock cut by the active path, coloured by its deviation;
-//!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO) and the
-//!     machine drawn in the viewport;
-//!   - [`profile_editor`]: 2D section profiles and their ball-electrode (EDM) paths.
+//!   the workstation (state, commands, jobs, windows, scene, files); [`features`] lists the
+//!   registered ones, each its own module (folder). A feature is registered by one line of the
+//!   `features!` list in this file, which declares its module and adds it to [`features`].
 
 pub mod actions;
 pub mod command;
@@ -28,20 +25,15 @@ pub mod feature;
 pub mod file_chooser;
 pub mod file_dialog;
 pub mod findings_list;
-pub mod forces;
 pub mod job;
 pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;
-pub mod operator_panel;
 pub mod panels;
-pub mod profile_editor;
 pub mod project_session;
 pub mod recent_files;
-pub mod reduction;
 pub mod scalar_field;
 pub mod state;
-pub mod stock_simulation;
 pub mod theme;
 pub mod tool_library;
 pub mod toolpaths;
@@ -53,17 +45,36 @@ use std::path::PathBuf;
 
 pub use workstation::{Workstation, WorkstationConfig};
 
-/// The registered workstation features (see [`feature`]), in the order their windows are drawn.
-/// A new feature is its own folder, its `mod` line above and one line here.
-#[must_use]
-pub fn features() -> Vec<Box<dyn feature::Feature>> {
-    vec![
-        Box::new(reduction::DataReduction::default()) as Box<dyn feature::Feature>,
-        Box::new(stock_simulation::StockSimulation::default()),
-        Box::new(profile_editor::ProfileEditor::new()),
-        Box::new(operator_panel::OperatorPanel::new()),
-        Box::new(forces::ForcesWindow::default()),
-    ]
+/// Declares each feature's module and builds [`features`] from the same list, so that a new
+/// feature is its own folder plus one line in the list. (`cargo fmt` does not reach modules
+/// declared inside a macro: CI formats them with `rustfmt src/app/*/mod.rs`.)
+macro_rules! features {
+    ($($module:ident :: $feature:ident),+ $(,)?) => {
+        $(pub mod $module;)+
+
+        /// The registered workstation features (see [`feature`]), in the order their commands
+        /// are offered and their windows drawn:
+        ///
+        $(#[doc = concat!("- [`", stringify!($module), "::", stringify!($feature), "`]")])+
+        #[must_use]
+        pub fn features() -> Vec<Box<dyn feature::Feature>> {
+            vec![$(boxed::<$module::$feature>()),+]
+        }
+    };
+}
+
+/// A fresh `F`, boxed as a feature.
+fn boxed<F: feature::Feature + Default>() -> Box<dyn feature::Feature> {
+    Box::new(F::default())
+}
+
+// The data reduction's surface wins over the simulated stock (first `instead_of_part`).
+features! {
+    reduction::DataReduction,
+    stock_simulation::StockSimulation,
+    profile_editor::ProfileEditor,
+    operator_panel::OperatorPanel,
+    forces::ForcesWindow,
 }
 
 /// Open the workstation window on `file` (or on the embedded default part).

@@ -184,7 +184,7 @@ impl Workstation {
         ws
     }
 
-    /// The registered feature of type `T` (e.g. [`super::profile_editor::ProfileEditor`]).
+    /// The registered feature of type `T` (one of those [`super::features`] lists).
     #[must_use]
     pub fn feature<T: Feature>(&mut self) -> Option<&mut T> {
         find(&mut self.features)
@@ -363,7 +363,7 @@ impl Workstation {
             Command::ClearLog => self.log.entries.clear(),
             // No registered feature took it.
             Command::Feature(_)
-            | Command::ExportReductionTo(_)
+            | Command::FeatureFile { .. }
             | Command::Simulate(_)
             | Command::SimulateActive
             | Command::SimulateToPlayback

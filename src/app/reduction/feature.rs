@@ -5,9 +5,17 @@ use std::any::Any;
 use super::DataReduction;
 use crate::app::actions::{Action, Menu};
 use crate::app::command::Command;
-use crate::app::feature::{Feature, FeatureContext, FeatureView, SceneParts, is_action};
-use crate::app::file_dialog::SavePurpose;
+use crate::app::feature::{
+    Feature, FeatureContext, FeatureSave, FeatureView, SceneParts, chosen_file, is_action,
+};
 use crate::app::job::JobStatus;
+
+/// The reduced surface's save dialog.
+const STL_FILE: FeatureSave = FeatureSave {
+    feature: DataReduction::ID,
+    title: "Export reduced surface (STL)",
+    types: &[("STL (.stl)", &["stl"])],
+};
 
 impl Feature for DataReduction {
     fn id(&self) -> &'static str {
@@ -26,7 +34,7 @@ impl Feature for DataReduction {
     }
 
     fn apply(&mut self, command: Command, cx: &mut FeatureContext<'_>) -> Option<Command> {
-        if let Command::ExportReductionTo(path) = &command {
+        if let Some(path) = chosen_file(&command, Self::ID) {
             self.export(path, cx);
             return None;
         }
@@ -42,7 +50,7 @@ impl Feature for DataReduction {
             "show" | "hide" => self.set_visible(action == "show", cx),
             _ => {
                 let suggestion = Self::export_suggestion(&cx.view);
-                cx.ask_save_path(SavePurpose::ReducedStl, suggestion);
+                cx.ask_save_path(STL_FILE, suggestion);
             }
         }
         None

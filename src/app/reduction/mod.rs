@@ -66,7 +66,7 @@ impl DataReduction {
 
     /// Its command `action`: `"open"` (the window), `"reduce"` (with the window's settings),
     /// `"show"` / `"hide"` (the reduced surface instead of the part), `"export"` (ask where to
-    /// save the STL; the path comes back as [`Command::ExportReductionTo`]).
+    /// save the STL; the path comes back as [`Command::FeatureFile`] with this id).
     #[must_use]
     pub fn command(action: &'static str) -> Command {
         Command::Feature(FeatureCommand {

@@ -58,8 +58,11 @@ impl Workstation {
             SaveOutcome::Picked(SavePurpose::Program, path) => {
                 self.apply(Command::ExportProgramTo(path));
             }
-            SaveOutcome::Picked(SavePurpose::ReducedStl, path) => {
-                self.apply(Command::ExportReductionTo(path));
+            SaveOutcome::Picked(SavePurpose::Feature(f), path) => {
+                self.apply(Command::FeatureFile {
+                    feature: f.feature,
+                    path,
+                });
             }
             SaveOutcome::Unavailable(purpose) => {
                 let start = self.save_suggestion(purpose);
@@ -173,7 +176,7 @@ impl Workstation {
     }
 
     /// Where a save dialog for `purpose` starts: the project's file (or `NAME.talas` in the
-    /// working folder), or the suggested export file.
+    /// working folder), the program's export file, or the file a feature suggested.
     fn save_suggestion(&self, purpose: SavePurpose) -> Option<PathBuf> {
         match purpose {
             SavePurpose::Project => self.saved.session.path.clone().or_else(|| {
@@ -185,7 +188,7 @@ impl Workstation {
                 std::env::current_dir().ok().map(|d| d.join(name))
             }),
             SavePurpose::Program => Some(self.program_suggestion()),
-            SavePurpose::ReducedStl => self.run.feature_save_start.clone(),
+            SavePurpose::Feature(_) => self.run.feature_save_start.clone(),
         }
     }
 
