@@ -650,30 +650,8 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         "{}",
         red.stored_numbers
     );
-    // Export through the window's button: the feature's save dialog (here the in-window
-    // chooser, starting beside the saved project) hands the chosen file back to the feature,
-    // which writes the STL; read it back.
-    h.state_mut()
-        .apply(Command::SaveProjectAs(dir.join("reduction.talas")));
-    h.get_by_label("Export STL…").click();
-    h.run_steps(3);
-    let Some(ChooserPurpose::Save(SavePurpose::Feature(file))) =
-        h.state().chooser().map(|c| c.purpose())
-    else {
-        panic!("no save chooser for the reduced surface");
-    };
-    assert_eq!(file.feature, DataReduction::ID);
-    assert_eq!(
-        h.state().chooser().map(|c| c.file_type().0),
-        Some("STL (.stl)")
-    );
-    h.get_by_label("Save").click();
-    h.run_steps(3);
-    assert!(h.state().chooser().is_none());
-    let name = format!("{}-reduced.stl", h.state().document().unwrap().part.name);
-    let out = dir.join(name);
-    let logged = &h.state().log().entries.last().unwrap().text;
-    assert!(logged.contains(&out.display().to_string()), "{logged}");
+    // Export through the window's button, and read the STL back.
+    let out = export_through_the_chooser(&mut h, &dir);
     let back =
         talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
     assert_eq!(back.mesh.triangles.len(), 2 * (rows - 1) * (cols - 1));
@@ -721,21 +699,61 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         red.uncovered
     );
     let out = dir.join("reduced-xy.stl");
-    let save_to = |path: &Path| Command::FeatureFile {
-        feature: DataReduction::ID,
-        path: path.to_path_buf(),
-    };
-    h.state_mut().apply(save_to(&out));
+    h.state_mut().apply(reduction_file(&out));
     let back =
         talas::import::stl::read_stl(&out, &talas::import::stl::StlOptions::default()).unwrap();
     let (m2, n2) = (red.reduced.z.rows(), red.reduced.z.cols());
     assert_eq!(back.mesh.triangles.len(), 2 * (m2 - 1) * (n2 - 1));
-    // A save that fails (the target is a folder with a file in it) leaves what was there and
-    // reports one error naming the file.
+    a_failed_export_reports_the_file_and_keeps_what_was_there(&mut h, &dir);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Export the reduced surface through the window's button: the feature's save dialog (here the
+/// in-window chooser, starting beside the saved project) hands the chosen file back to the
+/// feature, which writes the STL. The file written.
+fn export_through_the_chooser(h: &mut Harness<'static, Workstation>, dir: &Path) -> PathBuf {
+    h.state_mut()
+        .apply(Command::SaveProjectAs(dir.join("reduction.talas")));
+    h.get_by_label("Export STL…").click();
+    h.run_steps(3);
+    let Some(ChooserPurpose::Save(SavePurpose::Feature(file))) =
+        h.state().chooser().map(|c| c.purpose())
+    else {
+        panic!("no save chooser for the reduced surface");
+    };
+    assert_eq!(file.feature, DataReduction::ID);
+    assert_eq!(
+        h.state().chooser().map(|c| c.file_type().0),
+        Some("STL (.stl)")
+    );
+    h.get_by_label("Save").click();
+    h.run_steps(3);
+    assert!(h.state().chooser().is_none());
+    let name = format!("{}-reduced.stl", h.state().document().unwrap().part.name);
+    let out = dir.join(name);
+    let logged = &h.state().log().entries.last().unwrap().text;
+    assert!(logged.contains(&out.display().to_string()), "{logged}");
+    out
+}
+
+/// The file chosen in the data reduction's save dialog.
+fn reduction_file(path: &Path) -> Command {
+    Command::FeatureFile {
+        feature: DataReduction::ID,
+        path: path.to_path_buf(),
+    }
+}
+
+/// A save that fails (the target is a folder with a file in it) leaves what was there and
+/// reports one error naming the file.
+fn a_failed_export_reports_the_file_and_keeps_what_was_there(
+    h: &mut Harness<'static, Workstation>,
+    dir: &Path,
+) {
     let blocked = dir.join("blocked.stl");
     std::fs::create_dir_all(&blocked).unwrap();
     std::fs::write(blocked.join("keep.txt"), "kept").unwrap();
-    h.state_mut().apply(save_to(&blocked));
+    h.state_mut().apply(reduction_file(&blocked));
     let last = h.state().log().entries.last().unwrap();
     assert_eq!(last.severity, talas::diagnostics::Severity::Error);
     assert!(
@@ -748,5 +766,4 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
         std::fs::read_to_string(blocked.join("keep.txt")).unwrap(),
         "kept"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -609,18 +609,23 @@ fn registered_features(mod_rs: &str) -> Vec<(String, String)> {
 }
 
 /// The names of `features` that `code` uses: a feature's module as a path segment
-/// (`reduction::`, `super::reduction::`, but not the engine's `crate::reduction::`) or its type
+/// (`reduction::`, `super::reduction::`, `crate::app::reduction::`, but not an engine module of
+/// the same name such as `crate::project::reduction::`) or its type
 /// as a word (`DataReduction`). Doc links count: they tie the file to the feature too.
 fn feature_names_in(code: &str, features: &[&(String, String)]) -> Vec<String> {
     let word_char = |c: char| c.is_alphanumeric() || c == '_';
     let mut found = Vec::new();
     for (module, ty) in features {
         let as_path = format!("{module}::");
+        // `forces::`, `super::forces::`, `app::forces::`; not an engine module of the same
+        // name deeper in a path (`crate::forces::`, `project::forces::`).
         let names_module = code.match_indices(&as_path).any(|(i, _)| {
             let before = &code[..i];
             !before.ends_with(word_char)
-                && !before.ends_with("crate::")
-                && !before.ends_with("talas::")
+                && (!before.ends_with("::")
+                    || ["super::", "self::", "app::"]
+                        .iter()
+                        .any(|p| before.ends_with(p)))
         });
         let names_type = code.match_indices(ty.as_str()).any(|(i, _)| {
             !code[..i].ends_with(word_char) && !code[i + ty.len()..].starts_with(word_char)
@@ -705,13 +710,18 @@ fn the_feature_name_checker_finds_names() {
         vec!["reduction::"]
     );
     assert_eq!(
+        feature_names_in("let f = crate::app::forces::x();", &all),
+        vec!["forces::"]
+    );
+    assert_eq!(
         feature_names_in("/// [`ForcesWindow`] draws", &all),
         vec!["ForcesWindow"]
     );
     // The engine's module of the same name, longer names and plain words do not count.
     assert!(
         feature_names_in(
-            "use crate::forces::x; let data_reduction = 1; // the reduction\nMyForcesWindow",
+            "use crate::forces::x; crate::project::forces::y(); let data_reduction = 1;\n\
+             // the reduction\nMyForcesWindow",
             &all
         )
         .is_empty()
