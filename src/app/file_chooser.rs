@@ -284,4 +284,30 @@ mod tests {
             Some(Command::Open(PathBuf::from("/p.stp")))
         );
     }
+
+    #[test]
+    fn a_feature_save_goes_back_to_the_feature_with_its_default_extension() {
+        use crate::app::file_dialog::FeatureSave;
+        let save = ChooserPurpose::Save(SavePurpose::Feature(FeatureSave {
+            feature: "profile",
+            title: "Export profile",
+            types: &[("CSV (.csv)", &["csv", "txt"]), ALL_FILES],
+        }));
+        assert_eq!(save.title(), "Export profile");
+        let names: Vec<_> = save.file_types().iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, ["CSV (.csv)", "All files"]);
+        assert!(save.is_save());
+        let chosen = |p: &str| Command::FeatureFile {
+            feature: "profile",
+            path: PathBuf::from(p),
+        };
+        assert_eq!(
+            save.command(PathBuf::from("/tmp/a")),
+            Some(chosen("/tmp/a.csv"))
+        );
+        assert_eq!(
+            save.command(PathBuf::from("/tmp/a.dxf")),
+            Some(chosen("/tmp/a.dxf"))
+        );
+    }
 }
