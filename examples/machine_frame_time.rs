@@ -54,6 +54,7 @@ mod measure {
             return;
         };
         let mut view = MachineView::default();
+        let ids = talas::app::feature::RenderIds::default();
         let mut camera = Camera::default();
         let mut place = Vec::new();
         let mut draw = Vec::new();
@@ -65,8 +66,8 @@ mod measure {
                 rotary_rad: (360.0 * u).to_radians(),
             };
             let t = Instant::now();
-            let mut meshes = view.instances(&machine, &joints, 120.0);
-            meshes.extend(view.fixture_meshes(control.fixtures()));
+            let mut meshes = view.instances(&machine, &joints, 120.0, &ids);
+            meshes.extend(view.fixture_meshes(control.fixtures(), &ids));
             place.push(t.elapsed().as_secs_f64() * 1e3);
             if i == 0
                 && let Some(s) = machine_sphere(&meshes)

@@ -15,7 +15,8 @@
 //!    surface instead of the part ([`SceneParts::instead_of_part`]).
 //!
 //! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
-//! read-only view, the egui context its jobs wake, fresh render ids, and a list of [`Notice`]s
+//! read-only view, the egui context its jobs wake, fresh render ids (one [`RenderIds`] counter
+//! for all features, also through [`FeatureView::next_id`]), and a list of [`Notice`]s
 //! (log lines, a save dialog, a view switch such as hiding the stock) that the workstation
 //! carries out afterwards, so that no feature reaches into the workstation's fields. A file a
 //! feature writes is asked for with [`FeatureContext::ask_save_path`] (its id, title and file
@@ -71,6 +72,37 @@ pub struct FeatureView<'a> {
     pub tool_pose: Option<usize>,
     /// The operations' computed paths and planned clocks.
     pub results: &'a dyn OperationResults,
+    /// The features' render ids ([`FeatureView::next_id`]).
+    pub ids: &'a RenderIds,
+}
+
+impl FeatureView<'_> {
+    /// A render id no other mesh or line of the scene has (new data needs a new id).
+    #[must_use]
+    pub fn next_id(&self) -> DataId {
+        self.ids.next()
+    }
+}
+
+/// The one counter the features' render ids come from, above the workstation's own (paths
+/// from 2^48, viewport highlights and tools from 2^40).
+#[derive(Debug)]
+pub struct RenderIds(Cell<DataId>);
+
+impl Default for RenderIds {
+    fn default() -> Self {
+        Self(Cell::new(1 << 52))
+    }
+}
+
+impl RenderIds {
+    /// A fresh id.
+    #[must_use]
+    pub fn next(&self) -> DataId {
+        let id = self.0.get() + 1;
+        self.0.set(id);
+        id
+    }
 }
 
 /// The computed operations, as features read them.
@@ -88,8 +120,6 @@ pub struct FeatureContext<'a> {
     pub view: FeatureView<'a>,
     /// The egui context its background jobs wake.
     pub egui: &'a egui::Context,
-    /// The last render id handed out (shared with the workstation's own scene).
-    ids: &'a Cell<DataId>,
     /// What the workstation is to do afterwards, in order.
     notices: Vec<Notice>,
 }
@@ -126,22 +156,19 @@ pub enum ViewSwitch {
 }
 
 impl<'a> FeatureContext<'a> {
-    /// A context reading `view`, waking `egui`, handing out ids after `ids`.
+    /// A context reading `view`, waking `egui`.
     #[must_use]
-    pub fn new(view: FeatureView<'a>, egui: &'a egui::Context, ids: &'a Cell<DataId>) -> Self {
+    pub fn new(view: FeatureView<'a>, egui: &'a egui::Context) -> Self {
         Self {
             view,
             egui,
-            ids,
             notices: Vec::new(),
         }
     }
 
-    /// A render id no other mesh or line of the scene has.
+    /// A render id no other mesh or line of the scene has ([`FeatureView::next_id`]).
     pub fn next_id(&mut self) -> DataId {
-        let id = self.ids.get() + 1;
-        self.ids.set(id);
-        id
+        self.view.next_id()
     }
 
     /// Add a line to the log.
@@ -275,8 +302,9 @@ pub trait Feature: Any {
     }
 
     /// Steer the 3D view before it is drawn (fit the camera, place the drawn tool); the meshes
-    /// it adds, drawn before the [`Feature::scene`] ones (the operator panel's machine).
-    fn steer_view(&mut self, _viewport: &mut ViewportState) -> Vec<MeshInstance> {
+    /// it adds, drawn before the [`Feature::scene`] ones (the operator panel's machine), with
+    /// new data's ids from `ids`.
+    fn steer_view(&mut self, _viewport: &mut ViewportState, _ids: &RenderIds) -> Vec<MeshInstance> {
         Vec::new()
     }
 

@@ -11,7 +11,6 @@ mod program;
 mod project_commands;
 mod state;
 
-use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -826,7 +825,7 @@ impl Workstation {
         let machine_meshes: Vec<_> = self
             .features
             .iter_mut()
-            .flat_map(|f| f.steer_view(&mut viewport))
+            .flat_map(|f| f.steer_view(&mut viewport, &self.run.feature_ids))
             .collect();
         let mut scene = SceneParts::default();
         for f in &self.features {
@@ -921,6 +920,7 @@ impl Workstation {
             project_path: self.saved.session.path.as_deref(),
             tool_pose: self.tool_pose_index(),
             results: self,
+            ids: &self.run.feature_ids,
         }
     }
 }
@@ -932,14 +932,12 @@ impl Workstation {
         f: impl FnOnce(&mut [Box<dyn Feature>], &mut FeatureContext<'_>) -> R,
     ) -> R {
         let mut features = std::mem::take(&mut self.features);
-        let ids = Cell::new(self.ops.next_id);
         let (out, notices) = {
-            let mut cx = FeatureContext::new(self.feature_view(), &self.run.ctx, &ids);
+            let mut cx = FeatureContext::new(self.feature_view(), &self.run.ctx);
             let out = f(&mut features, &mut cx);
             (out, cx.into_notices())
         };
         self.features = features;
-        self.ops.next_id = ids.get();
         for n in notices {
             self.carry_out(n);
         }

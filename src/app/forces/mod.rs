@@ -122,8 +122,6 @@ pub struct ForcesWindow {
     pub colour_path: bool,
     /// The coloured path as last built.
     coloured: Option<colour::ColouredPath>,
-    /// Render ids of the coloured path.
-    next_id: crate::render::DataId,
     /// The deflection profile at the tool's pose.
     deflection: Option<DeflectionCache>,
     /// Show the deflection profile.
@@ -251,7 +249,7 @@ impl ForcesWindow {
             .result
             .as_ref()
             .is_some_and(|(k, _)| now.as_ref() == Some(k));
-        self.update_colouring();
+        self.update_colouring(view);
         if !self.open {
             return;
         }
@@ -268,7 +266,7 @@ impl ForcesWindow {
     }
 
     /// Rebuild the coloured path when the result or the plotted quantity changed.
-    fn update_colouring(&mut self) {
+    fn update_colouring(&mut self, view: &FeatureView<'_>) {
         let Some((_, o)) = &self.result else {
             self.coloured = None;
             return;
@@ -284,12 +282,11 @@ impl ForcesWindow {
         if self.coloured.as_ref().is_some_and(|c| c.key == key) {
             return;
         }
-        self.next_id = self.next_id.max(COLOUR_IDS) + 1;
         self.coloured = Some(colour::coloured_path(
             &o.toolpath,
             &o.timeline,
             key,
-            self.next_id,
+            view.next_id(),
         ));
     }
 
@@ -393,9 +390,6 @@ impl ForcesWindow {
         deflection_panel::ui(ui, view.tool_pose, shown);
     }
 }
-
-/// Render ids of the coloured path start here (above the workstation's own).
-const COLOUR_IDS: crate::render::DataId = 1 << 52;
 
 /// Everything the worker needs, owned.
 struct Prepared {

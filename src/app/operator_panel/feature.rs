@@ -8,7 +8,7 @@ use super::camera::MACHINE_VIEWS;
 use super::{OperatorPanel, PanelSource};
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
-use crate::app::feature::{Feature, FeatureContext, FeatureView, is_action};
+use crate::app::feature::{Feature, FeatureContext, FeatureView, RenderIds, is_action};
 use crate::app::viewport::ViewportState;
 use crate::project::Operation;
 use crate::render::MeshInstance;
@@ -86,8 +86,8 @@ impl Feature for OperatorPanel {
         }
     }
 
-    fn steer_view(&mut self, viewport: &mut ViewportState) -> Vec<MeshInstance> {
-        super::machine_view::panel_machine(self, viewport)
+    fn steer_view(&mut self, viewport: &mut ViewportState, ids: &RenderIds) -> Vec<MeshInstance> {
+        super::machine_view::panel_machine(self, viewport, ids)
     }
 
     fn as_any_mut(&mut self) -> &mut dyn Any {

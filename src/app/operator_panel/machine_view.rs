@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Mat4, Vec3};
 
+use crate::app::feature::RenderIds;
 use crate::control::Control;
 use crate::control::collide::machine_joints;
 use crate::machine::{Link, Machine, MachineJoints, Placement, Side};
@@ -15,8 +16,6 @@ use crate::render::{BoundingSphere, DataId, MeshData, MeshInstance, Rgba8};
 
 /// Sides of a cylinder body.
 const SEGMENTS: usize = 40;
-/// Render ids of machine bodies start here (far above document and viewport ids).
-const FIRST_ID: DataId = 1 << 52;
 
 /// Colours by link kind (sRGB): cast iron grey for the bed, steel for what carries the part,
 /// the cradle orange, the head a blue grey, the spindle a light metal.
@@ -45,7 +44,6 @@ struct BodyDraw {
 pub struct MachineView {
     machine: Option<String>,
     bodies: Vec<BodyDraw>,
-    next_id: DataId,
     /// The camera was fitted to this machine already.
     fitted: Option<String>,
     /// The fixtures drawn, and their meshes (table frame = world).
@@ -114,19 +112,15 @@ fn inverse(p: &Placement) -> Placement {
 }
 
 impl MachineView {
-    fn rebuild(&mut self, machine: &Machine) {
+    fn rebuild(&mut self, machine: &Machine, ids: &RenderIds) {
         self.bodies.clear();
         self.machine = Some(machine.name.clone());
         let Some(s) = &machine.structure else {
             return;
         };
-        if self.next_id < FIRST_ID {
-            self.next_id = FIRST_ID;
-        }
         for b in &s.bodies {
-            self.next_id += 1;
             self.bodies.push(BodyDraw {
-                id: self.next_id,
+                id: ids.next(),
                 data: Arc::new(mesh_data(&b.shape.mesh(SEGMENTS))),
                 link: b.link,
                 colour: colour(s.side(b.link), b.link, &b.name),
@@ -141,9 +135,10 @@ impl MachineView {
         machine: &Machine,
         joints: &MachineJoints,
         gauge_mm: f64,
+        ids: &RenderIds,
     ) -> Vec<MeshInstance> {
         if self.machine.as_deref() != Some(machine.name.as_str()) {
-            self.rebuild(machine);
+            self.rebuild(machine, ids);
         }
         let Some(links) = machine.link_placements(joints, gauge_mm) else {
             return Vec::new();
@@ -163,27 +158,30 @@ impl MachineView {
 
     /// The machine at the control's position, with the gauge length of the control's tool
     /// (0 without one).
-    pub fn instances_for(&mut self, control: &Control) -> Vec<MeshInstance> {
+    pub fn instances_for(&mut self, control: &Control, ids: &RenderIds) -> Vec<MeshInstance> {
         let machine = control.machine();
         let joints = machine_joints(machine, &control.position());
         let gauge = control.cutter().map_or(0.0, |c| {
             c.overall_length + c.holder.iter().map(|h| h.length).sum::<f64>()
         });
-        let mut out = self.instances(machine, &joints, gauge);
-        out.extend(self.fixture_meshes(control.fixtures()));
+        let mut out = self.instances(machine, &joints, gauge, ids);
+        out.extend(self.fixture_meshes(control.fixtures(), ids));
         out
     }
 
     /// The live stock as it is cut, meshed at most every `STOCK_MESH_EVERY_S` (the
     /// latest mesh is drawn meanwhile; none before the first arrives or without a stock).
-    pub fn stock_instance(&mut self, control: &mut Control) -> Option<MeshInstance> {
+    pub fn stock_instance(
+        &mut self,
+        control: &mut Control,
+        ids: &RenderIds,
+    ) -> Option<MeshInstance> {
         let due = self
             .stock_taken
             .is_none_or(|t| t.elapsed().as_secs_f64() >= STOCK_MESH_EVERY_S);
         if due {
             if let Some(mesh) = control.stock_mesh() {
-                self.next_id = self.next_id.max(FIRST_ID) + 1;
-                self.stock_draw = Some((self.next_id, Arc::new(flat_mesh_data(&mesh))));
+                self.stock_draw = Some((ids.next(), Arc::new(flat_mesh_data(&mesh))));
                 self.stock_taken = Some(std::time::Instant::now());
             } else if control.cutter().is_none() {
                 self.stock_draw = None;
@@ -202,14 +200,14 @@ impl MachineView {
     pub fn fixture_meshes(
         &mut self,
         fixtures: &[crate::machine::collision::TableExtra],
+        ids: &RenderIds,
     ) -> Vec<MeshInstance> {
         if self.fixtures != fixtures {
             self.fixtures = fixtures.to_vec();
             self.fixture_draws.clear();
             for f in fixtures {
-                self.next_id = self.next_id.max(FIRST_ID) + 1;
                 let data = Arc::new(mesh_data(&f.shape.mesh(SEGMENTS)));
-                self.fixture_draws.push((self.next_id, data));
+                self.fixture_draws.push((ids.next(), data));
             }
         }
         self.fixture_draws
@@ -263,15 +261,18 @@ pub fn machine_sphere(instances: &[MeshInstance]) -> Option<BoundingSphere> {
 pub fn panel_machine(
     panel: &mut crate::app::operator_panel::OperatorPanel,
     viewport: &mut crate::app::viewport::ViewportState,
+    ids: &RenderIds,
 ) -> Vec<MeshInstance> {
     if !panel.open || panel.control().is_none() {
         return Vec::new();
     }
     let preset = panel.take_machine_view();
     let mut view = std::mem::take(&mut panel.machine_view);
-    let stock = panel.control_mut().and_then(|c| view.stock_instance(c));
+    let stock = panel
+        .control_mut()
+        .and_then(|c| view.stock_instance(c, ids));
     let meshes = match panel.control() {
-        Some(control) => place_machine(&mut view, control, stock, preset, viewport),
+        Some(control) => place_machine(&mut view, control, stock, preset, viewport, ids),
         None => Vec::new(),
     };
     panel.machine_view = view;
@@ -286,8 +287,9 @@ fn place_machine(
     stock: Option<MeshInstance>,
     preset: Option<crate::render::StandardView>,
     viewport: &mut crate::app::viewport::ViewportState,
+    ids: &RenderIds,
 ) -> Vec<MeshInstance> {
-    let mut meshes = view.instances_for(control);
+    let mut meshes = view.instances_for(control, ids);
     let first = view
         .fit_once(&meshes)
         .map(|s| (crate::render::StandardView::Iso, s));

@@ -77,6 +77,8 @@ pub(super) struct Runtime {
     pub restore_view: Option<crate::project::ViewState>,
     /// Where the save dialog a feature asked for starts (its suggested file).
     pub feature_save_start: Option<PathBuf>,
+    /// The features' render ids.
+    pub feature_ids: super::super::feature::RenderIds,
 }
 
 impl Runtime {
@@ -112,6 +114,7 @@ impl Runtime {
             quit_confirmed: false,
             restore_view: None,
             feature_save_start: None,
+            feature_ids: super::super::feature::RenderIds::default(),
         }
     }
 }
