@@ -12,6 +12,8 @@
 //! - [`document_loader`]: the one adapter to the engine's importers (runs on a [`job::Job`]).
 //! - [`feature`]: the [`feature::Feature`] trait a tool window or panel implements to plug into
 //!   the workstation (state, commands, jobs, windows, scene); [`features`] registers them:
+//!   - [`program`]: the posted program of the active operation (post, G-code and motion-plot
+//!     tabs of the bottom dock, export, line ↔ pose ↔ playback ↔ plot-time links);
 //!   - [`reduction`]: data reduction (the part's Z-map reduced by SVD, its error map, STL);
 //!   - [`stock_simulation`]: the stock cut by the active path, coloured by its deviation;
 //!   - [`operator_panel`]: the virtual control's operator panel (jog, MPG, MDI, AUTO) and the
@@ -36,6 +38,7 @@ pub mod offscreen_render;
 pub mod operator_panel;
 pub mod panels;
 pub mod profile_editor;
+pub mod program;
 pub mod project_session;
 pub mod recent_files;
 pub mod reduction;
@@ -58,7 +61,8 @@ pub use workstation::{Workstation, WorkstationConfig};
 #[must_use]
 pub fn features() -> Vec<Box<dyn feature::Feature>> {
     vec![
-        Box::new(reduction::DataReduction::default()) as Box<dyn feature::Feature>,
+        Box::new(program::PostedProgram::default()) as Box<dyn feature::Feature>,
+        Box::new(reduction::DataReduction::default()),
         Box::new(stock_simulation::StockSimulation::default()),
         Box::new(profile_editor::ProfileEditor::new()),
         Box::new(operator_panel::OperatorPanel::new()),

@@ -7,9 +7,9 @@
 //!   the renderer's problem list (GPU side), the egui context, the clock, the render-id counter
 //!   and the questions waiting for an answer. Nothing here is saved.
 //!
-//! The loaded part, the view and the features' own state (computed paths, simulations, posted
-//! programs, reductions) stay on the workstation beside these two; they are rebuilt from the
-//! persisted state and the part file.
+//! The loaded part, the view and the computed paths stay on the workstation beside these two,
+//! the features' own state (simulations, posted programs, reductions) in the features; they
+//! are rebuilt from the persisted state and the part file.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -21,6 +21,7 @@ use super::super::file_chooser::FileChooser;
 use super::super::file_dialog::{OpenDialog, SaveDialog};
 use super::super::job::JobSlot;
 use super::super::project_session::ProjectSession;
+use super::super::state::DockTab;
 use super::super::recent_files::RecentFiles;
 use super::super::scalar_field::CurvatureField;
 use super::super::tool_library::ToolLibrary;
@@ -77,6 +78,8 @@ pub(super) struct Runtime {
     pub restore_view: Option<crate::project::ViewState>,
     /// Where the save dialog a feature asked for starts (its suggested file).
     pub feature_save_start: Option<PathBuf>,
+    /// The bottom dock's tab.
+    pub dock: DockTab,
 }
 
 impl Runtime {
@@ -112,6 +115,7 @@ impl Runtime {
             quit_confirmed: false,
             restore_view: None,
             feature_save_start: None,
+            dock: DockTab::Log,
         }
     }
 }
