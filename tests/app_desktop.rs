@@ -13,8 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use common::app::{
-    gcode_line_of_pose, gcode_pane, is_posting, is_simulating, program, simulation,
-    simulation_of,
+    gcode_line_of_pose, gcode_pane, is_posting, is_simulating, program, simulation, simulation_of,
 };
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -463,7 +462,10 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     // The playback stands at the last pose reached at the picked pose's planned time (a
     // zero-length move may end there too).
     let at_pose = h.state().playback_position().expect("playing back");
-    assert!(at_pose >= pose && at_pose < stepped, "{pose} {at_pose} {stepped}");
+    assert!(
+        at_pose >= pose && at_pose < stepped,
+        "{pose} {at_pose} {stepped}"
+    );
     // Posting again restarts the playback (the whole path shown) and shows the new program's
     // G-code (the dock switches from the log to it).
     h.get_by_label("Log").click();

@@ -36,7 +36,7 @@
 use std::any::Any;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::rc::Rc;
 
 use super::actions::Action;
 pub use super::actions::Toggle;
@@ -44,7 +44,6 @@ use super::command::{Command, FeatureCommand};
 use super::document::Document;
 use super::file_dialog::SavePurpose;
 use super::job::JobStatus;
-use super::program::Posted;
 use super::toolpaths::ComputedOp;
 use super::viewport::ViewportState;
 use crate::diagnostics::Severity;
@@ -89,15 +88,27 @@ pub trait OperationResults {
 }
 
 /// What the features lend one another and the workstation, gathered from them after each of
-/// their calls ([`Feature::lend`]).
+/// their calls ([`Feature::lend`]): shared values found by their type (the posted program's
+/// run), so a feature lends a new kind of value without a change here.
 #[derive(Clone, Default)]
 pub struct Lent {
-    /// The program posted last (the posted-program feature's; whether it is an operation's
-    /// current program is asked of it, [`Posted::is_current`]).
-    pub program: Option<Arc<Posted>>,
+    values: Vec<Rc<dyn Any>>,
     /// The pose of the active path under the pointer in a feature's panel this frame (a motion
     /// plot): the tool is drawn there.
     pub hover_pose: Option<usize>,
+}
+
+impl Lent {
+    /// Lend `value` (the first lent value of a type is the one found).
+    pub fn lend<T: Any>(&mut self, value: Rc<T>) {
+        self.values.push(value);
+    }
+
+    /// The lent value of type `T`, if any.
+    #[must_use]
+    pub fn get<T: Any>(&self) -> Option<&T> {
+        self.values.iter().find_map(|v| v.downcast_ref::<T>())
+    }
 }
 
 /// What a feature uses of the workstation while it applies a command or collects its jobs.

@@ -4,7 +4,7 @@
 //! Motion tabs of the bottom dock, follows the tool's pose into them and lends its run.
 
 use std::any::Any;
-use std::sync::Arc;
+use std::rc::Rc;
 
 use super::{GCODE_TAB, MOTION_TAB, PostedProgram, export_suggestion};
 use crate::app::command::Command;
@@ -87,7 +87,9 @@ impl Feature for PostedProgram {
     }
 
     fn lend(&self, lent: &mut Lent) {
-        lent.program = self.current.as_ref().map(|p| Arc::clone(&p.posted));
+        if let Some(p) = &self.current {
+            lent.lend(Rc::clone(&p.posted));
+        }
         lent.hover_pose = lent.hover_pose.or(self.hover_pose);
     }
 

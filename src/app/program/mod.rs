@@ -5,7 +5,7 @@
 //! the playback and a plot time (read off the run's maps).
 //!
 //! The run is lent to the workstation and the other features as a [`Posted`] snapshot (an
-//! `Arc`, see [`crate::app::feature::Lent`]): the operator panel loads its text, the forces and
+//! `Rc`, see [`crate::app::feature::Lent`]): the operator panel loads its text, the forces and
 //! the playback read its planned clock, the path colouring its planned feed. A new program
 //! asks the workstation to restart the playback (its clock changed) and to show the G-code tab.
 
@@ -15,6 +15,7 @@ pub mod gcode_view;
 pub mod motion_plots;
 
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
 
 use super::document::Document;
@@ -112,7 +113,10 @@ impl Posted {
     /// `toolpath` (the posted path) coloured by planned feed: render id, lines and the mapping
     /// (0 to the fastest planned feed, mm/min); built once.
     #[must_use]
-    pub fn feed_lines(&self, toolpath: &Toolpath) -> Option<(DataId, Arc<LineData>, ScalarMapping)> {
+    pub fn feed_lines(
+        &self,
+        toolpath: &Toolpath,
+    ) -> Option<(DataId, Arc<LineData>, ScalarMapping)> {
         let built = self.feed_lines.get_or_init(|| {
             let pose_feed = self.planned_feed()?;
             let max = pose_feed
@@ -146,7 +150,7 @@ struct Program {
     /// The operation it was posted for.
     index: usize,
     /// The run, shared with the workstation and the other features.
-    posted: Arc<Posted>,
+    posted: Rc<Posted>,
     view: GcodeView,
     /// The motion plots, or why the program has no motion plan.
     plots: Result<MotionPlots, String>,
@@ -269,7 +273,7 @@ impl PostedProgram {
                 };
                 self.current = Some(Program {
                     index,
-                    posted: Arc::new(posted),
+                    posted: Rc::new(posted),
                     view,
                     plots: out.plots,
                     elapsed_s,

@@ -115,7 +115,7 @@ impl Workstation {
 
     /// The program the program feature lends, when it is operation `index`'s current one.
     pub(super) fn posted(&self, index: usize) -> Option<&Posted> {
-        let p = self.lent.program.as_deref()?;
+        let p = self.lent.get::<Posted>()?;
         p.is_current(&self.saved.session.project, self.document.as_ref(), index)
             .then_some(p)
     }

@@ -21,9 +21,9 @@ use super::super::file_chooser::FileChooser;
 use super::super::file_dialog::{OpenDialog, SaveDialog};
 use super::super::job::JobSlot;
 use super::super::project_session::ProjectSession;
-use super::super::state::DockTab;
 use super::super::recent_files::RecentFiles;
 use super::super::scalar_field::CurvatureField;
+use super::super::state::DockTab;
 use super::super::tool_library::ToolLibrary;
 use crate::render::DataId;
 
