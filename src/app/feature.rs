@@ -18,9 +18,10 @@
 //!    playback step or seek, the running clock: [`Feature::follow_pose`]).
 //!
 //! Features are taken out of the workstation while they are called, so what one lends the
-//! others (the posted program's run) is gathered into a [`Lent`] snapshot after each of their
-//! calls ([`Feature::lend`]: shared pointers, cheap to clone) and read from there through the
-//! [`FeatureView`] (`posted`, [`OperationResults::planned_clock`], `tool_pose`).
+//! others (the posted program's run) is gathered into a [`Lent`] snapshot after each pass over
+//! them ([`Feature::lend`]: shared pointers, cheap to clone) and read from there through the
+//! [`FeatureView`] (`posted`, [`OperationResults::planned_clock`], `tool_pose`); what one lends
+//! during a pass the others see from the next pass on.
 //!
 //! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
 //! read-only view, the egui context its jobs wake, fresh render ids, and a list of [`Notice`]s
@@ -87,8 +88,8 @@ pub trait OperationResults {
     fn planned_clock(&self, index: usize) -> Option<&[f64]>;
 }
 
-/// What the features lend one another and the workstation, gathered from them after each of
-/// their calls ([`Feature::lend`]): shared values found by their type (the posted program's
+/// What the features lend one another and the workstation, gathered from them after each pass
+/// over them ([`Feature::lend`]): shared values found by their type (the posted program's
 /// run), so a feature lends a new kind of value without a change here.
 #[derive(Clone, Default)]
 pub struct Lent {
@@ -331,7 +332,7 @@ pub trait Feature: Any {
     /// the running clock): show it.
     fn follow_pose(&mut self, _pose: usize, _view: &FeatureView<'_>) {}
 
-    /// Add what it lends the others to `lent` (after each of its calls).
+    /// Add what it lends the others to `lent` (after each pass over the features).
     fn lend(&self, _lent: &mut Lent) {}
 
     /// Itself, for [`find`].

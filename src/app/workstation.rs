@@ -106,7 +106,7 @@ pub struct Workstation {
     pick: Option<SurfacePick>,
     /// The registered features ([`super::features`]).
     features: Vec<Box<dyn Feature>>,
-    /// What the features lend one another (gathered after each of their calls).
+    /// What the features lend one another (gathered after each pass over them).
     lent: Lent,
     /// The menu entries and keyboard shortcuts (the workstation's and the features').
     actions: Vec<Action>,
@@ -489,15 +489,13 @@ impl Workstation {
         }
         self.poll_field_job();
         self.poll_calc_job();
-        // One feature at a time, so that the next one reads what the last one lent (a program
-        // just posted) and the workstation has done what it asked (the playback restarted).
-        for i in 0..self.features.len() {
-            self.with_features(|features, cx| {
-                if let Some(f) = features.get_mut(i) {
-                    f.poll(cx);
-                }
-            });
-        }
+        // What a feature lends as it collects its job (a program just posted) the others read
+        // from their next call on.
+        self.with_features(|features, cx| {
+            for f in features {
+                f.poll(cx);
+            }
+        });
         if self.status().job.is_some() {
             // Each job wakes the UI when it ends; this is the fallback (and moves the bar).
             self.run
