@@ -12,7 +12,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use common::app::{is_simulating, simulation, simulation_of};
+use common::app::{
+    gcode_line_of_pose, gcode_pane, is_posting, is_simulating, program, simulation, simulation_of,
+};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::{Command, PlaybackCommand};
@@ -390,9 +392,9 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
         .poses
         .len();
     press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
-    settle_while(&mut h, "post", Workstation::is_posting);
+    settle_while(&mut h, "post", is_posting);
     h.run_steps(2);
-    assert!(h.state().gcode_pane().is_some());
+    assert!(gcode_pane(h.state()).is_some());
 
     // Playback in use, then a pick (a collision entry or a G-code line makes the same
     // command): the tool stands at the picked pose.
@@ -411,9 +413,9 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     assert!(stepped > pick, "{pick} -> {stepped}");
     let line = (0..=stepped)
         .rev()
-        .find_map(|p| h.state().gcode_line_of_pose(p))
+        .find_map(|p| gcode_line_of_pose(h.state(), p))
         .expect("a line of the stepped pose");
-    let (selected, shown) = h.state().gcode_pane().expect("pane");
+    let (selected, shown) = gcode_pane(h.state()).expect("pane");
     assert_eq!(selected, Some(line));
     assert!(shown.contains(&line), "{line} not in {shown:?}");
 
@@ -441,6 +443,40 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     let band = simulation(h.state()).shown().expect("shown").band_mm;
     assert!((band - 0.02).abs() < 1e-12, "{band}");
 
+    // Clicking a G-code line (the top one shown, above the stepped pose's) picks the pose its
+    // block reaches: the tool stands there and the playback clock moves to it.
+    let header = h.get_by_label_contains(" lines · ").rect();
+    let at = egui::pos2(header.center().x, header.bottom() + 14.0);
+    h.hover_at(at);
+    h.step();
+    h.drag_at(at);
+    h.step();
+    h.drop_at(at);
+    h.run_steps(2);
+    let clicked = gcode_pane(h.state()).and_then(|(s, _)| s).expect("a line");
+    assert!(clicked < line, "clicked {clicked}, stepped to {line}");
+    let pose = program(h.state())
+        .pose_of_line(clicked)
+        .expect("the line's pose");
+    assert_eq!(h.state().tool_pose_index(), Some(pose));
+    // The playback stands at the last pose reached at the picked pose's planned time (a
+    // zero-length move may end there too).
+    let at_pose = h.state().playback_position().expect("playing back");
+    assert!(
+        at_pose >= pose && at_pose < stepped,
+        "{pose} {at_pose} {stepped}"
+    );
+    // Posting again restarts the playback (the whole path shown) and shows the new program's
+    // G-code (the dock switches from the log to it).
+    h.get_by_label("Log").click();
+    h.run_steps(2);
+    h.state_mut().apply(Command::PostActive);
+    settle_while(&mut h, "post", is_posting);
+    h.run_steps(2);
+    assert_eq!(h.state().playback_position(), None);
+    let (_, shown) = gcode_pane(h.state()).expect("the new program's pane");
+    assert!(!shown.is_empty(), "the G-code tab is shown");
+
     // New project (Discard the changes): nothing of the old one stays attached.
     h.state_mut().apply(Command::NewProject);
     h.run_steps(2);
@@ -453,7 +489,7 @@ fn a_new_project_forgets_the_old_path_simulation_and_program() {
     h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
     h.run_steps(2);
     assert!(h.state().operation_result(0).is_none(), "no old path");
-    assert!(h.state().gcode_pane().is_none(), "no old program");
+    assert!(gcode_pane(h.state()).is_none(), "no old program");
     assert!(simulation(h.state()).shown().is_none(), "no old stock");
     assert_eq!(h.state().tool_pose_index(), None);
     h.get_by_label("Not calculated yet.");

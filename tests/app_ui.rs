@@ -11,7 +11,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use common::app::{is_simulating, simulation, simulation_of};
+use common::app::{
+    is_posting, is_simulating, planned_feed, program_text, simulation, simulation_of,
+};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
@@ -489,9 +491,9 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
 
     // F7 posts the path and plans its motion; the G-code pane shows it, Export writes it.
     press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
-    settle_while(&mut h, "is_posting", Workstation::is_posting);
+    settle_while(&mut h, "is_posting", is_posting);
     h.run_steps(2);
-    let text = h.state().program_text(0).expect("posted").to_string();
+    let text = program_text(h.state(), 0).expect("posted").to_string();
     assert!(
         text.contains("G54") && text.contains("M30"),
         "{}",
@@ -500,7 +502,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     assert!(h.query_all_by_label_contains("G-code").next().is_some());
     // The jerk-limited plan of the posted program never runs faster than programmed (1000
     // mm/min) and the path can be coloured by it.
-    let feeds = h.state().planned_feed(0).expect("planned feed");
+    let feeds = planned_feed(h.state(), 0).expect("planned feed");
     let (result, _) = h.state().operation_result(0).expect("result");
     let finite: Vec<f32> = feeds
         .iter()
@@ -532,7 +534,10 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     ));
     h.run_steps(2);
     let out = dir.join("raster.ngc");
-    h.state_mut().apply(Command::ExportProgramTo(out.clone()));
+    h.state_mut().apply(Command::FeatureFile {
+        feature: "program",
+        path: out.clone(),
+    });
     assert_eq!(std::fs::read_to_string(&out).expect("exported"), text);
     // Showing the reduced surface hides the simulated stock (the reduction asks the
     // workstation, which passes it on to the stock simulation).

@@ -84,8 +84,6 @@ pub enum Command {
     PostActive,
     /// Ask where to export the posted program.
     ExportProgramDialog,
-    /// Export the posted program to this path.
-    ExportProgramTo(PathBuf),
     /// Show the simulated stock (instead of the part) or not.
     SetStockVisible(bool),
     /// Colour the simulated stock's deviation against a tolerance band of ± this, mm.

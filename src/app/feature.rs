@@ -12,7 +12,16 @@
 //!    commands they return;
 //! 4. lets each feature steer the viewport (camera, drawn tool: [`Feature::steer_view`]) and
 //!    adds the features' meshes and lines to it ([`Feature::scene`]); one feature may draw a
-//!    surface instead of the part ([`SceneParts::instead_of_part`]).
+//!    surface instead of the part ([`SceneParts::instead_of_part`]);
+//! 5. shows the features' tabs of the bottom dock ([`Feature::dock_tabs`], [`Feature::dock_ui`])
+//!    beside the log, and tells them where the tool was moved on the active path (a pick, a
+//!    playback step or seek, the running clock: [`Feature::follow_pose`]).
+//!
+//! Features are taken out of the workstation while they are called, so what one lends the
+//! others (the posted program's run) is gathered into a [`Lent`] snapshot after each pass over
+//! them ([`Feature::lend`]: shared pointers, cheap to clone) and read from there through the
+//! [`FeatureView`] (`posted`, [`OperationResults::planned_clock`], `tool_pose`); what one lends
+//! during a pass the others see from the next pass on.
 //!
 //! While it applies a command or collects its jobs a feature gets a [`FeatureContext`]: the
 //! read-only view, the egui context its jobs wake, fresh render ids (one [`RenderIds`] counter
@@ -32,6 +41,7 @@
 use std::any::Any;
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use super::actions::Action;
 pub use super::actions::Toggle;
@@ -114,6 +124,30 @@ pub trait OperationResults {
     fn planned_clock(&self, index: usize) -> Option<&[f64]>;
 }
 
+/// What the features lend one another and the workstation, gathered from them after each pass
+/// over them ([`Feature::lend`]): shared values found by their type (the posted program's
+/// run), so a feature lends a new kind of value without a change here.
+#[derive(Clone, Default)]
+pub struct Lent {
+    values: Vec<Rc<dyn Any>>,
+    /// The pose of the active path under the pointer in a feature's panel this frame (a motion
+    /// plot): the tool is drawn there.
+    pub hover_pose: Option<usize>,
+}
+
+impl Lent {
+    /// Lend `value` (the first lent value of a type is the one found).
+    pub fn lend<T: Any>(&mut self, value: Rc<T>) {
+        self.values.push(value);
+    }
+
+    /// The lent value of type `T`, if any.
+    #[must_use]
+    pub fn get<T: Any>(&self) -> Option<&T> {
+        self.values.iter().find_map(|v| v.downcast_ref::<T>())
+    }
+}
+
 /// What a feature uses of the workstation while it applies a command or collects its jobs.
 pub struct FeatureContext<'a> {
     /// What it may read.
@@ -153,6 +187,10 @@ pub enum Notice {
 pub enum ViewSwitch {
     /// Stop drawing the simulated stock (the feature's surface replaces it).
     HideStock,
+    /// Stop the playback and show the whole path (its clock changed: a program was posted).
+    RestartPlayback,
+    /// Show this tab of the bottom dock (one of a feature's [`Feature::dock_tabs`]).
+    DockTab(&'static str),
 }
 
 impl<'a> FeatureContext<'a> {
@@ -307,6 +345,28 @@ pub trait Feature: Any {
     fn steer_view(&mut self, _viewport: &mut ViewportState, _ids: &RenderIds) -> Vec<MeshInstance> {
         Vec::new()
     }
+
+    /// The titles of its tabs in the bottom dock (shown after the log).
+    fn dock_tabs(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Draw its dock tab `tab` (one of [`Feature::dock_tabs`]) while it is shown.
+    fn dock_ui(
+        &mut self,
+        _tab: &str,
+        _ui: &mut egui::Ui,
+        _view: &FeatureView<'_>,
+        _commands: &mut Vec<Command>,
+    ) {
+    }
+
+    /// The tool was moved to pose `pose` of the active path (a pick, a playback step or seek,
+    /// the running clock): show it.
+    fn follow_pose(&mut self, _pose: usize, _view: &FeatureView<'_>) {}
+
+    /// Add what it lends the others to `lent` (after each pass over the features).
+    fn lend(&self, _lent: &mut Lent) {}
 
     /// Itself, for [`find`].
     fn as_any_mut(&mut self) -> &mut dyn Any;

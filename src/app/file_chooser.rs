@@ -47,10 +47,6 @@ const STEP: FileType = ("STEP (.stp, .step)", &["stp", "step"]);
 const STL: FileType = ("STL (.stl)", &["stl"]);
 const PROJECT: FileType = ("Talas project (.talas)", &["talas"]);
 const MACHINE: FileType = ("Machine definition (.json)", &["json"]);
-const GCODE: FileType = (
-    "G-code (.ngc, .nc, .tap, .mpf, .h, .gcode)",
-    &["ngc", "nc", "tap", "mpf", "h", "i", "gcode"],
-);
 const ALL_FILES: FileType = ("All files", &[]);
 
 impl ChooserPurpose {
@@ -62,7 +58,6 @@ impl ChooserPurpose {
             Self::OpenProject => &[PROJECT, ALL_FILES],
             Self::MachineFile => &[MACHINE, ALL_FILES],
             Self::Save(SavePurpose::Project) => &[PROJECT],
-            Self::Save(SavePurpose::Program) => &[GCODE, ALL_FILES],
             Self::Save(SavePurpose::Feature(f)) => f.types,
             Self::Feature { types, .. } => types,
         }
@@ -80,7 +75,6 @@ impl ChooserPurpose {
             Self::OpenProject => "Open project",
             Self::MachineFile => "Machine definition file",
             Self::Save(SavePurpose::Project) => "Save project as",
-            Self::Save(SavePurpose::Program) => "Export G-code",
             Self::Save(SavePurpose::Feature(f)) => f.title,
             Self::Feature { title, .. } => title,
         }
@@ -101,7 +95,6 @@ impl ChooserPurpose {
                 }
                 Command::SaveProjectAs(path)
             }
-            Self::Save(SavePurpose::Program) => Command::ExportProgramTo(path),
             Self::Save(SavePurpose::Feature(f)) => {
                 let default = f.types.first().and_then(|(_, e)| e.first());
                 if let (None, Some(ext)) = (path.extension(), default) {

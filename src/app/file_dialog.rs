@@ -137,8 +137,6 @@ pub type FileType = (&'static str, &'static [&'static str]);
 pub enum SavePurpose {
     /// Save the project as.
     Project,
-    /// Export the posted program.
-    Program,
     /// A file a workstation feature writes: the chosen path goes back to that feature as
     /// [`Command::FeatureFile`](super::command::Command::FeatureFile).
     Feature(FeatureSave),
@@ -209,10 +207,6 @@ impl SaveDialog {
                     SavePurpose::Project => dialog
                         .set_title("Save project as")
                         .add_filter("Talas project", &["talas"]),
-                    SavePurpose::Program => dialog
-                        .set_title("Export G-code")
-                        .add_filter("G-code", &["ngc", "nc", "tap", "mpf", "h", "gcode"])
-                        .add_filter("All files", &["*"]),
                     SavePurpose::Feature(f) => {
                         let every: &[&str] = &["*"];
                         f.types

@@ -14,6 +14,8 @@
 //!   the workstation (state, commands, jobs, windows, scene, files); [`features`] lists the
 //!   registered ones, each its own module (folder). A feature is registered by one line of the
 //!   `features!` list in this file, which declares its module and adds it to [`features`].
+//! - [`posted`]: the posted program as the features share it (made by the program feature,
+//!   read by the playback, the forces, the operator panel and the path colouring).
 
 pub mod actions;
 pub mod command;
@@ -30,6 +32,7 @@ pub mod message_log;
 pub mod number_field;
 pub mod offscreen_render;
 pub mod panels;
+pub mod posted;
 pub mod project_session;
 pub mod recent_files;
 pub mod scalar_field;
@@ -70,6 +73,7 @@ fn boxed<F: feature::Feature + Default>() -> Box<dyn feature::Feature> {
 
 // The data reduction's surface wins over the simulated stock (first `instead_of_part`).
 features! {
+    program::PostedProgram,
     reduction::DataReduction,
     stock_simulation::StockSimulation,
     profile_editor::ProfileEditor,

@@ -27,8 +27,7 @@ pub enum DockTab {
     /// The log.
     #[default]
     Log,
-    /// The posted G-code.
-    Gcode,
-    /// Motion plots of the posted program.
-    Motion,
+    /// A feature's tab, by its title (the posted program's "G-code" and "Motion", see
+    /// [`super::feature::Feature::dock_tabs`]).
+    Feature(&'static str),
 }

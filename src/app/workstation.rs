@@ -1,13 +1,12 @@
 //! The workstation: owns the project session (document, history, file), the loaded part, the
 //! viewport state, the log and the background jobs; lays out the panels each frame; applies the
 //! commands they return in one place ([`Workstation::apply`], with the project commands in
-//! `project_commands`; operations, the posted program and the dialogs in their own
-//! submodules). The registered features ([`super::features`]) plug in through
-//! [`super::feature::Feature`].
+//! `project_commands`; operations with the playback and the dialogs in their own submodules).
+//! The registered features ([`super::features`]) plug in through [`super::feature::Feature`];
+//! the bottom dock shows the log and the features' tabs.
 
 mod dialogs;
 mod operations;
-mod program;
 mod project_commands;
 mod state;
 
@@ -19,8 +18,8 @@ use super::command::Command;
 use super::document::{Document, Selection};
 use super::document_loader::{LoadError, LoadedPart, load_default_part, load_part};
 use super::feature::{
-    Feature, FeatureContext, FeatureView, Notice, OperationResults, SceneParts, ViewSwitch, find,
-    find_ref,
+    Feature, FeatureContext, FeatureView, Lent, Notice, OperationResults, SceneParts, ViewSwitch,
+    find, find_ref,
 };
 use super::file_chooser::ChooserPurpose;
 use super::file_dialog::{DialogOutcome, SavePurpose};
@@ -36,7 +35,7 @@ use super::panels::status_bar::{StatusInfo, status_bar_ui};
 use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
 use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
-use super::state::Focus;
+use super::state::{DockTab, Focus};
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
 use super::toolpaths::ComputedOp;
@@ -103,10 +102,11 @@ pub struct Workstation {
     focus: Focus,
     forms: Forms,
     ops: operations::Operations,
-    programs: program::Programs,
     pick: Option<SurfacePick>,
     /// The registered features ([`super::features`]).
     features: Vec<Box<dyn Feature>>,
+    /// What the features lend one another (gathered after each pass over them).
+    lent: Lent,
     /// The menu entries and keyboard shortcuts (the workstation's and the features').
     actions: Vec<Action>,
 }
@@ -145,9 +145,9 @@ impl Workstation {
             focus: Focus::Selection,
             forms: Forms::default(),
             ops: operations::Operations::new(),
-            programs: program::Programs::default(),
             pick: None,
             features,
+            lent: Lent::default(),
             actions: table,
         };
         if let Some(e) = library_error {
@@ -319,7 +319,6 @@ impl Workstation {
                     .ops
                     .job
                     .cancel()
-                    .or_else(|| self.programs.job.cancel())
                     .or_else(|| self.features.iter_mut().find_map(|f| f.cancel()))
                     .or_else(|| self.run.load_job.cancel())
                     .or_else(|| {
@@ -363,6 +362,8 @@ impl Workstation {
             // No registered feature took it.
             Command::Feature(_)
             | Command::FeatureFile { .. }
+            | Command::PostActive
+            | Command::ExportProgramDialog
             | Command::Simulate(_)
             | Command::SimulateActive
             | Command::SimulateToPlayback
@@ -395,10 +396,7 @@ impl Workstation {
             Command::AddOperation(_)
             | Command::Calculate(_)
             | Command::CalculateActive
-            | Command::PostActive
             | Command::OpenMachineFileDialog
-            | Command::ExportProgramDialog
-            | Command::ExportProgramTo(_)
             | Command::PickPose(_)
             | Command::SetPathColouring(_)
             | Command::ReplacePath(..)
@@ -421,10 +419,11 @@ impl Workstation {
         self.ops.show_axes = old.show_axes;
         self.ops.speed = old.speed;
         self.ops.next_id = old.next_id;
-        self.programs = program::Programs::default();
         for f in &mut self.features {
             f.reset();
         }
+        self.gather_lent();
+        self.run.dock = DockTab::Log;
         self.pick = None;
     }
 
@@ -488,7 +487,8 @@ impl Workstation {
         }
         self.poll_field_job();
         self.poll_calc_job();
-        self.poll_post_job();
+        // What a feature lends as it collects its job (a program just posted) the others read
+        // from their next call on.
         self.with_features(|features, cx| {
             for f in features {
                 f.poll(cx);
@@ -641,7 +641,6 @@ impl Workstation {
                 .ops
                 .job
                 .status()
-                .or_else(|| self.programs.job.status())
                 .or_else(|| self.features.iter().find_map(|f| f.job_status()))
                 .or_else(|| self.run.load_job.status())
                 .or_else(|| self.run.field_job.status()),
@@ -659,7 +658,6 @@ impl Workstation {
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         self.poll_background();
         let dt = ui.ctx().input(|i| f64::from(i.stable_dt));
-        self.ops.hover_pose = None;
         self.tick_playback(dt);
         let mut commands = Vec::new();
         let ctx = ui.ctx().clone();
@@ -738,19 +736,7 @@ impl Workstation {
             .resizable(true)
             .default_size(190.0)
             .size_range(60.0..=700.0)
-            .show(ui, |ui| {
-                ui.horizontal(|ui| {
-                    let dock = &mut self.programs.dock;
-                    ui.selectable_value(dock, program::DockTab::Log, "Log");
-                    ui.selectable_value(dock, program::DockTab::Gcode, "G-code");
-                    ui.selectable_value(dock, program::DockTab::Motion, "Motion");
-                });
-                match self.programs.dock {
-                    program::DockTab::Log => log_ui(ui, &self.log, commands),
-                    program::DockTab::Gcode => self.gcode_tab_ui(ui, commands),
-                    program::DockTab::Motion => self.motion_tab_ui(ui, commands),
-                }
-            });
+            .show(ui, |ui| self.dock_ui(ui, commands));
         egui::Panel::left("project tree")
             .resizable(true)
             .default_size(250.0)
@@ -888,6 +874,7 @@ impl Workstation {
             f.ui(ctx, &view, commands);
         }
         self.features = features;
+        self.gather_lent();
         self.chooser_ui(ctx);
         self.unsaved_ui(ctx);
         if let Some(recovery) = &self.run.recovery
@@ -915,7 +902,7 @@ impl Workstation {
             picked_pose: self.ops.picked_pose,
             playback_pose: self.playback_pose(),
             posted: active
-                .and_then(|i| Some((project.operations.get(i)?.name(), self.program_text(i)?))),
+                .and_then(|i| Some((project.operations.get(i)?.name(), self.posted(i)?.text()))),
             data_dir: &self.saved.session.data_dir,
             project_path: self.saved.session.path.as_deref(),
             tool_pose: self.tool_pose_index(),
@@ -938,6 +925,7 @@ impl Workstation {
             (out, cx.into_notices())
         };
         self.features = features;
+        self.gather_lent();
         for n in notices {
             self.carry_out(n);
         }
@@ -967,7 +955,43 @@ impl Workstation {
                 self.save_dialog_for(purpose);
             }
             Notice::Switch(ViewSwitch::HideStock) => self.apply(Command::SetStockVisible(false)),
+            Notice::Switch(ViewSwitch::RestartPlayback) => {
+                self.ops.t_s = None;
+                self.ops.playing = false;
+            }
+            Notice::Switch(ViewSwitch::DockTab(tab)) => self.run.dock = DockTab::Feature(tab),
         }
+    }
+
+    /// Gather what the features lend one another (after they changed).
+    fn gather_lent(&mut self) {
+        let mut lent = Lent::default();
+        for f in &self.features {
+            f.lend(&mut lent);
+        }
+        self.lent = lent;
+    }
+
+    /// The bottom dock: the log and the features' tabs (the posted program's G-code and motion
+    /// plots).
+    fn dock_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.run.dock, DockTab::Log, "Log");
+            for tab in self.features.iter().flat_map(|f| f.dock_tabs()) {
+                ui.selectable_value(&mut self.run.dock, DockTab::Feature(tab), *tab);
+            }
+        });
+        let DockTab::Feature(tab) = self.run.dock else {
+            log_ui(ui, &self.log, commands);
+            return;
+        };
+        let mut features = std::mem::take(&mut self.features);
+        let view = self.feature_view();
+        if let Some(f) = features.iter_mut().find(|f| f.dock_tabs().contains(&tab)) {
+            f.dock_ui(tab, ui, &view, commands);
+        }
+        self.features = features;
+        self.gather_lent();
     }
 }
 

@@ -2,7 +2,7 @@
 //! random-number generator, the files under `tests/data` (bicubic-hills as STL mesh and as STEP
 //! part), temporary folders, and running the `talas` binary. `geometry` holds the geometry
 //! tests' reference builders (finite differences, Cox–de Boor, exact conics); `app` (GUI
-//! builds) the workstation tests' accessors of the stock simulation.
+//! builds) the workstation tests' accessors of the stock simulation and the posted program.
 //!
 //! A test file takes them with `mod common;` and `use common::…`.
 

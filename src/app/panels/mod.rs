@@ -2,11 +2,9 @@
 //! none changes the document itself. The state types they show live in [`super::state`], the
 //! small widgets and formatters they share in [`super::widgets`].
 
-pub mod gcode_view;
 pub mod log_panel;
 pub mod machine_panel;
 pub mod menu_bar;
-pub mod motion_plots;
 pub mod operation_editor;
 pub mod playback;
 pub mod project_dialogs;

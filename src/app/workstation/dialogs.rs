@@ -3,7 +3,7 @@
 //! unsaved-changes question before New, Open and Quit (the window's close button included), and
 //! the notifications and drop hint over the viewport.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use super::super::command::Command;
 use super::super::file_chooser::{ChooserPurpose, FileChooser};
@@ -54,9 +54,6 @@ impl Workstation {
         match outcome {
             SaveOutcome::Picked(SavePurpose::Project, path) => {
                 self.apply(Command::SaveProjectAs(path));
-            }
-            SaveOutcome::Picked(SavePurpose::Program, path) => {
-                self.apply(Command::ExportProgramTo(path));
             }
             SaveOutcome::Picked(SavePurpose::Feature(f), path) => {
                 self.apply(Command::FeatureFile {
@@ -176,7 +173,7 @@ impl Workstation {
     }
 
     /// Where a save dialog for `purpose` starts: the project's file (or `NAME.talas` in the
-    /// working folder), the program's export file, or the file a feature suggested.
+    /// working folder), or the export file the feature suggested.
     fn save_suggestion(&self, purpose: SavePurpose) -> Option<PathBuf> {
         match purpose {
             SavePurpose::Project => self.saved.session.path.clone().or_else(|| {
@@ -187,44 +184,8 @@ impl Workstation {
                 );
                 std::env::current_dir().ok().map(|d| d.join(name))
             }),
-            SavePurpose::Program => Some(self.program_suggestion()),
             SavePurpose::Feature(_) => self.run.feature_save_start.clone(),
         }
-    }
-
-    /// A file name for the exported program: next to the project, named after it and the
-    /// operation, with the dialect's usual extension.
-    pub(super) fn program_suggestion(&self) -> PathBuf {
-        let dir = self
-            .saved
-            .session
-            .path
-            .as_ref()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
-            .or_else(|| std::env::current_dir().ok())
-            .unwrap_or_default();
-        let op = self
-            .ops
-            .active
-            .and_then(|i| self.saved.session.project.operations.get(i))
-            .map_or("program", |o| o.name());
-        let stem: String = format!("{}-{op}", self.saved.session.project.name)
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        let ext = match self.saved.session.project.post.dialect.as_str() {
-            "linuxcnc" => "ngc",
-            "siemens" => "mpf",
-            "heidenhain" => "i",
-            _ => "nc",
-        };
-        dir.join(format!("{stem}.{ext}"))
     }
 }
 

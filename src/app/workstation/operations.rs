@@ -1,6 +1,9 @@
 //! The operation commands: adding operations, calculating them on a worker thread (progress,
 //! Cancel, results kept in the [`ToolpathStore`]), the paths drawn in the viewport, picking a
-//! pose, and playback of the active path on its clock.
+//! pose, and playback of the active path on its clock (the posted program's planned clock when
+//! the program feature lends a current one, else the programmed feeds'). The playback stays
+//! here because the operation path shares it: the path is drawn up to its pose, a pick moves
+//! it, the operation editor and the features read its pose.
 
 use std::sync::Arc;
 
@@ -11,6 +14,7 @@ use super::super::document::Selection;
 use super::super::job::{Job, JobSlot};
 use super::super::panels::operation_editor::{OperationView, Sections};
 use super::super::panels::playback::PlaybackView;
+use super::super::posted::Posted;
 use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
@@ -42,8 +46,6 @@ pub(super) struct Operations {
     pub active: Option<usize>,
     /// The pose picked in the viewport (index into the active path).
     pub picked_pose: Option<usize>,
-    /// The pose under the pointer in the motion plots (this frame only).
-    pub hover_pose: Option<usize>,
     /// Path colouring.
     pub colouring: PathColouring,
     /// Draw every fresh path, not only the active one.
@@ -105,10 +107,33 @@ impl Workstation {
     /// picked one, else the playback's (playback commands clear the pick).
     #[must_use]
     pub fn tool_pose_index(&self) -> Option<usize> {
-        self.ops
+        self.lent
             .hover_pose
             .or(self.ops.picked_pose)
             .or(self.playback_pose())
+    }
+
+    /// The program the program feature lends, when it is operation `index`'s current one.
+    pub(super) fn posted(&self, index: usize) -> Option<&Posted> {
+        let p = self.lent.get::<Posted>()?;
+        p.is_current(&self.saved.session.project, self.document.as_ref(), index)
+            .then_some(p)
+    }
+
+    /// The planned clock of operation `index`'s path (time each pose is reached, s), when its
+    /// posted program is current and planned.
+    pub(super) fn planned_clock(&self, index: usize) -> Option<&[f64]> {
+        self.posted(index)?.planned_clock()
+    }
+
+    /// Tell the features the tool was moved to pose `pose` of the active path (the posted
+    /// program brings its G-code line and plot cursor there).
+    pub(super) fn follow_pose(&mut self, pose: usize) {
+        self.with_features(|features, cx| {
+            for f in features {
+                f.follow_pose(pose, &cx.view);
+            }
+        });
     }
 
     /// Apply an operation command (see [`Workstation::apply`]).
@@ -155,12 +180,6 @@ impl Workstation {
                     self.follow_pose(p);
                 }
             }
-            Command::PostActive => match self.target_operation() {
-                Some(i) => self.start_post(i),
-                None => self.log_info("Select an operation to post"),
-            },
-            Command::ExportProgramDialog => self.save_dialog_for(super::SavePurpose::Program),
-            Command::ExportProgramTo(path) => self.export_program(path),
             Command::OpenMachineFileDialog => {
                 let start = std::env::current_dir().ok();
                 self.open_chooser(
@@ -183,7 +202,6 @@ impl Workstation {
     fn replace_path(&mut self, index: usize, toolpath: &crate::toolpath::Toolpath) {
         match self.result_index(index) {
             Some((k, true)) if self.ops.store.replace_toolpath(k, toolpath.clone()) => {
-                self.programs.current = None;
                 (self.ops.highlight, self.ops.picked_pose, self.ops.t_s) = (None, None, None);
                 self.log_info(format!("Operation {}: scheduled path applied", index + 1));
             }
@@ -565,6 +583,16 @@ impl Workstation {
             }
         }
         (out, legend)
+    }
+
+    /// The active path coloured by planned feed, when its program is posted and current.
+    fn feed_coloured_path(&self) -> Option<(DataId, Arc<crate::render::LineData>, ScalarMapping)> {
+        let index = self.ops.active?;
+        let (k, true) = self.result_index(index)? else {
+            return None;
+        };
+        self.posted(index)?
+            .feed_lines(self.ops.store.get(k)?.toolpath())
     }
 
     /// The comparison of the computed operations: strategy, tool, cut length, poses, passes,

@@ -7,9 +7,9 @@
 //!   the renderer's problem list (GPU side), the egui context, the clock, the render-id counter
 //!   and the questions waiting for an answer. Nothing here is saved.
 //!
-//! The loaded part, the view and the features' own state (computed paths, simulations, posted
-//! programs, reductions) stay on the workstation beside these two; they are rebuilt from the
-//! persisted state and the part file.
+//! The loaded part, the view and the computed paths stay on the workstation beside these two,
+//! the features' own state (simulations, posted programs, reductions) in the features; they
+//! are rebuilt from the persisted state and the part file.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -23,6 +23,7 @@ use super::super::job::JobSlot;
 use super::super::project_session::ProjectSession;
 use super::super::recent_files::RecentFiles;
 use super::super::scalar_field::CurvatureField;
+use super::super::state::DockTab;
 use super::super::tool_library::ToolLibrary;
 use crate::render::DataId;
 
@@ -79,6 +80,8 @@ pub(super) struct Runtime {
     pub feature_save_start: Option<PathBuf>,
     /// The features' render ids.
     pub feature_ids: super::super::feature::RenderIds,
+    /// The bottom dock's tab.
+    pub dock: DockTab,
 }
 
 impl Runtime {
@@ -115,6 +118,7 @@ impl Runtime {
             restore_view: None,
             feature_save_start: None,
             feature_ids: super::super::feature::RenderIds::default(),
+            dock: DockTab::Log,
         }
     }
 }
