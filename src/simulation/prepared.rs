@@ -22,7 +22,6 @@
 //!   along a grid axis, their constants taken once per row (one product per plane and line).
 
 use glam::{DVec2, DVec3};
-use wide::f64x2;
 
 use super::exact::Cyl;
 #[cfg(doc)]
@@ -138,8 +137,7 @@ impl SweptCyl {
         let eps_ax = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
         let q_tol = 1e-9 * self.rr + 1e-12;
         let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        // `qx`: the form at `x` where already known (the same value `q(x)` would give).
-        let mut take = |x: DVec2, qx: Option<f64>| {
+        let mut take = |x: DVec2, check_q: bool| {
             // Within the ends found so far it changes nothing (the checks are spared).
             if s_lo <= x.x && x.x <= s_hi {
                 return;
@@ -150,7 +148,7 @@ impl SweptCyl {
                 && x.y <= 1.0 + eps_t
                 && v >= lo - eps_ax
                 && v <= hi + eps_ax
-                && qx.unwrap_or_else(|| q(x)) <= q_tol;
+                && (!check_q || q(x) <= q_tol);
             if inside {
                 s_lo = s_lo.min(x.x);
                 s_hi = s_hi.max(x.x);
@@ -170,19 +168,22 @@ impl SweptCyl {
             let sq = disc.sqrt();
             for s in [(-qb - sq) / self.qa, (-qb + sq) / self.qa] {
                 let t = -(m[1] * s + g.y) * self.inv_m11;
-                take(DVec2::new(s, t), None);
+                take(DVec2::new(s, t), true);
             }
         }
-        // Crossings of the ellipse with the slabs' boundary lines, both lines of a slab at
-        // once in two lanes (each lane the scalar operations in the same order).
+        // Crossings of the ellipse with the slabs' boundary lines.
         for (line, cs) in [(&self.t_line, [0.0, 1.0]), (&self.ax_line, [lo, hi])] {
-            let c = line_crossings(line, cs, m, g, k);
-            for lane in 0..2 {
-                if line.vmv < 1e-30 || !(c.disc[lane] >= 0.0) {
+            for cval in cs {
+                let p = line.n * (cval / line.nn);
+                let mp = line.mv.dot(p) + g.dot(line.v);
+                let qp = q(p);
+                let disc = mp * mp - line.vmv * qp;
+                if line.vmv < 1e-30 || disc < 0.0 {
                     continue;
                 }
-                take(c.x0[lane], Some(c.q0[lane]));
-                take(c.x1[lane], Some(c.q1[lane]));
+                let sq = disc.sqrt();
+                take(p + line.v * ((-mp - sq) / line.vmv), true);
+                take(p + line.v * ((-mp + sq) / line.vmv), true);
             }
         }
         // The slabs' corners.
@@ -190,60 +191,11 @@ impl SweptCyl {
             for t in [0.0, 1.0] {
                 for cval in [lo, hi] {
                     let x = DVec2::new((cval - ax.y * t) / ax.x, t);
-                    take(x, None);
+                    take(x, true);
                 }
             }
         }
         (s_lo <= s_hi).then_some((s_lo, s_hi))
-    }
-}
-
-/// The crossings of the ellipse `xᵀ M x + 2 g·x + k = 0` with the two lines `n·x = c` of a
-/// slab (`c` from `cs`), and the form at each crossing.
-struct Crossings {
-    /// `(M v·p + g·v)² − vᵀ M v · Q(p)` per line (no crossing where negative).
-    disc: [f64; 2],
-    x0: [DVec2; 2],
-    x1: [DVec2; 2],
-    q0: [f64; 2],
-    q1: [f64; 2],
-}
-
-/// [`Crossings`] of the lines `line.n·x = cs[0]` and `= cs[1]`, in two lanes: each lane
-/// does the scalar operations `p = n (c/|n|²)`, `mp = M v·p + g·v`, `disc = mp² − vMv Q(p)`,
-/// `p + v (−mp ∓ √disc)/vMv` and `Q` there, in the same order (no fused multiply-add), so
-/// every value is the one the scalar code gives.
-#[inline]
-fn line_crossings(line: &LineDir, cs: [f64; 2], m: [f64; 3], g: DVec2, k: f64) -> Crossings {
-    let sp = |v: f64| f64x2::new([v, v]);
-    let (m0, m1x2, m2) = (sp(m[0]), sp(2.0 * m[1]), sp(m[2]));
-    let (gx, gy, kk, two) = (sp(g.x), sp(g.y), sp(k), sp(2.0));
-    // Q(x) = m₀ x x + 2 m₁ x y + m₂ y y + 2 g·x + k, left to right as `SweptCyl::interval`.
-    let q = |x: f64x2, y: f64x2| m0 * x * x + m1x2 * x * y + m2 * y * y + two * (gx * x + gy * y) + kk;
-    let cv = f64x2::new(cs) / sp(line.nn);
-    let (px, py) = (sp(line.n.x) * cv, sp(line.n.y) * cv);
-    let mp = (sp(line.mv.x) * px + sp(line.mv.y) * py) + sp(g.dot(line.v));
-    let disc = mp * mp - sp(line.vmv) * q(px, py);
-    let [d0, d1] = disc.to_array();
-    let sq = f64x2::new([d0.sqrt(), d1.sqrt()]);
-    let vmv = sp(line.vmv);
-    // −mp by flipping the sign bits (IEEE negation; `wide`'s `Neg` is `0 − x`, which
-    // differs at zero).
-    let neg_mp = mp ^ sp(-0.0);
-    let (l0, l1) = ((neg_mp - sq) / vmv, (neg_mp + sq) / vmv);
-    let (vx, vy) = (sp(line.v.x), sp(line.v.y));
-    let (x0, y0) = (px + vx * l0, py + vy * l0);
-    let (x1, y1) = (px + vx * l1, py + vy * l1);
-    let pts = |x: f64x2, y: f64x2| {
-        let (x, y) = (x.to_array(), y.to_array());
-        [DVec2::new(x[0], y[0]), DVec2::new(x[1], y[1])]
-    };
-    Crossings {
-        disc: [d0, d1],
-        x0: pts(x0, y0),
-        x1: pts(x1, y1),
-        q0: q(x0, y0).to_array(),
-        q1: q(x1, y1).to_array(),
     }
 }
 
@@ -330,16 +282,10 @@ impl Planes {
         }
     }
 
-    /// Groups of four slots that hold a plane (the others only pad).
-    fn groups(&self) -> usize {
-        self.count.div_ceil(4).min(SLOTS / 4)
-    }
-
-    /// `c − m·o` of every slot of the first [`Planes::groups`] (the dot product in the order
-    /// of `DVec3::dot`; the rest are left 0 and not read).
+    /// `c − m·o` of every slot (the dot product in the order of `DVec3::dot`).
     fn values(&self, o: DVec3) -> [[f64; 4]; SLOTS / 4] {
         let mut out = [[0.0; 4]; SLOTS / 4];
-        for (g, row) in out.iter_mut().enumerate().take(self.groups()) {
+        for (g, row) in out.iter_mut().enumerate() {
             let (Some(x), Some(y), Some(z), Some(c)) = (
                 self.mx.get(g),
                 self.my.get(g),
@@ -357,20 +303,18 @@ impl Planes {
 
     /// The greatest value (−∞ with no plane).
     fn max(&self, o: DVec3) -> f64 {
-        lane_max(self.values(o).get(..self.groups()).unwrap_or(&[]))
+        lane_max(&self.values(o))
     }
 
     /// The least value (+∞ with no plane).
     fn min(&self, o: DVec3) -> f64 {
-        lane_min(self.values(o).get(..self.groups()).unwrap_or(&[]))
+        lane_min(&self.values(o))
     }
 }
 
 /// The greatest of the slots (−∞ with none): four lanes reduced together, then pairwise.
-/// The padding slots hold −∞ (+∞ for [`lane_min`]) and cannot win, so a caller may pass
-/// all the groups or only those that hold a plane.
 #[inline]
-fn lane_max(v: &[[f64; 4]]) -> f64 {
+fn lane_max(v: &[[f64; 4]; SLOTS / 4]) -> f64 {
     let mut acc = [f64::NEG_INFINITY; 4];
     for row in v {
         for l in 0..4 {
@@ -384,7 +328,7 @@ fn lane_max(v: &[[f64; 4]]) -> f64 {
 
 /// The least of the slots (+∞ with none), as [`lane_max`].
 #[inline]
-fn lane_min(v: &[[f64; 4]]) -> f64 {
+fn lane_min(v: &[[f64; 4]; SLOTS / 4]) -> f64 {
     let mut acc = [f64::INFINITY; 4];
     for row in v {
         for l in 0..4 {
@@ -408,11 +352,7 @@ impl Planes {
     /// The planes along the row from `o₀` along the grid axis `u` (0, 1, 2: x, y, z), into
     /// `out`.
     fn along_into(&self, o0: DVec3, u: usize, out: &mut RowPlanes) {
-        // The padding slots' `k` are ∓∞ as in `Planes::new` (m = 0): they cannot win.
-        out.k = self.c;
-        for (row, v) in out.k.iter_mut().zip(self.values(o0)).take(self.groups()) {
-            *row = v;
-        }
+        out.k = self.values(o0);
         out.m = match u {
             0 => self.mx,
             1 => self.my,
@@ -422,8 +362,7 @@ impl Planes {
 }
 
 impl RowPlanes {
-    /// `k − m·x` of every slot (all groups, a fixed count the compiler unrolls: cheaper
-    /// than skipping the padding).
+    /// `k − m·x` of every slot.
     #[inline]
     fn values(&self, x: f64) -> [[f64; 4]; SLOTS / 4] {
         let mut out = self.k;
@@ -807,55 +746,6 @@ mod tests {
             }
         }
         assert!(planes > 60, "{planes}");
-    }
-
-    /// The two-lane crossings are the scalar operations of one line at a time, to the bit.
-    #[test]
-    fn line_crossings_in_lanes_are_the_scalar_ones() {
-        let mut checked = 0;
-        for (k, n) in [
-            DVec2::new(0.0, 1.0),
-            DVec2::new(0.83, -0.41),
-            DVec2::new(-0.2, 0.97),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let m = [2.1, -0.7 + 0.3 * k as f64, 1.3];
-            let line = LineDir::new(n, m);
-            for j in 0..200 {
-                let (u, w) = (f64::from(j % 20) * 0.31 - 3.0, f64::from(j / 20) * 0.53 - 2.5);
-                let g = DVec2::new(u, -0.4 * w);
-                let kk = u * w - 4.0;
-                let cs = [w - 0.2, 0.0];
-                let c = line_crossings(&line, cs, m, g, kk);
-                let q = |x: DVec2| {
-                    m[0] * x.x * x.x + 2.0 * m[1] * x.x * x.y + m[2] * x.y * x.y
-                        + 2.0 * g.dot(x)
-                        + kk
-                };
-                for (lane, cval) in cs.into_iter().enumerate() {
-                    let p = line.n * (cval / line.nn);
-                    let mp = line.mv.dot(p) + g.dot(line.v);
-                    let disc = mp * mp - line.vmv * q(p);
-                    assert_eq!(c.disc[lane].to_bits(), disc.to_bits());
-                    if disc < 0.0 {
-                        continue;
-                    }
-                    let sq = disc.sqrt();
-                    let x0 = p + line.v * ((-mp - sq) / line.vmv);
-                    let x1 = p + line.v * ((-mp + sq) / line.vmv);
-                    for (got, want) in [(c.x0[lane], x0), (c.x1[lane], x1)] {
-                        assert_eq!(got.x.to_bits(), want.x.to_bits());
-                        assert_eq!(got.y.to_bits(), want.y.to_bits());
-                    }
-                    assert_eq!(c.q0[lane].to_bits(), q(x0).to_bits());
-                    assert_eq!(c.q1[lane].to_bits(), q(x1).to_bits());
-                    checked += 1;
-                }
-            }
-        }
-        assert!(checked > 300, "{checked}");
     }
 
     #[test]
