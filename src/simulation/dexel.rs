@@ -333,7 +333,11 @@ mod tests {
                     assert_eq!(inside(after, x), want, "{before:?} − [{lo}, {hi}] at {x}");
                 }
             }
-            assert_eq!(changed, after != before.as_slice(), "{before:?} − [{lo}, {hi}]");
+            assert_eq!(
+                changed,
+                after != before.as_slice(),
+                "{before:?} − [{lo}, {hi}]"
+            );
         }
     }
 
