@@ -505,6 +505,8 @@ fn run_task(
 ) -> TaskOut {
     let mut hits = Vec::new();
     let mut dirty = [false; CPT * CPT];
+    // The row bounds' buffer, reused by every row.
+    let mut made = RowCache::default();
     let (_, _, w) = g.uvw;
     let i1 = t.i0 + t.rows.first().map_or(0, |r| r.len());
     let j1 = t.j0 + t.rows.len();
@@ -548,7 +550,7 @@ fn run_task(
                 };
                 // The sweep's bounds along the row, made for the row's first ray that needs
                 // them.
-                let mut made = None;
+                made.made = false;
                 let bounded = ctx.prepared.is_some_and(Prepared::has_bounds);
                 let mut i = sa;
                 while i < sb {
@@ -717,14 +719,22 @@ fn ball_run(
     changed
 }
 
+/// A body's sweep bounds along one row of rays, made for the row's first ray that needs them
+/// (in place: the row's buffer is reused).
+#[derive(Default)]
+struct RowCache {
+    made: bool,
+    row: PreparedRow,
+}
+
 /// Apply one body to ray (i, j); returns whether its material changed.
 /// `row`: where the body's sweep bounds along the ray's row are kept (see
-/// [`Prepared::along`]; made here when first needed).
+/// [`Prepared::along_into`]; made here when first needed).
 fn ray(
     dexel: &mut Dexel,
     (i, j): (usize, usize),
     c: &BodyCtx,
-    (g, row): (&Grid, Option<&mut Option<PreparedRow>>),
+    (g, row): (&Grid, Option<&mut RowCache>),
     hits: &mut Vec<Hit>,
 ) -> bool {
     let (first, top) = match dexel {
@@ -759,7 +769,11 @@ fn ray(
         };
         #[allow(clippy::cast_precision_loss)]
         let row = row.map(|r| {
-            let r = &*r.get_or_insert_with(|| prep.along(g.ray_origin(0, j), g.uvw.0));
+            if !r.made {
+                prep.along_into(g.ray_origin(0, j), g.uvw.0, &mut r.row);
+                r.made = true;
+            }
+            let r = &r.row;
             (r, i as f64 * g.spacing)
         });
         if c.b.kind.is_some() && !c.b.cuts && guard_beaten(dexel, c, (o, prep, row), g.tol, hits) {

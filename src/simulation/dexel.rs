@@ -90,23 +90,54 @@ impl Dexel {
                 true
             }
             Self::Many(v) => {
-                if !v.iter().any(|[a, b]| lo < *b && hi > *a) {
+                // The intervals are sorted and disjoint: those that `[lo, hi]` meets are a
+                // run `f..=l`. Of them only the first's part below `lo` and the last's part
+                // above `hi` remain; the run is replaced in place (no allocation unless one
+                // interval splits in two beyond the vector's capacity).
+                let Some(f) = v.iter().position(|[a, b]| lo < *b && hi > *a) else {
                     return false;
+                };
+                let run = v
+                    .get(f + 1..)
+                    .map_or(0, |rest| rest.iter().take_while(|[a, _]| hi > *a).count());
+                let l = f + run;
+                let (Some(&[a, _]), Some(&[_, b])) = (v.get(f), v.get(l)) else {
+                    return false;
+                };
+                let below = (lo > a).then_some([a, lo]);
+                let above = (hi < b).then_some([hi, b]);
+                let pieces = [below, above];
+                let mut kept = pieces.iter().flatten().copied();
+                let (first, second) = (kept.next(), kept.next());
+                match (first, second) {
+                    (Some(x), Some(y)) => {
+                        if let Some(slot) = v.get_mut(f) {
+                            *slot = x;
+                        }
+                        if l > f {
+                            if let Some(slot) = v.get_mut(f + 1) {
+                                *slot = y;
+                            }
+                            v.drain(f + 2..=l);
+                        } else {
+                            v.insert(f + 1, y);
+                        }
+                    }
+                    (Some(x), None) => {
+                        if let Some(slot) = v.get_mut(f) {
+                            *slot = x;
+                        }
+                        v.drain(f + 1..=l);
+                    }
+                    _ => {
+                        v.drain(f..=l);
+                    }
                 }
-                let mut out = Vec::with_capacity(v.len() + 1);
-                for &[a, b] in v.iter() {
-                    if hi <= a || lo >= b {
-                        out.push([a, b]);
-                        continue;
-                    }
-                    if lo > a {
-                        out.push([a, lo]);
-                    }
-                    if hi < b {
-                        out.push([hi, b]);
-                    }
+                match v.as_slice() {
+                    [] => *self = Self::Empty,
+                    [one] => *self = Self::One(*one),
+                    _ => {}
                 }
-                *self = Self::from_intervals(&out);
                 true
             }
         }
@@ -259,6 +290,55 @@ mod tests {
         d.add(3.0, 4.0);
         d.add(1.5, 3.5);
         assert_eq!(d, Dexel::One([1.0, 4.0]));
+    }
+
+    /// Subtraction in place against a point oracle: a point is material after it exactly
+    /// when it was before and lies outside `[lo, hi]`; the intervals stay sorted, disjoint
+    /// and non-empty, and the variant is the smallest that holds them.
+    #[test]
+    fn subtract_in_place_matches_a_point_oracle() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            #[allow(clippy::cast_precision_loss)]
+            let v = (seed % n) as f32;
+            v
+        };
+        let inside = |list: &[[f32; 2]], x: f32| list.iter().any(|[a, b]| *a <= x && x <= *b);
+        for _ in 0..3000 {
+            // Up to five intervals on a grid of quarter millimetres.
+            let mut ends: Vec<f32> = (0..2 + 2 * next(5) as usize)
+                .map(|_| next(80) * 0.25)
+                .collect();
+            ends.sort_by(f32::total_cmp);
+            ends.dedup();
+            let list: Vec<[f32; 2]> = ends.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+            let mut d = Dexel::from_intervals(&list);
+            let before = d.intervals().to_vec();
+            let (lo, hi) = (next(84) * 0.25 - 0.5, next(84) * 0.25 - 0.5);
+            let changed = d.subtract(lo, hi);
+            let after = d.intervals();
+            assert!(after.iter().all(|[a, b]| a < b));
+            assert!(after.windows(2).all(|w| w[0][1] < w[1][0]), "{after:?}");
+            assert_eq!(matches!(d, Dexel::Many(_)), after.len() > 1);
+            // Points at eighths (between and on every end).
+            for k in -8..=180 {
+                #[allow(clippy::cast_precision_loss)]
+                let x = k as f32 * 0.125;
+                let want = inside(&before, x) && !(lo < x && x < hi);
+                let on_cut = lo < hi && (x == lo || x == hi);
+                if !on_cut {
+                    assert_eq!(inside(after, x), want, "{before:?} − [{lo}, {hi}] at {x}");
+                }
+            }
+            assert_eq!(
+                changed,
+                after != before.as_slice(),
+                "{before:?} − [{lo}, {hi}]"
+            );
+        }
     }
 
     #[test]

@@ -342,24 +342,22 @@ fn lane_min(v: &[[f64; 4]; SLOTS / 4]) -> f64 {
 
 /// The planes of one side of a [`SweepBound`] along a row of lines `o = o₀ + x·û` (`û` a
 /// grid axis): `c − m·o = k − (m·û)·x` with `k = c − m·o₀`, one product per plane and line.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct RowPlanes {
     k: [[f64; 4]; SLOTS / 4],
     m: [[f64; 4]; SLOTS / 4],
 }
 
 impl Planes {
-    /// The planes along the row from `o₀` along the grid axis `u` (0, 1, 2: x, y, z).
-    fn along(&self, o0: DVec3, u: usize) -> RowPlanes {
-        let m = match u {
+    /// The planes along the row from `o₀` along the grid axis `u` (0, 1, 2: x, y, z), into
+    /// `out`.
+    fn along_into(&self, o0: DVec3, u: usize, out: &mut RowPlanes) {
+        out.k = self.values(o0);
+        out.m = match u {
             0 => self.mx,
             1 => self.my,
             _ => self.mz,
         };
-        RowPlanes {
-            k: self.values(o0),
-            m,
-        }
     }
 }
 
@@ -393,7 +391,7 @@ impl RowPlanes {
 /// constants taken at `o₀` once per row. The values differ from [`SweepBound::range`] at
 /// `o` only by rounding (about 1e-16 of `|m|·|o|`), far inside [`BOUND_SLACK_MM`], so they
 /// bound the exact interval all the same.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct RowBound {
     lower: RowPlanes,
     upper: RowPlanes,
@@ -417,11 +415,17 @@ impl RowBound {
 
 impl SweepBound {
     /// The bound for the row of lines `o₀ + x·û` along the grid axis `u`.
+    #[cfg(test)]
     pub(super) fn along(&self, o0: DVec3, u: usize) -> RowBound {
-        RowBound {
-            lower: self.lower.along(o0, u),
-            upper: self.upper.along(o0, u),
-        }
+        let mut out = RowBound::default();
+        self.along_into(o0, u, &mut out);
+        out
+    }
+
+    /// [`SweepBound::along`] written into `out` (no copy of the result).
+    pub(super) fn along_into(&self, o0: DVec3, u: usize, out: &mut RowBound) {
+        self.lower.along_into(o0, u, &mut out.lower);
+        self.upper.along_into(o0, u, &mut out.upper);
     }
 
     /// The bound of `cyl` swept from tip `p0` by `d`, for lines along the unit `e`; with

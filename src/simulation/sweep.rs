@@ -476,12 +476,16 @@ impl Prepared {
     }
 
     /// The bounds for the row of lines `o₀ + x·û` along the grid axis `u` (see
-    /// [`RowBound`]).
-    pub(super) fn along(&self, o0: DVec3, u: usize) -> PreparedRow {
-        PreparedRow {
-            bound: self.bound.as_ref().map(|b| b.along(o0, u)),
-            body_bound: self.body_bound.as_ref().map(|b| b.along(o0, u)),
-        }
+    /// [`RowBound`]), written into `out`.
+    pub(super) fn along_into(&self, o0: DVec3, u: usize, out: &mut PreparedRow) {
+        out.has_bound = self.bound.as_ref().is_some_and(|b| {
+            b.along_into(o0, u, &mut out.bound);
+            true
+        });
+        out.has_body_bound = self.body_bound.as_ref().is_some_and(|b| {
+            b.along_into(o0, u, &mut out.body_bound);
+            true
+        });
     }
 
     /// Whether it has bounds (then [`Prepared::along`] spares work).
@@ -497,7 +501,7 @@ impl Prepared {
         row: Option<(&PreparedRow, f64)>,
     ) -> Option<(f64, f64)> {
         match row {
-            Some((r, x)) => r.bound.as_ref().map(|b| (b.lower(x), b.upper(x))),
+            Some((r, x)) => r.bound().map(|b| (b.lower(x), b.upper(x))),
             None => self.cylinder_range(o),
         }
     }
@@ -505,10 +509,22 @@ impl Prepared {
 
 /// The sweep bounds of a [`Prepared`] for the lines of one row (constants per row, one
 /// product per plane and line).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct PreparedRow {
-    bound: Option<RowBound>,
-    body_bound: Option<RowBound>,
+    bound: RowBound,
+    body_bound: RowBound,
+    has_bound: bool,
+    has_body_bound: bool,
+}
+
+impl PreparedRow {
+    fn bound(&self) -> Option<&RowBound> {
+        self.has_bound.then_some(&self.bound)
+    }
+
+    fn body_bound(&self) -> Option<&RowBound> {
+        self.has_body_bound.then_some(&self.body_bound)
+    }
 }
 
 impl Body {
@@ -564,7 +580,7 @@ impl Body {
         // Lines whose material lies outside the bounds of the sweep keep it all (the rounded
         // ends of the interval stay on the same side of the material's f32 ends).
         let outside = match row {
-            Some((r, x)) => r.body_bound.as_ref().is_some_and(|b| {
+            Some((r, x)) => r.body_bound().is_some_and(|b| {
                 let lo = b.lower(x);
                 f64::from(top) <= lo || !material_within(material, (lo, b.upper(x)))
             }),
