@@ -451,7 +451,7 @@ fn velocity_bound(
     Some(BoundTerms::of(bounds, axes, share)?.bound(feed, path))
 }
 
-/// The per-axis terms of a velocity bound (see [`velocity_bound`]): `V/d1`, the square
+/// The per-axis terms of a velocity bound (see [`blend_velocity`]): `V/d1`, the square
 /// `share·A/d2` of the centripetal term and the cube `share·J/d3` of the centripetal-jerk term,
 /// `∞` where the bound on that derivative is 0 or the machine lacks the axis.
 ///
@@ -696,4 +696,75 @@ fn line_limits(
         jerk: j_b,
     };
     limits.is_valid().then_some((limits, bound.1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::feed::AxisLimit;
+    use crate::feed::blend::ClothoidBlend;
+
+    /// A uniform generator on [0, 1) (an LCG, top 53 bits).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn axes(r: &mut impl FnMut() -> f64) -> AxisLimits {
+        let mut axes = [None; SLOTS];
+        for a in axes.iter_mut().take(3) {
+            *a = Some(AxisLimit {
+                velocity: 10.0 + 1000.0 * r(),
+                acceleration: 100.0 + 5000.0 * r(),
+                jerk: 1e3 + 1e5 * r(),
+            });
+        }
+        axes
+    }
+
+    /// The scaled terms give every shrunk candidate the bound and cap its own derivative
+    /// bounds give, bit for bit, and a line's limits are those of the general construction.
+    #[test]
+    fn shrunk_terms_and_line_limits_are_the_general_ones() {
+        let mut r = uniform(19);
+        for _ in 0..2000 {
+            let axes = axes(&mut r);
+            let mut unit =
+                || glam::DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(glam::DVec3::X);
+            let (t0, t1) = (unit(), unit());
+            let feed = 5.0 + 100.0 * r();
+            let Some(first) = ClothoidBlend::new(glam::DVec3::ZERO, t0, t1, 0.05, 0.5 * r()) else {
+                continue;
+            };
+            let base = first.deviation / first.deviation_unit();
+            let terms = blend_terms(&first.with_half_length(base), &axes).unwrap();
+            let mut deviation = first.deviation;
+            for k in 1..6_u32 {
+                deviation *= 0.25;
+                let c = first.shrunk_to(deviation).unwrap();
+                assert_eq!(c.half_length, base * 0.25_f64.powi(k as i32));
+                let own = blend_terms(&c, &axes).unwrap();
+                assert_eq!(
+                    blend_velocity(&terms, k, feed, None),
+                    blend_velocity(&own, 0, feed, None)
+                );
+            }
+            let d1 = [t0.x.abs(), t0.y.abs(), t0.z.abs(), 0.0, 0.0, 0.0];
+            let path = (r() < 0.5).then(|| super::super::Limits1 {
+                velocity: 50.0 * r() + 1.0,
+                acceleration: 1000.0 * r() + 1.0,
+                jerk: 1e4 * r() + 1.0,
+            });
+            let zero = [0.0; SLOTS];
+            assert_eq!(
+                line_limits(&d1, feed, &axes, path),
+                tangential_limits(&[d1, zero, zero], feed, &axes, path, Share::BLOCK)
+            );
+        }
+    }
 }
