@@ -98,21 +98,23 @@ const INV_NEXT: [f64; FRESNEL_TERMS] = {
 fn fresnel(c: f64, s: f64) -> (f64, f64) {
     let phi = 0.5 * c * s * s;
     let stop = 3e-18 * phi.min(1.0);
-    // p = φⁿ/n!, multiplied by iⁿ: the sign pattern is +X, +Y, −X, −Y, ...
+    // p = φⁿ/n!, multiplied by iⁿ: the sign pattern is +X, +Y, −X, −Y, ... (four terms per
+    // round, each followed by the stop test).
     let (mut x, mut y, mut p) = (0.0, 0.0, 1.0);
-    for (n, (inv_odd, inv_next)) in INV_ODD.iter().zip(&INV_NEXT).enumerate() {
-        let term = p * inv_odd;
-        match n % 4 {
-            0 => x += term,
-            1 => y += term,
-            2 => x -= term,
-            _ => y -= term,
+    let mut n = 0;
+    // One term: add it with its sign, advance p; false once the series stops.
+    let mut step = |acc: &mut f64, negative: bool| {
+        let term = p * INV_ODD[n];
+        if negative {
+            *acc -= term;
+        } else {
+            *acc += term;
         }
-        p *= phi * inv_next;
-        if p <= stop {
-            break;
-        }
-    }
+        p *= phi * INV_NEXT[n];
+        n += 1;
+        !(p <= stop || n == FRESNEL_TERMS)
+    };
+    while step(&mut x, false) && step(&mut y, false) && step(&mut x, true) && step(&mut y, true) {}
     (s * x, s * y)
 }
 
@@ -201,7 +203,8 @@ impl ClothoidBlend {
     }
 
     /// The same corner's blend with another half length.
-    fn with_half_length(&self, half_length: f64) -> Self {
+    #[must_use]
+    pub fn with_half_length(&self, half_length: f64) -> Self {
         let setback = half_length * self.setback_unit;
         Self {
             start: self.corner - self.t0 * setback,
@@ -226,6 +229,12 @@ impl ClothoidBlend {
     #[must_use]
     pub fn length(&self) -> f64 {
         2.0 * self.half_length
+    }
+
+    /// Deviation per unit half length, `ŷ/cos(θ/2)` ([`ClothoidBlend::shrunk_to`] divides by it).
+    #[must_use]
+    pub fn deviation_unit(&self) -> f64 {
+        self.deviation_unit
     }
 
     /// Position and its first three derivatives with respect to arc length at `s`, in the

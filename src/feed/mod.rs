@@ -392,27 +392,58 @@ fn best_blend(
         tolerance,
         corner.max_setback,
     )?;
+    let first_terms = path::blend_terms(&first, axes);
+    // The smaller candidates are the blend of half length `base` shrunk by 4^−k: their bound
+    // terms are the base's scaled (exactly; see `path::BoundTerms`), taken once. A candidate
+    // is kept as its half length; its blend is built only where it is the best so far.
+    let base = first.deviation / first.deviation_unit();
+    let mut base_terms = None;
     let mut deviation = first.deviation;
     let mut previous = f64::INFINITY;
-    for k in 0..6 {
+    for k in 0..6_u8 {
+        // A smaller candidate's own terms, where they are not the base's scaled.
+        let own;
         let candidate = if k == 0 {
-            Some(first)
+            first_terms.as_ref().map(|t| (first.half_length, t, 0))
         } else {
+            // `first.shrunk_to(deviation)`'s half length, where it has one.
             deviation *= 0.25;
-            first.shrunk_to(deviation)
+            let half_length = deviation / first.deviation_unit();
+            if !(deviation > 0.0 && deviation < first.deviation) {
+                None
+            } else if half_length == base * 0.25_f64.powi(i32::from(k)) && base > 1e-100 {
+                if base_terms.is_none() {
+                    base_terms = Some(if base == first.half_length {
+                        first_terms
+                    } else {
+                        path::blend_terms(&first.with_half_length(base), axes)
+                    });
+                }
+                base_terms
+                    .as_ref()
+                    .and_then(Option::as_ref)
+                    .map(|t| (half_length, t, u32::from(k)))
+            } else {
+                own = path::blend_terms(&first.with_half_length(half_length), axes);
+                own.as_ref().map(|t| (half_length, t, 0))
+            }
         };
-        let Some((c, weighed)) = candidate
-            .and_then(|c| path::blend_velocity(&c, feed, axes, path_limits).map(|w| (c, w)))
-        else {
+        let Some((half, weighed)) = candidate.and_then(|(half, t, shrunk)| {
+            path::blend_velocity(t, shrunk, feed, path_limits).map(|w| (half, w))
+        }) else {
             continue;
         };
-        let v = weighed.velocity;
+        let v = weighed.0;
         // Half the blend replaces each neighbour's line at that neighbour's speed.
-        let half = 0.5 * c.length();
         let cost = slow_down(v)
             + half * (2.0 / v - 1.0 / a.limits.velocity.max(v) - 1.0 / b.limits.velocity.max(v));
         if cost < best_cost {
-            let Some((limits, cap)) = path::blend_limits_at(&weighed, axes, path_limits) else {
+            let c = if k == 0 {
+                first
+            } else {
+                first.with_half_length(half)
+            };
+            let Some((limits, cap)) = path::blend_limits_at(&c, weighed, axes, path_limits) else {
                 continue;
             };
             best_cost = cost;

@@ -174,7 +174,11 @@ impl Segment {
         } else {
             block.feed_mm_per_min / 60.0
         };
-        let (limits, cap) = tangential_limits(&[d1, d2, d3], feed, axes, path, Share::BLOCK)?;
+        let (limits, cap) = if arc.is_some() {
+            tangential_limits(&[d1, d2, d3], feed, axes, path, Share::BLOCK)?
+        } else {
+            line_limits(&d1, feed, axes, path)?
+        };
         let shape = match arc {
             Some(frame) => Shape::Arc(Box::new(ArcShape {
                 start,
@@ -370,50 +374,43 @@ pub fn blend_limits(
     tangential_limits(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
 }
 
-/// A candidate corner blend weighed by its velocity bound alone (see [`blend_velocity`]).
-#[derive(Clone, Copy, Debug)]
-pub struct BlendVelocity {
-    /// The blend's per-axis derivative bounds.
-    bounds: [JointVector; 3],
-    /// The velocity bound.
-    pub velocity: f64,
-    /// What sets it.
-    pub cap: VelocityCap,
+/// The terms of a corner blend's velocity bound under the axes (see [`BoundTerms`]), from
+/// which [`blend_velocity`] weighs it and its shrunk copies; `None` when an axis the machine
+/// lacks would move.
+#[must_use]
+pub fn blend_terms(blend: &super::blend::ClothoidBlend, axes: &AxisLimits) -> Option<BoundTerms> {
+    BoundTerms::of(&blend.derivative_bounds(), axes, Share::BLEND)
 }
 
-/// The velocity bound alone of [`blend_limits`] (the same value and cap), for weighing
-/// candidate blends before the tangential acceleration and jerk of the chosen one are taken
-/// ([`blend_limits_at`]); `None` where it is not finite and positive. Where it is,
-/// `blend_limits_at` gives valid limits: the shares leave `a_b ≥ (1 − share)·A/d1` and
-/// `j_b ≥ (1 − share)/2·J/d1` (the construction in the module docs), and a blend's `d1` is not
-/// zero on every axis.
+/// The velocity bound alone of [`blend_limits`] (the same value and cap) from the blend's
+/// terms ([`blend_terms`]), or from those of a blend `4^shrunk` times its size, for weighing candidate blends before the tangential acceleration and jerk of the
+/// chosen one are taken ([`blend_limits_at`]); `None` where it is not finite and positive.
+/// Where it is, `blend_limits_at` gives valid limits: the shares leave
+/// `a_b ≥ (1 − share)·A/d1` and `j_b ≥ (1 − share)/2·J/d1` (the construction in the module
+/// docs), and a blend's `d1` is not zero on every axis.
 #[must_use]
 pub fn blend_velocity(
-    blend: &super::blend::ClothoidBlend,
+    terms: &BoundTerms,
+    shrunk: u32,
     feed: f64,
-    axes: &AxisLimits,
     path: Option<super::Limits1>,
-) -> Option<BlendVelocity> {
-    let bounds = blend.derivative_bounds();
-    let (velocity, cap) = velocity_bound(&bounds, feed, axes, path, Share::BLEND)?;
-    (velocity.is_finite() && velocity > 0.0).then_some(BlendVelocity {
-        bounds,
-        velocity,
-        cap,
-    })
+) -> Option<(f64, VelocityCap)> {
+    let (velocity, cap) = terms.bound_shrunk(shrunk, feed, path);
+    (velocity.is_finite() && velocity > 0.0).then_some((velocity, cap))
 }
 
 /// [`blend_limits`] of a blend already weighed by [`blend_velocity`] (the same limits, without
 /// taking the velocity bound again).
 #[must_use]
 pub fn blend_limits_at(
-    weighed: &BlendVelocity,
+    blend: &super::blend::ClothoidBlend,
+    weighed: (f64, VelocityCap),
     axes: &AxisLimits,
     path: Option<super::Limits1>,
 ) -> Option<(super::Limits1, VelocityCap)> {
     limits_at(
-        &weighed.bounds,
-        (weighed.velocity, weighed.cap),
+        &blend.derivative_bounds(),
+        weighed,
         axes,
         path,
         Share::BLEND,
@@ -444,10 +441,6 @@ impl Share {
 /// path limit and, per axis, `V/d1`, `sqrt(share·A/d2)` and `cbrt(share·J/d3)`, the cap being the
 /// first of these (in that order, axis by axis) that equals the least. `None` when an axis the
 /// machine lacks would move.
-///
-/// The cube root is monotone, so the least jerk term is the cube root of the least ratio: one
-/// `cbrt` instead of one per axis, except where another axis's ratio is so close that its root
-/// may round to the same value (then it is evaluated, to find the first axis as above).
 fn velocity_bound(
     bounds: &[JointVector; 3],
     feed: f64,
@@ -455,77 +448,149 @@ fn velocity_bound(
     path: Option<super::Limits1>,
     share: Share,
 ) -> Option<(f64, VelocityCap)> {
-    let [d1, d2, d3] = bounds;
-    let mut ratio = [f64::INFINITY; SLOTS];
-    let mut least_ratio = f64::INFINITY;
-    for (k, lim) in axes.iter().enumerate() {
-        match lim {
-            Some(l) => {
-                if d3[k] > 0.0 {
-                    ratio[k] = share.jerk * l.jerk / d3[k];
-                    least_ratio = least_ratio.min(ratio[k]);
+    Some(BoundTerms::of(bounds, axes, share)?.bound(feed, path))
+}
+
+/// The per-axis terms of a velocity bound (see [`blend_velocity`]): `V/d1`, the square
+/// `share·A/d2` of the centripetal term and the cube `share·J/d3` of the centripetal-jerk term,
+/// `∞` where the bound on that derivative is 0 or the machine lacks the axis.
+///
+/// A corner blend shrunk by `2^−2k` in size has `d1` unchanged, `d2` times `4^k` and `d3`
+/// times `16^k` (exactly: every factor is a power of two), so its terms are these with the
+/// squares times `4^−k` and the cubes times `16^−k`, again exactly ([`blend_velocity`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BoundTerms {
+    velocity: JointVector,
+    squared: JointVector,
+    cubed: JointVector,
+    /// The slots after the last one with a finite term have none.
+    slots: usize,
+}
+
+impl BoundTerms {
+    /// The terms of `bounds` under `axes`; `None` when an axis the machine lacks would move.
+    fn of(bounds: &[JointVector; 3], axes: &AxisLimits, share: Share) -> Option<Self> {
+        let [d1, d2, d3] = bounds;
+        let mut terms = Self {
+            velocity: [f64::INFINITY; SLOTS],
+            squared: [f64::INFINITY; SLOTS],
+            cubed: [f64::INFINITY; SLOTS],
+            slots: 0,
+        };
+        for (k, lim) in axes.iter().enumerate() {
+            match lim {
+                Some(l) => {
+                    if d1[k] > 0.0 || d2[k] > 0.0 || d3[k] > 0.0 {
+                        terms.slots = k + 1;
+                    }
+                    if d1[k] > 0.0 {
+                        terms.velocity[k] = l.velocity / d1[k];
+                    }
+                    if d2[k] > 0.0 {
+                        terms.squared[k] = share.acceleration * l.acceleration / d2[k];
+                    }
+                    if d3[k] > 0.0 {
+                        terms.cubed[k] = share.jerk * l.jerk / d3[k];
+                    }
+                }
+                None => {
+                    if d1[k] > 0.0 {
+                        return None;
+                    }
                 }
             }
-            None => {
-                if d1[k] > 0.0 {
-                    return None;
-                }
+        }
+        Some(terms)
+    }
+
+    /// The bound and what sets it.
+    ///
+    /// The cube root is monotone, so the least jerk term is the cube root of the least cube:
+    /// one `cbrt` instead of one per axis, except where another axis's cube is so close that
+    /// its root may round to the same value (then it is evaluated, to find the first axis).
+    fn bound(&self, feed: f64, path: Option<super::Limits1>) -> (f64, VelocityCap) {
+        self.bound_shrunk(0, feed, path)
+    }
+
+    /// [`BoundTerms::bound`] of the same blend shrunk by `4^−k` in size (`k` ≤ 8): the squares
+    /// times `4^−k`, the cubes times `16^−k` (exact).
+    fn bound_shrunk(&self, k: u32, feed: f64, path: Option<super::Limits1>) -> (f64, VelocityCap) {
+        let scale_sq = f64::from_bits((1023 - 2 * u64::from(k.min(8))) << 52);
+        let scale_cu = scale_sq * scale_sq;
+        let slots = self.slots.min(SLOTS);
+        let least_ratio = self.cubed[..slots]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            * scale_cu;
+        // Straight segments have no jerk term (and no root to take).
+        let least_root = if least_ratio < f64::INFINITY {
+            super::profile::cbrt(least_ratio)
+        } else {
+            f64::INFINITY
+        };
+        // A ratio this close above the least may have the same cube root.
+        let near = least_ratio * (1.0 + 1e-12);
+        // The bound so far and what sets it (which term, on which slot); a value lowers it only
+        // if strictly less.
+        let (mut v_b, mut why, mut slot) = (f64::INFINITY, Term::Feed, 0);
+        if feed < v_b {
+            v_b = feed;
+        }
+        if let Some(p) = path
+            && p.velocity < v_b
+        {
+            (v_b, why) = (p.velocity, Term::Path);
+        }
+        for k in 0..slots {
+            if self.velocity[k] < v_b {
+                (v_b, why, slot) = (self.velocity[k], Term::Velocity, k);
             }
-        }
-    }
-    // Straight segments have no jerk term (and no root to take).
-    let least_root = if least_ratio < f64::INFINITY {
-        super::profile::cbrt(least_ratio)
-    } else {
-        f64::INFINITY
-    };
-    // A ratio this close above the least may have the same cube root.
-    let near = least_ratio * (1.0 + 1e-12);
-    // The bound so far and what sets it; a value lowers it only if strictly less.
-    let mut bound = (f64::INFINITY, VelocityCap::Feed);
-    let lower = |bound: &mut (f64, VelocityCap), value: f64, why: VelocityCap| {
-        if value < bound.0 {
-            *bound = (value, why);
-        }
-    };
-    lower(&mut bound, feed, VelocityCap::Feed);
-    if let Some(p) = path {
-        lower(&mut bound, p.velocity, VelocityCap::Path);
-    }
-    for (k, lim) in axes.iter().enumerate() {
-        let Some(l) = lim else { continue };
-        let name = "XYZABC".as_bytes()[k] as char;
-        if d1[k] > 0.0 {
-            lower(
-                &mut bound,
-                l.velocity / d1[k],
-                VelocityCap::AxisVelocity(name),
-            );
-        }
-        // A root is skipped where its radicand is above the bound's power by a margin that
-        // covers the rounding of both (and the cube root's error below an ulp): the root is
-        // then at least the bound and could not lower it.
-        let v_b = bound.0;
-        if d2[k] > 0.0 {
-            let squared = share.acceleration * l.acceleration / d2[k];
+            // A root is skipped where its radicand is above the bound's power by a margin
+            // that covers the rounding of both (and the cube root's error below an ulp): the
+            // root is then at least the bound and could not lower it.
+            let squared = self.squared[k] * scale_sq;
             if !(squared >= v_b * v_b * (1.0 + 1e-14)) {
-                lower(&mut bound, squared.sqrt(), VelocityCap::Centripetal(name));
+                let root = squared.sqrt();
+                if root < v_b {
+                    (v_b, why, slot) = (root, Term::Centripetal, k);
+                }
+            }
+            let cubed = self.cubed[k] * scale_cu;
+            if !(cubed >= v_b * v_b * v_b * (1.0 + 1e-12)) {
+                // Terms above the least root cannot lower the bound below it.
+                let root = if cubed == least_ratio {
+                    least_root
+                } else if cubed <= near {
+                    super::profile::cbrt(cubed)
+                } else {
+                    continue;
+                };
+                if root < v_b {
+                    (v_b, why, slot) = (root, Term::CentripetalJerk, k);
+                }
             }
         }
-        let v_b = bound.0;
-        if d3[k] > 0.0 && !(ratio[k] >= v_b * v_b * v_b * (1.0 + 1e-12)) {
-            // Terms above the least root cannot lower the bound below it.
-            let root = if ratio[k] == least_ratio {
-                least_root
-            } else if ratio[k] <= near {
-                super::profile::cbrt(ratio[k])
-            } else {
-                continue;
-            };
-            lower(&mut bound, root, VelocityCap::CentripetalJerk(name));
-        }
+        let name = "XYZABC".as_bytes()[slot] as char;
+        let cap = match why {
+            Term::Feed => VelocityCap::Feed,
+            Term::Path => VelocityCap::Path,
+            Term::Velocity => VelocityCap::AxisVelocity(name),
+            Term::Centripetal => VelocityCap::Centripetal(name),
+            Term::CentripetalJerk => VelocityCap::CentripetalJerk(name),
+        };
+        (v_b, cap)
     }
-    Some(bound)
+}
+
+/// Which term of a velocity bound sets it (see [`BoundTerms::bound`]).
+#[derive(Clone, Copy)]
+enum Term {
+    Feed,
+    Path,
+    Velocity,
+    Centripetal,
+    CentripetalJerk,
 }
 
 /// Tangential limits `(v_b, a_b, j_b)` and the velocity cap from per-axis bounds
@@ -583,4 +648,123 @@ fn limits_at(
         jerk: j_b,
     };
     limits.is_valid().then_some((limits, cap))
+}
+
+/// [`tangential_limits`] of a straight segment (`d2 = d3 = 0`): the same values, without the
+/// curvature terms, which are exactly 0 (`A − 0·v² = A`, `J − 0 − 0 = J`).
+fn line_limits(
+    d1: &JointVector,
+    feed: f64,
+    axes: &AxisLimits,
+    path: Option<super::Limits1>,
+) -> Option<(super::Limits1, VelocityCap)> {
+    let mut bound = (f64::INFINITY, VelocityCap::Feed);
+    if feed < bound.0 {
+        bound = (feed, VelocityCap::Feed);
+    }
+    let mut a_b = f64::INFINITY;
+    let mut j_b = f64::INFINITY;
+    if let Some(p) = path {
+        if p.velocity < bound.0 {
+            bound = (p.velocity, VelocityCap::Path);
+        }
+        a_b = p.acceleration;
+        j_b = p.jerk;
+    }
+    for (k, lim) in axes.iter().enumerate() {
+        match lim {
+            Some(l) => {
+                if d1[k] > 0.0 {
+                    let v = l.velocity / d1[k];
+                    if v < bound.0 {
+                        bound = (v, VelocityCap::AxisVelocity("XYZABC".as_bytes()[k] as char));
+                    }
+                    a_b = a_b.min(l.acceleration / d1[k]);
+                    j_b = j_b.min(l.jerk / d1[k]);
+                }
+            }
+            None => {
+                if d1[k] > 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    let limits = super::Limits1 {
+        velocity: bound.0,
+        acceleration: a_b,
+        jerk: j_b,
+    };
+    limits.is_valid().then_some((limits, bound.1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::feed::AxisLimit;
+    use crate::feed::blend::ClothoidBlend;
+
+    /// A uniform generator on [0, 1) (an LCG, top 53 bits).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn axes(r: &mut impl FnMut() -> f64) -> AxisLimits {
+        let mut axes = [None; SLOTS];
+        for a in axes.iter_mut().take(3) {
+            *a = Some(AxisLimit {
+                velocity: 10.0 + 1000.0 * r(),
+                acceleration: 100.0 + 5000.0 * r(),
+                jerk: 1e3 + 1e5 * r(),
+            });
+        }
+        axes
+    }
+
+    /// The scaled terms give every shrunk candidate the bound and cap its own derivative
+    /// bounds give, bit for bit, and a line's limits are those of the general construction.
+    #[test]
+    fn shrunk_terms_and_line_limits_are_the_general_ones() {
+        let mut r = uniform(19);
+        for _ in 0..2000 {
+            let axes = axes(&mut r);
+            let mut unit =
+                || glam::DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(glam::DVec3::X);
+            let (t0, t1) = (unit(), unit());
+            let feed = 5.0 + 100.0 * r();
+            let Some(first) = ClothoidBlend::new(glam::DVec3::ZERO, t0, t1, 0.05, 0.5 * r()) else {
+                continue;
+            };
+            let base = first.deviation / first.deviation_unit();
+            let terms = blend_terms(&first.with_half_length(base), &axes).unwrap();
+            let mut deviation = first.deviation;
+            for k in 1..6_u32 {
+                deviation *= 0.25;
+                let c = first.shrunk_to(deviation).unwrap();
+                assert_eq!(c.half_length, base * 0.25_f64.powi(k as i32));
+                let own = blend_terms(&c, &axes).unwrap();
+                assert_eq!(
+                    blend_velocity(&terms, k, feed, None),
+                    blend_velocity(&own, 0, feed, None)
+                );
+            }
+            let d1 = [t0.x.abs(), t0.y.abs(), t0.z.abs(), 0.0, 0.0, 0.0];
+            let path = (r() < 0.5).then(|| super::super::Limits1 {
+                velocity: 50.0 * r() + 1.0,
+                acceleration: 1000.0 * r() + 1.0,
+                jerk: 1e4 * r() + 1.0,
+            });
+            let zero = [0.0; SLOTS];
+            assert_eq!(
+                line_limits(&d1, feed, &axes, path),
+                tangential_limits(&[d1, zero, zero], feed, &axes, path, Share::BLOCK)
+            );
+        }
+    }
 }

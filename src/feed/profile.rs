@@ -161,9 +161,16 @@ pub(super) fn reachable_velocity_below_cap(
     let dv = if distance <= d_threshold {
         let p = 2.0 * v_from / j;
         let q = distance / j;
-        let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
-        let w = p / (3.0 * u);
-        let mut x = q / (u * u + p / 3.0 + w * w);
+        let mut x = if v_from == 0.0 && q > 1e-150 && q < 1e150 {
+            // p = 0: the same values with the zero terms left out (the square root of the
+            // rounded square (q/2)² is q/2 exactly, so u is cbrt(q)).
+            let u = cbrt(q);
+            q / (u * u)
+        } else {
+            let u = cbrt(0.5 * q + (0.25 * q * q + p * p * p / 27.0).sqrt());
+            let w = p / (3.0 * u);
+            q / (u * u + p / 3.0 + w * w)
+        };
         // One Newton step on x³ + p·x − q polishes the round-off.
         let f = x * (x * x + p) - q;
         let df = 3.0 * x * x + p;
