@@ -703,17 +703,7 @@ mod tests {
     use super::*;
     use crate::feed::AxisLimit;
     use crate::feed::blend::ClothoidBlend;
-
-    /// A uniform generator on [0, 1) (an LCG, top 53 bits).
-    fn uniform(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::feed::test_uniform as uniform;
 
     fn axes(r: &mut impl FnMut() -> f64) -> AxisLimits {
         let mut axes = [None; SLOTS];

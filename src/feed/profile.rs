@@ -232,17 +232,7 @@ pub fn reachable_velocity_bisection(
 #[cfg(test)]
 mod reachable_tests {
     use super::*;
-
-    /// A uniform generator on [0, 1) (the PCG multiplier's LCG, top 53 bits) seeded by `seed`.
-    fn uniform(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::feed::test_uniform as uniform;
 
     #[test]
     fn closed_form_matches_bisection() {
