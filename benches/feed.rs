@@ -21,6 +21,10 @@ use criterion::{Criterion, Throughput, criterion_group};
 use std::fmt::Write as _;
 use std::hint::black_box;
 
+/// The `talas` binary's allocator (src/main.rs), so that these figures are the binary's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use talas::feed::{AxisLimit, CornerPolicy, Limits1, PlanInput, PlanOptions, machine_limits, plan};
 use talas::gcode::{InterpretOptions, Joints, MotionBlock, interpret};
 use talas::machine::Machine;

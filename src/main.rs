@@ -3,6 +3,12 @@
 use clap::Parser;
 use talas::cli::{self, Args};
 
+/// The process's allocator: mimalloc keeps freed pages for reuse, where glibc's malloc gives a
+/// plan's tens of MB back to the kernel and faults them in again on the next plan (about a
+/// fifth of the CPU time of blended feed planning; benches/README.md, feed section).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     let args = Args::parse();
     let code = match args.command {
