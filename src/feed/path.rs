@@ -280,21 +280,7 @@ impl Segment {
         })
     }
 
-    /// The segment of a corner blend, attributed to program block `block`, with the velocity
-    /// capped by `feed` (the lower of the adjacent blocks' speeds).
-    #[must_use]
-    pub fn from_blend(
-        block: usize,
-        blend: super::blend::ClothoidBlend,
-        feed: f64,
-        axes: &AxisLimits,
-        path: Option<super::Limits1>,
-    ) -> Option<Self> {
-        let (limits, cap) = blend_limits(&blend, feed, axes, path)?;
-        Some(Self::blend_segment(block, blend, limits, cap))
-    }
-
-    /// The segment of a corner blend whose limits are already known (see [`blend_limits`]).
+    /// The segment of a corner blend whose limits are already known (see [`blend_limits_at`]).
     #[must_use]
     pub fn blend_segment(
         block: usize,
@@ -362,18 +348,6 @@ impl Segment {
     }
 }
 
-/// Tangential limits and the velocity cap of a corner blend under `feed`, the axes and the
-/// optional path limit (`None` when they degenerate).
-#[must_use]
-pub fn blend_limits(
-    blend: &super::blend::ClothoidBlend,
-    feed: f64,
-    axes: &AxisLimits,
-    path: Option<super::Limits1>,
-) -> Option<(super::Limits1, VelocityCap)> {
-    tangential_limits(&blend.derivative_bounds(), feed, axes, path, Share::BLEND)
-}
-
 /// The terms of a corner blend's velocity bound under the axes (see [`BoundTerms`]), from
 /// which [`blend_velocity`] weighs it and its shrunk copies; `None` when an axis the machine
 /// lacks would move.
@@ -382,7 +356,8 @@ pub fn blend_terms(blend: &super::blend::ClothoidBlend, axes: &AxisLimits) -> Op
     BoundTerms::of(&blend.derivative_bounds(), axes, Share::BLEND)
 }
 
-/// The velocity bound alone of [`blend_limits`] (the same value and cap) from the blend's
+/// The velocity bound alone of a blend's tangential limits (the same value and cap as
+/// `tangential_limits` with the blend's share) from the blend's
 /// terms ([`blend_terms`]), or from those of a blend `4^shrunk` times its size, for weighing candidate blends before the tangential acceleration and jerk of the
 /// chosen one are taken ([`blend_limits_at`]); `None` where it is not finite and positive.
 /// Where it is, `blend_limits_at` gives valid limits: the shares leave
@@ -399,7 +374,7 @@ pub fn blend_velocity(
     (velocity.is_finite() && velocity > 0.0).then_some((velocity, cap))
 }
 
-/// [`blend_limits`] of a blend already weighed by [`blend_velocity`] (the same limits, without
+/// The tangential limits of a blend already weighed by [`blend_velocity`] (the same limits, without
 /// taking the velocity bound again).
 #[must_use]
 pub fn blend_limits_at(
