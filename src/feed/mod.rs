@@ -123,9 +123,11 @@ pub enum FeedError {
 
 /// The planner's input.
 #[derive(Clone, Debug)]
-pub struct PlanInput<'a> {
-    /// The interpreted program's motion blocks.
-    pub blocks: &'a [MotionBlock],
+pub struct PlanInput {
+    /// The interpreted program's motion blocks, shared with the [`TimedPath`] planned from them
+    /// (a plan keeps them without copying: `program.blocks.as_slice().into()` copies once
+    /// when the input is built, a `Vec` converts with `.into()`).
+    pub blocks: std::sync::Arc<[MotionBlock]>,
     /// Axes with their limits, in the machine's order.
     pub axes: Vec<(char, AxisLimit)>,
     /// Options.
@@ -161,7 +163,7 @@ pub const MAX_LIMIT: f64 = 1e12;
 ///
 /// # Errors
 /// [`FeedError`] for invalid limits, a block on an axis the machine lacks, or a bad sample period.
-pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
+pub fn plan(input: &PlanInput) -> Result<TimedPath, FeedError> {
     let opts = &input.options;
     if !(opts.sample_period_s.is_finite() && opts.sample_period_s > 0.0) {
         return Err(FeedError::InvalidSamplePeriod);
@@ -248,7 +250,7 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
         start_times.push(t);
     }
     Ok(TimedPath::new(
-        input.blocks,
+        std::sync::Arc::clone(&input.blocks),
         segments,
         timed_path::Speeds {
             junctions: speeds,
