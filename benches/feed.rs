@@ -101,8 +101,10 @@ fn bench_one(c: &mut Criterion, name: &str, blocks: &[MotionBlock], corner: Corn
     }
     let machine = Machine::builtin("mill-3axis").expect("builtin machine");
     let axes = machine_limits(&machine);
+    // The blocks are shared with each plan (built once, as a caller that replans one program).
+    let shared: std::sync::Arc<[MotionBlock]> = blocks.into();
     let input = PlanInput {
-        blocks,
+        blocks: std::sync::Arc::clone(&shared),
         axes: axes.clone(),
         options: PlanOptions {
             corner,
@@ -129,7 +131,7 @@ fn bench_one(c: &mut Criterion, name: &str, blocks: &[MotionBlock], corner: Corn
     group.bench_function(name, |b| {
         b.iter(|| {
             let input = PlanInput {
-                blocks: black_box(blocks),
+                blocks: black_box(std::sync::Arc::clone(&shared)),
                 axes: axes.clone(),
                 options: PlanOptions {
                     corner,
@@ -304,7 +306,7 @@ fn digest(
         CornerPolicy::Blend { tolerance_mm: 1.0 },
     ] {
         let input = PlanInput {
-            blocks: &prog.blocks,
+            blocks: prog.blocks.as_slice().into(),
             axes: axes.to_vec(),
             options: PlanOptions {
                 corner,

@@ -430,7 +430,7 @@ fn planned_time(text: &str, start: DVec3) -> f64 {
     )
     .unwrap();
     plan(&PlanInput {
-        blocks: &prog.blocks,
+        blocks: prog.blocks.as_slice().into(),
         axes: machine_limits(&m),
         options: PlanOptions::default(),
     })

@@ -64,7 +64,7 @@ fn random_programs_hold_axis_limits() {
         let text = random_program(&mut rng);
         let prog = interpret(&text, &InterpretOptions::default()).unwrap();
         let input = PlanInput {
-            blocks: &prog.blocks,
+            blocks: prog.blocks.as_slice().into(),
             axes: axes.clone(),
             options: PlanOptions::default(),
         };
@@ -112,7 +112,7 @@ fn thesis(name: &str, start: Joints) -> f64 {
         jerk: 1e12,
     };
     let input = PlanInput {
-        blocks: &prog.blocks,
+        blocks: prog.blocks.as_slice().into(),
         axes: vec![('X', big), ('Y', big), ('Z', big)],
         options: PlanOptions {
             path_limits: Some(Limits1 {
@@ -156,7 +156,7 @@ fn thesis_programs_plan() {
         };
         let prog = interpret(&text, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
         let input = PlanInput {
-            blocks: &prog.blocks,
+            blocks: prog.blocks.as_slice().into(),
             axes: machine_limits(&machine),
             options: PlanOptions::default(),
         };
@@ -261,7 +261,7 @@ fn blended_corners_hold_limits_and_tolerance() {
         let text = corner_program(&mut rng);
         let prog = interpret(&text, &InterpretOptions::default()).unwrap();
         let mut input = PlanInput {
-            blocks: &prog.blocks,
+            blocks: prog.blocks.as_slice().into(),
             axes: axes.clone(),
             options: PlanOptions {
                 corner: CornerPolicy::Blend { tolerance_mm: tol },
@@ -358,7 +358,7 @@ fn blending_beats_exact_stop_on_polygons() {
         .iter()
         .map(|c| {
             let input = PlanInput {
-                blocks: &prog.blocks,
+                blocks: prog.blocks.as_slice().into(),
                 axes: axes.clone(),
                 options: PlanOptions {
                     corner: *c,
@@ -419,7 +419,7 @@ fn short_block_runs_reach_their_planned_speeds() {
         CornerPolicy::ExactStop,
     ] {
         let input = PlanInput {
-            blocks: &prog.blocks,
+            blocks: prog.blocks.as_slice().into(),
             axes: axes.clone(),
             options: PlanOptions {
                 corner,

@@ -144,7 +144,7 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
         Corners::Junction => CornerPolicy::JunctionDeviation { tolerance_mm: t },
     };
     let input = PlanInput {
-        blocks: &prog.blocks,
+        blocks: prog.blocks.as_slice().into(),
         axes: axes.clone(),
         options: PlanOptions {
             corner,

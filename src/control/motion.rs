@@ -116,7 +116,7 @@ impl Run {
         axes: &[(char, AxisLimit)],
     ) -> Result<Self, FeedError> {
         let path = plan(&PlanInput {
-            blocks: planned,
+            blocks: planned.into(),
             axes: axes.to_vec(),
             options: PlanOptions::default(),
         })?;

@@ -204,6 +204,7 @@ impl ClothoidBlend {
 
     /// The same corner's blend with another half length.
     #[must_use]
+    #[inline]
     pub fn with_half_length(&self, half_length: f64) -> Self {
         let setback = half_length * self.setback_unit;
         Self {

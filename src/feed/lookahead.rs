@@ -67,6 +67,7 @@ pub(super) fn backward_speeds(
 
 /// The forward pass at segment `k` (`s`): caps the speed at its end by what its start speed
 /// (already final) can reach. After this step `v[k]` and `v[k + 1]` are final.
+#[inline]
 pub(super) fn forward_step(v: &mut [f64], k: usize, s: &Segment) {
     v[k + 1] = v[k + 1].min(cap_from(v[k], v[k + 1], s));
 }
@@ -102,6 +103,7 @@ fn junction_cap(a: &Segment, b: &Segment, corner: CornerPolicy, a_min: f64) -> f
 /// The highest speed at the other end of `s` that `from` can reach or be reached from
 /// ([`reachable_velocity`]), or `wanted` itself where that is plainly no higher: no faster than
 /// `from` (the change is then no climb at all), or a change to `wanted` that fits the segment.
+#[inline]
 fn cap_from(from: f64, wanted: f64, s: &Segment) -> f64 {
     let l = &s.limits;
     let target = wanted.min(l.velocity);

@@ -123,9 +123,11 @@ pub enum FeedError {
 
 /// The planner's input.
 #[derive(Clone, Debug)]
-pub struct PlanInput<'a> {
-    /// The interpreted program's motion blocks.
-    pub blocks: &'a [MotionBlock],
+pub struct PlanInput {
+    /// The interpreted program's motion blocks, shared with the [`TimedPath`] planned from them
+    /// (a plan keeps them without copying: `program.blocks.as_slice().into()` copies once
+    /// when the input is built, a `Vec` converts with `.into()`).
+    pub blocks: std::sync::Arc<[MotionBlock]>,
     /// Axes with their limits, in the machine's order.
     pub axes: Vec<(char, AxisLimit)>,
     /// Options.
@@ -161,7 +163,7 @@ pub const MAX_LIMIT: f64 = 1e12;
 ///
 /// # Errors
 /// [`FeedError`] for invalid limits, a block on an axis the machine lacks, or a bad sample period.
-pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
+pub fn plan(input: &PlanInput) -> Result<TimedPath, FeedError> {
     let opts = &input.options;
     if !(opts.sample_period_s.is_finite() && opts.sample_period_s > 0.0) {
         return Err(FeedError::InvalidSamplePeriod);
@@ -248,7 +250,7 @@ pub fn plan(input: &PlanInput<'_>) -> Result<TimedPath, FeedError> {
         start_times.push(t);
     }
     Ok(TimedPath::new(
-        input.blocks,
+        std::sync::Arc::clone(&input.blocks),
         segments,
         timed_path::Speeds {
             junctions: speeds,
@@ -280,6 +282,9 @@ fn blend_corners(
         reachable_velocity(0.0, s.length, l.velocity, l.acceleration, l.jerk)
     };
     let mut reach_here: Option<f64> = None;
+    // The cost of an exact stop on the current segment's side of its corner ahead: the same
+    // as on the side of the corner behind it, where that was weighed (same segment, same reach).
+    let mut stop_here: Option<f64> = None;
     // The set-back of the blend before the current segment, if there is one.
     let mut before: Option<f64> = None;
     let mut segments = segments;
@@ -288,6 +293,7 @@ fn blend_corners(
         let next = segments.next();
         let mut after = None;
         let mut reach_next = None;
+        let mut stop_next = None;
         if let Some(next) = &next
             && let (Some(t0), Some(t1)) =
                 (seg.straight_xyz_direction(), next.straight_xyz_direction())
@@ -300,12 +306,18 @@ fn blend_corners(
             );
             let reached = (*reach_here.get_or_insert_with(|| reach(&seg)), reach(next));
             reach_next = Some(reached.1);
+            let stops = (
+                *stop_here.get_or_insert_with(|| slow_side(&seg, reached.0, 0.0)),
+                slow_side(next, reached.1, 0.0),
+            );
+            stop_next = Some(stops.1);
             let corner = Corner {
                 point,
                 t0,
                 t1,
                 max_setback: 0.5 * seg.length.min(next.length),
                 reached,
+                stop_cost: stops.0 + stops.1,
             };
             after = best_blend(&seg, next, &corner, tolerance, axes, path_limits);
         }
@@ -327,6 +339,7 @@ fn blend_corners(
         }
         before = after_setback;
         reach_here = reach_next;
+        stop_here = stop_next;
         current = next;
     }
     out
@@ -343,6 +356,8 @@ struct Corner {
     max_setback: f64,
     /// The speed each neighbour reaches at the corner from a stop at its far end.
     reached: (f64, f64),
+    /// The cost of an exact stop at the corner (`slow_side` at 0 on both sides, summed).
+    stop_cost: f64,
 }
 
 /// The blend at one corner that costs the least time against cruising straight through, among
@@ -366,25 +381,13 @@ fn best_blend(
     path_limits: Option<Limits1>,
 ) -> Option<path::Segment> {
     let feed = a.limits.velocity.min(b.limits.velocity);
-    // The cost of slowing to v at the corner on one side.
-    // change_time(v, F) − change_distance(v, F)/F with the time taken once; no change
-    // (v = F) costs exactly 0.
-    let side = |s: &path::Segment, f: f64, v: f64| {
-        let l = s.limits;
-        let v = v.min(f);
-        if f > 0.0 && v < f {
-            let t = profile::change_time(v, f, l.acceleration, l.jerk);
-            t - 0.5 * (v + f) * t / f
-        } else {
-            0.0
-        }
-    };
+    // The cost of slowing to v at the corner, both sides.
     let (fa, fb) = corner.reached;
-    let slow_down = |v: f64| side(a, fa, v) + side(b, fb, v);
+    let slow_down = |v: f64| slow_side(a, fa, v) + slow_side(b, fb, v);
     let mut best: Option<(blend::ClothoidBlend, Limits1, path::VelocityCap)> = None;
     // Candidates are weighed by their velocity bound; the tangential limits are taken only
     // for one that is the best so far (`blend_velocity` says why they then exist).
-    let mut best_cost = slow_down(0.0);
+    let mut best_cost = corner.stop_cost;
     let first = blend::ClothoidBlend::new(
         corner.point,
         corner.t0,
@@ -411,7 +414,7 @@ fn best_blend(
             let half_length = deviation / first.deviation_unit();
             if !(deviation > 0.0 && deviation < first.deviation) {
                 None
-            } else if half_length == base * 0.25_f64.powi(i32::from(k)) && base > 1e-100 {
+            } else if half_length == base * QUARTER_POWERS[usize::from(k)] && base > 1e-100 {
                 if base_terms.is_none() {
                     base_terms = Some(if base == first.half_length {
                         first_terms
@@ -458,6 +461,24 @@ fn best_blend(
     best.map(|(c, limits, cap)| path::Segment::blend_segment(a.block, c, limits, cap))
 }
 
+/// The cost of slowing to `v` at a corner on the side of segment `s`, whose speed there is `f`:
+/// change_time(v, F) − change_distance(v, F)/F with the time taken once; no change (v = F)
+/// costs exactly 0.
+#[inline]
+fn slow_side(s: &path::Segment, f: f64, v: f64) -> f64 {
+    let l = s.limits;
+    let v = v.min(f);
+    if f > 0.0 && v < f {
+        let t = profile::change_time(v, f, l.acceleration, l.jerk);
+        t - 0.5 * (v + f) * t / f
+    } else {
+        0.0
+    }
+}
+
+/// `4^−k` for the candidates `k` of [`best_blend`] (exact powers of two, the values `powi` gives).
+const QUARTER_POWERS: [f64; 6] = [1.0, 0.25, 0.0625, 0.015_625, 0.003_906_25, 0.000_976_562_5];
+
 /// The block moves no joint at all.
 fn joint_zero_length(b: &MotionBlock) -> bool {
     let (s, e) = (path::joint_vector(&b.start), path::joint_vector(&b.end));
@@ -474,5 +495,18 @@ pub(crate) fn test_uniform(seed: u64) -> impl FnMut() -> f64 {
             .wrapping_mul(6_364_136_223_846_793_005)
             .wrapping_add(1_442_695_040_888_963_407);
         (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod blend_choice_tests {
+    use super::QUARTER_POWERS;
+
+    #[test]
+    fn quarter_powers_are_powi() {
+        for (k, p) in QUARTER_POWERS.iter().enumerate() {
+            let k = i32::try_from(k).unwrap();
+            assert_eq!(p.to_bits(), 0.25_f64.powi(k).to_bits(), "{k}");
+        }
     }
 }

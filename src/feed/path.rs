@@ -352,6 +352,7 @@ impl Segment {
 /// which [`blend_velocity`] weighs it and its shrunk copies; `None` when an axis the machine
 /// lacks would move.
 #[must_use]
+#[inline]
 pub fn blend_terms(blend: &super::blend::ClothoidBlend, axes: &AxisLimits) -> Option<BoundTerms> {
     BoundTerms::of(&blend.derivative_bounds(), axes, Share::BLEND)
 }
@@ -364,6 +365,7 @@ pub fn blend_terms(blend: &super::blend::ClothoidBlend, axes: &AxisLimits) -> Op
 /// `a_b ≥ (1 − share)·A/d1` and `j_b ≥ (1 − share)/2·J/d1` (the construction in the module
 /// docs), and a blend's `d1` is not zero on every axis.
 #[must_use]
+#[inline]
 pub fn blend_velocity(
     terms: &BoundTerms,
     shrunk: u32,
@@ -377,6 +379,7 @@ pub fn blend_velocity(
 /// The tangential limits of a blend already weighed by [`blend_velocity`] (the same limits, without
 /// taking the velocity bound again).
 #[must_use]
+#[inline]
 pub fn blend_limits_at(
     blend: &super::blend::ClothoidBlend,
     weighed: (f64, VelocityCap),

@@ -61,6 +61,7 @@ pub enum ProfileError {
 
 /// Duration of the velocity change `va → vb` (a = 0 at both ends), closed form.
 #[must_use]
+#[inline]
 pub fn change_time(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
     change_parts((vb - va).abs(), acceleration, jerk).2
 }
@@ -109,6 +110,7 @@ impl Changes {
 
 /// Distance covered by the velocity change `va → vb` (a = 0 at both ends).
 #[must_use]
+#[inline]
 pub fn change_distance(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
     0.5 * (va + vb) * change_time(va, vb, acceleration, jerk)
 }
@@ -126,6 +128,7 @@ pub fn change_distance(va: f64, vb: f64, acceleration: f64, jerk: f64) -> f64 {
 /// - above it the distance is `(2·v_from + Δv)/2·(Δv/A + A/J)`, a quadratic in `Δv` whose
 ///   positive root is taken in the cancellation-free form `2|c|/(b + sqrt(b² + 4|c|))`.
 #[must_use]
+#[inline]
 pub fn reachable_velocity(
     v_from: f64,
     distance: f64,
@@ -748,6 +751,7 @@ pub(crate) fn cbrt(x: f64) -> f64 {
 
 /// Step the peak `vp` down by ulps (16 at most) until both changes `v0 → vp → v1` fit in
 /// `distance`; the result and its changes.
+#[inline]
 fn settle(
     mut vp: f64,
     distance: f64,

@@ -4,6 +4,7 @@ use super::AxisLimit;
 use super::path::{JointVector, SLOTS, Segment, VelocityCap, joint_vector};
 use super::profile::{PhaseKind, Profile};
 use crate::gcode::MotionBlock;
+use std::sync::Arc;
 
 /// Which limit shapes the motion at a sample.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -74,7 +75,7 @@ pub(super) struct Speeds {
 /// A planned program: profiles per block laid end to end in time.
 #[derive(Clone, Debug)]
 pub struct TimedPath {
-    blocks: Vec<MotionBlock>,
+    blocks: Arc<[MotionBlock]>,
     segments: Vec<Segment>,
     speeds: Speeds,
     path_starts: Vec<f64>,
@@ -88,7 +89,7 @@ pub struct TimedPath {
 
 impl TimedPath {
     pub(super) fn new(
-        blocks: &[MotionBlock],
+        blocks: Arc<[MotionBlock]>,
         segments: Vec<Segment>,
         mut speeds: Speeds,
         axes: &[(char, AxisLimit)],
@@ -96,7 +97,7 @@ impl TimedPath {
     ) -> Self {
         let path_starts = std::mem::take(&mut speeds.path_starts);
         Self {
-            blocks: blocks.to_vec(),
+            blocks,
             cycle_time_s: speeds.start_times.last().copied().unwrap_or(0.0),
             segments,
             speeds,

@@ -126,7 +126,7 @@ pub fn schedule_path(
         }
         let segs = segments(input.moves, forces, f);
         let path = plan(&PlanInput {
-            blocks: &blocks(&segs, max_feed),
+            blocks: blocks(&segs, max_feed).into(),
             axes: axes.clone(),
             options: PlanOptions {
                 corner: CornerPolicy::Blend {

@@ -119,7 +119,7 @@ impl RunMotion {
         line_of_pose: &[Option<usize>],
     ) -> Result<Self, RunError> {
         let input = PlanInput {
-            blocks: &program.blocks,
+            blocks: program.blocks.as_slice().into(),
             axes: machine_limits(machine),
             options: PlanOptions {
                 corner: CornerPolicy::Blend {

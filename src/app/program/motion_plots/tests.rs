@@ -11,7 +11,7 @@ fn planned() -> TimedPath {
                 G2 X60 Y10 I10 J-10 F2400\nG1 Z0\n";
     let prog = interpret(text, &InterpretOptions::default()).unwrap();
     plan(&PlanInput {
-        blocks: &prog.blocks,
+        blocks: prog.blocks.as_slice().into(),
         axes: machine_limits(&machine),
         options: PlanOptions::default(),
     })
