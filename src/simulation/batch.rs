@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use super::ballrow::{BallStep, LANES, cut_below};
 use super::dexel::{Dexel, DexelFamily};
 use super::engine::{CollisionKind, Hit};
-use super::exact::stadium_span;
+use super::exact::{StadiumEdge, disc_span, stadium_span};
 use super::motion::{MovePlan, Step};
 use super::sweep::{Body, Prepared, PreparedRow, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
@@ -639,6 +639,8 @@ struct Shadow {
     corners: [DVec2; 4],
     /// The radius, grown by a rounding margin, mm.
     r: f64,
+    /// The edges' rectangles (from corner k to k + 1), taken once for every row.
+    edges: [Option<StadiumEdge>; 4],
 }
 
 impl Shadow {
@@ -655,15 +657,41 @@ impl Shadow {
             )
         };
         let r = body.radius();
+        let corners = [uv(a), uv(b), uv(b + d), uv(a + d)];
         Self {
-            corners: [uv(a), uv(b), uv(b + d), uv(a + d)],
+            corners,
             r: r + 1e-9 * (1.0 + r) + 1e-9 * (a.abs().max_element() + d.abs().max_element()),
+            edges: std::array::from_fn(|k| {
+                let (p, q) = (corners.get(k)?, corners.get((k + 1) % 4)?);
+                StadiumEdge::new(*p, *q)
+            }),
         }
     }
 
     /// The u-interval of the shadow on the row at `y`: the hull of the edges' stadiums (the
     /// shadow is convex, and a row through its inside crosses two edges).
+    ///
+    /// The same values, in the same order, as [`stadium_span`] of each edge: the corners'
+    /// discs are taken once per row and the edges' directions once per shadow.
     fn span(&self, y: f64) -> Option<(f64, f64)> {
+        let discs = self.corners.map(|c| disc_span(c, self.r, y));
+        let mut out = None;
+        for (k, edge) in self.edges.iter().enumerate() {
+            if let (Some(a), Some(b)) = (discs.get(k), discs.get((k + 1) % 4)) {
+                let ends = super::exact::hull(*a, *b);
+                let stadium = match edge {
+                    Some(e) => super::exact::hull(ends, e.span(self.r, y)),
+                    None => ends,
+                };
+                out = super::exact::hull(out, stadium);
+            }
+        }
+        out
+    }
+
+    /// [`Shadow::span`] as first written (a stadium per edge), for the tests.
+    #[cfg(test)]
+    fn span_reference(&self, y: f64) -> Option<(f64, f64)> {
         let c = &self.corners;
         let mut out = None;
         for k in 0..4 {
@@ -896,4 +924,69 @@ fn record(hits: &mut Vec<Hit>, hit: Hit) {
         return;
     }
     hits.push(hit);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A shadow's row spans with the corners' discs and the edges' directions taken once are
+    /// those of a stadium per edge, to the bit (random tilted steps, every family's axes).
+    #[test]
+    fn shadow_span_is_the_stadiums_to_the_bit() {
+        let mut rnd = crate::feed::test_uniform(23);
+        let mut spans = 0;
+        for k in 0..2000 {
+            let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() + 0.1)
+                .try_normalize()
+                .unwrap_or(DVec3::Z);
+            let p0 = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 20.0;
+            let scale = [0.0, 1e-13, 0.02, 0.3, 5.0][k % 5];
+            let d = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * scale;
+            let step = SweepStep {
+                p0,
+                p1: p0 + d,
+                axis,
+            };
+            let body = if k % 2 == 0 {
+                Body::Cutting {
+                    radius: 3.0,
+                    flat: 0.0,
+                    corner: 3.0,
+                    cone_tan: 0.0,
+                    top: 3.0 + 20.0 * rnd(),
+                }
+            } else {
+                Body::Cylinder {
+                    radius: 0.5 + 4.0 * rnd(),
+                    z0: 10.0 * rnd(),
+                    z1: 12.0 + 20.0 * rnd(),
+                }
+            };
+            let uvw = [(0, 1, 2), (1, 2, 0), (2, 0, 1)][k % 3];
+            let g = Grid {
+                o: [-30.0; 3],
+                spacing: 0.29,
+                nu: 200,
+                nv: 200,
+                uvw,
+                dir: DVec3::Z,
+                z_family: uvw.2 == 2,
+                family: 0,
+                tol: 0.0,
+            };
+            let shadow = Shadow::new(&step, &body, &g);
+            for m in 0..200 {
+                let y = -30.0 + 0.3 * f64::from(m);
+                let (got, want) = (shadow.span(y), shadow.span_reference(y));
+                assert_eq!(
+                    got.map(|(a, b)| (a.to_bits(), b.to_bits())),
+                    want.map(|(a, b)| (a.to_bits(), b.to_bits())),
+                    "{k} {y}"
+                );
+                spans += usize::from(got.is_some());
+            }
+        }
+        assert!(spans > 20_000, "{spans}");
+    }
 }

@@ -305,24 +305,56 @@ pub(super) fn hull(x: Option<(f64, f64)>, y: Option<(f64, f64)>) -> Option<(f64,
 /// The x-interval of the row `y = const` inside the stadium of radius `r` around the segment
 /// [a, b] (the footprint of a vertical tool's sweep).
 pub(super) fn stadium_span(a: DVec2, b: DVec2, r: f64, y: f64) -> Option<(f64, f64)> {
-    let disc = |c: DVec2| {
-        let dy = y - c.y;
-        let h2 = r * r - dy * dy;
-        (h2 >= 0.0).then(|| {
-            let h = h2.sqrt();
-            (c.x - h, c.x + h)
+    let out = hull(disc_span(a, r, y), disc_span(b, r, y));
+    match StadiumEdge::new(a, b) {
+        Some(edge) => hull(out, edge.span(r, y)),
+        None => out,
+    }
+}
+
+/// The x-interval of the row at `y` within the disc of radius `r` about `c`.
+#[inline]
+pub(super) fn disc_span(c: DVec2, r: f64, y: f64) -> Option<(f64, f64)> {
+    let dy = y - c.y;
+    let h2 = r * r - dy * dy;
+    (h2 >= 0.0).then(|| {
+        let h = h2.sqrt();
+        (c.x - h, c.x + h)
+    })
+}
+
+/// The rectangle of a stadium from `a` to `b` (the part between the end discs), its
+/// directions taken once for every row (the same values as [`stadium_span`] takes per row).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct StadiumEdge {
+    a: DVec2,
+    u: DVec2,
+    n: DVec2,
+    len: f64,
+}
+
+impl StadiumEdge {
+    /// `None` for a segment shorter than 1e-12 (then the discs are the stadium).
+    pub(super) fn new(a: DVec2, b: DVec2) -> Option<Self> {
+        let d = b - a;
+        let len = d.length();
+        (len > 1e-12).then(|| Self {
+            a,
+            u: d / len,
+            n: DVec2::new(-d.y, d.x) / len,
+            len,
         })
-    };
-    let mut out = hull(disc(a), disc(b));
-    let d = b - a;
-    let len = d.length();
-    if len > 1e-12 {
-        // The rectangle a + λ·u + μ·n, λ ∈ [0, len], μ ∈ [−r, r]: two slabs linear in x.
-        let (u, n) = (d / len, DVec2::new(-d.y, d.x) / len);
+    }
+
+    /// The x-interval of the row at `y` within the rectangle `a + λ·u + μ·n`,
+    /// λ ∈ [0, len], μ ∈ [−r, r] (two slabs linear in x).
+    #[inline]
+    pub(super) fn span(&self, r: f64, y: f64) -> Option<(f64, f64)> {
+        let a = self.a;
         let mut lo = f64::NEG_INFINITY;
         let mut hi = f64::INFINITY;
         let mut empty = false;
-        for (dir, l0, l1) in [(u, 0.0, len), (n, -r, r)] {
+        for (dir, l0, l1) in [(self.u, 0.0, self.len), (self.n, -r, r)] {
             // (x − a.x)·dir.x + (y − a.y)·dir.y ∈ [l0, l1]
             let k = (y - a.y) * dir.y;
             if dir.x.abs() < 1e-15 {
@@ -335,11 +367,8 @@ pub(super) fn stadium_span(a: DVec2, b: DVec2, r: f64, y: f64) -> Option<(f64, f
             lo = lo.max(x0.min(x1));
             hi = hi.min(x0.max(x1));
         }
-        if !empty && lo <= hi {
-            out = hull(out, Some((lo, hi)));
-        }
+        (!empty && lo <= hi).then_some((lo, hi))
     }
-    out
 }
 
 #[cfg(test)]
