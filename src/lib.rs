@@ -35,6 +35,20 @@
 // the engine uses it on purpose wherever input may be non-finite.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+/// A uniform generator on [0, 1) for the unit tests of any module (the PCG multiplier's LCG,
+/// top 53 bits) seeded by `seed`: the same sequence on every platform. At the crate root so
+/// that modules of any layer may share it.
+#[cfg(test)]
+pub(crate) fn test_uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 pub mod checks;
 pub mod control;
 pub mod diagnostics;

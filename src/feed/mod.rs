@@ -485,19 +485,6 @@ fn joint_zero_length(b: &MotionBlock) -> bool {
     b.length_mm() <= 1e-12 && s.iter().zip(e.iter()).all(|(a, b)| (a - b).abs() <= 1e-12)
 }
 
-/// A uniform generator on [0, 1) for the feed tests (the PCG multiplier's LCG, top 53 bits)
-/// seeded by `seed`: the same sequence on every platform.
-#[cfg(test)]
-pub(crate) fn test_uniform(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 #[cfg(test)]
 mod blend_choice_tests {
     use super::QUARTER_POWERS;

@@ -681,7 +681,7 @@ mod tests {
     use super::*;
     use crate::feed::AxisLimit;
     use crate::feed::blend::ClothoidBlend;
-    use crate::feed::test_uniform as uniform;
+    use crate::test_uniform as uniform;
 
     fn axes(r: &mut impl FnMut() -> f64) -> AxisLimits {
         let mut axes = [None; SLOTS];

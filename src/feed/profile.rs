@@ -235,7 +235,7 @@ pub fn reachable_velocity_bisection(
 #[cfg(test)]
 mod reachable_tests {
     use super::*;
-    use crate::feed::test_uniform as uniform;
+    use crate::test_uniform as uniform;
 
     #[test]
     fn closed_form_matches_bisection() {

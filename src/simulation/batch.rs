@@ -934,7 +934,7 @@ mod tests {
     /// those of a stadium per edge, to the bit (random tilted steps, every family's axes).
     #[test]
     fn shadow_span_is_the_stadiums_to_the_bit() {
-        let mut rnd = crate::feed::test_uniform(23);
+        let mut rnd = crate::test_uniform(23);
         let mut spans = 0;
         for k in 0..2000 {
             let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() + 0.1)
