@@ -403,7 +403,7 @@ fn best_blend(
     let mut base_terms = None;
     let mut deviation = first.deviation;
     let mut previous = f64::INFINITY;
-    for k in 0..6_u8 {
+    for k in 0..CANDIDATES {
         // A smaller candidate's own terms, where they are not the base's scaled.
         let own;
         let candidate = if k == 0 {
@@ -476,8 +476,12 @@ fn slow_side(s: &path::Segment, f: f64, v: f64) -> f64 {
     }
 }
 
+/// Blend candidates weighed per corner by [`best_blend`]: the first and five shrunk by 4^−k.
+const CANDIDATES: u8 = 6;
+
 /// `4^−k` for the candidates `k` of [`best_blend`] (exact powers of two, the values `powi` gives).
-const QUARTER_POWERS: [f64; 6] = [1.0, 0.25, 0.0625, 0.015_625, 0.003_906_25, 0.000_976_562_5];
+const QUARTER_POWERS: [f64; CANDIDATES as usize] =
+    [1.0, 0.25, 0.0625, 0.015_625, 0.003_906_25, 0.000_976_562_5];
 
 /// The block moves no joint at all.
 fn joint_zero_length(b: &MotionBlock) -> bool {
