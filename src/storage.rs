@@ -14,6 +14,50 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// The most bytes read from a settings or text file (project, tool or coefficient library,
+/// dialect, machine, point or loop CSV, profile).
+pub const TEXT_LIMIT_BYTES: u64 = 64 << 20;
+/// The most bytes read from a G-code program or a tool path.
+pub const PROGRAM_LIMIT_BYTES: u64 = 512 << 20;
+/// The most bytes read from a part (STEP, STL).
+pub const PART_LIMIT_BYTES: u64 = 2 << 30;
+
+/// Read `path` whole, refusing more than `limit` bytes (`/dev/zero`, a runaway pipe or a file
+/// far larger than any of its kind would otherwise take all the memory).
+///
+/// # Errors
+/// The I/O error, or `InvalidData` naming the limit.
+pub fn read_bounded(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let hint = file.metadata().map_or(0, |m| m.len()).min(limit);
+    let mut bytes = Vec::with_capacity(usize::try_from(hint).unwrap_or(0));
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "larger than {} MiB, the most read from a file of this kind",
+                limit >> 20
+            ),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// [`read_bounded`] as UTF-8 text.
+///
+/// # Errors
+/// As [`read_bounded`], or `InvalidData` when the bytes are not UTF-8.
+pub fn read_text_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
+    String::from_utf8(read_bounded(path, limit)?).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("not UTF-8 text: {e}"),
+        )
+    })
+}
+
 /// Write `bytes` to `path` through a temporary file in the same folder, flushed before the
 /// rename; the temporary file is removed when anything fails.
 ///
@@ -194,6 +238,25 @@ mod tests {
         assert!(sub.join("x").is_dir());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
         assert!(write_atomic(Path::new("/"), b"z").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `/dev/zero` and a file past the limit are refused with the limit named, not read until
+    /// the memory runs out; a file within it reads whole.
+    #[cfg(unix)]
+    #[test]
+    fn reads_are_bounded() {
+        let e = read_bounded(Path::new("/dev/zero"), 1 << 20).unwrap_err();
+        assert!(e.to_string().contains("larger than 1 MiB"), "{e}");
+        let dir = std::env::temp_dir().join(format!("talas-storage-read-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.txt");
+        std::fs::write(&p, vec![b'x'; 4096]).unwrap();
+        assert_eq!(read_bounded(&p, 4096).unwrap().len(), 4096);
+        assert!(read_bounded(&p, 4095).is_err());
+        assert_eq!(read_text_bounded(&p, 1 << 20).unwrap().len(), 4096);
+        std::fs::write(&p, [0xff, 0xfe]).unwrap();
+        assert!(read_text_bounded(&p, 1 << 20).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

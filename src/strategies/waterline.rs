@@ -204,9 +204,9 @@ fn check_options(o: &WaterlineOptions) -> Result<(), WaterlineError> {
         ("max link", o.max_link_mm),
         ("loop overlap", o.loop_overlap_mm),
     ] {
-        if !(v >= 0.0 && v < 1e6) {
+        if !(0.0..1e6).contains(&v) {
             return Err(WaterlineError::Option(format!(
-                "{what} must be ≥ 0 mm, got {v}"
+                "{what} must be 0 to 1000000 mm, got {v}"
             )));
         }
     }
