@@ -5,9 +5,58 @@
 //!
 //! A symbolic link is followed, not replaced: the file it points to is rewritten in its own
 //! folder and the link stays. An existing file keeps its permission bits.
+//!
+//! Only a regular file (or a path that does not exist yet) is replaced atomically. A device, a
+//! FIFO or a socket (`-o /dev/null`, `-o /dev/stdout`, a named pipe) is written directly, as a
+//! shell user expects: renaming a file over it would destroy the device node (as root) or
+//! leave the reader at the other end of the pipe with nothing. `-` is standard output.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// The most bytes read from a settings or text file (project, tool or coefficient library,
+/// dialect, machine, point or loop CSV, profile).
+pub const TEXT_LIMIT_BYTES: u64 = 64 << 20;
+/// The most bytes read from a G-code program or a tool path.
+pub const PROGRAM_LIMIT_BYTES: u64 = 512 << 20;
+/// The most bytes read from a part (STEP, STL).
+pub const PART_LIMIT_BYTES: u64 = 2 << 30;
+
+/// Read `path` whole, refusing more than `limit` bytes (`/dev/zero`, a runaway pipe or a file
+/// far larger than any of its kind would otherwise take all the memory).
+///
+/// # Errors
+/// The I/O error, or `InvalidData` naming the limit.
+pub fn read_bounded(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let hint = file.metadata().map_or(0, |m| m.len()).min(limit);
+    let mut bytes = Vec::with_capacity(usize::try_from(hint).unwrap_or(0));
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "larger than {} MiB, the most read from a file of this kind",
+                limit >> 20
+            ),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// [`read_bounded`] as UTF-8 text.
+///
+/// # Errors
+/// As [`read_bounded`], or `InvalidData` when the bytes are not UTF-8.
+pub fn read_text_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
+    String::from_utf8(read_bounded(path, limit)?).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("not UTF-8 text: {e}"),
+        )
+    })
+}
 
 /// Write `bytes` to `path` through a temporary file in the same folder, flushed before the
 /// rename; the temporary file is removed when anything fails.
@@ -37,6 +86,16 @@ impl AtomicFile {
     /// # Errors
     /// The I/O error of creating the temporary file; `path` is untouched.
     pub fn create(path: &Path) -> std::io::Result<Self> {
+        if let Some(direct) = direct_target(path) {
+            let file = std::fs::OpenOptions::new().write(true).open(&direct)?;
+            return Ok(Self {
+                target: direct,
+                dir: PathBuf::new(),
+                tmp: PathBuf::new(),
+                file: Some(std::io::BufWriter::new(file)),
+                renamed: true,
+            });
+        }
         let target = resolve_links(path)?;
         let (dir, tmp) = temporary_beside(&target)?;
         let file = std::fs::File::create(&tmp)?;
@@ -64,6 +123,10 @@ impl AtomicFile {
         let f = w
             .into_inner()
             .map_err(std::io::IntoInnerError::into_error)?;
+        if self.tmp.as_os_str().is_empty() {
+            // Written directly (a device or a pipe): nothing to sync or rename.
+            return Ok(());
+        }
         f.sync_all()?;
         drop(f);
         std::fs::rename(&self.tmp, &self.target)?;
@@ -99,6 +162,17 @@ impl Drop for AtomicFile {
             let _ = std::fs::remove_file(&self.tmp);
         }
     }
+}
+
+/// The path to write directly instead of replacing: standard output for `-`, or `path` itself
+/// when it (through its links) is something other than a regular file or a folder (a device,
+/// FIFO or socket). `None` for a regular file or a path that does not exist.
+fn direct_target(path: &Path) -> Option<PathBuf> {
+    if path == Path::new("-") {
+        return Some(PathBuf::from("/dev/stdout"));
+    }
+    let meta = std::fs::metadata(path).ok()?;
+    (!meta.is_file() && !meta.is_dir()).then(|| path.to_path_buf())
 }
 
 /// Follow symbolic links (up to 32) to the file a save must replace.
@@ -164,6 +238,76 @@ mod tests {
         assert!(sub.join("x").is_dir());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
         assert!(write_atomic(Path::new("/"), b"z").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `/dev/zero` and a file past the limit are refused with the limit named, not read until
+    /// the memory runs out; a file within it reads whole.
+    #[cfg(unix)]
+    #[test]
+    fn reads_are_bounded() {
+        let e = read_bounded(Path::new("/dev/zero"), 1 << 20).unwrap_err();
+        assert!(e.to_string().contains("larger than 1 MiB"), "{e}");
+        let dir = std::env::temp_dir().join(format!("talas-storage-read-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.txt");
+        std::fs::write(&p, vec![b'x'; 4096]).unwrap();
+        assert_eq!(read_bounded(&p, 4096).unwrap().len(), 4096);
+        assert!(read_bounded(&p, 4095).is_err());
+        assert_eq!(read_text_bounded(&p, 1 << 20).unwrap().len(), 4096);
+        std::fs::write(&p, [0xff, 0xfe]).unwrap();
+        assert!(read_text_bounded(&p, 1 << 20).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `-o /dev/null`, a link to it and a FIFO are written directly: /dev/null stays a
+    /// character device (the atomic rename would have replaced it with a regular file, as
+    /// root), a reader at the FIFO gets the bytes, and no temporary file is left beside them.
+    #[cfg(unix)]
+    #[test]
+    fn devices_and_pipes_are_written_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let null = Path::new("/dev/null");
+        write_atomic(null, b"nothing").unwrap();
+        assert!(
+            std::fs::metadata(null)
+                .unwrap()
+                .file_type()
+                .is_char_device()
+        );
+        let dir = std::env::temp_dir().join(format!("talas-storage-dev-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let link = dir.join("null.ngc");
+        std::os::unix::fs::symlink(null, &link).unwrap();
+        write_atomic(&link, b"nothing").unwrap();
+        assert!(
+            std::fs::metadata(null)
+                .unwrap()
+                .file_type()
+                .is_char_device()
+        );
+        let fifo = dir.join("pipe.ngc");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || std::fs::read(fifo).unwrap())
+            };
+            write_atomic(&fifo, b"G0 X1\n").unwrap();
+            assert_eq!(reader.join().unwrap(), b"G0 X1\n");
+            assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        }
+        // Nothing else appeared in the folder (no temporary files).
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert!(names.len() <= 2, "{names:?}");
+        assert_eq!(
+            direct_target(Path::new("-")),
+            Some(PathBuf::from("/dev/stdout"))
+        );
+        assert_eq!(direct_target(&dir.join("new.ngc")), None);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -534,3 +534,50 @@ fn a_face_group_is_selected_by_clicks_and_tangent_chain_and_becomes_one_operatio
 
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Opening a part into a saved project with an operation and a stock starts a new project for
+/// that part: the last part's operations, stock and machine do not stay on it, and Save does
+/// not overwrite the last project's file (issue 35). A part that fails to open changes nothing.
+#[test]
+fn opening_a_part_starts_a_new_project() {
+    use talas::project::Stock;
+    let dir = data_dir("open-part-new-project");
+    let mut h = harness(None, &dir);
+    settle(&mut h);
+    h.state_mut().apply(Command::Edit(Edit::AddOperation {
+        index: 0,
+        operation: Operation::new(OperationKind::Raster, 0, 0),
+    }));
+    let stock = Stock::Box {
+        min_mm: [-1.0, -1.0, -1.0],
+        max_mm: [1.0, 1.0, 1.0],
+    };
+    h.state_mut().apply(Command::Edit(Edit::SetStock(stock)));
+    h.state_mut()
+        .apply(Command::Edit(Edit::SetMachine("trt-ac".into())));
+    let file = dir.join("first.talas");
+    h.state_mut().apply(Command::SaveProjectAs(file.clone()));
+    h.run_steps(2);
+    let saved = std::fs::read_to_string(&file).expect("saved");
+    assert_eq!(h.state().session().path.as_deref(), Some(file.as_path()));
+    // A malformed part: an error, and the project stays as it was.
+    h.state_mut().apply(Command::Open(data("bad/bad-enum.stp")));
+    settle(&mut h);
+    assert_eq!(h.state().session().project.operations.len(), 1);
+    assert_eq!(h.state().session().path.as_deref(), Some(file.as_path()));
+    // A good part: a new, untitled project on it.
+    let stl = data("bicubic-hills.stl");
+    h.state_mut().apply(Command::Open(stl.clone()));
+    settle(&mut h);
+    let session = h.state().session();
+    assert!(session.project.operations.is_empty());
+    assert_eq!(session.project.stock, Stock::None);
+    assert_eq!(session.project.machine, Project::default().machine);
+    assert_eq!(session.path, None, "Save must not overwrite first.talas");
+    assert_eq!(
+        session.project.part.as_ref().map(|p| p.path.clone()),
+        Some(stl)
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), saved);
+    let _ = std::fs::remove_dir_all(&dir);
+}

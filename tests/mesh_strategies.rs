@@ -529,3 +529,118 @@ fn plan_mesh_runs_both_strategies_and_rejects_bad_input() {
     let e = plan_mesh(file, "zlevel-rough", "flat:d=10", &bad_stock).unwrap_err();
     assert!(e.to_string().contains("--stock"), "{e}");
 }
+
+/// A closed axis-aligned box mesh from `lo` to `hi` (12 triangles, outward).
+fn box_mesh(lo: talas::geometry::DVec3, hi: talas::geometry::DVec3) -> TriMesh {
+    use talas::geometry::DVec3;
+    let c = |i: usize| {
+        DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let positions: Vec<DVec3> = (0..8).map(c).collect();
+    let triangles = quads
+        .iter()
+        .flat_map(|q: &[u32; 4]| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    TriMesh::new(positions, triangles)
+}
+
+/// Z-level roughing of a 225 mm deep part with a 22 mm-flute, 70 mm tool stops at the depth the
+/// flutes reach below the stock top (22 mm) with a warning that names the depth and what the
+/// levels below need, instead of planning the full depth; a necked tool (shank narrower than
+/// the cut) reaches its length out of the holder less 1 mm; a tool long enough plans it all.
+/// `cargo test --no-default-features --test mesh_strategies roughing_stops`
+#[test]
+fn roughing_stops_where_the_flutes_and_the_stick_out_reach() {
+    use talas::geometry::DVec3;
+    use talas::geometry::stock::Stock;
+    use talas::strategies::zlevel::{ZlevelOptions, reach_below_top_mm, reach_note, zlevel_rough};
+    let mesh = box_mesh(DVec3::new(0.0, 0.0, 0.0), DVec3::new(40.0, 30.0, 225.0));
+    let bvh = MeshBvh::new(&mesh).unwrap();
+    let stock = Stock::Box {
+        min_mm: [-12.0, -12.0, 0.0],
+        max_mm: [52.0, 42.0, 227.0],
+    };
+    let opts = ZlevelOptions {
+        stock,
+        step_down_mm: 5.0,
+        step_over_mm: 5.0,
+        tolerance_mm: 0.5,
+        ..ZlevelOptions::default()
+    };
+    // The lowest level the part allows: its bottom plus the axial stock to leave.
+    let floor = opts.stock_to_leave_axial_mm;
+    let lowest_cut = |plan: &talas::strategies::zlevel::ZlevelPlan| {
+        plan.toolpath
+            .poses
+            .iter()
+            .filter(|p| p.kind == MoveKind::Cut)
+            .map(|p| p.tip.z)
+            .fold(f64::INFINITY, f64::min)
+    };
+    // 22 mm of flute, 70 mm out of the holder, shank as wide as the cut.
+    let short = tool("flat:d=10,flute=22,length=70");
+    assert_eq!(reach_below_top_mm(&short.cutter), 22.0);
+    let plan = zlevel_rough(&mesh, &bvh, &short, &opts).unwrap();
+    assert!(
+        (plan.levels.last().unwrap() - (227.0 - 22.0)).abs() < 1e-9,
+        "{:?}",
+        plan.levels
+    );
+    assert!((lowest_cut(&plan) - 205.0).abs() < 1e-9);
+    let warning = plan
+        .diagnostics
+        .iter()
+        .find(|d| d.message.contains("roughing stops"))
+        .unwrap_or_else(|| panic!("no warning in {:?}", plan.diagnostics));
+    assert!(
+        warning.message.contains("z = 205.000 mm")
+            && warning.message.contains("22.000 mm flute length")
+            && warning
+                .message
+                .contains("reaches 22.000 mm below the stock top at z = 227.000")
+            && warning
+                .message
+                .contains(&format!("reaches {:.3} mm", 227.0 - floor)),
+        "{}",
+        warning.message
+    );
+    // A necked tool: a 6 mm shank behind a 10 mm cut, 70 mm out of the holder.
+    let necked = tool("flat:d=10,flute=22,shank=6,length=70");
+    assert_eq!(reach_below_top_mm(&necked.cutter), 69.0);
+    let plan = zlevel_rough(&mesh, &bvh, &necked, &opts).unwrap();
+    assert!((lowest_cut(&plan) - (227.0 - 69.0)).abs() < 1e-9);
+    // Long enough: the whole depth, no warning.
+    let long = tool("flat:d=10,flute=240,length=260");
+    let plan = zlevel_rough(&mesh, &bvh, &long, &opts).unwrap();
+    assert!(
+        (lowest_cut(&plan) - floor).abs() < 1e-9,
+        "{}",
+        lowest_cut(&plan)
+    );
+    assert!(
+        !plan
+            .diagnostics
+            .iter()
+            .any(|d| d.message.contains("roughing stops"))
+    );
+    // Said before planning, from the same rule.
+    let part = bvh.bbox();
+    let before = reach_note(&short.cutter, &stock, &part, floor).unwrap();
+    assert!(
+        before.contains("reaches 22.000 mm") && before.contains("stops at z = 205.000 mm"),
+        "{before}"
+    );
+    assert_eq!(reach_note(&long.cutter, &stock, &part, floor), None);
+}

@@ -12,7 +12,7 @@ use talas::geometry::bvh::MeshBvh;
 use talas::geometry::mesh::TriMesh;
 use talas::strategies::waterline::{
     ContourPoint, Cut, Entry, RAMP_HEIGHT_MM, WaterlineOptions, WaterlinePlan, contours_at,
-    waterline,
+    default_sampling_mm, waterline,
 };
 use talas::toolpath::{MoveKind, ToolRecord};
 use talas::tools::dropcutter::drop_cutter_at;
@@ -419,6 +419,10 @@ fn ball_contour_points_touch_the_mesh_where_a_fibre_runs_along_a_wall() {
     assert!(worst < 1e-7, "a contour point is {worst} mm off the mesh");
 }
 
+/// Largest distance between neighbouring contour points of `box_plan` (a diagonal of its
+/// fibre grid: the 6 mm ball's default spacing at 0.05 mm), mm.
+const BOX_STEP: f64 = 1.5 * 0.774_596_669_241_483_4;
+
 /// The 20 mm box of `frustum(10, 10, 20)` planned coarsely with a 6 mm ball, every loop entered
 /// from the clearance plane (no fed links), with `entry` and `cut`.
 fn box_plan(entry: Entry, cut: Cut) -> (TriMesh, WaterlinePlan) {
@@ -539,7 +543,10 @@ fn arc_entry_leads_in_and_out_tangentially_on_the_free_side() {
                 .take_while(|q| q.kind == MoveKind::Cut)
                 .count();
             let end = poses[j + cuts - 1].tip;
-            assert!(end.distance(start) < 1e-12);
+            let run: Vec<DVec3> = std::iter::once(start)
+                .chain(poses[j..j + cuts].iter().map(|q| q.tip))
+                .collect();
+            assert_closes_with_overlap(&run, WaterlineOptions::default().loop_overlap_mm, BOX_STEP);
             let te = (end - poses[j + cuts - 2].tip).truncate().normalize();
             let out: Vec<DVec3> = std::iter::once(end)
                 .chain(
@@ -585,7 +592,10 @@ fn ramp_entry_descends_along_the_loop_at_the_angle() {
     assert!(poses.iter().all(|p| p.kind != MoveKind::Plunge));
     let mut ramps = 0;
     for i in 1..poses.len() {
-        if !(poses[i].kind == MoveKind::Cut && poses[i - 1].kind == MoveKind::Rapid) {
+        // Entered from a rapid, or by a fed link straight down from the level above (where
+        // the loops lie over each other and the last one's overlap ends above this one's).
+        let from_above = matches!(poses[i - 1].kind, MoveKind::Rapid | MoveKind::Link);
+        if !(poses[i].kind == MoveKind::Cut && from_above) {
             continue;
         }
         let start = poses[i - 1].tip;
@@ -607,9 +617,10 @@ fn ramp_entry_descends_along_the_loop_at_the_angle() {
             assert_near!(dz.atan2(dxy), angle, 1e-6);
             prev = *p;
         }
-        // The ramp lies on the loop cut at the level, which closes where the ramp reached it.
+        // The ramp lies on the loop cut at the level, which closes where the ramp reached it
+        // and goes on past it by the overlap.
         assert!(round.iter().all(|p| p.z == level));
-        assert!(round[0].distance(*round.last().unwrap()) < 1e-12);
+        assert_closes_with_overlap(round, WaterlineOptions::default().loop_overlap_mm, BOX_STEP);
         for p in std::iter::once(&start).chain(down) {
             let d = round
                 .windows(2)
@@ -639,6 +650,101 @@ fn ramp_entry_descends_along_the_loop_at_the_angle() {
     }
     assert_eq!(runs, plunged.loops);
     assert!(poses.iter().any(|p| p.kind == MoveKind::Plunge));
+}
+
+/// `run` (a loop's cuts from its first point) comes back through its first point and goes on
+/// past it along the loop's own polyline for at least `overlap` mm, to the next contour point
+/// (at most `step` more; none at all when `overlap` is 0).
+fn assert_closes_with_overlap(run: &[DVec3], overlap: f64, step: f64) {
+    let start = run[0];
+    let back = (1..run.len())
+        .rev()
+        .find(|&k| run[k].distance(start) < 1e-9)
+        .unwrap_or_else(|| panic!("the loop from {start} never comes back to it"));
+    assert!(back > 2, "the loop closes after {back} moves");
+    let beyond: f64 = run[back..].windows(2).map(|w| w[0].distance(w[1])).sum();
+    let most = if overlap > 0.0 { overlap + step } else { 0.0 };
+    assert!(
+        beyond >= overlap - 1e-9 && beyond <= most + 1e-9,
+        "the loop goes on {beyond} mm past its start, not {overlap} to {most} mm"
+    );
+    // The overlap retraces the loop's first moves.
+    for p in &run[back + 1..] {
+        let d = run[..back]
+            .windows(2)
+            .map(|w| segment_distance(p.truncate(), w[0].truncate(), w[1].truncate()))
+            .fold(f64::INFINITY, f64::min);
+        assert!(d < 1e-9, "overlap point {p} is {d} mm off the loop");
+    }
+}
+
+/// Every waterline loop (plunge entry, on the box) is closed: it comes back through its entry
+/// point and cuts on past it by the overlap, so the entry leaves no gap (the first cut pose of
+/// a run is the end of the run's first move, not its start). A straight wall is one move:
+/// no cut pose lies within 1 % of the chord tolerance of the line through its neighbours, and
+/// the path has fewer poses than the contours it follows.
+/// `cargo test --no-default-features --test waterline loops_close`
+#[test]
+fn loops_close_past_their_start_and_straight_walls_are_one_move() {
+    for overlap in [0.5, 2.0, 0.0] {
+        let mesh = frustum(10.0, 10.0, 20.0);
+        let bvh = MeshBvh::new(&mesh).unwrap();
+        let opts = WaterlineOptions {
+            scallop_mm: 1.0,
+            chord_tol_mm: 0.05,
+            max_link_mm: 0.0,
+            loop_overlap_mm: overlap,
+            ..WaterlineOptions::default()
+        };
+        let plan = waterline(&mesh, &bvh, &tool("ball:d=6"), &opts).unwrap();
+        let poses = &plan.toolpath.poses;
+        let mut loops = 0;
+        for (i, p) in poses.iter().enumerate() {
+            // Entered by a plunge, or by a fed link straight down onto the loop.
+            let entered = i + 1 < poses.len()
+                && poses[i + 1].kind == MoveKind::Cut
+                && matches!(p.kind, MoveKind::Plunge | MoveKind::Link);
+            if !entered {
+                continue;
+            }
+            let run: Vec<DVec3> = std::iter::once(p.tip)
+                .chain(
+                    poses[i + 1..]
+                        .iter()
+                        .take_while(|q| q.kind == MoveKind::Cut)
+                        .map(|q| q.tip),
+                )
+                .collect();
+            assert_closes_with_overlap(&run, overlap, BOX_STEP);
+            let eps = 0.01 * opts.chord_tol_mm;
+            // (The loop's closing point is a pose wherever it lies.)
+            for w in run.windows(3).filter(|w| w[1] != run[0]) {
+                let (a, b) = (w[0], w[2]);
+                let f = ((w[1] - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                let d = (a + (b - a) * f).distance(w[1]);
+                assert!(
+                    d > eps,
+                    "{} is carried by the line {} – {}",
+                    w[1],
+                    w[0],
+                    w[2]
+                );
+            }
+            // The contour at this level, as read off the grid, has many more points.
+            let z = p.tip.z;
+            let sampling = default_sampling_mm(3.0, opts.chord_tol_mm);
+            let raw = contours_at(&mesh, &bvh, &tool("ball:d=6").cutter, z, sampling);
+            let raw_points: usize = raw.iter().map(Vec::len).sum();
+            assert!(
+                run.len() * 2 < raw_points,
+                "{} cut poses for {raw_points} contour points at z = {z}",
+                run.len()
+            );
+            loops += 1;
+        }
+        assert_eq!(loops, plan.loops);
+        assert!(loops >= 5);
+    }
 }
 
 /// Horizontal distance from `p` to the segment `a`–`b`.

@@ -35,7 +35,7 @@ use super::panels::status_bar::{StatusInfo, status_bar_ui};
 use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
 use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
-use super::state::{DockTab, Focus};
+use super::state::{DockTab, Focus, NewProject};
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
 use super::toolpaths::ComputedOp;
@@ -310,7 +310,7 @@ impl Workstation {
                 {
                     self.apply(Command::OpenProject(path));
                 } else {
-                    self.start_load(path);
+                    self.start_load(path, NewProject::Yes);
                 }
             }
             Command::OpenDefaultPart => self.start_default_load(),
@@ -448,14 +448,14 @@ impl Workstation {
         );
     }
 
-    fn start_load(&mut self, path: PathBuf) {
+    fn start_load(&mut self, path: PathBuf, starts_project: NewProject) {
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
         self.log_info(format!("Opening {}", path.display()));
         self.run.load_job.start(
-            (),
+            starts_project,
             Job::start(format!("Opening {name}"), &self.run.ctx, move |progress| {
                 load_part(&path, progress)
             }),
@@ -465,7 +465,7 @@ impl Workstation {
     fn start_default_load(&mut self) {
         self.log_info("Opening the default part (bicubic-hills, embedded)");
         self.run.load_job.start(
-            (),
+            NewProject::No,
             Job::start("Opening the default part", &self.run.ctx, load_default_part),
         );
     }
@@ -474,7 +474,7 @@ impl Workstation {
     fn poll_background(&mut self) {
         if let Some(done) = self.run.load_job.poll() {
             match done.result {
-                Some(result) => self.finish_load(result, done.elapsed_s),
+                Some(result) => self.finish_load(result, done.elapsed_s, done.key),
                 None => {
                     let t = self.now_s();
                     self.log.notify(
@@ -567,10 +567,26 @@ impl Workstation {
         }
     }
 
-    fn finish_load(&mut self, result: Result<LoadedPart, LoadError>, elapsed_s: f64) {
+    fn finish_load(
+        &mut self,
+        result: Result<LoadedPart, LoadError>,
+        elapsed_s: f64,
+        starts_project: NewProject,
+    ) {
         let t = self.now_s();
         match result {
             Ok(part) => {
+                if starts_project == NewProject::Yes {
+                    // A part the user opened starts a project of its own (the question about
+                    // unsaved changes was asked before it was opened).
+                    let data_dir = self.saved.session.data_dir.clone();
+                    let every = self.saved.session.autosave_every;
+                    self.saved.session =
+                        ProjectSession::new(new_project(&self.saved.library), data_dir, every);
+                    self.focus = Focus::Selection;
+                    self.reset_derived();
+                    self.log_info(format!("New project for {}", part.path.display()));
+                }
                 for d in &part.diagnostics {
                     self.log
                         .push(t, d.severity, format!("{}: {d}", part.path.display()));

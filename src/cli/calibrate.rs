@@ -73,7 +73,7 @@ pub fn coefficients_json(c: &Coefficients) -> Value {
 /// the measurements do not determine or an output that cannot be written.
 pub fn calibrate(args: &CalibrateArgs) -> Result<Value, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
-    let text = std::fs::read_to_string(&args.file)
+    let text = crate::storage::read_text_bounded(&args.file, crate::storage::TEXT_LIMIT_BYTES)
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let mut rows =
         parse_forces_csv(&text).map_err(|e| bad(Some(format!("line {}", e.line)), e.message))?;

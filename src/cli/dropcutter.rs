@@ -91,7 +91,7 @@ pub fn human(doc: &Value) -> String {
 /// # Errors
 /// An [`ImportError`] naming the file and 1-based line.
 pub fn read_points(path: &Path) -> Result<Vec<DVec2>, ImportError> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
         .map_err(|e| ImportError::new(path, None, format!("cannot read file: {e}")))?;
     let mut lines = text.lines().enumerate();
     match lines.next() {

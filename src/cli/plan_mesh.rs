@@ -261,7 +261,7 @@ fn cli_boundary(text: &str, rule: BoundaryRule) -> Result<Boundary, String> {
         Some("dxf") => polygon_from_dxf,
         _ => return Boundary::parse(text, rule),
     };
-    let content = std::fs::read_to_string(path)
+    let content = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let boundary = Boundary {
         region: Region::Polygon(loop_of(&content).map_err(|e| format!("{}: {e}", path.display()))?),

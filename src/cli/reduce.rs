@@ -94,7 +94,7 @@ pub fn reduce(args: &ReduceArgs) -> Result<Value, ImportError> {
         let z = sample_part(&args.file, args.step)?;
         (z.grid.clone(), Some(z))
     } else {
-        let text = std::fs::read_to_string(&args.file)
+        let text = crate::storage::read_text_bounded(&args.file, crate::storage::TEXT_LIMIT_BYTES)
             .map_err(|e| ImportError::new(&args.file, None, format!("cannot read file: {e}")))?;
         (
             Grid::parse_csv(&text).map_err(|e| file_err(e.into()))?,

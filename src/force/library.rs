@@ -217,7 +217,7 @@ impl Library {
     /// # Errors
     /// A one-line message naming the file and the place.
     pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
             .map_err(|e| format!("{}: cannot read file: {e}", path.display()))?;
         Self::parse(&text).map_err(|m| format!("{}: {m}", path.display()))
     }

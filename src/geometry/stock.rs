@@ -121,6 +121,27 @@ impl Stock {
         }
     }
 
+    /// The upright cylinder around `points` (a part's mesh vertices, mm): the smallest circle
+    /// that holds their XY projections grown by `margin_mm`, its bottom flush with the lowest
+    /// point and its top `margin_mm` above the highest (as the default box: the part sits on
+    /// its bottom). `None` without a finite point.
+    #[must_use]
+    pub fn cylinder_enclosing(points: &[glam::DVec3], margin_mm: f64) -> Option<Self> {
+        let finite: Vec<glam::DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
+        let xy: Vec<glam::DVec2> = finite.iter().map(|p| p.truncate()).collect();
+        let (centre, radius) = smallest_enclosing_circle(&xy)?;
+        let (lo, hi) = finite
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.z), hi.max(p.z))
+            });
+        Some(Self::Cylinder {
+            base_mm: [centre.x, centre.y, lo],
+            radius_mm: radius + margin_mm,
+            height_mm: (hi - lo) + margin_mm,
+        })
+    }
+
     /// Check the sizes: finite, min < max, positive radius and height.
     ///
     /// # Errors
@@ -248,10 +269,169 @@ impl StockSpec {
     }
 }
 
+/// The smallest circle holding every point (centre, radius), by Welzl's algorithm in its
+/// iterative form (expected linear time) over the points in a fixed pseudo-random order, so the
+/// result does not depend on the input order's worst case and is the same on every run.
+/// `None` for no points. Written here: it is some 40 lines, and the crates that offer it are
+/// small and unmaintained (see ARCHITECTURE.md).
+#[must_use]
+pub fn smallest_enclosing_circle(points: &[glam::DVec2]) -> Option<(glam::DVec2, f64)> {
+    use glam::DVec2;
+    let first = *points.first()?;
+    let mut pts: Vec<DVec2> = points.to_vec();
+    // Fisher–Yates with a fixed 64-bit LCG: deterministic, and no adversarial order.
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    for i in (1..pts.len()).rev() {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let j = ((state >> 33) % (i as u64 + 1)) as usize;
+        pts.swap(i, j);
+    }
+    // Points within this relative slack of the circle count as inside (rounding).
+    let inside = |c: DVec2, r: f64, p: DVec2| p.distance(c) <= r * (1.0 + 1e-12) + 1e-12;
+    let two = |a: DVec2, b: DVec2| (0.5 * (a + b), 0.5 * a.distance(b));
+    let three = |a: DVec2, b: DVec2, c: DVec2| {
+        let (ab, ac) = (b - a, c - a);
+        let d = 2.0 * ab.perp_dot(ac);
+        if d.abs() <= 1e-18 * ab.length_squared().max(ac.length_squared()).max(1e-300) {
+            // Collinear: the circle on the two farthest apart.
+            let cands = [two(a, b), two(a, c), two(b, c)];
+            return cands
+                .into_iter()
+                .fold((a, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+        }
+        let o = DVec2::new(
+            ac.y * ab.length_squared() - ab.y * ac.length_squared(),
+            ab.x * ac.length_squared() - ac.x * ab.length_squared(),
+        ) / d;
+        (a + o, o.length())
+    };
+    let (mut c, mut r) = (first, 0.0);
+    for i in 0..pts.len() {
+        if inside(c, r, pts[i]) {
+            continue;
+        }
+        (c, r) = (pts[i], 0.0);
+        for j in 0..i {
+            if inside(c, r, pts[j]) {
+                continue;
+            }
+            (c, r) = two(pts[i], pts[j]);
+            for k in 0..j {
+                if !inside(c, r, pts[k]) {
+                    (c, r) = three(pts[i], pts[j], pts[k]);
+                }
+            }
+        }
+    }
+    Some((c, r))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
+    use glam::{DVec2, DVec3};
+
+    /// The smallest circle against brute force: the least circle through two or three of the
+    /// points that holds them all, on seeded random sets (clustered, on a circle, collinear).
+    #[test]
+    fn smallest_circle_is_the_least_of_all_circles_through_two_or_three_points() {
+        let mut state: u64 = 7;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..60 {
+            let n = 3 + case % 10;
+            let pts: Vec<DVec2> = (0..n)
+                .map(|_| match case % 3 {
+                    0 => DVec2::new(next() * 50.0 - 20.0, next() * 30.0 + 5.0),
+                    1 => {
+                        let a = next() * std::f64::consts::TAU;
+                        DVec2::new(3.0 + 40.0 * a.cos(), -7.0 + 40.0 * a.sin())
+                    }
+                    _ => {
+                        let t = next();
+                        DVec2::new(10.0 * t, 4.0 * t - 1.0)
+                    }
+                })
+                .collect();
+            let holds = |c: DVec2, r: f64| pts.iter().all(|p| p.distance(c) <= r + 1e-9);
+            let mut best = f64::INFINITY;
+            for i in 0..n {
+                for j in i + 1..n {
+                    let (c, r) = (0.5 * (pts[i] + pts[j]), 0.5 * pts[i].distance(pts[j]));
+                    if holds(c, r) {
+                        best = best.min(r);
+                    }
+                    for k in j + 1..n {
+                        let (a, b, q) = (pts[i], pts[j], pts[k]);
+                        let (ab, aq) = (b - a, q - a);
+                        let d = 2.0 * ab.perp_dot(aq);
+                        if d.abs() < 1e-9 {
+                            continue;
+                        }
+                        let o = DVec2::new(
+                            aq.y * ab.length_squared() - ab.y * aq.length_squared(),
+                            ab.x * aq.length_squared() - aq.x * ab.length_squared(),
+                        ) / d;
+                        if holds(a + o, o.length()) {
+                            best = best.min(o.length());
+                        }
+                    }
+                }
+            }
+            let (c, r) = smallest_enclosing_circle(&pts).unwrap();
+            assert!(holds(c, r), "case {case}: a point lies outside");
+            assert!(
+                (r - best).abs() < 1e-7,
+                "case {case}: {r} vs brute force {best}"
+            );
+        }
+        assert_eq!(smallest_enclosing_circle(&[]), None);
+        let one = DVec2::new(1.0, 2.0);
+        assert_eq!(smallest_enclosing_circle(&[one]), Some((one, 0.0)));
+    }
+
+    /// "Cylinder around part" on an Ø80 part is Ø80 + 2·margin, not the circle through its
+    /// bounding box's corners (Ø117.1 for Ø80 + 2 mm), bottom flush, top + margin.
+    #[test]
+    fn cylinder_around_a_round_part_fits_the_part_not_its_box() {
+        let pts: Vec<DVec3> = (0..360)
+            .flat_map(|i| {
+                let a = (i as f64).to_radians();
+                let p = DVec3::new(12.0 + 40.0 * a.cos(), -5.0 + 40.0 * a.sin(), 0.0);
+                [p, p + DVec3::Z * 25.0]
+            })
+            .collect();
+        let Some(Stock::Cylinder {
+            base_mm,
+            radius_mm,
+            height_mm,
+        }) = Stock::cylinder_enclosing(&pts, 2.0)
+        else {
+            panic!("a cylinder");
+        };
+        assert!((radius_mm - 42.0).abs() < 1e-9, "{radius_mm}");
+        assert!((base_mm[0] - 12.0).abs() < 1e-9 && (base_mm[1] + 5.0).abs() < 1e-9);
+        assert!(base_mm[2].abs() < 1e-12 && (height_mm - 27.0).abs() < 1e-12);
+        let bounds = Aabb {
+            min: DVec3::new(-28.0, -45.0, 0.0),
+            max: DVec3::new(52.0, 35.0, 25.0),
+        };
+        let Stock::Cylinder { radius_mm: old, .. } = Stock::cylinder_around(&bounds, 2.0) else {
+            panic!("a cylinder");
+        };
+        assert!(
+            (2.0 * old - 117.137).abs() < 1e-3,
+            "the box rule gives {}",
+            2.0 * old
+        );
+        assert_eq!(Stock::cylinder_enclosing(&[DVec3::NAN], 2.0), None);
+    }
 
     fn part() -> Aabb {
         Aabb {

@@ -49,7 +49,8 @@ pub fn read_profile(path: &Path, tolerance_mm: f64) -> Result<Profile, ProfileEr
             "unknown extension (expected .csv, .dxf or .svg)",
         )
     })?;
-    let bytes = std::fs::read(path).map_err(|e| ProfileError::new(&file, "file", e.to_string()))?;
+    let bytes = crate::storage::read_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
+        .map_err(|e| ProfileError::new(&file, "file", e.to_string()))?;
     let profile = match format {
         ProfileFormat::Dxf => parse_dxf(&bytes, &file)?,
         ProfileFormat::Csv | ProfileFormat::Svg => {

@@ -181,10 +181,11 @@ impl Project {
     /// # Errors
     /// [`ProjectError`] naming the file (and the line and column for syntax errors).
     pub fn load(path: &Path) -> Result<Self, ProjectError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ProjectError::Io {
-            path: path.to_path_buf(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
+            .map_err(|e| ProjectError::Io {
+                path: path.to_path_buf(),
+                message: format!("cannot read: {e}"),
+            })?;
         Self::from_toml(&text, path)
     }
 

@@ -41,7 +41,8 @@ impl PartRef {
     /// # Errors
     /// The I/O error's text, naming the file, when it cannot be read.
     pub fn from_file(path: &Path) -> Result<Self, String> {
-        let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let bytes = crate::storage::read_bounded(path, crate::storage::PART_LIMIT_BYTES)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(Self::from_bytes(path, &bytes))
     }
 
@@ -58,7 +59,7 @@ impl PartRef {
     /// Compare the file on disk now with the reference.
     #[must_use]
     pub fn status(&self) -> PartStatus {
-        match std::fs::read(&self.path) {
+        match crate::storage::read_bounded(&self.path, crate::storage::PART_LIMIT_BYTES) {
             Ok(bytes) if content_hash(&bytes) == self.content_hash => PartStatus::Unchanged,
             Ok(_) => PartStatus::Changed,
             Err(e) => PartStatus::Missing(format!("{}: {e}", self.path.display())),

@@ -18,7 +18,8 @@
 //! - **Direction**: climb (the part on the right of the travel, spindle clockwise) or
 //!   conventional (loops reversed).
 //! - **Order and links**: levels from the top down; within a level the nearest loop next, each
-//!   loop entered at its point nearest to where the tool is and closed back to it. A link at
+//!   loop entered at its point nearest to where the tool is, closed back to it and cut on
+//!   past it by `loop_overlap_mm` (0.5 mm by default) so the entry leaves no mark. A link at
 //!   the same level or downward whose straight XY path the cutter can travel at the lower of
 //!   the two heights without meeting the mesh (checked with the same push-cutter) and shorter
 //!   than `max_link_mm` is a fed move; otherwise the tool retracts to the clearance plane,
@@ -30,6 +31,9 @@
 //! - **Steep parts only** (`steep_only`): with a threshold, only the runs of each loop whose
 //!   contacts are at least `min_slope_rad` steep are cut (less an overlap band), each as an
 //!   open pass; that is the waterline half of steep-and-shallow finishing.
+//! - **Points a line carries are dropped**: a contour point within 1 % of the chord tolerance
+//!   ([`COLLINEAR_FRACTION`]) of the line from the last kept point to a later one is left out,
+//!   so a straight wall is one move, not one pose per fibre.
 
 mod contour;
 mod entry;
@@ -92,7 +96,22 @@ pub struct WaterlineOptions {
     /// How each loop (or steep run) is entered.
     #[serde(default)]
     pub entry: Entry,
+    /// How far a closed loop is cut on past its start, mm (≥ 0), so the entry leaves no
+    /// witness mark; at most the loop's length.
+    #[serde(default = "default_loop_overlap_mm")]
+    pub loop_overlap_mm: f64,
 }
+
+/// The default overlap of a closed loop past its start, mm.
+pub const DEFAULT_LOOP_OVERLAP_MM: f64 = 0.5;
+
+fn default_loop_overlap_mm() -> f64 {
+    DEFAULT_LOOP_OVERLAP_MM
+}
+
+/// Contour points within this fraction of the chord tolerance of the line through their
+/// neighbours are dropped: the line already carries them.
+pub const COLLINEAR_FRACTION: f64 = 0.01;
 
 impl Default for WaterlineOptions {
     fn default() -> Self {
@@ -110,6 +129,7 @@ impl Default for WaterlineOptions {
             plunge_feed_mm_per_min: 300.0,
             max_link_mm: 10.0,
             entry: Entry::Plunge,
+            loop_overlap_mm: DEFAULT_LOOP_OVERLAP_MM,
         }
     }
 }
@@ -179,10 +199,14 @@ fn check_options(o: &WaterlineOptions) -> Result<(), WaterlineError> {
         }
     }
     o.entry.validate().map_err(WaterlineError::Option)?;
-    for (what, v) in [("clearance", o.clearance_mm), ("max link", o.max_link_mm)] {
-        if !(v >= 0.0 && v.is_finite()) {
+    for (what, v) in [
+        ("clearance", o.clearance_mm),
+        ("max link", o.max_link_mm),
+        ("loop overlap", o.loop_overlap_mm),
+    ] {
+        if !(0.0..1e6).contains(&v) {
             return Err(WaterlineError::Option(format!(
-                "{what} must be ≥ 0 mm, got {v}"
+                "{what} must be 0 to 1000000 mm, got {v}"
             )));
         }
     }
@@ -374,14 +398,9 @@ fn runs(lp: &[ContourPoint], opts: &WaterlineOptions) -> Vec<Vec<ContourPoint>> 
     if opts.cut == Cut::Conventional {
         pts.reverse();
     }
-    if !opts.steep_only {
-        let first = pts[0];
-        pts.push(first);
-        return vec![pts];
-    }
     let limit = (opts.min_slope_rad - opts.overlap_rad).max(0.0);
     let steep: Vec<bool> = pts.iter().map(|p| p.slope >= limit).collect();
-    if steep.iter().all(|s| *s) {
+    if !opts.steep_only || steep.iter().all(|s| *s) {
         let first = pts[0];
         pts.push(first);
         return vec![pts];
@@ -408,6 +427,43 @@ fn runs(lp: &[ContourPoint], opts: &WaterlineOptions) -> Vec<Vec<ContourPoint>> 
         out.push(run);
     }
     out
+}
+
+/// The indices of the points of `pts` to keep: a point within `eps` of the straight line from
+/// the last kept point to a later one is left out (the line carries it); the first and last
+/// points are kept.
+fn kept_points(pts: &[ContourPoint], eps: f64) -> Vec<usize> {
+    /// The most points one line may carry before a point is kept anyway (bounds the work).
+    const WINDOW: usize = 4096;
+    if pts.len() <= 2 {
+        return (0..pts.len()).collect();
+    }
+    let mut out = vec![0];
+    let mut anchor = 0;
+    for j in 2..pts.len() {
+        let (a, b) = (pts[anchor].tip, pts[j].tip);
+        let carried = j - anchor <= WINDOW
+            && pts[anchor + 1..j]
+                .iter()
+                .all(|p| distance_to_segment(p.tip, a, b) <= eps);
+        if !carried {
+            anchor = j - 1;
+            out.push(anchor);
+        }
+    }
+    out.push(pts.len() - 1);
+    out
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    if len2 <= 1e-24 {
+        return p.distance(a);
+    }
+    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
+    p.distance(a + ab * t)
 }
 
 /// Whether the cutter at tip height `z` travels from `a` to `b` without meeting the mesh.

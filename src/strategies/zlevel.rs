@@ -365,6 +365,8 @@ pub fn zlevel_rough(
 
     let top = blank.top();
     let (levels, mut diagnostics) = cutting_levels(mesh, bvh, &blank, opts, lift, big);
+    let (levels, short) = within_reach(levels, top, cutter);
+    diagnostics.extend(short);
 
     let clear_z = top.max(bvh.bbox().max.z) + opts.clearance_mm;
     let mut poses: Vec<Pose> = Vec::new();
@@ -454,6 +456,85 @@ pub fn zlevel_rough(
         contours,
         diagnostics,
     })
+}
+
+/// What a necked tool keeps between its holder face and the stock top, mm.
+pub const HOLDER_CLEARANCE_MM: f64 = 1.0;
+
+/// How far below the stock top `cutter` can cut a level, mm: its flute length (above the
+/// flutes a shank as wide as the cut rubs the walls the levels above left), or, for a necked
+/// tool (shank narrower than the cut, which stays inside the cut's walls), its length out of
+/// the holder less [`HOLDER_CLEARANCE_MM`].
+#[must_use]
+pub fn reach_below_top_mm(cutter: &Cutter) -> f64 {
+    if cutter.shank_diameter < cutter.diameter - 1e-9 {
+        (cutter.overall_length - HOLDER_CLEARANCE_MM).max(cutter.flute_length)
+    } else {
+        cutter.flute_length
+    }
+}
+
+/// Before planning: where roughing `stock` (the default around `part` when none) down to the
+/// part's lowest point plus `stock_to_leave_axial_mm` would stop because `cutter` does not
+/// reach that deep ([`reach_below_top_mm`]), in words; `None` when it reaches the whole depth.
+#[must_use]
+pub fn reach_note(
+    cutter: &Cutter,
+    stock: &Stock,
+    part: &Aabb,
+    stock_to_leave_axial_mm: f64,
+) -> Option<String> {
+    let blank = Blank::of(stock, part);
+    let (top, floor) = (
+        blank.top(),
+        blank.bottom().max(part.min.z + stock_to_leave_axial_mm),
+    );
+    let reach = reach_below_top_mm(cutter);
+    (top - floor > reach + 1e-9).then(|| {
+        format!(
+            "this tool reaches {reach:.3} mm below the stock top; the roughing is {:.3} mm deep \
+             and stops at z = {:.3} mm",
+            top - floor,
+            top - reach
+        )
+    })
+}
+
+/// `levels` (top down) without those deeper below `top` than the tool reaches
+/// ([`reach_below_top_mm`]), with a level at the deepest reachable height when some were
+/// left out, and the warning that says so.
+fn within_reach(levels: Vec<f64>, top: f64, cutter: &Cutter) -> (Vec<f64>, Option<Diagnostic>) {
+    let reach = reach_below_top_mm(cutter);
+    let deepest = top - reach;
+    let Some(bottom) = levels.last().copied().filter(|z| *z < deepest - 1e-9) else {
+        return (levels, None);
+    };
+    let cut_off = levels.iter().filter(|z| **z < deepest - 1e-9).count();
+    let mut kept: Vec<f64> = levels
+        .into_iter()
+        .filter(|z| *z >= deepest - 1e-9)
+        .collect();
+    if kept.last().is_none_or(|z| *z > deepest + 1e-6) {
+        kept.push(deepest);
+    }
+    let what = if cutter.shank_diameter < cutter.diameter - 1e-9 {
+        format!(
+            "its {:.3} mm out of the holder less {HOLDER_CLEARANCE_MM} mm",
+            cutter.overall_length
+        )
+    } else {
+        format!("its {:.3} mm flute length", cutter.flute_length)
+    };
+    let note = Diagnostic::warning(
+        None,
+        format!(
+            "roughing stops at z = {deepest:.3} mm: the tool reaches {reach:.3} mm below the \
+             stock top at z = {top:.3} mm ({what}); the {cut_off} levels below, down to \
+             z = {bottom:.3} mm, need a tool that reaches {:.3} mm",
+            top - bottom
+        ),
+    );
+    (kept, Some(note))
 }
 
 /// The cutting levels, top down: every step-down from the blank's top to the stock bottom or the

@@ -95,6 +95,23 @@ pub fn operation_editor_ui(
             commit |= kind_rows(ui, view.document, &mut draft);
             commit |= boundary::boundary_rows(ui, view.document, &mut draft);
         });
+    if let (
+        Operation::Rough {
+            stock_to_leave_axial_mm,
+            ..
+        },
+        Some(document),
+        Some(tool),
+    ) = (&draft, view.document, view.project.tools.get(draft.tool()))
+        && let Some(note) = crate::strategies::zlevel::reach_note(
+            &tool.cutter,
+            &view.project.stock,
+            &document.bounds,
+            *stock_to_leave_axial_mm,
+        )
+    {
+        ui.colored_label(theme::WARNING, format!("⚠ {note}"));
+    }
     if commit && draft != *current {
         commands.push(Command::Edit(Edit::SetOperation {
             index: view.index,

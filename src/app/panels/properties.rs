@@ -15,7 +15,7 @@ use super::machine_panel::{MachinePanel, MachinePanelEvent, PostSettings};
 use super::operation_editor::{OperationForm, OperationView, operation_editor_ui};
 use super::tool_library::{ToolForm, tool_editor_ui};
 use crate::diagnostics::Severity;
-use crate::project::{Edit, Project, Stock};
+use crate::project::{DEFAULT_MARGIN_MM, Edit, Project, Stock};
 
 /// What the properties panel reads.
 pub struct PropertiesView<'a> {
@@ -202,10 +202,16 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
                         Stock::None.or_default_for(&b),
                     )));
                 }
-                if ui.button("Cylinder around part +2 mm").clicked() {
-                    commands.push(Command::Edit(Edit::SetStock(Stock::cylinder_around(
-                        &b, 2.0,
-                    ))));
+                if ui
+                    .button("Cylinder around part +2 mm (sides, top)")
+                    .on_hover_text("The smallest upright cylinder around the part's mesh")
+                    .clicked()
+                {
+                    let points = view.document.map(|d| d.part.mesh().positions.as_slice());
+                    let cylinder = points
+                        .and_then(|p| Stock::cylinder_enclosing(p, DEFAULT_MARGIN_MM))
+                        .unwrap_or_else(|| Stock::default_cylinder_for(&b));
+                    commands.push(Command::Edit(Edit::SetStock(cylinder)));
                 }
             }
         });

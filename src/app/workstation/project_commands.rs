@@ -233,7 +233,7 @@ impl Workstation {
             return;
         }
         match wanted {
-            Some(path) => self.start_load(path),
+            Some(path) => self.start_load(path, super::state::NewProject::No),
             None => self.start_default_load(),
         }
     }

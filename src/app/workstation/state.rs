@@ -28,7 +28,20 @@ use super::super::tool_library::ToolLibrary;
 use crate::render::DataId;
 
 /// Loading a part.
-pub(super) type LoadJob = JobSlot<Result<LoadedPart, LoadError>>;
+/// Loading a part; the key says whether the part starts a new project once it has loaded (a
+/// part the user opened, not the part of an opened project).
+pub(super) type LoadJob = JobSlot<Result<LoadedPart, LoadError>, NewProject>;
+
+/// Whether a loaded part starts a new project.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum NewProject {
+    /// The part is the open project's (a project opened, its part reloaded).
+    No,
+    /// The user opened this part: once it has loaded it starts a new project, so the last
+    /// part's stock, operations and machine do not stay on it and Save does not overwrite the
+    /// last project's file.
+    Yes,
+}
 /// A curvature job, keyed by the render id of the document it is for.
 pub(super) type FieldJob = JobSlot<Result<CurvatureField, ()>, DataId>;
 

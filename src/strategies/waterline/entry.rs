@@ -21,7 +21,9 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use super::{ContourPoint, Cut, WaterlineOptions, link_free, push::Profile};
+use super::{
+    COLLINEAR_FRACTION, ContourPoint, Cut, WaterlineOptions, kept_points, link_free, push::Profile,
+};
 use crate::geometry::bvh::MeshBvh;
 use crate::geometry::mesh::TriMesh;
 use crate::toolpath::{ContactKind, MoveKind, Pose};
@@ -151,31 +153,42 @@ pub(super) struct Approach {
     pub fell_back: bool,
 }
 
-/// The approach to `run` (closed runs end at their start) with the ramp starting `ramp_h`
-/// above the level (≤ 0: no ramp needed, the tool arrives at the level).
+/// The approach to `raw` (the contour points of a run; closed runs end at their start) with
+/// the ramp starting `ramp_h` above the level (≤ 0: no ramp needed, the tool arrives at the
+/// level). The points a line carries are dropped; a closed loop is cut on past its start to
+/// the first contour point at least `loop_overlap_mm` along it (every pose stays a contour
+/// point, so the lead-out leaves from the exact contour).
 pub(super) fn approach(
     ctx: &Ctx,
-    run: &[ContourPoint],
+    raw: &[ContourPoint],
     opts: &WaterlineOptions,
     ramp_h: f64,
 ) -> Approach {
     let feed = opts.feed_mm_per_min;
+    let eps = COLLINEAR_FRACTION * opts.chord_tol_mm;
+    let closed = raw.len() > 2 && raw[0].tip == raw[raw.len() - 1].tip;
+    let kept = kept_points(raw, eps);
+    let run: Vec<ContourPoint> = kept.iter().map(|&i| raw[i]).collect();
+    let mut cut_run = run.clone();
+    if closed {
+        cut_run.extend(overlap(raw[0], &raw[1..], opts.loop_overlap_mm, eps));
+    }
     let plunge = |fell_back| Approach {
         start: run[0].tip,
         gap: RAMP_HEIGHT_MM,
-        moves: cuts(ctx, &run[1..], feed),
+        moves: cuts(ctx, &cut_run[1..], feed),
         fell_back,
     };
     match opts.entry {
         Entry::Plunge => plunge(false),
         Entry::Arc { radius_mm } => {
             let r = radius_mm.unwrap_or_else(|| ctx.prof.radius());
-            let Some((lead_in, lead_out)) = arcs(ctx, run, r, opts) else {
+            let Some((lead_in, lead_out)) = arcs(ctx, &cut_run, r, opts) else {
                 return plunge(true);
             };
             let link = |p: &DVec3| Pose::new(MoveKind::Link, *p, DVec3::Z, feed);
             let mut moves: Vec<Pose> = lead_in[1..].iter().map(link).collect();
-            moves.extend(cuts(ctx, &run[1..], feed));
+            moves.extend(cuts(ctx, &cut_run[1..], feed));
             moves.extend(lead_out[1..].iter().map(link));
             Approach {
                 start: lead_in[0],
@@ -186,9 +199,8 @@ pub(super) fn approach(
         }
         Entry::Ramp { .. } if ramp_h <= 1e-9 => plunge(false),
         Entry::Ramp { angle_rad } => {
-            let closed = run.len() > 2 && run[0].tip == run[run.len() - 1].tip;
             match closed
-                .then(|| ramp(ctx, run, ramp_h, angle_rad, opts))
+                .then(|| ramp(ctx, (raw, &kept), ramp_h, angle_rad, opts))
                 .flatten()
             {
                 Some(a) => a,
@@ -196,6 +208,33 @@ pub(super) fn approach(
             }
         }
     }
+}
+
+/// The contour points passed walking on from `from` through `pts` in order until at least
+/// `dist` mm are covered (the last one is the first at or past `dist`; all of `pts` when the
+/// loop is shorter), less those a line carries within `eps`.
+fn overlap(from: ContourPoint, pts: &[ContourPoint], dist: f64, eps: f64) -> Vec<ContourPoint> {
+    if dist <= 0.0 {
+        return Vec::new();
+    }
+    let mut walked = vec![from];
+    let mut left = dist;
+    for p in pts {
+        let d = walked[walked.len() - 1].tip.distance(p.tip);
+        if d <= 1e-12 {
+            continue;
+        }
+        walked.push(*p);
+        left -= d;
+        if left <= 1e-9 {
+            break;
+        }
+    }
+    kept_points(&walked, eps)
+        .into_iter()
+        .skip(1)
+        .map(|i| walked[i])
+        .collect()
 }
 
 /// Cutting moves through `pts`, each with its contact.
@@ -285,11 +324,12 @@ fn arcs(
 /// the level from where the ramp reached it round to that point; `None` when not clear.
 fn ramp(
     ctx: &Ctx,
-    run: &[ContourPoint],
+    (raw, kept): (&[ContourPoint], &[usize]),
     h: f64,
     angle: f64,
     opts: &WaterlineOptions,
 ) -> Option<Approach> {
+    let run: Vec<ContourPoint> = kept.iter().map(|&i| raw[i]).collect();
     let feed = opts.feed_mm_per_min;
     let z = run[0].tip.z;
     let lp: Vec<DVec2> = run.iter().map(|p| p.tip.truncate()).collect();
@@ -334,6 +374,21 @@ fn ramp(
     if q.truncate().distance(run[seg].tip.truncate()) > 1e-9 {
         moves.push(Pose::new(MoveKind::Cut, q, DVec3::Z, feed));
     }
+    // On past where the level pass closed, by the overlap (through the contour points after
+    // the segment the ramp reached).
+    let eps = COLLINEAR_FRACTION * opts.chord_tol_mm;
+    let here = ContourPoint { tip: q, ..run[seg] };
+    let (a, b) = (raw[kept[seg]].tip, raw[kept[seg + 1]].tip);
+    let along_seg = |p: DVec3| (p - a).dot(b - a);
+    let next = (kept[seg] + 1..=kept[seg + 1])
+        .find(|&i| along_seg(raw[i].tip) > along_seg(q) + 1e-12)
+        .unwrap_or(kept[seg + 1]);
+    let ahead: Vec<ContourPoint> = raw[next..].iter().chain(&raw[1..=next]).copied().collect();
+    moves.extend(cuts(
+        ctx,
+        &overlap(here, &ahead, opts.loop_overlap_mm, eps),
+        feed,
+    ));
     Some(Approach {
         start,
         gap: 0.0,

@@ -48,16 +48,34 @@ fn region_text(region: &Region) -> String {
             .map(|v| format!("{},{}", v[0], v[1]))
             .collect::<Vec<_>>()
             .join("; "),
-        Region::Faces(f) => f
-            .iter()
-            .map(ToString::to_string)
-            .collect::<Vec<_>>()
-            .join(", "),
+        Region::Faces(f) => faces_text(f),
         Region::Silhouette => String::new(),
     }
 }
 
-/// A starting region of `kind`: the part's box outline for a polygon, face 0 for faces.
+/// Face indices as the project tree numbers them (from 1).
+fn faces_text(faces: &[usize]) -> String {
+    faces
+        .iter()
+        .map(|f| (f + 1).to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Face numbers typed as the project tree shows them (from 1), as the engine's indices
+/// (from 0); the reason when one is not a face number.
+fn parse_faces(text: &str) -> Result<Vec<usize>, String> {
+    text.split(',')
+        .map(|v| match v.trim().parse::<usize>() {
+            Ok(0) => Err("face numbers start at 1, as in the project tree".to_string()),
+            Ok(n) => Ok(n - 1),
+            Err(_) => Err(format!("boundary face '{}' is not a face number", v.trim())),
+        })
+        .collect()
+}
+
+/// A starting region of `kind`: the part's box outline for a polygon, the first face (Face 1)
+/// for faces.
 fn start_region(kind: Kind, document: Option<&Document>) -> Option<Region> {
     match kind {
         Kind::Whole => None,
@@ -144,7 +162,10 @@ fn region_row(ui: &mut egui::Ui, kind: Kind, boundary: &mut Boundary) -> bool {
             "Vertices X,Y in mm, separated by ';' (at least three)",
         )
     } else {
-        ("Faces", "Face numbers of the part, separated by ','")
+        (
+            "Faces",
+            "Face numbers as in the project tree (from 1), separated by ','",
+        )
     };
     let l = label(ui, title, hint);
     let id = l.with("boundary text");
@@ -159,7 +180,10 @@ fn region_row(ui: &mut egui::Ui, kind: Kind, boundary: &mut Boundary) -> bool {
         let parsed = if kind == Kind::Polygon {
             Boundary::parse(&text, boundary.rule)
         } else {
-            Boundary::parse(&format!("faces:{text}"), boundary.rule)
+            parse_faces(&text).and_then(|f| {
+                let list: Vec<String> = f.iter().map(ToString::to_string).collect();
+                Boundary::parse(&format!("faces:{}", list.join(",")), boundary.rule)
+            })
         };
         match &parsed {
             Ok(b) if confirmed => {
@@ -180,4 +204,20 @@ fn region_row(ui: &mut egui::Ui, kind: Kind, boundary: &mut Boundary) -> bool {
     });
     ui.end_row();
     commit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The field numbers faces as the tree does: "Face 3" in the tree is `3` in the field and
+    /// index 2 in the engine; 0 is refused.
+    #[test]
+    fn face_numbers_in_the_field_are_the_trees() {
+        assert_eq!(faces_text(&[0, 2, 291]), "1, 3, 292");
+        assert_eq!(parse_faces(" 1, 3,292 "), Ok(vec![0, 2, 291]));
+        assert_eq!(parse_faces(&faces_text(&[4, 7])), Ok(vec![4, 7]));
+        assert!(parse_faces("0").unwrap_err().contains("start at 1"));
+        assert!(parse_faces("2, x").unwrap_err().contains("'x'"));
+    }
 }
