@@ -580,3 +580,38 @@ fn operations_in_one_program_change_tools_in_order() {
         }
     }
 }
+
+#[test]
+fn a_five_axis_machine_writes_arcs_while_its_rotaries_stand_still() {
+    let tp = arcs_path();
+    let trt = Machine::builtin("trt-ac").unwrap();
+    for name in ["linuxcnc", "fanuc", "siemens"] {
+        let d = Dialect::builtin(name).unwrap();
+        let text = post(&tp, &trt, &d, &options()).unwrap();
+        let program = read(&text, name);
+        let radii: Vec<f64> = program
+            .blocks
+            .iter()
+            .filter_map(|b| b.kind.arc())
+            .map(|a| a.radius_mm)
+            .collect();
+        assert!(radii.len() >= 5, "{name}: {radii:?}");
+        for r in &radii {
+            assert!(
+                [10.0, 4.0, 5.0].iter().any(|m| (r - m).abs() < 2e-4),
+                "{name}: radius {r}"
+            );
+        }
+        // Under TCP the arcs are lines.
+        let tcp = PostOptions {
+            tcp: true,
+            ..options()
+        };
+        let text = post(&tp, &trt, &d, &tcp).unwrap();
+        let program = read(&text, name);
+        assert!(
+            program.blocks.iter().all(|b| b.kind.arc().is_none()),
+            "{name}"
+        );
+    }
+}
