@@ -73,6 +73,66 @@ pub struct Dialect {
     pub footer: Vec<String>,
     /// Lines after everything.
     pub trailer: Vec<String>,
+    /// Write arcs as G2/G3 (false: every arc as lines within the post tolerance).
+    pub arcs: bool,
+    /// Clockwise arc code.
+    pub arc_cw: String,
+    /// Counter-clockwise arc code.
+    pub arc_ccw: String,
+    /// Plane codes arcs may be written in, of `G17` (XY), `G18` (ZX), `G19` (YZ); an arc in
+    /// another plane is written as lines.
+    pub arc_planes: Vec<String>,
+    /// How an arc's centre is written: `ijk` (incremental I J K) or `radius` (R, negative
+    /// beyond 180°).
+    pub arc_centre: ArcCentre,
+    /// Largest arc radius written as an arc, mm (larger: lines).
+    pub arc_max_radius_mm: f64,
+    /// Largest sweep of one arc block, degrees (longer arcs are split; at most 360, and 150
+    /// with `radius` centres, where R is ill-conditioned near 180°).
+    pub arc_max_sweep_deg: f64,
+    /// Helices (arcs rising along the plane normal) allowed as arcs.
+    pub helix: bool,
+    /// How canned cycles are written.
+    pub cycles: CycleStyle,
+    /// Dwell at the bottom of an RS274 cycle (`P`) in milliseconds rather than seconds
+    /// (Fanuc).
+    pub cycle_dwell_ms: bool,
+    /// Dwell block template, with `{seconds}` or `{ms}`.
+    pub dwell: String,
+    /// Spindle counter-clockwise (tapping out), clockwise, and stop codes.
+    pub spindle_reverse: String,
+    /// Spindle clockwise.
+    pub spindle_forward: String,
+    /// Spindle stop.
+    pub spindle_stop: String,
+    /// Blocks between two operations of one program before the tool change (optional stop,
+    /// coolant and spindle off).
+    pub between_operations: Vec<String>,
+}
+
+/// How an arc's centre is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArcCentre {
+    /// Incremental I J K from the start point (RS274 default, Siemens).
+    Ijk,
+    /// Signed radius R (negative for arcs beyond 180°).
+    Radius,
+}
+
+/// How a dialect writes canned cycles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CycleStyle {
+    /// G73, G81–G86, G89 with G98/G99 and G80 (LinuxCNC, Fanuc).
+    Rs274,
+    /// CYCLE81–CYCLE85 calls (Sinumerik 840D).
+    Siemens,
+    /// Cycles 200, 201, 203, 207 defined in ISO (`G200 Q200=…`) and called with `G79`
+    /// (Heidenhain TNC in DIN/ISO).
+    HeidenhainIso,
+    /// Expanded into rapids, feeds, dwells and spindle switches (GRBL).
+    Expand,
 }
 
 const BUILTIN: [(&str, &str); 5] = [
@@ -145,17 +205,119 @@ impl Dialect {
                 _ => PostError::Dialect(format!("{file}: {e}")),
             }
         })?;
-        if d.decimals_linear > 9 || d.decimals_angle > 9 || d.decimals_feed > 9 {
-            return Err(PostError::Dialect(format!(
-                "{file}: at most 9 decimal places"
-            )));
-        }
-        if d.line_number_step == 0 {
-            return Err(PostError::Dialect(format!(
-                "{file}: line_number_step must be positive"
-            )));
-        }
+        d.check_numbers(file)?;
+        super::probe::check_reads_back(&d, file)?;
         Ok(d)
+    }
+
+    /// Every number of the dialect within its bounds, every code and template one line.
+    fn check_numbers(&self, file: &str) -> Result<(), PostError> {
+        let bad = |field: &str, value: String, bounds: &str| {
+            Err(PostError::Dialect(format!(
+                "{file}: {field} = {value} is out of bounds ({bounds})"
+            )))
+        };
+        let decimals = [
+            ("decimals_linear", self.decimals_linear, 1, 6),
+            ("decimals_angle", self.decimals_angle, 1, 6),
+            ("decimals_feed", self.decimals_feed, 0, 4),
+            ("decimals_inverse_time", self.decimals_inverse_time, 1, 6),
+        ];
+        for (field, v, lo, hi) in decimals {
+            if !(lo..=hi).contains(&v) {
+                let why = if field == "decimals_linear" && v == 0 {
+                    ": 0 rounds every coordinate to 1 mm"
+                } else {
+                    ""
+                };
+                return bad(
+                    field,
+                    v.to_string(),
+                    &format!("{lo} to {hi} decimal places{why}"),
+                );
+            }
+        }
+        if !(1..=1000).contains(&self.line_number_step) {
+            return bad(
+                "line_number_step",
+                self.line_number_step.to_string(),
+                "1 to 1000",
+            );
+        }
+        if self.line_number_start > 99_999_000 {
+            return bad(
+                "line_number_start",
+                self.line_number_start.to_string(),
+                "0 to 99999000",
+            );
+        }
+        if !(self.arc_max_radius_mm > 0.0 && self.arc_max_radius_mm <= 1e6) {
+            return bad(
+                "arc_max_radius_mm",
+                self.arc_max_radius_mm.to_string(),
+                "more than 0 and at most 1e6 mm",
+            );
+        }
+        if !(self.arc_max_sweep_deg >= 1.0 && self.arc_max_sweep_deg <= 360.0) {
+            return bad(
+                "arc_max_sweep_deg",
+                self.arc_max_sweep_deg.to_string(),
+                "1 to 360 degrees",
+            );
+        }
+        if let Some(p) = self
+            .arc_planes
+            .iter()
+            .find(|p| !matches!(p.as_str(), "G17" | "G18" | "G19"))
+        {
+            return bad("arc_planes", format!("{p:?}"), "G17, G18 or G19");
+        }
+        let codes = [
+            ("rapid", &self.rapid),
+            ("linear", &self.linear),
+            ("feed_per_minute", &self.feed_per_minute),
+            ("inverse_time", &self.inverse_time),
+            ("arc_cw", &self.arc_cw),
+            ("arc_ccw", &self.arc_ccw),
+            ("dwell", &self.dwell),
+            ("spindle_reverse", &self.spindle_reverse),
+            ("spindle_forward", &self.spindle_forward),
+            ("spindle_stop", &self.spindle_stop),
+        ];
+        for (field, code) in codes {
+            if code.trim().is_empty() || code.chars().any(char::is_control) {
+                return bad(field, format!("{code:?}"), "a code on one line");
+            }
+        }
+        let templates = [
+            ("header", &self.header),
+            ("header_comments", &self.header_comments),
+            ("setup", &self.setup),
+            ("tool_change", &self.tool_change),
+            ("spindle_on", &self.spindle_on),
+            ("coolant_on", &self.coolant_on),
+            ("tcp_on", &self.tcp_on),
+            ("tcp_off", &self.tcp_off),
+            ("footer", &self.footer),
+            ("trailer", &self.trailer),
+            ("between_operations", &self.between_operations),
+        ];
+        for (field, lines) in templates {
+            if let Some(l) = lines.iter().find(|l| l.chars().any(char::is_control)) {
+                return bad(field, format!("{l:?}"), "lines without control characters");
+            }
+        }
+        let marks = [
+            ("comment_open", &self.comment_open),
+            ("comment_close", &self.comment_close),
+            ("block_end", &self.block_end),
+        ];
+        for (field, m) in marks {
+            if m.chars().any(char::is_control) {
+                return bad(field, format!("{m:?}"), "no control characters");
+            }
+        }
+        Ok(())
     }
 
     /// A built-in name, or else a path to a dialect file.
@@ -182,6 +344,8 @@ impl Dialect {
     /// A number with `decimals` places in this dialect's style (never `-0`).
     #[must_use]
     pub fn number(&self, v: f64, decimals: usize) -> String {
+        // Loaded dialects have at most 6 places; a hand-built one is clamped, never a panic.
+        let decimals = decimals.min(17);
         let mut s = format!("{v:.decimals$}");
         if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
             s.remove(0);
@@ -202,7 +366,7 @@ impl Dialect {
     /// A value rounded as [`Dialect::number`] writes it.
     #[must_use]
     pub fn rounded(v: f64, decimals: usize) -> f64 {
-        let scale = 10f64.powi(decimals as i32);
+        let scale = 10f64.powi(decimals.min(17) as i32);
         (v * scale).round() / scale
     }
 }

@@ -14,12 +14,17 @@
 //! The output holds no date or path: the same input gives the same bytes.
 
 mod dialect;
+mod exact;
+mod probe;
 mod writer;
 
-pub use dialect::Dialect;
+pub use dialect::{ArcCentre, CycleStyle, Dialect};
+
+/// The read-back check every loaded dialect passes (see the module docs of `probe`).
+pub use probe::check_reads_back as check_dialect_reads_back;
 
 use crate::machine::{KinematicsKind, Machine, MachineError, MachineJoints, ToolPose};
-use crate::toolpath::{MoveKind, Toolpath};
+use crate::toolpath::{Move, MoveKind, Toolpath};
 use writer::Writer;
 
 /// Errors of posting.
@@ -143,21 +148,125 @@ pub fn post_mapped(
     dialect: &Dialect,
     options: &PostOptions,
 ) -> Result<Posted, PostError> {
-    check(toolpath, machine, dialect, options)?;
-    let mut w = Writer::new(dialect, machine, toolpath, options);
-    w.preamble();
-    let Some(first) = toolpath.poses.first() else {
-        w.postamble();
-        return Ok(posted(w));
+    let op = Operation {
+        toolpath,
+        tool_number: options.tool_number,
+        spindle_rpm: options.spindle_rpm,
+        coolant: options.coolant,
     };
-    let pose_err = |pose: usize| move |source| PostError::Pose { pose, source };
+    let p = post_program(&[op], machine, dialect, options)?;
+    Ok(Posted {
+        text: p.text,
+        pose_of_line: p.source_of_line.into_iter().map(|s| s.pose).collect(),
+    })
+}
+
+/// One operation of a program: its tool path, tool number (and length offset), spindle speed
+/// and coolant.
+#[derive(Clone, Copy, Debug)]
+pub struct Operation<'a> {
+    /// The tool path.
+    pub toolpath: &'a Toolpath,
+    /// Tool number (`T n M6`, `G43 H n` where the dialect has them).
+    pub tool_number: u32,
+    /// Spindle speed, rpm (0: spindle off).
+    pub spindle_rpm: f64,
+    /// Coolant on.
+    pub coolant: bool,
+}
+
+/// Where a line of a program comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LineSource {
+    /// Index of the operation.
+    pub operation: usize,
+    /// Index of the pose in that operation's tool path whose motion the line writes (as
+    /// [`Posted::pose_of_line`]); `None` for the operation's tool change and approach.
+    pub pose: Option<usize>,
+}
+
+/// A posted program of several operations.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PostedProgram {
+    /// The program text, one block per line, ending with a newline.
+    pub text: String,
+    /// For each line, its operation (the one being written: the header and setup belong to
+    /// the first, the end to the last) and pose.
+    pub source_of_line: Vec<LineSource>,
+}
+
+/// Post several operations in order into one program: the header and setup once, then per
+/// operation its tool change, spindle and coolant (after a retract and the dialect's blocks
+/// between operations, e.g. `M9 M5 M1`) and its moves, then the end. With one operation this
+/// is [`post_mapped`]. `options` gives everything but the tool, spindle and coolant, which
+/// each operation sets.
+///
+/// # Errors
+/// As [`post_mapped`] (the pose of a [`PostError::Pose`] is in its operation's path), and
+/// [`PostError::Options`] for an empty list.
+pub fn post_program(
+    operations: &[Operation<'_>],
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+) -> Result<PostedProgram, PostError> {
+    let Some(first) = operations.first() else {
+        return Err(PostError::Options("a program needs an operation".into()));
+    };
+    let per_op: Vec<PostOptions> = operations
+        .iter()
+        .map(|op| PostOptions {
+            tool_number: op.tool_number,
+            spindle_rpm: op.spindle_rpm,
+            coolant: op.coolant,
+            ..options.clone()
+        })
+        .collect();
+    for (op, o) in operations.iter().zip(&per_op) {
+        check(op.toolpath, machine, dialect, o)?;
+    }
+    let Some(first_options) = per_op.first() else {
+        return Err(PostError::Options("a program needs an operation".into()));
+    };
+    let mut w = Writer::new(dialect, machine, first.toolpath, first_options);
+    w.preamble();
+    for (i, (op, o)) in operations.iter().zip(&per_op).enumerate() {
+        if i > 0 {
+            w.next_operation(i, op.toolpath, o);
+        }
+        operation_body(&mut w, machine, dialect, o, op.toolpath)?;
+    }
+    w.postamble();
+    let (text, poses, ops) = w.finish();
+    let source_of_line = poses
+        .into_iter()
+        .zip(ops)
+        .map(|(pose, operation)| LineSource { operation, pose })
+        .collect();
+    Ok(PostedProgram {
+        text,
+        source_of_line,
+    })
+}
+
+/// The approach and every move of one operation.
+fn operation_body(
+    w: &mut Writer<'_>,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+    toolpath: &Toolpath,
+) -> Result<(), PostError> {
+    let Some(first) = toolpath.poses.first() else {
+        return Ok(());
+    };
     let start = ToolPose {
         tip: first.tip,
         axis: first.axis,
     };
     let mut prev = machine
         .inverse(&start, &MachineJoints::default())
-        .map_err(pose_err(0))?;
+        .map_err(|source| PostError::Pose { pose: 0, source })?;
     w.approach(&target(dialect, machine, &prev, options.tcp));
     w.motion(
         &target(dialect, machine, &prev, options.tcp),
@@ -166,70 +275,111 @@ pub fn post_mapped(
         0.0,
         0,
     );
-    for (k, pair) in toolpath.poses.windows(2).enumerate() {
-        let [a, b] = pair else { continue };
-        let from = ToolPose {
-            tip: a.tip,
-            axis: a.axis,
-        };
-        let to = ToolPose {
-            tip: b.tip,
-            axis: b.axis,
-        };
-        if b.kind == MoveKind::Rapid || options.tcp {
-            let j = machine.inverse(&to, &prev).map_err(pose_err(k + 1))?;
-            let len = a.tip.distance(b.tip);
-            w.motion(
-                &target(dialect, machine, &j, options.tcp),
-                b.kind,
-                b.feed_mm_per_min,
-                len,
-                k + 1,
-            );
-            prev = j;
-            continue;
-        }
-        let js = match machine.linearise(&from, &to, &prev, options.tolerance_mm) {
-            Ok(js) => js,
-            Err(MachineError::Unreachable(first_error)) => {
-                // The joints jump inside the move (a limit forces the other branch): flip over
-                // a safe move (retract, turn, re-enter at `from`), then cut on that branch.
-                let (j0, js) = flipped(machine, &from, &to, &prev, options.tolerance_mm)
-                    .ok_or_else(|| PostError::Pose {
-                        pose: k + 1,
-                        source: MachineError::Unreachable(first_error),
-                    })?;
-                w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min, k);
-                js
+    for mv in toolpath.moves() {
+        match mv {
+            Move::Rapid { to } | Move::Line { to } => {
+                straight(w, machine, dialect, options, toolpath, to, &mut prev)?;
             }
-            Err(e) => return Err(pose_err(k + 1)(e)),
-        };
-        let mut last_tip = a.tip;
-        for (i, j) in js.iter().enumerate() {
-            if i == 0 && joints_equal(j, &prev) {
-                continue;
+            Move::Exact(seg) => {
+                exact::segment(w, machine, dialect, options, toolpath, seg, &mut prev)?;
             }
-            let t = target(dialect, machine, j, false);
-            w.motion(
-                &t,
-                b.kind,
-                b.feed_mm_per_min,
-                last_tip.distance(t.tip),
-                k + 1,
-            );
-            last_tip = t.tip;
-        }
-        if let Some(j) = js.last() {
-            prev = *j;
         }
     }
-    w.postamble();
-    Ok(posted(w))
+    Ok(())
 }
 
-fn posted(w: Writer<'_>) -> Posted {
-    let (text, pose_of_line) = w.finish();
-    Posted { text, pose_of_line }
+/// The straight move reaching pose `to` from pose `to - 1`: one block for a rapid or under
+/// TCP, else the linearised joints (with a safe flip where the joints jump).
+fn straight(
+    w: &mut Writer<'_>,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+    toolpath: &Toolpath,
+    to: usize,
+    prev: &mut MachineJoints,
+) -> Result<(), PostError> {
+    let (Some(a), Some(b)) = (
+        to.checked_sub(1).and_then(|i| toolpath.poses.get(i)),
+        toolpath.poses.get(to),
+    ) else {
+        return Ok(());
+    };
+    straight_between(w, machine, dialect, options, a, b, to, prev)
+}
+
+/// The straight move from `a` to `b`, its blocks tagged with pose `to`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the writer, the three posting inputs, the two poses, the tag and the joints"
+)]
+fn straight_between(
+    w: &mut Writer<'_>,
+    machine: &Machine,
+    dialect: &Dialect,
+    options: &PostOptions,
+    a: &crate::toolpath::Pose,
+    b: &crate::toolpath::Pose,
+    to: usize,
+    prev: &mut MachineJoints,
+) -> Result<(), PostError> {
+    let k = to.saturating_sub(1);
+    let pose_err = |pose: usize| move |source| PostError::Pose { pose, source };
+    let from = ToolPose {
+        tip: a.tip,
+        axis: a.axis,
+    };
+    let to_pose = ToolPose {
+        tip: b.tip,
+        axis: b.axis,
+    };
+    if b.kind == MoveKind::Rapid || options.tcp {
+        let j = machine.inverse(&to_pose, prev).map_err(pose_err(k + 1))?;
+        let len = a.tip.distance(b.tip);
+        w.motion(
+            &target(dialect, machine, &j, options.tcp),
+            b.kind,
+            b.feed_mm_per_min,
+            len,
+            k + 1,
+        );
+        *prev = j;
+        return Ok(());
+    }
+    let js = match machine.linearise(&from, &to_pose, prev, options.tolerance_mm) {
+        Ok(js) => js,
+        Err(MachineError::Unreachable(first_error)) => {
+            // The joints jump inside the move (a limit forces the other branch): flip over
+            // a safe move (retract, turn, re-enter at `from`), then cut on that branch.
+            let (j0, js) = flipped(machine, &from, &to_pose, prev, options.tolerance_mm)
+                .ok_or_else(|| PostError::Pose {
+                    pose: k + 1,
+                    source: MachineError::Unreachable(first_error),
+                })?;
+            w.reposition(&target(dialect, machine, &j0, false), b.feed_mm_per_min, k);
+            js
+        }
+        Err(e) => return Err(pose_err(k + 1)(e)),
+    };
+    let mut last_tip = a.tip;
+    for (i, j) in js.iter().enumerate() {
+        if i == 0 && joints_equal(j, prev) {
+            continue;
+        }
+        let t = target(dialect, machine, j, false);
+        w.motion(
+            &t,
+            b.kind,
+            b.feed_mm_per_min,
+            last_tip.distance(t.tip),
+            k + 1,
+        );
+        last_tip = t.tip;
+    }
+    if let Some(j) = js.last() {
+        *prev = *j;
+    }
+    Ok(())
 }
 
 fn check(
@@ -329,19 +479,26 @@ fn joints_equal(a: &MachineJoints, b: &MachineJoints) -> bool {
 /// linear axes recomputed for them so the tip stays put (joint space), or the tip itself (TCP).
 fn target(dialect: &Dialect, machine: &Machine, j: &MachineJoints, tcp: bool) -> Target {
     let tip = machine.forward(j).tip;
+    let (mut q, r, t) = rounded_frame(dialect, machine, j);
+    q.xyz = if tcp { tip } else { r * tip + t };
+    Target { joints: q, tip }
+}
+
+/// The joints with their rotary angles rounded as the dialect writes them, and the rigid map
+/// from part to machine coordinates at those angles (`machine = r · part + t`).
+fn rounded_frame(
+    dialect: &Dialect,
+    machine: &Machine,
+    j: &MachineJoints,
+) -> (MachineJoints, glam::DMat3, glam::DVec3) {
     let round = |rad: f64| Dialect::rounded(rad.to_degrees(), dialect.decimals_angle).to_radians();
-    let mut q = MachineJoints {
+    let q = MachineJoints {
         xyz: j.xyz,
         tilt_rad: round(j.tilt_rad),
         rotary_rad: round(j.rotary_rad),
     };
-    if tcp {
-        q.xyz = tip;
-    } else {
-        let (r, t) = machine.machine_from_table(&q);
-        q.xyz = r * tip + t;
-    }
-    Target { joints: q, tip }
+    let (r, t) = machine.machine_from_table(&q);
+    (q, r, t)
 }
 
 #[cfg(test)]

@@ -22,6 +22,10 @@ pub(super) struct Writer<'a> {
     lines: Vec<String>,
     /// For each line, the tool-path pose whose motion it writes.
     pose_of_line: Vec<Option<usize>>,
+    /// For each line, the operation it belongs to.
+    op_of_line: Vec<usize>,
+    /// The operation the blocks written now belong to.
+    current_op: usize,
     /// The pose the blocks written now belong to (set by [`Self::motion`]).
     current_pose: Option<usize>,
     /// Last written X Y Z, tilt, rotary words (formatted values).
@@ -29,6 +33,8 @@ pub(super) struct Writer<'a> {
     last_motion: Option<String>,
     feed_mode: FeedMode,
     last_feed: Option<String>,
+    /// Last written plane code (`G17`, `G18`, `G19`); `None` before the first arc or cycle.
+    last_plane: Option<String>,
 }
 
 impl<'a> Writer<'a> {
@@ -47,11 +53,14 @@ impl<'a> Writer<'a> {
             next_number: u64::from(d.line_number_start),
             lines: Vec::new(),
             pose_of_line: Vec::new(),
+            op_of_line: Vec::new(),
+            current_op: 0,
             current_pose: None,
             last: Default::default(),
             last_motion: None,
             feed_mode: FeedMode::PerMinute,
             last_feed: None,
+            last_plane: None,
         }
     }
 
@@ -70,6 +79,7 @@ impl<'a> Writer<'a> {
     fn push_line(&mut self, line: String) {
         self.lines.push(line);
         self.pose_of_line.push(self.current_pose);
+        self.op_of_line.push(self.current_op);
     }
 
     /// One block (numbered, with the block end) or a raw `!` line.
@@ -179,6 +189,18 @@ impl<'a> Writer<'a> {
             self.comment(c);
         }
         self.blocks(&d.setup);
+        self.tool_blocks();
+        let z = self
+            .d
+            .number(self.options.clearance_z_mm, d.decimals_linear);
+        let code = self.motion_code(&d.rapid);
+        self.block(&join(code, &[format!("Z{z}")]));
+        self.last[2] = Some(z);
+    }
+
+    /// Tool change, TCP, spindle and coolant of the current operation.
+    fn tool_blocks(&mut self) {
+        let d = self.d;
         self.blocks(&d.tool_change);
         if self.options.tcp {
             self.blocks(&d.tcp_on);
@@ -189,9 +211,45 @@ impl<'a> Writer<'a> {
         if self.options.coolant {
             self.blocks(&d.coolant_on);
         }
-        let z = self
-            .d
-            .number(self.options.clearance_z_mm, d.decimals_linear);
+    }
+
+    /// Between operations: retract, TCP off, feed per minute, the dialect's blocks between
+    /// operations (optional stop, coolant and spindle off), then the next operation's tool
+    /// change, spindle and coolant and a retract; every axis word is written again after it.
+    pub(super) fn next_operation(
+        &mut self,
+        index: usize,
+        toolpath: &'a Toolpath,
+        options: &'a PostOptions,
+    ) {
+        let d = self.d;
+        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
+        if self.last[2].as_deref() != Some(z.as_str()) {
+            let code = self.motion_code(&d.rapid);
+            self.block(&join(code, &[format!("Z{z}")]));
+        }
+        if self.options.tcp {
+            self.blocks(&d.tcp_off);
+        }
+        if self.feed_mode == FeedMode::InverseTime {
+            self.block(&d.feed_per_minute);
+            self.feed_mode = FeedMode::PerMinute;
+        }
+        self.blocks(&d.between_operations);
+        self.current_op = index;
+        self.toolpath = toolpath;
+        self.options = options;
+        self.comment(&format!(
+            "OPERATION {} TOOL T{} {}",
+            index + 1,
+            options.tool_number,
+            inert(&toolpath.tool.spec)
+        ));
+        self.tool_blocks();
+        self.last = Default::default();
+        self.last_motion = None;
+        self.last_feed = None;
+        let z = d.number(options.clearance_z_mm, d.decimals_linear);
         let code = self.motion_code(&d.rapid);
         self.block(&join(code, &[format!("Z{z}")]));
         self.last[2] = Some(z);
@@ -324,11 +382,160 @@ impl<'a> Writer<'a> {
         self.blocks(&d.trailer);
     }
 
-    /// The text, one block per line, ending with a newline, and the pose of every line.
-    pub(super) fn finish(self) -> (String, Vec<Option<usize>>) {
+    /// The text, one block per line, ending with a newline, the pose and operation of every
+    /// line.
+    pub(super) fn finish(self) -> (String, Vec<Option<usize>>, Vec<usize>) {
         let mut s = self.lines.join("\n");
         s.push('\n');
-        (s, self.pose_of_line)
+        (s, self.pose_of_line, self.op_of_line)
+    }
+}
+
+impl Writer<'_> {
+    /// One block tagged with tool-path pose `pose` (a raw `!` line as it stands).
+    pub(super) fn tagged_block(&mut self, text: &str, pose: Option<usize>) {
+        self.current_pose = pose;
+        self.block(text);
+        self.current_pose = None;
+    }
+
+    /// The plane code when it differs from the last one written (and remember it).
+    pub(super) fn plane_word(&mut self, code: &str) -> Option<String> {
+        if self.last_plane.as_deref() == Some(code) {
+            None
+        } else {
+            self.last_plane = Some(code.to_string());
+            Some(code.to_string())
+        }
+    }
+
+    /// Back to feed per minute when needed, and the F word when the feed changes.
+    pub(super) fn per_minute_words(&mut self, feed: f64) -> (Option<String>, Option<String>) {
+        let d = self.d;
+        let mode = if self.feed_mode == FeedMode::PerMinute {
+            None
+        } else {
+            self.feed_mode = FeedMode::PerMinute;
+            self.last_feed = None;
+            Some(d.feed_per_minute.clone())
+        };
+        let f = d.number(feed, d.decimals_feed);
+        if self.last_feed.as_deref() == Some(f.as_str()) {
+            (mode, None)
+        } else {
+            self.last_feed = Some(f.clone());
+            (mode, Some(format!("F{f}")))
+        }
+    }
+
+    /// The last written X Y Z as numbers, when all three have been written.
+    pub(super) fn last_xyz(&self) -> Option<glam::DVec3> {
+        let v = |i: usize| -> Option<f64> { self.last.get(i)?.as_deref()?.parse().ok() };
+        Some(glam::DVec3::new(v(0)?, v(1)?, v(2)?))
+    }
+
+    /// The machine is at `p` (mm) after a block that did not go through the axis words (a
+    /// cycle), and its motion mode is unknown.
+    pub(super) fn moved_to(&mut self, p: glam::DVec3) {
+        let dl = self.d.decimals_linear;
+        for (slot, v) in self.last.iter_mut().zip(p.to_array()) {
+            *slot = Some(self.d.number(v, dl));
+        }
+        self.last_motion = None;
+    }
+
+    /// The next feed move writes its F word again (a cycle set the feed itself).
+    pub(super) fn forget_feed(&mut self) {
+        self.last_feed = None;
+    }
+
+    /// A G2/G3 block from the last written point to `end` about `centre` (machine mm) in
+    /// `plane`, sweeping `sweep_rad` (> 0) in the sense `ccw` about the plane's normal; all
+    /// three end words are written. Returns false (writing nothing) when the start is unknown.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the arc's geometry, its feed and the pose it belongs to"
+    )]
+    pub(super) fn arc(
+        &mut self,
+        plane: crate::gcode::Plane,
+        ccw: bool,
+        end: glam::DVec3,
+        centre: glam::DVec3,
+        sweep_rad: f64,
+        feed: f64,
+        pose: usize,
+    ) -> bool {
+        let Some(start) = self.last_xyz() else {
+            return false;
+        };
+        let d = self.d;
+        let dl = d.decimals_linear;
+        let code = match plane {
+            crate::gcode::Plane::Xy => "G17",
+            crate::gcode::Plane::Zx => "G18",
+            crate::gcode::Plane::Yz => "G19",
+        };
+        let mut words: Vec<String> = Vec::new();
+        words.extend(self.plane_word(code));
+        let (mode, feed_word) = self.per_minute_words(feed);
+        words.extend(mode);
+        let motion = if ccw {
+            d.arc_ccw.clone()
+        } else {
+            d.arc_cw.clone()
+        };
+        words.extend(self.motion_code(&motion));
+        let values = [
+            d.number(end.x, dl),
+            d.number(end.y, dl),
+            d.number(end.z, dl),
+        ];
+        for (l, v) in ['X', 'Y', 'Z'].iter().zip(&values) {
+            words.push(format!("{l}{v}"));
+        }
+        let (iu, iv, _) = plane.axes();
+        let (c, s) = (centre.to_array(), start.to_array());
+        match d.arc_centre {
+            super::ArcCentre::Ijk => {
+                let mut idx = [iu, iv];
+                idx.sort_unstable();
+                for i in idx {
+                    let (Some(&ci), Some(&si), Some(l)) =
+                        (c.get(i), s.get(i), ['I', 'J', 'K'].get(i))
+                    else {
+                        continue;
+                    };
+                    // From the written start to the centre rounded as the end is: the centre
+                    // read back is the rounded centre.
+                    let off = super::Dialect::rounded(ci, dl) - si;
+                    words.push(format!("{l}{}", d.number(off, dl)));
+                }
+            }
+            super::ArcCentre::Radius => {
+                let (cu, cv) = (
+                    c.get(iu).copied().unwrap_or(0.0),
+                    c.get(iv).copied().unwrap_or(0.0),
+                );
+                let (su, sv) = (
+                    s.get(iu).copied().unwrap_or(0.0),
+                    s.get(iv).copied().unwrap_or(0.0),
+                );
+                let r = (cu - su).hypot(cv - sv);
+                let r = if sweep_rad > std::f64::consts::PI {
+                    -r
+                } else {
+                    r
+                };
+                words.push(format!("R{}", d.number(r, dl)));
+            }
+        }
+        words.extend(feed_word);
+        for (slot, v) in self.last.iter_mut().zip(values) {
+            *slot = Some(v);
+        }
+        self.tagged_block(&words.join(" "), Some(pose));
+        true
     }
 }
 

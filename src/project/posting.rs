@@ -12,14 +12,9 @@ use crate::toolpath::Toolpath;
 /// `toolpath` moved into program coordinates: tips (and contacts) less `origin`.
 #[must_use]
 pub fn to_program_coordinates(toolpath: &Toolpath, origin: DVec3) -> Toolpath {
-    let mut out = toolpath.clone();
-    for p in &mut out.poses {
-        p.tip -= origin;
-        if let Some(cc) = p.cc.as_mut() {
-            *cc -= origin;
-        }
-    }
-    Toolpath::new(out.tool, out.poses)
+    let mut out = toolpath.translated(-origin);
+    out.summary.gouge = None;
+    out
 }
 
 /// The machine and dialect the project names, resolved.

@@ -10,6 +10,8 @@
 //! - poses: `axis` optional (+Z), `cc`, `scallop_mm`, `contact` optional; `feed_mm_per_min`
 //!   may be missing or `null` on a rapid, and on a fed move it is then modal (the previous fed
 //!   move's feed), as in G-code;
+//! - `exact`: optional, the exact moves (arcs, helices, cycles) over the poses that sample them
+//!   (files written before tool paths had exact moves have none: every move is straight);
 //! - `summary`: optional; it is recomputed from the poses (only the planner's gouge report is
 //!   kept);
 //! - unknown keys anywhere are ignored with a warning naming them.
@@ -19,7 +21,9 @@
 
 use glam::DVec3;
 
-use super::{ContactKind, GougeReport, MoveKind, Pose, ToolRecord, Toolpath, ToolpathError};
+use super::{
+    ContactKind, ExactSegment, GougeReport, MoveKind, Pose, ToolRecord, Toolpath, ToolpathError,
+};
 use crate::tools::{
     Cutter, CutterKind, Flutes, HolderSection, ToolLimits, parse_tool_spec, tool_spec,
 };
@@ -36,8 +40,12 @@ pub struct ToolpathFile {
     pub units: Option<String>,
     /// The cutter.
     pub tool: ToolFile,
-    /// Poses in order.
+    /// Poses in order (the sampled view of every move).
     pub poses: Vec<PoseFile>,
+    /// Exact moves (arcs, helices, canned cycles), each over the poses `from..=to` that sample
+    /// it; absent for paths of straight moves.
+    #[serde(default)]
+    pub exact: Vec<ExactSegment>,
     /// Recomputed on load; only `gouge` (the planner's gouge report) is kept.
     #[serde(default)]
     pub summary: Option<SummaryFile>,
@@ -170,12 +178,13 @@ pub(super) fn read(text: &str, file: &str) -> Result<(Toolpath, Vec<String>), To
     }
     let mut tp = Toolpath::new(tool, poses);
     tp.units = units;
+    tp.exact = parsed.exact;
     tp.validate(file)?;
     for p in &mut tp.poses {
         p.axis = p.axis.normalize();
     }
-    tp.summary = super::Summary::of(&tp.poses);
     tp.summary.gouge = parsed.summary.and_then(|s| s.gouge);
+    tp.resummarise();
     Ok((tp, warnings))
 }
 

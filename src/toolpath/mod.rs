@@ -6,10 +6,15 @@
 //! feed. Lengths are mm, feeds mm/min.
 
 mod file;
+mod moves;
 mod summary;
 
 pub use file::{ToolFile, ToolpathFile, schema};
 
+pub use moves::{
+    ArcMove, CycleKind, CycleMove, CycleRetract, CycleStep, ExactMove, ExactSegment, MAX_SAMPLES,
+    Move, PECK_CLEARANCE_MM, SpindleSwitch,
+};
 pub use summary::{GougeReport, Summary, move_time_at_feed_s, pose_times_at_feed};
 
 use glam::DVec3;
@@ -125,8 +130,12 @@ pub struct Toolpath {
     pub units: String,
     /// The cutter.
     pub tool: ToolRecord,
-    /// Poses in order.
+    /// Poses in order: the sampled view of every move.
     pub poses: Vec<Pose>,
+    /// Exact moves (arcs, helices, cycles), each over the poses that sample it, in pose order
+    /// and not overlapping; empty for paths of straight moves only.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exact: Vec<ExactSegment>,
     /// Lengths, counts, time and extent (recomputed by [`Toolpath::new`] and on load).
     #[serde(default)]
     pub summary: Summary,
@@ -153,6 +162,7 @@ impl Toolpath {
             units: "mm".into(),
             tool,
             poses,
+            exact: Vec::new(),
             summary,
         }
     }
@@ -194,7 +204,7 @@ impl Toolpath {
                 ));
             }
         }
-        Ok(())
+        build::validate_exact(self).map_err(|(k, m)| err(format!("exact move {k}"), m))
     }
 
     /// Parse JSON text (`file` names it in errors), generously (see [`ToolpathFile`]); axes are
@@ -277,6 +287,8 @@ pub(crate) fn strip_position(message: &str) -> String {
         None => message.to_string(),
     }
 }
+
+mod build;
 
 #[cfg(test)]
 mod tests;
