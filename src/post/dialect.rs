@@ -329,7 +329,7 @@ impl Dialect {
             return Ok(d);
         }
         let path = std::path::Path::new(name_or_file);
-        match std::fs::read_to_string(path) {
+        match crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES) {
             Ok(text) => Self::from_json(&text, name_or_file),
             Err(_) => Self::builtin(name_or_file),
         }

@@ -244,11 +244,12 @@ impl Toolpath {
     /// As [`Toolpath::load`].
     pub fn load_with_warnings(path: &Path) -> Result<(Self, Vec<String>), ToolpathError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ToolpathError {
-            file: file.clone(),
-            place: "file".into(),
-            message: e.to_string(),
-        })?;
+        let text = crate::storage::read_text_bounded(path, crate::storage::PROGRAM_LIMIT_BYTES)
+            .map_err(|e| ToolpathError {
+                file: file.clone(),
+                place: "file".into(),
+                message: e.to_string(),
+            })?;
         Self::from_json_with_warnings(&text, &file)
     }
 
