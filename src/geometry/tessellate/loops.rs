@@ -14,6 +14,10 @@ pub(super) struct UvLoop {
     pub uv: Vec<DVec2>,
     /// Exact 3D points (edge polyline points), same length as `uv`.
     pub p3: Vec<DVec3>,
+    /// For each point, the edge (index into [`Part::edges`]) whose curve the segment from this
+    /// point to the next follows; `None` for segments that are not a chord of an edge (across a
+    /// pole or an apex, along a seam the loop was closed on).
+    pub edge: Vec<Option<usize>>,
 }
 
 /// A boundary point after inversion.
@@ -21,6 +25,8 @@ pub(super) struct UvLoop {
 struct Pt {
     uv: DVec2,
     p3: DVec3,
+    /// The edge that the segment to the next point follows.
+    edge: Option<usize>,
     /// The surface is degenerate here in u (`S_u = 0`, e.g. a pole) or in v.
     singular_u: bool,
     singular_v: bool,
@@ -45,6 +51,9 @@ pub(super) fn face_uv_loops(
                     continue;
                 }
                 let mut pts = invert(surface, rect, &pts3);
+                for (p, (_, e)) in pts.iter_mut().zip(&pts3) {
+                    p.edge = *e;
+                }
                 unwrap(&mut pts, pu, pv);
                 loops.push(pts);
             }
@@ -54,7 +63,7 @@ pub(super) fn face_uv_loops(
                     .get(*vi)
                     .ok_or_else(|| format!("vertex loop refers to missing vertex {vi}"))?
                     .point;
-                vertex_loop_points.push(surface.closest_point(p, rect, None).uv);
+                vertex_loop_points.push((surface.closest_point(p, rect, None).uv, p));
             }
         }
     }
@@ -73,13 +82,26 @@ pub(super) fn face_uv_loops(
         .into_iter()
         .map(|l| expand_singular(surface, l))
         .collect();
-    close_periodic(loops, pu, pv, face.same_sense, &vertex_loop_points, rect)
+    close_periodic(surface, loops, face.same_sense, &vertex_loop_points)
+}
+
+/// The parameter v of a cone's apex (where its radius `r + v sin a` is zero).
+fn cone_apex_v(surface: &SurfaceGeom) -> Option<f64> {
+    match surface {
+        SurfaceGeom::Cone(c) if c.semi_angle.sin().abs() > 1e-12 => {
+            Some(-c.radius / c.semi_angle.sin()).filter(|v| v.is_finite())
+        }
+        _ => None,
+    }
 }
 
 /// The 3D points of an edge loop in order (each edge's last point is the next edge's first).
 /// The importer has already chained the loop (`import::step` repairs loops listed out of order
 /// or with reversed edges, as Open CASCADE's wire fixing does).
-fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Vec<DVec3>, String> {
+fn loop_points(
+    oes: &[OrientedEdge],
+    edge_polylines: &[Vec<DVec3>],
+) -> Result<Vec<(DVec3, Option<usize>)>, String> {
     let mut pts = Vec::new();
     for oe in oes {
         let poly = edge_polylines
@@ -88,10 +110,11 @@ fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Ve
         if poly.is_empty() {
             continue;
         }
+        let e = Some(oe.edge);
         if oe.forward {
-            pts.extend_from_slice(&poly[..poly.len() - 1]);
+            pts.extend(poly[..poly.len() - 1].iter().map(|&p| (p, e)));
         } else {
-            pts.extend(poly[1..].iter().rev());
+            pts.extend(poly[1..].iter().rev().map(|&p| (p, e)));
         }
     }
     Ok(pts)
@@ -101,10 +124,10 @@ fn loop_points(oes: &[OrientedEdge], edge_polylines: &[Vec<DVec3>]) -> Result<Ve
 /// 1e-7 to 1e-3 mm).
 const NEAR_ENOUGH_MM: f64 = 1e-4;
 
-fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
+fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[(DVec3, Option<usize>)]) -> Vec<Pt> {
     let mut hint = None;
     let mut out = Vec::with_capacity(pts3.len());
-    for &p in pts3 {
+    for &(p, _) in pts3 {
         // Walking along the loop, Newton from the previous point's parameters is enough; fall
         // back to the global search when it does not land on the surface.
         let near = hint.map(|h| surface.closest_point_near(p, rect, h));
@@ -128,6 +151,7 @@ fn invert(surface: &SurfaceGeom, rect: ParamRect, pts3: &[DVec3]) -> Vec<Pt> {
         out.push(Pt {
             uv: sp.uv,
             p3: p,
+            edge: None,
             singular_u,
             singular_v,
         });
@@ -197,7 +221,11 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
         } else {
             (DVec2::new(p.uv.x, a.y), DVec2::new(p.uv.x, b.y))
         };
-        out.push(Pt { uv: first, ..*p });
+        out.push(Pt {
+            uv: first,
+            edge: None,
+            ..*p
+        });
         if (second - first).length() > 1e-12 {
             out.push(Pt { uv: second, ..*p });
         }
@@ -206,15 +234,16 @@ fn expand_singular(surface: &SurfaceGeom, l: Vec<Pt>) -> Vec<Pt> {
 }
 
 /// Close loops that run once around a periodic direction: two such loops bound a band, one such
-/// loop bounds a cap closed at the singular end (apex or pole) on the face's side.
+/// loop bounds a cap closed at the singular end (apex or pole) on the face's side; a cone,
+/// whose v runs to infinity both ways, closes at its apex.
 fn close_periodic(
+    surface: &SurfaceGeom,
     loops: Vec<Vec<Pt>>,
-    pu: Option<f64>,
-    pv: Option<f64>,
     same_sense: bool,
-    vertex_loops: &[DVec2],
-    rect: ParamRect,
+    vertex_loops: &[(DVec2, DVec3)],
 ) -> Result<Vec<UvLoop>, String> {
+    let rect = surface.domain();
+    let (pu, pv) = surface.periods();
     // The shift that the closing segment (last → first) needs: non-zero when the loop runs once
     // around the periodic direction.
     let closing_shift = |l: &[Pt], per: Option<f64>, axis: usize| -> f64 {
@@ -243,13 +272,18 @@ fn close_periodic(
         [(l, shift)] => {
             // A cap: close along the singular end the face lies on (left of a loop running +u
             // is +v when the face normal is S_u × S_v).
-            let v_end = if let Some(vp) = vertex_loops.first() {
+            let mut v_end = if let Some((vp, _)) = vertex_loops.first() {
                 vp.y
             } else if (*shift > 0.0) == same_sense {
                 rect.v.t1
             } else {
                 rect.v.t0
             };
+            if !v_end.is_finite()
+                && let Some(apex) = cone_apex_v(surface)
+            {
+                v_end = apex;
+            }
             if !v_end.is_finite() {
                 return Err("a loop runs around the periodic u direction and the surface has no end to close it on".into());
             }
@@ -258,7 +292,11 @@ fn close_periodic(
             };
             let mut ul = to_uv_loop(l);
             let first_u_shifted = first.uv.x + shift;
-            let end_p3 = first.p3;
+            ul.edge.extend([None, None, None]);
+            // The singular end's own point: the vertex of a vertex loop, else the surface's.
+            let end_p3 = vertex_loops
+                .first()
+                .map_or_else(|| surface.point(first.uv.x, v_end), |(_, p)| *p);
             ul.uv.push(DVec2::new(first_u_shifted, first.uv.y));
             ul.p3.push(first.p3);
             ul.uv.push(DVec2::new(first_u_shifted, v_end));
@@ -268,6 +306,7 @@ fn close_periodic(
             closed.push(ul);
         }
         [(a, sa), (b, sb)] => {
+            let sb_orig_sign = sb.signum();
             // A band: run a once around, cross to b, run b once around the other way, cross back.
             let (b_pts, sb): (Vec<Pt>, f64) = if sa.signum() == sb.signum() {
                 (b.iter().rev().copied().collect(), -sb)
@@ -282,12 +321,23 @@ fn close_periodic(
             let mut ul = to_uv_loop(a);
             ul.uv.push(a_end);
             ul.p3.push(a0.p3);
-            for p in &b_pts {
+            ul.edge.push(None);
+            // b runs backwards: the segment from b_pts[k] to b_pts[k + 1] is the one b stored
+            // at b_pts[k + 1] when b was reversed.
+            let reversed = sa.signum() == sb_orig_sign;
+            for (k, p) in b_pts.iter().enumerate() {
                 ul.uv.push(DVec2::new(p.uv.x + b_shift, p.uv.y));
                 ul.p3.push(p.p3);
+                let e = if reversed {
+                    b_pts.get(k + 1).or(b_pts.first()).and_then(|q| q.edge)
+                } else {
+                    p.edge
+                };
+                ul.edge.push(e);
             }
             ul.uv.push(DVec2::new(b0.uv.x + b_shift + sb, b0.uv.y));
             ul.p3.push(b0.p3);
+            ul.edge.push(None);
             closed.push(ul);
         }
         _ => {
@@ -304,5 +354,6 @@ fn to_uv_loop(l: &[Pt]) -> UvLoop {
     UvLoop {
         uv: l.iter().map(|p| p.uv).collect(),
         p3: l.iter().map(|p| p.p3).collect(),
+        edge: l.iter().map(|p| p.edge).collect(),
     }
 }
