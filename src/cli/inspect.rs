@@ -349,9 +349,10 @@ pub fn human(doc: &Value) -> String {
                 k + 1,
                 b["id"],
                 b["faces"],
-                b["volume_mm3"]
-                    .as_f64()
-                    .map_or_else(|| "not closed".to_string(), |v| format!("volume {v:.4} mm³"))
+                b["volume_mm3"].as_f64().map_or_else(
+                    || "not closed".to_string(),
+                    |v| format!("volume {v:.4} mm³")
+                )
             );
         }
     }

@@ -48,7 +48,7 @@ pub fn tessellate_face(
     opts: &TessellationOptions,
 ) -> Result<FaceMesh, String> {
     let surface = &face.surface;
-    let mut loops = face_uv_loops(face, part, edge_polylines)?;
+    let mut loops = face_uv_loops(face, part, edge_polylines, opts.chord_tol_mm)?;
     if loops.is_empty() {
         loops.push(domain_loop(surface)?);
     }
@@ -130,7 +130,8 @@ pub fn tessellate_face(
         }
     }
 
-    let unscale = |xy: Point2<f64>| DVec2::new(lo.x + xy.x / grid.scale.x, lo.y + xy.y / grid.scale.y);
+    let unscale =
+        |xy: Point2<f64>| DVec2::new(lo.x + xy.x / grid.scale.x, lo.y + xy.y / grid.scale.y);
     refine(
         &mut cdt,
         &mut out,
@@ -244,7 +245,8 @@ fn integrate(
                 continue;
             };
             let (oi, oj) = (outs[k], outs[k1]);
-            let (Some(&w), Some(edge)) = (third.get(&(oi.min(oj), oi.max(oj))), part.edges.get(*ei))
+            let (Some(&w), Some(edge)) =
+                (third.get(&(oi.min(oj), oi.max(oj))), part.edges.get(*ei))
             else {
                 continue;
             };
@@ -253,7 +255,9 @@ fn integrate(
                 edge.t_start.min(edge.t_end),
                 edge.t_start.max(edge.t_end),
             );
-            let on_curve = edge.curve.point(edge.curve.closest_param(0.5 * (pa + pb), range));
+            let on_curve = edge
+                .curve
+                .point(edge.curve.closest_param(0.5 * (pa + pb), range));
             if !on_curve.is_finite() {
                 continue;
             }
@@ -278,7 +282,11 @@ fn integrate(
             }
             // The parabolic segment between chord and curve: ⅔ · chord · sagitta.
             let seg = 2.0 / 3.0 * bulge.abs();
-            let seg = if bulge.signum() == side.signum() { -seg } else { seg };
+            let seg = if bulge.signum() == side.signum() {
+                -seg
+            } else {
+                seg
+            };
             let (j, wv) = element(mid);
             area += seg * j;
             volume += seg * wv;
@@ -345,7 +353,12 @@ fn refine(
             if !keep {
                 continue;
             }
-            let idx = vs.map(|v| out_of_handle.get(v.fix().index()).copied().unwrap_or(u32::MAX));
+            let idx = vs.map(|v| {
+                out_of_handle
+                    .get(v.fix().index())
+                    .copied()
+                    .unwrap_or(u32::MAX)
+            });
             if idx.contains(&u32::MAX) {
                 continue;
             }
@@ -362,7 +375,11 @@ fn refine(
                 continue;
             }
             let mut split = None;
-            for (e, (i, j)) in f.adjacent_edges().iter().zip([(0usize, 1usize), (1, 2), (2, 0)]) {
+            for (e, (i, j)) in f
+                .adjacent_edges()
+                .iter()
+                .zip([(0usize, 1usize), (1, 2), (2, 0)])
+            {
                 if e.is_constraint_edge() && r.parity {
                     continue;
                 }
@@ -370,7 +387,10 @@ fn refine(
                 let uv = 0.5 * (out.uv[oi] + out.uv[oj]);
                 let p = 0.5 * (out.positions[oi] + out.positions[oj]);
                 if !e.is_constraint_edge() && strays(uv, p) {
-                    split = Some(Point2::new(0.5 * (xy[i].x + xy[j].x), 0.5 * (xy[i].y + xy[j].y)));
+                    split = Some(Point2::new(
+                        0.5 * (xy[i].x + xy[j].x),
+                        0.5 * (xy[i].y + xy[j].y),
+                    ));
                     break;
                 }
             }

@@ -51,7 +51,7 @@ pub fn face_param_loops(
             }
         }
     }
-    let loops = loops::face_uv_loops(face, part, &polylines)?;
+    let loops = loops::face_uv_loops(face, part, &polylines, opts.chord_tol_mm)?;
     Ok(loops.into_iter().map(|l| l.uv).collect())
 }
 
@@ -302,7 +302,8 @@ fn bodies(part: &Part, pm: &PartMesh) -> Vec<Body> {
                     let base = u32::try_from(sub.positions.len()).unwrap_or(u32::MAX);
                     sub.positions
                         .extend(t.iter().map(|&i| pm.mesh.positions[i as usize]));
-                    sub.normals.extend(t.iter().map(|&i| pm.mesh.normals[i as usize]));
+                    sub.normals
+                        .extend(t.iter().map(|&i| pm.mesh.normals[i as usize]));
                     sub.triangles.push([base, base + 1, base + 2]);
                 }
             }
