@@ -230,10 +230,14 @@ fn integrate(
     }
     // Boundary chords: the third vertex of the triangle on each side says where the face is.
     let mut third: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+    // Only edges between two boundary vertices can be boundary chords.
+    let nb = u32::try_from(out.boundary_vertex_count).unwrap_or(u32::MAX);
     for t in &out.triangles {
         for k in 0..3 {
             let (i, j, w) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-            third.insert((i.min(j), i.max(j)), w);
+            if i < nb && j < nb {
+                third.insert((i.min(j), i.max(j)), w);
+            }
         }
     }
     let rect = surface.domain();
@@ -334,10 +338,27 @@ fn refine(
         }
         r.surface.closest_point_near(p, rect, uv).distance > r.tol
     };
+    // After the first round only the triangles around the vertices just inserted are new.
+    let mut fresh: Option<Vec<spade::handles::FixedVertexHandle>> = None;
     for _ in 0..MAX_REFINE_ROUNDS {
         let parity = r.parity.then(|| inside_by_parity(cdt));
         let mut inserts: Vec<Point2<f64>> = Vec::new();
-        for f in cdt.inner_faces() {
+        let faces: Vec<spade::handles::FixedFaceHandle<spade::handles::InnerTag>> = match &fresh {
+            None => cdt.inner_faces().map(|f| f.fix()).collect(),
+            Some(vs) => {
+                let mut set = std::collections::BTreeSet::new();
+                for &v in vs {
+                    for e in cdt.vertex(v).out_edges() {
+                        if let Some(f) = e.face().as_inner() {
+                            set.insert(f.fix());
+                        }
+                    }
+                }
+                set.into_iter().collect()
+            }
+        };
+        for fh in faces {
+            let f = cdt.face(fh);
             let vs = f.vertices();
             let xy = vs.map(|v| v.position());
             let keep = match &parity {
@@ -411,6 +432,7 @@ fn refine(
         if inserts.is_empty() || out.positions.len() >= r.budget {
             return;
         }
+        let mut added = Vec::new();
         for xy in inserts {
             if out.positions.len() >= r.budget {
                 break;
@@ -423,8 +445,15 @@ fn refine(
                 let uv = (r.unscale)(xy);
                 let p = r.surface.point(uv.x, uv.y);
                 out_of_handle[h.index()] = push(out, r.surface, uv, p, r.same_sense);
+                added.push(h);
             }
         }
+        // Points that fell on existing vertices change nothing: another round would find the
+        // same triangles.
+        if added.is_empty() {
+            return;
+        }
+        fresh = Some(added);
     }
 }
 

@@ -152,8 +152,8 @@ pub struct Body {
     pub source_id: u64,
     /// Number of faces.
     pub faces: usize,
-    /// True when every face was tessellated and the shell's triangles, welded, leave no
-    /// boundary edge.
+    /// True when the file calls the shell closed, every face was tessellated and the shell's
+    /// triangles, welded, leave no boundary edge.
     pub closed: bool,
     /// Volume enclosed by the exact faces (divergence theorem), mm³; `None` when the shell is
     /// not closed.
@@ -289,6 +289,16 @@ fn bodies(part: &Part, pm: &PartMesh) -> Vec<Body> {
         .iter()
         .enumerate()
         .map(|(si, shell)| {
+            if !shell.closed {
+                // An open shell bounds no solid: no volume to give, nothing to weld.
+                return Body {
+                    shell: si,
+                    source_id: shell.source_id,
+                    faces: shell.faces.len(),
+                    closed: false,
+                    volume_mm3: None,
+                };
+            }
             let mut sub = TriMesh::default();
             let mut all = !shell.faces.is_empty();
             let mut volume = 0.0;
