@@ -21,7 +21,11 @@ use crate::import::stl::{StlOptions, read_stl};
 pub struct InspectArgs {
     /// The part: STEP (.stp/.step) or STL (.stl).
     pub file: PathBuf,
-    /// Evaluate every B-spline face on an N×N grid of its parameter domain (N ≥ 2).
+    /// Evaluate every B-spline face on an N×N grid of its parameter domain (N ≥ 2): rows of
+    /// u, v, point (mm), unit normal and principal curvatures (1/mm). The normal is the face's
+    /// outward normal: the surface normal S_u × S_v, reversed on a face whose same_sense is .F.;
+    /// the curvatures are signed with respect to it (negative where the face bends away from its
+    /// normal, as on a convex solid).
     #[arg(long, value_name = "N")]
     pub samples: Option<usize>,
     /// Chord tolerance of the tessellation, mm [default: 0.01, or 1e-4 of the part's size when
@@ -97,6 +101,27 @@ fn inspect_step(args: &InspectArgs) -> Result<Value, ImportError> {
     doc["name"] = json!(part.name);
     doc["faces"] = Value::Array(faces);
     doc["area_mm2"] = json!(pm.area_mm2());
+    doc["mesh_area_mm2"] = json!(pm.faces.iter().map(|f| f.mesh_area_mm2).sum::<f64>());
+    doc["bodies"] = json!(
+        pm.bodies
+            .iter()
+            .map(|b| json!({
+                "shell": b.shell,
+                "id": b.source_id,
+                "faces": b.faces,
+                "closed": b.closed,
+                "volume_mm3": b.volume_mm3,
+            }))
+            .collect::<Vec<_>>()
+    );
+    // The volume enclosed by the exact faces when every body closes (the triangles' own
+    // volume is short of it by about the chord tolerance times the area).
+    doc["mesh_volume_mm3"] = doc["volume_mm3"].clone();
+    doc["volume_mm3"] = match pm.volume_mm3() {
+        Some(v) => json!(v),
+        None if pm.bodies.is_empty() => doc["mesh_volume_mm3"].clone(),
+        None => Value::Null,
+    };
     doc["shells"] = json!(
         part.shells
             .iter()
@@ -176,16 +201,19 @@ fn face_json(index: usize, face: &Face, pm: &PartMesh, samples: Option<usize>) -
         "triangles": range.map_or(0, |r| r.count),
     });
     if let (Some(n), SurfaceGeom::BSpline(_)) = (samples, s) {
-        v["samples"] = Value::Array(sample_grid(s, n));
+        v["samples"] = Value::Array(sample_grid(s, n, face.same_sense));
     }
     v
 }
 
-/// `[u, v, x, y, z, nx, ny, nz, k_min, k_max]` on an N×N grid (i over u outer, j over v inner);
-/// the normal is `S_u × S_v` (not flipped by the face's sense) and curvatures are signed with
-/// respect to it, as Open CASCADE reports them.
+/// `[u, v, x, y, z, nx, ny, nz, k_min, k_max]` on an N×N grid (i over u outer, j over v inner).
+/// The normal is the face's outward normal: `S_u × S_v` when `same_sense`, else reversed; the
+/// curvatures are signed with respect to it (Open CASCADE's `BRepLProp_SLProps` on the oriented
+/// face gives the same), so on a `.F.` face both the normal and the curvatures change sign (and
+/// the minimum and maximum swap) against the bare surface's.
 #[must_use]
-pub fn sample_grid(s: &SurfaceGeom, n: usize) -> Vec<Value> {
+pub fn sample_grid(s: &SurfaceGeom, n: usize, same_sense: bool) -> Vec<Value> {
+    let sign = if same_sense { 1.0 } else { -1.0 };
     let d = s.domain();
     let mut rows = Vec::with_capacity(n * n);
     for i in 0..n {
@@ -193,10 +221,14 @@ pub fn sample_grid(s: &SurfaceGeom, n: usize) -> Vec<Value> {
         for j in 0..n {
             let v = d.v.t0 + d.v.len() * j as f64 / (n - 1) as f64;
             let der = s.derivs(u, v);
-            let nrm = der.normal().unwrap_or(DVec3::ZERO);
-            let (kmin, kmax) = der
-                .principal()
-                .map_or((f64::NAN, f64::NAN), |p| (p.k_min, p.k_max));
+            let nrm = sign * der.normal().unwrap_or(DVec3::ZERO);
+            let (kmin, kmax) = der.principal().map_or((f64::NAN, f64::NAN), |p| {
+                if same_sense {
+                    (p.k_min, p.k_max)
+                } else {
+                    (-p.k_max, -p.k_min)
+                }
+            });
             let row = [
                 u, v, der.p.x, der.p.y, der.p.z, nrm.x, nrm.y, nrm.z, kmin, kmax,
             ];
@@ -309,6 +341,21 @@ pub fn human(doc: &Value) -> String {
             .map(|v| format!(", volume {v:.4} mm³"))
             .unwrap_or_default()
     );
+    if let Some(bodies) = doc["bodies"].as_array().filter(|b| b.len() > 1) {
+        for (k, b) in bodies.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "  body {} (shell #{}, {} faces): {}",
+                k + 1,
+                b["id"],
+                b["faces"],
+                b["volume_mm3"].as_f64().map_or_else(
+                    || "not closed".to_string(),
+                    |v| format!("volume {v:.4} mm³")
+                )
+            );
+        }
+    }
     if let Some(ds) = doc["diagnostics"].as_array() {
         for d in ds {
             let _ = writeln!(

@@ -24,6 +24,15 @@ pub struct FaceMesh {
     pub triangles: Vec<[u32; 3]>,
     /// How many leading vertices are boundary points.
     pub boundary_vertex_count: usize,
+    /// The face's area on the exact surface, mm²: the surface's area element integrated over
+    /// every triangle's parameter-plane image (a degree-2 rule), plus, for each boundary chord,
+    /// the parabolic segment between the chord and the edge curve. Unlike the triangles' own
+    /// area it does not shrink with the chord tolerance.
+    pub area_mm2: f64,
+    /// This face's share of the enclosed volume, mm³: `⅓∫ p·n dA` over the exact surface with
+    /// the face's outward normal, integrated as `area_mm2`. Summed over a closed shell it is the
+    /// solid's volume (divergence theorem).
+    pub volume_mm3: f64,
     /// Notes about this face.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -39,13 +48,22 @@ pub fn tessellate_face(
     opts: &TessellationOptions,
 ) -> Result<FaceMesh, String> {
     let surface = &face.surface;
-    let mut loops = face_uv_loops(face, part, edge_polylines)?;
+    let mut loops = face_uv_loops(face, part, edge_polylines, opts.chord_tol_mm)?;
     if loops.is_empty() {
         loops.push(domain_loop(surface)?);
     }
     let (lo, hi) = uv_bounds(&loops).ok_or("face has no boundary points")?;
     let grid = Grid::new(surface, lo, hi, opts);
-    let to_xy = |uv: DVec2| Point2::new((uv.x - lo.x) * grid.scale.x, (uv.y - lo.y) * grid.scale.y);
+    // Coordinates below 1e-30 are flushed to zero: the triangulator refuses non-zero values
+    // under about 1e-38 ("TooSmall"), which a boundary point a rounding error from the corner of
+    // the bounds gives.
+    let flush = |x: f64| if x.abs() < 1e-30 { 0.0 } else { x };
+    let to_xy = |uv: DVec2| {
+        Point2::new(
+            flush((uv.x - lo.x) * grid.scale.x),
+            flush((uv.y - lo.y) * grid.scale.y),
+        )
+    };
     let polys: Vec<Vec<Point2<f64>>> = loops
         .iter()
         .map(|l| l.uv.iter().map(|&uv| to_xy(uv)).collect())
@@ -57,8 +75,11 @@ pub fn tessellate_face(
     // Output vertex of each CDT vertex (by handle index).
     let mut out_of_handle: Vec<u32> = Vec::new();
     let mut conflicts = 0usize;
+    // Output vertex of every loop point, for the boundary segments' curve corrections.
+    let mut loop_out: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
     for (l, poly) in loops.iter().zip(&polys) {
         let mut handles = Vec::with_capacity(poly.len());
+        let mut lo_out = Vec::with_capacity(poly.len());
         for (k, &xy) in poly.iter().enumerate() {
             let h = cdt
                 .insert(xy)
@@ -71,6 +92,7 @@ pub fn tessellate_face(
                     push(&mut out, surface, l.uv[k], l.p3[k], face.same_sense);
             }
             handles.push(h);
+            lo_out.push(out_of_handle[h.index()]);
         }
         for k in 0..handles.len() {
             let (a, b) = (handles[k], handles[(k + 1) % handles.len()]);
@@ -78,6 +100,7 @@ pub fn tessellate_face(
                 conflicts += 1;
             }
         }
+        loop_out.push(lo_out);
     }
     out.boundary_vertex_count = out.positions.len();
     if conflicts > 0 {
@@ -106,6 +129,23 @@ pub fn tessellate_face(
             }
         }
     }
+
+    let unscale =
+        |xy: Point2<f64>| DVec2::new(lo.x + xy.x / grid.scale.x, lo.y + xy.y / grid.scale.y);
+    refine(
+        &mut cdt,
+        &mut out,
+        &mut out_of_handle,
+        &Refine {
+            surface,
+            same_sense: face.same_sense,
+            tol: opts.chord_tol_mm,
+            budget: opts.max_grid_points_per_face,
+            parity: conflicts == 0,
+            polys: &polys,
+            unscale: &unscale,
+        },
+    );
 
     let parity = if conflicts == 0 {
         Some(inside_by_parity(&cdt))
@@ -143,7 +183,278 @@ pub fn tessellate_face(
         });
     }
     fill_missing_normals(&mut out);
+    let (area, volume) = integrate(&out, face, part, &loops, &loop_out);
+    out.area_mm2 = area;
+    out.volume_mm3 = volume;
     Ok(out)
+}
+
+/// The exact area and volume share of a triangulated face (see [`FaceMesh::area_mm2`]).
+fn integrate(
+    out: &FaceMesh,
+    face: &Face,
+    part: &Part,
+    loops: &[UvLoop],
+    loop_out: &[Vec<u32>],
+) -> (f64, f64) {
+    let surface = &face.surface;
+    let sign = if face.same_sense { 1.0 } else { -1.0 };
+    // Area element and volume integrand at (u, v).
+    let element = |uv: DVec2| -> (f64, f64) {
+        let d = surface.derivs(uv.x, uv.y);
+        let n = d.su.cross(d.sv);
+        let (j, w) = (n.length(), d.p.dot(n) * sign / 3.0);
+        if j.is_finite() && w.is_finite() {
+            (j, w)
+        } else {
+            (0.0, 0.0)
+        }
+    };
+    let cross = |a: DVec2, b: DVec2| a.x * b.y - a.y * b.x;
+    let (mut area, mut volume) = (0.0, 0.0);
+    for t in &out.triangles {
+        let [a, b, c] = t.map(|i| out.uv[i as usize]);
+        let a_uv = 0.5 * cross(b - a, c - a).abs();
+        if !(a_uv > 0.0 && a_uv.is_finite()) {
+            continue;
+        }
+        for (wa, wb, wc) in [
+            (4.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0),
+            (1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0),
+            (1.0 / 6.0, 1.0 / 6.0, 4.0 / 6.0),
+        ] {
+            let (j, w) = element(a * wa + b * wb + c * wc);
+            area += a_uv * j / 3.0;
+            volume += a_uv * w / 3.0;
+        }
+    }
+    // Boundary chords: the third vertex of the triangle on each side says where the face is.
+    let mut third: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+    // Only edges between two boundary vertices can be boundary chords.
+    let nb = u32::try_from(out.boundary_vertex_count).unwrap_or(u32::MAX);
+    for t in &out.triangles {
+        for k in 0..3 {
+            let (i, j, w) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            if i < nb && j < nb {
+                third.insert((i.min(j), i.max(j)), w);
+            }
+        }
+    }
+    let rect = surface.domain();
+    let (pu, pv) = surface.periods();
+    for (l, outs) in loops.iter().zip(loop_out) {
+        let n = l.uv.len().min(outs.len());
+        for k in 0..n {
+            let (Some(Some(ei)), k1) = (l.edge.get(k), (k + 1) % n) else {
+                continue;
+            };
+            let (oi, oj) = (outs[k], outs[k1]);
+            let (Some(&w), Some(edge)) =
+                (third.get(&(oi.min(oj), oi.max(oj))), part.edges.get(*ei))
+            else {
+                continue;
+            };
+            let (pa, pb) = (l.p3[k], l.p3[k1]);
+            let range = crate::geometry::Interval::new(
+                edge.t_start.min(edge.t_end),
+                edge.t_start.max(edge.t_end),
+            );
+            let on_curve = edge
+                .curve
+                .point(edge.curve.closest_param(0.5 * (pa + pb), range));
+            if !on_curve.is_finite() {
+                continue;
+            }
+            let (ua, ub) = (out.uv[oi as usize], out.uv[oj as usize]);
+            let guess = 0.5 * (ua + ub);
+            let mut mid = surface.closest_point_near(on_curve, rect, guess).uv;
+            // Into the loop's period window (the inversion may answer in another period).
+            for (axis, per) in [(0, pu), (1, pv)] {
+                if let Some(per) = per.filter(|p| *p > 0.0 && p.is_finite()) {
+                    mid[axis] += ((guess[axis] - mid[axis]) / per).round() * per;
+                }
+            }
+            let bulge = cross(ub - ua, mid - ua);
+            // A sagitta as long as half the chord is no chord of a curve within tolerance: an
+            // inversion that landed elsewhere; leave that segment uncorrected.
+            if bulge.abs() > 0.5 * (ub - ua).length_squared() {
+                continue;
+            }
+            let side = cross(ub - ua, out.uv[w as usize] - ua);
+            if !(bulge.is_finite() && side != 0.0) {
+                continue;
+            }
+            // The parabolic segment between chord and curve: ⅔ · chord · sagitta.
+            let seg = 2.0 / 3.0 * bulge.abs();
+            let seg = if bulge.signum() == side.signum() {
+                -seg
+            } else {
+                seg
+            };
+            let (j, wv) = element(mid);
+            area += seg * j;
+            volume += seg * wv;
+        }
+    }
+    (area, volume)
+}
+
+/// What [`refine`] needs besides the triangulation.
+struct Refine<'a> {
+    surface: &'a SurfaceGeom,
+    same_sense: bool,
+    /// Chord tolerance, mm.
+    tol: f64,
+    /// Most vertices the face may get.
+    budget: usize,
+    /// Inside/outside by crossing parity (the boundary constraints are consistent).
+    parity: bool,
+    polys: &'a [Vec<Point2<f64>>],
+    unscale: &'a dyn Fn(Point2<f64>) -> DVec2,
+}
+
+/// Most refinement rounds: each round at least halves the offending triangles' size, so 40
+/// rounds reach 1e-12 of the face; the vertex budget stops runaway cases first.
+const MAX_REFINE_ROUNDS: usize = 40;
+
+/// Insert vertices until every kept triangle lies within the chord tolerance of the surface:
+/// the triangle's centroid and the midpoints of its interior (unconstrained) edges are compared
+/// with the surface point at the same parameters and, where that differs by more than the
+/// tolerance, with the closest surface point; an edge midpoint that strays is inserted (so both
+/// triangles on the edge are split), else the centroid. Boundary segments are chords of the edge
+/// curves, already within tolerance, and are left as they are so that neighbouring faces keep
+/// sharing them.
+fn refine(
+    cdt: &mut ConstrainedDelaunayTriangulation<Point2<f64>>,
+    out: &mut FaceMesh,
+    out_of_handle: &mut Vec<u32>,
+    r: &Refine<'_>,
+) {
+    let rect = r.surface.domain();
+    let strays = |uv: DVec2, p: DVec3| -> bool {
+        let q = r.surface.point(uv.x, uv.y);
+        if !q.is_finite() || q.distance(p) <= r.tol {
+            return false;
+        }
+        r.surface.closest_point_near(p, rect, uv).distance > r.tol
+    };
+    // After the first round only the triangles around the vertices just inserted are new.
+    let mut fresh: Option<Vec<spade::handles::FixedVertexHandle>> = None;
+    for _ in 0..MAX_REFINE_ROUNDS {
+        let parity = r.parity.then(|| inside_by_parity(cdt));
+        let mut inserts: Vec<Point2<f64>> = Vec::new();
+        let faces: Vec<spade::handles::FixedFaceHandle<spade::handles::InnerTag>> = match &fresh {
+            None => cdt.inner_faces().map(|f| f.fix()).collect(),
+            Some(vs) => {
+                let mut set = std::collections::BTreeSet::new();
+                for &v in vs {
+                    for e in cdt.vertex(v).out_edges() {
+                        if let Some(f) = e.face().as_inner() {
+                            set.insert(f.fix());
+                        }
+                    }
+                }
+                set.into_iter().collect()
+            }
+        };
+        for fh in faces {
+            let f = cdt.face(fh);
+            let vs = f.vertices();
+            let xy = vs.map(|v| v.position());
+            let keep = match &parity {
+                Some(p) => p.get(f.fix().index()).copied().flatten().unwrap_or(false),
+                None => inside(
+                    r.polys,
+                    Point2::new(
+                        (xy[0].x + xy[1].x + xy[2].x) / 3.0,
+                        (xy[0].y + xy[1].y + xy[2].y) / 3.0,
+                    ),
+                ),
+            };
+            if !keep {
+                continue;
+            }
+            let idx = vs.map(|v| {
+                out_of_handle
+                    .get(v.fix().index())
+                    .copied()
+                    .unwrap_or(u32::MAX)
+            });
+            if idx.contains(&u32::MAX) {
+                continue;
+            }
+            let [a, b, c] = idx.map(|i| i as usize);
+            // Degenerate in the plane: nothing to gain by splitting.
+            let area2 = ((xy[1].x - xy[0].x) * (xy[2].y - xy[0].y)
+                - (xy[2].x - xy[0].x) * (xy[1].y - xy[0].y))
+                .abs();
+            let size2 = [(0, 1), (1, 2), (2, 0)]
+                .iter()
+                .map(|&(i, j)| (xy[i].x - xy[j].x).powi(2) + (xy[i].y - xy[j].y).powi(2))
+                .fold(0.0f64, f64::max);
+            if area2 <= 1e-24 * size2.max(1e-300) || size2.sqrt() < 0.01 * r.tol {
+                continue;
+            }
+            let mut split = None;
+            for (e, (i, j)) in f
+                .adjacent_edges()
+                .iter()
+                .zip([(0usize, 1usize), (1, 2), (2, 0)])
+            {
+                if e.is_constraint_edge() && r.parity {
+                    continue;
+                }
+                let (oi, oj) = ([a, b, c][i], [a, b, c][j]);
+                let uv = 0.5 * (out.uv[oi] + out.uv[oj]);
+                let p = 0.5 * (out.positions[oi] + out.positions[oj]);
+                if !e.is_constraint_edge() && strays(uv, p) {
+                    split = Some(Point2::new(
+                        0.5 * (xy[i].x + xy[j].x),
+                        0.5 * (xy[i].y + xy[j].y),
+                    ));
+                    break;
+                }
+            }
+            if split.is_none() {
+                let uv = (out.uv[a] + out.uv[b] + out.uv[c]) / 3.0;
+                let p = (out.positions[a] + out.positions[b] + out.positions[c]) / 3.0;
+                if strays(uv, p) {
+                    split = Some(Point2::new(
+                        (xy[0].x + xy[1].x + xy[2].x) / 3.0,
+                        (xy[0].y + xy[1].y + xy[2].y) / 3.0,
+                    ));
+                }
+            }
+            if let Some(s) = split {
+                inserts.push(s);
+            }
+        }
+        if inserts.is_empty() || out.positions.len() >= r.budget {
+            return;
+        }
+        let mut added = Vec::new();
+        for xy in inserts {
+            if out.positions.len() >= r.budget {
+                break;
+            }
+            let Ok(h) = cdt.insert(xy) else { continue };
+            if h.index() >= out_of_handle.len() {
+                out_of_handle.resize(h.index() + 1, u32::MAX);
+            }
+            if out_of_handle[h.index()] == u32::MAX {
+                let uv = (r.unscale)(xy);
+                let p = r.surface.point(uv.x, uv.y);
+                out_of_handle[h.index()] = push(out, r.surface, uv, p, r.same_sense);
+                added.push(h);
+            }
+        }
+        // Points that fell on existing vertices change nothing: another round would find the
+        // same triangles.
+        if added.is_empty() {
+            return;
+        }
+        fresh = Some(added);
+    }
 }
 
 fn push(out: &mut FaceMesh, surface: &SurfaceGeom, uv: DVec2, p: DVec3, same_sense: bool) -> u32 {
@@ -228,6 +539,7 @@ fn domain_loop(surface: &SurfaceGeom) -> Result<UvLoop, String> {
             let uv = a.lerp(b, s as f64 / n as f64);
             l.uv.push(uv);
             l.p3.push(surface.point(uv.x, uv.y));
+            l.edge.push(None);
         }
     }
     Ok(l)
@@ -309,17 +621,8 @@ impl Grid {
             };
             by_chord.min(by_angle).min(full)
         };
-        let mut hu = step_for(a_uu.max(a_uv), rate_u, range.x);
-        let mut hv = step_for(a_vv.max(a_uv), rate_v, range.y);
-        // Keep cells no more than 4:1 (in mm) when only one direction is curved, so rulings of
-        // cylinders and cones are not left to long slivers.
-        let (lu, lv) = (hu * scale.x, hv * scale.y);
-        if hu < range.x && lv > 4.0 * lu {
-            hv = 4.0 * lu / scale.y;
-        }
-        if hv < range.y && lu > 4.0 * lv {
-            hu = 4.0 * lv / scale.x;
-        }
+        let hu = step_for(a_uu.max(a_uv), rate_u, range.x);
+        let hv = step_for(a_vv.max(a_uv), rate_v, range.y);
         let mut nu = (range.x / hu).ceil().max(1.0);
         let mut nv = (range.y / hv).ceil().max(1.0);
         let cap = opts.max_grid_points_per_face as f64;
