@@ -132,20 +132,39 @@ pub fn tessellate_face(
 
     let unscale =
         |xy: Point2<f64>| DVec2::new(lo.x + xy.x / grid.scale.x, lo.y + xy.y / grid.scale.y);
-    refine(
-        &mut cdt,
-        &mut out,
-        &mut out_of_handle,
-        &Refine {
-            surface,
-            same_sense: face.same_sense,
-            tol: opts.chord_tol_mm,
-            budget: opts.max_grid_points_per_face,
-            parity: conflicts == 0,
-            polys: &polys,
-            unscale: &unscale,
-        },
-    );
+    // Refinement may grow the grid some times over (a face whose curvature the grid step
+    // underestimated), not without bound: a pathological surface (kilometres of wild B-spline)
+    // would otherwise refine to the whole per-face budget, for seconds per face.
+    let budget = opts
+        .max_grid_points_per_face
+        .min(out.positions.len() * REFINE_GROWTH + REFINE_EXTRA_POINTS);
+    // A grid already at half the per-face budget was capped by it: checking its triangles
+    // (seconds on such a face) could add little, so the face is taken as it is, with a warning.
+    let stopped = out.positions.len() * 2 >= opts.max_grid_points_per_face
+        || refine(
+            &mut cdt,
+            &mut out,
+            &mut out_of_handle,
+            &Refine {
+                surface,
+                same_sense: face.same_sense,
+                tol: opts.chord_tol_mm,
+                budget,
+                parity: conflicts == 0,
+                polys: &polys,
+                unscale: &unscale,
+            },
+        );
+    if stopped {
+        out.diagnostics.push(Diagnostic::warning(
+            None,
+            format!(
+                "refinement stopped at {budget} points: parts of the face may lie farther than \
+                 {} mm from its mesh",
+                opts.chord_tol_mm
+            ),
+        ));
+    }
 
     let parity = if conflicts == 0 {
         Some(inside_by_parity(&cdt))
@@ -316,6 +335,10 @@ struct Refine<'a> {
 /// Most refinement rounds: each round at least halves the offending triangles' size, so 40
 /// rounds reach 1e-12 of the face; the vertex budget stops runaway cases first.
 const MAX_REFINE_ROUNDS: usize = 40;
+/// Refinement adds at most this many times the grid's points ...
+const REFINE_GROWTH: usize = 8;
+/// ... plus this many.
+const REFINE_EXTRA_POINTS: usize = 50_000;
 
 /// Insert vertices until every kept triangle lies within the chord tolerance of the surface:
 /// the triangle's centroid and the midpoints of its interior (unconstrained) edges are compared
@@ -324,12 +347,13 @@ const MAX_REFINE_ROUNDS: usize = 40;
 /// triangles on the edge are split), else the centroid. Boundary segments are chords of the edge
 /// curves, already within tolerance, and are left as they are so that neighbouring faces keep
 /// sharing them.
+/// Returns whether it stopped at the vertex budget with triangles still out of tolerance.
 fn refine(
     cdt: &mut ConstrainedDelaunayTriangulation<Point2<f64>>,
     out: &mut FaceMesh,
     out_of_handle: &mut Vec<u32>,
     r: &Refine<'_>,
-) {
+) -> bool {
     let rect = r.surface.domain();
     let strays = |uv: DVec2, p: DVec3| -> bool {
         let q = r.surface.point(uv.x, uv.y);
@@ -429,8 +453,11 @@ fn refine(
                 inserts.push(s);
             }
         }
-        if inserts.is_empty() || out.positions.len() >= r.budget {
-            return;
+        if inserts.is_empty() {
+            return false;
+        }
+        if out.positions.len() >= r.budget {
+            return true;
         }
         let mut added = Vec::new();
         for xy in inserts {
@@ -451,10 +478,11 @@ fn refine(
         // Points that fell on existing vertices change nothing: another round would find the
         // same triangles.
         if added.is_empty() {
-            return;
+            return false;
         }
         fresh = Some(added);
     }
+    false
 }
 
 fn push(out: &mut FaceMesh, surface: &SurfaceGeom, uv: DVec2, p: DVec3, same_sense: bool) -> u32 {
