@@ -155,3 +155,57 @@ fn dense_circles_keep_every_axis_limit() {
         assert!(worst.iter().all(|r| *r <= 1.001), "F{feed}: {worst:?}");
     }
 }
+
+/// A posted 5-axis program (trt-ac, iso-scallop on `bicubic-hills.stp` at 0.5 mm scallop with a
+/// 6 mm ball, G93 inverse time with A/C moves in nearly every block; the first 3 000 lines of
+/// `talas plan … --strategy iso-scallop --machine trt-ac` then `talas post --machine trt-ac`):
+/// the default blends keep its planned time within 1.5× of its time at the programmed feeds
+/// (it stopped at nearly every block: 4.5×), and every axis, A and C included, keeps its
+/// limits over the samples.
+#[test]
+fn posted_five_axis_program_keeps_its_feed() {
+    use talas::feed::{DEFAULT_CORNERS, naive_time_s};
+    use talas::gcode::Syntax;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/fivex/trt-ac-iso-scallop.ngc"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).unwrap();
+    assert!(prog.blocks.iter().filter(|b| b.inverse_time).count() > 2000);
+    let machine = Machine::builtin("trt-ac").unwrap();
+    let axes = machine_limits(&machine);
+    let at_feed = naive_time_s(&prog.blocks);
+    for corner in [
+        DEFAULT_CORNERS,
+        CornerPolicy::JunctionDeviation { tolerance_mm: 0.05 },
+    ] {
+        let tp = plan(&PlanInput {
+            blocks: prog.blocks.as_slice().into(),
+            axes: axes.clone(),
+            options: PlanOptions {
+                corner,
+                ..PlanOptions::default()
+            },
+        })
+        .unwrap();
+        let t = tp.cycle_time_s;
+        eprintln!(
+            "{corner:?}: {t:.2} s planned, {at_feed:.2} s at the programmed feeds ({:.3}×)",
+            t / at_feed
+        );
+        assert!(
+            t <= 1.5 * at_feed,
+            "{corner:?}: {t} s against {at_feed} s at feed"
+        );
+        for (peak, (name, lim)) in tp.peaks().iter().zip(&axes) {
+            assert_eq!(peak.axis, *name);
+            assert!(
+                peak.velocity <= lim.velocity * 1.001
+                    && peak.acceleration <= lim.acceleration * 1.001
+                    && peak.jerk <= lim.jerk * 1.001,
+                "{corner:?}: axis {name} peaks {peak:?} beyond {lim:?}"
+            );
+        }
+    }
+}
