@@ -279,7 +279,10 @@ impl Run {
         let (s, v, a, j) = self.path_state();
         let (k, sl) = self.segment_at(s);
         let Some(seg) = self.path.segments().get(k) else {
-            return Kinematics::default();
+            return Kinematics {
+                position: self.point_on(k, sl),
+                ..Kinematics::default()
+            };
         };
         let d = seg.derivatives(sl);
         let mut out = Kinematics {
@@ -323,7 +326,8 @@ impl Run {
     fn point_on(&self, k: usize, sl: f64) -> JointVector {
         let blocks = self.path.blocks();
         let (Some(seg), last) = (self.path.segments().get(k), blocks.last()) else {
-            return [0.0; SLOTS];
+            // A motion of no length (homing an axis already at its switch): it stays put.
+            return blocks.last().map_or([0.0; SLOTS], |b| joint_vector(&b.end));
         };
         let Some(block) = blocks.get(seg.last_block) else {
             return last.map_or([0.0; SLOTS], |b| joint_vector(&b.end));
