@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! MotionBlocks ─path─▶ Segments (length, q', q'', q''' bounds, tangential v/a/j)
+//!              ─merge─▶ runs of short lines as one line within half the tolerance
 //!              ─blend─▶ corner blends between straight segments (CornerPolicy::Blend)
 //!              ─lookahead─▶ junction speeds (backward, forward pass)
 //!              ─profile─▶ one 7-phase S-curve per block ─timed_path─▶ samples, peaks
@@ -63,7 +64,10 @@ pub enum CornerPolicy {
     /// Replace every sharp junction between two straight X/Y/Z moves by a clothoid-pair blend
     /// ([`blend::ClothoidBlend`]) within `tolerance_mm` of the corner (taking at most half of
     /// either move), planned under the axis limits along its curvature: all axis limits hold
-    /// everywhere. Other non-smooth junctions (reversals, arcs) stop exactly.
+    /// everywhere. Runs of short lines are first merged into one line within half the
+    /// tolerance ([`merge`]); near-tangent junctions that move rotary axes or join arcs pass at
+    /// the speed of the arc they imply ([`lookahead::near_tangent_cap`]); other non-smooth
+    /// junctions (reversals, sharp corners at arcs) stop exactly.
     Blend {
         /// Path-deviation tolerance δ (mm): the largest distance of the blend from the corner.
         tolerance_mm: f64,
