@@ -84,6 +84,36 @@ fn parse_start(text: &str) -> Option<DVec3> {
     }
 }
 
+/// The start position of a G-code program (see [`SimulateArgs::start`]).
+fn start_position(
+    args: &SimulateArgs,
+    machine: Option<&Machine>,
+    shapes: &[StockShape],
+    part_bounds: Option<&Aabb>,
+) -> Result<DVec3, ImportError> {
+    Ok(match (&args.start, machine) {
+        (Some(t), _) => parse_start(t).ok_or_else(|| {
+            ImportError::new(
+                Path::new("--start"),
+                None,
+                format!("--start must be X,Y,Z in mm, got '{t}'"),
+            )
+        })?,
+        (None, Some(m)) => {
+            let home = crate::control::ControlConfig::new(m.clone()).home_position;
+            DVec3::new(home[0], home[1], home[2])
+        }
+        (None, None) => {
+            let top = shapes
+                .iter()
+                .map(|s| s.bounds().max.z)
+                .chain(part_bounds.iter().map(|b| b.max.z))
+                .fold(0.0_f64, f64::max);
+            DVec3::new(0.0, 0.0, top + START_CLEARANCE_MM)
+        }
+    })
+}
+
 /// Interpret `text` from `start` and leave out the moves from the start to the first position
 /// the program commands in every one of X, Y and Z.
 ///
@@ -182,27 +212,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         .iter()
         .map(|s| parse_stock(s, part_bounds.as_ref()))
         .collect::<Result<Vec<_>, _>>()?;
-    let start = match (&args.start, &machine) {
-        (Some(t), _) => parse_start(t).ok_or_else(|| {
-            ImportError::new(
-                Path::new("--start"),
-                None,
-                format!("--start must be X,Y,Z in mm, got '{t}'"),
-            )
-        })?,
-        (None, Some(m)) => {
-            let home = crate::control::ControlConfig::new(m.clone()).home_position;
-            DVec3::new(home[0], home[1], home[2])
-        }
-        (None, None) => {
-            let top = shapes
-                .iter()
-                .map(|s| s.bounds().max.z)
-                .chain(part_bounds.iter().map(|b| b.max.z))
-                .fold(0.0_f64, f64::max);
-            DVec3::new(0.0, 0.0, top + START_CLEARANCE_MM)
-        }
-    };
+    let start = start_position(args, machine.as_ref(), &shapes, part_bounds.as_ref())?;
     let (toolpath, program) = if is_json {
         let (tp, warnings) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
