@@ -130,7 +130,7 @@ pub const NEAR_TANGENT_MAX_TURN_RAD: f64 = 0.1;
 
 /// Share of every axis's acceleration and jerk limits given to the curvature of a
 /// near-tangent junction's implied arc (the rest is left to the tangential change next to it).
-const NEAR_TANGENT_SHARE: f64 = 0.5;
+pub const NEAR_TANGENT_SHARE: f64 = 0.5;
 
 /// The speed at which a near-tangent junction between `a` and `b` is passed, if it is one
 /// (`None` otherwise).
