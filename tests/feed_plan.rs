@@ -287,11 +287,19 @@ fn blended_corners_hold_limits_and_tolerance() {
         let samples: Vec<_> = (0..steps + 5)
             .map(|i| tp.state_at((i as f64 - 2.0) * h))
             .collect();
+        // A sample's block is the first of a run merged into one line: the run's blocks
+        // follow it.
+        let run = tp
+            .segments()
+            .iter()
+            .map(|g| g.last_block - g.block)
+            .max()
+            .unwrap_or(0);
         for i in 2..steps + 3 {
             let s = &samples[i];
             // Distance from the programmed polyline (the blocks around the sample's block).
             let p = [s.position[0], s.position[1], s.position[2]];
-            let dev = (s.block.saturating_sub(1)..(s.block + 2).min(prog.blocks.len()))
+            let dev = (s.block.saturating_sub(1)..(s.block + 2 + run).min(prog.blocks.len()))
                 .map(|b| {
                     let blk = &prog.blocks[b];
                     point_segment_distance(p, blk.start.xyz.to_array(), blk.end.xyz.to_array())

@@ -51,7 +51,7 @@ pub struct FeedArgs {
 }
 
 /// Default corner tolerance of `talas feed` (mm).
-pub const DEFAULT_DEVIATION_MM: f64 = 0.05;
+pub const DEFAULT_DEVIATION_MM: f64 = crate::feed::DEFAULT_TOLERANCE_MM;
 
 /// Corner handling on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

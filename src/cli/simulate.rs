@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::DVec3;
 use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
@@ -56,9 +57,98 @@ pub struct SimulateArgs {
     /// Write the simulated stock as binary STL (closed column mesh of the Z rays).
     #[arg(long, value_name = "OUT.stl")]
     pub stl: Option<PathBuf>,
+    /// Where the tool stands before the first block of a G-code program, `X,Y,Z` (mm; default:
+    /// the machine's home with `--machine`, else above the stock and the part at X0 Y0). The
+    /// moves before the program has commanded all of X, Y and Z (from the start to the first
+    /// fully commanded position) are not simulated: a position the program did not command is
+    /// never reported as a cut, a gouge or a collision.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub start: Option<String>,
     /// Print one JSON document instead of the human summary.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Height of the default start above the highest of the stock and the part (mm).
+pub const START_CLEARANCE_MM: f64 = 10.0;
+
+/// `X,Y,Z` (mm) as a start position.
+fn parse_start(text: &str) -> Option<DVec3> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse().ok().filter(|x: &f64| x.is_finite()))
+        .collect::<Option<_>>()?;
+    match v.as_slice() {
+        [x, y, z] => Some(DVec3::new(*x, *y, *z)),
+        _ => None,
+    }
+}
+
+/// The start position of a G-code program (see [`SimulateArgs::start`]).
+fn start_position(
+    args: &SimulateArgs,
+    machine: Option<&Machine>,
+    shapes: &[StockShape],
+    part_bounds: Option<&Aabb>,
+) -> Result<DVec3, ImportError> {
+    Ok(match (&args.start, machine) {
+        (Some(t), _) => parse_start(t).ok_or_else(|| {
+            ImportError::new(
+                Path::new("--start"),
+                None,
+                format!("--start must be X,Y,Z in mm, got '{t}'"),
+            )
+        })?,
+        (None, Some(m)) => {
+            let home = crate::control::ControlConfig::new(m.clone()).home_position;
+            DVec3::new(home[0], home[1], home[2])
+        }
+        (None, None) => {
+            let top = shapes
+                .iter()
+                .map(|s| s.bounds().max.z)
+                .chain(part_bounds.iter().map(|b| b.max.z))
+                .fold(0.0_f64, f64::max);
+            DVec3::new(0.0, 0.0, top + START_CLEARANCE_MM)
+        }
+    })
+}
+
+/// Interpret `text` from `start` and leave out the moves from the start to the first position
+/// the program commands in every one of X, Y and Z.
+///
+/// Those are found by interpreting the program again from another start: a block whose end
+/// does not depend on the start is commanded; the blocks up to the first such one (the move
+/// into it included) are the lead-in from wherever the machine stood. A program that never
+/// commands an absolute position (all incremental) keeps every block, from `start`.
+fn interpret_from(
+    text: &str,
+    start: DVec3,
+) -> Result<crate::gcode::Program, crate::gcode::GcodeError> {
+    let options = |p: DVec3| InterpretOptions {
+        start: crate::gcode::Joints::xyz(p.x, p.y, p.z),
+        ..InterpretOptions::for_syntax(Syntax::detect(text))
+    };
+    let mut prog = interpret(text, &options(start))?;
+    let other = start + DVec3::new(1234.5, -2345.25, 3456.125);
+    let Ok(moved) = interpret(text, &options(other)) else {
+        return Ok(prog);
+    };
+    let first = prog
+        .blocks
+        .iter()
+        .zip(&moved.blocks)
+        .position(|(a, b)| a.end.xyz == b.end.xyz);
+    if let Some(i) = first
+        && prog.blocks.len() == moved.blocks.len()
+    {
+        let dropped = i + 1;
+        prog.blocks.drain(..dropped);
+        for d in &mut prog.dwells {
+            d.before_block = d.before_block.saturating_sub(dropped);
+        }
+    }
+    Ok(prog)
 }
 
 /// One `--stock` text ([`StockSpec::parse`], the syntax every subcommand shares) as the
@@ -108,6 +198,21 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let text =
         std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let machine = match &args.machine {
+        Some(m) => Some(
+            Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
+        ),
+        None => None,
+    };
+    // The part is read first: the bare `box`/`cylinder` stocks are sized around it.
+    let part_mesh = args.part.as_deref().map(read_part).transpose()?;
+    let part_bounds = part_mesh.as_ref().map(TriMesh::bbox);
+    let shapes = args
+        .stock
+        .iter()
+        .map(|s| parse_stock(s, part_bounds.as_ref()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let start = start_position(args, machine.as_ref(), &shapes, part_bounds.as_ref())?;
     let (toolpath, program) = if is_json {
         let (tp, warnings) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
@@ -116,14 +221,12 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         }
         (Some(tp), None)
     } else {
-        let prog = interpret(&text, &InterpretOptions::for_syntax(Syntax::detect(&text))).map_err(
-            |e| {
-                bad(
-                    Some(format!("line {}, column {}", e.line, e.column)),
-                    e.message,
-                )
-            },
-        )?;
+        let prog = interpret_from(&text, start).map_err(|e| {
+            bad(
+                Some(format!("line {}, column {}", e.line, e.column)),
+                e.message,
+            )
+        })?;
         (None, Some(prog))
     };
     let cutter = match (&args.tool, &toolpath) {
@@ -138,12 +241,6 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
             ));
         }
     };
-    let machine = match &args.machine {
-        Some(m) => Some(
-            Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
-        ),
-        None => None,
-    };
     let step_opts = StepOptions::for_resolution(args.resolution, cutter.flute_length);
     let plan: MovePlan = match (&toolpath, &program) {
         (Some(tp), _) => plan_toolpath(tp, &step_opts),
@@ -151,14 +248,6 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         (None, None) => Ok(MovePlan::default()),
     }
     .map_err(|e| sim_err(file, &e, is_json))?;
-    // The part is read first: the bare `box`/`cylinder` stocks are sized around it.
-    let part_mesh = args.part.as_deref().map(read_part).transpose()?;
-    let part_bounds = part_mesh.as_ref().map(TriMesh::bbox);
-    let shapes = args
-        .stock
-        .iter()
-        .map(|s| parse_stock(s, part_bounds.as_ref()))
-        .collect::<Result<Vec<_>, _>>()?;
     let mode = if args.tri_dexel || plan.tilted() {
         DexelMode::Tri
     } else {

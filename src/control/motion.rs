@@ -9,7 +9,9 @@
 //! `v0 + a0²/(2J) − ap²/J − ap·t2 = 0`).
 
 use crate::feed::path::{JointVector, SLOTS, joint_vector};
-use crate::feed::{AxisLimit, FeedError, Limits1, PlanInput, PlanOptions, TimedPath, plan};
+use crate::feed::{
+    AxisLimit, CornerPolicy, FeedError, Limits1, PlanInput, PlanOptions, TimedPath, plan,
+};
 use crate::gcode::{Joints, MotionBlock, MotionKind};
 
 /// Axis positions, velocities, accelerations and jerks (slots X Y Z A B C; mm, rad) and the
@@ -106,7 +108,9 @@ pub struct Run {
 }
 
 impl Run {
-    /// Plan `blocks` (feeds scaled by `scale_feed` per block) under the axis limits.
+    /// Plan `blocks` (`planned`: the same with the override-scaled feeds) under the axis limits
+    /// with the corner policy (the program's motion: [`crate::feed::DEFAULT_CORNERS`], as
+    /// `talas feed` plans it).
     ///
     /// # Errors
     /// The planner's [`FeedError`].
@@ -114,11 +118,15 @@ impl Run {
         blocks: Vec<MotionBlock>,
         planned: &[MotionBlock],
         axes: &[(char, AxisLimit)],
+        corner: CornerPolicy,
     ) -> Result<Self, FeedError> {
         let path = plan(&PlanInput {
             blocks: planned.into(),
             axes: axes.to_vec(),
-            options: PlanOptions::default(),
+            options: PlanOptions {
+                corner,
+                ..PlanOptions::default()
+            },
         })?;
         let (mut s, mut t) = (0.0, 0.0);
         let (mut seg_s0, mut seg_t0) = (Vec::new(), Vec::new());
@@ -182,8 +190,8 @@ impl Run {
         h
     }
 
-    /// Move the clock on by at most `dt` but not past the end of the present segment (where
-    /// the exact-stop plan is at rest); returns the time used.
+    /// Move the clock on by at most `dt` but not past the end of the present segment; returns
+    /// the time used. (Used only where that end is at rest: see [`Run::rests_after_present`].)
     pub fn step_within_segment(&mut self, dt: f64) -> f64 {
         if self.brake.is_some() {
             return self.step(dt);
@@ -202,6 +210,15 @@ impl Run {
             self.t += dt;
             dt
         }
+    }
+
+    /// Whether the present segment ends at rest (a junction speed of 0 in the plan, or the end
+    /// of the motion): the motion can be planned again from there without a brake.
+    #[must_use]
+    pub fn rests_after_present(&self) -> bool {
+        let t = self.t;
+        let k = self.seg_t0.partition_point(|&t0| t0 <= t).saturating_sub(1);
+        self.path.junction_speed(k + 1).is_none_or(|v| v == 0.0)
     }
 
     /// Whether the clock stands exactly at the start of a segment after the first (the
@@ -262,7 +279,10 @@ impl Run {
         let (s, v, a, j) = self.path_state();
         let (k, sl) = self.segment_at(s);
         let Some(seg) = self.path.segments().get(k) else {
-            return Kinematics::default();
+            return Kinematics {
+                position: self.point_on(k, sl),
+                ..Kinematics::default()
+            };
         };
         let d = seg.derivatives(sl);
         let mut out = Kinematics {
@@ -306,9 +326,10 @@ impl Run {
     fn point_on(&self, k: usize, sl: f64) -> JointVector {
         let blocks = self.path.blocks();
         let (Some(seg), last) = (self.path.segments().get(k), blocks.last()) else {
-            return [0.0; SLOTS];
+            // A motion of no length (homing an axis already at its switch): it stays put.
+            return blocks.last().map_or([0.0; SLOTS], |b| joint_vector(&b.end));
         };
-        let Some(block) = blocks.get(seg.block) else {
+        let Some(block) = blocks.get(seg.last_block) else {
             return last.map_or([0.0; SLOTS], |b| joint_vector(&b.end));
         };
         if k + 1 == self.path.segments().len() && sl >= seg.length {
@@ -389,13 +410,29 @@ impl Run {
             return Vec::new();
         };
         let mut out = Vec::new();
-        if let Some(b) = self.blocks.get(seg.block) {
-            let u = (sl / seg.length).clamp(0.0, 1.0);
+        let here = self.point_on(k, sl);
+        // On a corner blend the rest of the corner's block is its outgoing block, from here
+        // (within the blend's tolerance of the programmed corner).
+        // On a run of blocks merged into one line, the rest of the run is the line from here
+        // to the run's end (the merge's tolerance of the programmed vertices).
+        let (first, whole) = if seg.blend().is_some() {
+            (seg.block + 1, true)
+        } else if seg.last_block > seg.block {
+            (seg.last_block, true)
+        } else {
+            (seg.block, false)
+        };
+        if let Some(b) = self.blocks.get(first) {
+            let u = if whole {
+                0.0
+            } else {
+                block_parameter(b, seg, sl)
+            };
             let mut piece = sub_block(b, u, 1.0);
-            piece.start = joints_like(&self.point_on(k, sl), &b.start);
+            piece.start = joints_like(&here, &b.start);
             out.push(piece);
         }
-        out.extend(self.blocks.iter().skip(seg.block + 1).cloned());
+        out.extend(self.blocks.iter().skip(first + 1).cloned());
         out
     }
 
@@ -420,8 +457,13 @@ impl Run {
             let u1 = ((s1 - a) / seg.length).clamp(0.0, 1.0);
             let mut piece = sub_block(block, u0, u1);
             piece.start = joints_like(&self.point_on(k, s0.max(a) - a), &block.start);
-            if u1 < 1.0 {
-                piece.end = joints_like(&self.point_on(k, s1 - a), &block.end);
+            // A segment that is not its whole block (a line shortened by corner blends, a
+            // blend, a merged run) ends where the segment does, not where the block does.
+            let whole = seg.blend().is_none()
+                && seg.last_block == seg.block
+                && (seg.length - block.length_mm()).abs() <= 1e-9;
+            if u1 < 1.0 || !whole {
+                piece.end = joints_like(&self.point_on(k, s1.min(b) - a), &block.end);
             }
             out.push(CutPiece {
                 block: block.clone(),
@@ -445,6 +487,25 @@ pub struct CutPiece {
 }
 
 /// A slot vector as joints, keeping only the rotary axes `like` has.
+/// The block parameter `u` (0 at its start, 1 at its end) at path position `sl` into planned
+/// segment `seg` of block `b`: the segment's own fraction where it is the whole block (arcs,
+/// unblended lines), else (a line shortened by corner blends) the fraction of the block's
+/// length from its start to that point.
+fn block_parameter(b: &MotionBlock, seg: &crate::feed::path::Segment, sl: f64) -> f64 {
+    let (s0, e0) = (joint_vector(&b.start), joint_vector(&b.end));
+    let p = seg.derivatives(sl)[0];
+    let (mut along, mut whole) = (0.0, 0.0);
+    for i in 0..SLOTS {
+        along += (p[i] - s0[i]) * (e0[i] - s0[i]);
+        whole += (e0[i] - s0[i]) * (e0[i] - s0[i]);
+    }
+    if seg.arc().is_some() || !(whole > 0.0) {
+        (sl / seg.length).clamp(0.0, 1.0)
+    } else {
+        (along / whole).clamp(0.0, 1.0)
+    }
+}
+
 fn joints_like(p: &JointVector, like: &Joints) -> Joints {
     Joints {
         xyz: glam::DVec3::new(p[0], p[1], p[2]),

@@ -47,6 +47,8 @@ enum AfterBrake {
     Hold { by_override: bool },
     /// Drop it.
     Discard,
+    /// Plan the rest again at once (an override changed while blending through).
+    Resume,
 }
 
 struct Active {

@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! MotionBlocks ─path─▶ Segments (length, q', q'', q''' bounds, tangential v/a/j)
+//!              ─merge─▶ runs of short lines as one line within half the tolerance
 //!              ─blend─▶ corner blends between straight segments (CornerPolicy::Blend)
 //!              ─lookahead─▶ junction speeds (backward, forward pass)
 //!              ─profile─▶ one 7-phase S-curve per block ─timed_path─▶ samples, peaks
@@ -21,6 +22,7 @@
 pub mod blend;
 pub mod estimate;
 pub mod lookahead;
+pub mod merge;
 pub mod path;
 pub mod profile;
 pub mod timed_path;
@@ -62,12 +64,25 @@ pub enum CornerPolicy {
     /// Replace every sharp junction between two straight X/Y/Z moves by a clothoid-pair blend
     /// ([`blend::ClothoidBlend`]) within `tolerance_mm` of the corner (taking at most half of
     /// either move), planned under the axis limits along its curvature: all axis limits hold
-    /// everywhere. Other non-smooth junctions (reversals, arcs) stop exactly.
+    /// everywhere. Runs of short lines are first merged into one line within half the
+    /// tolerance ([`merge`]); near-tangent junctions that move rotary axes or join arcs pass at
+    /// the speed of the arc they imply ([`lookahead::near_tangent_cap`]); other non-smooth
+    /// junctions (reversals, sharp corners at arcs) stop exactly.
     Blend {
         /// Path-deviation tolerance δ (mm): the largest distance of the blend from the corner.
         tolerance_mm: f64,
     },
 }
+
+/// The corner tolerance `talas feed` and the control's AUTO and MDI plan with by default (mm).
+pub const DEFAULT_TOLERANCE_MM: f64 = 0.05;
+
+/// The corner policy `talas feed` and the control's AUTO and MDI plan with by default:
+/// clothoid blends (and near-tangent junctions passed on the curve they sample) within
+/// [`DEFAULT_TOLERANCE_MM`].
+pub const DEFAULT_CORNERS: CornerPolicy = CornerPolicy::Blend {
+    tolerance_mm: DEFAULT_TOLERANCE_MM,
+};
 
 /// Planner options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,13 +216,31 @@ pub fn plan(input: &PlanInput) -> Result<TimedPath, FeedError> {
     });
     let segments = match opts.corner {
         CornerPolicy::Blend { tolerance_mm } if tolerance_mm.is_finite() && tolerance_mm > 0.0 => {
-            // Blended straight from the stream: the unblended segments are never stored.
-            blend_corners(
+            // Runs of short lines merged within half the tolerance, then the corners blended.
+            let merged = merge::merge_runs(
                 segment_stream,
+                &input.blocks,
+                &slots,
+                opts.path_limits,
+                0.5 * tolerance_mm,
+            );
+            blend_corners(
+                merged.into_iter(),
                 input.blocks.len(),
                 &slots,
                 opts.path_limits,
                 tolerance_mm,
+            )
+        }
+        CornerPolicy::JunctionDeviation { tolerance_mm }
+            if tolerance_mm.is_finite() && tolerance_mm > 0.0 =>
+        {
+            merge::merge_runs(
+                segment_stream,
+                &input.blocks,
+                &slots,
+                opts.path_limits,
+                0.5 * tolerance_mm,
             )
         }
         _ => {
@@ -311,7 +344,7 @@ fn blend_corners(
                 slow_side(next, reached.1, 0.0),
             );
             stop_next = Some(stops.1);
-            let corner = Corner {
+            let mut corner = Corner {
                 point,
                 t0,
                 t1,
@@ -319,7 +352,22 @@ fn blend_corners(
                 reached,
                 stop_cost: stops.0 + stops.1,
             };
+            // Next to a merged run, half the tolerance is the merge's.
+            let merged = seg.last_block != seg.block || next.last_block != next.block;
+            let tolerance = if merged { 0.5 * tolerance } else { tolerance };
             after = best_blend(&seg, next, &corner, tolerance, axes, path_limits);
+            // The straight piece left between this blend and the one before is either none
+            // or at least `MIN_PIECE_MM` long: a sliver of a piece is timed with less
+            // precision than its length.
+            let room = seg.length - before.unwrap_or(0.0);
+            if let Some(a) = after.as_ref().and_then(|b| b.blend()).map(|b| b.setback)
+                && room - a > 0.0
+                && room - a < MIN_PIECE_MM
+                && room - MIN_PIECE_MM > 0.0
+            {
+                corner.max_setback = corner.max_setback.min(room - MIN_PIECE_MM);
+                after = best_blend(&seg, next, &corner, tolerance, axes, path_limits);
+            }
         }
         let after_setback = after
             .as_ref()
@@ -458,7 +506,7 @@ fn best_blend(
         }
         previous = cost;
     }
-    best.map(|(c, limits, cap)| path::Segment::blend_segment(a.block, c, limits, cap))
+    best.map(|(c, limits, cap)| path::Segment::blend_segment(a.last_block, c, limits, cap))
 }
 
 /// The cost of slowing to `v` at a corner on the side of segment `s`, whose speed there is `f`:
@@ -475,6 +523,9 @@ fn slow_side(s: &path::Segment, f: f64, v: f64) -> f64 {
         0.0
     }
 }
+
+/// The shortest straight piece left between two corner blends (mm); shorter ones are none.
+const MIN_PIECE_MM: f64 = 1e-3;
 
 /// Blend candidates weighed per corner by [`best_blend`]: the first and five shrunk by 4^−k.
 const CANDIDATES: u8 = 6;

@@ -63,8 +63,11 @@ pub enum VelocityCap {
 /// (a line's start and change, a corner blend's corner, directions and size, or a boxed arc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
-    /// Index of the block in the program.
+    /// Index of the block in the program (the first, for a run of blocks merged into one line).
     pub block: usize,
+    /// Index of the last block the segment runs through: `block` itself, except for a run of
+    /// short blocks merged into one line within the tolerance (see `feed::merge`).
+    pub last_block: usize,
     /// Path length (mm; rad for rotary-only blocks).
     pub length: f64,
     /// Tangential limits valid over the whole block.
@@ -189,6 +192,7 @@ impl Segment {
         };
         Some(Self {
             block: index,
+            last_block: index,
             length,
             limits,
             cap,
@@ -290,11 +294,55 @@ impl Segment {
     ) -> Self {
         Self {
             block,
+            last_block: block,
             length: blend.length(),
             limits,
             cap,
             shape: Shape::Blend(blend.curve()),
         }
+    }
+
+    /// The straight segment from `start` to `end` (joints linear in the X Y Z length) for blocks
+    /// `first..=last` merged into one, at the path speed `feed` (mm/s); `None` where it has no
+    /// X Y Z length or an axis the machine lacks would move.
+    #[must_use]
+    // One index walks several parallel arrays; an iterator chain would hide that.
+    #[allow(clippy::needless_range_loop)]
+    pub fn merged_line(
+        (first, last): (usize, usize),
+        start: JointVector,
+        end: JointVector,
+        feed: f64,
+        axes: &AxisLimits,
+        path: Option<super::Limits1>,
+    ) -> Option<Self> {
+        let mut delta = [0.0; SLOTS];
+        for k in 0..SLOTS {
+            delta[k] = end[k] - start[k];
+        }
+        let length = (delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]).sqrt();
+        if !(length > 1e-12 && length.is_finite()) {
+            return None;
+        }
+        let mut d1 = [0.0; SLOTS];
+        for k in 0..SLOTS {
+            d1[k] = (delta[k] / length).abs();
+        }
+        let (limits, cap) = line_limits(&d1, feed, axes, path)?;
+        Some(Self {
+            block: first,
+            last_block: last,
+            length,
+            limits,
+            cap,
+            shape: Shape::Line { start, delta },
+        })
+    }
+
+    /// Whether the segment is a plain straight line (not an arc or a blend).
+    #[must_use]
+    pub fn is_line(&self) -> bool {
+        matches!(self.shape, Shape::Line { .. })
     }
 
     /// A straight segment moving only X, Y, Z: its unit direction.

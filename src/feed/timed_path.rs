@@ -164,6 +164,55 @@ impl TimedPath {
         Some((*times.get(k)?, *times.get(k + 1)?))
     }
 
+    /// The program's blocks as the plan runs them: `(block index, (start, end) time in s, path
+    /// length in mm)` in order, one entry per planned segment, except that a run of blocks
+    /// merged into one line (see [`crate::feed::merge`]) gives one entry per block, each the
+    /// share of the line its own length is, timed where the line's profile reaches it.
+    #[must_use]
+    pub fn block_pieces(&self) -> Vec<(usize, (f64, f64), f64)> {
+        let mut out = Vec::with_capacity(self.blocks.len());
+        for (k, seg) in self.segments.iter().enumerate() {
+            let Some((t0, t1)) = self.segment_span_s(k) else {
+                continue;
+            };
+            if seg.last_block <= seg.block {
+                out.push((seg.block, (t0, t1), seg.length));
+                continue;
+            }
+            let (Some(blocks), Some(profile)) =
+                (self.blocks.get(seg.block..=seg.last_block), self.profile(k))
+            else {
+                out.push((seg.block, (t0, t1), seg.length));
+                continue;
+            };
+            let total: f64 = blocks.iter().map(MotionBlock::length_mm).sum();
+            let (mut along, mut t_prev) = (0.0, t0);
+            for (i, b) in blocks.iter().enumerate() {
+                let share = if total > 0.0 {
+                    seg.length * b.length_mm() / total
+                } else {
+                    0.0
+                };
+                along += share;
+                let t_end = if i + 1 == blocks.len() {
+                    t1
+                } else {
+                    t0 + time_at_distance(&profile, along.min(seg.length))
+                };
+                out.push((seg.block + i, (t_prev, t_end.max(t_prev)), share));
+                t_prev = t_end.max(t_prev);
+            }
+        }
+        out
+    }
+
+    /// The planned path speed at junction `k` (0: the start of segment 0; `k`: the end of
+    /// segment `k − 1`), mm/s; `None` past the end.
+    #[must_use]
+    pub fn junction_speed(&self, k: usize) -> Option<f64> {
+        self.speeds.junctions.get(k).copied()
+    }
+
     /// The 1-DoF profile of planned block `k` (along its path length), rebuilt from the kept
     /// speeds (the same as when it was planned).
     #[must_use]
@@ -191,7 +240,8 @@ impl TimedPath {
         let (Some(seg), Some(prof), Some(block)) = (
             self.segments.get(k),
             self.profile(k),
-            self.blocks.get(self.segments.get(k).map_or(0, |s| s.block)),
+            self.blocks
+                .get(self.segments.get(k).map_or(0, |s| s.last_block)),
         ) else {
             let position = self
                 .blocks
@@ -283,4 +333,22 @@ impl TimedPath {
             .chain(std::iter::once(self.cycle_time_s))
             .map(move |t| self.state_at(t))
     }
+}
+
+/// The time at which `profile` has run `distance` along its path (bisection on its monotone
+/// position, to a nanosecond).
+fn time_at_distance(profile: &Profile, distance: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, profile.duration_s());
+    for _ in 0..64 {
+        if hi - lo <= 1e-9 {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if profile.at_time(mid).0 < distance {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }

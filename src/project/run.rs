@@ -202,10 +202,8 @@ impl RunMotion {
 fn line_timing(timed: &TimedPath, line_count: usize) -> (Vec<(f64, usize)>, Vec<Option<LineSpan>>) {
     let mut starts: Vec<(f64, usize)> = Vec::new();
     let mut spans: Vec<Option<LineSpan>> = vec![None; line_count];
-    for (k, seg) in timed.segments().iter().enumerate() {
-        let (Some((t0, t1)), Some(block)) =
-            (timed.segment_span_s(k), timed.blocks().get(seg.block))
-        else {
+    for (index, (t0, t1), length) in timed.block_pieces() {
+        let Some(block) = timed.blocks().get(index) else {
             continue;
         };
         let line = block.source_line.saturating_sub(1);
@@ -220,7 +218,7 @@ fn line_timing(timed: &TimedPath, line_count: usize) -> (Vec<(f64, usize)>, Vec<
             });
             span.start_s = span.start_s.min(t0);
             span.end_s = span.end_s.max(t1);
-            span.length_mm += seg.length;
+            span.length_mm += length;
         }
     }
     (starts, spans)

@@ -42,7 +42,14 @@ impl Control {
             && matches!(a.kind, Kind::Auto | Kind::Mdi)
             && !a.run.braking()
         {
-            a.retime = true;
+            if a.run.rests_after_present() {
+                // Planned again where the motion is at rest anyway.
+                a.retime = true;
+            } else {
+                // Blended through: brake inside the limits and go on at the new feed.
+                a.after_brake = AfterBrake::Resume;
+                a.run.start_brake();
+            }
         }
         if i < 2 && pct <= 0.0 {
             self.hold(true);
@@ -66,6 +73,10 @@ impl Control {
             return;
         };
         if a.run.braking() {
+            if a.after_brake == AfterBrake::Resume {
+                // Braking for an override change: stay at rest instead.
+                a.after_brake = AfterBrake::Hold { by_override };
+            }
             return;
         }
         a.after_brake = match a.kind {
@@ -156,7 +167,12 @@ impl Control {
             return;
         }
         let planned = self.planned_copy(&blocks, kind);
-        match Run::plan(blocks, &planned, &self.axes) {
+        let corner = if program {
+            crate::feed::DEFAULT_CORNERS
+        } else {
+            crate::feed::CornerPolicy::ExactStop
+        };
+        match Run::plan(blocks, &planned, &self.axes, corner) {
             Ok(run) => {
                 self.active = Some(Active {
                     run,
@@ -361,6 +377,12 @@ impl Control {
                         kind: a.kind,
                         by_override,
                     });
+                    return;
+                }
+            } else if a.after_brake == AfterBrake::Resume {
+                let blocks = a.run.remaining_blocks();
+                if !blocks.is_empty() && !self.blocked {
+                    self.start_run(blocks, a.kind, a.limit_alarm);
                     return;
                 }
             } else {
