@@ -35,7 +35,7 @@ use super::panels::status_bar::{StatusInfo, status_bar_ui};
 use super::project_session::{AUTOSAVE_EVERY, ProjectSession, default_data_dir};
 use super::recent_files::RecentFiles;
 use super::scalar_field::{ScalarField, curvature_field, has_surfaces};
-use super::state::{DockTab, Focus, NewProject};
+use super::state::{DockTab, Focus};
 use super::theme;
 use super::tool_library::{ToolLibrary, library_path};
 use super::toolpaths::ComputedOp;
@@ -45,6 +45,7 @@ use super::widgets::grouped;
 use crate::diagnostics::Severity;
 use crate::project::Project;
 use dialogs::overlays_ui;
+use state::NewProject;
 
 /// Where the workstation keeps its files and how often it autosaves.
 #[derive(Clone, Debug)]

@@ -97,6 +97,7 @@ pub fn operation_editor_ui(
         });
     if let (
         Operation::Rough {
+            stock_to_leave_mm,
             stock_to_leave_axial_mm,
             ..
         },
@@ -107,7 +108,7 @@ pub fn operation_editor_ui(
             &tool.cutter,
             &view.project.stock,
             &document.bounds,
-            *stock_to_leave_axial_mm,
+            stock_to_leave_axial_mm.unwrap_or(*stock_to_leave_mm),
         )
     {
         ui.colored_label(theme::WARNING, format!("⚠ {note}"));
