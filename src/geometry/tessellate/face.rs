@@ -336,9 +336,9 @@ struct Refine<'a> {
 /// rounds reach 1e-12 of the face; the vertex budget stops runaway cases first.
 const MAX_REFINE_ROUNDS: usize = 40;
 /// Refinement adds at most this many times the grid's points ...
-const REFINE_GROWTH: usize = 8;
+const REFINE_GROWTH: usize = 2;
 /// ... plus this many.
-const REFINE_EXTRA_POINTS: usize = 50_000;
+const REFINE_EXTRA_POINTS: usize = 20_000;
 
 /// Insert vertices until every kept triangle lies within the chord tolerance of the surface:
 /// the triangle's centroid and the midpoints of its interior (unconstrained) edges are compared
