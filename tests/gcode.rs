@@ -394,7 +394,8 @@ fn errors_name_line_and_column() {
         ("G1 X1 F1\nG2 X2 Y0", 2, 1, "I/J/K"),
         ("G1 X1 X2", 1, 7, "twice"),
         ("G0 G1 X1", 1, 4, "two motion"),
-        ("G1 X1 F1\n#1=2", 2, 1, "parameters"),
+        // Parameters are read now (#1=2 is a valid line): an undefined one is the error.
+        ("G1 X1 F1\nG1 X#<depth>", 2, 4, "parameter"),
         ("G3 X0 Y10 I-10 J1 F1", 1, 1, "radius"),
         ("G2 X30 Y0 R5 F1", 1, 1, "smaller"),
         ("X5", 1, 1, "motion mode"),

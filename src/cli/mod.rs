@@ -9,6 +9,7 @@ pub mod feed;
 pub mod forces;
 pub mod forces_path;
 pub mod inspect;
+pub mod interpret;
 pub mod plan;
 pub mod plan_group;
 pub mod plan_mesh;
@@ -62,6 +63,10 @@ pub enum Command {
     Machines,
     /// Jerk-limited motion plan of a G-code program: cycle time, limits and peaks per axis.
     Feed(feed::FeedArgs),
+    /// The canonical motion of a G-code program as the interpreter reads it (the form of
+    /// LinuxCNC's `rs274 -g`): traverses, feeds and arcs with canned cycles expanded,
+    /// subroutines and loops run and cutter compensation applied.
+    Interpret(interpret::InterpretArgs),
     /// Material removal on a dexel stock: removed volume, deviation from the part,
     /// collisions, time.
     Simulate(simulate::SimulateArgs),
@@ -145,6 +150,26 @@ pub fn run(command: Command) -> i32 {
             0
         }
         Command::Feed(args) => report(feed::feed(&args), args.json, feed::human),
+        Command::Interpret(args) => match interpret::interpret(&args) {
+            Ok(done) => {
+                if args.json {
+                    emit(&format!("{}\n", done.doc));
+                } else {
+                    emit(&interpret::human(&done.doc));
+                }
+                match done.error {
+                    Some(e) => {
+                        eprintln!("talas: {e}");
+                        EXIT_BAD_INPUT
+                    }
+                    None => 0,
+                }
+            }
+            Err(e) => {
+                eprintln!("talas: {e}");
+                EXIT_BAD_INPUT
+            }
+        },
         Command::Simulate(args) => {
             report(simulate::simulate_cmd(&args), args.json, simulate::human)
         }

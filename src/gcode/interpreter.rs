@@ -1,174 +1,57 @@
 //! The virtual controller: modal state and the execution of one block after another.
 
-use super::block::Joints;
-
 use super::arc::Plane;
-use super::lexer::{LexedLine, Word, lex_line};
-use super::motion::{emit_arc, emit_line, g28, target};
-use super::{Dwell, GcodeError, InterpretOptions, Program, Syntax};
+use super::compensation;
+use super::cycles;
+use super::expr::ParamSource;
+use super::lexer::{ParsedLine, Target, Word, parse_line};
+use super::modal::{GCodes, MotionCode, classify};
+use super::motion::{arc_words, dwell, emit_arc, emit_line, g28, target};
+use super::offsets;
+use super::state::{Block, Cycle, Motion, Side, State, u32_word};
+use super::{GcodeError, InterpretOptions, Program, Syntax};
 use crate::diagnostics::Diagnostic;
 use crate::units::MM_PER_INCH;
 
 /// Letters accepted besides G and M (which are collected separately).
-const LETTERS: &str = "ABCFHIJKNOPRSTXYZ";
-/// Motion modes (modal group 1).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Motion {
-    Rapid,
-    Linear,
-    Cw,
-    Ccw,
+const LETTERS: &str = "ABCDFHIJKLNOPQRSTXYZ";
+
+/// The parameters as expressions read them: the store, and the controller's own values.
+pub(super) struct View<'a> {
+    pub(super) s: &'a State,
 }
 
-/// The modal state of the controller.
-pub(super) struct State {
-    pub(super) pos: Joints,
-    pub(super) motion: Option<Motion>,
-    pub(super) plane: Plane,
-    pub(super) inch: bool,
-    pub(super) absolute: bool,
-    pub(super) arc_absolute: bool,
-    pub(super) inverse_time: bool,
-    pub(super) feed: Option<f64>,
-    pub(super) work_offset: usize,
-    pub(super) tool: u32,
-    pub(super) tool_length_h: Option<u32>,
-    pub(super) spindle_speed: f64,
-    pub(super) spindle_dir: f64,
-    pub(super) coolant: bool,
-    pub(super) warned_no_feed: bool,
-    /// Tool-centre-point mode (G43.4, TRAORI, M128).
-    pub(super) tcp: bool,
-}
-
-/// Words of one block, sorted by kind.
-pub(super) struct Block {
-    pub(super) line: usize,
-    pub(super) g: Vec<(i32, usize)>,
-    pub(super) m: Vec<(i32, usize)>,
-    /// Keywords (`TRAORI`), upper case, with their columns.
-    pub(super) keywords: Vec<(String, usize)>,
-    /// Other letters A..Z: value and column.
-    pub(super) words: [Option<(f64, usize)>; 26],
-}
-
-impl Block {
-    pub(super) fn get(&self, letter: char) -> Option<(f64, usize)> {
-        let i = (letter as usize).checked_sub('A' as usize)?;
-        self.words.get(i).copied().flatten()
+impl ParamSource for View<'_> {
+    fn numbered(&self, index: usize) -> Result<f64, String> {
+        super::sysparams::numbered(self.s, index)
     }
-    pub(super) fn err(&self, column: usize, message: impl Into<String>) -> GcodeError {
-        GcodeError {
-            line: self.line,
-            column,
-            message: message.into(),
-        }
-    }
-    pub(super) fn first_column(&self) -> usize {
-        self.g
-            .iter()
-            .chain(&self.m)
-            .map(|(_, c)| *c)
-            .chain(self.words.iter().flatten().map(|(_, c)| *c))
-            .min()
-            .unwrap_or(1)
-    }
-}
-
-/// Interpret a whole program.
-///
-/// # Errors
-/// The first [`GcodeError`] met (line and column of the offending word). Warnings go to
-/// [`Program::diagnostics`].
-pub fn interpret(text: &str, opts: &InterpretOptions) -> Result<Program, GcodeError> {
-    let mut state = State::new(opts);
-    if !opts.start.is_finite() {
-        return Err(GcodeError {
-            line: 0,
-            column: 0,
-            message: "the start position is not finite".into(),
-        });
-    }
-    let mut program = Program::default();
-    let mut ended_at: Option<usize> = None;
-    for (index, raw) in text.lines().enumerate() {
-        let line = index + 1;
-        let raw = program_frame(raw, opts.syntax, &mut state);
-        let separator = if opts.semicolon_ends_block {
-            Some(';')
-        } else {
-            opts.syntax.block_end()
-        };
-        for lexed in blocks_of_line(raw, line, separator)? {
-            if lexed.block_delete && opts.block_delete {
-                continue;
-            }
-            // A line of keywords alone (`TRAORI`, `MSG("...")`, a mistyped `TRAFOF`) is a
-            // block too: skipping it would drop a mode change or an unknown word silently.
-            if lexed.words.is_empty() && lexed.keywords.is_empty() {
-                continue;
-            }
-            if let Some(end) = ended_at {
-                program.diagnostics.push(Diagnostic::warning(
-                    format!("line {line}"),
-                    format!("words after the program end (line {end}) are ignored"),
-                ));
-                return Ok(program);
-            }
-            let mut block = sort_words(&lexed.words, line, opts.syntax)?;
-            block.keywords = lexed.keywords;
-            if execute(&block, &mut state, opts, &mut program)? {
-                ended_at = Some(line);
-            }
-        }
-    }
-    Ok(program)
-}
-
-impl State {
-    /// The state at the start of a program.
-    pub(super) fn new(opts: &InterpretOptions) -> Self {
-        Self {
-            pos: opts.start,
-            motion: None,
-            plane: Plane::Xy,
-            inch: false,
-            absolute: true,
-            arc_absolute: false,
-            inverse_time: false,
-            feed: None,
-            work_offset: opts.initial_work_offset.min(5),
-            tool: 0,
-            tool_length_h: None,
-            spindle_speed: 0.0,
-            spindle_dir: 0.0,
-            coolant: false,
-            warned_no_feed: false,
-            tcp: false,
-        }
+    fn named(&self, name: &str) -> Option<f64> {
+        super::sysparams::named(self.s, name).or_else(|| self.s.params.named(name))
     }
 }
 
 /// Heidenhain's program frame `%NAME G71 *` (start) and `N99999999 %NAME G71 *` (end): the
-/// unit code in it is applied and the frame is removed from the line; other syntaxes keep the
-/// line as it is.
-pub(super) fn program_frame<'a>(raw: &'a str, syntax: Syntax, state: &mut State) -> &'a str {
+/// unit code in it (`Some(true)` for G70, inch) and the line without the frame; other
+/// syntaxes keep the line as it is.
+pub(super) fn program_frame(raw: &str, syntax: Syntax) -> (&str, Option<bool>) {
     if syntax != Syntax::HeidenhainIso {
-        return raw;
+        return (raw, None);
     }
     let Some(at) = raw.find('%') else {
-        return raw;
+        return (raw, None);
     };
     let frame = raw.get(at..).unwrap_or("").to_ascii_uppercase();
     let words: Vec<&str> = frame
         .split(|c: char| c.is_whitespace() || c == '*')
         .collect();
-    if words.contains(&"G70") {
-        state.inch = true;
+    let inch = if words.contains(&"G70") {
+        Some(true)
     } else if words.contains(&"G71") {
-        state.inch = false;
-    }
-    raw.get(..at).unwrap_or("")
+        Some(false)
+    } else {
+        None
+    };
+    (raw.get(..at).unwrap_or(""), inch)
 }
 
 /// The blocks of one line: one, or with a block-end character (`;` in the thesis's samples,
@@ -177,24 +60,76 @@ pub(super) fn blocks_of_line(
     raw: &str,
     line: usize,
     separator: Option<char>,
-) -> Result<Vec<LexedLine>, GcodeError> {
+) -> Result<Vec<ParsedLine>, GcodeError> {
     let Some(separator) = separator else {
-        return Ok(vec![lex_line(raw, line)?]);
+        return Ok(vec![parse_line(raw, line, false)?]);
     };
     let mut out = Vec::new();
     let mut offset = 0usize;
     for piece in raw.split(separator) {
-        let mut lexed = lex_line(piece, line).map_err(|mut e| {
+        let mut parsed = parse_line(piece, line, false).map_err(|mut e| {
             e.column += offset;
             e
         })?;
-        for w in &mut lexed.words {
-            w.column += offset;
-        }
-        out.push(lexed);
+        parsed.shift(offset);
+        out.push(parsed);
         offset += piece.chars().count() + 1;
     }
     Ok(out)
+}
+
+/// What a block did besides its motion.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Ran {
+    /// The block ends the program (M2, M30).
+    pub(super) ends: bool,
+    /// Its M codes (× 10).
+    pub(super) m: Vec<i32>,
+}
+
+/// Evaluate one parsed block against the parameters, set its parameters, and execute it.
+/// O-word lines are the caller's.
+///
+/// # Errors
+/// The block's [`GcodeError`].
+pub(super) fn run_block(
+    parsed: &ParsedLine,
+    line: usize,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+) -> Result<Ran, GcodeError> {
+    s.line = line;
+    let evaluated = parsed.evaluate(line, &View { s })?;
+    for (target, value, column) in evaluated.assignments {
+        match target {
+            Target::Numbered(i) => s.params.set(i, value).map_err(|message| GcodeError {
+                line,
+                column,
+                message,
+            })?,
+            Target::Named(n) => {
+                if super::sysparams::named(s, &n).is_some() {
+                    return Err(GcodeError {
+                        line,
+                        column,
+                        message: format!("#<{n}> is read-only (set by the controller)"),
+                    });
+                }
+                s.params.set_named(&n, value);
+            }
+        }
+    }
+    if evaluated.words.is_empty() && parsed.keywords.is_empty() {
+        return Ok(Ran::default());
+    }
+    let mut block = sort_words(&evaluated.words, line, opts.syntax)?;
+    block.keywords.clone_from(&parsed.keywords);
+    let ends = execute(&block, s, opts, out)?;
+    Ok(Ran {
+        ends,
+        m: block.m.iter().map(|(m, _)| *m).collect(),
+    })
 }
 
 pub(super) fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<Block, GcodeError> {
@@ -205,6 +140,7 @@ pub(super) fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<
         keywords: Vec::new(),
         words: [None; 26],
     };
+    let d_allowed = matches!(syntax, Syntax::Siemens | Syntax::Rs274);
     for w in words {
         let code = || {
             let x10 = (w.value * 10.0).round();
@@ -221,7 +157,7 @@ pub(super) fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<
                     block.m.push((c, w.column));
                 }
             }
-            l if LETTERS.contains(l) || (l == 'D' && syntax == Syntax::Siemens) => {
+            l if LETTERS.contains(l) && (l != 'D' || d_allowed) => {
                 let i = (l as usize).saturating_sub('A' as usize);
                 match block.words.get_mut(i) {
                     Some(Some(_)) => {
@@ -247,95 +183,6 @@ pub(super) fn sort_words(words: &[Word], line: usize, syntax: Syntax) -> Result<
     Ok(block)
 }
 
-/// The G words of a block that act later (motion, G28/G53, G4).
-struct GWords {
-    motion: Option<(Motion, usize)>,
-    non_modal: Option<(i32, usize)>,
-    dwell: bool,
-}
-
-/// Apply the modal G codes of a block and classify the rest, rejecting unknown codes and
-/// conflicts within a modal group.
-fn g_words(b: &Block, s: &mut State, syntax: Syntax) -> Result<GWords, GcodeError> {
-    let mut motion: Option<(Motion, usize)> = None;
-    let mut non_modal: Option<(i32, usize)> = None;
-    let mut dwell = false;
-    let set_motion = |m: Motion, col: usize, motion: &mut Option<(Motion, usize)>| {
-        if motion.is_some() {
-            return Err(b.err(col, "two motion codes in one block"));
-        }
-        *motion = Some((m, col));
-        Ok(())
-    };
-    for &(g, col) in &b.g {
-        match g {
-            0 => set_motion(Motion::Rapid, col, &mut motion)?,
-            10 => set_motion(Motion::Linear, col, &mut motion)?,
-            20 => set_motion(Motion::Cw, col, &mut motion)?,
-            30 => set_motion(Motion::Ccw, col, &mut motion)?,
-            40 => dwell = true,
-            170 => s.plane = Plane::Xy,
-            180 => s.plane = Plane::Zx,
-            190 => s.plane = Plane::Yz,
-            200 => s.inch = true,
-            210 => s.inch = false,
-            280 | 530 => {
-                if non_modal.is_some() {
-                    return Err(b.err(col, "G28 and G53 cannot share a block"));
-                }
-                non_modal = Some((g, col));
-            }
-            400 | 610 | 611 | 640 => {}
-            410 | 420 => {
-                return Err(b.err(
-                    col,
-                    format!("cutter radius compensation G{} is not supported (program the tool centre path)", g / 10),
-                ));
-            }
-            430 | 434 => {
-                let h = match b.get('H') {
-                    Some((h, hc)) => {
-                        u32_word(h).ok_or_else(|| b.err(hc, "H must be a non-negative integer"))?
-                    }
-                    None => s.tool,
-                };
-                s.tool_length_h = Some(h);
-                if g == 434 {
-                    s.tcp = true;
-                }
-            }
-            490 => {
-                s.tool_length_h = None;
-                s.tcp = false;
-            }
-            700 | 7000 if syntax.g70_g71_are_units() => s.inch = true,
-            710 | 7100 if syntax.g70_g71_are_units() => s.inch = false,
-            540..=590 if g % 10 == 0 => s.work_offset = ((g - 540) / 10) as usize,
-            800 => s.motion = None,
-            900 => s.absolute = true,
-            910 => s.absolute = false,
-            901 => s.arc_absolute = true,
-            911 => s.arc_absolute = false,
-            930 => s.inverse_time = true,
-            940 => s.inverse_time = false,
-            _ => {
-                let name = if g % 10 == 0 {
-                    format!("G{}", g / 10)
-                } else {
-                    format!("G{}.{}", g / 10, g % 10)
-                };
-                return Err(b.err(col, format!("unsupported G code {name}")));
-            }
-        }
-    }
-    Ok(GWords {
-        motion,
-        non_modal,
-        dwell,
-    })
-}
-
-/// Execute one block; returns true at a program end (M2/M30).
 /// Sinumerik keywords that only set messages, dynamics or compressor modes: read with a warning.
 const SIEMENS_NO_GEOMETRY: &[&str] = &[
     "MSG", "CYCLE832", "SOFT", "BRISK", "FFWON", "FFWOF", "COMPCAD", "COMPCURV", "COMPOF",
@@ -346,25 +193,16 @@ const SIEMENS_NO_GEOMETRY: &[&str] = &[
 /// moves the tool: refused, since ignoring them would change where the tool goes.
 const SIEMENS_GEOMETRY: &[&str] = &[
     "CYCLE800", "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE",
-    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE61",
-    "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
+    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE85",
+    "CYCLE86", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2", "MCALL",
 ];
 
-pub(super) fn execute(
+fn keywords(
     b: &Block,
     s: &mut State,
     opts: &InterpretOptions,
     out: &mut Program,
-) -> Result<bool, GcodeError> {
-    // The tool is selected before G43 reads its default H (RS274NGC order of execution).
-    if let Some((t, col)) = b.get('T') {
-        s.tool = u32_word(t).ok_or_else(|| b.err(col, "T must be a non-negative integer"))?;
-    }
-    let GWords {
-        motion,
-        non_modal,
-        dwell,
-    } = g_words(b, s, opts.syntax)?;
+) -> Result<(), GcodeError> {
     for (keyword, col) in &b.keywords {
         match (opts.syntax, keyword.as_str()) {
             (Syntax::Siemens, "TRAORI") => s.tcp = true,
@@ -379,8 +217,8 @@ pub(super) fn execute(
                 return Err(b.err(
                     *col,
                     format!(
-                        "{k} is not supported: it moves or turns the coordinate system, and \
-                         ignoring it would put the tool somewhere else"
+                        "{k} is not supported: it moves or turns the coordinate system, or runs a \
+                         cycle, and ignoring it would put the tool somewhere else"
                     ),
                 ));
             }
@@ -395,8 +233,24 @@ pub(super) fn execute(
             }
         }
     }
-    if b.get('H').is_some() && !b.g.iter().any(|(g, _)| *g == 430 || *g == 434) {
-        return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
+    Ok(())
+}
+
+/// Units, feed mode, F, S and T, in LinuxCNC's order (before M and the other G codes).
+fn settings(
+    b: &Block,
+    g: &GCodes,
+    s: &mut State,
+    opts: &InterpretOptions,
+) -> Result<(), GcodeError> {
+    if let Some((inch, col)) = g.inch {
+        if inch != s.inch && s.comp.side.is_some() {
+            return Err(b.err(col, "units cannot change with cutter compensation on"));
+        }
+        s.inch = inch;
+    }
+    if let Some((inverse, _)) = g.inverse_time {
+        s.inverse_time = inverse;
     }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     if let Some((f, col)) = b.get('F') {
@@ -411,16 +265,64 @@ pub(super) fn execute(
         }
         s.spindle_speed = v;
     }
+    // The tool is selected before G43 reads its default H (RS274NGC order of execution).
+    if let Some((t, col)) = b.get('T') {
+        let t = u32_word(t).ok_or_else(|| b.err(col, "T must be a non-negative integer"))?;
+        if t != 0
+            && let Some(table) = &opts.tool_table
+            && table.get(t).is_none()
+        {
+            return Err(b.err(col, format!("requested tool {t} is not in the tool table")));
+        }
+        s.tool = t;
+    }
+    Ok(())
+}
+
+/// M codes; returns (program end, stop: M0 M1 M2 M30 M60).
+fn m_codes(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+) -> Result<(bool, bool), GcodeError> {
     let mut ends = false;
+    let mut stops = false;
     for &(m, col) in &b.m {
         match m {
-            0 | 10 | 60 => {}
+            0 | 10 | 600 => stops = true,
             30 => s.spindle_dir = 1.0,
             40 => s.spindle_dir = -1.0,
             50 => s.spindle_dir = 0.0,
+            60 => {
+                if s.comp.side.is_some() {
+                    return Err(b.err(col, "M6 cannot change the tool with cutter compensation on"));
+                }
+                s.loaded_tool = s.tool;
+            }
+            610 => {
+                let q = b.get('Q').and_then(|(q, _)| u32_word(q));
+                s.loaded_tool = q.ok_or_else(|| b.err(col, "M61 needs Q, the tool number"))?;
+                s.tool = s.loaded_tool;
+            }
             70 | 80 => s.coolant = true,
             90 => s.coolant = false,
-            20 | 300 => ends = true,
+            20 | 300 => {
+                ends = true;
+                stops = true;
+            }
+            980 => {
+                return Err(b.err(
+                    col,
+                    "M98 (a Fanuc subprogram call) is not supported: use o-word subroutines \
+                     (o100 call)",
+                ));
+            }
+            990 => out.diagnostics.push(Diagnostic::warning(
+                format!("line {}, column {col}", b.line),
+                "M99 (subprogram return, or repeat the main program) ignored: the program runs \
+                 once",
+            )),
             1280 if opts.syntax == Syntax::HeidenhainIso => s.tcp = true,
             1290 if opts.syntax == Syntax::HeidenhainIso => s.tcp = false,
             _ => out.diagnostics.push(Diagnostic::warning(
@@ -429,86 +331,321 @@ pub(super) fn execute(
             )),
         }
     }
-    if let Some((m, _)) = motion {
-        s.motion = Some(m);
+    Ok((ends, stops))
+}
+
+/// Plane, compensation, tool length, coordinate system, distance modes, retract mode (the
+/// modal G codes after units and feed mode).
+fn modal_g(
+    b: &Block,
+    g: &GCodes,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    scale: f64,
+) -> Result<(), GcodeError> {
+    if let Some((plane, col)) = g.plane {
+        if plane != s.plane && s.comp.side.is_some() {
+            return Err(b.err(col, "the plane cannot change with cutter compensation on"));
+        }
+        s.plane = plane;
     }
-    let has_axis = "XYZABC".chars().any(|l| b.get(l).is_some());
-    if dwell {
-        if has_axis || motion.is_some() {
+    if let Some((code, col)) = g.comp {
+        if code == 400 {
+            compensation::off(s, out, b.line)?;
+        } else {
+            comp_on(b, s, opts, out, code, col, scale)?;
+        }
+    }
+    if let Some((code, col)) = g.length {
+        offsets::tool_length(b, s, opts, code, col, scale)?;
+    }
+    if let Some((system, col)) = g.coord {
+        if s.comp.side.is_some() && system != s.work_offset {
             return Err(b.err(
-                b.first_column(),
-                "G4 dwell cannot share a block with motion",
+                col,
+                "the coordinate system cannot change with cutter compensation on",
             ));
         }
-        let Some((seconds, col)) = b.get('P') else {
-            return Err(b.err(b.first_column(), "G4 needs a P word (seconds)"));
-        };
-        if !(seconds >= 0.0) {
-            return Err(b.err(col, "G4 P (seconds) must not be negative"));
-        }
-        out.dwells.push(Dwell {
-            line: b.line,
-            before_block: out.blocks.len(),
-            seconds,
-        });
-        return Ok(ends);
+        s.work_offset = system;
     }
-    match non_modal {
-        Some((280, _)) => g28(b, s, opts, out, scale)?,
-        Some((_, col)) => {
-            if s.absolute {
-                let m = s
-                    .motion
-                    .filter(|m| matches!(m, Motion::Rapid | Motion::Linear));
-                let m = m.ok_or_else(|| b.err(col, "G53 needs G0 or G1"))?;
-                let target = target(b, s, opts, scale, true);
-                emit_line(b, s, opts, out, m, target)?;
-            } else {
-                return Err(b.err(col, "G53 is not allowed in incremental mode (G91)"));
+    if let Some((absolute, _)) = g.absolute {
+        s.absolute = absolute;
+    }
+    if let Some((absolute, _)) = g.arc_absolute {
+        s.arc_absolute = absolute;
+    }
+    if let Some((r_plane, _)) = g.retract_r {
+        s.retract_r_plane = r_plane;
+    }
+    Ok(())
+}
+
+/// G41/G42 (D: a tool number) and G41.1/G42.1 (D: a diameter in program units).
+fn comp_on(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    code: i32,
+    col: usize,
+    scale: f64,
+) -> Result<(), GcodeError> {
+    let name = if code % 10 == 0 {
+        format!("G{}", code / 10)
+    } else {
+        format!("G{}.{}", code / 10, code % 10)
+    };
+    if !matches!(s.plane, Plane::Xy | Plane::Zx) {
+        return Err(b.err(
+            col,
+            format!("{name}: cutter compensation works in G17 or G18 only"),
+        ));
+    }
+    if s.comp.side.is_some() {
+        return Err(b.err(col, format!("{name}: cutter compensation is already on")));
+    }
+    let mut side = if code / 10 == 41 {
+        Side::Left
+    } else {
+        Side::Right
+    };
+    let diameter = if code % 10 == 1 {
+        let (d, _) = b
+            .get('D')
+            .ok_or_else(|| b.err(col, format!("{name} needs D, the tool diameter")))?;
+        d * scale
+    } else {
+        let number = match b.get('D') {
+            Some((d, dc)) => {
+                u32_word(d).ok_or_else(|| b.err(dc, format!("{name}: D must be a tool number")))?
+            }
+            None => 0,
+        };
+        let dc = b.get('D').map_or(col, |(_, c)| c);
+        match offsets::tool_entry(b, s, opts, number, dc)? {
+            Some((_, d)) => {
+                if d == 0.0 {
+                    out.diagnostics.push(Diagnostic::warning(
+                        format!("line {}, column {col}", b.line),
+                        format!("{name} with a tool of diameter 0: nothing is offset"),
+                    ));
+                }
+                d
+            }
+            None => {
+                return Err(b.err(
+                    col,
+                    format!(
+                        "cutter radius compensation {name} needs the tool's radius: give a tool \
+                         table (--tool-table) or use {name}.1 D<diameter>"
+                    ),
+                ));
             }
         }
-        None if has_axis => {
+    };
+    let mut radius = diameter / 2.0;
+    if radius < 0.0 {
+        radius = -radius;
+        side = if side == Side::Left {
+            Side::Right
+        } else {
+            Side::Left
+        };
+    }
+    s.comp.side = Some(side);
+    s.comp.radius_mm = radius;
+    s.comp.first_move = true;
+    Ok(())
+}
+
+/// Execute one block; returns true at a program end (M2/M30).
+pub(super) fn execute(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+) -> Result<bool, GcodeError> {
+    let g = classify(b, opts.syntax)?;
+    keywords(b, s, opts, out)?;
+    if b.get('H').is_some() && !matches!(g.length, Some((430 | 434, _))) {
+        return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
+    }
+    settings(b, &g, s, opts)?;
+    let (ends, stops) = m_codes(b, s, opts, out)?;
+    let scale = if s.inch { MM_PER_INCH } else { 1.0 };
+    modal_g(b, &g, s, opts, out, scale)?;
+    if let Some((40, _)) = g.non_modal {
+        g4(b, &g, s, out)?;
+    } else {
+        non_modal_and_motion(b, &g, s, opts, out, scale)?;
+    }
+    if stops {
+        compensation::flush(s, out, b.line)?;
+    }
+    Ok(ends)
+}
+
+fn g4(b: &Block, g: &GCodes, s: &mut State, out: &mut Program) -> Result<(), GcodeError> {
+    if b.has_axis() || g.motion.is_some() {
+        return Err(b.err(
+            b.first_column(),
+            "G4 dwell cannot share a block with motion",
+        ));
+    }
+    let Some((seconds, col)) = b.get('P') else {
+        return Err(b.err(b.first_column(), "G4 needs a P word (seconds)"));
+    };
+    if !(seconds >= 0.0) {
+        return Err(b.err(col, "G4 P (seconds) must not be negative"));
+    }
+    dwell(s, out, b.line, seconds);
+    Ok(())
+}
+
+/// Group 0 codes that use the axis words (G10, G28, G52, G92*, G43.1 too), then the motion.
+fn non_modal_and_motion(
+    b: &Block,
+    g: &GCodes,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    scale: f64,
+) -> Result<(), GcodeError> {
+    let previous = s.motion;
+    let mut cycle_run = false;
+    let mut arc_run = false;
+    match g.motion {
+        Some((MotionCode::Move(m), _)) => s.motion = Some(m),
+        Some((MotionCode::Cancel, _)) => {
+            s.motion = None;
+            s.cycle.initial = None;
+        }
+        None => {}
+    }
+    let axes_taken = matches!(g.non_modal, Some((100 | 280 | 520 | 920..=923, _)))
+        || matches!(g.length, Some((431, _)));
+    match g.non_modal {
+        Some((280, col)) if s.comp.side.is_some() => {
+            return Err(b.err(col, "G28 cannot be used with cutter compensation on"));
+        }
+        Some((280, _)) => g28(b, s, opts, out, scale)?,
+        Some((100, col)) => offsets::g10(b, s, col, scale)?,
+        Some((code @ (520 | 920..=923), col)) => offsets::axis_offset(b, s, code, col, scale)?,
+        Some((_, col)) if !s.absolute => {
+            return Err(b.err(col, "G53 is not allowed in incremental mode (G91)"));
+        }
+        Some((_, col)) => {
+            let m = s
+                .motion
+                .filter(|m| matches!(m, Motion::Rapid | Motion::Linear));
+            let m = m.ok_or_else(|| b.err(col, "G53 needs G0 or G1"))?;
+            if s.comp.side.is_some() {
+                return Err(b.err(col, "G53 cannot be used with cutter compensation on"));
+            }
+            let t = target(b, s, scale, true);
+            emit_line(b, s, opts, out, m, t)?;
+        }
+        None if axes_taken => {}
+        None if b.has_axis()
+            || matches!(g.motion, Some((MotionCode::Move(Motion::Cycle(_)), _))) =>
+        {
             let m = s.motion.ok_or_else(|| {
                 b.err(
                     b.first_column(),
                     "axis words without a motion mode (G0, G1, G2, G3)",
                 )
             })?;
-            let t = target(b, s, opts, scale, false);
-            match m {
-                Motion::Rapid | Motion::Linear => emit_line(b, s, opts, out, m, t)?,
-                Motion::Cw | Motion::Ccw => emit_arc(b, s, opts, out, m == Motion::Ccw, t, scale)?,
+            let col = g.motion.map_or_else(|| b.first_column(), |(_, c)| c);
+            if let Motion::Cycle(c) = m {
+                if !b.has_axis() {
+                    return Err(b.err(col, format!("{}: all axis words are missing", c.name())));
+                }
+                let same = previous == Some(m);
+                cycles::run(b, s, opts, out, c, col, same)?;
+                cycle_run = true;
+            } else {
+                s.cycle.initial = None;
+                let t = target(b, s, scale, false);
+                match m {
+                    Motion::Cw | Motion::Ccw => {
+                        if s.comp.arc_not_allowed {
+                            return Err(b.err(
+                                col,
+                                "the move just after cutter compensation is turned off (G40) \
+                                 must be straight, not an arc",
+                            ));
+                        }
+                        let ccw = m == Motion::Ccw;
+                        let (centre, turns) = arc_words(b, s, scale)?;
+                        if s.comp.active() {
+                            compensation::arc(b, s, opts, out, ccw, t, centre, turns)?;
+                        } else {
+                            emit_arc(b, s, opts, out, ccw, t, centre, turns)?;
+                        }
+                        arc_run = true;
+                    }
+                    _ if s.comp.active() => {
+                        compensation::straight(b, s, opts, out, m == Motion::Rapid, t)?;
+                    }
+                    _ => emit_line(b, s, opts, out, m, t)?,
+                }
             }
         }
         None => {
-            if let Some((_, col)) = motion.filter(|(m, _)| matches!(m, Motion::Cw | Motion::Ccw)) {
+            if let Some((MotionCode::Move(Motion::Cw | Motion::Ccw), col)) = g.motion {
                 return Err(b.err(col, "an arc needs end point words"));
             }
-        }
-    }
-    let arc_words = s
-        .motion
-        .is_some_and(|m| matches!(m, Motion::Cw | Motion::Ccw))
-        && has_axis
-        && non_modal.is_none();
-    if !arc_words {
-        for l in ['I', 'J', 'K', 'R', 'P'] {
-            if let Some((_, col)) = b.get(l) {
-                return Err(b.err(col, format!("{l} word used outside an arc")));
+            if g.motion.is_some() {
+                s.cycle.initial = None;
             }
         }
     }
-    Ok(ends)
+    check_letters(b, g, s, (arc_run, cycle_run), opts.syntax)
 }
 
-fn syntax_name(syntax: Syntax) -> &'static str {
+/// Words that only some codes use, refused where nothing in the block uses them.
+fn check_letters(
+    b: &Block,
+    g: &GCodes,
+    s: &State,
+    (arc, cycle): (bool, bool),
+    syntax: Syntax,
+) -> Result<(), GcodeError> {
+    let non_modal = g.non_modal.map(|(c, _)| c);
+    let g10 = non_modal == Some(100);
+    for l in ['I', 'J', 'K', 'R', 'P'] {
+        let used = arc || (cycle && matches!(l, 'R' | 'P')) || (g10 && matches!(l, 'P' | 'R'));
+        if let (Some((_, col)), false) = (b.get(l), used) {
+            return Err(b.err(
+                col,
+                format!("{l} word used outside an arc or a canned cycle"),
+            ));
+        }
+    }
+    let pecking = matches!(s.motion, Some(Motion::Cycle(Cycle::G73 | Cycle::G83)));
+    let m61 = b.m.iter().any(|(m, _)| *m == 610);
+    if let (Some((_, col)), false) = (b.get('Q'), (cycle && pecking) || m61) {
+        return Err(b.err(
+            col,
+            "Q word used outside a peck drilling cycle (G73, G83) or M61",
+        ));
+    }
+    if let (Some((_, col)), false) = (b.get('L'), cycle || g10) {
+        return Err(b.err(col, "L word used outside a canned cycle or G10"));
+    }
+    let comp_on = matches!(g.comp, Some((410 | 411 | 420 | 421, _)));
+    // Sinumerik's D is the tool edge (T1 D1); in RS274 it belongs to G41/G42.
+    if let (Some((_, col)), false) = (b.get('D'), comp_on || syntax == Syntax::Siemens) {
+        return Err(b.err(col, "D word used outside G41/G42 (G41.1/G42.1)"));
+    }
+    Ok(())
+}
+
+pub(super) fn syntax_name(syntax: Syntax) -> &'static str {
     match syntax {
         Syntax::Rs274 => "RS274",
         Syntax::Siemens => "Sinumerik",
         Syntax::HeidenhainIso => "Heidenhain ISO",
     }
-}
-
-pub(super) fn u32_word(v: f64) -> Option<u32> {
-    (v >= 0.0 && v <= f64::from(u32::MAX) && v.fract() == 0.0).then_some(v as u32)
 }

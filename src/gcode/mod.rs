@@ -1,46 +1,83 @@
-//! G-code (RS274NGC / ISO 6983 subset) reading: lexer, modal state and an interpreter that
-//! turns a program into [`MotionBlock`]s in machine coordinates (mm, rad).
+//! G-code (RS274NGC / ISO 6983) reading: lexer, expressions, modal state and an interpreter
+//! that turns a program into [`MotionBlock`]s in machine coordinates (mm, rad), read as
+//! LinuxCNC's interpreter reads it (checked against its `rs274 -g` on a corpus of programs:
+//! `tests/gcode_linuxcnc.rs`).
 //!
 //! ```text
-//! text ─lexer─▶ words per line ─interpreter (modal state)─▶ Program { blocks, diagnostics }
+//! text ─lexer─▶ items per line (words with expression values, parameter settings, O-words)
+//!      ─program (%, O-word structure, loops, calls)─▶ blocks ─interpreter (modal state,
+//!      offsets, cycles, cutter compensation)─▶ Program { blocks, dwells, diagnostics }
 //! ```
 //!
 //! The syntax of LinuxCNC/Fanuc/GRBL (RS274), Siemens 840D and Heidenhain ISO programs is read
-//! ([`Syntax`], [`InterpretOptions::syntax`]), including their tool-centre-point modes
-//! (`G43.4`/`G49`, `TRAORI`/`TRAFOOF`, `M128`/`M129`): blocks programmed under TCP carry
-//! [`MotionBlock::tcp`], their X Y Z being the tool tip in part coordinates.
+//! ([`Syntax`], [`InterpretOptions::syntax`]; [`Syntax::detect`] picks it from the text),
+//! including their tool-centre-point modes (`G43.4`/`G49`, `TRAORI`/`TRAFOOF`,
+//! `M128`/`M129`): blocks programmed under TCP carry [`MotionBlock::tcp`], their X Y Z being
+//! the tool tip in part coordinates.
 //!
-//! What is understood: `G0 G1 G2 G3` (arcs with `I J K` or `R`, full circles, helices, `P`
-//! turns), `G4` dwell, `G17 G18 G19`, `G20 G21`, `G28` (through an optional intermediate point
-//! to [`InterpretOptions::g28_position`]), `G40`, `G43 Hn`/`G49` (recorded, not applied),
-//! `G53` (one block in machine coordinates), `G54`–`G59` (from
-//! [`InterpretOptions::work_offsets`]), `G61 G61.1 G64` (accepted, no effect), `G80`,
-//! `G90 G91`, `G90.1 G91.1`, `G93 G94`; `F S T`; `M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30`;
-//! `N` numbers, `O` program numbers, `%` lines, `/` block delete, comments `( )` and `;` (or
-//! `;` as the ISO end of block with [`InterpretOptions::semicolon_ends_block`]).
+//! What is understood:
+//! - motion: `G0 G1 G2 G3` (arcs with `I J K` or `R`, full circles, helices, `P` turns),
+//!   `G4` dwell, `G17 G18 G19`, `G20 G21`, `G28` (through an optional intermediate point to
+//!   [`InterpretOptions::g28_position`]), `G53`, `G90 G91`, `G90.1 G91.1`, `G93 G94`,
+//!   `G61 G61.1 G64` (accepted, no effect); `F S T`; `M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M60`,
+//!   `M61 Q`;
+//! - canned cycles `G73 G74 G81 G82 G83 G84 G85 G86 G89` with `G98`/`G99`, `R Q P L`, in any
+//!   plane and in G90 or G91, repeated on later blocks, `G80` ([`cycles`]);
+//! - cutter radius compensation `G41 G42` (radius from the tool table, `D` a tool number) and
+//!   `G41.1 G42.1` (`D` the diameter), `G40`, in G17 and G18 ([`compensation`]);
+//! - offsets: `G54`–`G59.3` (from [`InterpretOptions::work_offsets`] and `G10 L2`/`L20`),
+//!   `G52`, `G92 G92.1 G92.2 G92.3`, tool lengths `G43 Hn`/`G43`/`G43.1`/`G49` from
+//!   [`InterpretOptions::tool_table`] ([`offsets`], [`tooltable`]);
+//! - parameters `#1`..`#5601`, `#<local>`, `#<_global>` and expressions `[ ]` with LinuxCNC's
+//!   operators and functions ([`expr`], [`params`]);
+//! - LinuxCNC O-words: `sub`/`endsub`/`call` with arguments, `return`, `if`/`elseif`/`else`,
+//!   `while`, `do`/`while`, `repeat`, `break`/`continue`, bounded so that a loop that never
+//!   ends is an error ([`oword`]);
+//! - `N` numbers, `O` program numbers, `%` lines (a closing `%` ends the program), `/` block
+//!   delete, comments `( )` and `;` (or `;` as the ISO end of block with
+//!   [`InterpretOptions::semicolon_ends_block`]).
 //!
 //! Policy for what is not understood (never skipped silently):
-//! - errors: parameters `#`, expressions `[ ]`, cutter compensation `G41`/`G42`, canned
-//!   cycles, any other G code, any letter that is not listed above (`U`, `V`, `W`, `Q`, ...: it
-//!   might be an axis, and ignoring it would move the tool somewhere else), a word given twice
-//!   in one block, two motion codes in one block;
+//! - errors, naming the code: `G5.x` splines, `G7`/`G8`, `G10 L1/L10/L11` and rotations,
+//!   `G28.1 G30 G30.1`, `G33 G33.1 G38.x G76 G87 G88` and the lathe cycles `G70`–`G72`,
+//!   `G43.2`, `G95 G96 G97`, the UVW planes, `M98`, offsets of rotary axes, any other
+//!   G code, any letter that is not listed above (`U`, `V`, `W`, `E`, `$`, ...: it might be an
+//!   axis, and ignoring it would move the tool somewhere else), a word given twice in one
+//!   block, two codes of one modal group in one block, a fed move at a zero feed (`F0`),
+//!   a corner that compensation cannot reach without gouging, a subroutine that is not in the
+//!   file;
 //! - warnings (in [`Program::diagnostics`]): unknown M codes (they switch machine functions,
-//!   not geometry), feed moves before any F word, text after `M2`/`M30`.
+//!   not geometry; `M99` too: the program runs once), feed moves before any F word
+//!   (LinuxCNC refuses those too; Talas keeps reading feed-less listings, feed 0 recorded),
+//!   text after `M2`/`M30`.
 
 mod arc;
 mod block;
+pub mod compensation;
+pub mod cycles;
+pub mod expr;
 mod interpreter;
 mod lexer;
+mod modal;
 mod motion;
+pub mod offsets;
+pub mod oword;
+pub mod params;
+mod program;
 mod session;
+mod state;
 mod syntax;
+mod sysparams;
+pub mod tooltable;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
-pub use interpreter::interpret;
 pub use lexer::{LexedLine, Word, lex_line};
+pub use program::interpret;
+pub use program::interpret_partial;
 pub use session::{LineResult, Modal, Session};
 pub use syntax::Syntax;
+pub use tooltable::{LengthUnit, ToolEntry, ToolTable};
 
 use glam::DVec3;
 
@@ -79,6 +116,10 @@ pub struct InterpretOptions {
     pub semicolon_ends_block: bool,
     /// The controller family whose syntax is read (block ends, units codes, TCP codes).
     pub syntax: Syntax,
+    /// The tool table (LinuxCNC `.tbl`): lengths for G43 and radii for G41/G42. Without one,
+    /// G43 records its H without moving the tool, and G41/G42 are refused (G41.1/G42.1 with
+    /// a D diameter need no table).
+    pub tool_table: Option<ToolTable>,
 }
 
 impl Default for InterpretOptions {
@@ -92,6 +133,7 @@ impl Default for InterpretOptions {
             block_delete: true,
             semicolon_ends_block: false,
             syntax: Syntax::Rs274,
+            tool_table: None,
         }
     }
 }

@@ -1,31 +1,32 @@
 //! Motion execution: end points in machine coordinates, feeds, and the emitted blocks.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::arc::{CentreSpec, arc_geometry};
 use super::block::{Joints, MotionBlock, MotionKind};
-use super::interpreter::{Block, Motion, State, u32_word};
-use super::{GcodeError, InterpretOptions, Program};
+use super::state::{Block, Motion, Snapshot, State, u32_word};
+use super::{Dwell, GcodeError, InterpretOptions, Program};
 use crate::diagnostics::Diagnostic;
 
+/// The sum of the offsets between program and machine coordinates: the active work offset,
+/// the G92/G52 offset and the G43 tool length offset, mm.
+pub(super) fn total_offset(s: &State) -> DVec3 {
+    s.total_offset()
+}
+
 /// The end point of a block. `machine`: coordinates are machine coordinates (G53, G28 home).
-pub(super) fn target(
-    b: &Block,
-    s: &State,
-    opts: &InterpretOptions,
-    scale: f64,
-    machine: bool,
-) -> Joints {
+/// Coordinates a block leaves out, and the base of incremental ones, are where the program
+/// is: the tool's position, or the programmed point while cutter compensation offsets the
+/// tool from it.
+pub(super) fn target(b: &Block, s: &State, scale: f64, machine: bool) -> Joints {
     let offset = if machine {
         DVec3::ZERO
     } else {
-        opts.work_offsets
-            .get(s.work_offset)
-            .copied()
-            .unwrap_or(DVec3::ZERO)
+        total_offset(s)
     };
     let mut p = s.pos;
-    let mut xyz = p.xyz.to_array();
+    let base = s.comp.programmed.unwrap_or(s.pos.xyz).to_array();
+    let mut xyz = base;
     for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
         if let (Some((v, _)), Some(slot)) = (b.get(l), xyz.get_mut(i)) {
             let off = offset.to_array().get(i).copied().unwrap_or(0.0);
@@ -61,6 +62,11 @@ pub(super) fn start_for(pos: Joints, end: Joints) -> Joints {
     }
 }
 
+/// The feed of a move: the rapid rate, the G93 F word, or the modal feed.
+///
+/// # Errors
+/// A [`GcodeError`] for a G93 move without F, or a feed move with an F of zero (LinuxCNC:
+/// "cannot do G1 with zero feed rate").
 pub(super) fn feed_for(
     b: &Block,
     s: &mut State,
@@ -82,7 +88,14 @@ pub(super) fn feed_for(
         };
     }
     match s.feed {
-        Some(f) => Ok(f),
+        Some(f) if f > 0.0 => Ok(f),
+        Some(_) => {
+            let col = b.get('F').map_or_else(|| b.first_column(), |(_, c)| c);
+            Err(b.err(
+                col,
+                "a feed move with zero feed rate (F0): give the feed with F",
+            ))
+        }
         None => {
             if !s.warned_no_feed {
                 s.warned_no_feed = true;
@@ -96,6 +109,43 @@ pub(super) fn feed_for(
     }
 }
 
+/// How an arc's centre is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum ArcCentre {
+    /// R word, mm (negative: the long way round).
+    Radius(f64),
+    /// Incremental I J K, mm, in plane coordinates (from the arc's start).
+    Offset(DVec2),
+    /// G90.1 centre, machine mm, in plane coordinates.
+    Absolute(DVec2),
+}
+
+/// Emit a block from the end of the last emitted one.
+pub(super) fn push_block(
+    s: &mut State,
+    out: &mut Program,
+    kind: MotionKind,
+    end: Joints,
+    feed: f64,
+    snap: &Snapshot,
+) {
+    let start = start_for(s.emitted, end);
+    out.blocks.push(MotionBlock {
+        kind,
+        start,
+        end,
+        feed_mm_per_min: feed,
+        inverse_time: snap.inverse_time,
+        source_line: snap.line,
+        tool: snap.tool,
+        tool_length_h: snap.tool_length_h,
+        spindle_rpm: snap.spindle_rpm,
+        coolant: snap.coolant,
+        tcp: snap.tcp,
+    });
+    s.emitted = end;
+}
+
 pub(super) fn push(
     s: &mut State,
     out: &mut Program,
@@ -104,21 +154,23 @@ pub(super) fn push(
     end: Joints,
     feed: f64,
 ) {
-    let start = start_for(s.pos, end);
-    out.blocks.push(MotionBlock {
-        kind,
-        start,
-        end,
-        feed_mm_per_min: feed,
-        inverse_time: s.inverse_time && kind != MotionKind::Rapid,
-        source_line: b.line,
-        tool: s.tool,
-        tool_length_h: s.tool_length_h,
-        spindle_rpm: s.spindle_speed * s.spindle_dir,
-        coolant: s.coolant,
-        tcp: s.tcp,
-    });
+    let snap = Snapshot::of(s, b.line, kind == MotionKind::Rapid);
+    push_block(s, out, kind, end, feed, &snap);
     s.pos = end;
+    s.comp.programmed = None;
+}
+
+/// A dwell before the next block (held behind a compensated move that is still held).
+pub(super) fn dwell(s: &mut State, out: &mut Program, line: usize, seconds: f64) {
+    if s.comp.holding() {
+        s.comp.hold_dwell(line, seconds);
+    } else {
+        out.dwells.push(Dwell {
+            line,
+            before_block: out.blocks.len(),
+            seconds,
+        });
+    }
 }
 
 pub(super) fn emit_line(
@@ -130,7 +182,9 @@ pub(super) fn emit_line(
     end: Joints,
 ) -> Result<(), GcodeError> {
     let rapid = m == Motion::Rapid;
+    s.comp.arc_not_allowed = false;
     if start_for(s.pos, end) == end {
+        s.comp.programmed = None;
         return Ok(()); // no movement
     }
     let feed = feed_for(b, s, opts, out, rapid)?;
@@ -143,6 +197,72 @@ pub(super) fn emit_line(
     Ok(())
 }
 
+/// The centre of an arc block: R, or I J K (incremental from the start, or G90.1 absolute).
+fn arc_centre(b: &Block, s: &State, scale: f64) -> Result<ArcCentre, GcodeError> {
+    let (iu, iv, iw) = s.plane.axes();
+    let letters = ['I', 'J', 'K'];
+    let col = b.first_column();
+    if let Some((r, rc)) = b.get('R') {
+        if let Some((_, c)) = letters.iter().find_map(|l| b.get(*l)) {
+            return Err(b.err(c, "an arc takes either R or I/J/K, not both"));
+        }
+        if !(r.abs() > 0.0) {
+            return Err(b.err(rc, "arc radius R is zero"));
+        }
+        return Ok(ArcCentre::Radius(r * scale));
+    }
+    let word = |i: usize| letters.get(i).and_then(|l| b.get(*l));
+    if word(iu).is_none() && word(iv).is_none() {
+        return Err(b.err(
+            col,
+            "an arc needs R or centre offsets I/J/K in the active plane",
+        ));
+    }
+    if let Some((v, c)) = word(iw)
+        && v != 0.0
+    {
+        return Err(b.err(c, "centre offset along the plane normal is not allowed"));
+    }
+    let off = |i: usize| word(i).map_or(0.0, |(v, _)| v * scale);
+    let given = DVec2::new(off(iu), off(iv));
+    if s.arc_absolute {
+        for i in [iu, iv] {
+            if word(i).is_none() {
+                let l = letters.get(i).copied().unwrap_or('I');
+                return Err(b.err(
+                    col,
+                    format!("{l} word missing in an absolute-centre arc (G90.1)"),
+                ));
+            }
+        }
+        let (o, _) = s.plane.split(total_offset(s));
+        Ok(ArcCentre::Absolute(given + o))
+    } else {
+        Ok(ArcCentre::Offset(given))
+    }
+}
+
+/// The centre and the turns (`P`, default 1) of an arc block.
+///
+/// # Errors
+/// A [`GcodeError`] for R with I/J/K, a zero R, no centre in the plane, a centre off the
+/// plane, a missing absolute centre word, or a P that is not a positive integer.
+pub(super) fn arc_words(b: &Block, s: &State, scale: f64) -> Result<(ArcCentre, u32), GcodeError> {
+    let centre = arc_centre(b, s, scale)?;
+    let turns = match b.get('P') {
+        Some((p, pc)) => u32_word(p)
+            .filter(|p| (1..=10_000).contains(p))
+            .ok_or_else(|| b.err(pc, "P (turns) must be a positive integer"))?,
+        None => 1,
+    };
+    Ok((centre, turns))
+}
+
+/// An arc without cutter compensation.
+///
+/// # Errors
+/// A [`GcodeError`] for impossible geometry.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn emit_arc(
     b: &Block,
     s: &mut State,
@@ -150,58 +270,20 @@ pub(super) fn emit_arc(
     out: &mut Program,
     ccw: bool,
     end: Joints,
-    scale: f64,
+    centre: ArcCentre,
+    turns: u32,
 ) -> Result<(), GcodeError> {
-    let (iu, iv, iw) = s.plane.axes();
-    let letters = ['I', 'J', 'K'];
     let col = b.first_column();
-    let spec = if let Some((r, rc)) = b.get('R') {
-        if let Some((_, c)) = letters.iter().find_map(|l| b.get(*l)) {
-            return Err(b.err(c, "an arc takes either R or I/J/K, not both"));
+    let spec = match centre {
+        ArcCentre::Radius(r) => CentreSpec::Radius(r),
+        ArcCentre::Offset(o) => {
+            let (p, w) = s.plane.split(s.pos.xyz);
+            CentreSpec::Centre(s.plane.join(p + o, w))
         }
-        if !(r.abs() > 0.0) {
-            return Err(b.err(rc, "arc radius R is zero"));
+        ArcCentre::Absolute(c) => {
+            let (_, w) = s.plane.split(s.pos.xyz);
+            CentreSpec::Centre(s.plane.join(c, w))
         }
-        CentreSpec::Radius(r * scale)
-    } else {
-        let in_plane = [iu, iv]
-            .iter()
-            .any(|i| letters.get(*i).and_then(|l| b.get(*l)).is_some());
-        if !in_plane {
-            return Err(b.err(
-                col,
-                "an arc needs R or centre offsets I/J/K in the active plane",
-            ));
-        }
-        if let Some((v, c)) = letters.get(iw).and_then(|l| b.get(*l))
-            && v != 0.0
-        {
-            return Err(b.err(c, "centre offset along the plane normal is not allowed"));
-        }
-        let off = |i: usize| {
-            letters
-                .get(i)
-                .and_then(|l| b.get(*l))
-                .map_or(0.0, |(v, _)| v * scale)
-        };
-        let given = DVec3::new(off(0), off(1), off(2));
-        let centre = if s.arc_absolute {
-            given
-                + opts
-                    .work_offsets
-                    .get(s.work_offset)
-                    .copied()
-                    .unwrap_or(DVec3::ZERO)
-        } else {
-            s.pos.xyz + given
-        };
-        CentreSpec::Centre(centre)
-    };
-    let turns = match b.get('P') {
-        Some((p, pc)) => u32_word(p)
-            .filter(|p| (1..=10_000).contains(p))
-            .ok_or_else(|| b.err(pc, "P (turns) must be a positive integer"))?,
-        None => 1,
     };
     let arc =
         arc_geometry(s.pos.xyz, end.xyz, s.plane, ccw, spec, turns).map_err(|m| b.err(col, m))?;
@@ -229,7 +311,7 @@ pub(super) fn g28(
         home.xyz = opts.g28_position;
         return emit_line(b, s, opts, out, Motion::Rapid, home);
     }
-    let via = target(b, s, opts, scale, false);
+    let via = target(b, s, scale, false);
     emit_line(b, s, opts, out, Motion::Rapid, via)?;
     let mut home = s.pos;
     let mut xyz = home.xyz.to_array();

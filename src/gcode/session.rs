@@ -1,11 +1,15 @@
 //! An interpreter that keeps its modal state between calls: a control's MDI line and its
 //! program run line by line go through the same execution as [`super::interpret`], so a line
 //! typed now sees the units, plane, distance mode, feed, work offset and tool that the lines
-//! before it left.
+//! before it left. Parameters and expressions work line by line too (a parameter set on one
+//! line is seen by the next); O-word lines (subroutines, loops, conditionals) need the whole
+//! program and are refused here. A cutter-compensated move is held until the next move is
+//! known, so it comes out with the line after it (or with `M2`/`M30`), as in LinuxCNC.
 
 use super::arc::Plane;
 use super::block::Joints;
-use super::interpreter::{Motion, State, blocks_of_line, execute, program_frame, sort_words};
+use super::interpreter::{blocks_of_line, program_frame, run_block};
+use super::state::{Motion, State};
 use super::{GcodeError, InterpretOptions, Program};
 
 /// What one line did besides its motion.
@@ -36,7 +40,7 @@ pub struct Modal {
     pub distance: &'static str,
     /// `G93` (inverse time) or `G94`.
     pub feed_mode: &'static str,
-    /// Active work offset, 0 = G54 … 5 = G59.
+    /// Active work offset, 0 = G54 … 5 = G59, 6..8 = G59.1..G59.3.
     pub work_offset: usize,
     /// Programmed feed (mm/min, or 1/min under G93), if any.
     pub feed: Option<f64>,
@@ -68,7 +72,10 @@ impl Modal {
         .iter()
         .map(ToString::to_string)
         .collect();
-        v.push(format!("G{}", 54 + self.work_offset));
+        v.push(match self.work_offset {
+            n @ 0..=5 => format!("G{}", 54 + n),
+            n => format!("G59.{}", n - 5),
+        });
         v.push(match self.tool_length_h {
             Some(h) if self.tcp => format!("G43.4 H{h}"),
             Some(h) => format!("G43 H{h}"),
@@ -96,6 +103,10 @@ impl Modal {
 pub struct Session {
     state: State,
     opts: InterpretOptions,
+    /// The first line with anything on it was `%`.
+    opened_percent: bool,
+    /// A line with words has been run.
+    seen_words: bool,
 }
 
 impl Session {
@@ -114,6 +125,8 @@ impl Session {
         Ok(Self {
             state: State::new(&opts),
             opts,
+            opened_percent: false,
+            seen_words: false,
         })
     }
 
@@ -137,7 +150,7 @@ impl Session {
     /// Tell the session where the machine is (after a jog, homing or an interrupted move).
     pub fn set_position(&mut self, pos: Joints) {
         if pos.is_finite() {
-            self.state.pos = pos;
+            self.state.place(pos);
         }
     }
 
@@ -156,6 +169,7 @@ impl Session {
                 Some(Motion::Linear) => "G1",
                 Some(Motion::Cw) => "G2",
                 Some(Motion::Ccw) => "G3",
+                Some(Motion::Cycle(c)) => c.name(),
                 None => "G80",
             },
             plane: match s.plane {
@@ -184,27 +198,49 @@ impl Session {
     /// The line's [`GcodeError`].
     pub fn run_line(&mut self, text: &str, line: usize) -> Result<LineResult, GcodeError> {
         let mut out = LineResult::default();
-        let raw = program_frame(text, self.opts.syntax, &mut self.state);
+        let (raw, frame_inch) = program_frame(text, self.opts.syntax);
+        if let Some(inch) = frame_inch {
+            self.state.inch = inch;
+        }
         let separator = if self.opts.semicolon_ends_block {
             Some(';')
         } else {
             self.opts.syntax.block_end()
         };
-        for lexed in blocks_of_line(raw, line, separator)? {
-            if lexed.block_delete && self.opts.block_delete {
+        for parsed in blocks_of_line(raw, line, separator)? {
+            if parsed.percent {
+                if self.opened_percent || self.seen_words {
+                    // The closing `%` ends the program.
+                    super::compensation::flush(&mut self.state, &mut out.program, line)?;
+                    out.program_end = true;
+                } else {
+                    self.opened_percent = true;
+                }
+                continue;
+            }
+            if parsed.block_delete && self.opts.block_delete {
                 out.deleted = true;
                 continue;
             }
-            if lexed.words.is_empty() && lexed.keywords.is_empty() {
+            if let Some(o) = &parsed.oword {
+                return Err(GcodeError {
+                    line,
+                    column: o.column,
+                    message: format!(
+                        "{}: O-word subroutines, loops and conditionals are read in whole \
+                         programs, not line by line",
+                        o.label()
+                    ),
+                });
+            }
+            if parsed.is_empty() {
                 continue;
             }
-            let mut block = sort_words(&lexed.words, line, self.opts.syntax)?;
-            block.keywords = lexed.keywords;
-            out.program_stop |= block.m.iter().any(|(m, _)| *m == 0);
-            out.optional_stop |= block.m.iter().any(|(m, _)| *m == 10);
-            if execute(&block, &mut self.state, &self.opts, &mut out.program)? {
-                out.program_end = true;
-            }
+            self.seen_words = true;
+            let ran = run_block(&parsed, line, &mut self.state, &self.opts, &mut out.program)?;
+            out.program_stop |= ran.m.contains(&0);
+            out.optional_stop |= ran.m.contains(&10);
+            out.program_end |= ran.ends;
         }
         Ok(out)
     }
