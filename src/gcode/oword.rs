@@ -112,6 +112,10 @@ impl OLine {
     }
 }
 
+/// A parsed O-word line: the line, the value and column of an `N` word before it, and the
+/// index after it.
+pub(super) type ParsedOLine = (OLine, Option<(f64, usize)>, usize);
+
 /// An O-word line starting at `start` (after block delete), with the value and column of an
 /// `N` word before it, and the index after it; `None` when the line is not an O-word line (a
 /// Fanuc program number `O1234` is not one).
@@ -122,7 +126,7 @@ pub(super) fn parse_oline(
     chars: &[char],
     start: usize,
     line: usize,
-) -> Result<Option<(OLine, Option<(f64, usize)>, usize)>, GcodeError> {
+) -> Result<Option<ParsedOLine>, GcodeError> {
     let err = |i: usize, message: String| GcodeError {
         line,
         column: i + 1,
