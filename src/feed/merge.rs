@@ -12,7 +12,8 @@
 //! of the tolerance, so the path stays within the whole tolerance of the program.
 //!
 //! The merged line runs at the speed that keeps the run's time at its blocks' speeds
-//! (`Σ ℓᵢ / vᵢ`); blocks are merged only where their speeds differ by at most
+//! (`Σ ℓᵢ / vᵢ`), but never faster than its slowest block (a scheduled feed is a limit, not an
+//! average); blocks are merged only where their speeds differ by at most
 //! [`MAX_SPEED_RATIO`], and a rapid only with rapids. Each run is at most [`MAX_RUN`] blocks, so
 //! the check (every vertex of the run against each longer chord) stays bounded.
 
@@ -24,8 +25,9 @@ use crate::gcode::{MotionBlock, MotionKind};
 /// tip of a 5-axis machine runs about this far from its rotary axes.
 pub const ROTARY_LEVER_MM: f64 = 100.0;
 
-/// Largest ratio of the speeds of two blocks merged into one line.
-pub const MAX_SPEED_RATIO: f64 = 1.25;
+/// Largest ratio of the speeds of two blocks merged into one line: equal speeds only (within
+/// rounding), so a scheduled feed is kept block by block.
+pub const MAX_SPEED_RATIO: f64 = 1.0 + 1e-9;
 
 /// Most blocks merged into one line.
 pub const MAX_RUN: usize = 2048;
@@ -99,7 +101,9 @@ pub fn merge_runs(
         let feed = if run.rapid {
             f64::INFINITY
         } else {
-            length / run.time
+            // Never faster than the slowest block it covers: a block's feed is a limit (a
+            // feed schedule slows the blocks where the force would pass its target).
+            (length / run.time).min(run.slowest)
         };
         match Segment::merged_line(
             (run.first.block, run.last),
