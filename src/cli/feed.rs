@@ -12,7 +12,7 @@ use crate::feed::{
     AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, naive_time_s, plan,
     travel_violations,
 };
-use crate::gcode::{InterpretOptions, Syntax, interpret};
+use crate::gcode::{InterpretOptions, interpret};
 use crate::import::ImportError;
 use crate::machine::Machine;
 
@@ -116,17 +116,7 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
             None => return Err(bad(None, format!("--limit: machine has no axis {name}"))),
         }
     }
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let syntax = match &args.syntax {
-        Some(name) => Syntax::from_name(name).ok_or_else(|| {
-            bad(
-                None,
-                format!("--syntax must be rs274, siemens or heidenhain, got '{name}'"),
-            )
-        })?,
-        None => Syntax::detect(&text),
-    };
+    let (text, syntax) = super::read_program(&args.file, args.syntax.as_deref())?;
     let mut options = InterpretOptions::for_syntax(syntax);
     if let Some(start) = &args.start {
         options.start = parse_start(start)

@@ -43,8 +43,8 @@ fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let text =
-        std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let (toolpath, program) = if is_json {
         let (tp, _) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())
             .map_err(|e| bad(Some(e.place.clone()), e.message.clone()))?;
@@ -120,8 +120,8 @@ pub(crate) fn library_tool(args: &ForcesArgs, name: &str) -> Result<ToolRecord, 
             "no file given",
         ));
     };
-    let text =
-        std::fs::read_to_string(file).map_err(|e| ImportError::new(file, None, e.to_string()))?;
+    let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .map_err(|e| ImportError::new(file, None, e.to_string()))?;
     let lib: Tools = toml::from_str(&text).map_err(|e| {
         let at = e.span().map_or(0, |s| s.start).min(text.len());
         let line = text.get(..at).unwrap_or("").matches('\n').count() + 1;

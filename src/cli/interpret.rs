@@ -171,20 +171,10 @@ fn document(args: &InterpretArgs, syntax: Syntax, p: &Program, errors: Vec<Value
 /// does not read; a program error comes back in [`Interpreted::error`] with the document.
 pub fn interpret(args: &InterpretArgs) -> Result<Interpreted, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
-    let syntax = match &args.syntax {
-        Some(name) => Syntax::from_name(name).ok_or_else(|| {
-            bad(
-                None,
-                format!("--syntax must be rs274, siemens or heidenhain, got '{name}'"),
-            )
-        })?,
-        None => Syntax::detect(&text),
-    };
+    let (text, syntax) = super::read_program(&args.file, args.syntax.as_deref())?;
     let mut options = InterpretOptions::for_syntax(syntax);
     if let Some(path) = &args.tool_table {
-        let table_text = std::fs::read_to_string(path)
+        let table_text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
             .map_err(|e| ImportError::new(path, None, format!("cannot read file: {e}")))?;
         let unit = match args.tool_table_units {
             TableUnit::Mm => LengthUnit::Mm,

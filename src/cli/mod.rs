@@ -88,6 +88,30 @@ pub enum Command {
 }
 
 /// Print a subcommand's JSON document or its human summary; exit code 2 with one line on error.
+/// The program text of `file` (read with the storage bound for programs) and the syntax it is
+/// read in: `syntax` by name, or detected from the text; the one way `feed` and `interpret`
+/// read a program.
+///
+/// # Errors
+/// An [`crate::import::ImportError`] naming the file for a read failure or a bad `--syntax`.
+pub(crate) fn read_program(
+    file: &std::path::Path,
+    syntax: Option<&str>,
+) -> Result<(String, crate::gcode::Syntax), crate::import::ImportError> {
+    let bad = |msg: String| crate::import::ImportError::new(file, None, msg);
+    let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .map_err(|e| bad(format!("cannot read file: {e}")))?;
+    let syntax = match syntax {
+        Some(name) => crate::gcode::Syntax::from_name(name).ok_or_else(|| {
+            bad(format!(
+                "--syntax must be rs274, siemens or heidenhain, got '{name}'"
+            ))
+        })?,
+        None => crate::gcode::Syntax::detect(&text),
+    };
+    Ok((text, syntax))
+}
+
 fn report(
     result: Result<serde_json::Value, crate::import::ImportError>,
     json: bool,

@@ -196,8 +196,8 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let text =
-        std::fs::read_to_string(file).map_err(|e| bad(None, format!("cannot read file: {e}")))?;
+    let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let machine = match &args.machine {
         Some(m) => Some(
             Machine::resolve(m).map_err(|e| ImportError::new(Path::new(m), None, e.to_string()))?,
