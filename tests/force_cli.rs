@@ -371,3 +371,80 @@ fn forces_along_a_program() {
     assert_eq!(doc["totals"]["peak_resultant_block"], 5);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `talas speeds`: the hand-worked 6061 case (D10, 3 flutes, a_e 1 mm = 10 %, a_p 15 mm):
+/// n = 300 000/(10π) = 9549.3 rpm, f_z = 0.08 × 1/√(1 − 0.8²) = 0.13333 mm, v_f = 3819.7
+/// mm/min; the capped spindle; and bad options named.
+#[test]
+fn speeds_command_gives_the_hand_worked_numbers_and_names_bad_options() {
+    let doc = talas_json(&[
+        "speeds",
+        "--material",
+        "Al6061-T6",
+        "--tool",
+        "flat:d=10,flutes=3,helix=35,length=40,flute=22",
+        "--ae",
+        "1",
+        "--ap",
+        "15",
+        "--json",
+    ]);
+    let s = &doc["speeds"];
+    let rel = |got: f64, want: f64| ((got - want) / want).abs() < 1e-3;
+    assert!(rel(f(&s["spindle_rpm"]), 9549.297), "{s}");
+    assert!(rel(f(&s["feed_per_tooth_mm"]), 0.133_333), "{s}");
+    assert!(rel(f(&s["feed_mm_min"]), 3819.719), "{s}");
+    assert!(f(&doc["load"]["mean_power_w"]) > 0.0, "{doc}");
+    let capped = talas_json(&[
+        "speeds",
+        "--material",
+        "6061",
+        "--tool",
+        "flat:d=10,flutes=3",
+        "--max-rpm",
+        "6000",
+        "--json",
+    ]);
+    assert!(rel(f(&capped["speeds"]["spindle_rpm"]), 6000.0), "{capped}");
+    assert!(rel(
+        f(&capped["speeds"]["cutting_speed_m_min"]),
+        std::f64::consts::PI * 10.0 * 6.0
+    ));
+    let (code, out, _) = talas(&["speeds", "--list"]);
+    assert_eq!(code, 0);
+    for key in [
+        "6061", "7075", "1045", "4140", "304", "ti64", "brass", "acetal",
+    ] {
+        assert!(out.contains(key), "{out}");
+    }
+    for (args, what) in [
+        (
+            vec!["--material", "unobtainium", "--tool", "flat:d=10"],
+            "--material",
+        ),
+        (
+            vec!["--material", "6061", "--tool", "flat:d=10", "--ae", "20"],
+            "radial",
+        ),
+        (
+            vec![
+                "--material",
+                "6061",
+                "--tool",
+                "flat:d=10",
+                "--tool-material",
+                "cermet",
+            ],
+            "--tool-material",
+        ),
+    ] {
+        let mut a = vec!["speeds"];
+        a.extend(args);
+        let (code, _, err) = talas(&a);
+        assert_eq!(code, 2, "{a:?}");
+        assert!(
+            err.contains(what) && err.lines().count() == 1,
+            "{a:?}: {err}"
+        );
+    }
+}

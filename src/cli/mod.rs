@@ -18,6 +18,7 @@ pub mod profile;
 pub mod reduce;
 pub mod render;
 pub mod simulate;
+pub mod speeds;
 
 use std::path::PathBuf;
 
@@ -76,6 +77,9 @@ pub enum Command {
     /// Cutting-force coefficients from measured mean forces (FORCES.csv), optionally written
     /// as a coefficient library.
     Calibrate(calibrate::CalibrateArgs),
+    /// Spindle speed and feeds from the cutting-data library (material, tool, engagement),
+    /// with chip thinning and the force model's torque, power and deflection check.
+    Speeds(speeds::SpeedsArgs),
     /// Ball-electrode (EDM) path of a 2D profile: exact offset, plunges and side collisions
     /// of the per-point method, largest gouge-free radius, G-code.
     Profile(profile::ProfileArgs),
@@ -201,6 +205,7 @@ pub fn run(command: Command) -> i32 {
         Command::Calibrate(args) => {
             report(calibrate::calibrate(&args), args.json, calibrate::human)
         }
+        Command::Speeds(args) => report(speeds::speeds(&args), args.json, speeds::human),
         Command::Profile(args) => match profile::profile(&args) {
             Ok(doc) => {
                 if args.json {

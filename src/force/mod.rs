@@ -38,6 +38,7 @@ pub mod calibrate;
 pub mod closed_form;
 pub mod coefficients;
 pub mod cut;
+pub mod cutting_data;
 pub mod deflection;
 pub mod disks;
 pub mod library;
