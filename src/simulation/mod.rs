@@ -38,7 +38,7 @@ pub use motion::{MovePlan, SimMove, Step, StepOptions, plan_program, plan_toolpa
 pub use stock::{
     DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, MeshStock, StockShape, estimate_bytes,
 };
-pub use surface::SurfacePoint;
+pub use surface::{MESH_HEIGHT_STEP_MM, SurfacePoint};
 
 /// Errors of the simulation.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
