@@ -393,3 +393,63 @@ fn cli_posts_and_lists_machines() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 35: a rapid that turns the table (here A by 40°, C by 90° between two passes 5 mm
+/// above the part) swung the part under the tool in one G0 at the passes' height. Every rapid
+/// that turns a rotary axis now runs at the clearance height: retract, turn, position, down.
+#[test]
+fn rapids_that_turn_the_table_do_so_at_the_clearance_height() {
+    let machine = Machine::builtin("trt-ac").unwrap();
+    let tilt = |deg: f64, az: f64| {
+        let (t, a) = (deg.to_radians(), az.to_radians());
+        DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())
+    };
+    let mut poses = vec![pose(DVec3::new(0.0, 0.0, 30.0), DVec3::Z, MoveKind::Rapid)];
+    for x in [-10.0, 0.0, 10.0] {
+        poses.push(pose(DVec3::new(x, 5.0, 2.0), tilt(5.0, 0.0), MoveKind::Cut));
+    }
+    // The link to the second pass: a rapid at 5 mm, the axis swinging 35° and 90° about Z.
+    poses.push(pose(
+        DVec3::new(10.0, -5.0, 5.0),
+        tilt(40.0, 90.0),
+        MoveKind::Rapid,
+    ));
+    for x in [10.0, 0.0, -10.0] {
+        poses.push(pose(
+            DVec3::new(x, -5.0, 2.0),
+            tilt(40.0, 90.0),
+            MoveKind::Cut,
+        ));
+    }
+    let tp = Toolpath::new(tool(), poses);
+    for dialect in FIVE_AXIS_DIALECTS {
+        let d = Dialect::builtin(dialect).unwrap();
+        let options = PostOptions {
+            tolerance_mm: TOLERANCE_MM,
+            ..PostOptions::default()
+        };
+        let clearance = options.clearance_z_mm;
+        let text = post(&tp, &machine, &d, &options).unwrap();
+        let program = interpret(&text, &options_for(dialect)).unwrap();
+        let mut turned = 0;
+        for b in &program.blocks {
+            let d = |x: Option<f64>, y: Option<f64>| (x.unwrap_or(0.0) - y.unwrap_or(0.0)).abs();
+            let turns = d(b.end.a, b.start.a) > 1e-6 || d(b.end.c, b.start.c) > 1e-6;
+            if b.kind == talas::gcode::MotionKind::Rapid && turns {
+                turned += 1;
+                assert!(
+                    (b.start.xyz.z - clearance).abs() < 1e-6
+                        && (b.end.xyz.z - clearance).abs() < 1e-6,
+                    "{dialect}: line {} turns the table at Z {} → {} (clearance {clearance})",
+                    b.source_line,
+                    b.start.xyz.z,
+                    b.end.xyz.z
+                );
+            }
+        }
+        assert!(turned >= 1, "{dialect}: no rapid turns the table");
+        // And the poses are still reached exactly.
+        let (tip, axis, _, _, _) = round_trip(&tp, &machine, dialect);
+        assert!(tip < 1e-3 && axis < 1e-6, "{dialect}: {tip} mm, {axis} rad");
+    }
+}

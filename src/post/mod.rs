@@ -288,6 +288,10 @@ fn operation_body(
     Ok(())
 }
 
+/// A rapid whose rotary axes turn by more than this goes up to the clearance height first,
+/// rad (0.001°: any turn a machine would make).
+pub const ROTARY_RETRACT_RAD: f64 = 1.745_329_251_994_33e-5;
+
 /// The straight move reaching pose `to` from pose `to - 1`: one block for a rapid or under
 /// TCP, else the linearised joints (with a safe flip where the joints jump).
 fn straight(
@@ -335,6 +339,16 @@ fn straight_between(
     };
     if b.kind == MoveKind::Rapid || options.tcp {
         let j = machine.inverse(&to_pose, prev).map_err(pose_err(k + 1))?;
+        let turns = (j.tilt_rad - prev.tilt_rad).abs() > ROTARY_RETRACT_RAD
+            || (j.rotary_rad - prev.rotary_rad).abs() > ROTARY_RETRACT_RAD;
+        if b.kind == MoveKind::Rapid && turns && !options.tcp {
+            // A rapid that turns the table swings the part under the tool along an arc the
+            // tool path never planned: turn only at the clearance height (retract, turn,
+            // position X Y, rapid down to the pose).
+            w.turn_at_clearance(&target(dialect, machine, &j, false), k + 1);
+            *prev = j;
+            return Ok(());
+        }
         let len = a.tip.distance(b.tip);
         w.motion(
             &target(dialect, machine, &j, options.tcp),

@@ -273,6 +273,22 @@ impl<'a> Writer<'a> {
         self.motion(t, MoveKind::Plunge, feed, 0.0, pose);
     }
 
+    /// A rapid to `t` that turns the rotaries (tagged with tool-path pose `pose`): up to the
+    /// clearance height unless already there, rotaries, X Y, then down to `t`'s Z.
+    pub(super) fn turn_at_clearance(&mut self, t: &Target, pose: usize) {
+        let d = self.d;
+        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
+        if self.last[2].as_deref() != Some(z.as_str()) {
+            let code = self.motion_code(&d.rapid);
+            self.block(&join(code, &[format!("Z{z}")]));
+            self.last[2] = Some(z);
+        }
+        self.current_pose = Some(pose);
+        self.approach(t);
+        self.rapid_words(t, [false, false, true, false, false]);
+        self.current_pose = None;
+    }
+
     /// The block reaching `t` by a move of `kind` (tip travel `tip_len` mm), on the way to the
     /// tool-path pose `pose`.
     pub(super) fn motion(
