@@ -153,9 +153,9 @@ pub struct PlanArgs {
     #[arg(long, value_name = "DEG", default_value_t = 90.0)]
     pub max_tilt: f64,
     /// Largest tilt-away where no tilt within `--tilt-away` frees the tool (the wall of a hole
-    /// whose far side the flutes reach), degrees, still within `--max-tilt` (0: never beyond
-    /// `--tilt-away`).
-    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    /// whose far side the flutes reach), degrees, still within `--max-tilt` (0, the default:
+    /// never beyond `--tilt-away`; such spans are left out and reported).
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
     pub steep_tilt: f64,
     /// Print one JSON document (summary and diagnostics) instead of the human summary.
     #[arg(long)]

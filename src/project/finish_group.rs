@@ -28,16 +28,21 @@ pub struct TiltAwaySettings {
     pub max_angle_rad: f64,
     /// Largest rate of the tilt along the path, rad per mm.
     pub rate_rad_per_mm: f64,
+    /// Largest tilt where no tilt within `max_angle_rad` frees the tool (the wall of a hole
+    /// whose far side the flutes reach, a pin between plates), rad; 0 (the default): never
+    /// beyond `max_angle_rad`, such spans are left out and reported.
+    pub steep_angle_rad: f64,
 }
 
 impl Default for TiltAwaySettings {
-    /// On, 30° at most, 2° per mm.
+    /// On, 30° at most, 2° per mm, never beyond.
     fn default() -> Self {
         let t = TiltAway::default();
         Self {
             enabled: true,
             max_angle_rad: t.max_angle_rad,
             rate_rad_per_mm: t.rate_rad_per_mm,
+            steep_angle_rad: 0.0,
         }
     }
 }
@@ -45,13 +50,14 @@ impl Default for TiltAwaySettings {
 impl TiltAwaySettings {
     /// The planner's limits on `machine` (its tilt travel), `None` when off. Where no tilt
     /// within the angle frees the tool (a hole's wall, a pin between plates), the planner tilts
-    /// further, up to the machine's tilt travel.
+    /// further only up to `steep_angle_rad` (issue 35: the steep fallback once went to 90°
+    /// whatever the operation's largest tilt said, and a blade face's path reached 88°).
     #[must_use]
     pub fn limits(&self, machine: Option<&Machine>) -> Option<TiltAway> {
         self.enabled.then(|| TiltAway {
             max_angle_rad: self.max_angle_rad,
             rate_rad_per_mm: self.rate_rad_per_mm,
-            steep_angle_rad: std::f64::consts::FRAC_PI_2,
+            steep_angle_rad: self.steep_angle_rad,
             ..super::reach::tilt_away_limits(machine)
         })
     }
@@ -68,6 +74,12 @@ pub fn validate(face: usize, group: &[usize], tilt: &TiltAwaySettings) -> Result
             return Err(format!("face {g} is named twice in the face group"));
         }
         seen.push(g);
+    }
+    let steep = tilt.steep_angle_rad.to_degrees();
+    if !(steep.is_finite() && (0.0..=90.0).contains(&steep)) {
+        return Err(format!(
+            "the steep tilt must lie between 0° and 90°, got {steep:.2}°"
+        ));
     }
     let deg = tilt.max_angle_rad.to_degrees();
     if !(deg.is_finite() && (0.0..=90.0).contains(&deg)) {
@@ -321,5 +333,18 @@ mod tests {
         let m = Machine::resolve("mill-3axis").ok();
         let on = ok.limits(m.as_ref()).expect("on");
         assert!((on.max_angle_rad - 30f64.to_radians()).abs() < 1e-12);
+        // Never beyond the largest tilt unless a steep tilt is asked for.
+        assert!(on.steep_angle_rad.abs() < 1e-12);
+        let steep = TiltAwaySettings {
+            steep_angle_rad: 60f64.to_radians(),
+            ..ok
+        };
+        let l = steep.limits(m.as_ref()).expect("on");
+        assert!((l.steep_angle_rad - 60f64.to_radians()).abs() < 1e-12);
+        let bad = TiltAwaySettings {
+            steep_angle_rad: 120f64.to_radians(),
+            ..ok
+        };
+        assert!(validate(3, &[], &bad).is_err());
     }
 }

@@ -775,6 +775,21 @@ fn group_rows(
             "°",
         );
         ui.end_row();
+        let l = label(
+            ui,
+            "Steep tilt",
+            "Where no tilt within the largest tilt frees the tool (a hole's wall, a pin between plates), tilt up to this angle instead of leaving the span out (0: never beyond the largest tilt)",
+        );
+        commit |= number(
+            ui,
+            l,
+            &mut tilt.steep_angle_rad,
+            1f64.to_degrees(),
+            0.0..=90.0,
+            1,
+            "°",
+        );
+        ui.end_row();
         let l = label(ui, "Tilt rate", "Largest change of the tilt along the path");
         commit |= number(
             ui,
