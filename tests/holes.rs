@@ -194,3 +194,109 @@ fn reversed_normals_are_read_from_the_mesh() {
     let rep = recognize_holes(&part, None, &HoleOptions::default());
     assert!(rep.holes.is_empty(), "{:#?}", rep.holes);
 }
+
+/// The real parts Talas carries (CATIA V5 exports, Open CASCADE-made parts, the adversarial and
+/// dodgy STEP files): recognition never panics, and what it finds is a hole of the part's size.
+/// The drilled block (`tests/data/real/made/make_parts.py`) is checked against its script: three
+/// drilled holes with 118° points (one counterbored) and one ball-ended hole.
+#[test]
+fn real_parts_give_plausible_holes() {
+    let mut files = Vec::new();
+    let mut stack = vec![data("real"), data("adversarial")];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p
+                .extension()
+                .and_then(|x| x.to_str())
+                .is_some_and(|x| x.eq_ignore_ascii_case("stp") || x.eq_ignore_ascii_case("step"))
+            {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() > 10, "{files:?}");
+    let mut found = 0;
+    for f in &files {
+        let Ok(part) = read_step(f) else { continue };
+        let diag = part.rough_bbox().diagonal();
+        let pm = tessellate_part(
+            &part,
+            &TessellationOptions::with_chord_tol(1e-3 * diag.max(1e-3)),
+        );
+        let rep = recognize_holes(&part, Some(&pm), &HoleOptions::default());
+        for h in &rep.holes {
+            assert!(
+                h.diameter_mm > 0.0 && h.diameter_mm <= diag,
+                "{}: {h:?}",
+                f.display()
+            );
+            assert!(
+                h.depth_mm > 0.0 && h.depth_mm <= diag,
+                "{}: {h:?}",
+                f.display()
+            );
+            assert!(
+                (h.direction.length() - 1.0).abs() < 1e-9,
+                "{}: {h:?}",
+                f.display()
+            );
+            assert!(
+                h.full_depth_mm() >= h.depth_mm - 1e-9,
+                "{}: {h:?}",
+                f.display()
+            );
+        }
+        found += rep.holes.len();
+    }
+    assert!(found > 10, "{found} holes in {} files", files.len());
+
+    let part = read_step(&data("real/made/drilled-block.stp")).expect("read");
+    let pm = tessellate_part(&part, &TessellationOptions::default());
+    let rep = recognize_holes(&part, Some(&pm), &HoleOptions::default());
+    assert_eq!(rep.holes.len(), 4, "{:#?}", rep.holes);
+    // (x, y, diameter, depth) from make_parts.py: drill(x, y, top 25, r, depth).
+    for (x, y, d, depth, point) in [
+        (12.0, 12.0, 8.5, 14.0, true),
+        (30.0, 20.0, 6.6, 18.0, true),
+        (48.0, 12.0, 5.5, 16.0, true),
+        (48.0, 30.0, 6.0, 10.0, false),
+    ] {
+        let h = rep
+            .holes
+            .iter()
+            .find(|h| (h.top - DVec3::new(x, y, 25.0)).length() < 1e-6)
+            .unwrap_or_else(|| panic!("no hole at ({x}, {y}): {:#?}", rep.holes));
+        assert!(
+            (h.diameter_mm - d).abs() < 1e-6 && (h.depth_mm - depth).abs() < 1e-6,
+            "{h:?}"
+        );
+        match h.bottom {
+            HoleBottom::Point { tip_depth_mm, .. } if point => {
+                let tip = depth + 0.5 * d / 59f64.to_radians().tan();
+                assert!((tip_depth_mm - tip).abs() < 1e-6, "{h:?}");
+            }
+            // The ball end: a sphere of the bore's radius, 3 mm below the cylinder's end.
+            HoleBottom::Other { tip_depth_mm } if !point => {
+                assert!((tip_depth_mm - (depth + 3.0)).abs() < 1e-6, "{h:?}");
+            }
+            b => panic!("({x}, {y}): bottom {b:?}"),
+        }
+    }
+    let cb = rep
+        .holes
+        .iter()
+        .find(|h| h.kind == HoleKind::Counterbore)
+        .expect("counterbore");
+    assert_eq!(
+        cb.steps,
+        vec![HoleStep::Cylinder {
+            diameter_mm: 9.0,
+            depth_mm: 5.0
+        }],
+        "{cb:?}"
+    );
+}

@@ -37,6 +37,11 @@ pub enum HoleBottom {
         /// Depth of the point's tip below the entry, mm.
         tip_depth_mm: f64,
     },
+    /// Closed by some other face within the bore (a ball end, a rounded corner, a B-spline).
+    Other {
+        /// Depth of the deepest point found on the closing face below the entry, mm.
+        tip_depth_mm: f64,
+    },
 }
 
 /// A wider part of a hole above its main bore.
@@ -127,7 +132,9 @@ impl Hole {
     #[must_use]
     pub fn full_depth_mm(&self) -> f64 {
         match self.bottom {
-            HoleBottom::Point { tip_depth_mm, .. } => tip_depth_mm,
+            HoleBottom::Point { tip_depth_mm, .. } | HoleBottom::Other { tip_depth_mm } => {
+                tip_depth_mm
+            }
             _ => self.depth_mm,
         }
     }
@@ -364,11 +371,12 @@ pub fn recognize_holes(part: &Part, mesh: Option<&PartMesh>, opts: &HoleOptions)
             None => axes.push((ax, vec![w])),
         }
     }
+    let topo = Topology::new(part);
     let mut holes = Vec::new();
     for (ax, ws) in axes {
         let ws = merge_walls(ws, opts);
         for chain in chains(ws, opts) {
-            match hole_of(&ax, &chain, &discs, opts) {
+            match hole_of(part, &topo, &ax, &chain, &discs, opts) {
                 Ok(Some(h)) if h.diameter_mm <= opts.max_diameter_mm => holes.push(h),
                 Ok(_) => {}
                 Err(msg) => report.diagnostics.push(Diagnostic::info(None, msg)),
@@ -570,6 +578,122 @@ enum End {
     Open,
     Flat(usize),
     Point,
+    /// Closed by this face, reaching this far beyond the wall's end.
+    Other(usize, f64),
+}
+
+/// What the end tests need about the part's edges and faces.
+struct Topology {
+    /// Sample points of each edge.
+    edge_points: Vec<Vec<DVec3>>,
+    /// The faces that use each edge.
+    edge_faces: Vec<Vec<usize>>,
+    /// The edges each face uses.
+    face_edges: Vec<Vec<usize>>,
+}
+
+impl Topology {
+    fn new(part: &Part) -> Self {
+        let edge_points = part
+            .edges
+            .iter()
+            .map(|e| {
+                (0..=8)
+                    .map(|k| {
+                        e.curve
+                            .point(e.t_start + (e.t_end - e.t_start) * f64::from(k) / 8.0)
+                    })
+                    .filter(|p| p.is_finite())
+                    .collect()
+            })
+            .collect();
+        let mut edge_faces = vec![Vec::new(); part.edges.len()];
+        let mut face_edges = vec![Vec::new(); part.faces.len()];
+        for (fi, f) in part.faces.iter().enumerate() {
+            for l in &f.loops {
+                if let Loop::Edges(oes) = l {
+                    for oe in oes {
+                        if let Some(ef) = edge_faces.get_mut(oe.edge) {
+                            if !ef.contains(&fi) {
+                                ef.push(fi);
+                            }
+                            face_edges[fi].push(oe.edge);
+                        }
+                    }
+                }
+            }
+        }
+        Self {
+            edge_points,
+            edge_faces,
+            face_edges,
+        }
+    }
+
+    /// A face next to `wall` across an edge at its end `t` (radius `r`; `outward` +1 at the
+    /// high end, −1 at the low end) whose boundary lies within the bore and beyond the end: it
+    /// closes the hole. Returns it and how far beyond the end its surface reaches.
+    fn cap(
+        &self,
+        part: &Part,
+        ax: &AxisLine,
+        wall: &Wall,
+        t: f64,
+        r: f64,
+        outward: f64,
+        tol: f64,
+    ) -> Option<(usize, f64)> {
+        for &f in &wall.faces {
+            for &e in self.face_edges.get(f)? {
+                let pts = self.edge_points.get(e)?;
+                if pts.is_empty() || !pts.iter().all(|&p| (ax.coords(p).0 - t).abs() <= tol) {
+                    continue;
+                }
+                for &g in self.edge_faces.get(e)? {
+                    if wall.faces.contains(&g) {
+                        continue;
+                    }
+                    let inside = self.face_edges[g].iter().all(|&ge| {
+                        self.edge_points[ge].iter().all(|&p| {
+                            let (tp, rp) = ax.coords(p);
+                            rp <= r + tol && outward * (tp - t) >= -tol
+                        })
+                    });
+                    if !inside {
+                        continue;
+                    }
+                    // How deep: the surface over its boundary's parameter box.
+                    let face = &part.faces[g];
+                    let topts = TessellationOptions::for_size(2.0 * r.max(tol));
+                    let mut beyond = 0.0f64;
+                    if let Ok(loops) = face_param_loops(face, part, &topts) {
+                        let (mut lo, mut hi) = (
+                            crate::geometry::DVec2::splat(f64::INFINITY),
+                            crate::geometry::DVec2::splat(f64::NEG_INFINITY),
+                        );
+                        for p in loops.iter().flatten() {
+                            lo = lo.min(*p);
+                            hi = hi.max(*p);
+                        }
+                        if lo.is_finite() && hi.is_finite() {
+                            for i in 0..=16 {
+                                for j in 0..=16 {
+                                    let u = lo.x + (hi.x - lo.x) * f64::from(i) / 16.0;
+                                    let v = lo.y + (hi.y - lo.y) * f64::from(j) / 16.0;
+                                    let (tp, rp) = ax.coords(face.surface.point(u, v));
+                                    if rp <= r + tol {
+                                        beyond = beyond.max(outward * (tp - t));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    return Some((g, beyond));
+                }
+            }
+        }
+        None
+    }
 }
 
 /// The disc face closing the profile at axial position `t` with radius `r`, if any.
@@ -589,6 +713,8 @@ fn disc_at(ax: &AxisLine, t: f64, r: f64, discs: &[Disc], opts: &HoleOptions) ->
 }
 
 fn hole_of(
+    part: &Part,
+    topo: &Topology,
     ax: &AxisLine,
     chain: &[Wall],
     discs: &[Disc],
@@ -607,6 +733,16 @@ fn hole_of(
             End::Point
         } else if let Some(f) = disc_at(ax, t, r, discs, opts) {
             End::Flat(f)
+        } else if let Some((f, beyond)) = topo.cap(
+            part,
+            ax,
+            w,
+            t,
+            r,
+            if low { -1.0 } else { 1.0 },
+            tol.max(1e-9 * (1.0 + r)),
+        ) {
+            End::Other(f, beyond)
         } else {
             End::Open
         }
@@ -662,6 +798,9 @@ fn hole_of(
     let bottom = match far {
         End::Open => HoleBottom::Through,
         End::Flat(_) => HoleBottom::Flat,
+        End::Other(_, beyond) => HoleBottom::Other {
+            tip_depth_mm: after.last().map_or(main_depth, |w| ends(w).1) + beyond,
+        },
         End::Point => {
             // The cone(s) below the main bore down to the tip.
             let tip = after.last().map_or(main_depth, |w| ends(w).1);
@@ -710,7 +849,7 @@ fn hole_of(
     };
     let mut faces: Vec<usize> = chain.iter().flat_map(|w| w.faces.iter().copied()).collect();
     for e in [lo, hi] {
-        if let End::Flat(f) = e {
+        if let End::Flat(f) | End::Other(f, _) = e {
             faces.push(f);
         }
     }
