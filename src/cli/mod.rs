@@ -13,6 +13,7 @@ pub mod inspect;
 pub mod interpret;
 pub mod plan;
 pub mod plan_group;
+pub mod plan_holes;
 pub mod plan_mesh;
 pub mod post;
 pub mod profile;

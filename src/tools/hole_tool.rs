@@ -86,7 +86,8 @@ impl HoleTool {
             } => format!(
                 "cone:d={},angle={}",
                 self.diameter_mm,
-                (0.5 * point_angle_rad).to_degrees()
+                // Rounded to 1e-9° so that 118° reads back as 59, not 59.00000000000001.
+                ((0.5 * point_angle_rad).to_degrees() * 1e9).round() / 1e9
             ),
             _ => format!("flat:d={}", self.diameter_mm),
         }
