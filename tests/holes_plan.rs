@@ -82,7 +82,7 @@ fn the_tour_of_200_holes_is_within_5_percent_of_the_best_of_100_two_opt_restarts
     assert!(ours_mm <= 1.05 * best, "{ours_mm} mm vs {best} mm");
     // Nearest neighbour alone is worse than the improved tour (the improvement did something).
     let mut nn = vec![0usize];
-    let mut used = vec![false; 200];
+    let mut used = [false; 200];
     used[0] = true;
     for _ in 1..200 {
         let l = *nn.last().unwrap();
@@ -346,4 +346,73 @@ fn helical_boring_and_thread_milling_follow_their_helices() {
         )
         .is_err()
     );
+}
+
+/// `talas features` lists the part's nine holes; `talas plan --strategy peck` drills the two
+/// Ø6 through holes with G83 and posts them; bad hole selections are one clear error (exit 2).
+#[test]
+fn the_command_line_lists_the_holes_and_plans_a_peck_drilling() {
+    let part = data("holes/holes-part.stp");
+    let part = part.to_str().unwrap();
+    let doc = common::talas_json(&["features", part, "--json"]);
+    let holes = doc["holes"].as_array().unwrap();
+    assert_eq!(holes.len(), 9, "{doc}");
+    assert!(holes.iter().any(|h| h["bottom"]["kind"] == "point"
+        && (h["bottom"]["angle_deg"].as_f64().unwrap() - 118.0).abs() < 1e-9));
+    let out = common::temp_path("holes-cli", "peck.json");
+    let o = out.to_str().unwrap();
+    let doc = common::talas_json(&[
+        "plan",
+        part,
+        "--strategy",
+        "peck",
+        "--tool",
+        "drill:d=6",
+        "--peck",
+        "3",
+        "--post",
+        "linuxcnc",
+        "-o",
+        o,
+        "--json",
+    ]);
+    assert_eq!(doc["holes"].as_array().unwrap().len(), 2, "{doc}");
+    let nc = std::fs::read_to_string(out.with_extension("nc")).unwrap();
+    assert_eq!(nc.matches("G83").count(), 2, "{nc}");
+    assert!(nc.contains("Q3"), "{nc}");
+    // By position: the counterbored hole only.
+    let doc = common::talas_json(&[
+        "plan",
+        part,
+        "--strategy",
+        "drill",
+        "--tool",
+        "drill:d=6.6",
+        "--holes",
+        "25,45;",
+        "-o",
+        o,
+        "--json",
+    ]);
+    assert_eq!(doc["holes"].as_array().unwrap().len(), 1, "{doc}");
+    for (holes, says) in [
+        ("999", "face 999 belongs to no hole"),
+        ("3,3;", "no hole within"),
+    ] {
+        let r = common::talas(&[
+            "plan",
+            part,
+            "--strategy",
+            "drill",
+            "--tool",
+            "drill:d=6",
+            "--holes",
+            holes,
+            "-o",
+            o,
+        ]);
+        assert_eq!(r.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(says) && err.lines().count() == 1, "{err}");
+    }
 }

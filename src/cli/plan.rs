@@ -183,7 +183,7 @@ pub struct PlanArgs {
     #[arg(short = 'o', long = "output", value_name = "PATH.json")]
     pub output: PathBuf,
     #[command(flatten)]
-    pub holes: super::plan_holes::HoleArgs,
+    pub holes: Box<super::plan_holes::HoleArgs>,
 }
 
 pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {

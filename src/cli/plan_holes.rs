@@ -221,6 +221,10 @@ fn drill_depth(h: &Hole, tool: &ToolRecord) -> f64 {
 ///
 /// # Errors
 /// The part, a bad option, or no hole to make.
+#[expect(
+    clippy::too_many_lines,
+    reason = "one pass from the options through selection, targets, planning, posting and the report"
+)]
 pub fn plan_holes_cli(
     file: &Path,
     strategy_name: &str,

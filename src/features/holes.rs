@@ -633,6 +633,10 @@ impl Topology {
     /// A face next to `wall` across an edge at its end `t` (radius `r`; `outward` +1 at the
     /// high end, −1 at the low end) whose boundary lies within the bore and beyond the end: it
     /// closes the hole. Returns it and how far beyond the end its surface reaches.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the wall, its axis, the end's position, radius and side, and the tolerance"
+    )]
     fn cap(
         &self,
         part: &Part,
@@ -855,9 +859,7 @@ fn hole_of(
     }
     faces.sort_unstable();
     let diameter_mm = 2.0 * main_r;
-    let thread_suggestion = if matches!(bottom, HoleBottom::Through) && steps.is_empty()
-        || !matches!(bottom, HoleBottom::Through)
-    {
+    let thread_suggestion = if !matches!(bottom, HoleBottom::Through) || steps.is_empty() {
         thread_for_tap_drill(diameter_mm)
     } else {
         None
