@@ -380,6 +380,28 @@ fn the_command_line_lists_the_holes_and_plans_a_peck_drilling() {
     let nc = std::fs::read_to_string(out.with_extension("nc")).unwrap();
     assert_eq!(nc.matches("G83").count(), 2, "{nc}");
     assert!(nc.contains("Q3"), "{nc}");
+    // A 90° spot drill spots every hole, the countersink (Ø10 at the top) 5 mm deep.
+    let doc = common::talas_json(&[
+        "plan",
+        part,
+        "--strategy",
+        "spot",
+        "--tool",
+        "spot:d=12",
+        "-o",
+        o,
+        "--json",
+    ]);
+    let spots = doc["holes"].as_array().unwrap();
+    assert_eq!(spots.len(), 9, "{doc}");
+    let csk = spots
+        .iter()
+        .find(|h| h["top_mm"][0] == 70.0 && h["top_mm"][1] == 45.0)
+        .unwrap();
+    assert!(
+        (csk["depth_mm"].as_f64().unwrap() - 5.0).abs() < 1e-9,
+        "{csk}"
+    );
     // By position: the counterbored hole only.
     let doc = common::talas_json(&[
         "plan",

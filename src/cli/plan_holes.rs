@@ -7,7 +7,8 @@
 //! `tap:d=D,pitch=P`, `boring:d=D`, `threadmill:d=D,pitch=P`. `--holes auto` takes the holes
 //! the tool fits: the holes of the tool's diameter (within 0.01 mm) for drill, dwell, peck,
 //! chip-break, bore and ream; the holes whose tap drill matches the tap (or thread mill) for tap
-//! and thread-mill; every hole for spot; holes (or their counterbores) wider than the tool for
+//! and thread-mill; every hole for spot (as deep as makes the spot as wide as the countersink, or
+//! the hole plus 0.2 mm); holes (or their counterbores) wider than the tool for
 //! helical-bore. `FACE,FACE` names the holes by a face of each (indices as `talas inspect`
 //! lists them), `X,Y;X,Y` by their centres (the nearest hole within 0.5 mm; `X,Y;` for one).
 
@@ -341,8 +342,18 @@ pub fn plan_holes_cli(
                         crate::tools::CutterKind::Cone { half_angle } => half_angle,
                         _ => std::f64::consts::FRAC_PI_4,
                     };
-                    // A spot as wide as the hole plus 0.2 mm.
-                    (h.diameter_mm, 0.5 * (h.diameter_mm + 0.2) / half.tan())
+                    // As wide as the countersink, else the hole plus 0.2 mm.
+                    let width = h
+                        .steps
+                        .iter()
+                        .find_map(|s| match *s {
+                            HoleStep::Cone {
+                                top_diameter_mm, ..
+                            } => Some(top_diameter_mm),
+                            HoleStep::Cylinder { .. } => None,
+                        })
+                        .unwrap_or(h.diameter_mm + 0.2);
+                    (h.diameter_mm, 0.5 * width / half.tan())
                 }
                 "helical-bore" => counterbore(h).unwrap_or((h.diameter_mm, h.depth_mm)),
                 "thread-mill" => (
