@@ -5,6 +5,7 @@ pub mod calibrate;
 pub mod contours;
 pub mod control;
 pub mod dropcutter;
+pub mod features;
 pub mod feed;
 pub mod forces;
 pub mod forces_path;
@@ -12,6 +13,7 @@ pub mod inspect;
 pub mod interpret;
 pub mod plan;
 pub mod plan_group;
+pub mod plan_holes;
 pub mod plan_mesh;
 pub mod post;
 pub mod profile;
@@ -47,6 +49,8 @@ pub enum Command {
     /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
     /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
     Inspect(inspect::InspectArgs),
+    /// Machining features recognised on a STEP part: holes (diameter, depth, bottom: through, flat or drill point; counterbores, countersinks, spot faces), grouped by size and direction
+    Features(features::FeaturesArgs),
     /// A tool path written as tool-path JSON: 5-axis finishing of one face of a STEP part
     /// (iso-parametric, iso-planar, iso-scallop), or raster, waterline, steep-and-shallow
     /// finishing and Z-level roughing of a STEP or STL part, through the project pipeline.
@@ -155,6 +159,7 @@ pub fn run(command: Command) -> i32 {
                 EXIT_BAD_INPUT
             }
         },
+        Command::Features(args) => report(features::features(&args), args.json, features::human),
         Command::Plan(args) => report(plan::plan(&args), args.json, plan::human),
         Command::Dropcutter(args) => {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)

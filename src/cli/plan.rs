@@ -182,6 +182,8 @@ pub struct PlanArgs {
     /// Where to write the tool path JSON.
     #[arg(short = 'o', long = "output", value_name = "PATH.json")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub holes: Box<super::plan_holes::HoleArgs>,
 }
 
 pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
@@ -281,7 +283,7 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
         other => Err(opt_err(
             "--strategy",
             format!(
-                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, waterline, steep-shallow, pencil, rest, zlevel-rough)"
+                "unknown strategy '{other}' (iso-parametric, iso-planar, iso-scallop, raster, waterline, steep-shallow, pencil, rest, zlevel-rough; holes: drill, dwell, peck, chip-break, tap, bore, ream, helical-bore, thread-mill, spot)"
             ),
         )),
     }
@@ -294,6 +296,18 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
 /// # Errors
 /// An [`ImportError`] naming the file (and the face) or the bad option.
 pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
+    if super::plan_holes::HOLE_STRATEGIES.contains(&args.strategy.as_str()) {
+        let a = args;
+        return super::plan_holes::plan_holes_cli(
+            &a.file,
+            &a.strategy,
+            &a.tool,
+            a.feed,
+            a.clearance,
+            &a.output,
+            &a.holes,
+        );
+    }
     if super::plan_mesh::MESH_STRATEGIES.contains(&args.strategy.as_str()) {
         return plan_on_mesh(args);
     }

@@ -77,7 +77,14 @@ struct Words {
     q: f64,
 }
 
-fn words(b: &Block, s: &State, cycle: Cycle, col: usize, same: bool) -> Result<Words, GcodeError> {
+fn words(
+    b: &Block,
+    s: &State,
+    cycle: Cycle,
+    col: usize,
+    same: bool,
+    p_ms: bool,
+) -> Result<Words, GcodeError> {
     let name = cycle.name();
     let (_, _, iw) = s.plane.axes();
     let lw = ['X', 'Y', 'Z'].get(iw).copied().unwrap_or('Z');
@@ -104,7 +111,7 @@ fn words(b: &Block, s: &State, cycle: Cycle, col: usize, same: bool) -> Result<W
         if !(v >= 0.0) {
             return Err(b.err(pc, "P (dwell seconds) must not be negative"));
         }
-        p = v;
+        p = if p_ms { v / 1000.0 } else { v };
     } else if cycle.needs_dwell() && !same {
         return Err(b.err(col, format!("{name}: P (the dwell time, s) is missing")));
     }
@@ -171,7 +178,7 @@ pub(super) fn run(
             return Err(b.err(c, format!("{l}: rotary axes cannot move in a canned cycle")));
         }
     }
-    let w = words(b, s, cycle, col, same)?;
+    let w = words(b, s, cycle, col, same, opts.cycle_dwell_ms)?;
     match cycle {
         Cycle::G84 | Cycle::G74 if s.spindle_dir == 0.0 || s.spindle_speed == 0.0 => {
             return Err(b.err(col, format!("{name}: the spindle is not turning")));

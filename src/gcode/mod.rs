@@ -120,6 +120,9 @@ pub struct InterpretOptions {
     /// G43 records its H without moving the tool, and G41/G42 are refused (G41.1/G42.1 with
     /// a D diameter need no table).
     pub tool_table: Option<ToolTable>,
+    /// Read a canned cycle's P (G82, G84, G86, G89 dwell) in milliseconds, as Fanuc does
+    /// (`P500` is 0.5 s), instead of seconds (LinuxCNC, the default).
+    pub cycle_dwell_ms: bool,
 }
 
 impl Default for InterpretOptions {
@@ -133,6 +136,7 @@ impl Default for InterpretOptions {
             block_delete: true,
             semicolon_ends_block: false,
             syntax: Syntax::Rs274,
+            cycle_dwell_ms: false,
             tool_table: None,
         }
     }

@@ -276,10 +276,12 @@ fn rs274(d: &Dialect, c: &CycleMove, surface: DVec3) -> Option<Vec<String>> {
         CycleKind::Dwell { dwell_s } => ("G82", Some(dwell(dwell_s))),
         CycleKind::Peck { peck_mm } => ("G83", Some(z_word(d, 'Q', peck_mm))),
         CycleKind::ChipBreak { peck_mm } => ("G73", Some(z_word(d, 'Q', peck_mm))),
-        CycleKind::Tap { .. } => ("G84", None),
+        // G84 and G86 dwell P at the bottom, and P is sticky (LinuxCNC's `cycle_p`, checked with
+        // `rs274`): a P left by an earlier G82 would dwell there, so they always say P0.
+        CycleKind::Tap { .. } => ("G84", Some(dwell(0.0))),
         CycleKind::Bore { dwell_s } if dwell_s > 0.0 => ("G89", Some(dwell(dwell_s))),
         CycleKind::Bore { .. } => ("G85", None),
-        CycleKind::BoreSpindleStop { dwell_s } => ("G86", (dwell_s > 0.0).then(|| dwell(dwell_s))),
+        CycleKind::BoreSpindleStop { dwell_s } => ("G86", Some(dwell(dwell_s.max(0.0)))),
     };
     let retract = match c.retract {
         CycleRetract::Initial => "G98",

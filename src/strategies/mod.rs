@@ -5,6 +5,7 @@
 
 pub mod boundary;
 pub mod finish;
+pub mod holes;
 pub mod pencil;
 pub mod raster;
 pub mod rest;

@@ -8,6 +8,7 @@
 
 pub mod dropcutter;
 pub mod effective;
+pub mod hole_tool;
 pub mod solid;
 mod spec;
 
