@@ -6,9 +6,12 @@
 //! [`StockLeftover`], the cut stock's top as a height field that measures the layer left over a
 //! part point (rest finishing from the stock).
 
+use std::sync::Arc;
+
 use glam::DVec3;
 
 use super::Stock;
+use super::results::{InProcessStock, STOCK_MAX_RAYS, stock_resolution_mm};
 use crate::diagnostics::Progress;
 use crate::geometry::mesh::TriMesh;
 use crate::simulation::{
@@ -33,7 +36,7 @@ impl Default for SimulationSettings {
     fn default() -> Self {
         Self {
             resolution_mm: None,
-            max_rays: 1_000_000,
+            max_rays: STOCK_MAX_RAYS,
             memory_limit_bytes: 2 << 30,
         }
     }
@@ -125,14 +128,9 @@ pub(super) fn stock_grid(
     settings: &SimulationSettings,
 ) -> Result<(DexelStock, f64), SimError> {
     let shape = StockShape::of(stock, &part.bbox());
-    let b = shape.bounds();
-    let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
-    let resolution = settings.resolution_mm.unwrap_or_else(|| {
-        let r = (area / settings.max_rays.max(1) as f64).sqrt();
-        // Round up to 2 significant digits so the grid is reproducible and reads well.
-        let scale = 10f64.powf(r.log10().floor() - 1.0);
-        ((r / scale).ceil() * scale).max(0.01)
-    });
+    let resolution = settings
+        .resolution_mm
+        .unwrap_or_else(|| stock_resolution_mm(&shape.bounds(), settings.max_rays));
     let dexels = DexelStock::new(
         vec![shape],
         resolution,
@@ -191,15 +189,18 @@ fn merged(reports: &[SimReport]) -> SimReport {
 /// The simulated stock's top as a height field, to measure the layer earlier operations left
 /// on the part (rest finishing from the stock).
 pub struct StockLeftover {
-    dexels: DexelStock,
+    stock: Arc<InProcessStock>,
 }
 
-/// Most Z rays of a [`StockLeftover`]: the resolution asked for is coarsened to stay within.
-const LEFTOVER_MAX_RAYS: f64 = 1e6;
-
 impl StockLeftover {
-    /// Cut `paths` in order into the project's stock (or the part's box + 2 mm) on a Z-dexel
-    /// grid of `resolution_mm`, coarsened where the grid would hold more than a million rays.
+    /// The in-process stock's top.
+    #[must_use]
+    pub fn of(stock: Arc<InProcessStock>) -> Self {
+        Self { stock }
+    }
+
+    /// Cut `paths` (tool paths, not posted runs) in order into the project's stock (or the
+    /// part's box + 2 mm) on the engine's one grid ([`stock_resolution_mm`]).
     ///
     /// # Errors
     /// As [`simulate_toolpaths`].
@@ -207,33 +208,38 @@ impl StockLeftover {
         stock: &Stock,
         part: &TriMesh,
         paths: &[(Toolpath, Cutter)],
-        resolution_mm: f64,
         progress: &Progress,
     ) -> Result<Self, SimError> {
-        let b = StockShape::of(stock, &part.bbox()).bounds();
-        let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
-        let settings = SimulationSettings {
-            resolution_mm: Some(resolution_mm.max((area / LEFTOVER_MAX_RAYS).sqrt())),
-            ..SimulationSettings::default()
-        };
-        let (mut dexels, resolution) = stock_grid(stock, part, &settings)?;
+        let (mut dexels, resolution) = stock_grid(stock, part, &SimulationSettings::default())?;
+        let mut last_cut = None;
         for (toolpath, cutter) in paths {
-            cut_path(&mut dexels, resolution, toolpath, cutter, progress)?;
+            last_cut = Some(cut_path(
+                &mut dexels,
+                resolution,
+                toolpath,
+                cutter,
+                progress,
+            )?);
         }
-        Ok(Self { dexels })
+        Ok(Self::of(Arc::new(InProcessStock {
+            dexels,
+            last_cut,
+            from_posted_runs: false,
+            notes: Vec::new(),
+        })))
     }
 
     /// Dexel spacing, mm.
     #[must_use]
     pub fn resolution_mm(&self) -> f64 {
-        self.dexels.resolution_mm
+        self.stock.resolution_mm()
     }
 
     /// The stock's top at (x, y), interpolated bilinearly between the four nearest Z rays, mm;
     /// −∞ where one of them holds no material or lies outside the grid.
     #[must_use]
     pub fn top(&self, x: f64, y: f64) -> f64 {
-        let Some(fam) = self.dexels.families.first() else {
+        let Some(fam) = self.stock.dexels.families.first() else {
             return f64::NEG_INFINITY;
         };
         let u = (x - fam.origin.x) / fam.spacing - 0.5;
@@ -277,7 +283,7 @@ impl StockLeftover {
         if !inside(0.0) {
             return 0.0;
         }
-        let dt = 0.5 * self.dexels.resolution_mm;
+        let dt = 0.5 * self.stock.resolution_mm();
         let mut a = 0.0;
         while a < max_mm {
             let b = (a + dt).min(max_mm);
