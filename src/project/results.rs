@@ -448,8 +448,9 @@ fn raw_stock(project: &Project, part: &Workpiece) -> Result<InProcessStock, Comp
     })
 }
 
-/// The moves of operation `index`'s posted run in part coordinates, or (with a note saying
-/// why) of its tool path where it cannot be posted or planned.
+/// The moves of operation `index`'s posted run in part coordinates, without the lead-in from
+/// wherever the machine stood ([`super::MachiningRun::commanded_move_plan`]), or (with a note
+/// saying why) of its tool path where it cannot be posted or planned.
 ///
 /// # Errors
 /// The move plan's error, as text.
@@ -483,17 +484,14 @@ pub fn operation_moves(
         Ok(run) => run,
         Err(e) => return fallback(e.to_string()),
     };
-    let motion = match &run.motion {
-        Ok(m) => m,
-        Err(e) => return fallback(e.to_string()),
-    };
+    if let Err(e) = &run.motion {
+        return fallback(e.to_string());
+    }
     let machine = match super::posting::resolve(project) {
         Ok((m, _)) => m,
         Err(e) => return fallback(e.to_string()),
     };
-    let mut plan = motion
-        .move_plan(&machine, step)
-        .map_err(|e| e.to_string())?;
+    let mut plan = run.commanded_move_plan(&machine, step)?;
     translate(&mut plan, DVec3::from_array(project.setup.origin_mm));
     Ok((plan, None))
 }
