@@ -245,3 +245,138 @@ fn renaming_an_operation_or_the_project_replans_nothing() {
     project.machine = "trt-ac".into();
     assert_eq!(fresh(&store, &project, &part), [false, false, false]);
 }
+
+/// A 40 mm slot, 3 mm deep, along +X through a 20 × 20 × 10 box at 600 mm/min (a flat Ø10).
+fn slot() -> talas::toolpath::Toolpath {
+    use talas::toolpath::{MoveKind, Pose, ToolRecord, Toolpath};
+    let spec = "flat:d=10,flute=20,flutes=2,helix=30,rake=10";
+    let p = |k, x: f64, z: f64, f: f64| Pose::new(k, DVec3::new(x, 0.0, z), DVec3::Z, f);
+    Toolpath::new(
+        ToolRecord {
+            spec: spec.into(),
+            cutter: parse_tool_spec(spec).unwrap(),
+        },
+        vec![
+            p(MoveKind::Rapid, -20.0, 5.0, 0.0),
+            p(MoveKind::Plunge, -20.0, -3.0, 600.0),
+            p(MoveKind::Cut, 20.0, -3.0, 600.0),
+            p(MoveKind::Rapid, 20.0, 5.0, 0.0),
+        ],
+    )
+}
+
+/// The forces window and the simulation read the store's stock: a slot kept as operation 0's
+/// path (as a rewritten path is kept) is cut once into the in-process stock; the same slot as
+/// operation 1 then cuts air, and its simulation removes nothing, while on the raw stock it
+/// removes the slot's closed-form volume and meets the force of cutting the full width.
+#[test]
+fn forces_and_simulation_start_from_the_in_process_stock() {
+    use talas::force::library::Library;
+    use talas::project::forces::{ForceRunInput, operation_forces, operation_forces_on};
+    use talas::project::pipeline::Computed;
+    use talas::project::simulate::simulate_in_process;
+    let tp = slot();
+    let part = Workpiece::from_mesh(
+        Path::new("block.stl"),
+        TriMesh::new(
+            vec![
+                DVec3::new(-10.0, -10.0, -10.0),
+                DVec3::new(10.0, -10.0, -10.0),
+                DVec3::new(10.0, 10.0, -10.0),
+            ],
+            vec![[0, 1, 2]],
+        ),
+        Vec::new(),
+    );
+    let stock = Stock::Box {
+        min_mm: [-10.0, -10.0, -10.0],
+        max_mm: [10.0, 10.0, 0.0],
+    };
+    let project = Project {
+        tools: vec![ToolEntry {
+            name: "T1".into(),
+            cutter: tp.tool.cutter.clone(),
+        }],
+        selected_tool: Some(0),
+        stock,
+        operations: vec![
+            Operation::new(OperationKind::Rough, 0, 0),
+            Operation::new(OperationKind::Rough, 0, 0),
+        ],
+        ..Project::default()
+    };
+    let store = Results::new();
+    let keys = Results::keys(&project, &part);
+    for k in 0..2 {
+        let computed = Computed {
+            toolpath: tp.clone(),
+            passes: 1,
+            diagnostics: Vec::new(),
+            lead_rad: None,
+            clearance_mm: None,
+            part_hits: Vec::new(),
+            left_out: Vec::new(),
+        };
+        store.insert(&keys, k, computed).unwrap();
+    }
+    let p = Progress::new();
+    let first = simulate_in_process(&store, &project, &part, 0, &p).unwrap();
+    let second = simulate_in_process(&store, &project, &part, 1, &p).unwrap();
+    assert_eq!(
+        store.computations(),
+        0,
+        "the kept paths are read, not planned"
+    );
+    // The slot: 10 mm wide, 3 mm deep, across the 20 mm box (the ball-free flat end).
+    let slot_mm3 = 10.0 * 3.0 * 20.0;
+    let removed = first.report.removed_volume_mm3;
+    assert!(
+        (removed - slot_mm3).abs() < 0.01 * slot_mm3,
+        "{removed} mm³"
+    );
+    assert!(second.report.removed_volume_mm3 < 1e-6 * slot_mm3);
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/force/coefficients.toml"
+    ))
+    .unwrap();
+    let c = Library::parse(&text)
+        .unwrap()
+        .mode_coefficients(None)
+        .unwrap()
+        .0;
+    let bounds = part.mesh.bbox();
+    let input = ForceRunInput {
+        stock: &stock,
+        part_bounds: bounds,
+        earlier: Vec::new(),
+        toolpath: &tp,
+        cutter: &tp.tool.cutter,
+        coefficients: &c,
+        spindle_rpm: 3000.0,
+        pose_time_s: None,
+        limits: Default::default(),
+        resolution_mm: 0.25,
+    };
+    let before = |k| {
+        store
+            .stock_before(&project, &part, k, &p)
+            .unwrap()
+            .dexels
+            .clone()
+    };
+    let on_raw = operation_forces_on(before(0), &input, &p).unwrap();
+    let on_cut = operation_forces_on(before(1), &input, &p).unwrap();
+    // The same as the earlier-paths route on the raw stock (another grid: 2 % of the peak).
+    let by_paths = operation_forces(&input, &p).unwrap();
+    let (a, b) = (
+        on_raw.forces.totals.peak_resultant_n,
+        by_paths.forces.totals.peak_resultant_n,
+    );
+    assert!(a > 100.0 && (a - b).abs() < 0.02 * b, "{a} N against {b} N");
+    assert!(
+        on_cut.forces.totals.peak_resultant_n < 1.0,
+        "{} N in air",
+        on_cut.forces.totals.peak_resultant_n
+    );
+}

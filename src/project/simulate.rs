@@ -108,6 +108,28 @@ pub fn simulate_toolpaths(
     measured(&dexels, part, reports, progress)
 }
 
+/// Operation `index` simulated as the result store cuts it: its posted run
+/// ([`super::results::operation_moves`]) into the in-process stock before it
+/// ([`super::Results::stock_before`], the earlier operations' runs), measured against the part.
+/// The stock after it is the store's, so the simulation, rest finishing and forces see one.
+///
+/// # Errors
+/// The operation's or an earlier one's [`super::pipeline::ComputeError`], or the measure's
+/// [`SimError`] as text.
+pub fn simulate_in_process(
+    store: &super::Results,
+    project: &super::Project,
+    part: &crate::import::Workpiece,
+    index: usize,
+    progress: &Progress,
+) -> Result<Simulated, String> {
+    let after = store
+        .stock_after(project, part, index, progress)
+        .map_err(|e| e.to_string())?;
+    let reports = after.last_cut.iter().cloned().collect();
+    measured(&after.dexels, &part.mesh, reports, progress).map_err(|e| e.to_string())
+}
+
 /// Cut one whole tool path into the stock, stepped for the grid's spacing `resolution`, mm.
 pub(super) fn cut_path(
     dexels: &mut DexelStock,
