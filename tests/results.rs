@@ -274,7 +274,7 @@ fn forces_and_simulation_start_from_the_in_process_stock() {
     use talas::force::library::Library;
     use talas::project::forces::{ForceRunInput, operation_forces, operation_forces_on};
     use talas::project::pipeline::Computed;
-    use talas::project::simulate::simulate_in_process;
+    use talas::project::results::simulate_in_process;
     let tp = slot();
     let part = Workpiece::from_mesh(
         Path::new("block.stl"),

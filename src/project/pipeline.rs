@@ -6,8 +6,7 @@
 use std::sync::Arc;
 
 pub use super::computed::{ComputeError, Computed};
-use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS};
-use super::simulate::StockLeftover;
+use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS, StockLeftover};
 use super::{Operation, Project, Stock};
 use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};

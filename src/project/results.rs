@@ -30,37 +30,23 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use glam::DVec3;
 
 use super::computed::{ComputeError, Computed};
-use super::{Project, pipeline};
+pub use super::simulate::{STOCK_MAX_RAYS, stock_resolution_mm};
+use super::simulate::{Simulated, SimulationSettings, cut_path, measured, stock_grid};
+use super::{Project, Stock, pipeline};
 use crate::diagnostics::{Diagnostic, Progress};
-use crate::geometry::Aabb;
+use crate::geometry::mesh::TriMesh;
 use crate::import::Workpiece;
+use crate::simulation::SimError;
 use crate::simulation::{
     DexelMode, DexelStock, MovePlan, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
     simulate,
 };
+use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
-
-/// Most Z rays of the in-process stock ([`stock_resolution_mm`]).
-pub const STOCK_MAX_RAYS: usize = 1_000_000;
 
 /// Corner tolerance the in-process stock's runs are planned with, mm (the workstation's
 /// program view uses the same; it changes only the run's timing, not the cut geometry).
 pub const RUN_CORNER_TOLERANCE_MM: f64 = 0.01;
-
-/// The engine's one dexel-spacing rule for a stock whose bounds are `bounds`: the finest
-/// spacing that keeps its Z grid within `max_rays` rays, rounded up to two significant digits
-/// (0.01 mm at the finest), mm.
-#[must_use]
-pub fn stock_resolution_mm(bounds: &Aabb, max_rays: usize) -> f64 {
-    let area = (bounds.max.x - bounds.min.x).max(0.0) * (bounds.max.y - bounds.min.y).max(0.0);
-    #[allow(clippy::cast_precision_loss)]
-    let r = (area / max_rays.max(1) as f64).sqrt();
-    if !(r.is_finite() && r > 0.0) {
-        return 0.01;
-    }
-    let scale = 10f64.powf(r.log10().floor() - 1.0);
-    ((r / scale).ceil() * scale).max(0.01)
-}
 
 /// A 64-bit digest of a computation's inputs (FNV-1a over their serialised form, finished by
 /// a 64-bit mix).
@@ -546,4 +532,141 @@ fn cut_operation(
         from_posted_runs: before.from_posted_runs && note.is_none(),
         notes,
     })
+}
+
+/// Operation `index` simulated as the result store cuts it: its posted run
+/// ([`operation_moves`]) into the in-process stock before it
+/// ([`Results::stock_before`], the earlier operations' runs), measured against the part.
+/// The stock after it is the store's, so the simulation, rest finishing and forces see one.
+///
+/// # Errors
+/// The operation's or an earlier one's [`super::pipeline::ComputeError`], or the measure's
+/// [`SimError`] as text.
+pub fn simulate_in_process(
+    store: &Results,
+    project: &Project,
+    part: &Workpiece,
+    index: usize,
+    progress: &Progress,
+) -> Result<Simulated, String> {
+    let after = store
+        .stock_after(project, part, index, progress)
+        .map_err(|e| e.to_string())?;
+    let reports = after.last_cut.iter().cloned().collect();
+    measured(&after.dexels, &part.mesh, reports, progress).map_err(|e| e.to_string())
+}
+
+/// The simulated stock's top as a height field, to measure the layer earlier operations left
+/// on the part (rest finishing from the stock).
+pub struct StockLeftover {
+    stock: Arc<InProcessStock>,
+}
+
+impl StockLeftover {
+    /// The in-process stock's top.
+    #[must_use]
+    pub fn of(stock: Arc<InProcessStock>) -> Self {
+        Self { stock }
+    }
+
+    /// Cut `paths` (tool paths, not posted runs) in order into the project's stock (or the
+    /// part's box + 2 mm) on the engine's one grid ([`stock_resolution_mm`]).
+    ///
+    /// # Errors
+    /// As [`super::simulate::simulate_toolpaths`].
+    pub fn simulate(
+        stock: &Stock,
+        part: &TriMesh,
+        paths: &[(Toolpath, Cutter)],
+        progress: &Progress,
+    ) -> Result<Self, SimError> {
+        let (mut dexels, resolution) = stock_grid(stock, part, &SimulationSettings::default())?;
+        let mut last_cut = None;
+        for (toolpath, cutter) in paths {
+            last_cut = Some(cut_path(
+                &mut dexels,
+                resolution,
+                toolpath,
+                cutter,
+                progress,
+            )?);
+        }
+        Ok(Self::of(Arc::new(InProcessStock {
+            dexels,
+            last_cut,
+            from_posted_runs: false,
+            notes: Vec::new(),
+        })))
+    }
+
+    /// Dexel spacing, mm.
+    #[must_use]
+    pub fn resolution_mm(&self) -> f64 {
+        self.stock.resolution_mm()
+    }
+
+    /// The stock's top at (x, y), interpolated bilinearly between the four nearest Z rays, mm;
+    /// −∞ where one of them holds no material or lies outside the grid.
+    #[must_use]
+    pub fn top(&self, x: f64, y: f64) -> f64 {
+        let Some(fam) = self.stock.dexels.families.first() else {
+            return f64::NEG_INFINITY;
+        };
+        let u = (x - fam.origin.x) / fam.spacing - 0.5;
+        let v = (y - fam.origin.y) / fam.spacing - 0.5;
+        let (i0, j0) = (u.floor(), v.floor());
+        let (fu, fv) = (u - i0, v - j0);
+        #[allow(clippy::cast_precision_loss)]
+        let (nu, nv) = (fam.nu as f64, fam.nv as f64);
+        let at = |i: f64, j: f64| -> f64 {
+            if i < 0.0 || j < 0.0 || i >= nu || j >= nv {
+                return f64::NEG_INFINITY;
+            }
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+            let (i, j) = (i as usize, j as usize);
+            fam.dexels
+                .get(j * fam.nu + i)
+                .and_then(|d| d.intervals().last())
+                .map_or(f64::NEG_INFINITY, |iv| fam.point(i, j, f64::from(iv[1])).z)
+        };
+        let z = [
+            at(i0, j0),
+            at(i0 + 1.0, j0),
+            at(i0, j0 + 1.0),
+            at(i0 + 1.0, j0 + 1.0),
+        ];
+        if z.iter().any(|z| !z.is_finite()) {
+            return f64::NEG_INFINITY;
+        }
+        (z[0] * (1.0 - fu) + z[1] * fu) * (1.0 - fv) + (z[2] * (1.0 - fu) + z[3] * fu) * fv
+    }
+
+    /// Thickness of the layer over the part point `c` along its unit normal `n`, mm: how far
+    /// along `n` the first point above the interpolated top lies (half-spacing steps, then
+    /// bisection to 1e-5 mm); 0 where the top lies below `c`, at most `max_mm`.
+    #[must_use]
+    pub fn thickness(&self, c: DVec3, n: DVec3, max_mm: f64) -> f64 {
+        let inside = |t: f64| {
+            let q = c + n * t;
+            self.top(q.x, q.y) > q.z
+        };
+        if !inside(0.0) {
+            return 0.0;
+        }
+        let dt = 0.5 * self.stock.resolution_mm();
+        let mut a = 0.0;
+        while a < max_mm {
+            let b = (a + dt).min(max_mm);
+            if !inside(b) {
+                let mut hi = b;
+                while hi - a > 1e-5 {
+                    let m = 0.5 * (a + hi);
+                    if inside(m) { a = m } else { hi = m }
+                }
+                return a;
+            }
+            a = b;
+        }
+        max_mm
+    }
 }
