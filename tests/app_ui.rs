@@ -557,6 +557,28 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         })));
     h.run_steps(2);
     assert!(simulation_of(h.state(), 0).is_none());
+    // The raster reads the part and its tool, not the stock: its path stays fresh. A roughing
+    // reads the stock (the engine's digest says so): calculated, then stale after a change.
+    assert!(h.state().operation_result(0).expect("kept").1);
+    let mut rough = Operation::new(OperationKind::Rough, 0, 0);
+    if let Operation::Rough { step_down_mm, .. } = &mut rough {
+        *step_down_mm = 10.0;
+    }
+    h.state_mut().apply(Command::Edit(Edit::AddOperation {
+        index: 1,
+        operation: rough,
+    }));
+    h.state_mut().apply(Command::Calculate(1));
+    settle_calculation(&mut h);
+    assert!(h.state().operation_result(1).expect("roughed").1);
+    h.state_mut()
+        .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {
+            min_mm: [0.0, 0.0, -20.0],
+            max_mm: [160.0, 120.0, 25.0],
+        })));
+    h.run_steps(2);
+    assert!(!h.state().operation_result(1).expect("kept").1, "stale");
+    assert!(h.state().operation_result(0).expect("kept").1);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

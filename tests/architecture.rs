@@ -519,6 +519,8 @@ const KNOWN_CIRCLES: &[(&str, &[&str])] = &[
     ("gcode", &["interpreter", "motion"]),
     ("import/step/brep", &["assembly", "representation"]),
     ("profile", &["read", "read_svg"]),
+    // The store plans through the pipeline; a rest from the stock reads the store's stock.
+    ("project", &["pipeline", "results"]),
     ("simulation", &["batch", "engine"]),
     ("strategies/raster", &["envelope", "passes"]),
 ];

@@ -10,6 +10,7 @@ use glam::{Mat4, Vec2};
 
 use crate::project::Operation;
 use crate::project::pipeline::Computed;
+use crate::project::results::Digest;
 use crate::render::{ColourMap, DataId, LineData, Rgba8, ScalarMapping};
 use crate::toolpath::{MoveKind, Toolpath};
 use crate::tools::Cutter;
@@ -66,6 +67,10 @@ pub struct ComputedOp {
     pub cutter: Cutter,
     /// Render id of the part it was computed on.
     pub part_id: DataId,
+    /// The engine's digest of every input the computation read
+    /// ([`crate::project::pipeline::digests`]): the result is fresh while the project gives
+    /// the same.
+    pub digest: Digest,
     /// The pipeline's result.
     pub computed: Computed,
     /// Wall time of the computation, s.
@@ -79,12 +84,14 @@ pub struct ComputedOp {
 }
 
 impl ComputedOp {
-    /// A result for `operation` with `cutter` on part `part_id`.
+    /// A result for `operation` with `cutter` on part `part_id`, computed from the inputs whose
+    /// digest is `digest`.
     #[must_use]
     pub fn new(
         operation: Operation,
         cutter: Cutter,
         part_id: DataId,
+        digest: Digest,
         computed: Computed,
         elapsed_s: f64,
     ) -> Self {
@@ -103,6 +110,7 @@ impl ComputedOp {
             operation,
             cutter,
             part_id,
+            digest,
             computed,
             elapsed_s,
             clock_s,
@@ -350,25 +358,24 @@ pub struct ToolpathStore {
 const KEEP: usize = 24;
 
 impl ToolpathStore {
-    /// Keep `result`, replacing one for the same operation, tool and part.
+    /// Keep `result`, replacing one computed from the same inputs (digest) on the same part.
     pub fn insert(&mut self, result: ComputedOp) {
-        self.results.retain(|r| {
-            !(r.operation == result.operation
-                && r.cutter == result.cutter
-                && r.part_id == result.part_id)
-        });
+        self.results
+            .retain(|r| !(r.digest == result.digest && r.part_id == result.part_id));
         self.results.push(result);
         if self.results.len() > KEEP {
             self.results.remove(0);
         }
     }
 
-    /// The result for `operation` with `cutter` on part `part_id`, if computed.
+    /// The result computed from the inputs whose engine digest is `digest` on part `part_id`,
+    /// if any (the digest covers the operation, its tool, the stock, the machine, the earlier
+    /// operations and the reference tool where the computation reads them).
     #[must_use]
-    pub fn find(&self, operation: &Operation, cutter: &Cutter, part_id: DataId) -> Option<usize> {
+    pub fn find(&self, digest: Digest, part_id: DataId) -> Option<usize> {
         self.results
             .iter()
-            .rposition(|r| r.operation == *operation && r.cutter == *cutter && r.part_id == part_id)
+            .rposition(|r| r.digest == digest && r.part_id == part_id)
     }
 
     /// The result at `index` (from [`ToolpathStore::find`]).

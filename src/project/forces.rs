@@ -136,7 +136,8 @@ pub enum ForceRunError {
     Force(#[from] ForceError),
 }
 
-/// Forces of `input.toolpath` on the stock left by the earlier paths.
+/// Forces of `input.toolpath` on the stock left by the earlier paths (their tool paths, cut
+/// into `input.stock` at `input.resolution_mm`).
 ///
 /// # Errors
 /// [`ForceRunError`]: a cancel, a stock that cannot be built or cut, a tool without flutes, a
@@ -145,7 +146,6 @@ pub fn operation_forces(
     input: &ForceRunInput<'_>,
     progress: &Progress,
 ) -> Result<ForceTimeline, ForceRunError> {
-    let mill = EndMill::from_cutter(input.cutter)?;
     let shape = crate::simulation::StockShape::of(input.stock, &input.part_bounds);
     let stock_err = |e: crate::simulation::SimError| ForceRunError::Stock(e.to_string());
     let mut dexels = DexelStock::new(
@@ -164,8 +164,25 @@ pub fn operation_forces(
             return Err(ForceRunError::Cancelled);
         }
     }
+    operation_forces_on(dexels, input, progress)
+}
+
+/// Forces of `input.toolpath` on `stock`, the stock as it is before the operation (the result
+/// store's in-process stock, [`super::Results::stock_before`]), on its own grid: `input`'s
+/// stock, earlier paths and resolution are not read.
+///
+/// # Errors
+/// As [`operation_forces`].
+pub fn operation_forces_on(
+    stock: DexelStock,
+    input: &ForceRunInput<'_>,
+    progress: &Progress,
+) -> Result<ForceTimeline, ForceRunError> {
+    let mill = EndMill::from_cutter(input.cutter)?;
+    let stock_err = |e: crate::simulation::SimError| ForceRunError::Stock(e.to_string());
+    let dexels = stock;
     progress.set(0.2);
-    let step = StepOptions::for_resolution(input.resolution_mm, input.cutter.flute_length);
+    let step = StepOptions::for_resolution(dexels.resolution_mm, input.cutter.flute_length);
     let mut plan = plan_toolpath(input.toolpath, &step).map_err(stock_err)?;
     let programmed_moves = path_moves(&plan, |_| input.spindle_rpm);
     let clock = input

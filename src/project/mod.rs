@@ -18,6 +18,7 @@ mod part;
 pub mod pipeline;
 pub mod posting;
 pub mod reach;
+pub mod results;
 pub mod run;
 pub mod simulate;
 
@@ -27,6 +28,7 @@ pub use file::ProjectError;
 pub use history::History;
 pub use operation::{FINISH_3AXIS_CLEARANCE_MM, Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
+pub use results::{InProcessStock, Results};
 pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
 
 use crate::tools::Cutter;

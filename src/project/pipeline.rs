@@ -3,8 +3,10 @@
 //! [`Toolpath`] with diagnostics. The workstation runs it on a worker thread; the command line
 //! and the tests call it directly.
 
+use std::sync::Arc;
+
 pub use super::computed::{ComputeError, Computed};
-use super::simulate::StockLeftover;
+use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS, StockLeftover};
 use super::{Operation, Project, Stock};
 use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
@@ -24,7 +26,9 @@ use crate::toolpath::{MoveKind, ToolRecord, Toolpath};
 use crate::tools::{Cutter, tool_spec};
 
 /// Run operation `index` of `project` on `part`. Reports progress through `progress` and stops
-/// early when it is cancelled (finishing checks between its stages only).
+/// early when it is cancelled (finishing checks between its stages only). A rest finishing from
+/// the stock plans the operations before it once each, in a store of this call's own; keep a
+/// [`Results`] to reuse results between calls.
 ///
 /// # Errors
 /// [`ComputeError`] naming the operation and what is wrong.
@@ -34,7 +38,97 @@ pub fn compute(
     part: &Workpiece,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    compute_with(project, index, part, None, progress)
+    Results::new()
+        .get_or_compute(project, part, index, progress)
+        .map(Arc::unwrap_or_clone)
+}
+
+/// The digests of every result of `project` on the part whose digest is `part`
+/// ([`super::results::part_digest`]): per operation, exactly the inputs [`compute`] reads for
+/// it, and per stock, the inputs of the posted runs cut into it.
+///
+/// - Every operation: the part, the operation's settings (its name left out), its cutter, the
+///   machine (the reach check; the tilt limits of 5-axis finishing).
+/// - Roughing: the project's stock. Rest: the reference cutter, and (from the stock) the stock
+///   before it.
+/// - The stock before operation k: the project's stock, the part, the setup, the post
+///   settings, the machine, the grid rule, and each earlier operation's digest and cutter.
+#[must_use]
+pub fn digests(project: &Project, part: Digest) -> Keys {
+    let machine = match crate::machine::Machine::resolve(&project.machine) {
+        Ok(m) => format!("{m:?}"),
+        Err(e) => format!("{}: {e}", project.machine),
+    };
+    let cutter = |i: usize| project.tools.get(i).map(|t| &t.cutter);
+    let mut stock = DigestBuilder::new("stock");
+    stock.digest("part", part);
+    stock.json("stock", &project.stock);
+    stock.json("setup", &project.setup);
+    stock.json("post", &project.post);
+    stock.text("machine", &machine);
+    stock.json(
+        "grid: Z dexels, 2 significant digits, rays",
+        &STOCK_MAX_RAYS,
+    );
+    let mut stocks = vec![stock.finish()];
+    let mut operations = Vec::with_capacity(project.operations.len());
+    for op in &project.operations {
+        let mut b = DigestBuilder::new("operation");
+        b.digest("part", part);
+        let mut settings = serde_json::to_value(op).unwrap_or(serde_json::Value::Null);
+        if let Some(o) = settings.as_object_mut() {
+            o.remove("name");
+        }
+        b.json("settings", &settings);
+        b.json("cutter", &cutter(op.tool()));
+        b.text("machine", &machine);
+        match op {
+            Operation::Rough { .. } => b.json("stock", &project.stock),
+            Operation::Rest {
+                reference_tool,
+                from_stock,
+                ..
+            } => {
+                b.json("reference", &cutter(*reference_tool));
+                if *from_stock && let Some(s) = stocks.last() {
+                    b.digest("stock before", *s);
+                }
+            }
+            _ => {}
+        }
+        let d = b.finish();
+        operations.push(d);
+        stock.digest("operation", d);
+        stock.json("cutter", &cutter(op.tool()));
+        stocks.push(stock.finish());
+    }
+    Keys {
+        part,
+        operations,
+        stocks,
+    }
+}
+
+/// Where a rest finishing from the stock finds the stock before it.
+#[derive(Clone, Copy)]
+enum Earlier<'a> {
+    /// The stock these paths cut (the command line's `--after`).
+    Given(&'a [(Toolpath, Cutter)]),
+    /// The store's in-process stock.
+    Store(&'a Results, &'a Keys),
+}
+
+/// Run operation `index` with `store` giving the in-process stock a rest finishing reads
+/// (called by [`Results::get_or_compute`], which keeps the result).
+pub(super) fn compute_in(
+    project: &Project,
+    index: usize,
+    part: &Workpiece,
+    store: &Results,
+    keys: &Keys,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    compute_with(project, index, part, Earlier::Store(store, keys), progress)
 }
 
 /// Run operation `index` of `project`, a rest finishing from the simulated stock, with the
@@ -50,14 +144,14 @@ pub fn compute_rest_after(
     earlier: &[(Toolpath, Cutter)],
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
-    compute_with(project, index, part, Some(earlier), progress)
+    compute_with(project, index, part, Earlier::Given(earlier), progress)
 }
 
 fn compute_with(
     project: &Project,
     index: usize,
     part: &Workpiece,
-    earlier: Option<&[(Toolpath, Cutter)]>,
+    earlier: Earlier<'_>,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let op = project
@@ -394,7 +488,7 @@ fn corners_3axis(
     index: usize,
     part: &Workpiece,
     tool: &ToolRecord,
-    earlier: Option<&[(Toolpath, Cutter)]>,
+    earlier: Earlier<'_>,
     progress: &Progress,
 ) -> Result<Computed, ComputeError> {
     let op = &project.operations[index];
@@ -458,7 +552,7 @@ fn corners_3axis(
                 plunge_feed_mm_per_min: 0.3 * feed_mm_per_min,
             };
             let plan = if from_stock {
-                let stock = earlier_stock(project, index, part, tool, earlier, progress)?;
+                let stock = earlier_stock(project, index, part, earlier, progress)?;
                 let leftover =
                     |c: glam::DVec3, n: glam::DVec3| stock.thickness(c, n, REST_MAX_LAYER_MM);
                 let source = format!(
@@ -533,59 +627,34 @@ fn within_boundary(
 /// Thickest layer the rest from the stock measures along a contact normal, mm.
 const REST_MAX_LAYER_MM: f64 = 10.0;
 
-/// The stock the operations before `index` leave, simulated on a grid of a tenth of the
-/// finishing tool's radius (each computed again here, in the project's order), or the stock
-/// the `given` paths leave.
+/// The stock the operations before `index` leave: the store's in-process stock (their posted
+/// runs, each cut once), or the stock the `given` paths leave; both on the engine's one grid
+/// ([`super::results::stock_resolution_mm`]).
 fn earlier_stock(
     project: &Project,
     index: usize,
     part: &Workpiece,
-    tool: &ToolRecord,
-    given: Option<&[(Toolpath, Cutter)]>,
+    earlier: Earlier<'_>,
     progress: &Progress,
 ) -> Result<StockLeftover, ComputeError> {
     let plan_err = plan_error(&project.operations[index]);
-    let simulate = |paths: &[(Toolpath, Cutter)]| {
-        StockLeftover::simulate(
-            &project.stock,
-            &part.mesh,
-            paths,
-            0.1 * tool.cutter.radius(),
-            progress,
-        )
-        .map_err(|e| plan_err(format!("simulating the earlier operations: {e}")))
-    };
-    match given {
-        Some([]) => {
-            return Err(plan_err(
-                "rest from the stock needs at least one earlier path".into(),
-            ));
+    match earlier {
+        Earlier::Given([]) => Err(plan_err(
+            "rest from the stock needs at least one earlier path".into(),
+        )),
+        Earlier::Given(paths) => {
+            StockLeftover::simulate(&project.stock, &part.mesh, paths, progress)
+                .map_err(|e| plan_err(format!("simulating the earlier operations: {e}")))
         }
-        Some(paths) => return simulate(paths),
-        None => {}
-    }
-    if index == 0 {
-        return Err(plan_err(
+        Earlier::Store(..) if index == 0 => Err(plan_err(
             "rest from the stock needs an earlier operation before it in the list".into(),
-        ));
+        )),
+        Earlier::Store(store, keys) => {
+            cancelled(progress)?;
+            let stock = store.stock_before_keyed(project, part, keys, index, progress)?;
+            Ok(StockLeftover::of(stock))
+        }
     }
-    let mut paths = Vec::with_capacity(index);
-    for (i, earlier) in project.operations.iter().enumerate().take(index) {
-        cancelled(progress)?;
-        let computed = compute(project, i, part, &Progress::new())?;
-        let cutter = project
-            .tools
-            .get(earlier.tool())
-            .ok_or_else(|| ComputeError::NoTool {
-                operation: earlier.name().to_string(),
-                tool: earlier.tool(),
-            })?
-            .cutter
-            .clone();
-        paths.push((computed.toolpath, cutter));
-    }
-    cancelled(progress)?;
-    simulate(&paths)
 }
 
 /// Number of cutting runs in `toolpath` (a run starts where a cut follows a non-cut).

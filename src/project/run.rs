@@ -298,6 +298,62 @@ impl MachiningRun {
         }
     }
 
+    /// How many leading blocks of the interpreted program run from wherever the machine stood
+    /// before it: the blocks up to the first position the program commands in every one of X,
+    /// Y and Z, the move into it included (0 when the motion could not be planned, or the
+    /// program never commands an absolute position).
+    ///
+    /// Found as `talas simulate` finds them: the text interpreted again from another start; a
+    /// block whose end does not depend on the start is commanded.
+    #[must_use]
+    pub fn lead_in_blocks(&self) -> usize {
+        let Ok(motion) = &self.motion else {
+            return 0;
+        };
+        let mut options = InterpretOptions::for_syntax(Syntax::detect(&self.text));
+        let base = options.start.xyz;
+        options.start.xyz = base + glam::DVec3::new(1234.5, -2345.25, 3456.125);
+        let Ok(moved) = interpret(&self.text, &options) else {
+            return 0;
+        };
+        if moved.blocks.len() != motion.program.blocks.len() {
+            return 0;
+        }
+        motion
+            .program
+            .blocks
+            .iter()
+            .zip(&moved.blocks)
+            .position(|(a, b)| a.end.xyz == b.end.xyz)
+            .map_or(0, |i| i + 1)
+    }
+
+    /// The run's moves for the stock simulation ([`RunMotion::move_plan`]) without its lead-in
+    /// ([`MachiningRun::lead_in_blocks`]): a position the program did not command is never
+    /// cut, as `talas simulate` leaves it out.
+    ///
+    /// # Errors
+    /// The run's planning error, or the move plan's ([`crate::simulation::plan_program`]).
+    pub fn commanded_move_plan(
+        &self,
+        machine: &Machine,
+        opts: &StepOptions,
+    ) -> Result<MovePlan, String> {
+        let motion = self.motion.as_ref().map_err(ToString::to_string)?;
+        let mut plan = motion.move_plan(machine, opts).map_err(|e| e.to_string())?;
+        let lead = self.lead_in_blocks().min(plan.moves.len());
+        let first = plan
+            .moves
+            .get(lead)
+            .map_or(plan.steps.len(), |m| m.first_step);
+        plan.moves.drain(..lead);
+        plan.steps.drain(..first);
+        for m in &mut plan.moves {
+            m.first_step -= first;
+        }
+        Ok(plan)
+    }
+
     /// The pose (of the tool path) that the line running at time `t_s` moves to.
     #[must_use]
     pub fn pose_at_time(&self, t_s: f64) -> Option<usize> {

@@ -2,14 +2,13 @@
 //! (or a box 2 mm around the part when none is defined) on a Z-dexel grid sized to a ray budget,
 //! the operation's path swept through it, and the signed deviation of the cut stock's top from
 //! the part at every vertex of the stock's height-field mesh (+ material left, − gouge), measured
-//! by [`crate::simulation::top_deviation`] as `talas simulate --part` measures it; and
-//! [`StockLeftover`], the cut stock's top as a height field that measures the layer left over a
-//! part point (rest finishing from the stock).
-
-use glam::DVec3;
+//! by [`crate::simulation::top_deviation`] as `talas simulate --part` measures it; and the
+//! engine's one grid rule ([`stock_resolution_mm`]). The in-process stock, the layer it leaves
+//! over the part and the operation simulated on it are in the result store (`results`).
 
 use super::Stock;
 use crate::diagnostics::Progress;
+use crate::geometry::Aabb;
 use crate::geometry::mesh::TriMesh;
 use crate::simulation::{
     DexelMode, DexelStock, SimError, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
@@ -17,6 +16,24 @@ use crate::simulation::{
 };
 use crate::toolpath::Toolpath;
 use crate::tools::Cutter;
+
+/// Most Z rays of the in-process stock ([`stock_resolution_mm`]; the engine's one rule, see [`super::results`]).
+pub const STOCK_MAX_RAYS: usize = 1_000_000;
+
+/// The engine's one dexel-spacing rule for a stock whose bounds are `bounds`: the finest
+/// spacing that keeps its Z grid within `max_rays` rays, rounded up to two significant digits
+/// (0.01 mm at the finest), mm.
+#[must_use]
+pub fn stock_resolution_mm(bounds: &Aabb, max_rays: usize) -> f64 {
+    let area = (bounds.max.x - bounds.min.x).max(0.0) * (bounds.max.y - bounds.min.y).max(0.0);
+    #[allow(clippy::cast_precision_loss)]
+    let r = (area / max_rays.max(1) as f64).sqrt();
+    if !(r.is_finite() && r > 0.0) {
+        return 0.01;
+    }
+    let scale = 10f64.powf(r.log10().floor() - 1.0);
+    ((r / scale).ceil() * scale).max(0.01)
+}
 
 /// How finely to simulate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,7 +50,7 @@ impl Default for SimulationSettings {
     fn default() -> Self {
         Self {
             resolution_mm: None,
-            max_rays: 1_000_000,
+            max_rays: STOCK_MAX_RAYS,
             memory_limit_bytes: 2 << 30,
         }
     }
@@ -125,14 +142,9 @@ pub(super) fn stock_grid(
     settings: &SimulationSettings,
 ) -> Result<(DexelStock, f64), SimError> {
     let shape = StockShape::of(stock, &part.bbox());
-    let b = shape.bounds();
-    let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
-    let resolution = settings.resolution_mm.unwrap_or_else(|| {
-        let r = (area / settings.max_rays.max(1) as f64).sqrt();
-        // Round up to 2 significant digits so the grid is reproducible and reads well.
-        let scale = 10f64.powf(r.log10().floor() - 1.0);
-        ((r / scale).ceil() * scale).max(0.01)
-    });
+    let resolution = settings
+        .resolution_mm
+        .unwrap_or_else(|| stock_resolution_mm(&shape.bounds(), settings.max_rays));
     let dexels = DexelStock::new(
         vec![shape],
         resolution,
@@ -186,111 +198,4 @@ fn merged(reports: &[SimReport]) -> SimReport {
         out.time_s += r.time_s;
     }
     out
-}
-
-/// The simulated stock's top as a height field, to measure the layer earlier operations left
-/// on the part (rest finishing from the stock).
-pub struct StockLeftover {
-    dexels: DexelStock,
-}
-
-/// Most Z rays of a [`StockLeftover`]: the resolution asked for is coarsened to stay within.
-const LEFTOVER_MAX_RAYS: f64 = 1e6;
-
-impl StockLeftover {
-    /// Cut `paths` in order into the project's stock (or the part's box + 2 mm) on a Z-dexel
-    /// grid of `resolution_mm`, coarsened where the grid would hold more than a million rays.
-    ///
-    /// # Errors
-    /// As [`simulate_toolpaths`].
-    pub fn simulate(
-        stock: &Stock,
-        part: &TriMesh,
-        paths: &[(Toolpath, Cutter)],
-        resolution_mm: f64,
-        progress: &Progress,
-    ) -> Result<Self, SimError> {
-        let b = StockShape::of(stock, &part.bbox()).bounds();
-        let area = (b.max.x - b.min.x).max(0.0) * (b.max.y - b.min.y).max(0.0);
-        let settings = SimulationSettings {
-            resolution_mm: Some(resolution_mm.max((area / LEFTOVER_MAX_RAYS).sqrt())),
-            ..SimulationSettings::default()
-        };
-        let (mut dexels, resolution) = stock_grid(stock, part, &settings)?;
-        for (toolpath, cutter) in paths {
-            cut_path(&mut dexels, resolution, toolpath, cutter, progress)?;
-        }
-        Ok(Self { dexels })
-    }
-
-    /// Dexel spacing, mm.
-    #[must_use]
-    pub fn resolution_mm(&self) -> f64 {
-        self.dexels.resolution_mm
-    }
-
-    /// The stock's top at (x, y), interpolated bilinearly between the four nearest Z rays, mm;
-    /// −∞ where one of them holds no material or lies outside the grid.
-    #[must_use]
-    pub fn top(&self, x: f64, y: f64) -> f64 {
-        let Some(fam) = self.dexels.families.first() else {
-            return f64::NEG_INFINITY;
-        };
-        let u = (x - fam.origin.x) / fam.spacing - 0.5;
-        let v = (y - fam.origin.y) / fam.spacing - 0.5;
-        let (i0, j0) = (u.floor(), v.floor());
-        let (fu, fv) = (u - i0, v - j0);
-        #[allow(clippy::cast_precision_loss)]
-        let (nu, nv) = (fam.nu as f64, fam.nv as f64);
-        let at = |i: f64, j: f64| -> f64 {
-            if i < 0.0 || j < 0.0 || i >= nu || j >= nv {
-                return f64::NEG_INFINITY;
-            }
-            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-            let (i, j) = (i as usize, j as usize);
-            fam.dexels
-                .get(j * fam.nu + i)
-                .and_then(|d| d.intervals().last())
-                .map_or(f64::NEG_INFINITY, |iv| fam.point(i, j, f64::from(iv[1])).z)
-        };
-        let z = [
-            at(i0, j0),
-            at(i0 + 1.0, j0),
-            at(i0, j0 + 1.0),
-            at(i0 + 1.0, j0 + 1.0),
-        ];
-        if z.iter().any(|z| !z.is_finite()) {
-            return f64::NEG_INFINITY;
-        }
-        (z[0] * (1.0 - fu) + z[1] * fu) * (1.0 - fv) + (z[2] * (1.0 - fu) + z[3] * fu) * fv
-    }
-
-    /// Thickness of the layer over the part point `c` along its unit normal `n`, mm: how far
-    /// along `n` the first point above the interpolated top lies (half-spacing steps, then
-    /// bisection to 1e-5 mm); 0 where the top lies below `c`, at most `max_mm`.
-    #[must_use]
-    pub fn thickness(&self, c: DVec3, n: DVec3, max_mm: f64) -> f64 {
-        let inside = |t: f64| {
-            let q = c + n * t;
-            self.top(q.x, q.y) > q.z
-        };
-        if !inside(0.0) {
-            return 0.0;
-        }
-        let dt = 0.5 * self.dexels.resolution_mm;
-        let mut a = 0.0;
-        while a < max_mm {
-            let b = (a + dt).min(max_mm);
-            if !inside(b) {
-                let mut hi = b;
-                while hi - a > 1e-5 {
-                    let m = 0.5 * (a + hi);
-                    if inside(m) { a = m } else { hi = m }
-                }
-                return a;
-            }
-            a = b;
-        }
-        max_mm
-    }
 }

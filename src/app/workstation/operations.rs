@@ -19,17 +19,20 @@ use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
 use crate::diagnostics::Severity;
-use crate::project::pipeline::{ComputeError, Computed, compute};
-use crate::project::{Edit, Operation};
+use crate::project::pipeline::{ComputeError, Computed, digests};
+use crate::project::results::{Digest, part_digest};
+use crate::project::{Edit, Operation, Results};
 use crate::render::{DataId, LineInstance, ScalarMapping};
 use crate::tools::Cutter;
 
-/// What a running calculation computes (to file the result).
+/// What a running calculation computes (to file the result): the operation, and the engine's
+/// digest of every input the computation reads, which decides its freshness.
 pub(super) struct CalcKey {
     index: usize,
     operation: Operation,
     cutter: Cutter,
     part_id: DataId,
+    digest: Digest,
 }
 
 /// The highlighted move: (active operation, pose, stored result), render id, lines.
@@ -64,6 +67,11 @@ pub(super) struct Operations {
     pub speed: f64,
     /// Render ids for paths.
     pub next_id: DataId,
+    /// The engine's result store the calculations run in (rest from the stock reads the
+    /// in-process stock from it, cut once per operation).
+    pub engine: Arc<Results>,
+    /// The digest of the part, by its render id (hashed once per part).
+    pub part_digest: std::sync::Mutex<Option<(DataId, Digest)>>,
 }
 
 impl Operations {
@@ -248,17 +256,26 @@ impl Workstation {
         let part = std::sync::Arc::clone(&doc.part.workpiece);
         let project = project.clone();
         let part_id = doc.ids[0];
+        let Some(digest) = self.current_digest(index) else {
+            return;
+        };
         self.log_info(format!("Calculating '{}'", operation.name()));
+        let engine = Arc::clone(&self.ops.engine);
         let job = Job::start(
             format!("Calculating {}", operation.name()),
             &self.run.ctx,
-            move |progress| compute(&project, index, &part, progress),
+            move |progress| {
+                engine
+                    .get_or_compute(&project, &part, index, progress)
+                    .map(Arc::unwrap_or_clone)
+            },
         );
         let key = CalcKey {
             index,
             operation,
             cutter,
             part_id,
+            digest,
         };
         self.ops.job.start(key, job);
         self.ops.active = Some(index);
@@ -293,6 +310,7 @@ impl Workstation {
                     calc.operation,
                     calc.cutter,
                     calc.part_id,
+                    calc.digest,
                     computed,
                     elapsed,
                 ));
@@ -311,20 +329,45 @@ impl Workstation {
         }
     }
 
-    /// The stored result for operation `index` and whether it is fresh (same operation, tool and
-    /// part); a stale one is the latest computed for an operation of the same name.
+    /// The engine's digest of the inputs operation `index` reads as the project and part are
+    /// now ([`crate::project::pipeline::digests`]; the part hashed once per part).
+    pub(super) fn current_digest(&self, index: usize) -> Option<Digest> {
+        let doc = self.document.as_ref()?;
+        let part_id = doc.ids[0];
+        let part = {
+            let mut cached = self
+                .ops
+                .part_digest
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            match *cached {
+                Some((id, d)) if id == part_id => d,
+                _ => {
+                    let d = part_digest(&doc.part.workpiece);
+                    *cached = Some((part_id, d));
+                    d
+                }
+            }
+        };
+        digests(&self.saved.session.project, part)
+            .operations
+            .get(index)
+            .copied()
+    }
+
+    /// The stored result for operation `index` and whether it is fresh (computed from every
+    /// input the engine reads for it as they are now: the engine digest); a stale one is the
+    /// latest computed for an operation of the same name.
     pub(super) fn result_index(&self, index: usize) -> Option<(usize, bool)> {
         let op = self.saved.session.project.operations.get(index)?;
-        let cutter = &self.saved.session.project.tools.get(op.tool())?.cutter;
         let part_id = self.document.as_ref()?.ids[0];
-        if let Some(i) = self.ops.store.find(op, cutter, part_id) {
+        if let Some(digest) = self.current_digest(index)
+            && let Some(i) = self.ops.store.find(digest, part_id)
+        {
             return Some((i, true));
         }
         let stale = self.ops.store.latest_named(op.name())?;
-        let i = self
-            .ops
-            .store
-            .find(&stale.operation, &stale.cutter, stale.part_id)?;
+        let i = self.ops.store.find(stale.digest, stale.part_id)?;
         Some((i, false))
     }
 
