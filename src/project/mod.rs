@@ -12,6 +12,7 @@ pub mod finish_group;
 pub mod force_schedule;
 pub mod forces;
 mod history;
+pub mod job;
 pub mod keyframes;
 pub mod operation;
 mod part;
