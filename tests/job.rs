@@ -362,3 +362,97 @@ fn the_stock_of_each_setup_starts_where_the_previous_ended() {
         "{b:?}"
     );
 }
+
+#[test]
+fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
+    let dir = std::env::temp_dir().join(format!("talas-job-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let project_file = dir.join("plate.talas");
+    job().save(&project_file).unwrap();
+    let part_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plate-hole.stp");
+    let programs = dir.join("programs");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talas"))
+        .arg("job")
+        .arg(&project_file)
+        .arg("--part")
+        .arg(&part_file)
+        .arg("--post")
+        .arg(&programs)
+        .arg("--simulate")
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("strict JSON");
+    let setups = doc["setups"].as_array().unwrap();
+    assert_eq!(setups.len(), 3);
+    let project = job();
+    let part = part();
+    for (s, setup) in setups.iter().enumerate() {
+        assert_eq!(setup["name"], project.setups[s].name);
+        // The program on disk is the library's post of the setup.
+        let file = setup["program"].as_str().unwrap();
+        let text = std::fs::read_to_string(file).unwrap();
+        let paths: Vec<Toolpath> = project.setups[s]
+            .operations
+            .iter()
+            .map(|&op| {
+                plan_in_setup(&project, op, &part, &Progress::new())
+                    .unwrap()
+                    .toolpath
+            })
+            .collect();
+        assert_eq!(text, post_setup(&project, s, &paths).unwrap().text);
+        let op = &setup["operations"][0];
+        assert!(
+            op["tool"]["spec"]
+                .as_str()
+                .unwrap()
+                .starts_with("ball:d=6,")
+        );
+        assert!(op["estimated_time_s"].as_f64().unwrap() > 0.0);
+        let sim = &setup["simulation"];
+        let removed = sim["removed_volume_mm3"].as_f64().unwrap();
+        let initial = sim["initial_volume_mm3"].as_f64().unwrap();
+        assert!(
+            removed > 0.0 && removed < initial,
+            "setup {}: {removed} of {initial}",
+            s + 1
+        );
+    }
+    assert_eq!(doc["stock_carried"], false);
+    assert!(setups[0]["workholding"][0]["kind"] == "vise");
+    // One setup by name; an unknown name is one line naming the setups there are.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(["job", project_file.to_str().unwrap(), "--part"])
+        .arg(&part_file)
+        .args(["--setup", "Nope"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no setup 'Nope' (there are: Vise, Flipped, Tilted 45)"),
+        "{err}"
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_talas"))
+        .args(["job", project_file.to_str().unwrap(), "--part"])
+        .arg(&part_file)
+        .args(["--setup", "Flipped"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("setup 'Flipped' on mill-3axis (G55)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("tool T1 ball:d=6") && text.contains(" mm, "),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
