@@ -74,7 +74,7 @@ fn job() -> Project {
         jaw_width_mm: 80.0,
         jaw_height_mm: 25.0,
         jaw_thickness_mm: 15.0,
-        grip_mm: 3.0,
+        grip_mm: 1.5,
         opening_mm: None,
         along_y: false,
     }];
@@ -426,6 +426,11 @@ fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
     }
     assert_eq!(doc["stock_carried"], false);
     assert!(setups[0]["workholding"][0]["kind"] == "vise");
+    assert!(
+        setups
+            .iter()
+            .all(|s| s["operations"][0]["workholding_collision"].is_null())
+    );
     // One setup by name; an unknown name is one line naming the setups there are.
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_talas"))
         .args(["job", project_file.to_str().unwrap(), "--part"])
@@ -455,4 +460,92 @@ fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
         "{text}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The first contact of the tool with the setup's workholding along `placements`.
+fn jaw_hit(
+    project: &Project,
+    part: &Workpiece,
+    placements_: &[(DVec3, DVec3)],
+) -> Option<talas::checks::collide::Hit> {
+    let pls = placements(project, Some(part)).unwrap();
+    let meshes = talas::project::setups::workholding_meshes(
+        project,
+        0,
+        &pls,
+        &part.mesh.bbox(),
+        Path::new("."),
+    )
+    .unwrap();
+    let obstacles: Vec<_> = meshes
+        .iter()
+        .map(|m| talas::checks::collide::Obstacle::new("vise", m).unwrap())
+        .collect();
+    let tool = talas::checks::collide::assembly(&project.tools[0].cutter);
+    talas::checks::collide::first_hit(&tool, &obstacles, placements_, 0.25)
+}
+
+#[test]
+fn a_vise_jaw_in_the_way_is_found_at_the_same_line_on_the_path_and_on_its_program() {
+    let part = part();
+    let mut project = job();
+    // Jaws gripping 6.5 mm of the 7 mm stock: their tops 1.5 mm above the part's top, in the
+    // way of the raster's passes over the part's X edges.
+    if let Workholding::Vise { grip_mm, .. } = &mut project.setups[0].workholding[0] {
+        *grip_mm = 6.5;
+    }
+    let tp = plan_in_setup(&project, 0, &part, &Progress::new())
+        .unwrap()
+        .toolpath;
+    let on_path: Vec<(DVec3, DVec3)> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+    let hit = jaw_hit(&project, &part, &on_path).expect("the jaw is in the way");
+    let posted = post_setup(&project, 0, std::slice::from_ref(&tp)).unwrap();
+    let line_of_pose = posted
+        .source_of_line
+        .iter()
+        .rposition(|s| s.operation == 0 && s.pose == Some(hit.index))
+        .expect("the pose's line");
+    // The program as the control runs it: its blocks through the kinematics.
+    let machine = Machine::resolve("mill-3axis").unwrap();
+    let program = interpret(
+        &posted.text,
+        &InterpretOptions::for_syntax(Syntax::from_name("linuxcnc").unwrap()),
+    )
+    .unwrap();
+    let blocks = &program.blocks;
+    let mut run: Vec<(DVec3, DVec3)> = Vec::new();
+    let start = machine.forward(&MachineJoints {
+        xyz: blocks[0].start.xyz,
+        tilt_rad: 0.0,
+        rotary_rad: 0.0,
+    });
+    run.push((start.tip, start.axis));
+    for b in blocks {
+        let f = machine.forward(&joints(b));
+        run.push((f.tip, f.axis));
+    }
+    let on_run = jaw_hit(&project, &part, &run).expect("the run hits the jaw");
+    let block = &blocks[on_run.index - 1];
+    assert_eq!(
+        block.source_line - 1,
+        line_of_pose,
+        "plan: pose {} (line {}), run: line {}",
+        hit.index,
+        line_of_pose + 1,
+        block.source_line
+    );
+    assert!(
+        hit.tip.distance(on_run.tip) < 0.3,
+        "{} vs {}",
+        hit.tip,
+        on_run.tip
+    );
+    // With the jaws gripping 1.5 mm (tops 3.5 mm below the part's top) nothing is hit (at 3 mm
+    // the ball's side still touches a jaw where the passes run down past the part's corner).
+    let clear = job();
+    let tp = plan_in_setup(&clear, 0, &part, &Progress::new())
+        .unwrap()
+        .toolpath;
+    let on_path: Vec<(DVec3, DVec3)> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+    assert_eq!(jaw_hit(&clear, &part, &on_path), None);
 }

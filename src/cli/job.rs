@@ -1,7 +1,9 @@
 //! `talas job PROJECT.talas [--part FILE] [--setup NAME] [--post DIR] [--simulate] [--json]`:
 //! plan every operation of every setup (or of one) in its setup's frame, post one program per
 //! setup into DIR (`NN-SETUP.ngc`), simulate each setup's operations on its stock, and print
-//! per setup and operation the tool, the lengths and times, and the program file.
+//! per setup and operation the tool, the lengths and times, the first contact of the tool
+//! assembly with the setup's workholding (`checks::collide`, with its program line when
+//! posted), and the program file.
 //!
 //! The simulation cuts each setup's paths from that setup's starting stock (the box of
 //! [`crate::project::setups::stock_solid`] in the setup frame); the material earlier setups
@@ -12,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
+use crate::checks::collide::{Hit, Obstacle, assembly, first_hit};
 use crate::diagnostics::Progress;
 use crate::import::{ImportError, OpenOptions, Workpiece, open};
 use crate::project::job::{plan_in_setup, post_setup, program_stem};
@@ -19,6 +22,9 @@ use crate::project::setups::{self, transform_mesh};
 use crate::project::simulate::{SimulationSettings, simulate_toolpaths};
 use crate::project::{Project, Stock};
 use crate::toolpath::Toolpath;
+
+/// Largest step along a move between two collision tests against the workholding, mm.
+const COLLISION_STEP_MM: f64 = 0.25;
 
 /// Options of `talas job`.
 #[derive(Debug, clap::Args)]
@@ -157,6 +163,26 @@ fn run_setup(
     }
     let workholding =
         setups::workholding_meshes(project, s, placements, bounds, base).map_err(err)?;
+    let obstacles = setup
+        .workholding
+        .iter()
+        .zip(&workholding)
+        .map(|(w, m)| Obstacle::new(w.kind_name(), m))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(err)?;
+    let hits: Vec<Option<Hit>> = paths
+        .iter()
+        .map(|tp| {
+            let moves: Vec<_> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+            first_hit(
+                &assembly(&tp.tool.cutter),
+                &obstacles,
+                &moves,
+                COLLISION_STEP_MM,
+            )
+        })
+        .collect();
+    let mut posted_lines: Option<Vec<crate::post::LineSource>> = None;
     let mut program = Value::Null;
     let mut lines = Value::Null;
     if let Some(dir) = &args.post
@@ -168,12 +194,29 @@ fn run_setup(
             .map_err(|e| bad(&file, None, format!("cannot write: {e}")))?;
         program = json!(file.display().to_string());
         lines = json!(posted.text.lines().count());
+        posted_lines = Some(posted.source_of_line);
     }
     let simulation = if args.simulate && !paths.is_empty() {
         simulate_setup(project, s, part, placements, bounds, &paths).map_err(err)?
     } else {
         Value::Null
     };
+    for (k, (op, hit)) in ops.iter_mut().zip(&hits).enumerate() {
+        op["workholding_collision"] = hit.as_ref().map_or(Value::Null, |h| {
+            let line = posted_lines.as_ref().and_then(|l| {
+                l.iter()
+                    .rposition(|src| src.operation == k && src.pose == Some(h.index))
+                    .map(|i| i + 1)
+            });
+            json!({
+                "pose": h.index,
+                "line": line,
+                "obstacle": h.obstacle_name,
+                "tool_part": h.tool_part,
+                "tip_mm": [h.tip.x, h.tip.y, h.tip.z],
+            })
+        });
+    }
     let axis = placements[s].tool_axis();
     Ok(json!({
         "name": setup.name,
@@ -262,6 +305,22 @@ pub fn human(doc: &Value) -> String {
                 w["kind"].as_str().unwrap_or(""),
                 num(&w["volume_mm3"])
             ));
+        }
+        for op in setup["operations"].as_array().into_iter().flatten() {
+            let c = &op["workholding_collision"];
+            if c.is_object() {
+                s.push_str(&format!(
+                    "  COLLISION: operation {} hits the {} with the {} at pose {} (line {}), tip ({:.3}, {:.3}, {:.3}) mm\n",
+                    op["index"],
+                    c["obstacle"].as_str().unwrap_or(""),
+                    c["tool_part"].as_str().unwrap_or(""),
+                    c["pose"],
+                    c["line"],
+                    num(&c["tip_mm"][0]),
+                    num(&c["tip_mm"][1]),
+                    num(&c["tip_mm"][2]),
+                ));
+            }
         }
         if let Some(p) = setup["program"].as_str() {
             s.push_str(&format!(
