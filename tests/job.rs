@@ -549,3 +549,49 @@ fn a_vise_jaw_in_the_way_is_found_at_the_same_line_on_the_path_and_on_its_progra
     let on_path: Vec<(DVec3, DVec3)> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
     assert_eq!(jaw_hit(&clear, &part, &on_path), None);
 }
+
+/// The job test part (`tests/data/job/make_part.py`, Open CASCADE): Talas reads the volume
+/// the closed form gives (block less the top pocket, two holes, the front pocket with its boss
+/// added back, and the side slot; Open CASCADE prints the same, 55 778.407 mm³) and the 26
+/// faces Open CASCADE counts, and laying its back face on the table turns the front up.
+#[test]
+fn the_job_part_reads_as_made_and_turns_its_front_up() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/job/job-part.stp");
+    let part = open(&p, &OpenOptions::default(), &Progress::new()).expect("job-part.stp");
+    let pi = std::f64::consts::PI;
+    let closed = 60.0 * 40.0 * 25.0 - 30.0 * 16.0 * 5.0 - 2.0 * pi * 9.0 * 8.0 - 20.0 * 4.0 * 10.0
+        + pi * 16.0 * 3.0
+        - 3.0 * 40.0 * 6.0;
+    let v = part.mesh.signed_volume();
+    assert!(
+        (v - closed).abs() < 1e-3 * closed,
+        "{v} mm³ vs {closed} mm³"
+    );
+    assert_eq!(part.part.as_ref().unwrap().faces.len(), 26);
+    // The back face: planar, every corner at y = 20.
+    let back = (0..26)
+        .find(|&f| {
+            let ys: Vec<f64> = part
+                .face_of_triangle
+                .iter()
+                .enumerate()
+                .filter(|(_, ff)| **ff as usize == f)
+                .flat_map(|(t, _)| part.mesh.triangle_corners(t).unwrap())
+                .map(|c| c.y)
+                .collect();
+            !ys.is_empty() && ys.iter().all(|y| (y - 20.0).abs() < 1e-9)
+        })
+        .expect("the back face");
+    let mut s = Setup::named("Front up");
+    s.frame.orientation = Orientation::FaceOnTable {
+        face: back,
+        x_edge: None,
+        rz_rad: 0.0,
+    };
+    let pl = Placement::of(&s, Some(&part)).unwrap();
+    assert!((pl.rotation * DVec3::new(0.0, -1.0, 0.0) - DVec3::Z).length() < 1e-9);
+    // The front pocket's floor (y = −16) is 4 mm below the front (y = −20) as it lies.
+    let floor = pl.to_setup(DVec3::new(0.0, -16.0, 9.0)).z;
+    let front = pl.to_setup(DVec3::new(20.0, -20.0, 3.0)).z;
+    assert!((front - floor - 4.0).abs() < 1e-9);
+}
