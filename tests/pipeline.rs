@@ -250,7 +250,7 @@ fn the_simulated_stock_keeps_the_predicted_scallop_and_no_gouge() {
 
 #[test]
 fn posting_writes_program_coordinates_under_the_work_offset() {
-    use talas::project::Setup;
+    use talas::project::Frame;
     use talas::project::posting::post_operation;
     let part = hills();
     let mut op = Operation::new(OperationKind::Raster, 0, 0);
@@ -262,9 +262,10 @@ fn posting_writes_program_coordinates_under_the_work_offset() {
         .expect("plans")
         .toolpath;
     let at_zero = post_operation(&project, &tp, 3).expect("posts");
-    project.setup = Setup {
+    project.setups[0].frame = Frame {
         work_offset: 2,
         origin_mm: [10.0, -20.0, 5.0],
+        ..Frame::default()
     };
     let shifted = post_operation(&project, &tp, 3).expect("posts");
     assert!(!at_zero.text.contains("G55") && shifted.text.contains("G55"));

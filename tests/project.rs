@@ -53,10 +53,12 @@ fn rich_project(dir: &Path) -> Project {
         .push(Operation::new(OperationKind::IsoScallop, 1, 0));
     p.operations
         .push(Operation::new(OperationKind::Rough, 1, 0));
-    p.setup = talas::project::Setup {
+    p.setups[0].frame = talas::project::Frame {
         work_offset: 3,
         origin_mm: [-10.0, -5.0, 7.5],
+        ..talas::project::Frame::default()
     };
+    p.setups[0].operations = (0..p.operations.len()).collect();
     p.view.distance_mm = 123.456_789_012_345;
     p.view.orthographic = true;
     p
@@ -396,17 +398,36 @@ fn operations_keep_their_tools_when_the_library_changes() {
     h.undo(&mut p);
     assert_eq!(p, before);
     // A setup outside G54…G59 or with a non-finite origin is refused.
-    let bad_setup = talas::project::Setup {
+    let bad_setup = talas::project::Frame {
         work_offset: 7,
-        origin_mm: [0.0; 3],
+        ..talas::project::Frame::default()
     };
-    assert!(h.apply(&mut p, Edit::SetSetup(bad_setup)).is_err());
-    let nan_setup = talas::project::Setup {
+    assert!(
+        h.apply(
+            &mut p,
+            Edit::SetFrame {
+                setup: 0,
+                frame: bad_setup
+            }
+        )
+        .is_err()
+    );
+    let nan_setup = talas::project::Frame {
         work_offset: 2,
         origin_mm: [0.0, f64::NAN, 0.0],
+        ..talas::project::Frame::default()
     };
-    assert!(h.apply(&mut p, Edit::SetSetup(nan_setup)).is_err());
-    assert_eq!(talas::project::Setup::default().work_offset_code(), "G54");
+    assert!(
+        h.apply(
+            &mut p,
+            Edit::SetFrame {
+                setup: 0,
+                frame: nan_setup
+            }
+        )
+        .is_err()
+    );
+    assert_eq!(talas::project::Frame::default().work_offset_code(), "G54");
     // An operation naming a missing tool or with a bad number is refused.
     let bad = Operation::new(OperationKind::Raster, 9, 0);
     assert!(

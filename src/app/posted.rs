@@ -39,7 +39,7 @@ impl ProgramKey {
             operation,
             part_id: document?.ids[0],
             machine: project.machine.clone(),
-            setup: project.setup,
+            setup: project.setup_of_operation(index),
             post: project.post.clone(),
         })
     }

@@ -822,7 +822,7 @@ impl Workstation {
             })
         });
         viewport.work_offset = Some(glam::DVec3::from_array(
-            self.saved.session.project.setup.origin_mm,
+            self.saved.session.project.first_setup().frame.origin_mm,
         ));
         // The features' steering (the operator panel's machine, its camera and tool).
         let machine_meshes: Vec<_> = self

@@ -14,11 +14,14 @@
 //!   ("Sturz") against local gouging (thesis §2.8).
 //! - [`gouge`]: local (curvature) and rear (tool solid against the surface under the footprint)
 //!   gouge checks at poses and along moves, and the lead that fixes a gouge.
+//! - [`collide`]: the tool assembly against fixed obstacles (a setup's workholding) along a
+//!   motion: the first contact.
 //! - [`part`]: the whole part as check: the tool (shank and holder too) against every other face
 //!   of the part through its triangle mesh.
 
 pub mod analysis;
 pub mod choice;
+pub mod collide;
 mod contact;
 mod footprint;
 pub mod gouge;

@@ -11,6 +11,7 @@ pub mod forces;
 pub mod forces_path;
 pub mod inspect;
 pub mod interpret;
+pub mod job;
 pub mod plan;
 pub mod plan_group;
 pub mod plan_holes;
@@ -90,6 +91,10 @@ pub enum Command {
     /// The virtual machine control run headless from a script of operator actions (home,
     /// jog, MPG, MDI, AUTO, hold, overrides): positions, time, alarms, removed volume, peaks.
     Control(control::ControlArgs),
+    /// A project's job: every setup's operations planned in its frame, one program per setup
+    /// (`--post DIR`), each setup simulated on its stock (`--simulate`); per setup and
+    /// operation the tool, lengths, times and program file.
+    Job(job::JobArgs),
     /// Render a part (and optionally a tool path) offscreen to a PNG with the workstation's
     /// renderer (builds with the `gui` feature).
     Render(render::RenderArgs),
@@ -226,6 +231,7 @@ pub fn run(command: Command) -> i32 {
             }
         },
         Command::Control(args) => report(control::control(&args), args.json, control::human),
+        Command::Job(args) => report(job::job(&args), args.json, job::human),
         // The binary sends `render` to the workstation's renderer when it has one (main.rs).
         Command::Render(_) => render::unavailable(),
     }

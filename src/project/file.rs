@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{PROJECT_VERSION, Project};
+use super::{Orientation, PROJECT_VERSION, Project};
 
 /// The extension of project files.
 pub const EXTENSION: &str = "talas";
@@ -80,7 +80,7 @@ impl Project {
     /// [`ProjectError::Parse`] with the line and column, [`ProjectError::Version`],
     /// [`ProjectError::Invalid`].
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProjectError> {
-        let project: Self = toml::from_str(text).map_err(|e| {
+        let mut project: Self = toml::from_str(text).map_err(|e| {
             let (line, column) = e.span().map_or((1, 1), |s| line_column(text, s.start));
             ProjectError::Parse {
                 path: path.to_path_buf(),
@@ -99,6 +99,7 @@ impl Project {
                 found: project.version,
             });
         }
+        project.migrate_setups().map_err(invalid)?;
         project.check().map_err(invalid)?;
         // Version 1 is the first format: nothing to migrate yet.
         Ok(Self {
@@ -130,7 +131,9 @@ impl Project {
             ));
         }
         self.stock.validate()?;
-        self.setup.validate().map_err(|e| format!("setup: {e}"))?;
+        if self.legacy_setup.is_some() {
+            return Err("setup: the old single setup is read from files only (use setups)".into());
+        }
         self.post.validate().map_err(|e| format!("post: {e}"))?;
         crate::machine::Machine::resolve(&self.machine)
             .map_err(|e| format!("machine {:?}: {e}", self.machine))?;
@@ -147,6 +150,7 @@ impl Project {
             }
             op.validate().map_err(|e| format!("{place}: {e}"))?;
         }
+        super::setups::check(self)?;
         let v = &self.view;
         let finite = v.target_mm.iter().all(|x| x.is_finite())
             && v.yaw_rad.is_finite()
@@ -162,6 +166,18 @@ impl Project {
     /// # Errors
     /// The first operation whose face the part does not have.
     pub fn check_faces(&self, face_count: usize) -> Result<(), String> {
+        for (i, s) in self.setups.iter().enumerate() {
+            if let Orientation::FaceOnTable { face, .. } = s.frame.orientation
+                && face >= face_count
+            {
+                return Err(format!(
+                    "setup {} ('{}'): face {} but the part has {face_count} faces",
+                    i + 1,
+                    s.name,
+                    face + 1
+                ));
+            }
+        }
         for (i, op) in self.operations.iter().enumerate() {
             // The face and every face of its group.
             if let Some(face) = op.faces().into_iter().find(|&f| f >= face_count) {

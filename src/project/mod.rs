@@ -12,6 +12,7 @@ pub mod finish_group;
 pub mod force_schedule;
 pub mod forces;
 mod history;
+pub mod job;
 pub mod keyframes;
 pub mod operation;
 mod part;
@@ -20,7 +21,9 @@ pub mod posting;
 pub mod reach;
 pub mod results;
 pub mod run;
+pub mod setups;
 pub mod simulate;
+pub mod workholding;
 
 pub use crate::geometry::stock::{DEFAULT_MARGIN_MM, Stock};
 pub use edit::{Edit, EditError};
@@ -30,8 +33,13 @@ pub use operation::{FINISH_3AXIS_CLEARANCE_MM, Operation, OperationKind};
 pub use part::{PartRef, PartStatus, content_hash};
 pub use results::{InProcessStock, Results};
 pub use run::{LineSpan, MachiningRun, RunError, RunMotion};
+pub use setups::{Frame, Orientation, Placement, Setup, SetupStock, Tilt};
+pub use workholding::Workholding;
 
 use crate::tools::Cutter;
+
+/// The name of the one setup of a new project or of an old project file.
+pub const FIRST_SETUP_NAME: &str = "Setup 1";
 
 /// The document format version written by this build; [`Project::load`] refuses newer files and
 /// migrates older ones.
@@ -89,51 +97,25 @@ impl TryFrom<ToolEntryFile> for ToolEntry {
     }
 }
 
-/// The setup: where the program's origin (the machine's work offset) sits on the part.
+/// The single setup of a version-1 project file (a work offset and a program origin, a
+/// translation only), read from old files and folded into [`Project::setups`] by
+/// [`Project::from_toml`]; never written.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Setup {
+pub struct LegacySetup {
     /// Work offset number: 1 = G54 … 6 = G59.
+    #[serde(default = "first_offset")]
     pub work_offset: u8,
     /// The program origin in part coordinates, mm (program = part − origin).
+    #[serde(default)]
     pub origin_mm: [f64; 3],
 }
 
-impl Default for Setup {
-    fn default() -> Self {
-        Self {
-            work_offset: 1,
-            origin_mm: [0.0; 3],
-        }
-    }
-}
-
-impl Setup {
-    /// The work offset's G-code word (`G54` … `G59`).
-    #[must_use]
-    pub fn work_offset_code(&self) -> String {
-        format!("G{}", 53 + u32::from(self.work_offset.clamp(1, 6)))
-    }
-
-    /// Check the values.
-    ///
-    /// # Errors
-    /// What is wrong, in words.
-    pub fn validate(&self) -> Result<(), String> {
-        if !(1..=6).contains(&self.work_offset) {
-            return Err(format!(
-                "work offset {} is not one of G54…G59 (1…6)",
-                self.work_offset
-            ));
-        }
-        if self.origin_mm.iter().any(|v| !v.is_finite()) {
-            return Err("the origin must be finite (mm)".into());
-        }
-        Ok(())
-    }
+fn first_offset() -> u8 {
+    1
 }
 
 /// How programs are posted: the dialect and tool-centre-point output (the machine is
-/// [`Project::machine`], the work offset [`Setup::work_offset`]).
+/// [`Project::machine`], the work offset [`Frame::work_offset`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PostConfig {
     /// Dialect name (`linuxcnc`, `fanuc`, `siemens`, `heidenhain`, `grbl`) or a dialect file.
@@ -226,9 +208,14 @@ pub struct Project {
     /// Index of the selected tool in [`Project::tools`].
     #[serde(default)]
     pub selected_tool: Option<usize>,
-    /// The setup (work offset and program origin).
+    /// The job: the setups in machining order, each with its frame, stock, workholding and
+    /// operations (never empty once read or made).
     #[serde(default)]
-    pub setup: Setup,
+    pub setups: Vec<Setup>,
+    /// The old single setup, read from version-1 files only (folded into
+    /// [`Project::setups`] when read; `None` otherwise, never written).
+    #[serde(default, rename = "setup", skip_serializing)]
+    pub legacy_setup: Option<LegacySetup>,
     /// Posting: dialect and options.
     #[serde(default)]
     pub post: PostConfig,
@@ -272,7 +259,8 @@ impl Default for Project {
             name: "Untitled".into(),
             part: None,
             stock: Stock::None,
-            setup: Setup::default(),
+            setups: vec![Setup::named(FIRST_SETUP_NAME)],
+            legacy_setup: None,
             post: PostConfig::default(),
             selected_tool: if tools.is_empty() { None } else { Some(0) },
             tools,
@@ -290,5 +278,61 @@ impl Project {
     #[must_use]
     pub fn selected_tool(&self) -> Option<&ToolEntry> {
         self.selected_tool.and_then(|i| self.tools.get(i))
+    }
+
+    /// The first setup (the project's only one in files of today's format), or the default
+    /// setup when a project made in code has none.
+    #[must_use]
+    pub fn first_setup(&self) -> Setup {
+        self.setups
+            .first()
+            .cloned()
+            .unwrap_or_else(|| Setup::named(FIRST_SETUP_NAME))
+    }
+
+    /// The setup holding operation `op` (the first setup when none holds it).
+    #[must_use]
+    pub fn setup_of_operation(&self, op: usize) -> Setup {
+        setups::setup_of(self, op)
+            .and_then(|i| self.setups.get(i).cloned())
+            .unwrap_or_else(|| self.first_setup())
+    }
+
+    /// Fold an old file's single setup into [`Project::setups`]: when there are no setups,
+    /// one setup holding every operation in order, its work offset and origin from the old
+    /// `setup` (G54 at the part origin when missing).
+    ///
+    /// # Errors
+    /// When the file gives both the old `setup` and `setups`. Operations that no setup names
+    /// go, in order, to the last setup.
+    pub fn migrate_setups(&mut self) -> Result<(), String> {
+        let legacy = self.legacy_setup.take();
+        if self.setups.is_empty() {
+            let mut s = Setup::named(FIRST_SETUP_NAME);
+            if let Some(l) = legacy {
+                s.frame.work_offset = l.work_offset;
+                s.frame.origin_mm = l.origin_mm;
+            }
+            s.operations = (0..self.operations.len()).collect();
+            self.setups.push(s);
+        } else if legacy.is_some() {
+            return Err(
+                "the file gives both the old `[setup]` and `[[setups]]`: keep only `[[setups]]`"
+                    .into(),
+            );
+        }
+        // Read generously: operations no setup names go, in order, to the last setup.
+        let owned: Vec<usize> = self
+            .setups
+            .iter()
+            .flat_map(|s| s.operations.iter().copied())
+            .collect();
+        let free: Vec<usize> = (0..self.operations.len())
+            .filter(|i| !owned.contains(i))
+            .collect();
+        if let Some(last) = self.setups.last_mut() {
+            last.operations.extend(free);
+        }
+        Ok(())
     }
 }

@@ -64,7 +64,7 @@ pub fn post_options(project: &Project, program: &Toolpath, tool_number: u32) -> 
         tool_number,
         spindle_rpm: project.post.spindle_rpm,
         clearance_z_mm: clearance,
-        work_offset: project.setup.work_offset_code(),
+        work_offset: project.first_setup().frame.work_offset_code(),
         ..PostOptions::default()
     }
 }
@@ -90,7 +90,25 @@ fn post_with(
     machine: &Machine,
     dialect: &Dialect,
 ) -> Result<Posted, RunError> {
-    let program = to_program_coordinates(toolpath, DVec3::from_array(project.setup.origin_mm));
+    // The first setup's frame (the only one of a project of today's format): program = R·(part
+    // − origin). A face-picked orientation needs the part: `setups` posts those.
+    let setup = project.first_setup();
+    let placement = super::setups::Placement::of(&setup, None).map_err(|e| RunError::Post {
+        machine: project.machine.clone(),
+        dialect: project.post.dialect.clone(),
+        source: crate::post::PostError::Options(format!("setup '{}': {e}", setup.name)),
+    })?;
+    let program = if placement.rotation == glam::DMat3::IDENTITY {
+        to_program_coordinates(toolpath, placement.origin)
+    } else {
+        let mut p = super::setups::transform_toolpath(
+            toolpath,
+            placement.rotation,
+            -(placement.rotation * placement.origin),
+        );
+        p.summary.gouge = None;
+        p
+    };
     let options = post_options(project, &program, tool_number);
     post_mapped(&program, machine, dialect, &options).map_err(|source| RunError::Post {
         machine: project.machine.clone(),

@@ -31,7 +31,10 @@ fn source<'a>(view: &FeatureView<'a>) -> PanelSource<'a> {
             .document
             .map(|d| crate::simulation::StockShape::of(&project.stock, &d.bounds)),
         cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
-        work_offset: (project.setup.work_offset, project.setup.origin_mm),
+        work_offset: (
+            project.first_setup().frame.work_offset,
+            project.first_setup().frame.origin_mm,
+        ),
         posted: view.posted,
     }
 }

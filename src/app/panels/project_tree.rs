@@ -57,7 +57,11 @@ pub fn project_tree_ui(
             leaf(
                 ui,
                 Focus::Setup,
-                format!("Setup 1 · work offset {}", project.setup.work_offset_code()),
+                format!(
+                    "{} · work offset {}",
+                    project.first_setup().name,
+                    project.first_setup().frame.work_offset_code()
+                ),
             );
             egui::CollapsingHeader::new(format!("Tools ({})", project.tools.len()))
                 .id_salt("tools")

@@ -223,8 +223,9 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
 
 fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
     let project = view.project;
-    let setup = project.setup;
-    ui.heading("Setup 1");
+    let first = project.first_setup();
+    let setup = first.frame;
+    ui.heading(first.name.as_str());
     let mut next = setup;
     egui::Grid::new("setup fields")
         .num_columns(2)
@@ -278,7 +279,10 @@ fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
         });
     }
     if next != setup {
-        commands.push(Command::Edit(Edit::SetSetup(next)));
+        commands.push(Command::Edit(Edit::SetFrame {
+            setup: 0,
+            frame: next,
+        }));
     }
     ui.weak("Posted programs are written relative to this origin (program = part − origin), under the chosen work offset.");
 }
@@ -293,7 +297,7 @@ fn machine_ui(
     let settings = PostSettings {
         dialect: project.post.dialect.clone(),
         tcp: project.post.tcp,
-        work_offset: 53 + project.setup.work_offset,
+        work_offset: 53 + project.first_setup().frame.work_offset,
     };
     let stale = panel
         .as_ref()
@@ -323,11 +327,15 @@ fn machine_ui(
             }));
         }
         let offset = s.work_offset.saturating_sub(53);
-        if offset != project.setup.work_offset {
-            edits.push(Edit::SetSetup(crate::project::Setup {
-                work_offset: offset,
-                ..project.setup
-            }));
+        let frame = project.first_setup().frame;
+        if offset != frame.work_offset {
+            edits.push(Edit::SetFrame {
+                setup: 0,
+                frame: crate::project::Frame {
+                    work_offset: offset,
+                    ..frame
+                },
+            });
         }
         edits
     };

@@ -1,0 +1,343 @@
+//! `talas job PROJECT.talas [--part FILE] [--setup NAME] [--post DIR] [--simulate] [--json]`:
+//! plan every operation of every setup (or of one) in its setup's frame, post one program per
+//! setup into DIR (`NN-SETUP.ngc`), simulate each setup's operations on its stock, and print
+//! per setup and operation the tool, the lengths and times, the first contact of the tool
+//! assembly with the setup's workholding (`checks::collide`, with its program line when
+//! posted), and the program file.
+//!
+//! The simulation cuts each setup's paths from that setup's starting stock (the box of
+//! [`crate::project::setups::stock_solid`] in the setup frame); the material earlier setups
+//! removed is not carried yet (the engine's in-process stock is being built beside this), and
+//! the output says so (`"stock_carried": false`).
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{Value, json};
+
+use crate::checks::collide::{Hit, Obstacle, assembly, first_hit};
+use crate::diagnostics::Progress;
+use crate::import::{ImportError, OpenOptions, Workpiece, open};
+use crate::project::job::{plan_in_setup, post_setup, program_stem};
+use crate::project::setups::{self, transform_mesh};
+use crate::project::simulate::{SimulationSettings, simulate_toolpaths};
+use crate::project::{Project, Stock};
+use crate::toolpath::Toolpath;
+
+/// Largest step along a move between two collision tests against the workholding, mm.
+const COLLISION_STEP_MM: f64 = 0.25;
+
+/// Options of `talas job`.
+#[derive(Debug, clap::Args)]
+pub struct JobArgs {
+    /// The project file.
+    pub file: PathBuf,
+    /// The part (STEP or STL); default: the part the project references (relative to the
+    /// project's folder).
+    #[arg(long, value_name = "FILE")]
+    pub part: Option<PathBuf>,
+    /// Only this setup (by name).
+    #[arg(long, value_name = "NAME")]
+    pub setup: Option<String>,
+    /// Write one program per setup into this folder (`NN-SETUP.ngc`, written atomically).
+    #[arg(long, value_name = "DIR")]
+    pub post: Option<PathBuf>,
+    /// Simulate each setup's operations on its stock (removed volume, collisions).
+    #[arg(long)]
+    pub simulate: bool,
+    /// Print one JSON document instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn bad(file: &Path, place: Option<String>, message: impl Into<String>) -> ImportError {
+    ImportError::new(file, place, message)
+}
+
+/// Run the job; the JSON document (also the source of the human summary).
+///
+/// # Errors
+/// An [`ImportError`] naming the file (the project, the part, a program) and the setup or
+/// operation.
+pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
+    let project = Project::load(&args.file).map_err(|e| bad(&args.file, None, e.to_string()))?;
+    let base = args.file.parent().unwrap_or(Path::new("."));
+    let part_path = match (&args.part, &project.part) {
+        (Some(p), _) => p.clone(),
+        (None, Some(r)) if r.path.is_absolute() => r.path.clone(),
+        (None, Some(r)) => base.join(&r.path),
+        (None, None) => {
+            return Err(bad(
+                &args.file,
+                None,
+                "the project uses the embedded default part: give the part with --part FILE",
+            ));
+        }
+    };
+    let part = open(&part_path, &OpenOptions::default(), &Progress::new())?;
+    project
+        .check_faces(part.part.as_ref().map_or(0, |p| p.faces.len()))
+        .map_err(|e| bad(&args.file, None, e))?;
+    let chosen: Vec<usize> = match &args.setup {
+        Some(name) => vec![
+            project
+                .setups
+                .iter()
+                .position(|s| &s.name == name)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = project.setups.iter().map(|s| s.name.as_str()).collect();
+                    bad(
+                        &args.file,
+                        None,
+                        format!(
+                            "--setup: no setup '{name}' (there are: {})",
+                            names.join(", ")
+                        ),
+                    )
+                })?,
+        ],
+        None => (0..project.setups.len()).collect(),
+    };
+    let placements =
+        setups::placements(&project, Some(&part)).map_err(|e| bad(&args.file, None, e))?;
+    let bounds = part.mesh.bbox();
+    if let Some(dir) = &args.post {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| bad(dir, None, format!("cannot make the folder: {e}")))?;
+    }
+    let mut out = Vec::new();
+    for &s in &chosen {
+        out.push(run_setup(
+            args,
+            &project,
+            s,
+            &part,
+            &placements,
+            &bounds,
+            base,
+        )?);
+    }
+    Ok(json!({
+        "project": args.file.display().to_string(),
+        "part": part_path.display().to_string(),
+        "stock_carried": false,
+        "setups": out,
+    }))
+}
+
+fn run_setup(
+    args: &JobArgs,
+    project: &Project,
+    s: usize,
+    part: &Workpiece,
+    placements: &[setups::Placement],
+    bounds: &crate::geometry::Aabb,
+    base: &Path,
+) -> Result<Value, ImportError> {
+    let setup = &project.setups[s];
+    let place = Some(format!("setup {} ('{}')", s + 1, setup.name));
+    let err = |m: String| bad(&args.file, place.clone(), m);
+    let mut paths: Vec<Toolpath> = Vec::new();
+    let mut ops = Vec::new();
+    for &op in &setup.operations {
+        let c =
+            plan_in_setup(project, op, part, &Progress::new()).map_err(|e| err(e.to_string()))?;
+        let o = &project.operations[op];
+        let tool = project.tools.get(o.tool());
+        let sm = &c.toolpath.summary;
+        ops.push(json!({
+            "index": op + 1,
+            "name": o.name(),
+            "kind": o.kind().label(),
+            "tool": {
+                "number": o.tool() + 1,
+                "name": tool.map(|t| t.name.clone()),
+                "spec": tool.map(|t| crate::tools::tool_spec(&t.cutter)),
+            },
+            "poses": sm.pose_count,
+            "cut_length_mm": sm.cut_length_mm,
+            "other_length_mm": sm.other_length_mm,
+            "estimated_time_s": sm.estimated_time_s,
+            "diagnostics": c.diagnostics.iter().map(ToString::to_string).collect::<Vec<_>>(),
+        }));
+        paths.push(c.toolpath);
+    }
+    let workholding =
+        setups::workholding_meshes(project, s, placements, bounds, base).map_err(err)?;
+    let obstacles = setup
+        .workholding
+        .iter()
+        .zip(&workholding)
+        .map(|(w, m)| Obstacle::new(w.kind_name(), m))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(err)?;
+    let hits: Vec<Option<Hit>> = paths
+        .iter()
+        .map(|tp| {
+            let moves: Vec<_> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+            first_hit(
+                &assembly(&tp.tool.cutter),
+                &obstacles,
+                &moves,
+                COLLISION_STEP_MM,
+            )
+        })
+        .collect();
+    let mut posted_lines: Option<Vec<crate::post::LineSource>> = None;
+    let mut program = Value::Null;
+    let mut lines = Value::Null;
+    if let Some(dir) = &args.post
+        && !paths.is_empty()
+    {
+        let posted = post_setup(project, s, &paths).map_err(|e| err(e.to_string()))?;
+        let file = dir.join(format!("{:02}-{}.ngc", s + 1, program_stem(&setup.name)));
+        crate::storage::write_atomic(&file, posted.text.as_bytes())
+            .map_err(|e| bad(&file, None, format!("cannot write: {e}")))?;
+        program = json!(file.display().to_string());
+        lines = json!(posted.text.lines().count());
+        posted_lines = Some(posted.source_of_line);
+    }
+    let simulation = if args.simulate && !paths.is_empty() {
+        simulate_setup(project, s, part, placements, bounds, &paths).map_err(err)?
+    } else {
+        Value::Null
+    };
+    for (k, (op, hit)) in ops.iter_mut().zip(&hits).enumerate() {
+        op["workholding_collision"] = hit.as_ref().map_or(Value::Null, |h| {
+            let line = posted_lines.as_ref().and_then(|l| {
+                l.iter()
+                    .rposition(|src| src.operation == k && src.pose == Some(h.index))
+                    .map(|i| i + 1)
+            });
+            json!({
+                "pose": h.index,
+                "line": line,
+                "obstacle": h.obstacle_name,
+                "tool_part": h.tool_part,
+                "tip_mm": [h.tip.x, h.tip.y, h.tip.z],
+            })
+        });
+    }
+    let axis = placements[s].tool_axis();
+    Ok(json!({
+        "name": setup.name,
+        "machine": setup.machine_name(project),
+        "work_offset": setup.frame.work_offset_code(),
+        "tool_axis": [axis.x, axis.y, axis.z],
+        "operations": ops,
+        "estimated_time_s": paths.iter().map(|p| p.summary.estimated_time_s).sum::<f64>(),
+        "workholding": setup.workholding.iter().zip(&workholding).map(|(w, m)| json!({
+            "kind": w.kind_name(),
+            "volume_mm3": m.signed_volume(),
+        })).collect::<Vec<_>>(),
+        "program": program,
+        "program_lines": lines,
+        "simulation": simulation,
+    }))
+}
+
+/// Cut setup `s`'s paths (setup frame) from its starting stock's box, the part in the setup
+/// frame.
+fn simulate_setup(
+    project: &Project,
+    s: usize,
+    part: &Workpiece,
+    placements: &[setups::Placement],
+    bounds: &crate::geometry::Aabb,
+    paths: &[Toolpath],
+) -> Result<Value, String> {
+    let here = placements[s];
+    let solid = setups::stock_solid(project, s, placements, bounds)?;
+    let b = solid.bbox();
+    let stock = Stock::Box {
+        min_mm: b.min.to_array(),
+        max_mm: b.max.to_array(),
+    };
+    let mesh = transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
+    let with: Vec<(&Toolpath, &crate::tools::Cutter)> =
+        paths.iter().map(|p| (p, &p.tool.cutter)).collect();
+    let sim = simulate_toolpaths(
+        &stock,
+        &mesh,
+        &with,
+        &SimulationSettings::default(),
+        &Progress::new(),
+    )
+    .map_err(|e| format!("simulation: {e}"))?;
+    Ok(json!({
+        "resolution_mm": sim.resolution_mm,
+        "initial_volume_mm3": sim.report.initial_volume_mm3,
+        "removed_volume_mm3": sim.report.removed_volume_mm3,
+        "final_volume_mm3": sim.report.final_volume_mm3,
+        "collisions": sim.report.collisions.len(),
+        "max_gouge_mm": sim.max_gouge_mm,
+    }))
+}
+
+/// The human summary of a job document.
+#[must_use]
+pub fn human(doc: &Value) -> String {
+    let mut s = String::new();
+    let num = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    for setup in doc["setups"].as_array().into_iter().flatten() {
+        s.push_str(&format!(
+            "setup '{}' on {} ({}), {:.1} s estimated\n",
+            setup["name"].as_str().unwrap_or(""),
+            setup["machine"].as_str().unwrap_or(""),
+            setup["work_offset"].as_str().unwrap_or(""),
+            num(&setup["estimated_time_s"]),
+        ));
+        for op in setup["operations"].as_array().into_iter().flatten() {
+            s.push_str(&format!(
+                "  {}. {} ({}), tool T{} {}: {} poses, cut {:.1} mm, {:.1} s\n",
+                op["index"],
+                op["name"].as_str().unwrap_or(""),
+                op["kind"].as_str().unwrap_or(""),
+                op["tool"]["number"],
+                op["tool"]["spec"].as_str().unwrap_or(""),
+                op["poses"],
+                num(&op["cut_length_mm"]),
+                num(&op["estimated_time_s"]),
+            ));
+        }
+        for w in setup["workholding"].as_array().into_iter().flatten() {
+            s.push_str(&format!(
+                "  workholding: {} ({:.0} mm³)\n",
+                w["kind"].as_str().unwrap_or(""),
+                num(&w["volume_mm3"])
+            ));
+        }
+        for op in setup["operations"].as_array().into_iter().flatten() {
+            let c = &op["workholding_collision"];
+            if c.is_object() {
+                s.push_str(&format!(
+                    "  COLLISION: operation {} hits the {} with the {} at pose {} (line {}), tip ({:.3}, {:.3}, {:.3}) mm\n",
+                    op["index"],
+                    c["obstacle"].as_str().unwrap_or(""),
+                    c["tool_part"].as_str().unwrap_or(""),
+                    c["pose"],
+                    c["line"],
+                    num(&c["tip_mm"][0]),
+                    num(&c["tip_mm"][1]),
+                    num(&c["tip_mm"][2]),
+                ));
+            }
+        }
+        if let Some(p) = setup["program"].as_str() {
+            s.push_str(&format!(
+                "  program: {p} ({} lines)\n",
+                setup["program_lines"]
+            ));
+        }
+        if setup["simulation"].is_object() {
+            let sim = &setup["simulation"];
+            s.push_str(&format!(
+                "  simulated: removed {:.1} mm³ of {:.1} mm³, {} collisions, deepest gouge {:.4} mm\n",
+                num(&sim["removed_volume_mm3"]),
+                num(&sim["initial_volume_mm3"]),
+                sim["collisions"],
+                num(&sim["max_gouge_mm"]),
+            ));
+        }
+    }
+    s
+}

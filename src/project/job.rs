@@ -1,0 +1,193 @@
+//! The job end to end: each operation planned in its setup's frame, and one program per setup
+//! (its operations in order, its work offset, its tool changes; for a tilted 3+2 setup on a
+//! 5-axis machine the rotary positioning and the rotated coordinates through the machine's
+//! kinematics, which every 5-axis dialect writes as explicit rotary words).
+//!
+//! The 3-axis strategies plan with +Z up: they plan on the part moved into the setup's work
+//! plane ([`setups::workpiece_in_plane`]) with the setup's stock box there, and their poses are
+//! turned back into the setup frame. Face finishing plans in the part frame (it reads the exact
+//! surfaces) and its poses are moved into the setup frame. Every tool path this module returns
+//! is in the setup frame, i.e. in program coordinates.
+
+use super::pipeline::{ComputeError, Computed, compute};
+use super::run::RunError;
+use super::setups::{self, Placement, transform_toolpath};
+use super::{Project, Stock};
+use crate::diagnostics::Progress;
+use crate::geometry::Aabb;
+use crate::import::Workpiece;
+use crate::machine::Machine;
+use crate::post::{Dialect, PostOptions, PostedProgram, post_program};
+use crate::toolpath::Toolpath;
+
+/// Plan operation `op` in the frame of the setup that holds it; the tool path comes back in
+/// that setup's frame (program coordinates).
+///
+/// # Errors
+/// [`ComputeError`] naming the operation, also when no setup holds it or its setup's frame or
+/// stock cannot be resolved.
+pub fn plan_in_setup(
+    project: &Project,
+    op: usize,
+    part: &Workpiece,
+    progress: &Progress,
+) -> Result<Computed, ComputeError> {
+    let name = project
+        .operations
+        .get(op)
+        .map(|o| o.name().to_string())
+        .ok_or(ComputeError::NoOperation {
+            index: op,
+            count: project.operations.len(),
+        })?;
+    let plan_err = |message: String| ComputeError::Plan {
+        operation: name.clone(),
+        message,
+    };
+    let index = setups::setup_of(project, op)
+        .ok_or_else(|| plan_err("the operation is in no setup".into()))?;
+    let placements = setups::placements(project, Some(part)).map_err(plan_err)?;
+    let here = placements[index];
+    let bounds = part.mesh.bbox();
+    if !project.operations[op].faces().is_empty() {
+        // Face finishing: in the part frame, then moved into the setup frame.
+        let mut c = compute(project, op, part, progress)?;
+        c.toolpath = transform_toolpath(&c.toolpath, here.rotation, -(here.rotation * here.origin));
+        c.clearance_mm = None;
+        return Ok(c);
+    }
+    let stock = setups::planning_stock(project, index, &placements, &bounds).map_err(plan_err)?;
+    let in_plane = setups::workpiece_in_plane(part, &here);
+    let planning = Project {
+        stock,
+        ..project.clone()
+    };
+    let mut c = compute(&planning, op, &in_plane, progress)?;
+    c.toolpath = transform_toolpath(&c.toolpath, here.work_plane, glam::DVec3::ZERO);
+    Ok(c)
+}
+
+/// The stock box of setup `index` in its work plane (what its roughing clears), for callers
+/// that show or check it.
+///
+/// # Errors
+/// As [`setups::planning_stock`].
+pub fn setup_stock(project: &Project, index: usize, part: &Workpiece) -> Result<Stock, String> {
+    let placements = setups::placements(project, Some(part))?;
+    setups::planning_stock(project, index, &placements, &part.mesh.bbox())
+}
+
+/// The machine of setup `index` and the project's dialect, resolved.
+///
+/// # Errors
+/// [`RunError::Machine`] or [`RunError::Dialect`].
+pub fn resolve_setup(project: &Project, index: usize) -> Result<(Machine, Dialect), RunError> {
+    let name = project
+        .setups
+        .get(index)
+        .map_or(project.machine.as_str(), |s| s.machine_name(project));
+    let machine = Machine::resolve(name).map_err(|e| RunError::Machine {
+        name: name.to_string(),
+        message: e.to_string(),
+    })?;
+    let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
+        name: project.post.dialect.clone(),
+        message: e.to_string(),
+    })?;
+    Ok((machine, dialect))
+}
+
+/// Post the operations of setup `index` in order into one program: `toolpaths[k]` is the tool
+/// path of the setup's k-th operation in the setup frame (from [`plan_in_setup`]); the tool
+/// number of each is its library index + 1; the work offset is the setup's.
+///
+/// # Errors
+/// [`RunError::Post`] for a wrong count, the machine or dialect that cannot be found, or the
+/// post's own error (a pose the kinematics cannot reach).
+pub fn post_setup(
+    project: &Project,
+    index: usize,
+    toolpaths: &[Toolpath],
+) -> Result<PostedProgram, RunError> {
+    let (machine, dialect) = resolve_setup(project, index)?;
+    let post_err = |source| RunError::Post {
+        machine: machine.name.clone(),
+        dialect: project.post.dialect.clone(),
+        source,
+    };
+    let options_err = |m: String| post_err(crate::post::PostError::Options(m));
+    let setup = project
+        .setups
+        .get(index)
+        .ok_or_else(|| options_err(format!("no setup {}", index + 1)))?;
+    if toolpaths.len() != setup.operations.len() {
+        return Err(options_err(format!(
+            "setup '{}' has {} operations but {} tool paths were given",
+            setup.name,
+            setup.operations.len(),
+            toolpaths.len()
+        )));
+    }
+    let ops: Vec<crate::post::Operation<'_>> = setup
+        .operations
+        .iter()
+        .zip(toolpaths)
+        .map(|(&op, tp)| crate::post::Operation {
+            toolpath: tp,
+            tool_number: project
+                .operations
+                .get(op)
+                .map_or(1, |o| u32::try_from(o.tool() + 1).unwrap_or(1)),
+            spindle_rpm: project.post.spindle_rpm,
+            coolant: true,
+        })
+        .collect();
+    let top = toolpaths
+        .iter()
+        .flat_map(|t| t.poses.iter().map(|p| p.tip.z))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let Some(first) = toolpaths.first() else {
+        return Err(options_err(format!(
+            "setup '{}' has no operation to post",
+            setup.name
+        )));
+    };
+    let base = super::posting::post_options(project, first, 1);
+    let options = PostOptions {
+        work_offset: setup.frame.work_offset_code(),
+        clearance_z_mm: if top.is_finite() {
+            (top + 10.0).max(base.clearance_z_mm)
+        } else {
+            base.clearance_z_mm
+        },
+        program_name: format!("{}_{}", base.program_name, program_stem(&setup.name)),
+        ..base
+    };
+    post_program(&ops, &machine, &dialect, &options).map_err(post_err)
+}
+
+/// A setup name as a file stem: ASCII letters, digits, `-` and `_` (others become `_`).
+#[must_use]
+pub fn program_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(40)
+        .collect();
+    if s.is_empty() { "setup".into() } else { s }
+}
+
+/// Every setup's placement and the part's box, for callers that carry stock or place
+/// workholding.
+///
+/// # Errors
+/// The first setup whose frame cannot be resolved.
+pub fn placements(project: &Project, part: &Workpiece) -> Result<(Vec<Placement>, Aabb), String> {
+    Ok((setups::placements(project, Some(part))?, part.mesh.bbox()))
+}
