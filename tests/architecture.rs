@@ -37,6 +37,7 @@ const SAME_LAYER: &[(&str, &str)] = &[
     ("diagnostics", "units"),
     ("geometry", "units"),
     ("geometry", "diagnostics"),
+    ("geometry", "storage"),
     ("strategies", "checks"),
     ("force", "simulation"),
     ("profile", "post"),
@@ -517,7 +518,7 @@ const KNOWN_CIRCLES: &[(&str, &[&str])] = &[
     ("force", &["path", "stock"]),
     ("gcode", &["interpreter", "motion"]),
     ("import/step/brep", &["assembly", "representation"]),
-    ("profile", &["read", "read_svg"]),
+    ("geometry/planar", &["read", "read_svg"]),
     ("simulation", &["batch", "engine"]),
     ("strategies/raster", &["envelope", "passes"]),
 ];

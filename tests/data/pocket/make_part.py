@@ -9,7 +9,8 @@ R10 (the outer profile), with
 - an open slot x 80..90 across the whole part in y, floor z = 22.
 
 The JSON holds the closed-form values (floor heights, depths, areas, corner radii, islands,
-open sides); every area is also measured on the built solid by Open CASCADE (BRepGProp) and
+open sides; a smallest corner radius is that of a corner between two walls, none where the
+region has no such corner); every area is also measured on the built solid by Open CASCADE (BRepGProp) and
 the two must agree to 1e-6 mm^2, else the script fails.
 """
 import json
@@ -129,10 +130,10 @@ def main():
          "floor_area_mm2": slot_area, "min_corner_radius_mm": None, "islands": 0,
          "open_sides": 2, "width_mm": 10.0, "bbox_mm": [80, 0, 90, 80]},
         {"kind": "step", "floor_z_mm": STEP_Z, "top_z_mm": TOP, "depth_mm": TOP - STEP_Z,
-         "floor_area_mm2": step_area, "min_corner_radius_mm": R_OUT, "islands": 0,
+         "floor_area_mm2": step_area, "min_corner_radius_mm": None, "islands": 0,
          "open_sides": 1, "bbox_mm": [100, 0, 120, 80]},
         {"kind": "outer_profile", "floor_z_mm": 0.0, "top_z_mm": TOP, "depth_mm": TOP,
-         "floor_area_mm2": outline_area, "min_corner_radius_mm": R_OUT, "islands": 0,
+         "floor_area_mm2": outline_area, "min_corner_radius_mm": None, "islands": 0,
          "open_sides": 0, "bbox_mm": [0, 0, 120, 80]},
     ]
     measured = sorted(up_facing_planar_faces(part))
