@@ -13,6 +13,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("storage", 0),
     ("geometry", 0),
     ("import", 1),
+    ("features", 1),
     ("tools", 1),
     ("machine", 1),
     ("gcode", 1),

@@ -19,7 +19,7 @@ pub(crate) use element::closest_on;
 pub use element::{Element, distance_to_profile};
 pub use offset::{ClPath, ClVertex, Side, offset_paths};
 pub use read::{ProfileFormat, parse_csv, parse_dxf, parse_svg, read_profile};
-pub use region::{BooleanOp, Region, RegionError};
+pub use region::{Area, BooleanOp, Region, RegionError, signed_area};
 pub use write::{profile_to_csv, profile_to_dxf, profile_to_svg, write_profile};
 
 use glam::DVec2;

@@ -33,7 +33,7 @@ pub struct RegionError(pub String);
 
 /// One connected area: an outer boundary (counter-clockwise, closed) less its islands
 /// (clockwise, closed, inside the outer boundary, disjoint from each other).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Area {
     /// The outer boundary, counter-clockwise.
     pub outer: Profile,
@@ -42,7 +42,7 @@ pub struct Area {
 }
 
 /// A planar region: disjoint [`Area`]s.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Region {
     /// The areas.
     pub areas: Vec<Area>,
