@@ -5,6 +5,7 @@ pub mod calibrate;
 pub mod contours;
 pub mod control;
 pub mod dropcutter;
+pub mod features_regions;
 pub mod feed;
 pub mod forces;
 pub mod forces_path;
@@ -50,6 +51,9 @@ pub enum Command {
     /// (iso-parametric, iso-planar, iso-scallop), or raster, waterline, steep-and-shallow
     /// finishing and Z-level roughing of a STEP or STL part, through the project pipeline.
     Plan(plan::PlanArgs),
+    /// Machinable regions of a STEP part seen from +Z: pockets, steps, slots, tops, the outer
+    /// profile (kind, floor height, depth, area, smallest corner radius, islands, open sides).
+    Features(features_regions::FeaturesArgs),
     /// Drop-cutter against an STL mesh: the tool-tip height at every XY point of a CSV.
     Dropcutter(dropcutter::DropcutterArgs),
     /// Waterline contours of a cutter on an STL mesh at given tool-tip heights.
@@ -155,6 +159,11 @@ pub fn run(command: Command) -> i32 {
         Command::Dropcutter(args) => {
             report(dropcutter::dropcutter(&args), args.json, dropcutter::human)
         }
+        Command::Features(args) => report(
+            features_regions::features_regions(&args),
+            args.json,
+            features_regions::human,
+        ),
         Command::Contours(args) => report(contours::contours(&args), args.json, contours::human),
         Command::Reduce(args) => report(reduce::reduce(&args), args.json, reduce::human),
         Command::Post(args) => match post::post(&args) {

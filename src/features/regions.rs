@@ -121,8 +121,7 @@ pub fn find_regions_with_mesh(part: &Part, mesh: &PartMesh) -> RegionReport {
     // Flat horizontal faces and which way they face.
     let mut floor_z: Vec<Option<f64>> = vec![None; n];
     let mut bottom: Option<(usize, f64, f64)> = None; // (face, z, area)
-    for f in 0..n {
-        let (lo, hi) = z_range.get(f).copied().unwrap_or((f64::NAN, f64::NAN));
+    for (f, &(lo, hi)) in z_range.iter().enumerate() {
         if !(lo.is_finite() && hi - lo <= Z_TOL_MM.max(1e-9 * hi.abs())) {
             continue;
         }
@@ -135,7 +134,9 @@ pub fn find_regions_with_mesh(part: &Part, mesh: &PartMesh) -> RegionReport {
         let above = crossings(mesh, DVec3::new(q.x, q.y, z + 1e-3), f, true);
         let below = crossings(mesh, DVec3::new(q.x, q.y, z - 1e-3), f, false);
         if above == 0 && below % 2 == 1 {
-            floor_z[f] = Some(z);
+            if let Some(slot) = floor_z.get_mut(f) {
+                *slot = Some(z);
+            }
         } else if below == 0 && above % 2 == 1 {
             let a = mesh.faces.get(f).map_or(0.0, |r| r.area_mm2);
             if bottom
@@ -143,7 +144,7 @@ pub fn find_regions_with_mesh(part: &Part, mesh: &PartMesh) -> RegionReport {
             {
                 bottom = Some((f, z, a));
             }
-        } else if above % 2 == 0 && below % 2 == 1 {
+        } else if above.is_multiple_of(2) && below % 2 == 1 {
             report.skipped.push(format!(
                 "face {} (#{}): flat floor at z = {z:.6} mm under material, not reachable from +Z",
                 f + 1,

@@ -454,7 +454,7 @@ impl Region {
                             let mut parts = assemble(outers, holes).areas;
                             for part in &mut parts {
                                 for isl in &piece.islands {
-                                    if part.outer.vertices.first().is_some()
+                                    if !part.outer.vertices.is_empty()
                                         && winding(&part.outer, interior_probe(isl)) != 0
                                     {
                                         part.islands.push(isl.clone());
