@@ -6,6 +6,7 @@
 pub mod boundary;
 pub mod finish;
 pub mod pencil;
+pub mod planar;
 pub mod raster;
 pub mod rest;
 pub mod steep_shallow;
