@@ -513,7 +513,7 @@ const KNOWN_CIRCLES: &[(&str, &[&str])] = &[
     ("app", &["forces", "workstation"]),
     ("checks", &["footprint", "gouge"]),
     ("cli", &["forces", "forces_path"]),
-    ("cli", &["plan", "plan_group", "plan_mesh"]),
+    ("cli", &["plan", "plan_25d", "plan_group", "plan_mesh"]),
     ("feed", &["blend", "path"]),
     ("force", &["closed_form", "disks"]),
     ("force", &["path", "stock"]),

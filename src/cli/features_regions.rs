@@ -84,8 +84,8 @@ pub fn human(doc: &Value) -> String {
             r["depth_mm"].as_f64().unwrap_or(f64::NAN),
             r["area_mm2"].as_f64().unwrap_or(f64::NAN),
             corner,
-            r["islands"],
-            r["open_sides"],
+            r["islands"].as_u64().unwrap_or(0),
+            r["open_sides"].as_u64().unwrap_or(0),
             faces.join(",")
         ));
     }

@@ -12,6 +12,7 @@ pub mod forces_path;
 pub mod inspect;
 pub mod interpret;
 pub mod plan;
+pub mod plan_25d;
 pub mod plan_group;
 pub mod plan_mesh;
 pub mod post;

@@ -182,6 +182,9 @@ pub struct PlanArgs {
     /// Where to write the tool path JSON.
     #[arg(short = 'o', long = "output", value_name = "PATH.json")]
     pub output: PathBuf,
+    /// 2.5D strategies (`pocket`, `contour`): regions and their options.
+    #[command(flatten)]
+    pub planar: super::plan_25d::PlanarArgs,
 }
 
 pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
@@ -296,6 +299,9 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
 pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     if super::plan_mesh::MESH_STRATEGIES.contains(&args.strategy.as_str()) {
         return plan_on_mesh(args);
+    }
+    if super::plan_25d::PLANAR_STRATEGIES.contains(&args.strategy.as_str()) {
+        return super::plan_25d::plan_planar(args);
     }
     let cutter = parse_tool_spec(&args.tool).map_err(|e| opt_err("--tool", e.to_string()))?;
     let strategy = parse_strategy(args)?;

@@ -33,12 +33,12 @@ pub enum RegionKind {
     Top,
     /// A floor walled on every side.
     ClosedPocket,
-    /// A floor walled on most sides (the walls turn through half a turn or more) with a side
-    /// open.
+    /// A floor with open sides that is neither a step nor a slot (walls on most sides, or
+    /// several runs of wall).
     OpenPocket,
     /// A floor with one run of wall that turns less than 135° and the rest open: a step.
     Step,
-    /// A floor between two runs of wall with two open ends.
+    /// A floor between two runs of wall with two open ends, no islands.
     Slot,
     /// The outline of the part seen from +Z (its lowest down-facing flat face).
     OuterProfile,
@@ -536,14 +536,14 @@ fn floor_region(
         }
         max_wall_turn = max_wall_turn.max(run_turn.abs());
     }
-    let islands: usize = region.areas.iter().map(|a| a.islands.len()).sum();
+    let islands = islands_of(&region);
     let kind = if open_runs == 0 {
         RegionKind::ClosedPocket
     } else if wall_runs == 0 {
         RegionKind::Top
-    } else if wall_runs >= 2 && open_runs >= 2 {
+    } else if wall_runs == 2 && open_runs == 2 && islands_of(&region) == 0 {
         RegionKind::Slot
-    } else if max_wall_turn < 135f64.to_radians() {
+    } else if wall_runs == 1 && max_wall_turn < 135f64.to_radians() {
         RegionKind::Step
     } else {
         RegionKind::OpenPocket
@@ -563,6 +563,10 @@ fn floor_region(
         bbox_mm: [lo.x, lo.y, hi.x, hi.y],
         region,
     })
+}
+
+fn islands_of(region: &Region) -> usize {
+    region.areas.iter().map(|a| a.islands.len()).sum()
 }
 
 fn outer_profile(part: &Part, f: usize, z: f64, top: f64) -> Result<MachinableRegion, String> {
