@@ -184,7 +184,7 @@ pub struct PlanArgs {
     pub output: PathBuf,
     /// 2.5D strategies (`pocket`, `contour`): regions and their options.
     #[command(flatten)]
-    pub planar: super::plan_25d::PlanarArgs,
+    pub planar: Box<super::plan_25d::PlanarArgs>,
 }
 
 pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {

@@ -120,15 +120,45 @@ fn piece(
     }
 }
 
-/// A contour of `region`'s boundaries.
-///
-/// # Errors
-/// Bad options, or no loop left after the offset.
-pub fn contour(
-    region: &Region,
-    tool: &ToolRecord,
-    o: &ContourOptions,
-) -> Result<Toolpath, PlanarError> {
+/// One pass along a loop's elements, split at the tab breaks, at the heights `z_at` gives
+/// along the arc length (rising straight up where it jumps up).
+fn walk(
+    tp: &mut Toolpath,
+    els: &[Element],
+    lengths: &[f64],
+    breaks: &[f64],
+    z_at: &dyn Fn(f64) -> f64,
+    feed: f64,
+    chord: f64,
+) -> Result<(), PlanarError> {
+    let mut pos = 0.0;
+    for (e, &len) in els.iter().zip(lengths) {
+        let mut cuts: Vec<f64> = breaks
+            .iter()
+            .copied()
+            .filter(|b| *b > pos + 1e-9 && *b < pos + len - 1e-9)
+            .collect();
+        cuts.push(pos + len);
+        let mut t0 = 0.0;
+        for c in cuts {
+            let t1 = ((c - pos) / len).clamp(0.0, 1.0);
+            // Rise straight up at a tab's start.
+            let z_here = z_at(pos + t0 * len + 1e-7);
+            if let Some(cur) = tp.poses.last().map(|p| p.tip)
+                && z_here > cur.z + 1e-9
+            {
+                move_to(tp, MoveKind::Link, cur.truncate().extend(z_here), feed);
+            }
+            let z_end = z_at(c);
+            piece(tp, e, t0, t1, z_end, feed, chord)?;
+            t0 = t1;
+        }
+        pos += len;
+    }
+    Ok(())
+}
+
+fn check(o: &ContourOptions) -> Result<(), PlanarError> {
     let nums = [
         o.top_z_mm,
         o.bottom_z_mm,
@@ -173,6 +203,19 @@ pub fn contour(
             "contour: the ramp angle must lie in (0°, 90°)".into(),
         ));
     }
+    Ok(())
+}
+
+/// A contour of `region`'s boundaries.
+///
+/// # Errors
+/// Bad options, or no loop left after the offset.
+pub fn contour(
+    region: &Region,
+    tool: &ToolRecord,
+    o: &ContourOptions,
+) -> Result<Toolpath, PlanarError> {
+    check(o)?;
     let r = tool.cutter.radius();
     let d = r + o.allowance_mm;
     let path = match o.side {
@@ -287,35 +330,15 @@ pub fn contour(
                 )
                 .map_err(|e| PlanarError(e.to_string()))?;
             }
-            let mut pos = 0.0;
-            for (e, &len) in els.iter().zip(&lengths) {
-                let mut cuts: Vec<f64> = breaks
-                    .iter()
-                    .copied()
-                    .filter(|b| *b > pos + 1e-9 && *b < pos + len - 1e-9)
-                    .collect();
-                cuts.push(pos + len);
-                let mut t0 = 0.0;
-                for c in cuts {
-                    let t1 = ((c - pos) / len).clamp(0.0, 1.0);
-                    // Rise straight up at a tab's start.
-                    let z_here = z_at(pos + t0 * len + 1e-7, z);
-                    if let Some(cur) = tp.poses.last().map(|p| p.tip)
-                        && z_here > cur.z + 1e-9
-                    {
-                        move_to(
-                            &mut tp,
-                            MoveKind::Link,
-                            cur.truncate().extend(z_here),
-                            o.feed_mm_per_min,
-                        );
-                    }
-                    let z_end = z_at(c, z);
-                    piece(&mut tp, e, t0, t1, z_end, o.feed_mm_per_min, chord)?;
-                    t0 = t1;
-                }
-                pos += len;
-            }
+            walk(
+                &mut tp,
+                &els,
+                &lengths,
+                &breaks,
+                &|pos| z_at(pos, z),
+                o.feed_mm_per_min,
+                chord,
+            )?;
             if lead > 0.0 {
                 let end = tp.poses.last().map_or(s.extend(z), |p| p.tip);
                 let centre_out = s + free * lead;
