@@ -1,4 +1,4 @@
-//! `talas plan PART --strategy pocket|contour …`: 2.5D strategies on regions recognised from
+//! `talas plan PART --strategy face|pocket|contour …`: 2.5D strategies on regions recognised from
 //! +Z (`--features auto`, or the floor faces `--faces F,F` as `talas features` numbers them) or
 //! drawn (`--region FILE.dxf|FILE.svg|FILE.csv --top Z --depth D`, one closed boundary).
 //! Several regions give one tool path, region after region, each left at the clearance height.
@@ -12,12 +12,14 @@ use crate::features::regions::{MachinableRegion, RegionKind, find_regions};
 use crate::geometry::planar::{Region, read_profile};
 use crate::import::ImportError;
 use crate::import::step::read_step;
-use crate::strategies::planar::{ContourOptions, ContourSide, PocketOptions, contour, pocket};
+use crate::strategies::planar::{
+    ContourOptions, ContourSide, FacingOptions, PocketOptions, contour, facing, pocket,
+};
 use crate::toolpath::{ToolRecord, Toolpath};
 use crate::tools::parse_tool_spec;
 
 /// The 2.5D strategies.
-pub const PLANAR_STRATEGIES: &[&str] = &["pocket", "contour"];
+pub const PLANAR_STRATEGIES: &[&str] = &["face", "pocket", "contour"];
 
 /// The 2.5D options of `talas plan` (the shared ones, `--step-down`, `--step-over`,
 /// `--stock-to-leave`, `--stock-to-leave-axial`, `--pattern climb|conventional`, `--feed`,
@@ -33,11 +35,12 @@ pub struct PlanarArgs {
     /// With `--region`: the height of the material's top, mm.
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
     pub top: Option<f64>,
-    /// With `--region`: the depth below `--top`, mm.
+    /// With `--region`: the depth below `--top`, mm; `face` on a part: the stock above the
+    /// part's top, mm (default 1).
     #[arg(long, value_name = "D")]
     pub depth: Option<f64>,
     /// `auto`: every region of the part seen from +Z that fits the strategy (pocket: closed
-    /// pockets; contour: the outer profile).
+    /// pockets; contour and face: the outer profile).
     #[arg(long, value_name = "auto")]
     pub features: Option<String>,
     /// Contour: `outside` (default) or `inside`.
@@ -55,6 +58,9 @@ pub struct PlanarArgs {
     /// Contour: lead-in and lead-out arc radius, mm.
     #[arg(long, value_name = "MM", default_value_t = 2.0)]
     pub lead_radius: f64,
+    /// Facing: how far the tool's edge runs past the region's box, mm.
+    #[arg(long, value_name = "MM", default_value_t = 2.0)]
+    pub overrun: f64,
     /// Pocket entry ramp and contour ramp after tabs: the largest angle, degrees.
     #[arg(long, value_name = "DEG", default_value_t = 3.0)]
     pub ramp_angle: f64,
@@ -66,6 +72,8 @@ struct Job {
     top: f64,
     floor: f64,
     name: String,
+    /// From `--region` (its top and depth typed), not recognised.
+    drawn: bool,
 }
 
 fn jobs(args: &PlanArgs) -> Result<Vec<Job>, ImportError> {
@@ -92,12 +100,13 @@ fn jobs(args: &PlanArgs) -> Result<Vec<Job>, ImportError> {
             top,
             floor: top - depth,
             name: file.display().to_string(),
+            drawn: true,
         }]);
     }
     let part = read_step(&args.file)?;
     let report = find_regions(&part);
     let wanted = |r: &MachinableRegion| match args.strategy.as_str() {
-        "contour" => r.kind == RegionKind::OuterProfile,
+        "contour" | "face" => r.kind == RegionKind::OuterProfile,
         _ => r.kind == RegionKind::ClosedPocket,
     };
     let chosen: Vec<&MachinableRegion> = if !p.faces.is_empty() {
@@ -137,6 +146,7 @@ fn jobs(args: &PlanArgs) -> Result<Vec<Job>, ImportError> {
             top: r.top_z_mm,
             floor: r.floor_z_mm,
             name: format!("{:?} at z = {:.4} mm", r.kind, r.floor_z_mm),
+            drawn: false,
         })
         .collect())
 }
@@ -179,6 +189,27 @@ pub fn plan_planar(args: &PlanArgs) -> Result<Value, ImportError> {
     let mut names = Vec::new();
     for job in jobs(args)? {
         let tp = match args.strategy.as_str() {
+            "face" => {
+                // A drawn region faces from --top down by --depth; a recognised outline faces
+                // the part's top from --depth (default 1 mm) above it.
+                let (stock_top, face_z) = if job.drawn {
+                    (job.top, job.floor)
+                } else {
+                    (job.top + args.planar.depth.unwrap_or(1.0), job.top)
+                };
+                let o = FacingOptions {
+                    stock_top_z_mm: stock_top,
+                    face_z_mm: face_z,
+                    step_down_mm: args.step_down,
+                    finish_depth_mm: args.stock_to_leave_axial,
+                    stepover_frac: args.step_over,
+                    overrun_mm: args.planar.overrun,
+                    zigzag: args.pattern != "oneway",
+                    clearance_mm: clearance,
+                    feed_mm_per_min: args.feed,
+                };
+                facing(&job.region, &tool, &o)
+            }
             "contour" => {
                 let side = match args.planar.side.as_str() {
                     "outside" => ContourSide::Outside,
