@@ -20,7 +20,7 @@
 //! | layer | modules | what lives there |
 //! |---|---|---|
 //! | L0 | [`units`], [`diagnostics`], [`storage`], [`geometry`] | mm/s/rad; warnings and the progress/cancel handle; atomic file writes; curves, surfaces, B-rep, meshes with a BVH, Z-maps |
-//! | L1 | [`import`], [`features`], [`tools`], [`machine`], [`gcode`] | STEP and STL readers and the one `Workpiece`; machining features (holes) read from the B-rep; cutters and the drop-cutter; machine kinematics; G-code interpreter |
+//! | L1 | [`import`], [`features`], [`tools`], [`machine`], [`gcode`] | STEP and STL readers and the one `Workpiece`; machining features (holes, 2.5D regions) read from the B-rep; cutters and the drop-cutter; machine kinematics; G-code interpreter |
 //! | L2 | [`toolpath`] | CL poses and tool paths |
 //! | L3 | [`strategies`], [`checks`], [`reduce`] | path strategies (Z-map paths included); gouge and collision checks and test oracles; the SVD reduction of Z-maps |
 //! | L4 | [`post`], [`feed`], [`simulation`], [`force`], [`profile`] | posting; jerk-limited feed planning; stock simulation; cutting forces; 2D profiles |

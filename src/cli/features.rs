@@ -1,5 +1,6 @@
-//! `talas features PART [--json]`: the machining features recognised on a STEP part (holes:
-//! position, direction, diameter, depth, bottom, steps, groups).
+//! `talas features PART [--json]`: the machining features recognised on a STEP part: holes
+//! (position, direction, diameter, depth, bottom, steps, groups) and the machinable regions
+//! seen from +Z (`"regions"`, [`super::features_regions`]).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -26,12 +27,17 @@ pub struct FeaturesArgs {
 /// # Errors
 /// The import error (file and place) when the part cannot be read.
 pub fn find_holes(file: &std::path::Path) -> Result<HoleReport, ImportError> {
-    let part = read_step(file)?;
+    Ok(holes_of(&read_step(file)?))
+}
+
+/// The holes of a read part.
+#[must_use]
+pub fn holes_of(part: &crate::geometry::brep::Part) -> HoleReport {
     let mesh = tessellate_part(
         &part,
         &TessellationOptions::with_chord_tol(1e-3 * part.rough_bbox().diagonal().max(1e-3)),
     );
-    Ok(recognize_holes(&part, Some(&mesh), &HoleOptions::default()))
+    recognize_holes(part, Some(&mesh), &HoleOptions::default())
 }
 
 /// What `features` found, as JSON (lengths in mm, angles in degrees, keys say so).
@@ -39,8 +45,15 @@ pub fn find_holes(file: &std::path::Path) -> Result<HoleReport, ImportError> {
 /// # Errors
 /// The import error when the part cannot be read.
 pub fn features(args: &FeaturesArgs) -> Result<Value, ImportError> {
-    let rep = find_holes(&args.file)?;
-    Ok(holes_json(&rep, &args.file.display().to_string()))
+    let part = read_step(&args.file)?;
+    let mut doc = holes_json(&holes_of(&part), &args.file.display().to_string());
+    let regions =
+        super::features_regions::regions_json(&crate::features::regions::find_regions(&part));
+    if let Some(o) = doc.as_object_mut() {
+        o.insert("regions".into(), regions["regions"].clone());
+        o.insert("regions_skipped".into(), regions["skipped"].clone());
+    }
+    Ok(doc)
 }
 
 /// The holes as JSON.
@@ -200,6 +213,13 @@ pub fn human(doc: &Value) -> String {
                 .unwrap_or_default(),
             d["message"].as_str().unwrap_or("")
         );
+    }
+    if doc.get("regions").is_some() {
+        let mut r = doc.clone();
+        if let Some(o) = r.as_object_mut() {
+            o.insert("skipped".into(), doc["regions_skipped"].clone());
+        }
+        s.push_str(&super::features_regions::human(&r));
     }
     s
 }

@@ -6,6 +6,7 @@ pub mod contours;
 pub mod control;
 pub mod dropcutter;
 pub mod features;
+pub mod features_regions;
 pub mod feed;
 pub mod forces;
 pub mod forces_path;
@@ -13,6 +14,7 @@ pub mod inspect;
 pub mod interpret;
 pub mod job;
 pub mod plan;
+pub mod plan_25d;
 pub mod plan_group;
 pub mod plan_holes;
 pub mod plan_mesh;
@@ -50,7 +52,10 @@ pub enum Command {
     /// Part summary: faces (kind, degrees, poles, rational, domain, area), total area, bounding
     /// box, triangles, closedness and volume; optionally surface samples of B-spline faces.
     Inspect(inspect::InspectArgs),
-    /// Machining features recognised on a STEP part: holes (diameter, depth, bottom: through, flat or drill point; counterbores, countersinks, spot faces), grouped by size and direction
+    /// Machining features recognised on a STEP part: holes (diameter, depth, bottom: through,
+    /// flat or drill point; counterbores, countersinks, spot faces), grouped by size and
+    /// direction, and the machinable regions seen from +Z (pockets, steps, slots, tops, the
+    /// outer profile: floor height, depth, area, smallest corner radius, islands, open sides).
     Features(features::FeaturesArgs),
     /// A tool path written as tool-path JSON: 5-axis finishing of one face of a STEP part
     /// (iso-parametric, iso-planar, iso-scallop), or raster, waterline, steep-and-shallow

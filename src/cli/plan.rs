@@ -184,6 +184,9 @@ pub struct PlanArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub holes: Box<super::plan_holes::HoleArgs>,
+    /// 2.5D strategies (`pocket`, `contour`): regions and their options.
+    #[command(flatten)]
+    pub planar: Box<super::plan_25d::PlanarArgs>,
 }
 
 pub(crate) fn opt_err(name: &str, message: impl Into<String>) -> ImportError {
@@ -310,6 +313,9 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     }
     if super::plan_mesh::MESH_STRATEGIES.contains(&args.strategy.as_str()) {
         return plan_on_mesh(args);
+    }
+    if super::plan_25d::PLANAR_STRATEGIES.contains(&args.strategy.as_str()) {
+        return super::plan_25d::plan_planar(args);
     }
     let cutter = parse_tool_spec(&args.tool).map_err(|e| opt_err("--tool", e.to_string()))?;
     let strategy = parse_strategy(args)?;

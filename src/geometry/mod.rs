@@ -12,6 +12,7 @@ pub mod frame;
 pub mod mesh;
 pub mod minimize;
 pub mod nurbs;
+pub mod planar;
 pub mod stock;
 pub mod surface;
 pub mod tessellate;

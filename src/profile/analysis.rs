@@ -5,10 +5,10 @@
 use glam::DVec2;
 use std::f64::consts::PI;
 
-use super::element::{Element, closest_on};
-use super::offset::{ClPath, Side, offset_paths};
 use super::reach::max_gouge_free_radius;
-use super::{Profile, ProfileError};
+use crate::geometry::planar::{ClPath, Side, offset_paths};
+use crate::geometry::planar::{Element, closest_on};
+use crate::geometry::planar::{Profile, ProfileError};
 
 /// Settings of [`compute_opt`].
 #[derive(Clone, Debug, PartialEq)]
@@ -128,7 +128,7 @@ pub fn compute_opt(
 ) -> Result<ProfileResult, ProfileError> {
     profile.validate("<memory>")?;
     let r = opts.radius_mm;
-    if !(r > 0.0 && r <= super::MAX_COORD_MM) {
+    if !(r > 0.0 && r <= crate::geometry::planar::MAX_COORD_MM) {
         return Err(ProfileError::new(
             "<memory>",
             "radius",

@@ -8,10 +8,10 @@
 
 use glam::{DVec2, DVec3};
 
-use super::element::{Element, closest_on};
-use super::offset::ClPath;
-use super::{Profile, ProfileError};
 use crate::gcode::Plane;
+use crate::geometry::planar::ClPath;
+use crate::geometry::planar::{Element, closest_on};
+use crate::geometry::planar::{Profile, ProfileError};
 use crate::post::Dialect;
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
 

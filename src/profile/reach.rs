@@ -11,8 +11,8 @@
 
 use glam::DVec2;
 
-use super::Profile;
-use super::element::{Element, closest_on};
+use crate::geometry::planar::Profile;
+use crate::geometry::planar::{Element, closest_on};
 
 /// Angles below this are treated as no turn (tangent-continuous joints), rad.
 const ANGLE_EPS: f64 = 1e-9;

@@ -63,7 +63,7 @@ pub fn digests(project: &Project, part: Digest) -> Keys {
     let mut stock = DigestBuilder::new("stock");
     stock.digest("part", part);
     stock.json("stock", &project.stock);
-    stock.json("setup", &project.setup);
+    stock.json("setups", &project.setups);
     stock.json("post", &project.post);
     stock.text("machine", &machine);
     stock.json(

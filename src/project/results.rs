@@ -478,19 +478,30 @@ pub fn operation_moves(
         Err(e) => return fallback(e.to_string()),
     };
     let mut plan = run.commanded_move_plan(&machine, step)?;
-    translate(&mut plan, DVec3::from_array(project.setup.origin_mm));
+    // The run is posted in the first setup's frame (`posting::run_operation`): program =
+    // R·(part − origin), so part = Rᵀ·program + origin.
+    let setup = project.first_setup();
+    let placement = match super::setups::Placement::of(&setup, None) {
+        Ok(p) => p,
+        Err(e) => return fallback(format!("setup '{}': {e}", setup.name)),
+    };
+    to_part(&mut plan, placement.rotation.transpose(), placement.origin);
     Ok((plan, None))
 }
 
-/// `plan` moved by `by` (program coordinates back into part coordinates).
-fn translate(plan: &mut MovePlan, by: DVec3) {
+/// `plan` taken from program coordinates back into part coordinates: `rotation · p + by` for
+/// points, `rotation · a` for tool axes.
+fn to_part(plan: &mut MovePlan, rotation: glam::DMat3, by: DVec3) {
     for m in &mut plan.moves {
-        m.start.tip += by;
-        m.end.tip += by;
+        for pose in [&mut m.start, &mut m.end] {
+            pose.tip = rotation * pose.tip + by;
+            pose.axis = rotation * pose.axis;
+        }
     }
     for s in &mut plan.steps {
-        s.from += by;
-        s.to += by;
+        s.from = rotation * s.from + by;
+        s.to = rotation * s.to + by;
+        s.axis = rotation * s.axis;
     }
 }
 

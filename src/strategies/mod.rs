@@ -7,6 +7,7 @@ pub mod boundary;
 pub mod finish;
 pub mod holes;
 pub mod pencil;
+pub mod planar;
 pub mod raster;
 pub mod rest;
 pub mod steep_shallow;
