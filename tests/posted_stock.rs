@@ -190,10 +190,15 @@ fn a_three_axis_roughing_and_raster_remove_the_same_volume_posted() {
             max_mm: [22.0, 22.0, 8.0],
         },
         // The program origin off the part's: the run comes back into part coordinates.
-        setup: talas::project::Setup {
-            work_offset: 2,
-            origin_mm: [5.0, -3.0, 1.0],
-        },
+        setups: vec![talas::project::Setup {
+            frame: talas::project::setups::Frame {
+                work_offset: 2,
+                origin_mm: [5.0, -3.0, 1.0],
+                ..talas::project::Setup::named("Setup 1").frame
+            },
+            operations: vec![0, 1],
+            ..talas::project::Setup::named("Setup 1")
+        }],
         operations: vec![
             Operation::new(OperationKind::Rough, 0, 0),
             Operation::new(OperationKind::Raster, 1, 0),

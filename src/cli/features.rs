@@ -34,7 +34,7 @@ pub fn find_holes(file: &std::path::Path) -> Result<HoleReport, ImportError> {
 #[must_use]
 pub fn holes_of(part: &crate::geometry::brep::Part) -> HoleReport {
     let mesh = tessellate_part(
-        &part,
+        part,
         &TessellationOptions::with_chord_tol(1e-3 * part.rough_bbox().diagonal().max(1e-3)),
     );
     recognize_holes(part, Some(&mesh), &HoleOptions::default())

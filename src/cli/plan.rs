@@ -301,6 +301,8 @@ fn parse_strategy(args: &PlanArgs) -> Result<Strategy, ImportError> {
 pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
     if super::plan_holes::HOLE_STRATEGIES.contains(&args.strategy.as_str()) {
         let a = args;
+        let mut holes = (*a.holes).clone();
+        holes.depth = a.planar.depth;
         return super::plan_holes::plan_holes_cli(
             &a.file,
             &a.strategy,
@@ -308,7 +310,7 @@ pub fn plan(args: &PlanArgs) -> Result<Value, ImportError> {
             a.feed,
             a.clearance,
             &a.output,
-            &a.holes,
+            &holes,
         );
     }
     if super::plan_mesh::MESH_STRATEGIES.contains(&args.strategy.as_str()) {

@@ -36,7 +36,8 @@ pub struct PlanarArgs {
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
     pub top: Option<f64>,
     /// With `--region`: the depth below `--top`, mm; `face` on a part: the stock above the
-    /// part's top, mm (default 1).
+    /// part's top, mm (default 1); hole strategies: the depth below each hole's top instead of
+    /// the recognised one, mm.
     #[arg(long, value_name = "D")]
     pub depth: Option<f64>,
     /// `auto`: every region of the part seen from +Z that fits the strategy (pocket: closed

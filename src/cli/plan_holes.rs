@@ -58,8 +58,10 @@ pub struct HoleArgs {
     /// (helical-bore), mm [default: the tool's pitch; helical-bore 1 mm].
     #[arg(long, value_name = "MM")]
     pub pitch: Option<f64>,
-    /// Hole strategies: depth below the hole's top instead of the recognised one, mm.
-    #[arg(long, value_name = "MM")]
+    /// Hole strategies: depth below the hole's top instead of the recognised one, mm (the
+    /// command line's one `--depth`, [`super::plan_25d::PlanarArgs::depth`], set by
+    /// [`super::plan::plan`]).
+    #[arg(skip)]
     pub depth: Option<f64>,
     /// Hole strategies: R plane above each hole's top, mm.
     #[arg(long, value_name = "MM", default_value_t = 2.0)]
