@@ -10,11 +10,8 @@
 
 use crate::feed::path::{JointVector, SLOTS};
 use crate::gcode::MotionBlock;
-use crate::machine::collision::{
-    CollisionModel, Contact, TableExtra, ToolCylinder, tool_cylinders,
-};
+use crate::machine::collision::{CollisionModel, Contact, TableExtra};
 use crate::machine::{Machine, MachineJoints, Shape};
-use crate::tools::Cutter;
 
 /// Largest linear axis move between two collision tests, mm.
 pub const SAMPLE_MM: f64 = 2.0;
@@ -38,22 +35,6 @@ pub fn machine_joints(machine: &Machine, p: &JointVector) -> MachineJoints {
             0.0
         },
     }
-}
-
-/// The cylinders of `cutter` (cutting end and shank, holder sections).
-#[must_use]
-pub fn cutter_cylinders(cutter: &Cutter) -> Vec<ToolCylinder> {
-    let holder: Vec<(f64, f64)> = cutter
-        .holder
-        .iter()
-        .map(|h| (h.diameter, h.length))
-        .collect();
-    tool_cylinders(
-        cutter.diameter,
-        cutter.shank_diameter,
-        cutter.overall_length,
-        &holder,
-    )
 }
 
 /// The stock's bounding box as a table extra cut by the tool (the head's bodies must not

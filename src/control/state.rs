@@ -106,7 +106,7 @@ fn collision_model(cfg: &ControlConfig) -> Option<crate::machine::collision::Col
     let tool = cfg.stock.as_ref().map_or_else(Vec::new, |s| {
         let b = &s.stock.bounds;
         extras.extend(super::collide::stock_extra(b.min, b.max));
-        super::collide::cutter_cylinders(&s.cutter)
+        crate::checks::collide::assembly(&s.cutter)
     });
     crate::machine::collision::CollisionModel::new(&cfg.machine, &tool, &extras)
 }
