@@ -362,6 +362,26 @@ fn approach(tp: &mut Toolpath, at: DVec3, dir: DVec3, arrive_h: f64, r_h: f64) {
 
 /// Full turns (and the last part turn) of a helix descending (`rise` < 0) or rising `total`
 /// mm at `pitch` mm per turn about `centre`, counter-clockwise about `dir`.
+/// One full turn about `centre` in its own plane (no descent), at `feed`.
+fn flat_turn(
+    tp: &mut Toolpath,
+    centre: DVec3,
+    dir: DVec3,
+    feed: f64,
+    tol: f64,
+) -> Result<(), String> {
+    tp.push_helix(
+        centre,
+        dir,
+        std::f64::consts::TAU,
+        0.0,
+        MoveKind::Cut,
+        feed,
+        tol,
+    )
+    .map_err(|e| e.message)
+}
+
 fn helix_turns(
     tp: &mut Toolpath,
     centre: DVec3,
@@ -431,31 +451,13 @@ fn helical_bore(
     tp.push_pose(Pose::new(MoveKind::Plunge, at_top, dir, f));
     let bottom = t.top - dir * t.depth_mm;
     helix_turns(tp, t.top, dir, -t.depth_mm, pitch, f, opts.chord_tol_mm)?;
-    tp.push_helix(
-        bottom,
-        dir,
-        std::f64::consts::TAU,
-        0.0,
-        MoveKind::Cut,
-        f,
-        opts.chord_tol_mm,
-    )
-    .map_err(|e| e.message)?;
+    flat_turn(tp, bottom, dir, f, opts.chord_tol_mm)?;
     // Out to the diameter, a full turn, and the finishing helix up.
     let last = tp.poses.last().map_or(bottom, |p| p.tip);
     let radial = (last - bottom).normalize_or(x);
     if finish > 0.0 {
         tp.push_pose(Pose::new(MoveKind::Cut, bottom + radial * path_r, dir, f));
-        tp.push_helix(
-            bottom,
-            dir,
-            std::f64::consts::TAU,
-            0.0,
-            MoveKind::Cut,
-            f,
-            opts.chord_tol_mm,
-        )
-        .map_err(|e| e.message)?;
+        flat_turn(tp, bottom, dir, f, opts.chord_tol_mm)?;
         helix_turns(tp, bottom, dir, t.depth_mm, pitch, f, opts.chord_tol_mm)?;
     }
     // To the axis and out.
