@@ -24,21 +24,6 @@ use talas::geometry::tessellate::{
 };
 use talas::import::step::read_step;
 
-/// Faces known to fail, by part and STEP id, with the reason: the fan's hub band is cut by the
-/// torus ring and the ribs into one loop that winds once around the revolution's periodic u and
-/// also runs down and up its seam; the tessellator closes it as a cap and fills the wrong
-/// region (its torus neighbour the same). Open: the loop has to be split at the seam instead.
-/// Listed so that any other face failing, or these passing, fails the test.
-const KNOWN_FAILURES: [(&str, u64); 3] = [
-    ("real/made/fan.stp", 3718),
-    ("real/made/fan.stp", 5383),
-    ("real/made/fan.stp", 2159),
-];
-
-fn known(name: &str, id: u64) -> bool {
-    KNOWN_FAILURES.contains(&(name, id))
-}
-
 const PARTS: [&str; 5] = [
     "real/freecad/Schenkel.stp",
     "real/freecad/as1-ac-214_small.stp",
@@ -129,7 +114,6 @@ fn deviations(part: &Part, tol: f64) -> BTreeMap<&'static str, (f64, usize, u64)
 fn every_face_kind_lies_within_the_chord_tolerance_of_its_surface() {
     let mut kinds_seen = std::collections::BTreeSet::new();
     let mut failures = Vec::new();
-    let mut known_seen = std::collections::BTreeSet::new();
     for name in PARTS {
         let p = part(name);
         for tol in [0.01, 0.1] {
@@ -139,11 +123,7 @@ fn every_face_kind_lies_within_the_chord_tolerance_of_its_surface() {
                     "{name} tol {tol} mm: {kind}: {tris} triangles, worst {dev:.3e} mm (#{id})"
                 );
                 if dev > tol * 1.0001 {
-                    if known(name, id) {
-                        known_seen.insert(id);
-                    } else {
-                        failures.push(format!("{name} at {tol} mm: {kind} #{id} {dev:.4e} mm"));
-                    }
+                    failures.push(format!("{name} at {tol} mm: {kind} #{id} {dev:.4e} mm"));
                 }
             }
         }
@@ -164,11 +144,6 @@ fn every_face_kind_lies_within_the_chord_tolerance_of_its_surface() {
         failures.is_empty(),
         "beyond the chord tolerance:\n{}",
         failures.join("\n")
-    );
-    // The worst face of a kind hides the others, so only the ones seen are known to fail still.
-    assert!(
-        !known_seen.is_empty(),
-        "the known failures pass now: remove KNOWN_FAILURES"
     );
 }
 
@@ -251,15 +226,12 @@ fn every_face_is_kept_with_its_area_and_every_body_its_volume() {
                 .place
                 .as_deref()
                 .and_then(|p| p.strip_prefix('#'))
-                .and_then(|p| p.parse().ok());
-            if !id.is_some_and(|id| known(name, id)) {
-                failures.push(format!(
-                    "{name}: {:?} {:?}: {}",
-                    d.severity, d.place, d.message
-                ));
-            }
+                .and_then(|p| p.parse::<u64>().ok());
+            failures.push(format!(
+                "{name}: {:?} {:?} (#{id:?}): {}",
+                d.severity, d.place, d.message
+            ));
         }
-        let open_known = KNOWN_FAILURES.iter().any(|(n, _)| *n == name);
         let occ = occ_reference(name);
         let faces: Vec<&OccRow> = occ.iter().filter(|r| r.what == "face").collect();
         assert_eq!(pm.faces.len(), faces.len(), "{name}: face count");
@@ -268,9 +240,6 @@ fn every_face_is_kept_with_its_area_and_every_body_its_volume() {
         let mut worst = 0.0f64;
         for (r, m) in faces.iter().zip(&matched) {
             let Some(i) = *m else {
-                if open_known {
-                    continue; // the known faces and their neighbours (see KNOWN_FAILURES)
-                }
                 failures.push(format!(
                     "{name}: no face matches Open CASCADE's {} of {} mm² at {:?}",
                     r.kind, r.value, r.centre
@@ -301,13 +270,6 @@ fn every_face_is_kept_with_its_area_and_every_body_its_volume() {
             .map(|r| r.value)
             .collect();
         let mut ours: Vec<f64> = pm.bodies.iter().filter_map(|b| b.volume_mm3).collect();
-        if open_known {
-            assert!(
-                pm.bodies.iter().any(|b| !b.closed),
-                "{name}: closes now: remove it from KNOWN_FAILURES"
-            );
-            continue;
-        }
         if ours.len() != pm.bodies.len() {
             failures.push(format!("{name}: a body is not closed: {:?}", pm.bodies));
         }

@@ -172,6 +172,9 @@ fn bspline_curve(geo: &Geo<'_, '_>, e: Entity<'_>) -> Result<Option<BSplineCurve
         .map_err(|err| bad(err.to_string()))
 }
 
+/// A clamped B-spline whose ends are this close (mm) is closed in space.
+const CLOSED_SPLINE_MM: f64 = 1e-6;
+
 /// Curve parameters `(t_start, t_end)` of an edge running from `p_start` to `p_end` along `curve`,
 /// in the curve's direction when `same_sense`, else against it. A closed edge (`closed`: the same
 /// start and end vertex) spans one full period of a periodic curve, or the whole B-spline domain.
@@ -210,10 +213,31 @@ pub(super) fn edge_params(
             if closed {
                 return if same_sense { (k0, k1) } else { (k1, k0) };
             }
-            (
+            let (mut ts, mut te) = (
                 spline_param(b, curve, p_start, (k0, k1)),
                 spline_param(b, curve, p_end, (k0, k1)),
-            )
+            );
+            // A clamped spline closed in space (its first and last poles coincide, as a full
+            // circle written as a B-spline): a vertex at the joint is at both ends of the
+            // domain. Take the end that runs the edge in its sense; the other gives the
+            // complementary arc (on a fan's hub rim, 300° instead of 60°).
+            let at = |t: f64, k: f64| (t - k).abs() <= 1e-9 * (1.0 + (k1 - k0).abs());
+            if curve.point(k0).distance(curve.point(k1)) <= CLOSED_SPLINE_MM {
+                if same_sense && te < ts {
+                    if at(ts, k1) {
+                        ts = k0;
+                    } else if at(te, k0) {
+                        te = k1;
+                    }
+                } else if !same_sense && te > ts {
+                    if at(ts, k0) {
+                        ts = k1;
+                    } else if at(te, k1) {
+                        te = k0;
+                    }
+                }
+            }
+            (ts, te)
         }
     }
 }
