@@ -350,4 +350,35 @@ mod tests {
             "{ts} {te}"
         );
     }
+
+    #[test]
+    fn closed_clamped_spline_edges_from_the_joint_run_with_their_sense() {
+        // A closed, clamped degree-1 B-spline A → B → C → A: the vertex A is at both ends of
+        // the domain [0, 3]. An edge C → A along the sense ends at 3, not at 0 (which would run
+        // it backwards through B, the complementary arc).
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let spline = BSplineCurve::new(
+            1,
+            vec![0.0, 0.0, 1.0, 2.0, 3.0, 3.0],
+            vec![a, b, c, a],
+            None,
+        )
+        .unwrap();
+        let curve = CurveGeom::BSpline(spline);
+        assert_eq!(curve.period(), None);
+        let (ts, te) = edge_params(&curve, c, a, false, true);
+        assert!(
+            (ts - 2.0).abs() < 1e-9 && (te - 3.0).abs() < 1e-9,
+            "{ts} {te}"
+        );
+        // A → C against the sense starts at 3 and runs down to 2.
+        let (ts, te) = edge_params(&curve, a, c, false, false);
+        assert!(
+            (ts - 3.0).abs() < 1e-9 && (te - 2.0).abs() < 1e-9,
+            "{ts} {te}"
+        );
+        // Away from the joint nothing changes: A → B along the sense is [0, 1].
+        let (ts, te) = edge_params(&curve, a, b, false, true);
+        assert!(ts.abs() < 1e-9 && (te - 1.0).abs() < 1e-9, "{ts} {te}");
+    }
 }
