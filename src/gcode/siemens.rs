@@ -16,7 +16,7 @@
 //!
 //! RTP is the retract plane, RFP the reference (top) plane, SDIS the safety distance (the R
 //! plane is RFP + SDIS), DP the final depth (or DPR below RFP), along the plane's normal. Each
-//! cycle rapids to RFP + SDIS, works to DP and leaves to RTP: with a rapid (81, 82, 83, 86), or
+//! cycle rapids to RFP + SDIS, works to DP and leaves to RTP: with one rapid (81, 82, 83, 86), or
 //! fed back to RFP + SDIS first (84 and 840 with the spindle reversed, 85 at RFF). CYCLE83's
 //! pecks are FDEP (or FDPR below RFP) first, then DAM each; VARI=1 rapids back to RFP + SDIS
 //! between pecks (dwell DTS there), VARI=0 backs off to break the chip. Both come back down to
@@ -327,14 +327,17 @@ pub(super) fn run(
             if c.dtb > 0.0 {
                 dwell(s, out, line, c.dtb);
             }
+            // Out with the spindle stopped, one rapid through RFP + SDIS to RTP.
             let turning = s.spindle_dir;
             s.spindle_dir = 0.0;
-            let up = cur.go(s, out, true, uv, r);
+            let up = cur.go(s, out, true, uv, c.rtp);
             s.spindle_dir = turning;
             up?;
         }
     }
-    if c.rtp > r || matches!(c.kind, Kind::Drill | Kind::Dwell | Kind::Deep) {
+    if matches!(c.kind, Kind::Tap | Kind::Bore) && c.rtp > r
+        || matches!(c.kind, Kind::Drill | Kind::Dwell | Kind::Deep)
+    {
         cur.go(s, out, true, uv, c.rtp)?;
     }
     Ok(())
