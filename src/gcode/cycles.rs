@@ -37,20 +37,20 @@ use super::state::{Block, Cycle, Motion, State, u32_word};
 use super::{GcodeError, InterpretOptions, Program};
 
 /// LinuxCNC's `G83_RAPID_DELTA` (0.010 in), in the program's units.
-const PECK_CLEARANCE_INCH: f64 = 0.010;
-const PECK_CLEARANCE_MM: f64 = 0.254;
+pub(super) const PECK_CLEARANCE_INCH: f64 = 0.010;
+pub(super) const PECK_CLEARANCE_MM: f64 = 0.254;
 
 /// The place of one move of a cycle: plane coordinates and height, program units.
-struct Cursor<'a> {
-    b: &'a Block,
-    opts: &'a InterpretOptions,
-    scale: f64,
-    offset: DVec3,
-    rotary: Joints,
+pub(super) struct Cursor<'a> {
+    pub(super) b: &'a Block,
+    pub(super) opts: &'a InterpretOptions,
+    pub(super) scale: f64,
+    pub(super) offset: DVec3,
+    pub(super) rotary: Joints,
 }
 
 impl Cursor<'_> {
-    fn go(
+    pub(super) fn go(
         &self,
         s: &mut State,
         out: &mut Program,

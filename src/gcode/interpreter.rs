@@ -8,6 +8,7 @@ use super::lexer::{ParsedLine, Target, Word, parse_line};
 use super::modal::{GCodes, MotionCode, classify};
 use super::motion::{arc_words, dwell, emit_arc, emit_line, g28, target};
 use super::offsets;
+use super::siemens::{self, SiemensCycle};
 use super::state::{Block, Cycle, Motion, Side, State, u32_word};
 use super::{GcodeError, InterpretOptions, Program, Syntax};
 use crate::diagnostics::Diagnostic;
@@ -193,18 +194,33 @@ const SIEMENS_NO_GEOMETRY: &[&str] = &[
 /// moves the tool: refused, since ignoring them would change where the tool goes.
 const SIEMENS_GEOMETRY: &[&str] = &[
     "CYCLE800", "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE",
-    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE81", "CYCLE82", "CYCLE83", "CYCLE84", "CYCLE85",
-    "CYCLE86", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2", "MCALL",
+    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2",
+    "CYCLE801", "CYCLE802", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
 ];
 
+/// The block's keywords; returns a Sinumerik drilling cycle called on this block (not `MCALL`)
+/// with its column.
 fn keywords(
     b: &Block,
     s: &mut State,
     opts: &InterpretOptions,
     out: &mut Program,
-) -> Result<(), GcodeError> {
+) -> Result<Option<(SiemensCycle, usize)>, GcodeError> {
+    let mut call = None;
+    let mut mcall = None;
     for (keyword, col) in &b.keywords {
-        match (opts.syntax, keyword.as_str()) {
+        let (name, args) = match keyword.split_once('(') {
+            Some((n, a)) => (n, Some(a.strip_suffix(')').unwrap_or(a))),
+            None => (keyword.as_str(), None),
+        };
+        match (opts.syntax, name) {
+            (Syntax::Siemens, "MCALL") => mcall = Some(*col),
+            (Syntax::Siemens, k) if siemens::is_cycle(k) => {
+                if call.is_some() {
+                    return Err(b.err(*col, format!("{k}: one cycle call per block")));
+                }
+                call = Some((siemens::parse(b, k, args, *col)?, *col));
+            }
             (Syntax::Siemens, "TRAORI") => s.tcp = true,
             (Syntax::Siemens, "TRAFOOF") => s.tcp = false,
             (Syntax::Siemens, k) if SIEMENS_NO_GEOMETRY.contains(&k) => {
@@ -226,14 +242,24 @@ fn keywords(
                 return Err(b.err(
                     *col,
                     format!(
-                        "unknown word {keyword} (not a {} keyword)",
+                        "unknown word {name} (not a {} keyword)",
                         syntax_name(syntax)
                     ),
                 ));
             }
         }
     }
-    Ok(())
+    if let Some(col) = mcall {
+        // `MCALL CYCLE81(…)` calls the cycle after each following move; a bare `MCALL` ends it.
+        s.modal_call = call.take().map(|(c, _)| c);
+        if b.has_axis() && s.modal_call.is_some() {
+            return Err(b.err(
+                col,
+                "MCALL with a cycle: put the positions on the blocks after it",
+            ));
+        }
+    }
+    Ok(call)
 }
 
 /// Units, feed mode, F, S and T, in LinuxCNC's order (before M and the other G codes).
@@ -253,7 +279,9 @@ fn settings(
         s.inverse_time = inverse;
     }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
-    if let Some((f, col)) = b.get('F') {
+    // Sinumerik's `G4 F2` dwells 2 s and leaves the feed alone.
+    let siemens_dwell = opts.syntax == Syntax::Siemens && matches!(g.non_modal, Some((40, _)));
+    if let Some((f, col)) = b.get('F').filter(|_| !siemens_dwell) {
         if !(f >= 0.0) {
             return Err(b.err(col, "F must not be negative"));
         }
@@ -467,7 +495,7 @@ pub(super) fn execute(
     out: &mut Program,
 ) -> Result<bool, GcodeError> {
     let g = classify(b, opts.syntax)?;
-    keywords(b, s, opts, out)?;
+    let call = keywords(b, s, opts, out)?;
     if b.get('H').is_some() && !matches!(g.length, Some((430 | 434, _))) {
         return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
     }
@@ -476,9 +504,14 @@ pub(super) fn execute(
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     modal_g(b, &g, s, opts, out, scale)?;
     if let Some((40, _)) = g.non_modal {
-        g4(b, &g, s, out)?;
+        g4(b, &g, s, out, opts.syntax)?;
     } else {
         non_modal_and_motion(b, &g, s, opts, out, scale)?;
+    }
+    if let Some((c, col)) = call {
+        siemens::run(b, col, s, opts, out, &c)?;
+    } else if let Some(c) = s.modal_call.clone().filter(|_| b.has_axis()) {
+        siemens::run(b, b.first_column(), s, opts, out, &c)?;
     }
     if stops {
         compensation::flush(s, out, b.line)?;
@@ -486,14 +519,24 @@ pub(super) fn execute(
     Ok(ends)
 }
 
-fn g4(b: &Block, g: &GCodes, s: &mut State, out: &mut Program) -> Result<(), GcodeError> {
+fn g4(
+    b: &Block,
+    g: &GCodes,
+    s: &mut State,
+    out: &mut Program,
+    syntax: Syntax,
+) -> Result<(), GcodeError> {
     if b.has_axis() || g.motion.is_some() {
         return Err(b.err(
             b.first_column(),
             "G4 dwell cannot share a block with motion",
         ));
     }
-    let Some((seconds, col)) = b.get('P') else {
+    let word = match syntax {
+        Syntax::Siemens => b.get('F').or_else(|| b.get('P')),
+        _ => b.get('P'),
+    };
+    let Some((seconds, col)) = word else {
         return Err(b.err(b.first_column(), "G4 needs a P word (seconds)"));
     };
     if !(seconds >= 0.0) {

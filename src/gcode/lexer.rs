@@ -352,6 +352,31 @@ fn letter(
             name.push(k.to_ascii_uppercase());
             j += 1;
         }
+        // A Sinumerik call's arguments, `CYCLE81(10, 0, 2, -7)` or `MSG("text")`, written right
+        // after the name: kept with it (the interpreter reads them), not taken for a comment.
+        if chars.get(j) == Some(&'(') {
+            let open = j;
+            let mut quoted = false;
+            loop {
+                match chars.get(j) {
+                    Some('"') => quoted = !quoted,
+                    Some(')') if !quoted => break,
+                    Some(&k) if j > open && k == '(' && !quoted => {
+                        return Err(err(j, format!("nested '(' in the arguments of {name}")));
+                    }
+                    Some(_) => {}
+                    None => {
+                        return Err(err(
+                            open,
+                            format!("the arguments of {name} are not closed ')' on this line"),
+                        ));
+                    }
+                }
+                j += 1;
+            }
+            name.extend(chars.get(open..=j).unwrap_or_default());
+            j += 1;
+        }
         out.keywords.push((name, column));
         return Ok(j);
     }

@@ -65,6 +65,7 @@ pub mod oword;
 pub mod params;
 mod program;
 mod session;
+mod siemens;
 mod state;
 mod syntax;
 mod sysparams;

@@ -52,6 +52,8 @@ pub(super) struct State {
     pub(super) offsets: Offsets,
     pub(super) comp: Compensation,
     pub(super) cycle: CycleState,
+    /// A Sinumerik `MCALL CYCLE8x(…)`: run after every block that moves an axis.
+    pub(super) modal_call: Option<super::siemens::SiemensCycle>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
 }
@@ -121,6 +123,7 @@ impl State {
             offsets: Offsets::new(opts),
             comp: Compensation::default(),
             cycle: CycleState::default(),
+            modal_call: None,
             line: 0,
         }
     }

@@ -308,6 +308,16 @@ fn siemens(d: &Dialect, c: &CycleMove, surface: DVec3, rpm: f64) -> Option<Vec<S
     let sdis = n(c.clearance_mm);
     let dp = n(surface.z - c.depth_mm);
     let head = format!("{rtp}, {rfp}, {sdis}, {dp}, ");
+    // CYCLE84 and CYCLE85 feed out only to RFP + SDIS and rapid on to RTP; a tap or a dwelling
+    // bore fed out to the initial plane (G84 / G89 with G98) is written as plain moves.
+    let fed_out_past_r = match c.cycle {
+        CycleKind::Tap { .. } => true,
+        CycleKind::Bore { dwell_s } => dwell_s > 0.0,
+        _ => false,
+    };
+    if fed_out_past_r && c.clear_mm() > c.clearance_mm {
+        return None;
+    }
     let call = match c.cycle {
         CycleKind::Drill => format!("CYCLE81({head})"),
         CycleKind::Dwell { dwell_s } => format!("CYCLE82({head}, {})", d.number(dwell_s, 3)),
