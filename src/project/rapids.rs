@@ -108,7 +108,7 @@ pub fn lift_rapids(
                 out.worst_depth_mm = out.worst_depth_mm.max(depth);
                 let z = safe.max(a.z).max(b.z);
                 for tip in [DVec3::new(a.x, a.y, z), DVec3::new(b.x, b.y, z)] {
-                    let mut p = pose.clone();
+                    let mut p = *pose;
                     p.tip = tip;
                     p.cc = None;
                     p.contact = None;
@@ -117,7 +117,7 @@ pub fn lift_rapids(
             }
         }
         map.push(poses.len());
-        poses.push(pose.clone());
+        poses.push(*pose);
     }
     if out.lifted == 0 {
         return out;
@@ -155,6 +155,32 @@ pub fn dexel_top(stock: &crate::simulation::DexelStock, x: f64, y: f64) -> Optio
 
 /// Clearance kept between a rapid and the in-process stock under it, mm.
 pub const STOCK_CLEARANCE_MM: f64 = 1.0;
+
+/// [`lift_rapids`] on a computed path over the in-process `stock` (its Z dexels, sampled at
+/// the stock's resolution, [`STOCK_CLEARANCE_MM`] above it), with a note saying how many
+/// rapids were lifted and how deep the worst ran before.
+pub fn lift_rapids_over(
+    computed: &mut super::pipeline::Computed,
+    stock: &super::InProcessStock,
+) -> RapidLift {
+    let dexels = &stock.dexels;
+    let top = |x: f64, y: f64| dexel_top(dexels, x, y);
+    let step = stock.resolution_mm().max(0.05);
+    let r = lift_rapids(&mut computed.toolpath, &top, STOCK_CLEARANCE_MM, step);
+    if r.lifted > 0 {
+        computed
+            .diagnostics
+            .push(crate::diagnostics::Diagnostic::info(
+                None,
+                format!(
+                    "{} rapid(s) lifted above the in-process stock (+{STOCK_CLEARANCE_MM} mm): the \
+                 deepest ran {:.3} mm below it",
+                    r.lifted, r.worst_depth_mm
+                ),
+            ));
+    }
+    r
+}
 
 #[cfg(test)]
 mod tests {
@@ -215,30 +241,4 @@ mod tests {
         ]);
         assert_eq!(lift_rapids(&mut p, &top, 1.0, 0.1).lifted, 1);
     }
-}
-
-/// [`lift_rapids`] on a computed path over the in-process `stock` (its Z dexels, sampled at
-/// the stock's resolution, [`STOCK_CLEARANCE_MM`] above it), with a note saying how many
-/// rapids were lifted and how deep the worst ran before.
-pub fn lift_rapids_over(
-    computed: &mut super::pipeline::Computed,
-    stock: &super::InProcessStock,
-) -> RapidLift {
-    let dexels = &stock.dexels;
-    let top = |x: f64, y: f64| dexel_top(dexels, x, y);
-    let step = stock.resolution_mm().max(0.05);
-    let r = lift_rapids(&mut computed.toolpath, &top, STOCK_CLEARANCE_MM, step);
-    if r.lifted > 0 {
-        computed
-            .diagnostics
-            .push(crate::diagnostics::Diagnostic::info(
-                None,
-                format!(
-                    "{} rapid(s) lifted above the in-process stock (+{STOCK_CLEARANCE_MM} mm): the \
-                 deepest ran {:.3} mm below it",
-                    r.lifted, r.worst_depth_mm
-                ),
-            ));
-    }
-    r
 }
