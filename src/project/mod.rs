@@ -18,6 +18,7 @@ pub mod operation;
 mod part;
 pub mod pipeline;
 pub mod posting;
+pub mod rapids;
 pub mod reach;
 pub mod results;
 pub mod run;

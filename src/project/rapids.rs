@@ -1,0 +1,244 @@
+//! Rapids above the in-process stock (issue 35 "safe heights"): one pass over a finished tool
+//! path that lifts every rapid crossing material (the stock the earlier operations left) to the
+//! highest stock under the tool's swept footprint plus a clearance.
+//!
+//! The stock is read through a height function `top(x, y)` (the highest material at a point,
+//! `None` where there is none), so the pass is pure and independent of how the stock is held
+//! (dexels, a height field, the raw block). A rapid that is safe is left as it is, so a path
+//! with no unsafe rapid comes back unchanged (byte-identical posted programs).
+//!
+//! An unsafe rapid from `a` to `b` becomes three rapids: straight up from `a` to the safe
+//! height, across at that height, and down to `b`. The descent ends at `b`, which the planner
+//! chose (a feed height or an entry): it is not moved.
+
+use crate::toolpath::{MoveKind, Pose, Toolpath};
+use glam::DVec3;
+
+/// What [`lift_rapids`] changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RapidLift {
+    /// Rapids found below the stock + clearance and lifted.
+    pub lifted: usize,
+    /// The deepest a rapid ran below the stock + clearance before the lift, mm.
+    pub worst_depth_mm: f64,
+}
+
+/// Highest material under a disc of radius `radius` (mm) centred at (x, y), sampled every
+/// `step` mm (at least 9 points: centre, and rings), or `None` where there is none.
+fn footprint_top(
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    x: f64,
+    y: f64,
+    radius: f64,
+    step: f64,
+) -> Option<f64> {
+    let mut best: Option<f64> = top(x, y);
+    let rings = ((radius / step).ceil() as usize).clamp(1, 64);
+    for r in 1..=rings {
+        let rr = radius * r as f64 / rings as f64;
+        let n = ((std::f64::consts::TAU * rr / step).ceil() as usize).clamp(8, 512);
+        for k in 0..n {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            if let Some(z) = top(x + rr * t.cos(), y + rr * t.sin()) {
+                best = Some(best.map_or(z, |b: f64| b.max(z)));
+            }
+        }
+    }
+    best
+}
+
+/// The lowest a rapid from `a` to `b` runs below the stock + `clearance` under the tool's
+/// footprint (mm, positive = below), and the safe height over its whole length; `None` when
+/// it is clear.
+fn rapid_shortfall(
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    a: DVec3,
+    b: DVec3,
+    radius: f64,
+    step: f64,
+    clearance: f64,
+) -> Option<(f64, f64)> {
+    let len = (b - a).truncate().length();
+    let n = ((len / step).ceil() as usize).clamp(1, 100_000);
+    let mut worst = 0.0_f64;
+    let mut safe = f64::NEG_INFINITY;
+    // The end point is the planner's (feed height or entry): only the samples before it count.
+    for k in 0..n {
+        let p = a.lerp(b, k as f64 / n as f64);
+        if let Some(z) = footprint_top(top, p.x, p.y, radius, step) {
+            let need = z + clearance;
+            safe = safe.max(need);
+            worst = worst.max(need - p.z);
+        }
+    }
+    (worst > 1e-9).then_some((worst, safe))
+}
+
+/// Lift every rapid of a 3-axis `toolpath` (tool axis +Z) that runs below the stock `top`
+/// plus `clearance` (mm) under the tool's footprint (its radius), sampled every `step` mm
+/// (the stock's resolution). Returns what was changed; paths with a tilted tool axis are left
+/// as they are.
+pub fn lift_rapids(
+    toolpath: &mut Toolpath,
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    clearance: f64,
+    step: f64,
+) -> RapidLift {
+    let mut out = RapidLift::default();
+    if toolpath.poses.len() < 2
+        || !step.is_finite()
+        || step <= 0.0
+        || toolpath
+            .poses
+            .iter()
+            .any(|p| (p.axis - DVec3::Z).length() > 1e-9)
+    {
+        return out;
+    }
+    let radius = toolpath.tool.cutter.radius();
+    let mut poses: Vec<Pose> = Vec::with_capacity(toolpath.poses.len());
+    // Old pose index → new pose index, to keep the exact segments on their poses.
+    let mut map: Vec<usize> = Vec::with_capacity(toolpath.poses.len());
+    for (i, pose) in toolpath.poses.iter().enumerate() {
+        if i > 0 && pose.kind == MoveKind::Rapid {
+            let a = toolpath.poses[i - 1].tip;
+            let b = pose.tip;
+            if let Some((depth, safe)) = rapid_shortfall(top, a, b, radius, step, clearance) {
+                out.lifted += 1;
+                out.worst_depth_mm = out.worst_depth_mm.max(depth);
+                let z = safe.max(a.z).max(b.z);
+                for tip in [DVec3::new(a.x, a.y, z), DVec3::new(b.x, b.y, z)] {
+                    let mut p = *pose;
+                    p.tip = tip;
+                    p.cc = None;
+                    p.contact = None;
+                    poses.push(p);
+                }
+            }
+        }
+        map.push(poses.len());
+        poses.push(*pose);
+    }
+    if out.lifted == 0 {
+        return out;
+    }
+    let mut exact = std::mem::take(&mut toolpath.exact);
+    for seg in &mut exact {
+        seg.from = map[seg.from];
+        seg.to = map[seg.to];
+    }
+    let tool = toolpath.tool.clone();
+    *toolpath = Toolpath::new(tool, poses);
+    toolpath.exact = exact;
+    out
+}
+
+/// The highest material of `stock`'s Z dexels at (x, y), mm (`None` outside its grid or where
+/// the ray holds no material): the height function [`lift_rapids`] reads.
+#[must_use]
+pub fn dexel_top(stock: &crate::simulation::DexelStock, x: f64, y: f64) -> Option<f64> {
+    use crate::simulation::RayAxis;
+    let fam = stock.families.iter().find(|f| f.axis == RayAxis::Z)?;
+    let fi = ((x - fam.origin.x) / fam.spacing).floor();
+    let fj = ((y - fam.origin.y) / fam.spacing).floor();
+    if !fi.is_finite() || !fj.is_finite() || fi < 0.0 || fj < 0.0 {
+        return None;
+    }
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let (i, j) = (fi as usize, fj as usize);
+    if i >= fam.nu || j >= fam.nv {
+        return None;
+    }
+    let hi = fam.dexels[j * fam.nu + i].intervals().last()?[1];
+    Some(fam.origin.z + f64::from(hi))
+}
+
+/// Clearance kept between a rapid and the in-process stock under it, mm.
+pub const STOCK_CLEARANCE_MM: f64 = 1.0;
+
+/// [`lift_rapids`] on a computed path over the in-process `stock` (its Z dexels, sampled at
+/// the stock's resolution, [`STOCK_CLEARANCE_MM`] above it), with a note saying how many
+/// rapids were lifted and how deep the worst ran before.
+pub fn lift_rapids_over(
+    computed: &mut super::pipeline::Computed,
+    stock: &super::InProcessStock,
+) -> RapidLift {
+    let dexels = &stock.dexels;
+    let top = |x: f64, y: f64| dexel_top(dexels, x, y);
+    let step = stock.resolution_mm().max(0.05);
+    let r = lift_rapids(&mut computed.toolpath, &top, STOCK_CLEARANCE_MM, step);
+    if r.lifted > 0 {
+        computed
+            .diagnostics
+            .push(crate::diagnostics::Diagnostic::info(
+                None,
+                format!(
+                    "{} rapid(s) lifted above the in-process stock (+{STOCK_CLEARANCE_MM} mm): the \
+                 deepest ran {:.3} mm below it",
+                    r.lifted, r.worst_depth_mm
+                ),
+            ));
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::toolpath::ToolRecord;
+
+    fn path(poses: Vec<Pose>) -> Toolpath {
+        let cutter = crate::tools::Cutter::new(crate::tools::CutterKind::Flat, 6.0)
+            .expect("a 6 mm flat cutter");
+        Toolpath::new(
+            ToolRecord {
+                spec: "flat 6".into(),
+                cutter,
+            },
+            poses,
+        )
+    }
+
+    fn pose(kind: MoveKind, x: f64, y: f64, z: f64) -> Pose {
+        Pose::new(kind, DVec3::new(x, y, z), DVec3::Z, 1000.0)
+    }
+
+    /// A wall of stock 10 mm high at 20 ≤ x ≤ 22: a rapid at z = 5 across it is lifted to
+    /// 10 + clearance; one at z = 12 is left alone (byte-identical path).
+    #[test]
+    fn lifts_only_the_rapid_that_crosses_the_wall() {
+        let top = |x: f64, _y: f64| ((20.0..=22.0).contains(&x)).then_some(10.0);
+        let mut low = path(vec![
+            pose(MoveKind::Cut, 0.0, 0.0, 5.0),
+            pose(MoveKind::Rapid, 40.0, 0.0, 5.0),
+        ]);
+        let r = lift_rapids(&mut low, &top, 1.0, 0.25);
+        assert_eq!(r.lifted, 1);
+        assert!((r.worst_depth_mm - 6.0).abs() < 1e-9, "{r:?}");
+        assert_eq!(low.poses.len(), 4);
+        assert!((low.poses[1].tip.z - 11.0).abs() < 1e-9);
+        assert!((low.poses[2].tip - DVec3::new(40.0, 0.0, 11.0)).length() < 1e-9);
+        assert_eq!(low.poses[3].tip, DVec3::new(40.0, 0.0, 5.0));
+        let high = path(vec![
+            pose(MoveKind::Cut, 0.0, 0.0, 12.0),
+            pose(MoveKind::Rapid, 40.0, 0.0, 12.0),
+        ]);
+        let mut same = high.clone();
+        assert_eq!(
+            lift_rapids(&mut same, &top, 1.0, 0.25),
+            RapidLift::default()
+        );
+        assert_eq!(same, high);
+    }
+
+    /// The footprint counts: a rapid passing 2.5 mm beside a post (tool radius 3) is lifted.
+    #[test]
+    fn the_tool_footprint_counts() {
+        let top = |x: f64, y: f64| (x.hypot(y - 2.5) < 0.5).then_some(10.0);
+        let mut p = path(vec![
+            pose(MoveKind::Cut, -10.0, 0.0, 5.0),
+            pose(MoveKind::Rapid, 10.0, 0.0, 5.0),
+        ]);
+        assert_eq!(lift_rapids(&mut p, &top, 1.0, 0.1).lifted, 1);
+    }
+}
