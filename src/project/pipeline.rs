@@ -203,7 +203,11 @@ fn compute_with(
         && index > 0
     {
         let stock = store.stock_before_keyed(project, part, keys, index, progress)?;
-        super::rapids::lift_rapids_over(&mut computed, &stock);
+        super::rapids::lift_rapids_over(
+            &mut computed.toolpath,
+            &mut computed.diagnostics,
+            &stock.dexels,
+        );
     }
     // Flag tool axes the project's machine cannot hold now, not only when posting.
     if let Ok(machine) = crate::machine::Machine::resolve(&project.machine)

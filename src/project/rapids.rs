@@ -100,7 +100,12 @@ pub fn lift_rapids(
     // Old pose index → new pose index, to keep the exact segments on their poses.
     let mut map: Vec<usize> = Vec::with_capacity(toolpath.poses.len());
     for (i, pose) in toolpath.poses.iter().enumerate() {
-        if i > 0 && pose.kind == MoveKind::Rapid {
+        // A rapid along the tool axis alone (a retract up out of the cut, or the planner's
+        // approach down to its feed height) runs where the tool and its shank already are or
+        // are about to be: only rapids that move across are checked.
+        let across =
+            i > 0 && (pose.tip - toolpath.poses[i - 1].tip).truncate().length() > ACROSS_MM;
+        if across && pose.kind == MoveKind::Rapid {
             let a = toolpath.poses[i - 1].tip;
             let b = pose.tip;
             if let Some((depth, safe)) = rapid_shortfall(top, a, b, radius, step, clearance) {
@@ -156,28 +161,29 @@ pub fn dexel_top(stock: &crate::simulation::DexelStock, x: f64, y: f64) -> Optio
 /// Clearance kept between a rapid and the in-process stock under it, mm.
 pub const STOCK_CLEARANCE_MM: f64 = 1.0;
 
-/// [`lift_rapids`] on a computed path over the in-process `stock` (its Z dexels, sampled at
-/// the stock's resolution, [`STOCK_CLEARANCE_MM`] above it), with a note saying how many
-/// rapids were lifted and how deep the worst ran before.
+/// A rapid moving less than this across (mm) is a move along the tool axis.
+const ACROSS_MM: f64 = 1e-6;
+
+/// [`lift_rapids`] on a computed path over the in-process stock `dexels` (its Z dexels,
+/// sampled at the stock's resolution, [`STOCK_CLEARANCE_MM`] above it), with a note in
+/// `diagnostics` saying how many rapids were lifted and how deep the worst ran before.
 pub fn lift_rapids_over(
-    computed: &mut super::pipeline::Computed,
-    stock: &super::InProcessStock,
+    toolpath: &mut Toolpath,
+    diagnostics: &mut Vec<crate::diagnostics::Diagnostic>,
+    dexels: &crate::simulation::DexelStock,
 ) -> RapidLift {
-    let dexels = &stock.dexels;
     let top = |x: f64, y: f64| dexel_top(dexels, x, y);
-    let step = stock.resolution_mm().max(0.05);
-    let r = lift_rapids(&mut computed.toolpath, &top, STOCK_CLEARANCE_MM, step);
+    let step = dexels.resolution_mm.max(0.05);
+    let r = lift_rapids(toolpath, &top, STOCK_CLEARANCE_MM, step);
     if r.lifted > 0 {
-        computed
-            .diagnostics
-            .push(crate::diagnostics::Diagnostic::info(
-                None,
-                format!(
-                    "{} rapid(s) lifted above the in-process stock (+{STOCK_CLEARANCE_MM} mm): the \
+        diagnostics.push(crate::diagnostics::Diagnostic::info(
+            None,
+            format!(
+                "{} rapid(s) lifted above the in-process stock (+{STOCK_CLEARANCE_MM} mm): the \
                  deepest ran {:.3} mm below it",
-                    r.lifted, r.worst_depth_mm
-                ),
-            ));
+                r.lifted, r.worst_depth_mm
+            ),
+        ));
     }
     r
 }
@@ -240,5 +246,22 @@ mod tests {
             pose(MoveKind::Rapid, 10.0, 0.0, 5.0),
         ]);
         assert_eq!(lift_rapids(&mut p, &top, 1.0, 0.1).lifted, 1);
+    }
+
+    /// A retract straight up out of a cut beside the wall, and the approach straight down to
+    /// the next feed height, run along the tool axis: left alone (the footprint at the cut
+    /// touches the wall, which would otherwise count).
+    #[test]
+    fn moves_along_the_axis_are_left_alone() {
+        let top = |x: f64, _y: f64| ((20.0..=22.0).contains(&x)).then_some(10.0);
+        let poses = vec![
+            pose(MoveKind::Cut, 17.0, 0.0, 2.0),
+            pose(MoveKind::Rapid, 17.0, 0.0, 15.0),
+            pose(MoveKind::Rapid, 30.0, 0.0, 15.0),
+            pose(MoveKind::Rapid, 30.0, 0.0, 1.0),
+        ];
+        let mut p = path(poses.clone());
+        assert_eq!(lift_rapids(&mut p, &top, 1.0, 0.1), RapidLift::default());
+        assert_eq!(p.poses, poses);
     }
 }
