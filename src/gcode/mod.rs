@@ -66,6 +66,7 @@ pub mod params;
 mod program;
 mod session;
 mod siemens;
+mod siemens_call;
 mod state;
 mod syntax;
 mod sysparams;

@@ -29,39 +29,9 @@ use glam::DVec2;
 
 use super::cycles::{Cursor, PECK_CLEARANCE_INCH, PECK_CLEARANCE_MM};
 use super::motion::{dwell, total_offset};
+use super::siemens_call::{Kind, SiemensCycle};
 use super::state::{Block, State};
 use super::{GcodeError, InterpretOptions, Program};
-
-/// Which Sinumerik drilling cycle.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    Drill,
-    Dwell,
-    Deep,
-    Tap,
-    Bore,
-    BoreStop,
-}
-
-/// One Sinumerik drilling cycle call with its parameters, in program units.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct SiemensCycle {
-    name: String,
-    kind: Kind,
-    rtp: f64,
-    rfp: f64,
-    sdis: f64,
-    dp: f64,
-    dtb: f64,
-    /// CYCLE83: first depth, degression, dwell at the start point, VARI.
-    fdep: Option<f64>,
-    dam: f64,
-    dts: f64,
-    chip_break: bool,
-    /// CYCLE85: feed in and out (None: the modal F).
-    ffr: Option<f64>,
-    rff: Option<f64>,
-}
 
 /// Is `name` (upper case, without arguments) a drilling cycle this module reads?
 pub(super) fn is_cycle(name: &str) -> bool {

@@ -53,7 +53,7 @@ pub(super) struct State {
     pub(super) comp: Compensation,
     pub(super) cycle: CycleState,
     /// A Sinumerik `MCALL CYCLE8x(…)`: run after every block that moves an axis.
-    pub(super) modal_call: Option<super::siemens::SiemensCycle>,
+    pub(super) modal_call: Option<super::siemens_call::SiemensCycle>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
 }
