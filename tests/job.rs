@@ -595,3 +595,50 @@ fn the_job_part_reads_as_made_and_turns_its_front_up() {
     let front = pl.to_setup(DVec3::new(20.0, -20.0, 3.0)).z;
     assert!((front - floor - 4.0).abs() < 1e-9);
 }
+
+/// An operation of the second setup (turned over, G55) posts in that setup's frame and work
+/// offset, not the first setup's: every feed end point of its program, taken back through the
+/// flipped placement, is the part-frame point it was given (program = R·(part − origin)).
+#[test]
+fn an_operation_of_the_second_setup_posts_in_its_own_frame() {
+    use talas::project::posting::post_operation;
+    let project = job();
+    let part = part();
+    let (pls, _) = talas::project::job::placements(&project, &part).expect("placements");
+    let flipped = pls[1];
+    // The setup's +Z (the spindle axis) in part coordinates: the part's −Z.
+    let axis = flipped.rotation.transpose() * DVec3::Z;
+    assert!((axis + DVec3::Z).length() < 1e-12);
+    let pose = |kind, x: f64, y: f64, z: f64| {
+        talas::toolpath::Pose::new(kind, DVec3::new(x, y, z), axis, 600.0)
+    };
+    let given = [(-10.0, -5.0, -1.0), (10.0, -5.0, -1.0), (10.0, 5.0, -1.5)];
+    let mut poses = vec![pose(MoveKind::Rapid, -10.0, -5.0, -10.0)];
+    poses.extend(given.iter().map(|&(x, y, z)| pose(MoveKind::Cut, x, y, z)));
+    let tp = Toolpath::new(
+        talas::toolpath::ToolRecord {
+            spec: "ball:d=6".into(),
+            cutter: parse_tool_spec("ball:d=6").unwrap(),
+        },
+        poses,
+    );
+    let posted = post_operation(&project, 1, &tp, 1).expect("posts");
+    assert!(posted.text.contains("G55"), "{}", posted.text);
+    let program = interpret(&posted.text, &InterpretOptions::default()).expect("reads back");
+    let ends: Vec<DVec3> = program
+        .blocks
+        .iter()
+        .filter(|b| b.kind == MotionKind::Linear)
+        .map(|b| flipped.to_part(b.end.xyz))
+        .collect();
+    assert_eq!(ends.len(), given.len(), "{}", posted.text);
+    for (e, &(x, y, z)) in ends.iter().zip(&given) {
+        assert!(
+            (*e - DVec3::new(x, y, z)).length() < 1e-4,
+            "{e} vs ({x}, {y}, {z})"
+        );
+    }
+    // The same path as an operation of the first setup (not turned over) cannot be posted on
+    // the 3-axis machine: its tool axis points up from below.
+    assert!(post_operation(&project, 0, &tp, 1).is_err());
+}

@@ -261,13 +261,13 @@ fn posting_writes_program_coordinates_under_the_work_offset() {
     let tp = compute(&project, 0, &part, &Progress::new())
         .expect("plans")
         .toolpath;
-    let at_zero = post_operation(&project, &tp, 3).expect("posts");
+    let at_zero = post_operation(&project, 0, &tp, 3).expect("posts");
     project.setups[0].frame = Frame {
         work_offset: 2,
         origin_mm: [10.0, -20.0, 5.0],
         ..Frame::default()
     };
-    let shifted = post_operation(&project, &tp, 3).expect("posts");
+    let shifted = post_operation(&project, 0, &tp, 3).expect("posts");
     assert!(!at_zero.text.contains("G55") && shifted.text.contains("G55"));
     assert!(shifted.text.contains("T3"));
     // The line that reaches each pose holds X, Y, Z of its tip less the origin.

@@ -198,17 +198,6 @@ fn compute_with(
     if let Some(boundary) = op.boundary() {
         computed = within_boundary(computed, boundary, part).map_err(plan_err)?;
     }
-    // Rapids above the in-process stock the earlier operations leave (issue 35).
-    if let Earlier::Store(store, keys) = earlier
-        && index > 0
-    {
-        let stock = store.stock_before_keyed(project, part, keys, index, progress)?;
-        super::rapids::lift_rapids_over(
-            &mut computed.toolpath,
-            &mut computed.diagnostics,
-            &stock.dexels,
-        );
-    }
     // Flag tool axes the project's machine cannot hold now, not only when posting.
     if let Ok(machine) = crate::machine::Machine::resolve(&project.machine)
         && let Some(d) = super::reach::unreachable_axes(&computed.toolpath, &machine)

@@ -69,32 +69,58 @@ pub fn post_options(project: &Project, program: &Toolpath, tool_number: u32) -> 
     }
 }
 
-/// Post `toolpath` (in part coordinates) with the project's machine and post settings, as tool
-/// `tool_number`, with the line ↔ pose map.
+/// The setup that holds operation `operation` (the first setup when none does), its index,
+/// and its machine with the project's dialect, resolved.
+///
+/// # Errors
+/// [`RunError::Machine`] or [`RunError::Dialect`] naming what cannot be found or read.
+pub fn resolve_operation(
+    project: &Project,
+    operation: usize,
+) -> Result<(super::Setup, Machine, Dialect), RunError> {
+    let setup = super::setups::setup_of(project, operation)
+        .and_then(|i| project.setups.get(i).cloned())
+        .unwrap_or_else(|| project.first_setup());
+    let name = setup.machine_name(project).to_string();
+    let machine = Machine::resolve(&name).map_err(|e| RunError::Machine {
+        name: name.clone(),
+        message: e.to_string(),
+    })?;
+    let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
+        name: project.post.dialect.clone(),
+        message: e.to_string(),
+    })?;
+    Ok((setup, machine, dialect))
+}
+
+/// Post `toolpath` (in part coordinates) of operation `operation` as tool `tool_number`, in
+/// the frame, work offset and machine of the setup that holds the operation (the first setup
+/// when none does), with the project's post settings and the line ↔ pose map.
 ///
 /// # Errors
 /// The machine or dialect that cannot be found, or the post's error.
 pub fn post_operation(
     project: &Project,
+    operation: usize,
     toolpath: &Toolpath,
     tool_number: u32,
 ) -> Result<Posted, RunError> {
-    let (machine, dialect) = resolve(project)?;
-    post_with(project, toolpath, tool_number, &machine, &dialect)
+    let (setup, machine, dialect) = resolve_operation(project, operation)?;
+    post_with(project, &setup, toolpath, tool_number, &machine, &dialect)
 }
 
 fn post_with(
     project: &Project,
+    setup: &super::Setup,
     toolpath: &Toolpath,
     tool_number: u32,
     machine: &Machine,
     dialect: &Dialect,
 ) -> Result<Posted, RunError> {
-    // The first setup's frame (the only one of a project of today's format): program = R·(part
-    // − origin). A face-picked orientation needs the part: `setups` posts those.
-    let setup = project.first_setup();
-    let placement = super::setups::Placement::of(&setup, None).map_err(|e| RunError::Post {
-        machine: project.machine.clone(),
+    // The setup's frame: program = R·(part − origin). A face-picked orientation needs the
+    // part: `job` posts those.
+    let placement = super::setups::Placement::of(setup, None).map_err(|e| RunError::Post {
+        machine: machine.name.clone(),
         dialect: project.post.dialect.clone(),
         source: crate::post::PostError::Options(format!("setup '{}': {e}", setup.name)),
     })?;
@@ -109,15 +135,19 @@ fn post_with(
         p.summary.gouge = None;
         p
     };
-    let options = post_options(project, &program, tool_number);
+    let options = PostOptions {
+        work_offset: setup.frame.work_offset_code(),
+        ..post_options(project, &program, tool_number)
+    };
     post_mapped(&program, machine, dialect, &options).map_err(|source| RunError::Post {
-        machine: project.machine.clone(),
+        machine: machine.name.clone(),
         dialect: project.post.dialect.clone(),
         source,
     })
 }
 
-/// The machining run of `toolpath` (in part coordinates) as the project posts it, as tool
+/// The machining run of `toolpath` (in part coordinates) of operation `operation` as the
+/// project posts it (in the operation's setup, [`post_operation`]), as tool
 /// `tool_number`, its motion planned with corners blended within `corner_tolerance_mm`: the
 /// program, the true cycle time, and the line ↔ pose ↔ time maps.
 ///
@@ -125,12 +155,13 @@ fn post_with(
 /// As [`post_operation`]; interpretation and planning errors are kept in the run.
 pub fn run_operation(
     project: &Project,
+    operation: usize,
     toolpath: &Toolpath,
     tool_number: u32,
     corner_tolerance_mm: f64,
 ) -> Result<MachiningRun, RunError> {
-    let (machine, dialect) = resolve(project)?;
-    let posted = post_with(project, toolpath, tool_number, &machine, &dialect)?;
+    let (setup, machine, dialect) = resolve_operation(project, operation)?;
+    let posted = post_with(project, &setup, toolpath, tool_number, &machine, &dialect)?;
     Ok(MachiningRun::from_posted(
         posted,
         toolpath.poses.len(),

@@ -463,6 +463,7 @@ pub fn operation_moves(
     };
     let run = match super::posting::run_operation(
         project,
+        index,
         &computed.toolpath,
         tool_number,
         RUN_CORNER_TOLERANCE_MM,
@@ -473,14 +474,13 @@ pub fn operation_moves(
     if let Err(e) = &run.motion {
         return fallback(e.to_string());
     }
-    let machine = match super::posting::resolve(project) {
-        Ok((m, _)) => m,
+    let (setup, machine) = match super::posting::resolve_operation(project, index) {
+        Ok((s, m, _)) => (s, m),
         Err(e) => return fallback(e.to_string()),
     };
     let mut plan = run.commanded_move_plan(&machine, step)?;
-    // The run is posted in the first setup's frame (`posting::run_operation`): program =
+    // The run is posted in the operation's setup frame (`posting::run_operation`): program =
     // R·(part − origin), so part = Rᵀ·program + origin.
-    let setup = project.first_setup();
     let placement = match super::setups::Placement::of(&setup, None) {
         Ok(p) => p,
         Err(e) => return fallback(format!("setup '{}': {e}", setup.name)),

@@ -800,7 +800,7 @@ mod tests {
             DVec3::Z,
             1000.0,
         ));
-        let posted = crate::project::posting::post_operation(&p, &tp, 1).expect("posts");
+        let posted = crate::project::posting::post_operation(&p, 0, &tp, 1).expect("posts");
         assert!(posted.text.contains("G55"), "{}", posted.text);
         assert!(
             posted.text.contains("X8.5") && posted.text.contains("Y12"),

@@ -127,7 +127,7 @@ impl PostedProgram {
             format!("{label} for {} ({})", project.machine, project.post.dialect),
         );
         let job = Job::start(label, cx.egui, move |progress| {
-            let run = run_operation(&project, &toolpath, tool_number, CORNER_TOLERANCE_MM)
+            let run = run_operation(&project, index, &toolpath, tool_number, CORNER_TOLERANCE_MM)
                 .map_err(|e| e.to_string())?;
             progress.set(0.8);
             let plots = match &run.motion {
