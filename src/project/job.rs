@@ -86,15 +86,7 @@ pub fn resolve_setup(project: &Project, index: usize) -> Result<(Machine, Dialec
         .setups
         .get(index)
         .map_or(project.machine.as_str(), |s| s.machine_name(project));
-    let machine = Machine::resolve(name).map_err(|e| RunError::Machine {
-        name: name.to_string(),
-        message: e.to_string(),
-    })?;
-    let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
-        name: project.post.dialect.clone(),
-        message: e.to_string(),
-    })?;
-    Ok((machine, dialect))
+    super::posting::resolve_named(project, name)
 }
 
 /// Post the operations of setup `index` in order into one program: `toolpaths[k]` is the tool

@@ -22,15 +22,23 @@ pub fn to_program_coordinates(toolpath: &Toolpath, origin: DVec3) -> Toolpath {
 /// # Errors
 /// [`RunError::Machine`] or [`RunError::Dialect`] naming what cannot be found or read.
 pub fn resolve(project: &Project) -> Result<(Machine, Dialect), RunError> {
-    let machine = Machine::resolve(&project.machine).map_err(|e| RunError::Machine {
-        name: project.machine.clone(),
+    resolve_named(project, &project.machine)
+}
+
+/// The machine named `machine` and the project's dialect, resolved.
+///
+/// # Errors
+/// [`RunError::Machine`] or [`RunError::Dialect`] naming what cannot be found or read.
+pub fn resolve_named(project: &Project, machine: &str) -> Result<(Machine, Dialect), RunError> {
+    let resolved = Machine::resolve(machine).map_err(|e| RunError::Machine {
+        name: machine.to_string(),
         message: e.to_string(),
     })?;
     let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
         name: project.post.dialect.clone(),
         message: e.to_string(),
     })?;
-    Ok((machine, dialect))
+    Ok((resolved, dialect))
 }
 
 /// The post options the project gives `program` (a tool path in program coordinates) as tool
@@ -81,15 +89,7 @@ pub fn resolve_operation(
     let setup = super::setups::setup_of(project, operation)
         .and_then(|i| project.setups.get(i).cloned())
         .unwrap_or_else(|| project.first_setup());
-    let name = setup.machine_name(project).to_string();
-    let machine = Machine::resolve(&name).map_err(|e| RunError::Machine {
-        name: name.clone(),
-        message: e.to_string(),
-    })?;
-    let dialect = Dialect::resolve(&project.post.dialect).map_err(|e| RunError::Dialect {
-        name: project.post.dialect.clone(),
-        message: e.to_string(),
-    })?;
+    let (machine, dialect) = resolve_named(project, setup.machine_name(project))?;
     Ok((setup, machine, dialect))
 }
 
