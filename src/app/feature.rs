@@ -64,6 +64,9 @@ pub struct FeatureView<'a> {
     /// The loaded part.
     pub document: Option<&'a Document>,
     /// The active operation (the one played back, posted, simulated), else the first.
+    /// The setup in view: the one in focus, or that of the operation in focus or active
+    /// (0 when none).
+    pub active_setup: usize,
     pub active_operation: Option<usize>,
     /// The operation a menu entry or key acts on: the one in the properties panel, else the
     /// active one, else the first.

@@ -79,6 +79,7 @@ features! {
     profile_editor::ProfileEditor,
     operator_panel::OperatorPanel,
     forces::ForcesWindow,
+    job_setups::JobSetups,
 }
 
 /// Open the workstation window on `file` (or on the embedded default part).

@@ -13,8 +13,8 @@ pub enum Focus {
     Tool(usize),
     /// The stock.
     Stock,
-    /// The setup and work offset.
-    Setup,
+    /// Setup `i` of the job (its frame, stock, workholding and operations).
+    Setup(usize),
     /// Operation `i`.
     Operation(usize),
     /// The machine.

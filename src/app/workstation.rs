@@ -915,6 +915,13 @@ impl Workstation {
             project,
             document: self.document.as_ref(),
             active_operation: active,
+            active_setup: match self.focus {
+                Focus::Setup(s) => s,
+                Focus::Operation(i) => crate::project::setups::setup_of(project, i).unwrap_or(0),
+                _ => active
+                    .and_then(|i| crate::project::setups::setup_of(project, i))
+                    .unwrap_or(0),
+            },
             target_operation: self.target_operation(),
             picked_pose: self.ops.picked_pose,
             playback_pose: self.playback_pose(),

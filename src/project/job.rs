@@ -183,3 +183,56 @@ pub fn program_stem(name: &str) -> String {
 pub fn placements(project: &Project, part: &Workpiece) -> Result<(Vec<Placement>, Aabb), String> {
     Ok((setups::placements(project, Some(part))?, part.mesh.bbox()))
 }
+
+/// One posted program of a job: the setup it is for and its text.
+#[derive(Clone, Debug)]
+pub struct SetupProgram {
+    /// The setup's index.
+    pub setup: usize,
+    /// The file name the job writes it to: `NN-SETUP.EXT` (`ext` given by the caller).
+    pub stem: String,
+    /// The program.
+    pub program: PostedProgram,
+}
+
+/// Plan every operation of each setup that has some (in its frame, [`plan_in_setup`]) and post
+/// one program per setup ([`post_setup`]), as `talas job --post` does; progress runs over the
+/// operations and is checked between them.
+///
+/// # Errors
+/// The first operation that cannot be planned or setup that cannot be posted, named; or
+/// "cancelled".
+pub fn post_job(
+    project: &Project,
+    part: &Workpiece,
+    progress: &Progress,
+) -> Result<Vec<SetupProgram>, String> {
+    let total = project.operations.len().max(1) as f64;
+    let mut done = 0usize;
+    let mut out = Vec::new();
+    for (s, setup) in project.setups.iter().enumerate() {
+        if setup.operations.is_empty() {
+            continue;
+        }
+        let mut paths = Vec::with_capacity(setup.operations.len());
+        for &op in &setup.operations {
+            progress.check().map_err(|_| "cancelled".to_string())?;
+            let c =
+                plan_in_setup(project, op, part, &Progress::new()).map_err(|e| e.to_string())?;
+            paths.push(c.toolpath);
+            done += 1;
+            progress.set(done as f64 / total);
+        }
+        let program = post_setup(project, s, &paths)
+            .map_err(|e| format!("setup {} ('{}'): {e}", s + 1, setup.name))?;
+        out.push(SetupProgram {
+            setup: s,
+            stem: format!("{:02}-{}", s + 1, program_stem(&setup.name)),
+            program,
+        });
+    }
+    if out.is_empty() {
+        return Err("the job has no operation to post".into());
+    }
+    Ok(out)
+}

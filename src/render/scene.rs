@@ -25,6 +25,32 @@ pub struct MeshData {
 }
 
 impl MeshData {
+    /// Flat-shaded data of a triangle mesh (mm): each triangle its own three vertices and its
+    /// face normal (an index out of range reads as the origin).
+    #[must_use]
+    pub fn flat(vertices: &[glam::DVec3], triangles: &[[u32; 3]]) -> Self {
+        let mut out = Self::default();
+        for t in triangles {
+            let p = t.map(|i| {
+                vertices
+                    .get(i as usize)
+                    .copied()
+                    .unwrap_or(glam::DVec3::ZERO)
+            });
+            let n = (p[1] - p[0])
+                .cross(p[2] - p[0])
+                .normalize_or_zero()
+                .as_vec3();
+            for q in p {
+                let i = u32::try_from(out.positions.len()).unwrap_or(u32::MAX);
+                out.positions.push(q.as_vec3().to_array());
+                out.normals.push(n.to_array());
+                out.indices.push(i);
+            }
+        }
+        out
+    }
+
     /// Number of triangles.
     #[must_use]
     pub fn triangle_count(&self) -> usize {

@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use glam::{DMat4, DVec3, Mat4, Vec3};
+use glam::{DMat4, Mat4, Vec3};
 
 use crate::app::feature::RenderIds;
 use crate::control::Control;
@@ -65,31 +65,12 @@ const FIXTURE_COLOUR: Rgba8 = [200, 186, 150, 255];
 
 /// Flat-shaded mesh data of a body (each triangle its own vertices and face normal).
 fn mesh_data(mesh: &crate::machine::BodyMesh) -> MeshData {
-    flat_triangles(&mesh.vertices, &mesh.triangles)
+    MeshData::flat(&mesh.vertices, &mesh.triangles)
 }
 
 /// Flat-shaded mesh data of a triangle mesh (the live stock).
 fn flat_mesh_data(mesh: &crate::geometry::mesh::TriMesh) -> MeshData {
-    flat_triangles(&mesh.positions, &mesh.triangles)
-}
-
-/// Each triangle with its own three vertices and its face normal.
-fn flat_triangles(vertices: &[DVec3], triangles: &[[u32; 3]]) -> MeshData {
-    let mut out = MeshData::default();
-    for t in triangles {
-        let p = t.map(|i| vertices.get(i as usize).copied().unwrap_or(DVec3::ZERO));
-        let n = (p[1] - p[0])
-            .cross(p[2] - p[0])
-            .normalize_or_zero()
-            .as_vec3();
-        for q in p {
-            let i = u32::try_from(out.positions.len()).unwrap_or(u32::MAX);
-            out.positions.push(q.as_vec3().to_array());
-            out.normals.push(n.to_array());
-            out.indices.push(i);
-        }
-    }
-    out
+    MeshData::flat(&mesh.positions, &mesh.triangles)
 }
 
 fn mat4(p: &Placement) -> Mat4 {

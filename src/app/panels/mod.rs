@@ -10,6 +10,7 @@ pub mod playback;
 pub mod project_dialogs;
 pub mod project_tree;
 pub mod properties;
+pub mod setup_editor;
 pub mod status_bar;
 pub mod tool_library;
 

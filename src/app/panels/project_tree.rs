@@ -6,6 +6,7 @@ use super::super::document::{Document, Selection};
 use super::super::state::Focus;
 use super::super::widgets::grouped;
 use super::operation_editor::add_operation_ui;
+use super::setup_editor::{add_setup_after, setup_summary};
 use super::tool_library::tool_list_ui;
 use crate::project::{Project, Stock};
 
@@ -54,52 +55,25 @@ pub fn project_tree_ui(
                 Focus::Stock,
                 format!("Stock · {}", stock_summary(&project.stock)),
             );
-            leaf(
-                ui,
-                Focus::Setup,
-                format!(
-                    "{} · work offset {}",
-                    project.first_setup().name,
-                    project.first_setup().frame.work_offset_code()
-                ),
-            );
             egui::CollapsingHeader::new(format!("Tools ({})", project.tools.len()))
                 .id_salt("tools")
                 .default_open(true)
                 .show(ui, |ui| tool_list_ui(ui, project, focus, commands));
-            egui::CollapsingHeader::new(format!("Operations ({})", project.operations.len()))
-                .id_salt("operations")
-                .default_open(true)
-                .show(ui, |ui| {
-                    if project.operations.is_empty() {
-                        ui.weak("None yet");
-                    }
-                    for (i, op) in project.operations.iter().enumerate() {
-                        let tool = project
-                            .tools
-                            .get(op.tool())
-                            .map_or_else(|| "no tool".to_string(), |t| t.name.clone());
-                        if ui
-                            .selectable_label(
-                                focus == Focus::Operation(i),
-                                format!("{}. {}", i + 1, op.name()),
-                            )
-                            .on_hover_text(format!(
-                                "{} · T{} {tool}",
-                                op.kind().label(),
-                                op.tool() + 1
-                            ))
-                            .clicked()
-                        {
-                            commands.push(Command::Inspect(Focus::Operation(i)));
-                        }
-                    }
-                    add_operation_ui(
-                        ui,
-                        document.is_some_and(|d| !d.part.faces.is_empty()),
-                        commands,
-                    );
-                });
+            egui::CollapsingHeader::new(format!(
+                "Job · {} setups, {} operations",
+                project.setups.len(),
+                project.operations.len()
+            ))
+            .id_salt("operations")
+            .default_open(true)
+            .show(ui, |ui| {
+                job_ui(ui, project, focus, commands);
+                add_operation_ui(
+                    ui,
+                    document.is_some_and(|d| !d.part.faces.is_empty()),
+                    commands,
+                );
+            });
             let mut leaf = |ui: &mut egui::Ui, f: Focus, text: String| {
                 if ui.selectable_label(focus == f, text).clicked() {
                     commands.push(Command::Inspect(f));
@@ -107,6 +81,64 @@ pub fn project_tree_ui(
             };
             leaf(ui, Focus::Machine, format!("Machine · {}", project.machine));
         });
+}
+
+/// The job: each setup (selectable: its editor) with its operations in machining order.
+fn job_ui(ui: &mut egui::Ui, project: &Project, focus: Focus, commands: &mut Vec<Command>) {
+    for (s, setup) in project.setups.iter().enumerate() {
+        let id = ui.make_persistent_id(("setup row", s));
+        egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, true)
+            .show_header(ui, |ui| {
+                if ui
+                    .selectable_label(
+                        focus == Focus::Setup(s),
+                        egui::RichText::new(format!("{}. {}", s + 1, setup.name)).strong(),
+                    )
+                    .on_hover_text(format!(
+                        "{} · machine {}",
+                        setup_summary(setup),
+                        setup.machine_name(project)
+                    ))
+                    .clicked()
+                {
+                    commands.push(Command::Inspect(Focus::Setup(s)));
+                }
+                ui.weak(setup.frame.work_offset_code());
+            })
+            .body(|ui| {
+                if setup.operations.is_empty() {
+                    ui.weak("No operation yet");
+                }
+                for &i in &setup.operations {
+                    let Some(op) = project.operations.get(i) else {
+                        continue;
+                    };
+                    let tool = project
+                        .tools
+                        .get(op.tool())
+                        .map_or_else(|| "no tool".to_string(), |t| t.name.clone());
+                    if ui
+                        .selectable_label(
+                            focus == Focus::Operation(i),
+                            format!("{}. {}", i + 1, op.name()),
+                        )
+                        .on_hover_text(format!("{} · T{} {tool}", op.kind().label(), op.tool() + 1))
+                        .clicked()
+                    {
+                        commands.push(Command::Inspect(Focus::Operation(i)));
+                    }
+                }
+            });
+    }
+    if ui
+        .small_button("+ Setup")
+        .on_hover_text("A new setup after the last, turned over, from what the last one leaves")
+        .clicked()
+    {
+        let last = project.setups.len().saturating_sub(1);
+        commands.push(add_setup_after(project, last));
+        commands.push(Command::Inspect(Focus::Setup(last + 1)));
+    }
 }
 
 fn part_ui(

@@ -10,7 +10,7 @@ use super::super::number_field::NumberField;
 pub use super::super::state::Focus;
 use super::super::viewport::picking::SurfacePick;
 use super::super::widgets::grouped;
-pub use super::super::widgets::{grid, length_field, mm3};
+pub use super::super::widgets::{LENGTH_RANGE_MM, SIZE_RANGE_MM, grid, length_field, mm3};
 use super::machine_panel::{MachinePanel, MachinePanelEvent, PostSettings};
 use super::operation_editor::{OperationForm, OperationView, operation_editor_ui};
 use super::tool_library::{ToolForm, tool_editor_ui};
@@ -69,7 +69,9 @@ pub fn properties_ui(
             }
             Focus::Tool(i) => tool_editor_ui(ui, view.project, i, &mut forms.tool, commands),
             Focus::Stock => stock_ui(ui, view, commands),
-            Focus::Setup => setup_ui(ui, view, commands),
+            Focus::Setup(i) => {
+                super::setup_editor::setup_editor_ui(ui, view.project, view.document, i, commands)
+            }
             Focus::Operation(i) => match &view.operation {
                 Some(op) if op.index == i => {
                     operation_editor_ui(ui, op, &mut forms.operation, commands);
@@ -221,72 +223,6 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
     }
 }
 
-fn setup_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Command>) {
-    let project = view.project;
-    let first = project.first_setup();
-    let setup = first.frame;
-    ui.heading(first.name.as_str());
-    let mut next = setup;
-    egui::Grid::new("setup fields")
-        .num_columns(2)
-        .spacing([10.0, 6.0])
-        .show(ui, |ui| {
-            ui.label("Work offset");
-            egui::ComboBox::from_id_salt("work offset")
-                .selected_text(setup.work_offset_code())
-                .show_ui(ui, |ui| {
-                    for k in 1..=6u8 {
-                        ui.selectable_value(&mut next.work_offset, k, format!("G{}", 53 + k));
-                    }
-                });
-            ui.end_row();
-            for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
-                ui.label(format!("Origin {name}"))
-                    .on_hover_text("Where the program's zero sits in part coordinates");
-                length_field(
-                    ui,
-                    ("Origin", axis),
-                    &mut next.origin_mm[axis],
-                    LENGTH_RANGE_MM,
-                    80.0,
-                );
-                ui.end_row();
-            }
-            ui.label("Tool axis");
-            ui.label("+Z (3-axis) or per pose (5-axis)");
-            ui.end_row();
-            ui.label("Machine");
-            ui.label(project.machine.as_str());
-            ui.end_row();
-        });
-    let bounds = view.document.map(|d| d.bounds).filter(|b| !b.is_empty());
-    if let Some(b) = bounds {
-        ui.horizontal_wrapped(|ui| {
-            ui.weak("Origin at:");
-            let c = 0.5 * (b.min + b.max);
-            if ui.small_button("part origin").clicked() {
-                next.origin_mm = [0.0; 3];
-            }
-            if ui.small_button("top centre").clicked() {
-                next.origin_mm = [c.x, c.y, b.max.z];
-            }
-            if ui.small_button("top front-left corner").clicked() {
-                next.origin_mm = [b.min.x, b.min.y, b.max.z];
-            }
-            if ui.small_button("bottom front-left corner").clicked() {
-                next.origin_mm = [b.min.x, b.min.y, b.min.z];
-            }
-        });
-    }
-    if next != setup {
-        commands.push(Command::Edit(Edit::SetFrame {
-            setup: 0,
-            frame: next,
-        }));
-    }
-    ui.weak("Posted programs are written relative to this origin (program = part − origin), under the chosen work offset.");
-}
-
 fn machine_ui(
     ui: &mut egui::Ui,
     project: &Project,
@@ -374,11 +310,6 @@ fn machine_ui(
         }
     });
 }
-
-/// Coordinates accepted for the stock and the work offset, mm (±100 m).
-pub const LENGTH_RANGE_MM: std::ops::RangeInclusive<f64> = -1e5..=1e5;
-/// Sizes accepted for the stock, mm (1 µm to 100 m).
-pub const SIZE_RANGE_MM: std::ops::RangeInclusive<f64> = 1e-3..=1e5;
 
 fn part_ui(ui: &mut egui::Ui, doc: &Document) {
     let part = &doc.part;

@@ -162,9 +162,28 @@ impl Workstation {
                     Some(Selection::Face(f)) => f,
                     _ => 0,
                 };
-                let index = self.saved.session.project.operations.len();
+                let project = &self.saved.session.project;
+                let index = project.operations.len();
                 let operation = Operation::new(kind, tool, face);
-                self.apply(Command::Edit(Edit::AddOperation { index, operation }));
+                // Into the setup in focus (or the focused operation's), else the last one.
+                let last = project.setups.len().saturating_sub(1);
+                let setup = match self.focus {
+                    Focus::Setup(s) => s.min(last),
+                    Focus::Operation(i) => {
+                        crate::project::setups::setup_of(project, i).unwrap_or(last)
+                    }
+                    _ => last,
+                };
+                let mut edits = vec![Edit::AddOperation { index, operation }];
+                if project.setups.len() > 1 {
+                    let position = project.setups.get(setup).map_or(0, |s| s.operations.len());
+                    edits.push(Edit::MoveOperation {
+                        operation: index,
+                        setup,
+                        position,
+                    });
+                }
+                self.apply(Command::Edit(Edit::Batch(edits)));
                 if self.saved.session.project.operations.len() > index {
                     self.apply(Command::Inspect(Focus::Operation(index)));
                 }
