@@ -7,9 +7,12 @@ use std::path::{Path, PathBuf};
 pub struct PartRef {
     /// Path of the part file (as the user opened it).
     pub path: PathBuf,
-    /// FNV-1a 64-bit hash of the file's bytes, 16 hex digits ([`content_hash`]).
+    /// FNV-1a 64-bit hash of the file's bytes, 16 hex digits ([`content_hash`]); empty when a
+    /// project written by hand or by another program leaves it out (nothing to compare then).
+    #[serde(default)]
     pub content_hash: String,
-    /// File size in bytes.
+    /// File size in bytes (0 when left out).
+    #[serde(default)]
     pub size_bytes: u64,
 }
 
@@ -60,9 +63,34 @@ impl PartRef {
     #[must_use]
     pub fn status(&self) -> PartStatus {
         match crate::storage::read_bounded(&self.path, crate::storage::PART_LIMIT_BYTES) {
-            Ok(bytes) if content_hash(&bytes) == self.content_hash => PartStatus::Unchanged,
+            Ok(bytes)
+                if self.content_hash.is_empty() || content_hash(&bytes) == self.content_hash =>
+            {
+                PartStatus::Unchanged
+            }
             Ok(_) => PartStatus::Changed,
             Err(e) => PartStatus::Missing(format!("{}: {e}", self.path.display())),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_part_written_without_hash_or_size_reads_and_is_not_called_changed() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plate-hole.stp");
+        let text = format!("path = {:?}\n", file.display().to_string());
+        let r: PartRef = toml::from_str(&text).expect("hash and size are optional");
+        assert!(r.content_hash.is_empty());
+        assert_eq!(r.size_bytes, 0);
+        assert_eq!(r.status(), PartStatus::Unchanged);
+        // A hash that is given is still checked.
+        let wrong = PartRef {
+            content_hash: "0000000000000000".into(),
+            ..r
+        };
+        assert_eq!(wrong.status(), PartStatus::Changed);
     }
 }

@@ -680,14 +680,14 @@ fn operations_ui(ui: &mut egui::Ui, project: &Project, index: usize, commands: &
                 })
             };
             if ui
-                .add_enabled(position > 0, egui::Button::new("↑").small())
+                .add_enabled(position > 0, egui::Button::new("up").small())
                 .on_hover_text("Machine it earlier")
                 .clicked()
             {
                 commands.push(mv(index, position - 1));
             }
             if ui
-                .add_enabled(position + 1 < n, egui::Button::new("↓").small())
+                .add_enabled(position + 1 < n, egui::Button::new("down").small())
                 .on_hover_text("Machine it later")
                 .clicked()
             {
