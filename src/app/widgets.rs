@@ -72,6 +72,11 @@ pub fn duration_text(s: f64) -> String {
     }
 }
 
+/// Coordinates accepted for the stock and the work offset, mm (±100 m).
+pub const LENGTH_RANGE_MM: std::ops::RangeInclusive<f64> = -1e5..=1e5;
+/// Sizes accepted for the stock, mm (1 µm to 100 m).
+pub const SIZE_RANGE_MM: std::ops::RangeInclusive<f64> = 1e-3..=1e5;
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -81,8 +86,3 @@ mod tests {
         assert_eq!(super::grouped(1_000_000), "1\u{2009}000\u{2009}000");
     }
 }
-
-/// Coordinates accepted for the stock and the work offset, mm (±100 m).
-pub const LENGTH_RANGE_MM: std::ops::RangeInclusive<f64> = -1e5..=1e5;
-/// Sizes accepted for the stock, mm (1 µm to 100 m).
-pub const SIZE_RANGE_MM: std::ops::RangeInclusive<f64> = 1e-3..=1e5;
