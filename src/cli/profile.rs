@@ -190,6 +190,7 @@ pub fn document(r: &ProfileResult) -> serde_json::Value {
         "plunges": flags(FlagKind::Plunge),
         "collisions": flags(FlagKind::Collision),
         "max_gouge_free_radius": r.max_gouge_free_radius_mm,
+        "max_radius_within_tolerance": r.max_radius_within_tolerance_mm,
         "min_concave_radius_sampled": r.min_concave_radius_sampled_mm,
         "max_distance_error_mm": r.max_distance_error_mm,
     })
@@ -205,13 +206,14 @@ pub fn human(doc: &serde_json::Value) -> String {
             .map_or("none".to_string(), |v| format!("{v:.6} mm"))
     };
     format!(
-        "centre path: {} vertices in {} piece(s), side {}\nplunges of the per-point path: {}\nside collisions of the per-point path: {}\nlargest gouge-free radius: {}\nsmallest sampled concave radius: {}\nlargest |distance - R| of the path: {:.3e} mm\n",
+        "centre path: {} vertices in {} piece(s), side {}\nplunges of the per-point path: {}\nside collisions of the per-point path: {}\nlargest gouge-free radius: {}\nlargest radius within the gouge tolerance: {}\nsmallest sampled concave radius: {}\nlargest |distance - R| of the path: {:.3e} mm\n",
         n("cl"),
         n("pieces"),
         doc["side"].as_str().unwrap_or("?"),
         n("plunges"),
         n("collisions"),
         radius("max_gouge_free_radius"),
+        radius("max_radius_within_tolerance"),
         radius("min_concave_radius_sampled"),
         doc["max_distance_error_mm"].as_f64().unwrap_or(f64::NAN),
     )

@@ -95,6 +95,10 @@ pub struct ProfileResult {
     pub flags: Vec<Flag>,
     /// Largest radius that touches every profile point from the free side, mm.
     pub max_gouge_free_radius_mm: f64,
+    /// Largest radius whose ball touching every profile point from the free side gouges it by
+    /// at most the gouge tolerance, mm (the radius to suggest for a profile digitised as dense
+    /// points, where the exact reach is 0 at every concave kink).
+    pub max_radius_within_tolerance_mm: f64,
     /// Smallest radius of the circles through concave points and their neighbours (the
     /// seed's reading of a point profile as a sampled curve), mm; `None` without concave
     /// points.
@@ -158,6 +162,11 @@ pub fn compute_opt(
         naive,
         flags,
         max_gouge_free_radius_mm: max_gouge_free_radius(profile, left),
+        max_radius_within_tolerance_mm: super::reach_tolerance::max_radius_within_tolerance(
+            profile,
+            left,
+            opts.gouge_tolerance_mm,
+        ),
         min_concave_radius_sampled_mm: min_concave_radius_sampled(profile, left),
         max_distance_error_mm,
     })

@@ -24,12 +24,14 @@
 mod analysis;
 mod gcode;
 mod reach;
+mod reach_tolerance;
 
 pub use analysis::{
     Flag, FlagKind, NaivePoint, ProfileOptions, ProfileResult, compute, compute_opt,
 };
 pub use gcode::{GcodeOptions, ProfilePlane, to_toolpath, write_gcode};
 pub use reach::max_gouge_free_radius;
+pub use reach_tolerance::max_radius_within_tolerance;
 
 // The 2D geometry lives in the geometry kernel (`geometry::planar`); re-exported here so that
 // the EDM callers keep their paths.

@@ -256,6 +256,17 @@ fn summary_ui(ui: &mut egui::Ui, r: &ProfileResult, elapsed_s: f64, current: boo
              side: the smallest concave radius (0 at a sharp concave corner) or half the \
              narrowest gap",
         );
+    if r.max_radius_within_tolerance_mm > gf {
+        ui.label(format!(
+            "Largest radius within the gouge tolerance: {}",
+            mm(r.max_radius_within_tolerance_mm)
+        ))
+        .on_hover_text(
+            "The largest electrode whose gouge stays within the gouge tolerance at every \
+             point: for a profile digitised as dense points, whose every concave kink is \
+             sharp, the radius to choose",
+        );
+    }
     if let Some(s) = r.min_concave_radius_sampled_mm {
         ui.label(format!(
             "Smallest concave radius through 3 points: {}",
