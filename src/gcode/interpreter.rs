@@ -62,14 +62,26 @@ pub(super) fn blocks_of_line(
     raw: &str,
     line: usize,
     separator: Option<char>,
+    syntax: Syntax,
 ) -> Result<Vec<ParsedLine>, GcodeError> {
+    // Heidenhain's `Q200=2` cycle parameters are taken out as keywords before the lexer.
+    let parse = |piece: &str| {
+        if syntax != Syntax::HeidenhainIso {
+            return parse_line(piece, line, false);
+        }
+        let (rest, q) = super::heidenhain::take_q_assignments(piece);
+        let mut parsed = parse_line(&rest, line, false)?;
+        parsed.keywords.extend(q);
+        parsed.keywords.sort_by_key(|k| k.1);
+        Ok(parsed)
+    };
     let Some(separator) = separator else {
-        return Ok(vec![parse_line(raw, line, false)?]);
+        return Ok(vec![parse(raw)?]);
     };
     let mut out = Vec::new();
     let mut offset = 0usize;
     for piece in raw.split(separator) {
-        let mut parsed = parse_line(piece, line, false).map_err(|mut e| {
+        let mut parsed = parse(piece).map_err(|mut e: GcodeError| {
             e.column += offset;
             e
         })?;
@@ -230,6 +242,7 @@ fn keywords(
                     format!("{k} ignored (it does not change the tool's path here)"),
                 ));
             }
+            (Syntax::HeidenhainIso, k) if super::heidenhain::is_q_assignment(k) => {}
             (Syntax::Siemens, k) if SIEMENS_GEOMETRY.contains(&k) => {
                 return Err(b.err(
                     *col,
@@ -281,7 +294,9 @@ fn settings(
     }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     // Sinumerik's `G4 F2` dwells 2 s and leaves the feed alone.
-    let siemens_dwell = opts.syntax == Syntax::Siemens && matches!(g.non_modal, Some((40, _)));
+    // Heidenhain's `G04 F2` too.
+    let siemens_dwell = matches!(opts.syntax, Syntax::Siemens | Syntax::HeidenhainIso)
+        && matches!(g.non_modal, Some((40, _)));
     if let Some((f, col)) = b.get('F').filter(|_| !siemens_dwell) {
         if !(f >= 0.0) {
             return Err(b.err(col, "F must not be negative"));
@@ -347,6 +362,8 @@ fn m_codes(
                      (o100 call)",
                 ));
             }
+            // Heidenhain's cycle calls: read by `heidenhain`.
+            890 | 990 if opts.syntax == Syntax::HeidenhainIso => {}
             990 => out.diagnostics.push(Diagnostic::warning(
                 format!("line {}, column {col}", b.line),
                 "M99 (subprogram return, or repeat the main program) ignored: the program runs \
@@ -497,6 +514,11 @@ pub(super) fn execute(
 ) -> Result<bool, GcodeError> {
     let g = classify(b, opts.syntax)?;
     let call = keywords(b, s, opts, out)?;
+    let heidenhain_call = if opts.syntax == Syntax::HeidenhainIso {
+        super::heidenhain::block(b, s)?
+    } else {
+        None
+    };
     if b.get('H').is_some() && !matches!(g.length, Some((430 | 434, _))) {
         return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
     }
@@ -508,6 +530,9 @@ pub(super) fn execute(
         g4(b, &g, s, out, opts.syntax)?;
     } else {
         non_modal_and_motion(b, &g, s, opts, out, scale)?;
+    }
+    if let Some(col) = heidenhain_call {
+        super::heidenhain::run(b, col, s, opts, out)?;
     }
     if let Some((c, col)) = call {
         siemens::run(b, col, s, opts, out, &c)?;
@@ -534,7 +559,7 @@ fn g4(
         ));
     }
     let word = match syntax {
-        Syntax::Siemens => b.get('F').or_else(|| b.get('P')),
+        Syntax::Siemens | Syntax::HeidenhainIso => b.get('F').or_else(|| b.get('P')),
         _ => b.get('P'),
     };
     let Some((seconds, col)) = word else {

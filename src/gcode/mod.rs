@@ -56,6 +56,8 @@ mod block;
 pub mod compensation;
 pub mod cycles;
 pub mod expr;
+mod heidenhain;
+mod heidenhain_call;
 mod interpreter;
 mod lexer;
 mod modal;

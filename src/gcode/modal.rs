@@ -143,6 +143,9 @@ pub(super) fn classify(b: &Block, syntax: Syntax) -> Result<GCodes, GcodeError> 
                 }
                 g.non_modal = Some((code, col));
             }
+            // Heidenhain cycle definitions and the cycle call: read by `heidenhain`.
+            c if syntax == Syntax::HeidenhainIso
+                && (c == 790 || super::heidenhain::is_definition(c)) => {}
             // Path control modes: accepted, no effect on the path.
             610 | 611 | 640 => {}
             _ => return Err(b.err(col, refusal(code))),
