@@ -69,9 +69,11 @@ pub(super) fn blocks_of_line(
         if syntax != Syntax::HeidenhainIso {
             return parse_line(piece, line, false);
         }
-        let (rest, q) = super::heidenhain::take_q_assignments(piece);
+        let (rest, plane) = super::workplane::take_plane(piece);
+        let (rest, q) = super::heidenhain::take_q_assignments(&rest);
         let mut parsed = parse_line(&rest, line, false)?;
         parsed.keywords.extend(q);
+        parsed.keywords.extend(plane);
         parsed.keywords.sort_by_key(|k| k.1);
         Ok(parsed)
     };
@@ -206,9 +208,9 @@ const SIEMENS_NO_GEOMETRY: &[&str] = &[
 /// Sinumerik keywords that move, turn, mirror or scale the coordinate system, or run a cycle that
 /// moves the tool: refused, since ignoring them would change where the tool goes.
 const SIEMENS_GEOMETRY: &[&str] = &[
-    "CYCLE800", "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE",
-    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2",
-    "CYCLE801", "CYCLE802", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
+    "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE", "TRAORI2",
+    "TRANSMIT", "TRACYL", "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2", "CYCLE801",
+    "CYCLE802", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
 ];
 
 /// The block's keywords; returns a Sinumerik drilling cycle called on this block (not `MCALL`)
@@ -243,6 +245,14 @@ fn keywords(
                 ));
             }
             (Syntax::HeidenhainIso, k) if super::heidenhain::is_q_assignment(k) => {}
+            (Syntax::HeidenhainIso, k) if k.starts_with("PLANE") => {
+                no_axis(b, *col, "PLANE")?;
+                super::workplane::plane(b, *col, s, opts, out, k)?;
+            }
+            (Syntax::Siemens, "CYCLE800") => {
+                no_axis(b, *col, "CYCLE800")?;
+                super::workplane::cycle800(b, *col, s, opts, out, args)?;
+            }
             (Syntax::Siemens, k) if SIEMENS_GEOMETRY.contains(&k) => {
                 return Err(b.err(
                     *col,
@@ -274,6 +284,48 @@ fn keywords(
         }
     }
     Ok(call)
+}
+
+/// A block that sets a work plane has no axis words.
+fn no_axis(b: &Block, col: usize, what: &str) -> Result<(), GcodeError> {
+    if b.has_axis() {
+        return Err(b.err(col, format!("{what} stands in a block without axis words")));
+    }
+    Ok(())
+}
+
+/// Fanuc `G68.2 X Y Z I J K` (set the plane), `G53.1` (turn the tool onto it), `G69`
+/// (cancel); true when the block was one of the first two (no motion of its own follows).
+fn fanuc_plane(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    scale: f64,
+) -> Result<bool, GcodeError> {
+    use super::workplane::{Turn, euler_zxz, orient, reset, set};
+    let mut handled = false;
+    for &(g, col) in &b.g {
+        match g {
+            690 => reset(s),
+            682 => {
+                let w = |l: char| b.get(l).map_or(0.0, |v| v.0);
+                let origin = glam::DVec3::new(w('X'), w('Y'), w('Z')) * scale;
+                let r = euler_zxz(w('I'), w('J'), w('K'));
+                set(b, col, s, opts, out, r, origin, Turn::Stay, "G68.2")?;
+                handled = true;
+            }
+            531 => {
+                if b.has_axis() {
+                    return Err(b.err(col, "G53.1 stands in a block without axis words"));
+                }
+                orient(b, col, s, opts, out, Turn::Nearest, "G53.1")?;
+                handled = true;
+            }
+            _ => {}
+        }
+    }
+    Ok(handled)
 }
 
 /// Units, feed mode, F, S and T, in LinuxCNC's order (before M and the other G codes).
@@ -524,8 +576,21 @@ pub(super) fn execute(
     }
     settings(b, &g, s, opts)?;
     let (ends, stops) = m_codes(b, s, opts, out)?;
+    if s.work_plane.is_some() {
+        let moving = |m: Motion| matches!(m, Motion::Cw | Motion::Ccw | Motion::Cycle(_));
+        let col = match g.motion {
+            Some((MotionCode::Move(m), c)) if moving(m) => Some(c),
+            None if b.has_axis() && s.motion.is_some_and(moving) => Some(b.first_column()),
+            _ => heidenhain_call.or(call.as_ref().map(|c| c.1)),
+        };
+        let col = col.or(g.comp.filter(|c| c.0 != 400).map(|c| c.1));
+        super::workplane::check_block(b, s, col)?;
+    }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     modal_g(b, &g, s, opts, out, scale)?;
+    if opts.syntax == Syntax::Rs274 && fanuc_plane(b, s, opts, out, scale)? {
+        return Ok(ends);
+    }
     if let Some((40, _)) = g.non_modal {
         g4(b, &g, s, out, opts.syntax)?;
     } else {

@@ -73,6 +73,7 @@ mod state;
 mod syntax;
 mod sysparams;
 pub mod tooltable;
+mod workplane;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
@@ -127,6 +128,9 @@ pub struct InterpretOptions {
     /// Read a canned cycle's P (G82, G84, G86, G89 dwell) in milliseconds, as Fanuc does
     /// (`P500` is 0.5 s), instead of seconds (LinuxCNC, the default).
     pub cycle_dwell_ms: bool,
+    /// The machine whose kinematics turn a tilted work plane (`G68.2`, `CYCLE800`,
+    /// `PLANE SPATIAL`) into joints; without one those are refused.
+    pub machine: Option<crate::machine::Machine>,
 }
 
 impl Default for InterpretOptions {
@@ -142,6 +146,7 @@ impl Default for InterpretOptions {
             syntax: Syntax::Rs274,
             cycle_dwell_ms: false,
             tool_table: None,
+            machine: None,
         }
     }
 }

@@ -58,6 +58,8 @@ pub(super) struct State {
     pub(super) heidenhain_cycle: Option<super::heidenhain_call::HeidenhainCycle>,
     /// Heidenhain `M89`: the defined cycle runs after every block that moves an axis.
     pub(super) heidenhain_modal: bool,
+    /// The active tilted work plane (`G68.2`, `CYCLE800`, `PLANE SPATIAL`).
+    pub(super) work_plane: Option<super::workplane::WorkPlane>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
 }
@@ -130,6 +132,7 @@ impl State {
             modal_call: None,
             heidenhain_cycle: None,
             heidenhain_modal: false,
+            work_plane: None,
             line: 0,
         }
     }

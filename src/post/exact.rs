@@ -114,7 +114,7 @@ fn arc(
     let (Some(first), Some(last)) = (tp.poses.get(seg.from), tp.poses.get(seg.to)) else {
         return Ok(false);
     };
-    if options.tcp || !dialect.arcs || (a.helix_mm != 0.0 && !dialect.helix) {
+    if options.tcp || w.tilted() || !dialect.arcs || (a.helix_mm != 0.0 && !dialect.helix) {
         return Ok(false);
     }
     let Some((j_end, r, t)) =
@@ -218,7 +218,8 @@ fn cycle(
     let Some(last) = tp.poses.get(seg.to) else {
         return Ok(false);
     };
-    if options.tcp || dialect.cycles == CycleStyle::Expand {
+    // Under a tilted work plane arcs and cycles are written as moves (not read back there).
+    if options.tcp || w.tilted() || dialect.cycles == CycleStyle::Expand {
         return Ok(false);
     }
     let Some((j_end, r, t)) =
