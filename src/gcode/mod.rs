@@ -74,6 +74,7 @@ mod syntax;
 mod sysparams;
 pub mod tooltable;
 mod workplane;
+mod workplane_frame;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};

@@ -59,7 +59,7 @@ pub(super) struct State {
     /// Heidenhain `M89`: the defined cycle runs after every block that moves an axis.
     pub(super) heidenhain_modal: bool,
     /// The active tilted work plane (`G68.2`, `CYCLE800`, `PLANE SPATIAL`).
-    pub(super) work_plane: Option<super::workplane::WorkPlane>,
+    pub(super) work_plane: Option<super::workplane_frame::WorkPlane>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
 }

@@ -23,22 +23,11 @@
 
 use glam::{DMat3, DVec3};
 
-use super::block::Joints;
 use super::motion::emit_line;
 use super::state::{Block, Motion, State};
+use super::workplane_frame::{WorkPlane, rotary_of, with_rotary};
 use super::{GcodeError, InterpretOptions, Program};
-use crate::machine::{Machine, MachineJoints, ToolPose};
-
-/// An active tilted work plane.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct WorkPlane {
-    /// Columns: the plane's X, Y, Z in work coordinates.
-    pub(super) r: DMat3,
-    /// The plane's origin in work coordinates, mm.
-    pub(super) origin: DVec3,
-    /// The kinematics that map work coordinates to joints.
-    pub(super) machine: Machine,
-}
+use crate::machine::{MachineJoints, ToolPose};
 
 /// How the rotary axes are turned when the plane is set.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,56 +57,6 @@ pub(super) fn fixed_xyz(a: f64, b: f64, c: f64) -> DMat3 {
 /// `Rx(a)·Ry(b)·Rz(c)`, degrees (CYCLE800 mode 27).
 pub(super) fn turned_xyz(a: f64, b: f64, c: f64) -> DMat3 {
     DMat3::from_rotation_x(deg(a)) * DMat3::from_rotation_y(deg(b)) * DMat3::from_rotation_z(deg(c))
-}
-
-/// The machine joints of the rotary axes of `pos` (0 where never set).
-fn rotary_of(machine: &Machine, pos: &Joints) -> MachineJoints {
-    let (t, c) = machine.rotary_names().unwrap_or(('A', 'C'));
-    let get = |l: char| match l {
-        'A' => pos.a,
-        'B' => pos.b,
-        _ => pos.c,
-    };
-    MachineJoints {
-        xyz: pos.xyz,
-        tilt_rad: get(t).unwrap_or(0.0),
-        rotary_rad: get(c).unwrap_or(0.0),
-    }
-}
-
-/// `pos` with the rotary axes set to `j`'s.
-fn with_rotary(machine: &Machine, pos: Joints, j: &MachineJoints) -> Joints {
-    let (t, c) = machine.rotary_names().unwrap_or(('A', 'C'));
-    let mut p = pos;
-    for (l, v) in [(t, j.tilt_rad), (c, j.rotary_rad)] {
-        match l {
-            'A' => p.a = Some(v),
-            'B' => p.b = Some(v),
-            _ => p.c = Some(v),
-        }
-    }
-    p
-}
-
-impl WorkPlane {
-    /// Machine joints of plane point `p` (mm) at the rotary angles of `pos`, with `offset` added.
-    pub(super) fn joints(&self, p: DVec3, pos: &Joints, offset: DVec3) -> Joints {
-        let j = rotary_of(&self.machine, pos);
-        let (m, t) = self.machine.machine_from_table(&j);
-        let work = self.origin + self.r * p;
-        Joints {
-            xyz: m * work + t + offset,
-            ..*pos
-        }
-    }
-
-    /// The plane point (mm) of machine position `pos` less `offset`.
-    pub(super) fn point(&self, pos: &Joints, offset: DVec3) -> DVec3 {
-        let j = rotary_of(&self.machine, pos);
-        let (m, t) = self.machine.machine_from_table(&j);
-        let work = m.transpose() * (pos.xyz - offset - t);
-        self.r.transpose() * (work - self.origin)
-    }
 }
 
 /// Set a tilted plane (and turn the axes onto it as `turn` says).
