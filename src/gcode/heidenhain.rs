@@ -279,7 +279,7 @@ pub(super) fn block(b: &Block, s: &mut State) -> Result<Option<usize>, GcodeErro
             _ => {}
         }
     }
-    if call.is_none() && s.heidenhain_modal && b.has_axis() && !b.m.iter().any(|m| m.0 == 890) {
+    if call.is_none() && s.heidenhain_modal && b.has_axis() {
         call = Some(b.first_column());
     }
     if let Some(col) = call
@@ -470,7 +470,7 @@ pub(super) fn run(
             s.spindle_dir = turning;
             up?;
         }
-        _ => tap(&hole, s, out, &c, (r, bottom, clear))?,
+        _ => tap(&hole, s, out, &c, (top, r, bottom, clear))?,
     }
     Ok(())
 }
@@ -481,7 +481,7 @@ fn tap(
     s: &mut State,
     out: &mut Program,
     c: &HeidenhainCycle,
-    (r, bottom, clear): (f64, f64, f64),
+    (top, r, bottom, clear): (f64, f64, f64, f64),
 ) -> Result<(), GcodeError> {
     let q = |n: u32| c.get(n).unwrap_or(0.0);
     let pitch = q(239);
@@ -492,10 +492,11 @@ fn tap(
     let step = if c.number == 209 { q(257) } else { 0.0 };
     let back = q(256);
     let result = (|| {
-        let mut depth = r;
+        // Cuts of Q257 counted from the surface, as the drilling cycles count Q202.
+        let mut depth = r.min(top);
         loop {
             let next = if step > 0.0 {
-                (depth.min(r) - step).max(bottom)
+                (depth - step).max(bottom)
             } else {
                 bottom
             };

@@ -260,15 +260,16 @@ pub(super) fn cycle800(
         ));
     }
     let (a, bb, c) = (at(7), at(8), at(9));
-    let r = match at(3) {
-        m if m == 27.0 => turned_xyz(a, bb, c),
-        m if m == 57.0 => fixed_xyz(a, bb, c),
-        m => {
-            return Err(b.err(
-                col,
-                format!("CYCLE800: _MODE {m} is not read (27: axis by axis XYZ, 57: ZYX)"),
-            ));
-        }
+    let mode = at(3);
+    let r = if mode == 27.0 {
+        turned_xyz(a, bb, c)
+    } else if mode == 57.0 {
+        fixed_xyz(a, bb, c)
+    } else {
+        return Err(b.err(
+            col,
+            format!("CYCLE800: _MODE {mode} is not read (27: axis by axis XYZ, 57: ZYX)"),
+        ));
     };
     let dir = at(13);
     let turn = if dir == 0.0 {
