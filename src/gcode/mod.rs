@@ -34,10 +34,10 @@
 //!   `while`, `do`/`while`, `repeat`, `break`/`continue`, bounded so that a loop that never
 //!   ends is an error ([`oword`]);
 //! - Heidenhain ISO drilling cycles `G200 G201 G202 G203 G205 G207 G209` with their `Q`
-//!   parameters, called by `G79`, `M99` and modal `M89` ([`heidenhain`]), and `G04 F` dwells;
+//!   parameters, called by `G79`, `M99` and modal `M89` (`heidenhain`), and `G04 F` dwells;
 //! - tilted work planes with the machine's kinematics ([`InterpretOptions::machine`]): Fanuc
 //!   `G68.2`/`G53.1`/`G69`, Sinumerik `CYCLE800`/`CYCLE800()`, Heidenhain `PLANE SPATIAL`/
-//!   `PLANE RESET` ([`workplane`]);
+//!   `PLANE RESET` (`workplane`);
 //! - `N` numbers, `O` program numbers, `%` lines (a closing `%` ends the program), `/` block
 //!   delete, comments `( )` and `;` (or `;` as the ISO end of block with
 //!   [`InterpretOptions::semicolon_ends_block`]).
