@@ -42,6 +42,7 @@ const SAME_LAYER: &[(&str, &str)] = &[
     ("strategies", "checks"),
     ("force", "simulation"),
     ("profile", "post"),
+    ("gcode", "machine"),
 ];
 
 const GUI_CRATES: &[&str] = &[

@@ -62,14 +62,28 @@ pub(super) fn blocks_of_line(
     raw: &str,
     line: usize,
     separator: Option<char>,
+    syntax: Syntax,
 ) -> Result<Vec<ParsedLine>, GcodeError> {
+    // Heidenhain's `Q200=2` cycle parameters are taken out as keywords before the lexer.
+    let parse = |piece: &str| {
+        if syntax != Syntax::HeidenhainIso {
+            return parse_line(piece, line, false);
+        }
+        let (rest, plane) = super::workplane::take_plane(piece);
+        let (rest, q) = super::heidenhain::take_q_assignments(&rest);
+        let mut parsed = parse_line(&rest, line, false)?;
+        parsed.keywords.extend(q);
+        parsed.keywords.extend(plane);
+        parsed.keywords.sort_by_key(|k| k.1);
+        Ok(parsed)
+    };
     let Some(separator) = separator else {
-        return Ok(vec![parse_line(raw, line, false)?]);
+        return Ok(vec![parse(raw)?]);
     };
     let mut out = Vec::new();
     let mut offset = 0usize;
     for piece in raw.split(separator) {
-        let mut parsed = parse_line(piece, line, false).map_err(|mut e| {
+        let mut parsed = parse(piece).map_err(|mut e: GcodeError| {
             e.column += offset;
             e
         })?;
@@ -194,9 +208,9 @@ const SIEMENS_NO_GEOMETRY: &[&str] = &[
 /// Sinumerik keywords that move, turn, mirror or scale the coordinate system, or run a cycle that
 /// moves the tool: refused, since ignoring them would change where the tool goes.
 const SIEMENS_GEOMETRY: &[&str] = &[
-    "CYCLE800", "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE",
-    "TRAORI2", "TRANSMIT", "TRACYL", "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2",
-    "CYCLE801", "CYCLE802", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
+    "SUPA", "TRANS", "ATRANS", "ROT", "AROT", "MIRROR", "AMIRROR", "SCALE", "ASCALE", "TRAORI2",
+    "TRANSMIT", "TRACYL", "CYCLE87", "CYCLE88", "CYCLE89", "HOLES1", "HOLES2", "CYCLE801",
+    "CYCLE802", "CYCLE61", "CYCLE71", "POCKET3", "POCKET4", "SLOT1", "SLOT2",
 ];
 
 /// The block's keywords; returns a Sinumerik drilling cycle called on this block (not `MCALL`)
@@ -229,6 +243,15 @@ fn keywords(
                     format!("line {}, column {col}", b.line),
                     format!("{k} ignored (it does not change the tool's path here)"),
                 ));
+            }
+            (Syntax::HeidenhainIso, k) if super::heidenhain::is_q_assignment(k) => {}
+            (Syntax::HeidenhainIso, k) if k.starts_with("PLANE") => {
+                no_axis(b, *col, "PLANE")?;
+                super::workplane::plane(b, *col, s, opts, out, k)?;
+            }
+            (Syntax::Siemens, "CYCLE800") => {
+                no_axis(b, *col, "CYCLE800")?;
+                super::workplane::cycle800(b, *col, s, opts, out, args)?;
             }
             (Syntax::Siemens, k) if SIEMENS_GEOMETRY.contains(&k) => {
                 return Err(b.err(
@@ -263,6 +286,48 @@ fn keywords(
     Ok(call)
 }
 
+/// A block that sets a work plane has no axis words.
+fn no_axis(b: &Block, col: usize, what: &str) -> Result<(), GcodeError> {
+    if b.has_axis() {
+        return Err(b.err(col, format!("{what} stands in a block without axis words")));
+    }
+    Ok(())
+}
+
+/// Fanuc `G68.2 X Y Z I J K` (set the plane), `G53.1` (turn the tool onto it), `G69`
+/// (cancel); true when the block was one of the first two (no motion of its own follows).
+fn fanuc_plane(
+    b: &Block,
+    s: &mut State,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    scale: f64,
+) -> Result<bool, GcodeError> {
+    use super::workplane::{Turn, euler_zxz, orient, reset, set};
+    let mut handled = false;
+    for &(g, col) in &b.g {
+        match g {
+            690 => reset(s),
+            682 => {
+                let w = |l: char| b.get(l).map_or(0.0, |v| v.0);
+                let origin = glam::DVec3::new(w('X'), w('Y'), w('Z')) * scale;
+                let r = euler_zxz(w('I'), w('J'), w('K'));
+                set(b, col, s, opts, out, r, origin, Turn::Stay, "G68.2")?;
+                handled = true;
+            }
+            531 => {
+                if b.has_axis() {
+                    return Err(b.err(col, "G53.1 stands in a block without axis words"));
+                }
+                orient(b, col, s, opts, out, Turn::Nearest, "G53.1")?;
+                handled = true;
+            }
+            _ => {}
+        }
+    }
+    Ok(handled)
+}
+
 /// Units, feed mode, F, S and T, in LinuxCNC's order (before M and the other G codes).
 fn settings(
     b: &Block,
@@ -281,7 +346,9 @@ fn settings(
     }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     // Sinumerik's `G4 F2` dwells 2 s and leaves the feed alone.
-    let siemens_dwell = opts.syntax == Syntax::Siemens && matches!(g.non_modal, Some((40, _)));
+    // Heidenhain's `G04 F2` too.
+    let siemens_dwell = matches!(opts.syntax, Syntax::Siemens | Syntax::HeidenhainIso)
+        && matches!(g.non_modal, Some((40, _)));
     if let Some((f, col)) = b.get('F').filter(|_| !siemens_dwell) {
         if !(f >= 0.0) {
             return Err(b.err(col, "F must not be negative"));
@@ -347,6 +414,8 @@ fn m_codes(
                      (o100 call)",
                 ));
             }
+            // Heidenhain's cycle calls: read by `heidenhain`.
+            890 | 990 if opts.syntax == Syntax::HeidenhainIso => {}
             990 => out.diagnostics.push(Diagnostic::warning(
                 format!("line {}, column {col}", b.line),
                 "M99 (subprogram return, or repeat the main program) ignored: the program runs \
@@ -497,17 +566,38 @@ pub(super) fn execute(
 ) -> Result<bool, GcodeError> {
     let g = classify(b, opts.syntax)?;
     let call = keywords(b, s, opts, out)?;
+    let heidenhain_call = if opts.syntax == Syntax::HeidenhainIso {
+        super::heidenhain::block(b, s)?
+    } else {
+        None
+    };
     if b.get('H').is_some() && !matches!(g.length, Some((430 | 434, _))) {
         return Err(b.err(b.get('H').map_or(1, |h| h.1), "H word without G43"));
     }
     settings(b, &g, s, opts)?;
     let (ends, stops) = m_codes(b, s, opts, out)?;
+    if s.work_plane.is_some() {
+        let moving = |m: Motion| matches!(m, Motion::Cw | Motion::Ccw | Motion::Cycle(_));
+        let col = match g.motion {
+            Some((MotionCode::Move(m), c)) if moving(m) => Some(c),
+            None if b.has_axis() && s.motion.is_some_and(moving) => Some(b.first_column()),
+            _ => heidenhain_call.or(call.as_ref().map(|c| c.1)),
+        };
+        let col = col.or(g.comp.filter(|c| c.0 != 400).map(|c| c.1));
+        super::workplane::check_block(b, s, col)?;
+    }
     let scale = if s.inch { MM_PER_INCH } else { 1.0 };
     modal_g(b, &g, s, opts, out, scale)?;
+    if opts.syntax == Syntax::Rs274 && fanuc_plane(b, s, opts, out, scale)? {
+        return Ok(ends);
+    }
     if let Some((40, _)) = g.non_modal {
         g4(b, &g, s, out, opts.syntax)?;
     } else {
         non_modal_and_motion(b, &g, s, opts, out, scale)?;
+    }
+    if let Some(col) = heidenhain_call {
+        super::heidenhain::run(b, col, s, opts, out)?;
     }
     if let Some((c, col)) = call {
         siemens::run(b, col, s, opts, out, &c)?;
@@ -534,7 +624,7 @@ fn g4(
         ));
     }
     let word = match syntax {
-        Syntax::Siemens => b.get('F').or_else(|| b.get('P')),
+        Syntax::Siemens | Syntax::HeidenhainIso => b.get('F').or_else(|| b.get('P')),
         _ => b.get('P'),
     };
     let Some((seconds, col)) = word else {

@@ -33,6 +33,11 @@
 //! - LinuxCNC O-words: `sub`/`endsub`/`call` with arguments, `return`, `if`/`elseif`/`else`,
 //!   `while`, `do`/`while`, `repeat`, `break`/`continue`, bounded so that a loop that never
 //!   ends is an error ([`oword`]);
+//! - Heidenhain ISO drilling cycles `G200 G201 G202 G203 G205 G207 G209` with their `Q`
+//!   parameters, called by `G79`, `M99` and modal `M89` (`heidenhain`), and `G04 F` dwells;
+//! - tilted work planes with the machine's kinematics ([`InterpretOptions::machine`]): Fanuc
+//!   `G68.2`/`G53.1`/`G69`, Sinumerik `CYCLE800`/`CYCLE800()`, Heidenhain `PLANE SPATIAL`/
+//!   `PLANE RESET` (`workplane`);
 //! - `N` numbers, `O` program numbers, `%` lines (a closing `%` ends the program), `/` block
 //!   delete, comments `( )` and `;` (or `;` as the ISO end of block with
 //!   [`InterpretOptions::semicolon_ends_block`]).
@@ -56,6 +61,8 @@ mod block;
 pub mod compensation;
 pub mod cycles;
 pub mod expr;
+mod heidenhain;
+mod heidenhain_call;
 mod interpreter;
 mod lexer;
 mod modal;
@@ -71,6 +78,8 @@ mod state;
 mod syntax;
 mod sysparams;
 pub mod tooltable;
+mod workplane;
+mod workplane_frame;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
 pub use block::{Arc, Joints, MotionBlock, MotionKind};
@@ -125,6 +134,9 @@ pub struct InterpretOptions {
     /// Read a canned cycle's P (G82, G84, G86, G89 dwell) in milliseconds, as Fanuc does
     /// (`P500` is 0.5 s), instead of seconds (LinuxCNC, the default).
     pub cycle_dwell_ms: bool,
+    /// The machine whose kinematics turn a tilted work plane (`G68.2`, `CYCLE800`,
+    /// `PLANE SPATIAL`) into joints; without one those are refused.
+    pub machine: Option<crate::machine::Machine>,
 }
 
 impl Default for InterpretOptions {
@@ -140,6 +152,7 @@ impl Default for InterpretOptions {
             syntax: Syntax::Rs274,
             cycle_dwell_ms: false,
             tool_table: None,
+            machine: None,
         }
     }
 }

@@ -143,6 +143,11 @@ pub(super) fn classify(b: &Block, syntax: Syntax) -> Result<GCodes, GcodeError> 
                 }
                 g.non_modal = Some((code, col));
             }
+            // Heidenhain cycle definitions and the cycle call: read by `heidenhain`.
+            c if syntax == Syntax::HeidenhainIso
+                && (c == 790 || super::heidenhain::is_definition(c)) => {}
+            // Fanuc's tilted work plane: read by `workplane` (through the interpreter).
+            682 | 531 | 690 if syntax == Syntax::Rs274 => {}
             // Path control modes: accepted, no effect on the path.
             610 | 611 | 640 => {}
             _ => return Err(b.err(col, refusal(code))),

@@ -19,6 +19,21 @@ pub(super) fn total_offset(s: &State) -> DVec3 {
 /// is: the tool's position, or the programmed point while cutter compensation offsets the
 /// tool from it.
 pub(super) fn target(b: &Block, s: &State, scale: f64, machine: bool) -> Joints {
+    if let Some(plane) = s.work_plane.as_ref().filter(|_| !machine) {
+        // Under a tilted plane X Y Z are plane coordinates (rotary words are refused there).
+        let offset = total_offset(s);
+        let mut p = plane.point(&s.pos, offset).to_array();
+        for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if let (Some((v, _)), Some(slot)) = (b.get(l), p.get_mut(i)) {
+                *slot = if s.absolute {
+                    v * scale
+                } else {
+                    *slot + v * scale
+                };
+            }
+        }
+        return plane.joints(DVec3::from_array(p), &s.pos, offset);
+    }
     let offset = if machine {
         DVec3::ZERO
     } else {

@@ -68,7 +68,7 @@ fn read_lines(text: &str, opts: &InterpretOptions) -> Vec<SourceLine> {
     for (index, raw) in text.lines().enumerate() {
         let number = index + 1;
         let (raw, frame_inch) = program_frame(raw, opts.syntax);
-        let blocks = blocks_of_line(raw, number, separator);
+        let blocks = blocks_of_line(raw, number, separator, opts.syntax);
         let deleted = opts.block_delete
             && matches!(&blocks, Ok(b) if b.first().is_some_and(|b| b.block_delete));
         let line = SourceLine {

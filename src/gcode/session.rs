@@ -207,7 +207,7 @@ impl Session {
         } else {
             self.opts.syntax.block_end()
         };
-        for parsed in blocks_of_line(raw, line, separator)? {
+        for parsed in blocks_of_line(raw, line, separator, self.opts.syntax)? {
             if parsed.percent {
                 if self.opened_percent || self.seen_words {
                     // The closing `%` ends the program.

@@ -54,6 +54,12 @@ pub(super) struct State {
     pub(super) cycle: CycleState,
     /// A Sinumerik `MCALL CYCLE8x(…)`: run after every block that moves an axis.
     pub(super) modal_call: Option<super::siemens_call::SiemensCycle>,
+    /// The Heidenhain cycle last defined (`G200 Q…`), run by `G79`, `M99`, `M89`.
+    pub(super) heidenhain_cycle: Option<super::heidenhain_call::HeidenhainCycle>,
+    /// Heidenhain `M89`: the defined cycle runs after every block that moves an axis.
+    pub(super) heidenhain_modal: bool,
+    /// The active tilted work plane (`G68.2`, `CYCLE800`, `PLANE SPATIAL`).
+    pub(super) work_plane: Option<super::workplane_frame::WorkPlane>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
 }
@@ -124,6 +130,9 @@ impl State {
             comp: Compensation::default(),
             cycle: CycleState::default(),
             modal_call: None,
+            heidenhain_cycle: None,
+            heidenhain_modal: false,
+            work_plane: None,
             line: 0,
         }
     }

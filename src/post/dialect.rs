@@ -108,6 +108,9 @@ pub struct Dialect {
     /// Blocks between two operations of one program before the tool change (optional stop,
     /// coolant and spindle off).
     pub between_operations: Vec<String>,
+    /// How a 3+2 setup's tilted work plane is written (`explicit`: rotary words and rotated
+    /// coordinates; `g68_2`, `cycle800`, `plane_spatial`: the control's own plane).
+    pub work_plane: super::workplane::WorkPlaneStyle,
 }
 
 /// How an arc's centre is written.

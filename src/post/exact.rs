@@ -114,7 +114,7 @@ fn arc(
     let (Some(first), Some(last)) = (tp.poses.get(seg.from), tp.poses.get(seg.to)) else {
         return Ok(false);
     };
-    if options.tcp || !dialect.arcs || (a.helix_mm != 0.0 && !dialect.helix) {
+    if options.tcp || w.tilted() || !dialect.arcs || (a.helix_mm != 0.0 && !dialect.helix) {
         return Ok(false);
     }
     let Some((j_end, r, t)) =
@@ -218,7 +218,8 @@ fn cycle(
     let Some(last) = tp.poses.get(seg.to) else {
         return Ok(false);
     };
-    if options.tcp || dialect.cycles == CycleStyle::Expand {
+    // Under a tilted work plane arcs and cycles are written as moves (not read back there).
+    if options.tcp || w.tilted() || dialect.cycles == CycleStyle::Expand {
         return Ok(false);
     }
     let Some((j_end, r, t)) =
@@ -346,12 +347,35 @@ fn siemens(d: &Dialect, c: &CycleMove, surface: DVec3, rpm: f64) -> Option<Vec<S
     ])
 }
 
-/// `G2xx Q200=… …` then `G79` (the cycle call).
+/// `G2xx Q200=… …` then `G79` (the cycle call), as `gcode::heidenhain` reads them (the TNC
+/// ISO manuals' cycles 200, 201, 203, 205, 207). The pecking cycles count their cuts from
+/// the surface Q203 where G83/G73 count from the R plane, so they are written with Q203 at the
+/// R plane and Q200=0 (the same moves); a peck comes back down to 0.254 mm above the last depth
+/// (205's advanced stop Q258), a chip break backs off 0.254 mm (203's Q256), as G83/G73 do.
+/// Cycles 207 and 201 feed out only to the set-up clearance: a tap or a dwelling bore that
+/// goes back to the initial plane is written as moves. Cycle 202 (spindle-stop bore) always
+/// is: it orients the spindle, which G86 does not.
 fn heidenhain(d: &Dialect, c: &CycleMove, surface: DVec3) -> Option<Vec<String>> {
     let n = |v: f64| d.number(v, d.decimals_linear);
     let f = d.number(c.feed_mm_per_min, d.decimals_feed);
+    let fed_out_past_r = match c.cycle {
+        CycleKind::Tap { .. } => true,
+        CycleKind::Bore { dwell_s } => dwell_s > 0.0,
+        _ => false,
+    };
+    if fed_out_past_r && c.clear_mm() > c.clearance_mm {
+        return None;
+    }
     let common = format!("Q200={} Q201={}", n(c.clearance_mm), n(-c.depth_mm));
     let tail = format!("Q203={} Q204={}", n(surface.z), n(c.clear_mm()));
+    // From the R plane (Q200 = 0): the pecking cycles.
+    let r_plane = format!("Q200=0 Q201={}", n(-(c.depth_mm + c.clearance_mm)));
+    let r_tail = format!(
+        "Q203={} Q204={}",
+        n(surface.z + c.clearance_mm),
+        n(c.clear_mm() - c.clearance_mm)
+    );
+    let clearance = n(crate::toolpath::PECK_CLEARANCE_MM);
     let def = match c.cycle {
         CycleKind::Drill => format!(
             "G200 {common} Q206={f} Q202={} Q210=0 {tail} Q211=0",
@@ -363,13 +387,12 @@ fn heidenhain(d: &Dialect, c: &CycleMove, surface: DVec3) -> Option<Vec<String>>
             d.number(dwell_s, 3)
         ),
         CycleKind::Peck { peck_mm } => format!(
-            "G200 {common} Q206={f} Q202={} Q210=0 {tail} Q211=0",
+            "G205 {r_plane} Q206={f} Q202={} {r_tail} Q212=0 Q205=0 Q258={clearance} Q259={clearance} Q257=0 Q211=0",
             n(peck_mm)
         ),
         CycleKind::ChipBreak { peck_mm } => format!(
-            "G203 {common} Q206={f} Q202={} Q210=0 {tail} Q212=0 Q213=99 Q205=0 Q211=0 Q208=0 Q256={}",
-            n(peck_mm),
-            n(crate::toolpath::PECK_CLEARANCE_MM)
+            "G203 {r_plane} Q206={f} Q202={} Q210=0 {r_tail} Q212=0 Q213=99 Q205=0 Q211=0 Q208=FMAX Q256={clearance}",
+            n(peck_mm)
         ),
         CycleKind::Tap { pitch_mm } => format!("G207 {common} Q239={} {tail}", n(pitch_mm)),
         CycleKind::Bore { dwell_s } => format!(

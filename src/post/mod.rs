@@ -16,9 +16,11 @@
 mod dialect;
 mod exact;
 mod probe;
+mod workplane;
 mod writer;
 
 pub use dialect::{ArcCentre, CycleStyle, Dialect};
+pub use workplane::{WorkPlaneStyle, euler_zxz, fixed_xyz, turned_xyz};
 
 /// The read-back check every loaded dialect passes (see the module docs of `probe`).
 pub use probe::check_reads_back as check_dialect_reads_back;
@@ -70,6 +72,10 @@ pub struct PostOptions {
     pub line_numbers: Option<bool>,
     /// Work offset word written by the dialect's `{work_offset}` (`G54` … `G59`).
     pub work_offset: String,
+    /// A 3+2 setup's tilted work plane: its axes (columns X, Y, Z; Z the tool axis) in
+    /// program coordinates. A dialect with its own plane ([`Dialect::work_plane`]) writes it
+    /// and the moves in its coordinates; every pose's axis must then be the plane's Z.
+    pub work_plane: Option<glam::DMat3>,
 }
 
 impl Default for PostOptions {
@@ -84,6 +90,7 @@ impl Default for PostOptions {
             clearance_z_mm: 100.0,
             line_numbers: None,
             work_offset: "G54".into(),
+            work_plane: None,
         }
     }
 }
@@ -435,6 +442,27 @@ fn check(
             "work offset {:?} is not one of G54 … G59",
             options.work_offset
         )));
+    }
+    if let Some(w) = options
+        .work_plane
+        .filter(|_| dialect.work_plane != WorkPlaneStyle::Explicit)
+    {
+        if options.tcp || !five {
+            return Err(PostError::Unsupported(format!(
+                "a tilted work plane ({:?}) needs joint-space output on a 5-axis machine",
+                dialect.work_plane
+            )));
+        }
+        let z = workplane::tool_axis(&w);
+        if let Some(k) = toolpath
+            .poses
+            .iter()
+            .position(|p| p.axis.angle_between(z) > 1e-9)
+        {
+            return Err(PostError::Unsupported(format!(
+                "pose {k}: its tool axis is not the tilted work plane's Z (a 3+2 setup keeps one axis)"
+            )));
+        }
     }
     toolpath
         .validate("<tool path>")

@@ -35,6 +35,21 @@ pub(super) struct Writer<'a> {
     last_feed: Option<String>,
     /// Last written plane code (`G17`, `G18`, `G19`); `None` before the first arc or cycle.
     last_plane: Option<String>,
+    /// The tilted work plane while blocks are written in its coordinates.
+    plane_on: Option<PlaneOn>,
+    /// The last machine X Y Z written (tracked under a tilted plane).
+    machine_last: glam::DVec3,
+    /// The blocks that cancel the active plane.
+    plane_off_blocks: Vec<String>,
+}
+
+/// An active tilted work plane: program point `s` is at plane point `wᵀ·s`, and machine
+/// point `m` is program point `mᵀ·(m − t)` at the plane's rotary angles.
+#[derive(Clone, Copy, Debug)]
+struct PlaneOn {
+    w: glam::DMat3,
+    m: glam::DMat3,
+    t: glam::DVec3,
 }
 
 impl<'a> Writer<'a> {
@@ -61,6 +76,99 @@ impl<'a> Writer<'a> {
             feed_mode: FeedMode::PerMinute,
             last_feed: None,
             last_plane: None,
+            plane_on: None,
+            machine_last: glam::DVec3::ZERO,
+            plane_off_blocks: Vec::new(),
+        }
+    }
+
+    /// Blocks are written in a tilted work plane's coordinates.
+    pub(super) fn tilted(&self) -> bool {
+        self.plane_on.is_some()
+    }
+
+    /// Plane coordinates of machine point `m`.
+    fn plane_point(p: &PlaneOn, m: glam::DVec3) -> glam::DVec3 {
+        p.w.transpose() * (p.m.transpose() * (m - p.t))
+    }
+
+    /// Under a tilted plane: a rapid to machine point `m` (the plane words that change).
+    fn machine_rapid(&mut self, m: glam::DVec3) {
+        let Some(p) = self.plane_on else { return };
+        let q = Self::plane_point(&p, m);
+        let dl = self.d.decimals_linear;
+        let values = [
+            self.d.number(q.x, dl),
+            self.d.number(q.y, dl),
+            self.d.number(q.z, dl),
+            String::new(),
+            String::new(),
+        ];
+        let words = self.axis_words(&values, [true, true, true, false, false]);
+        self.machine_last = m;
+        if !words.is_empty() {
+            let code = self.motion_code(&self.d.rapid.clone());
+            self.block(&join(code, &words));
+        }
+    }
+
+    /// A rapid along machine Z to `z` (the safe retract), in the plane's words when tilted.
+    fn z_retract(&mut self, z: f64, only_if_moved: bool) {
+        let d = self.d;
+        let zs = d.number(z, d.decimals_linear);
+        if self.plane_on.is_some() {
+            let m = glam::DVec3::new(self.machine_last.x, self.machine_last.y, z);
+            self.machine_rapid(m);
+            return;
+        }
+        if only_if_moved && self.last[2].as_deref() == Some(zs.as_str()) {
+            return;
+        }
+        let code = self.motion_code(&d.rapid);
+        self.block(&join(code, &[format!("Z{zs}")]));
+        self.last[2] = Some(zs);
+        self.machine_last.z = z;
+    }
+
+    /// Set the options' tilted work plane in the dialect's words, the tool turned onto it at
+    /// target `t`'s rotary angles (none for an explicit dialect or no plane).
+    fn plane_start(&mut self, t: &Target) -> bool {
+        let Some(w) = self.options.work_plane else {
+            return false;
+        };
+        let Some((on, off, r)) =
+            super::workplane::blocks(self.d, self.d.work_plane, &w, t.joints.tilt_rad)
+        else {
+            return false;
+        };
+        self.blocks(&on);
+        let (m, tr) = self.machine.machine_from_table(&t.joints);
+        let values = self.values(t);
+        // The rotary axes are where the control turned them: never written under the plane.
+        for i in [3usize, 4] {
+            if let (Some(slot), Some(v)) = (self.last.get_mut(i), values.get(i)) {
+                *slot = Some(v.clone());
+            }
+        }
+        // Plane words are written afresh.
+        for slot in self.last.iter_mut().take(3) {
+            *slot = None;
+        }
+        self.last_motion = None;
+        self.plane_on = Some(PlaneOn { w: r, m, t: tr });
+        self.plane_off_blocks = off;
+        true
+    }
+
+    /// Cancel the tilted plane (its blocks), back to machine words.
+    fn plane_stop(&mut self) {
+        if self.plane_on.take().is_some() {
+            let off = std::mem::take(&mut self.plane_off_blocks);
+            self.blocks(&off);
+            for slot in self.last.iter_mut().take(3) {
+                *slot = None;
+            }
+            self.last_motion = None;
         }
     }
 
@@ -131,10 +239,14 @@ impl<'a> Writer<'a> {
 
     fn values(&self, t: &Target) -> [String; 5] {
         let (dl, da) = (self.d.decimals_linear, self.d.decimals_angle);
+        let xyz = match &self.plane_on {
+            Some(p) => Self::plane_point(p, t.joints.xyz),
+            None => t.joints.xyz,
+        };
         [
-            self.d.number(t.joints.xyz.x, dl),
-            self.d.number(t.joints.xyz.y, dl),
-            self.d.number(t.joints.xyz.z, dl),
+            self.d.number(xyz.x, dl),
+            self.d.number(xyz.y, dl),
+            self.d.number(xyz.z, dl),
             self.d.number(t.joints.tilt_rad.to_degrees(), da),
             self.d.number(t.joints.rotary_rad.to_degrees(), da),
         ]
@@ -164,6 +276,27 @@ impl<'a> Writer<'a> {
     }
 
     fn rapid_words(&mut self, t: &Target, select: [bool; 5]) {
+        if self.plane_on.is_some() {
+            let pick = |i: usize, v: f64, last: f64| if select[i] { v } else { last };
+            let (m, l) = (t.joints.xyz, self.machine_last);
+            let target = glam::DVec3::new(pick(0, m.x, l.x), pick(1, m.y, l.y), pick(2, m.z, l.z));
+            self.machine_rapid(target);
+            return;
+        }
+        for (i, (on, v)) in select
+            .iter()
+            .zip(t.joints.xyz.to_array())
+            .enumerate()
+            .take(3)
+        {
+            if *on {
+                let mut a = self.machine_last.to_array();
+                if let Some(slot) = a.get_mut(i) {
+                    *slot = v;
+                }
+                self.machine_last = glam::DVec3::from_array(a);
+            }
+        }
         let values = self.values(t);
         let words = self.axis_words(&values, select);
         if !words.is_empty() {
@@ -190,12 +323,7 @@ impl<'a> Writer<'a> {
         }
         self.blocks(&d.setup);
         self.tool_blocks();
-        let z = self
-            .d
-            .number(self.options.clearance_z_mm, d.decimals_linear);
-        let code = self.motion_code(&d.rapid);
-        self.block(&join(code, &[format!("Z{z}")]));
-        self.last[2] = Some(z);
+        self.z_retract(self.options.clearance_z_mm, false);
     }
 
     /// Tool change, TCP, spindle and coolant of the current operation.
@@ -223,11 +351,9 @@ impl<'a> Writer<'a> {
         options: &'a PostOptions,
     ) {
         let d = self.d;
-        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
-        if self.last[2].as_deref() != Some(z.as_str()) {
-            let code = self.motion_code(&d.rapid);
-            self.block(&join(code, &[format!("Z{z}")]));
-        }
+        self.z_retract(self.options.clearance_z_mm, true);
+        // A tilted plane is cancelled before the tool change.
+        self.plane_stop();
         if self.options.tcp {
             self.blocks(&d.tcp_off);
         }
@@ -249,26 +375,22 @@ impl<'a> Writer<'a> {
         self.last = Default::default();
         self.last_motion = None;
         self.last_feed = None;
-        let z = d.number(options.clearance_z_mm, d.decimals_linear);
-        let code = self.motion_code(&d.rapid);
-        self.block(&join(code, &[format!("Z{z}")]));
-        self.last[2] = Some(z);
+        self.z_retract(options.clearance_z_mm, false);
     }
 
     /// At clearance: rotaries first, then X Y.
     pub(super) fn approach(&mut self, t: &Target) {
-        self.rapid_words(t, [false, false, false, true, true]);
+        // A 3+2 setup in a dialect with its own plane: set it (the control turns the axes).
+        if self.plane_on.is_none() && !self.plane_start(t) {
+            self.rapid_words(t, [false, false, false, true, true]);
+        }
         self.rapid_words(t, [true, true, false, false, false]);
     }
 
     /// A safe move to `t` (at tool-path pose `pose`): retract to the clearance, turn the
     /// rotaries, position X Y, feed in (only the feed-in is tagged with the pose).
     pub(super) fn reposition(&mut self, t: &Target, feed: f64, pose: usize) {
-        let d = self.d;
-        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
-        let code = self.motion_code(&d.rapid);
-        self.block(&join(code, &[format!("Z{z}")]));
-        self.last[2] = Some(z);
+        self.z_retract(self.options.clearance_z_mm, false);
         self.approach(t);
         self.motion(t, MoveKind::Plunge, feed, 0.0, pose);
     }
@@ -276,13 +398,7 @@ impl<'a> Writer<'a> {
     /// A rapid to `t` that turns the rotaries (tagged with tool-path pose `pose`): up to the
     /// clearance height unless already there, rotaries, X Y, then down to `t`'s Z.
     pub(super) fn turn_at_clearance(&mut self, t: &Target, pose: usize) {
-        let d = self.d;
-        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
-        if self.last[2].as_deref() != Some(z.as_str()) {
-            let code = self.motion_code(&d.rapid);
-            self.block(&join(code, &[format!("Z{z}")]));
-            self.last[2] = Some(z);
-        }
+        self.z_retract(self.options.clearance_z_mm, true);
         self.current_pose = Some(pose);
         self.approach(t);
         self.rapid_words(t, [false, false, true, false, false]);
@@ -330,6 +446,7 @@ impl<'a> Writer<'a> {
         let rotary_deg = rotary.iter().map(|r| r.0).fold(0.0, f64::max);
         let rotary_minutes = rotary.iter().map(|r| r.1).fold(0.0, f64::max);
         let words = self.axis_words(&values, [true; 5]);
+        self.machine_last = t.joints.xyz;
         if words.is_empty() {
             return;
         }
@@ -377,12 +494,8 @@ impl<'a> Writer<'a> {
     /// Safe retract, rotaries home, footer, trailer.
     pub(super) fn postamble(&mut self) {
         let d = self.d;
-        let z = d.number(self.options.clearance_z_mm, d.decimals_linear);
-        if self.last[2].as_deref() != Some(z.as_str()) {
-            let code = self.motion_code(&d.rapid);
-            self.block(&join(code, &[format!("Z{z}")]));
-            self.last[2] = Some(z);
-        }
+        self.z_retract(self.options.clearance_z_mm, true);
+        self.plane_stop();
         if self.options.tcp {
             self.blocks(&d.tcp_off);
         }
@@ -453,6 +566,7 @@ impl Writer<'_> {
     /// The machine is at `p` (mm) after a block that did not go through the axis words (a
     /// cycle), and its motion mode is unknown.
     pub(super) fn moved_to(&mut self, p: glam::DVec3) {
+        self.machine_last = p;
         let dl = self.d.decimals_linear;
         for (slot, v) in self.last.iter_mut().zip(p.to_array()) {
             *slot = Some(self.d.number(v, dl));

@@ -153,6 +153,7 @@ pub fn post_setup(
             base.clearance_z_mm
         },
         program_name: format!("{}_{}", base.program_name, program_stem(&setup.name)),
+        work_plane: setup.tilt.as_ref().and_then(|t| t.work_plane().ok()),
         ..base
     };
     post_program(&ops, &machine, &dialect, &options).map_err(post_err)

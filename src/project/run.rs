@@ -274,7 +274,11 @@ impl MachiningRun {
         corner_tolerance_mm: f64,
     ) -> Self {
         let line_of_pose = posted.line_of_each_pose(pose_count);
-        let options = InterpretOptions::for_syntax(Syntax::detect(&posted.text));
+        // The machine's kinematics read a tilted work plane (G68.2, CYCLE800, PLANE SPATIAL).
+        let options = InterpretOptions {
+            machine: Some(machine.clone()),
+            ..InterpretOptions::for_syntax(Syntax::detect(&posted.text))
+        };
         let line_count = posted.text.lines().count();
         let motion = interpret(&posted.text, &options)
             .map_err(|e| RunError::Interpret {
