@@ -17,8 +17,8 @@ use serde_json::{Value, json};
 
 use crate::diagnostics::Progress;
 use crate::import::{ImportError, OpenOptions, Workpiece, open};
-use crate::project::job::{plan_in_setup, post_setup, program_stem};
 use crate::project::Project;
+use crate::project::job::{plan_in_setup, post_setup, program_stem};
 use crate::project::job_sim::{
     self, SetupSimulation, WorkholdingHit, simulate_job, workholding_hits,
 };
@@ -358,7 +358,12 @@ pub fn human(doc: &Value) -> String {
                 sim["collisions"],
                 num(&sim["max_gouge_mm"]),
             ));
-            for (k, c) in sim["workholding_collisions"].as_array().into_iter().flatten().enumerate() {
+            for (k, c) in sim["workholding_collisions"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .enumerate()
+            {
                 if c.is_object() {
                     s.push_str(&format!(
                         "  SIMULATION COLLISION: operation {} hits the {} with the {} at pose {} (line {})\n",

@@ -22,8 +22,8 @@ use crate::geometry::Aabb;
 use crate::geometry::mesh::TriMesh;
 use crate::import::Workpiece;
 use crate::simulation::{
-    DexelMode, DexelStock, MovePlan, SimOptions, SimReport, StepOptions, StockShape,
-    plan_toolpath, simulate,
+    DexelMode, DexelStock, MovePlan, SimOptions, SimReport, StepOptions, StockShape, plan_toolpath,
+    simulate,
 };
 use crate::toolpath::Toolpath;
 
@@ -228,7 +228,8 @@ pub fn simulate_job(
             (0, 0.0)
         } else {
             let mesh = transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
-            let m = measured(&dexels, &mesh, reports, progress).map_err(|e| named(e.to_string()))?;
+            let m =
+                measured(&dexels, &mesh, reports, progress).map_err(|e| named(e.to_string()))?;
             (m.report.collisions.len(), m.max_gouge_mm)
         };
         let end = dexels.volume_mm3();

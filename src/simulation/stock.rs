@@ -493,7 +493,9 @@ fn mesh_rays(mesh: &TriMesh, fam: &DexelFamily) -> Vec<Dexel> {
             let q = p.map(|a| [a[u], a[v]]);
             let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
             let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-            let n = DVec3::from_array(e1).cross(DVec3::from_array(e2)).to_array();
+            let n = DVec3::from_array(e1)
+                .cross(DVec3::from_array(e2))
+                .to_array();
             let (nu_, nv_, nw) = (n[u], n[v], n[w]);
             let area = (q[1][0] - q[0][0]) * (q[2][1] - q[0][1])
                 - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
@@ -529,11 +531,7 @@ fn mesh_rays(mesh: &TriMesh, fam: &DexelFamily) -> Vec<Dexel> {
             out
         })
         .collect();
-    hits.par_sort_unstable_by(|a, b| {
-        a.0.cmp(&b.0)
-            .then(a.1.total_cmp(&b.1))
-            .then(a.2.cmp(&b.2))
-    });
+    hits.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
     let mut dexels = vec![Dexel::Empty; nu * nv];
     let mut k = 0;
     while k < hits.len() {
