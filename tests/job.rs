@@ -424,7 +424,16 @@ fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
             s + 1
         );
     }
-    assert_eq!(doc["stock_carried"], false);
+    assert_eq!(doc["stock_carried"], true);
+    // Each setup after the first starts from what the one before it left (0.1 %).
+    for w in setups.windows(2) {
+        let (end, start) = (
+            w[0]["simulation"]["end_volume_mm3"].as_f64().unwrap(),
+            w[1]["simulation"]["start_volume_mm3"].as_f64().unwrap(),
+        );
+        assert_eq!(w[1]["simulation"]["carried"], true);
+        assert!((start - end).abs() < 1e-3 * end, "{start} vs {end}");
+    }
     assert!(setups[0]["workholding"][0]["kind"] == "vise");
     assert!(
         setups

@@ -5,26 +5,26 @@
 //! assembly with the setup's workholding (`checks::collide`, with its program line when
 //! posted), and the program file.
 //!
-//! The simulation cuts each setup's paths from that setup's starting stock (the box of
-//! [`crate::project::setups::stock_solid`] in the setup frame); the material earlier setups
-//! removed is not carried yet (the engine's in-process stock is being built beside this), and
-//! the output says so (`"stock_carried": false`).
+//! The simulation ([`crate::project::job_sim::simulate_job`]) cuts the setups in order and
+//! carries the cut stock into each setup whose stock is the previous one's (`"stock_carried":
+//! true`; per setup its start and end volumes); with `--setup NAME` the setups before it are
+//! planned and simulated too. Each setup's simulation tests the tool against its workholding
+//! along the moves it cuts, and reports the pose and line planning reports.
 
 use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-use crate::checks::collide::{Hit, Obstacle, assembly, first_hit};
 use crate::diagnostics::Progress;
 use crate::import::{ImportError, OpenOptions, Workpiece, open};
+use crate::project::Project;
 use crate::project::job::{plan_in_setup, post_setup, program_stem};
-use crate::project::setups::{self, transform_mesh};
-use crate::project::simulate::{SimulationSettings, simulate_toolpaths};
-use crate::project::{Project, Stock};
+use crate::project::job_sim::{
+    self, SetupSimulation, WorkholdingHit, simulate_job, workholding_hits,
+};
+use crate::project::setups;
+use crate::project::simulate::SimulationSettings;
 use crate::toolpath::Toolpath;
-
-/// Largest step along a move between two collision tests against the workholding, mm.
-const COLLISION_STEP_MM: f64 = 0.25;
 
 /// Options of `talas job`.
 #[derive(Debug, clap::Args)]
@@ -104,13 +104,50 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
         std::fs::create_dir_all(dir)
             .map_err(|e| bad(dir, None, format!("cannot make the folder: {e}")))?;
     }
+    // The simulation carries the stock from the first setup on, so every setup up to the last
+    // chosen one is planned when simulating.
+    let last = chosen.iter().copied().max().unwrap_or(0);
+    let planned: Vec<usize> = if args.simulate {
+        (0..=last).collect()
+    } else {
+        chosen.clone()
+    };
+    let mut plans: Vec<Option<(Vec<Value>, Vec<Toolpath>)>> = vec![None; last + 1];
+    for &s in &planned {
+        plans[s] = Some(plan_setup(args, &project, s, &part)?);
+    }
+    let simulated = if args.simulate {
+        let paths: Vec<Vec<Toolpath>> = plans
+            .iter()
+            .map(|p| p.as_ref().map(|(_, t)| t.clone()).unwrap_or_default())
+            .collect();
+        Some(
+            simulate_job(
+                &project,
+                &part,
+                base,
+                &paths,
+                &SimulationSettings::default(),
+                &Progress::new(),
+            )
+            .map_err(|e| bad(&args.file, None, e))?,
+        )
+    } else {
+        None
+    };
     let mut out = Vec::new();
     for &s in &chosen {
+        let Some((ops, paths)) = plans[s].take() else {
+            continue;
+        };
+        let sim = simulated.as_ref().and_then(|v| v.get(s));
         out.push(run_setup(
             args,
             &project,
             s,
-            &part,
+            ops,
+            &paths,
+            sim,
             &placements,
             &bounds,
             base,
@@ -119,28 +156,25 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
     Ok(json!({
         "project": args.file.display().to_string(),
         "part": part_path.display().to_string(),
-        "stock_carried": false,
+        "stock_carried": args.simulate,
         "setups": out,
     }))
 }
 
-fn run_setup(
+/// Plan setup `s`'s operations in its frame: their JSON records and tool paths.
+fn plan_setup(
     args: &JobArgs,
     project: &Project,
     s: usize,
     part: &Workpiece,
-    placements: &[setups::Placement],
-    bounds: &crate::geometry::Aabb,
-    base: &Path,
-) -> Result<Value, ImportError> {
+) -> Result<(Vec<Value>, Vec<Toolpath>), ImportError> {
     let setup = &project.setups[s];
     let place = Some(format!("setup {} ('{}')", s + 1, setup.name));
-    let err = |m: String| bad(&args.file, place.clone(), m);
     let mut paths: Vec<Toolpath> = Vec::new();
     let mut ops = Vec::new();
     for &op in &setup.operations {
-        let c =
-            plan_in_setup(project, op, part, &Progress::new()).map_err(|e| err(e.to_string()))?;
+        let c = plan_in_setup(project, op, part, &Progress::new())
+            .map_err(|e| bad(&args.file, place.clone(), e.to_string()))?;
         let o = &project.operations[op];
         let tool = project.tools.get(o.tool());
         let sm = &c.toolpath.summary;
@@ -161,34 +195,57 @@ fn run_setup(
         }));
         paths.push(c.toolpath);
     }
+    Ok((ops, paths))
+}
+
+/// A workholding contact as JSON, with the program line of its pose when posted.
+fn hit_json(
+    hit: Option<&WorkholdingHit>,
+    k: usize,
+    posted_lines: Option<&[crate::post::LineSource]>,
+) -> Value {
+    hit.map_or(Value::Null, |h| {
+        let line = posted_lines.and_then(|l| {
+            l.iter()
+                .rposition(|src| src.operation == k && src.pose == Some(h.block))
+                .map(|i| i + 1)
+        });
+        json!({
+            "pose": h.block,
+            "line": line,
+            "obstacle": h.hit.obstacle_name,
+            "tool_part": h.hit.tool_part,
+            "tip_mm": [h.hit.tip.x, h.hit.tip.y, h.hit.tip.z],
+        })
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run_setup(
+    args: &JobArgs,
+    project: &Project,
+    s: usize,
+    mut ops: Vec<Value>,
+    paths: &[Toolpath],
+    sim: Option<&SetupSimulation>,
+    placements: &[setups::Placement],
+    bounds: &crate::geometry::Aabb,
+    base: &Path,
+) -> Result<Value, ImportError> {
+    let setup = &project.setups[s];
+    let place = Some(format!("setup {} ('{}')", s + 1, setup.name));
+    let err = |m: String| bad(&args.file, place.clone(), m);
     let workholding =
         setups::workholding_meshes(project, s, placements, bounds, base).map_err(err)?;
-    let obstacles = setup
-        .workholding
-        .iter()
-        .zip(&workholding)
-        .map(|(w, m)| Obstacle::new(w.kind_name(), m))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(err)?;
-    let hits: Vec<Option<Hit>> = paths
-        .iter()
-        .map(|tp| {
-            let moves: Vec<_> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
-            first_hit(
-                &assembly(&tp.tool.cutter),
-                &obstacles,
-                &moves,
-                COLLISION_STEP_MM,
-            )
-        })
-        .collect();
+    let obstacles = job_sim::obstacles(project, s, placements, bounds, base).map_err(err)?;
+    let hits = workholding_hits(paths, &obstacles);
     let mut posted_lines: Option<Vec<crate::post::LineSource>> = None;
     let mut program = Value::Null;
     let mut lines = Value::Null;
     if let Some(dir) = &args.post
         && !paths.is_empty()
     {
-        let posted = post_setup(project, s, &paths).map_err(|e| err(e.to_string()))?;
+        let posted = post_setup(project, s, paths).map_err(|e| err(e.to_string()))?;
         let file = dir.join(format!("{:02}-{}.ngc", s + 1, program_stem(&setup.name)));
         crate::storage::write_atomic(&file, posted.text.as_bytes())
             .map_err(|e| bad(&file, None, format!("cannot write: {e}")))?;
@@ -196,26 +253,26 @@ fn run_setup(
         lines = json!(posted.text.lines().count());
         posted_lines = Some(posted.source_of_line);
     }
-    let simulation = if args.simulate && !paths.is_empty() {
-        simulate_setup(project, s, part, placements, bounds, &paths).map_err(err)?
-    } else {
-        Value::Null
-    };
+    let simulation = sim.map_or(Value::Null, |r| {
+        json!({
+            "carried": r.carried,
+            "resolution_mm": r.resolution_mm,
+            "start_volume_mm3": r.start_volume_mm3,
+            "end_volume_mm3": r.end_volume_mm3,
+            "initial_volume_mm3": r.start_volume_mm3,
+            "removed_volume_mm3": r.removed_volume_mm3,
+            "final_volume_mm3": r.end_volume_mm3,
+            "carried_mesh_triangles": r.carried_triangles,
+            "carried_mesh_volume_mm3": r.carried_mesh_volume_mm3,
+            "collisions": r.stock_collisions,
+            "max_gouge_mm": r.max_gouge_mm,
+            "workholding_collisions": r.workholding.iter().enumerate()
+                .map(|(k, h)| hit_json(h.as_ref(), k, posted_lines.as_deref()))
+                .collect::<Vec<_>>(),
+        })
+    });
     for (k, (op, hit)) in ops.iter_mut().zip(&hits).enumerate() {
-        op["workholding_collision"] = hit.as_ref().map_or(Value::Null, |h| {
-            let line = posted_lines.as_ref().and_then(|l| {
-                l.iter()
-                    .rposition(|src| src.operation == k && src.pose == Some(h.index))
-                    .map(|i| i + 1)
-            });
-            json!({
-                "pose": h.index,
-                "line": line,
-                "obstacle": h.obstacle_name,
-                "tool_part": h.tool_part,
-                "tip_mm": [h.tip.x, h.tip.y, h.tip.z],
-            })
-        });
+        op["workholding_collision"] = hit_json(hit.as_ref(), k, posted_lines.as_deref());
     }
     let axis = placements[s].tool_axis();
     Ok(json!({
@@ -232,44 +289,6 @@ fn run_setup(
         "program": program,
         "program_lines": lines,
         "simulation": simulation,
-    }))
-}
-
-/// Cut setup `s`'s paths (setup frame) from its starting stock's box, the part in the setup
-/// frame.
-fn simulate_setup(
-    project: &Project,
-    s: usize,
-    part: &Workpiece,
-    placements: &[setups::Placement],
-    bounds: &crate::geometry::Aabb,
-    paths: &[Toolpath],
-) -> Result<Value, String> {
-    let here = placements[s];
-    let solid = setups::stock_solid(project, s, placements, bounds)?;
-    let b = solid.bbox();
-    let stock = Stock::Box {
-        min_mm: b.min.to_array(),
-        max_mm: b.max.to_array(),
-    };
-    let mesh = transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
-    let with: Vec<(&Toolpath, &crate::tools::Cutter)> =
-        paths.iter().map(|p| (p, &p.tool.cutter)).collect();
-    let sim = simulate_toolpaths(
-        &stock,
-        &mesh,
-        &with,
-        &SimulationSettings::default(),
-        &Progress::new(),
-    )
-    .map_err(|e| format!("simulation: {e}"))?;
-    Ok(json!({
-        "resolution_mm": sim.resolution_mm,
-        "initial_volume_mm3": sim.report.initial_volume_mm3,
-        "removed_volume_mm3": sim.report.removed_volume_mm3,
-        "final_volume_mm3": sim.report.final_volume_mm3,
-        "collisions": sim.report.collisions.len(),
-        "max_gouge_mm": sim.max_gouge_mm,
     }))
 }
 
@@ -331,12 +350,31 @@ pub fn human(doc: &Value) -> String {
         if setup["simulation"].is_object() {
             let sim = &setup["simulation"];
             s.push_str(&format!(
-                "  simulated: removed {:.1} mm³ of {:.1} mm³, {} collisions, deepest gouge {:.4} mm\n",
+                "  simulated{}: {:.1} mm³ at the start, removed {:.1} mm³, {:.1} mm³ left, {} collisions, deepest gouge {:.4} mm\n",
+                if sim["carried"] == true { " (stock carried from the previous setup)" } else { "" },
+                num(&sim["start_volume_mm3"]),
                 num(&sim["removed_volume_mm3"]),
-                num(&sim["initial_volume_mm3"]),
+                num(&sim["end_volume_mm3"]),
                 sim["collisions"],
                 num(&sim["max_gouge_mm"]),
             ));
+            for (k, c) in sim["workholding_collisions"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .enumerate()
+            {
+                if c.is_object() {
+                    s.push_str(&format!(
+                        "  SIMULATION COLLISION: operation {} hits the {} with the {} at pose {} (line {})\n",
+                        setup["operations"][k]["index"],
+                        c["obstacle"].as_str().unwrap_or(""),
+                        c["tool_part"].as_str().unwrap_or(""),
+                        c["pose"],
+                        c["line"],
+                    ));
+                }
+            }
         }
     }
     s

@@ -13,6 +13,7 @@ pub mod force_schedule;
 pub mod forces;
 mod history;
 pub mod job;
+pub mod job_sim;
 pub mod keyframes;
 pub mod operation;
 mod part;
