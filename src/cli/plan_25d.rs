@@ -92,7 +92,11 @@ fn jobs(args: &PlanArgs, kind: PlanarKind) -> Result<Vec<RegionJob>, ImportError
             "pocket and contour need --features auto, --faces F,F or --region FILE --top Z --depth D",
         ));
     }
-    let place = if faces.is_empty() { None } else { Some("--faces".to_string()) };
+    let place = if faces.is_empty() {
+        None
+    } else {
+        Some("--faces".to_string())
+    };
     recognised_jobs(&part, &kind.default_kinds(), &faces)
         .map_err(|e| ImportError::new(&args.file, place, format!("{e} ({})", args.strategy)))
 }

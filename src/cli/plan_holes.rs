@@ -191,12 +191,17 @@ pub fn plan_holes_cli(
         depth_mm: args.depth,
         finish_mm: args.finish,
     };
-    let job = hole_job(&rep, cycle, &record, tool_pitch, &selection, &settings, None).map_err(
-        |m| {
-            let place = if m.contains("pitch") { "--pitch" } else { "--holes" };
-            bad(place, m)
-        },
-    )?;
+    let job = hole_job(
+        &rep, cycle, &record, tool_pitch, &selection, &settings, None,
+    )
+    .map_err(|m| {
+        let place = if m.contains("pitch") {
+            "--pitch"
+        } else {
+            "--holes"
+        };
+        bad(place, m)
+    })?;
     let (targets, strategy, dir, skipped) = (job.targets, job.strategy, job.direction, job.skipped);
     let opts = HolePlanOptions {
         r_plane_mm: args.r_plane,

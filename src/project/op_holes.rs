@@ -510,7 +510,13 @@ impl HolesOp {
             start: DVec3::ZERO,
             ..HolePlanOptions::default()
         };
-        let plan = plan_holes(&job.targets, &job.strategy, tool.clone(), Some(&mesh.mesh), &opts)?;
+        let plan = plan_holes(
+            &job.targets,
+            &job.strategy,
+            tool.clone(),
+            Some(&mesh.mesh),
+            &opts,
+        )?;
         let mut toolpath = plan.toolpath.ok_or("nothing planned")?;
         super::op_common::apply_feeds(&mut toolpath, &self.common);
         let mut diagnostics = Vec::new();
@@ -518,7 +524,7 @@ impl HolesOp {
             diagnostics.push(crate::diagnostics::Diagnostic::info(
                 Some(self.name.clone()),
                 format!(
-                "{} of the holes chosen open another way than the setup's +Z and are left out",
+                    "{} of the holes chosen open another way than the setup's +Z and are left out",
                     job.skipped
                 ),
             ));

@@ -109,8 +109,7 @@ pub fn drawn_job(file: &Path, top: f64, depth: f64, tolerance: f64) -> Result<Re
     }
     let profile = read_profile(file, tolerance)
         .map_err(|e| format!("{}: {}: {}", file.display(), e.place, e.message))?;
-    let region =
-        Region::from_outline(&profile).map_err(|e| format!("{}: {e}", file.display()))?;
+    let region = Region::from_outline(&profile).map_err(|e| format!("{}: {e}", file.display()))?;
     Ok(RegionJob {
         region,
         top,

@@ -6,9 +6,9 @@
 use std::sync::Arc;
 
 pub use super::computed::{ComputeError, Computed};
-use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS, StockLeftover};
 use super::op_common::stock_top;
 use super::op_regions::{PlanarKind, RegionTarget, compute_planar};
+use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS, StockLeftover};
 use super::{Operation, Project, Stock};
 use crate::checks::part::PartCheck;
 use crate::diagnostics::{Diagnostic, Progress};
