@@ -151,10 +151,6 @@ fn parse_hole_tool(spec: &str) -> Result<(Option<HoleTool>, ToolRecord), ImportE
 ///
 /// # Errors
 /// The part, a bad option, or no hole to make.
-#[expect(
-    clippy::too_many_lines,
-    reason = "one pass from the options through selection, targets, planning, posting and the report"
-)]
 pub fn plan_holes_cli(
     file: &Path,
     strategy_name: &str,

@@ -262,6 +262,23 @@ pub fn apply_feed_from(tp: &mut Toolpath, z: f64, plunge_feed: f64) {
     tp.resummarise();
 }
 
+/// The reference heights of `part` (as it lies in the planning frame) under a stock whose top
+/// is `stock_top_z` (`None`: the part's top).
+#[must_use]
+pub fn levels(part: &crate::import::Workpiece, stock_top_z: Option<f64>) -> Levels {
+    let top = part.mesh.bbox().max.z;
+    Levels {
+        stock_top_z: stock_top_z.unwrap_or(top),
+        part_top_z: top,
+    }
+}
+
+/// The top of `stock` (`None` when no stock is set).
+#[must_use]
+pub fn stock_top(stock: &crate::geometry::stock::Stock) -> Option<f64> {
+    stock.bounds().map(|b| b.max.z)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,21 +330,4 @@ mod tests {
         };
         assert!((o.z(&l) - 40.0).abs() < 1e-12);
     }
-}
-
-/// The reference heights of `part` (as it lies in the planning frame) under a stock whose top
-/// is `stock_top_z` (`None`: the part's top).
-#[must_use]
-pub fn levels(part: &crate::import::Workpiece, stock_top_z: Option<f64>) -> Levels {
-    let top = part.mesh.bbox().max.z;
-    Levels {
-        stock_top_z: stock_top_z.unwrap_or(top),
-        part_top_z: top,
-    }
-}
-
-/// The top of `stock` (`None` when no stock is set).
-#[must_use]
-pub fn stock_top(stock: &crate::geometry::stock::Stock) -> Option<f64> {
-    stock.bounds().map(|b| b.max.z)
 }
