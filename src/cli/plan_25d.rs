@@ -8,14 +8,12 @@ use std::path::PathBuf;
 use serde_json::{Value, json};
 
 use super::plan::{PlanArgs, opt_err};
-use crate::features::regions::{MachinableRegion, RegionKind, find_regions};
-use crate::geometry::planar::{Region, read_profile};
 use crate::import::ImportError;
 use crate::import::step::read_step;
-use crate::strategies::planar::{
-    ContourOptions, ContourSide, FacingOptions, PocketOptions, contour, facing, pocket,
+use crate::project::op_regions::{
+    PlanarKind, PlanarSettings, RegionJob, drawn_job, plan_regions, recognised_jobs,
 };
-use crate::toolpath::{ToolRecord, Toolpath};
+use crate::toolpath::ToolRecord;
 use crate::tools::parse_tool_spec;
 
 /// The 2.5D strategies.
@@ -67,17 +65,7 @@ pub struct PlanarArgs {
     pub ramp_angle: f64,
 }
 
-/// One region to machine: its floor, its top and its geometry.
-struct Job {
-    region: Region,
-    top: f64,
-    floor: f64,
-    name: String,
-    /// From `--region` (its top and depth typed), not recognised.
-    drawn: bool,
-}
-
-fn jobs(args: &PlanArgs) -> Result<Vec<Job>, ImportError> {
+fn jobs(args: &PlanArgs, kind: PlanarKind) -> Result<Vec<RegionJob>, ImportError> {
     let p = &args.planar;
     if let Some(file) = &p.region {
         let (Some(top), Some(depth)) = (p.top, p.depth) else {
@@ -92,76 +80,25 @@ fn jobs(args: &PlanArgs) -> Result<Vec<Job>, ImportError> {
                 "the depth must be a positive number of mm",
             ));
         }
-        let profile = read_profile(file, args.tolerance)
-            .map_err(|e| ImportError::new(file, Some(e.place.clone()), e.message.clone()))?;
-        let region = Region::from_outline(&profile)
-            .map_err(|e| ImportError::new(file, None, e.to_string()))?;
-        return Ok(vec![Job {
-            region,
-            top,
-            floor: top - depth,
-            name: file.display().to_string(),
-            drawn: true,
-        }]);
+        return drawn_job(file, top, depth, args.tolerance)
+            .map(|j| vec![j])
+            .map_err(|e| ImportError::new(file, None, e));
     }
     let part = read_step(&args.file)?;
-    let report = find_regions(&part);
-    let wanted = |r: &MachinableRegion| match args.strategy.as_str() {
-        "contour" | "face" => r.kind == RegionKind::OuterProfile,
-        _ => r.kind == RegionKind::ClosedPocket,
-    };
-    let chosen: Vec<&MachinableRegion> = if !p.faces.is_empty() {
-        let faces: Vec<usize> = p.faces.iter().map(|f| f.saturating_sub(1)).collect();
-        let found: Vec<&MachinableRegion> = report
-            .regions
-            .iter()
-            .filter(|r| r.faces.iter().any(|f| faces.contains(f)))
-            .collect();
-        if found.is_empty() {
-            return Err(ImportError::new(
-                &args.file,
-                Some("--faces".into()),
-                "no region has these floor faces (see talas features)",
-            ));
-        }
-        found
-    } else if p.features.as_deref() == Some("auto") {
-        report.regions.iter().filter(|r| wanted(r)).collect()
-    } else {
+    let faces: Vec<usize> = p.faces.iter().map(|f| f.saturating_sub(1)).collect();
+    if faces.is_empty() && p.features.as_deref() != Some("auto") {
         return Err(opt_err(
             "--strategy",
             "pocket and contour need --features auto, --faces F,F or --region FILE --top Z --depth D",
         ));
-    };
-    if chosen.is_empty() {
-        return Err(ImportError::new(
-            &args.file,
-            None,
-            format!("no region for {} seen from +Z", args.strategy),
-        ));
     }
-    Ok(chosen
-        .into_iter()
-        .map(|r| Job {
-            region: r.region.clone(),
-            top: r.top_z_mm,
-            floor: r.floor_z_mm,
-            name: format!("{:?} at z = {:.4} mm", r.kind, r.floor_z_mm),
-            drawn: false,
-        })
-        .collect())
-}
-
-/// Appends `b` to `a` (poses and exact segments).
-fn append(a: &mut Toolpath, b: &Toolpath) {
-    let off = a.poses.len();
-    a.poses.extend(b.poses.iter().copied());
-    a.exact.extend(b.exact.iter().map(|s| {
-        let mut s = *s;
-        s.from += off;
-        s.to += off;
-        s
-    }));
+    let place = if faces.is_empty() {
+        None
+    } else {
+        Some("--faces".to_string())
+    };
+    recognised_jobs(&part, &kind.default_kinds(), &faces)
+        .map_err(|e| ImportError::new(&args.file, place, format!("{e} ({})", args.strategy)))
 }
 
 /// Plans a 2.5D strategy and saves the tool path.
@@ -184,82 +121,46 @@ pub fn plan_planar(args: &PlanArgs) -> Result<Value, ImportError> {
             ));
         }
     };
-    let clearance = args.clearance.unwrap_or(5.0);
-    let started = std::time::Instant::now();
-    let mut out = Toolpath::new(tool.clone(), Vec::new());
-    let mut names = Vec::new();
-    for job in jobs(args)? {
-        let tp = match args.strategy.as_str() {
-            "face" => {
-                // A drawn region faces from --top down by --depth; a recognised outline faces
-                // the part's top from --depth (default 1 mm) above it.
-                let (stock_top, face_z) = if job.drawn {
-                    (job.top, job.floor)
-                } else {
-                    (job.top + args.planar.depth.unwrap_or(1.0), job.top)
-                };
-                let o = FacingOptions {
-                    stock_top_z_mm: stock_top,
-                    face_z_mm: face_z,
-                    step_down_mm: args.step_down,
-                    finish_depth_mm: args.stock_to_leave_axial,
-                    stepover_frac: args.step_over,
-                    overrun_mm: args.planar.overrun,
-                    zigzag: args.pattern != "oneway",
-                    clearance_mm: clearance,
-                    feed_mm_per_min: args.feed,
-                };
-                facing(&job.region, &tool, &o)
-            }
-            "contour" => {
-                let side = match args.planar.side.as_str() {
-                    "outside" => ContourSide::Outside,
-                    "inside" => ContourSide::Inside,
-                    other => {
-                        return Err(opt_err(
-                            "--side",
-                            format!("'{other}' is not outside or inside"),
-                        ));
-                    }
-                };
-                let o = ContourOptions {
-                    side,
-                    climb,
-                    top_z_mm: job.top,
-                    bottom_z_mm: job.floor,
-                    step_down_mm: args.step_down,
-                    allowance_mm: args.stock_to_leave,
-                    lead_radius_mm: args.planar.lead_radius,
-                    tab_count: args.planar.tabs,
-                    tab_width_mm: args.planar.tab_width,
-                    tab_height_mm: args.planar.tab_height,
-                    ramp_angle_rad: args.planar.ramp_angle.to_radians(),
-                    clearance_mm: clearance,
-                    feed_mm_per_min: args.feed,
-                    chord_tol_mm: args.tolerance,
-                };
-                contour(&job.region, &tool, &o)
-            }
-            _ => {
-                let o = PocketOptions {
-                    top_z_mm: job.top,
-                    floor_z_mm: job.floor,
-                    step_down_mm: args.step_down,
-                    stepover_frac: args.step_over,
-                    wall_allowance_mm: args.stock_to_leave,
-                    floor_allowance_mm: args.stock_to_leave_axial,
-                    clearance_mm: clearance,
-                    ramp_angle_rad: args.planar.ramp_angle.to_radians(),
-                    feed_mm_per_min: args.feed,
-                    chord_tol_mm: args.tolerance,
-                };
-                pocket(&job.region, &tool, &o)
-            }
+    let kind = match args.strategy.as_str() {
+        "face" => PlanarKind::Face,
+        "contour" => PlanarKind::Contour,
+        _ => PlanarKind::Pocket,
+    };
+    let outside = match args.planar.side.as_str() {
+        "outside" => true,
+        "inside" => false,
+        other => {
+            return Err(opt_err(
+                "--side",
+                format!("'{other}' is not outside or inside"),
+            ));
         }
-        .map_err(|e| ImportError::new(&args.file, Some(job.name.clone()), e.0))?;
-        append(&mut out, &tp);
-        names.push(job.name);
-    }
+    };
+    let settings = PlanarSettings {
+        step_down_mm: args.step_down,
+        step_over_fraction: args.step_over,
+        wall_allowance_mm: args.stock_to_leave,
+        floor_allowance_mm: args.stock_to_leave_axial,
+        climb,
+        zigzag: args.pattern != "oneway",
+        clearance_mm: args.clearance.unwrap_or(5.0),
+        clearance_is_z: false,
+        feed_mm_per_min: args.feed,
+        tolerance_mm: args.tolerance,
+        outside,
+        tabs: args.planar.tabs,
+        tab_width_mm: args.planar.tab_width,
+        tab_height_mm: args.planar.tab_height,
+        lead_radius_mm: args.planar.lead_radius,
+        overrun_mm: args.planar.overrun,
+        ramp_angle_rad: args.planar.ramp_angle.to_radians(),
+        face_stock_above_mm: args.planar.depth.unwrap_or(1.0),
+    };
+    let started = std::time::Instant::now();
+    let jobs = jobs(args, kind)?;
+    let names: Vec<String> = jobs.iter().map(|j| j.name.clone()).collect();
+    let mut out = plan_regions(kind, &jobs, &tool, &settings)
+        .map_err(|(name, e)| ImportError::new(&args.file, Some(name), e))?;
     out.resummarise();
     let seconds = started.elapsed().as_secs_f64();
     out.save(&args.output)

@@ -16,15 +16,15 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-use crate::features::holes::{Hole, HoleBottom, HoleReport, HoleStep, thread_for_tap_drill};
 use crate::geometry::DVec3;
 use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
 use crate::import::ImportError;
 use crate::import::step::read_step;
 use crate::machine::Machine;
 use crate::post::{Dialect, PostOptions, post};
-use crate::strategies::holes::{HolePlanOptions, HoleStrategy, HoleTarget, plan_holes};
-use crate::toolpath::{CycleKind, ToolRecord};
+use crate::project::op_holes::{HoleCycle, HoleSelection, HoleSettings, hole_job};
+use crate::strategies::holes::{HolePlanOptions, plan_holes};
+use crate::toolpath::ToolRecord;
 use crate::tools::hole_tool::{HoleTool, HoleToolKind};
 use crate::tools::parse_tool_spec;
 
@@ -147,87 +147,10 @@ fn parse_hole_tool(spec: &str) -> Result<(Option<HoleTool>, ToolRecord), ImportE
     ))
 }
 
-/// The holes `--holes` names.
-fn select<'a>(
-    rep: &'a HoleReport,
-    sel: &str,
-    fits: &dyn Fn(&Hole) -> bool,
-) -> Result<Vec<&'a Hole>, ImportError> {
-    let err = |m: String| bad("--holes", m);
-    let sel = sel.trim();
-    if sel == "auto" {
-        return Ok(rep.holes.iter().filter(|h| fits(h)).collect());
-    }
-    let mut out: Vec<&Hole> = Vec::new();
-    if sel.contains(';') || sel.contains('.') {
-        for pair in sel.split(';').filter(|p| !p.trim().is_empty()) {
-            let (x, y) = pair
-                .split_once(',')
-                .ok_or_else(|| err(format!("'{pair}' is not X,Y")))?;
-            let (x, y): (f64, f64) = (
-                x.trim()
-                    .parse()
-                    .map_err(|_| err(format!("'{x}' is not a number")))?,
-                y.trim()
-                    .parse()
-                    .map_err(|_| err(format!("'{y}' is not a number")))?,
-            );
-            let h = rep
-                .holes
-                .iter()
-                .min_by(|a, b| {
-                    let da = (a.top.truncate() - glam::DVec2::new(x, y)).length();
-                    let db = (b.top.truncate() - glam::DVec2::new(x, y)).length();
-                    da.total_cmp(&db)
-                })
-                .filter(|h| (h.top.truncate() - glam::DVec2::new(x, y)).length() <= 0.5)
-                .ok_or_else(|| err(format!("no hole within 0.5 mm of ({x}, {y}) mm")))?;
-            if !out.iter().any(|o| std::ptr::eq(*o, h)) {
-                out.push(h);
-            }
-        }
-    } else {
-        for f in sel.split(',') {
-            let f: usize = f
-                .trim()
-                .parse()
-                .map_err(|_| err(format!("'{f}' is not a face index")))?;
-            let h = rep
-                .holes
-                .iter()
-                .find(|h| h.faces.contains(&f))
-                .ok_or_else(|| err(format!("face {f} belongs to no hole")))?;
-            if !out.iter().any(|o| std::ptr::eq(*o, h)) {
-                out.push(h);
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// How deep a tool goes into a hole, mm.
-fn drill_depth(h: &Hole, tool: &ToolRecord) -> f64 {
-    let point = match tool.cutter.kind {
-        crate::tools::CutterKind::Cone { half_angle } => {
-            0.5 * tool.cutter.diameter / half_angle.tan()
-        }
-        _ => 0.0,
-    };
-    match h.bottom {
-        HoleBottom::Through => h.depth_mm + point + 0.5,
-        HoleBottom::Point { tip_depth_mm, .. } => tip_depth_mm,
-        HoleBottom::Flat | HoleBottom::Other { .. } => h.depth_mm,
-    }
-}
-
 /// Plan hole making (called by `talas plan` for the hole strategies).
 ///
 /// # Errors
 /// The part, a bad option, or no hole to make.
-#[expect(
-    clippy::too_many_lines,
-    reason = "one pass from the options through selection, targets, planning, posting and the report"
-)]
 pub fn plan_holes_cli(
     file: &Path,
     strategy_name: &str,
@@ -238,7 +161,6 @@ pub fn plan_holes_cli(
     args: &HoleArgs,
 ) -> Result<Value, ImportError> {
     let (hole_tool, record) = parse_hole_tool(tool_spec)?;
-    let d_tool = record.cutter.diameter;
     let tool_pitch = match hole_tool.map(|t| t.kind) {
         Some(HoleToolKind::Tap { pitch_mm, .. } | HoleToolKind::ThreadMill { pitch_mm, .. }) => {
             Some(pitch_mm)
@@ -251,129 +173,32 @@ pub fn plan_holes_cli(
         &TessellationOptions::for_size(part.rough_bbox().diagonal()),
     );
     let rep = crate::features::holes::recognize_holes(&part, Some(&mesh), &Default::default());
-    let same_d = |h: &Hole| (h.diameter_mm - d_tool).abs() <= 0.01;
-    let tapped = |h: &Hole| {
-        thread_for_tap_drill(h.diameter_mm).is_some_and(|t| {
-            (t.major_diameter_mm - d_tool).abs() <= 0.01
-                || strategy_name == "thread-mill"
-                    && tool_pitch.is_none_or(|p| (p - t.pitch_mm).abs() < 1e-9)
-        })
+    let cycle = HoleCycle::from_name(strategy_name).ok_or_else(|| {
+        bad(
+            "--strategy",
+            format!("'{strategy_name}' is not a hole strategy"),
+        )
+    })?;
+    let selection = HoleSelection::parse(&args.holes).map_err(|m| bad("--holes", m))?;
+    let settings = HoleSettings {
+        peck_mm: args.peck,
+        dwell_s: args.dwell,
+        pitch_mm: args.pitch,
+        depth_mm: args.depth,
+        finish_mm: args.finish,
     };
-    let counterbore = |h: &Hole| {
-        h.steps.iter().find_map(|s| match *s {
-            HoleStep::Cylinder {
-                diameter_mm,
-                depth_mm,
-            } => Some((diameter_mm, depth_mm)),
-            HoleStep::Cone { .. } => None,
-        })
-    };
-    let fits: Box<dyn Fn(&Hole) -> bool> = match strategy_name {
-        "spot" => Box::new(|_| true),
-        "tap" | "thread-mill" => Box::new(tapped),
-        "helical-bore" => {
-            Box::new(|h: &Hole| counterbore(h).map_or(h.diameter_mm, |c| c.0) > d_tool + 1e-6)
-        }
-        _ => Box::new(same_d),
-    };
-    let chosen = select(&rep, &args.holes, &*fits)?;
-    if chosen.is_empty() {
-        return Err(bad(
-            "--holes",
-            format!(
-                "no hole for a {strategy_name} with a {d_tool} mm tool among the part's {} holes",
-                rep.holes.len()
-            ),
-        ));
-    }
-    // One direction: the one most holes share.
-    let dir = chosen
-        .iter()
-        .map(|h| h.direction)
-        .max_by_key(|d| {
-            chosen
-                .iter()
-                .filter(|h| h.direction.distance(*d) < 1e-6)
-                .count()
-        })
-        .unwrap_or(DVec3::Z);
-    let skipped = chosen
-        .iter()
-        .filter(|h| h.direction.distance(dir) >= 1e-6)
-        .count();
-    let chosen: Vec<&Hole> = chosen
-        .into_iter()
-        .filter(|h| h.direction.distance(dir) < 1e-6)
-        .collect();
-    let pitch = args.pitch.or(tool_pitch);
-    let strategy = match strategy_name {
-        "drill" => HoleStrategy::Cycle(CycleKind::Drill),
-        "spot" => HoleStrategy::Cycle(CycleKind::Drill),
-        "dwell" => HoleStrategy::Cycle(CycleKind::Dwell {
-            dwell_s: args.dwell,
-        }),
-        "peck" => HoleStrategy::Cycle(CycleKind::Peck { peck_mm: args.peck }),
-        "chip-break" => HoleStrategy::Cycle(CycleKind::ChipBreak { peck_mm: args.peck }),
-        "tap" => HoleStrategy::Cycle(CycleKind::Tap {
-            pitch_mm: pitch.ok_or_else(|| bad("--pitch", "a tap needs its pitch".into()))?,
-        }),
-        "bore" | "ream" => HoleStrategy::Cycle(CycleKind::Bore {
-            dwell_s: args.dwell,
-        }),
-        "helical-bore" => HoleStrategy::HelicalBore {
-            pitch_mm: args.pitch.unwrap_or(1.0),
-            finish_mm: args.finish,
-        },
-        "thread-mill" => HoleStrategy::ThreadMill {
-            pitch_mm: pitch
-                .ok_or_else(|| bad("--pitch", "a thread mill needs the pitch".into()))?,
-        },
-        other => {
-            return Err(bad(
-                "--strategy",
-                format!("'{other}' is not a hole strategy"),
-            ));
-        }
-    };
-    let targets: Vec<HoleTarget> = chosen
-        .iter()
-        .map(|h| {
-            let (diameter_mm, depth_mm) = match strategy_name {
-                "spot" => {
-                    let half = match record.cutter.kind {
-                        crate::tools::CutterKind::Cone { half_angle } => half_angle,
-                        _ => std::f64::consts::FRAC_PI_4,
-                    };
-                    // As wide as the countersink, else the hole plus 0.2 mm.
-                    let width = h
-                        .steps
-                        .iter()
-                        .find_map(|s| match *s {
-                            HoleStep::Cone {
-                                top_diameter_mm, ..
-                            } => Some(top_diameter_mm),
-                            HoleStep::Cylinder { .. } => None,
-                        })
-                        .unwrap_or(h.diameter_mm + 0.2);
-                    (h.diameter_mm, 0.5 * width / half.tan())
-                }
-                "helical-bore" => counterbore(h).unwrap_or((h.diameter_mm, h.depth_mm)),
-                "thread-mill" => (
-                    thread_for_tap_drill(h.diameter_mm)
-                        .map_or(h.diameter_mm, |t| t.major_diameter_mm),
-                    h.depth_mm,
-                ),
-                "tap" => (h.diameter_mm, h.depth_mm),
-                _ => (h.diameter_mm, drill_depth(h, &record)),
-            };
-            HoleTarget {
-                top: h.top,
-                direction: h.direction,
-                depth_mm: args.depth.unwrap_or(depth_mm),
-                diameter_mm,
-            }
-        })
-        .collect();
+    let job = hole_job(
+        &rep, cycle, &record, tool_pitch, &selection, &settings, None,
+    )
+    .map_err(|m| {
+        let place = if m.contains("pitch") {
+            "--pitch"
+        } else {
+            "--holes"
+        };
+        bad(place, m)
+    })?;
+    let (targets, strategy, dir, skipped) = (job.targets, job.strategy, job.direction, job.skipped);
     let opts = HolePlanOptions {
         r_plane_mm: args.r_plane,
         clearance_mm: clearance.unwrap_or(10.0),

@@ -26,7 +26,7 @@ const Z_TOL_MM: f64 = 1e-6;
 const WALL_RISE_MM: f64 = 1e-4;
 
 /// What a region is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RegionKind {
     /// A floor at the part's top height (a face to face, no walls above it).

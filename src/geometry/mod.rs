@@ -13,6 +13,7 @@ pub mod mesh;
 pub mod minimize;
 pub mod nurbs;
 pub mod planar;
+pub mod rigid;
 pub mod stock;
 pub mod surface;
 pub mod tessellate;

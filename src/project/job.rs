@@ -57,7 +57,19 @@ pub fn plan_in_setup(
         return Ok(c);
     }
     let stock = setups::planning_stock(project, index, &placements, &bounds).map_err(plan_err)?;
-    let in_plane = setups::workpiece_in_plane(part, &here);
+    let mut in_plane = setups::workpiece_in_plane(part, &here);
+    if project.operations[op].is_planar()
+        && let Some(brep) = part.part.as_deref()
+    {
+        // The 2.5D and hole kinds recognise their regions and holes on the B-rep as it lies
+        // in the work plane (the recognisers look along +Z, the setup's tool axis).
+        let r = here.plane_rotation();
+        in_plane.part = Some(std::sync::Arc::new(crate::geometry::rigid::transform_part(
+            brep,
+            r,
+            -(r * here.origin),
+        )));
+    }
     let planning = Project {
         stock,
         ..project.clone()
@@ -130,8 +142,17 @@ pub fn post_setup(
                 .operations
                 .get(op)
                 .map_or(1, |o| u32::try_from(o.tool() + 1).unwrap_or(1)),
-            spindle_rpm: project.post.spindle_rpm,
-            coolant: true,
+            spindle_rpm: project
+                .operations
+                .get(op)
+                .and_then(|o| o.common())
+                .and_then(|c| c.spindle_rpm)
+                .unwrap_or(project.post.spindle_rpm),
+            coolant: project
+                .operations
+                .get(op)
+                .and_then(|o| o.common())
+                .is_none_or(|c| c.coolant),
         })
         .collect();
     let top = toolpaths

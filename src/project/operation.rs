@@ -10,6 +10,10 @@ use crate::strategies::steep_shallow::{
 use crate::strategies::waterline::{Cut, Entry};
 
 pub use super::finish_group::TiltAwaySettings;
+pub use super::op_contour::ContourOp;
+pub use super::op_face::FaceOp;
+pub use super::op_holes::HolesOp;
+pub use super::op_pocket::PocketOp;
 
 /// A machining operation. Each kind names the engine strategy that runs it
 /// ([`super::pipeline::compute`]).
@@ -198,6 +202,15 @@ pub enum Operation {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         boundary: Option<Boundary>,
     },
+    /// 2.5D facing in the setup's frame ([`super::op_face`]).
+    Face(FaceOp),
+    /// 2.5D pocketing in the setup's frame ([`super::op_pocket`]).
+    Pocket(PocketOp),
+    /// 2.5D contouring in the setup's frame ([`super::op_contour`]).
+    Contour(ContourOp),
+    /// Hole making (drilling, tapping, boring, … cycles) in the setup's frame
+    /// ([`super::op_holes`]).
+    Holes(HolesOp),
 }
 
 /// Default clearance plane of the 3-axis operations above the part (roughing: the stock), mm.
@@ -248,11 +261,19 @@ pub enum OperationKind {
     Pencil,
     /// [`Operation::Rest`].
     Rest,
+    /// [`Operation::Face`].
+    Face,
+    /// [`Operation::Pocket`].
+    Pocket,
+    /// [`Operation::Contour`].
+    Contour,
+    /// [`Operation::Holes`].
+    Holes,
 }
 
 impl OperationKind {
     /// Every kind, in menu order.
-    pub const ALL: [Self; 9] = [
+    pub const ALL: [Self; 13] = [
         Self::IsoScallop,
         Self::IsoParametric,
         Self::IsoPlanar,
@@ -262,6 +283,10 @@ impl OperationKind {
         Self::Pencil,
         Self::Rest,
         Self::Rough,
+        Self::Face,
+        Self::Pocket,
+        Self::Contour,
+        Self::Holes,
     ];
 
     /// Name for menus and new operations.
@@ -277,6 +302,10 @@ impl OperationKind {
             Self::SteepShallow => "Steep-and-shallow finishing",
             Self::Pencil => "Pencil finishing",
             Self::Rest => "Rest finishing",
+            Self::Face => "Facing",
+            Self::Pocket => "Pocketing",
+            Self::Contour => "Contouring",
+            Self::Holes => "Hole making",
         }
     }
 
@@ -380,7 +409,29 @@ impl Operation {
                 clearance_mm: FINISH_3AXIS_CLEARANCE_MM,
                 boundary: None,
             },
+            OperationKind::Face => Self::Face(FaceOp::new(name, tool)),
+            OperationKind::Pocket => Self::Pocket(PocketOp::new(name, tool)),
+            OperationKind::Contour => Self::Contour(ContourOp::new(name, tool)),
+            OperationKind::Holes => Self::Holes(HolesOp::new(name, tool)),
         }
+    }
+
+    /// The settings shared by the 2.5D and hole kinds (`None` for the others).
+    #[must_use]
+    pub fn common(&self) -> Option<&super::op_common::Common> {
+        match self {
+            Self::Face(o) => Some(&o.common),
+            Self::Pocket(o) => Some(&o.common),
+            Self::Contour(o) => Some(&o.common),
+            Self::Holes(o) => Some(&o.common),
+            _ => None,
+        }
+    }
+
+    /// Is it a 2.5D or hole kind (planned on the B-rep turned into the setup's frame)?
+    #[must_use]
+    pub fn is_planar(&self) -> bool {
+        self.common().is_some()
     }
 
     /// For waterline and steep-and-shallow: the settings the planners' options are mapped from.
@@ -446,6 +497,10 @@ impl Operation {
             Self::SteepShallow { .. } => OperationKind::SteepShallow,
             Self::Pencil { .. } => OperationKind::Pencil,
             Self::Rest { .. } => OperationKind::Rest,
+            Self::Face(_) => OperationKind::Face,
+            Self::Pocket(_) => OperationKind::Pocket,
+            Self::Contour(_) => OperationKind::Contour,
+            Self::Holes(_) => OperationKind::Holes,
         }
     }
 
@@ -460,6 +515,10 @@ impl Operation {
             | Self::SteepShallow { name, .. }
             | Self::Pencil { name, .. }
             | Self::Rest { name, .. } => name,
+            Self::Face(o) => &o.name,
+            Self::Pocket(o) => &o.name,
+            Self::Contour(o) => &o.name,
+            Self::Holes(o) => &o.name,
         }
     }
 
@@ -474,6 +533,10 @@ impl Operation {
             | Self::SteepShallow { tool, .. }
             | Self::Pencil { tool, .. }
             | Self::Rest { tool, .. } => *tool,
+            Self::Face(o) => o.tool,
+            Self::Pocket(o) => o.tool,
+            Self::Contour(o) => o.tool,
+            Self::Holes(o) => o.tool,
         }
     }
 
@@ -492,7 +555,12 @@ impl Operation {
             | Self::SteepShallow { boundary, .. }
             | Self::Pencil { boundary, .. }
             | Self::Rest { boundary, .. } => Some(boundary),
-            Self::Finish { .. } | Self::Rough { .. } => None,
+            Self::Finish { .. }
+            | Self::Rough { .. }
+            | Self::Face(_)
+            | Self::Pocket(_)
+            | Self::Contour(_)
+            | Self::Holes(_) => None,
         }
     }
 
@@ -503,7 +571,12 @@ impl Operation {
             | Self::SteepShallow { boundary, .. }
             | Self::Pencil { boundary, .. }
             | Self::Rest { boundary, .. } => Some(boundary),
-            Self::Finish { .. } | Self::Rough { .. } => None,
+            Self::Finish { .. }
+            | Self::Rough { .. }
+            | Self::Face(_)
+            | Self::Pocket(_)
+            | Self::Contour(_)
+            | Self::Holes(_) => None,
         }
     }
 
@@ -517,7 +590,11 @@ impl Operation {
             | Self::Waterline { tool, .. }
             | Self::SteepShallow { tool, .. }
             | Self::Pencil { tool, .. }
-            | Self::Rest { tool, .. } => {
+            | Self::Rest { tool, .. }
+            | Self::Face(FaceOp { tool, .. })
+            | Self::Pocket(PocketOp { tool, .. })
+            | Self::Contour(ContourOp { tool, .. })
+            | Self::Holes(HolesOp { tool, .. }) => {
                 *tool = new_tool;
             }
         }
@@ -559,7 +636,11 @@ impl Operation {
             | Self::Waterline { name, .. }
             | Self::SteepShallow { name, .. }
             | Self::Pencil { name, .. }
-            | Self::Rest { name, .. } => {
+            | Self::Rest { name, .. }
+            | Self::Face(FaceOp { name, .. })
+            | Self::Pocket(PocketOp { name, .. })
+            | Self::Contour(ContourOp { name, .. })
+            | Self::Holes(HolesOp { name, .. }) => {
                 *name = new_name.into();
             }
         }
@@ -708,6 +789,10 @@ impl Operation {
                 positive("chord tolerance (mm)", *tolerance_mm)?;
                 positive("feed (mm/min)", *feed_mm_per_min)
             }
+            Self::Face(o) => o.validate(),
+            Self::Pocket(o) => o.validate(),
+            Self::Contour(o) => o.validate(),
+            Self::Holes(o) => o.validate(),
         }
     }
 

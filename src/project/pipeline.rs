@@ -6,6 +6,8 @@
 use std::sync::Arc;
 
 pub use super::computed::{ComputeError, Computed};
+use super::op_common::stock_top;
+use super::op_regions::{PlanarKind, RegionTarget, compute_planar};
 use super::results::{Digest, DigestBuilder, Keys, Results, STOCK_MAX_RAYS, StockLeftover};
 use super::{Operation, Project, Stock};
 use crate::checks::part::PartCheck;
@@ -55,6 +57,16 @@ pub fn compute(
 ///   settings, the machine, the grid rule, and each earlier operation's digest and cutter.
 #[must_use]
 pub fn digests(project: &Project, part: Digest) -> Keys {
+    digests_in(project, part, None)
+}
+
+/// As [`digests`], a drawn region's file read relative to `folder` (the folder of the part
+/// file, as the 2.5D operations resolve it: [`super::op_regions::part_folder`]).
+///
+/// - 2.5D and hole operations: also the project's stock (their heights may be measured from
+///   its top) and, for a drawn region, the file's contents (or why it cannot be read).
+#[must_use]
+pub fn digests_in(project: &Project, part: Digest, folder: Option<&std::path::Path>) -> Keys {
     let machine = match crate::machine::Machine::resolve(&project.machine) {
         Ok(m) => format!("{m:?}"),
         Err(e) => format!("{}: {e}", project.machine),
@@ -92,6 +104,27 @@ pub fn digests(project: &Project, part: Digest) -> Keys {
                 b.json("reference", &cutter(*reference_tool));
                 if *from_stock && let Some(s) = stocks.last() {
                     b.digest("stock before", *s);
+                }
+            }
+            Operation::Face(_)
+            | Operation::Pocket(_)
+            | Operation::Contour(_)
+            | Operation::Holes(_) => {
+                b.json("stock", &project.stock);
+                let target = match op {
+                    Operation::Face(o) => Some(&o.target),
+                    Operation::Pocket(o) => Some(&o.target),
+                    Operation::Contour(o) => Some(&o.target),
+                    _ => None,
+                };
+                if let Some(file) = target.and_then(|t: &RegionTarget| t.drawn_file(folder)) {
+                    match std::fs::read(&file) {
+                        Ok(bytes) => {
+                            b.text("region file", "contents");
+                            b.bytes(&bytes);
+                        }
+                        Err(e) => b.text("region file", &format!("{}: {e}", file.display())),
+                    }
                 }
             }
             _ => {}
@@ -193,6 +226,41 @@ fn compute_with(
                 other => other,
             })?
         }
+        // The 2.5D and hole kinds: one arm each (a new kind adds its file under src/project/,
+        // its variant in `Operation`, and its arm here).
+        Operation::Face(o) => compute_planar(
+            PlanarKind::Face,
+            &o.target,
+            &o.common,
+            o.settings(),
+            part,
+            &tool,
+            stock_top(&project.stock),
+        )
+        .map_err(plan_err)?,
+        Operation::Pocket(o) => compute_planar(
+            PlanarKind::Pocket,
+            &o.target,
+            &o.common,
+            o.settings(),
+            part,
+            &tool,
+            stock_top(&project.stock),
+        )
+        .map_err(plan_err)?,
+        Operation::Contour(o) => compute_planar(
+            PlanarKind::Contour,
+            &o.target,
+            &o.common,
+            o.settings(),
+            part,
+            &tool,
+            stock_top(&project.stock),
+        )
+        .map_err(plan_err)?,
+        Operation::Holes(o) => o
+            .compute(part, &tool, stock_top(&project.stock))
+            .map_err(plan_err)?,
     };
     cancelled(progress)?;
     if let Some(boundary) = op.boundary() {

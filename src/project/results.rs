@@ -259,7 +259,11 @@ impl Results {
     /// The digests of `project`'s results on `part` ([`pipeline::digests`]).
     #[must_use]
     pub fn keys(project: &Project, part: &Workpiece) -> Keys {
-        pipeline::digests(project, part_digest(part))
+        pipeline::digests_in(
+            project,
+            part_digest(part),
+            super::op_regions::part_folder(part),
+        )
     }
 
     /// Operation `index`'s path if the store holds it fresh (computed from the inputs the

@@ -114,6 +114,11 @@ pub fn default_band_mm(operation: &Operation) -> f64 {
         Operation::Rough {
             stock_to_leave_mm, ..
         } => *stock_to_leave_mm,
+        Operation::Face(_) | Operation::Pocket(_) | Operation::Contour(_) | Operation::Holes(_) => {
+            operation.common().map_or(0.0, |c| {
+                c.stock_to_leave_walls_mm.max(c.stock_to_leave_floors_mm)
+            })
+        }
     };
     band.max(MIN_BAND_MM)
 }
