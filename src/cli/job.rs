@@ -17,10 +17,9 @@ use serde_json::{Value, json};
 use crate::checks::collide::{Hit, Obstacle, assembly, first_hit};
 use crate::diagnostics::Progress;
 use crate::import::{ImportError, OpenOptions, Workpiece, open};
-use crate::project::job::{plan_in_setup, post_setup, program_stem};
-use crate::project::setups::{self, transform_mesh};
-use crate::project::simulate::{SimulationSettings, simulate_toolpaths};
-use crate::project::{Project, Stock};
+use crate::project::Project;
+use crate::project::job::{link_setup, plan_in_setup, post_setup, program_stem};
+use crate::project::setups;
 use crate::toolpath::Toolpath;
 
 /// Largest step along a move between two collision tests against the workholding, mm.
@@ -161,6 +160,23 @@ fn run_setup(
         }));
         paths.push(c.toolpath);
     }
+    // Posted and simulated: each path linked over the stock the paths before it left (its
+    // rapids lifted above it), the setup's stock cut by the linked paths in order.
+    let mut simulated = None;
+    if (args.post.is_some() || args.simulate) && !paths.is_empty() {
+        let (linked, sim) =
+            link_setup(project, s, part, &paths, args.simulate, &Progress::new()).map_err(err)?;
+        for (op, l) in ops.iter_mut().zip(&linked) {
+            op["rapids_lifted"] = json!(l.lift.lifted);
+            op["rapids_worst_depth_mm"] = json!(l.lift.worst_depth_mm);
+            op["fed_links_through_stock"] = json!(l.fed_links_through_stock);
+            if let Some(d) = op["diagnostics"].as_array_mut() {
+                d.extend(l.diagnostics.iter().map(|x| json!(x.to_string())));
+            }
+        }
+        paths = linked.into_iter().map(|l| l.toolpath).collect();
+        simulated = sim;
+    }
     let workholding =
         setups::workholding_meshes(project, s, placements, bounds, base).map_err(err)?;
     let obstacles = setup
@@ -196,11 +212,16 @@ fn run_setup(
         lines = json!(posted.text.lines().count());
         posted_lines = Some(posted.source_of_line);
     }
-    let simulation = if args.simulate && !paths.is_empty() {
-        simulate_setup(project, s, part, placements, bounds, &paths).map_err(err)?
-    } else {
-        Value::Null
-    };
+    let simulation = simulated.map_or(Value::Null, |sim| {
+        json!({
+            "resolution_mm": sim.resolution_mm,
+            "initial_volume_mm3": sim.report.initial_volume_mm3,
+            "removed_volume_mm3": sim.report.removed_volume_mm3,
+            "final_volume_mm3": sim.report.final_volume_mm3,
+            "collisions": sim.report.collisions.len(),
+            "max_gouge_mm": sim.max_gouge_mm,
+        })
+    });
     for (k, (op, hit)) in ops.iter_mut().zip(&hits).enumerate() {
         op["workholding_collision"] = hit.as_ref().map_or(Value::Null, |h| {
             let line = posted_lines.as_ref().and_then(|l| {
@@ -232,44 +253,6 @@ fn run_setup(
         "program": program,
         "program_lines": lines,
         "simulation": simulation,
-    }))
-}
-
-/// Cut setup `s`'s paths (setup frame) from its starting stock's box, the part in the setup
-/// frame.
-fn simulate_setup(
-    project: &Project,
-    s: usize,
-    part: &Workpiece,
-    placements: &[setups::Placement],
-    bounds: &crate::geometry::Aabb,
-    paths: &[Toolpath],
-) -> Result<Value, String> {
-    let here = placements[s];
-    let solid = setups::stock_solid(project, s, placements, bounds)?;
-    let b = solid.bbox();
-    let stock = Stock::Box {
-        min_mm: b.min.to_array(),
-        max_mm: b.max.to_array(),
-    };
-    let mesh = transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
-    let with: Vec<(&Toolpath, &crate::tools::Cutter)> =
-        paths.iter().map(|p| (p, &p.tool.cutter)).collect();
-    let sim = simulate_toolpaths(
-        &stock,
-        &mesh,
-        &with,
-        &SimulationSettings::default(),
-        &Progress::new(),
-    )
-    .map_err(|e| format!("simulation: {e}"))?;
-    Ok(json!({
-        "resolution_mm": sim.resolution_mm,
-        "initial_volume_mm3": sim.report.initial_volume_mm3,
-        "removed_volume_mm3": sim.report.removed_volume_mm3,
-        "final_volume_mm3": sim.report.final_volume_mm3,
-        "collisions": sim.report.collisions.len(),
-        "max_gouge_mm": sim.max_gouge_mm,
     }))
 }
 
