@@ -5,6 +5,10 @@
 //! assembly with the setup's workholding (`checks::collide`, with its program line when
 //! posted), and the program file.
 //!
+//! Posted and simulated paths are linked (`project::job::link_setup`): each path's rapids are
+//! lifted over the stock the setup's paths before it left (`project::rapids::link`), and the
+//! per-operation output gives `rapids_lifted` and `fed_links_through_stock`.
+//!
 //! The simulation cuts each setup's paths from that setup's starting stock (the box of
 //! [`crate::project::setups::stock_solid`] in the setup frame); the material earlier setups
 //! removed is not carried yet (the engine's in-process stock is being built beside this), and

@@ -30,15 +30,16 @@ pub struct RapidLift {
 }
 
 /// The lowest tip height at `tip`'s (x, y) where the lower surface of `cutter` (vertical)
-/// clears the stock `top`, sampled every `step` mm over the disc (`None` where no material
-/// lies under it).
+/// clears the stock `top`, sampled every `step` mm over the disc less one `step` at its rim
+/// (material touching the rim is contact at the stock's resolution, as beside a wall just
+/// cut), `None` where no material lies under it.
 fn entry_height(
     top: &dyn Fn(f64, f64) -> Option<f64>,
     cutter: &crate::tools::Cutter,
     tip: DVec3,
     step: f64,
 ) -> Option<f64> {
-    let radius = cutter.radius();
+    let radius = (cutter.radius() - step).max(0.0);
     let mut best: Option<f64> = top(tip.x, tip.y);
     let rings = ((radius / step).ceil() as usize).clamp(1, 64);
     for r in 1..=rings {

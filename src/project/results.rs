@@ -204,8 +204,11 @@ struct Inner {
     paths: Vec<Option<(Digest, Arc<Computed>)>>,
     stocks: Vec<Option<(Digest, Arc<InProcessStock>)>>,
     /// Operation k's linked path, under (its path's digest, the stock-before digest).
-    linked: Vec<Option<((Digest, Digest), Arc<Linked>)>>,
+    linked: Vec<Option<LinkedSlot>>,
 }
+
+/// A linked path under (its operation's digest, the stock-before digest).
+type LinkedSlot = ((Digest, Digest), Arc<Linked>);
 
 fn slot<T>(v: &mut Vec<Option<T>>, k: usize) -> &mut Option<T> {
     if v.len() <= k {
