@@ -394,7 +394,7 @@ fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
     let part = part();
     for (s, setup) in setups.iter().enumerate() {
         assert_eq!(setup["name"], project.setups[s].name);
-        // The program on disk is the library's post of the setup.
+        // The program on disk is the library's post of the setup …
         let file = setup["program"].as_str().unwrap();
         let text = std::fs::read_to_string(file).unwrap();
         let paths: Vec<Toolpath> = project.setups[s]
@@ -406,6 +406,11 @@ fn talas_job_posts_one_program_per_setup_and_reports_each_operation() {
                     .toolpath
             })
             .collect();
+        // … of its paths linked over the setup's stock (rapids above it).
+        let (linked, _) =
+            talas::project::job::link_setup(&project, s, &part, &paths, false, &Progress::new())
+                .unwrap();
+        let paths: Vec<Toolpath> = linked.into_iter().map(|l| l.toolpath).collect();
         assert_eq!(text, post_setup(&project, s, &paths).unwrap().text);
         let op = &setup["operations"][0];
         assert!(

@@ -1,13 +1,14 @@
 //! `project::job::post_job` (the workstation's "Post job…"): every setup with operations gets
 //! one program, in the setup's work offset, that reads back through Talas's interpreter, and
-//! it is the program `post_setup` makes of the setup's own plans (one route, not two).
+//! it is the program `post_setup` makes of the setup's own plans linked by `link_setup` (one
+//! route with `talas job --post`, not two).
 
 use std::path::Path;
 
 use talas::diagnostics::Progress;
 use talas::import::{OpenOptions, open};
 use talas::project::Project;
-use talas::project::job::{plan_in_setup, post_job, post_setup};
+use talas::project::job::{link_setup, plan_in_setup, post_job, post_setup};
 
 fn job() -> (Project, talas::import::Workpiece) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/job");
@@ -49,7 +50,10 @@ fn the_job_posts_one_program_per_setup_in_its_work_offset() {
                     .toolpath
             })
             .collect();
-        let direct = post_setup(&project, p.setup, &paths).expect("posts");
+        let (linked, _) =
+            link_setup(&project, p.setup, &part, &paths, false, &Progress::new()).expect("links");
+        let linked: Vec<_> = linked.into_iter().map(|l| l.toolpath).collect();
+        let direct = post_setup(&project, p.setup, &linked).expect("posts");
         assert_eq!(direct.text, p.program.text, "deterministic, one route");
         // It reads back.
         let read = talas::gcode::interpret(&p.program.text, &Default::default());

@@ -65,7 +65,9 @@ fn removed(
     let mut a = start();
     let pa = plan_toolpath(&c.toolpath, &step).unwrap();
     let ra = simulate(&mut a, cutter, &pa, &SimOptions::default(), &p).unwrap();
-    let (pb, note) = operation_moves(project, index, &c, &step).unwrap();
+    // The store posts and cuts the linked path (rapids over the stock before it).
+    let linked = store.linked(project, part, index, &p).unwrap();
+    let (pb, note) = operation_moves(project, index, &linked.toolpath, &step).unwrap();
     assert!(note.is_none(), "{note:?}");
     let mut b = start();
     let rb = simulate(&mut b, cutter, &pb, &SimOptions::default(), &p).unwrap();

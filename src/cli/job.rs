@@ -10,6 +10,11 @@
 //! true`; per setup its start and end volumes); with `--setup NAME` the setups before it are
 //! planned and simulated too. Each setup's simulation tests the tool against its workholding
 //! along the moves it cuts, and reports the pose and line planning reports.
+//!
+//! Posted and simulated paths are linked (`project::job::link_setup`): each path's rapids are
+//! lifted over the stock the setup's paths before it left (`project::rapids::link`, over the
+//! setup's own starting stock: the carried material is not yet linked over), and the
+//! per-operation output gives `rapids_lifted` and `fed_links_through_stock`.
 
 use std::path::{Path, PathBuf};
 
@@ -18,7 +23,7 @@ use serde_json::{Value, json};
 use crate::diagnostics::Progress;
 use crate::import::{ImportError, OpenOptions, Workpiece, open};
 use crate::project::Project;
-use crate::project::job::{plan_in_setup, post_setup, program_stem};
+use crate::project::job::{link_setup, plan_in_setup, post_setup, program_stem};
 use crate::project::job_sim::{
     self, SetupSimulation, WorkholdingHit, simulate_job, workholding_hits,
 };
@@ -194,6 +199,21 @@ fn plan_setup(
             "diagnostics": c.diagnostics.iter().map(ToString::to_string).collect::<Vec<_>>(),
         }));
         paths.push(c.toolpath);
+    }
+    // Posted and simulated: each path linked over the stock the paths before it left (its
+    // rapids lifted above it).
+    if (args.post.is_some() || args.simulate) && !paths.is_empty() {
+        let (linked, _) = link_setup(project, s, part, &paths, false, &Progress::new())
+            .map_err(|e| bad(&args.file, place.clone(), e))?;
+        for (op, l) in ops.iter_mut().zip(&linked) {
+            op["rapids_lifted"] = json!(l.lift.lifted);
+            op["rapids_worst_depth_mm"] = json!(l.lift.worst_depth_mm);
+            op["fed_links_through_stock"] = json!(l.fed_links_through_stock);
+            if let Some(d) = op["diagnostics"].as_array_mut() {
+                d.extend(l.diagnostics.iter().map(|x| json!(x.to_string())));
+            }
+        }
+        paths = linked.into_iter().map(|l| l.toolpath).collect();
     }
     Ok((ops, paths))
 }

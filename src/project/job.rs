@@ -180,6 +180,71 @@ pub fn post_setup(
     post_program(&ops, &machine, &dialect, &options).map_err(post_err)
 }
 
+/// Setup `s`'s tool paths linked and cut in order on the setup's starting stock (the box of
+/// [`setups::stock_solid`] in the setup frame): each path (setup frame, from
+/// [`plan_in_setup`]) has its rapids lifted over the stock the paths before it left
+/// ([`super::rapids::link`], the same step [`super::Results::linked`] runs on the store's
+/// stock), and that stock is then cut by the linked path. With `measure`, the cut stock is
+/// measured against the part (in the setup frame). The earlier setups' material is not
+/// carried.
+///
+/// # Errors
+/// The setup's frame or stock that cannot be resolved, or the simulation's error, as text.
+pub fn link_setup(
+    project: &Project,
+    s: usize,
+    part: &Workpiece,
+    paths: &[Toolpath],
+    measure: bool,
+    progress: &Progress,
+) -> Result<
+    (
+        Vec<super::rapids::Linked>,
+        Option<super::simulate::Simulated>,
+    ),
+    String,
+> {
+    let placements = setups::placements(project, Some(part))?;
+    let here = *placements
+        .get(s)
+        .ok_or_else(|| format!("no setup {}", s + 1))?;
+    let solid = setups::stock_solid(project, s, &placements, &part.mesh.bbox())?;
+    let b = solid.bbox();
+    let stock = Stock::Box {
+        min_mm: b.min.to_array(),
+        max_mm: b.max.to_array(),
+    };
+    let mesh = setups::transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
+    let settings = super::simulate::SimulationSettings::default();
+    let (mut dexels, resolution) = super::simulate::stock_grid(&stock, &mesh, &settings)
+        .map_err(|e| format!("simulation: {e}"))?;
+    let mut linked = Vec::with_capacity(paths.len());
+    let mut reports = Vec::with_capacity(paths.len());
+    for tp in paths {
+        let l = super::rapids::link(tp, &dexels);
+        reports.push(
+            super::simulate::cut_path(
+                &mut dexels,
+                resolution,
+                &l.toolpath,
+                &l.toolpath.tool.cutter,
+                progress,
+            )
+            .map_err(|e| format!("simulation: {e}"))?,
+        );
+        linked.push(l);
+    }
+    let measured = if measure && !reports.is_empty() {
+        Some(
+            super::simulate::measured(&dexels, &mesh, reports, progress)
+                .map_err(|e| format!("simulation: {e}"))?,
+        )
+    } else {
+        None
+    };
+    Ok((linked, measured))
+}
+
 /// A setup name as a file stem: ASCII letters, digits, `-` and `_` (others become `_`).
 #[must_use]
 pub fn program_stem(name: &str) -> String {
@@ -217,9 +282,9 @@ pub struct SetupProgram {
     pub program: PostedProgram,
 }
 
-/// Plan every operation of each setup that has some (in its frame, [`plan_in_setup`]) and post
-/// one program per setup ([`post_setup`]), as `talas job --post` does; progress runs over the
-/// operations and is checked between them.
+/// Plan every operation of each setup that has some (in its frame, [`plan_in_setup`]), link
+/// each setup's paths ([`link_setup`]) and post one program per setup ([`post_setup`]), as
+/// `talas job --post` does; progress runs over the operations and is checked between them.
 ///
 /// # Errors
 /// The first operation that cannot be planned or setup that cannot be posted, named; or
@@ -245,6 +310,10 @@ pub fn post_job(
             done += 1;
             progress.set(done as f64 / total);
         }
+        // Linked as `talas job` links them: rapids lifted over the stock left before each.
+        let (linked, _) = link_setup(project, s, part, &paths, false, progress)
+            .map_err(|e| format!("setup {} ('{}'): {e}", s + 1, setup.name))?;
+        let paths: Vec<Toolpath> = linked.into_iter().map(|l| l.toolpath).collect();
         let program = post_setup(project, s, &paths)
             .map_err(|e| format!("setup {} ('{}'): {e}", s + 1, setup.name))?;
         out.push(SetupProgram {

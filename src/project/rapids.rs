@@ -21,6 +21,49 @@ pub struct RapidLift {
     pub lifted: usize,
     /// The deepest a rapid ran below the stock + clearance before the lift, mm.
     pub worst_depth_mm: f64,
+    /// Rapids that came down into the stock (or within the clearance of it) at their end,
+    /// now a rapid to the clearance over the stock there and a fed plunge the rest of the way.
+    pub fed_down: usize,
+    /// Rapids that left a cut upwards with the tool still in the stock, now a fed move up to
+    /// the clearance over it and a rapid from there.
+    pub fed_up: usize,
+}
+
+/// The lowest tip height at `tip`'s (x, y) where the lower surface of `cutter` (vertical)
+/// clears the stock `top`, sampled every `step` mm over the disc less one `step` at its rim
+/// (material touching the rim is contact at the stock's resolution, as beside a wall just
+/// cut), `None` where no material lies under it.
+fn entry_height(
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    cutter: &crate::tools::Cutter,
+    tip: DVec3,
+    step: f64,
+) -> Option<f64> {
+    let radius = (cutter.radius() - step).max(0.0);
+    let mut best: Option<f64> = top(tip.x, tip.y);
+    let rings = ((radius / step).ceil() as usize).clamp(1, 64);
+    for r in 1..=rings {
+        let rr = radius * r as f64 / rings as f64;
+        let lift = cutter.height_at_radius(rr).unwrap_or(0.0);
+        let n = ((std::f64::consts::TAU * rr / step).ceil() as usize).clamp(8, 512);
+        for k in 0..n {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            if let Some(z) = top(tip.x + rr * t.cos(), tip.y + rr * t.sin()) {
+                best = Some(best.map_or(z - lift, |b: f64| b.max(z - lift)));
+            }
+        }
+    }
+    best
+}
+
+/// The feed of the first fed pose of `rest` (its plunge or cut), for a rapid turned into a
+/// plunge; the slowest feed of the path's plunges where none follows.
+fn plunge_feed(rest: &[Pose]) -> f64 {
+    rest.iter()
+        .find(|p| p.kind == MoveKind::Plunge || p.kind == MoveKind::Cut)
+        .map(|p| p.feed_mm_per_min)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .unwrap_or(100.0)
 }
 
 /// Highest material under a disc of radius `radius` (mm) centred at (x, y), sampled every
@@ -105,6 +148,30 @@ pub fn lift_rapids(
         // are about to be: only rapids that move across are checked.
         let across =
             i > 0 && (pose.tip - toolpath.poses[i - 1].tip).truncate().length() > ACROSS_MM;
+        // A rapid leaving a fed move upwards while the tool is still in the stock (the
+        // material beside the cut, which the stock before the operation still holds): feed
+        // up until the tool clears it by the clearance, then rapid.
+        if pose.kind == MoveKind::Rapid
+            && i > 0
+            && toolpath.poses[i - 1].kind != MoveKind::Rapid
+            && pose.tip.z > toolpath.poses[i - 1].tip.z
+        {
+            let prev = toolpath.poses[i - 1];
+            if let Some(touch) = entry_height(top, &toolpath.tool.cutter, prev.tip, step)
+                && prev.tip.z < touch
+            {
+                let up = (touch + clearance).min(pose.tip.z);
+                let mut p = prev;
+                p.kind = MoveKind::Link;
+                p.tip.z = up;
+                p.cc = None;
+                p.contact = None;
+                out.fed_up += 1;
+                if up < pose.tip.z - ACROSS_MM || across {
+                    poses.push(p);
+                }
+            }
+        }
         if across && pose.kind == MoveKind::Rapid {
             let a = toolpath.poses[i - 1].tip;
             let b = pose.tip;
@@ -121,10 +188,31 @@ pub fn lift_rapids(
                 }
             }
         }
+        // A rapid coming down into the stock (or within the clearance of it) at its end:
+        // rapid down to the clearance over the stock there, then feed the rest of the way.
+        let mut end = *pose;
+        if pose.kind == MoveKind::Rapid
+            && let Some(from) = poses.last().map(|p| p.tip)
+            && pose.tip.z < from.z
+            && let Some(touch) = entry_height(top, &toolpath.tool.cutter, pose.tip, step)
+            && pose.tip.z < touch + clearance
+        {
+            let feed_z = touch + clearance;
+            out.fed_down += 1;
+            if from.z > feed_z + ACROSS_MM {
+                let mut stop = *pose;
+                stop.tip.z = feed_z;
+                stop.cc = None;
+                stop.contact = None;
+                poses.push(stop);
+            }
+            end.kind = MoveKind::Plunge;
+            end.feed_mm_per_min = plunge_feed(&toolpath.poses[i..]);
+        }
         map.push(poses.len());
-        poses.push(*pose);
+        poses.push(end);
     }
-    if out.lifted == 0 {
+    if out.lifted == 0 && out.fed_down == 0 && out.fed_up == 0 {
         return out;
     }
     let mut exact = std::mem::take(&mut toolpath.exact);
@@ -185,7 +273,113 @@ pub fn lift_rapids_over(
             ),
         ));
     }
+    if r.fed_up > 0 {
+        diagnostics.push(crate::diagnostics::Diagnostic::info(
+            None,
+            format!(
+                "{} retract(s) left the cut inside the in-process stock: they now feed up to \
+                 {STOCK_CLEARANCE_MM} mm above it before the rapid",
+                r.fed_up
+            ),
+        ));
+    }
+    if r.fed_down > 0 {
+        diagnostics.push(crate::diagnostics::Diagnostic::info(
+            None,
+            format!(
+                "{} rapid(s) came down into the in-process stock: they now stop \
+                 {STOCK_CLEARANCE_MM} mm above it and feed the rest of the way",
+                r.fed_down
+            ),
+        ));
+    }
     r
+}
+
+/// An operation's path as it runs: its stored path with the rapids lifted over the stock
+/// before it ([`link`]), and what the lift and the check of the fed links found.
+#[derive(Clone, Debug)]
+pub struct Linked {
+    /// The path to post and to simulate.
+    pub toolpath: Toolpath,
+    /// The rapids lifted.
+    pub lift: RapidLift,
+    /// Fed links (G1 moves between cuts, [`MoveKind::Link`]) whose tool centre runs through
+    /// the stock (more than one dexel below its top), and the deepest, mm. They are left: a
+    /// fed link cuts what it meets at its feed, and lifting it would change the planner's
+    /// entry into the next pass.
+    pub fed_links_through_stock: usize,
+    /// The deepest of those fed links below the stock's top, mm.
+    pub fed_link_worst_depth_mm: f64,
+    /// Notes for the operation (how many rapids were lifted, the fed links through stock).
+    pub diagnostics: Vec<crate::diagnostics::Diagnostic>,
+}
+
+/// The fed links ([`MoveKind::Link`] moves across) of `toolpath` whose centre runs more than
+/// `step` (one dexel) below the stock `top` between their ends: how many, and the deepest, mm.
+fn fed_links_through(
+    toolpath: &Toolpath,
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    step: f64,
+) -> (usize, f64) {
+    let (mut count, mut worst) = (0, 0.0_f64);
+    for w in toolpath.poses.windows(2) {
+        let (a, b) = (w[0].tip, w[1].tip);
+        let len = (b - a).truncate().length();
+        if w[1].kind != MoveKind::Link || len <= ACROSS_MM {
+            continue;
+        }
+        let n = ((len / step).ceil() as usize).clamp(2, 100_000);
+        let deepest = (1..n)
+            .filter_map(|k| {
+                let p = a.lerp(b, k as f64 / n as f64);
+                top(p.x, p.y).map(|z| z - p.z)
+            })
+            .fold(0.0_f64, f64::max);
+        if deepest > step {
+            count += 1;
+            worst = worst.max(deepest);
+        }
+    }
+    (count, worst)
+}
+
+/// `toolpath` linked over the stock `dexels` (the in-process stock before it, in the path's
+/// frame): its rapids lifted ([`lift_rapids_over`]), its fed links through the stock counted
+/// and reported. The one linking step every consumer of a stored path runs before posting or
+/// simulating it (`Results::linked`, `talas job`).
+#[must_use]
+pub fn link(toolpath: &Toolpath, dexels: &crate::simulation::DexelStock) -> Linked {
+    let mut out = toolpath.clone();
+    let mut diagnostics = Vec::new();
+    let lift = lift_rapids_over(&mut out, &mut diagnostics, dexels);
+    let top = |x: f64, y: f64| dexel_top(dexels, x, y);
+    let step = dexels.resolution_mm.max(0.05);
+    let (fed, fed_worst) = if out
+        .poses
+        .iter()
+        .all(|p| (p.axis - DVec3::Z).length() <= 1e-9)
+    {
+        fed_links_through(&out, &top, step)
+    } else {
+        (0, 0.0)
+    };
+    if fed > 0 {
+        diagnostics.push(crate::diagnostics::Diagnostic::warning(
+            None,
+            format!(
+                "{fed} fed link(s) between passes run through the in-process stock (the deepest \
+                 {fed_worst:.3} mm below its top): they cut it at the link feed"
+            ),
+        ));
+    }
+    Linked {
+        toolpath: out,
+        lift,
+        fed_links_through_stock: fed,
+        fed_link_worst_depth_mm: fed_worst,
+        diagnostics,
+    }
 }
 
 #[cfg(test)]
@@ -263,5 +457,29 @@ mod tests {
         let mut p = path(poses.clone());
         assert_eq!(lift_rapids(&mut p, &top, 1.0, 0.1), RapidLift::default());
         assert_eq!(p.poses, poses);
+    }
+
+    /// A rapid coming down into the wall's material stops 1 mm above it and feeds the rest.
+    #[test]
+    fn a_rapid_down_into_the_stock_feeds_from_above_it() {
+        let top = |x: f64, _y: f64| ((20.0..=22.0).contains(&x)).then_some(10.0);
+        let mut p = path(vec![
+            pose(MoveKind::Rapid, 21.0, 0.0, 15.0),
+            pose(MoveKind::Rapid, 21.0, 0.0, 5.0),
+            pose(MoveKind::Cut, 30.0, 0.0, 5.0),
+        ]);
+        let r = lift_rapids(&mut p, &top, 1.0, 0.1);
+        assert_eq!((r.lifted, r.fed_down), (0, 1), "{r:?}");
+        let kinds: Vec<_> = p.poses.iter().map(|q| (q.kind, q.tip.z)).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (MoveKind::Rapid, 15.0),
+                (MoveKind::Rapid, 11.0),
+                (MoveKind::Plunge, 5.0),
+                (MoveKind::Cut, 5.0)
+            ]
+        );
+        assert!((p.poses[2].feed_mm_per_min - 1000.0).abs() < 1e-12);
     }
 }

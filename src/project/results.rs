@@ -30,6 +30,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use glam::DVec3;
 
 use super::computed::{ComputeError, Computed};
+use super::rapids::Linked;
 pub use super::simulate::{STOCK_MAX_RAYS, stock_resolution_mm};
 use super::simulate::{Simulated, SimulationSettings, cut_path, measured, stock_grid};
 use super::{Project, Stock, pipeline};
@@ -202,7 +203,12 @@ impl InProcessStock {
 struct Inner {
     paths: Vec<Option<(Digest, Arc<Computed>)>>,
     stocks: Vec<Option<(Digest, Arc<InProcessStock>)>>,
+    /// Operation k's linked path, under (its path's digest, the stock-before digest).
+    linked: Vec<Option<LinkedSlot>>,
 }
+
+/// A linked path under (its operation's digest, the stock-before digest).
+type LinkedSlot = ((Digest, Digest), Arc<Linked>);
 
 fn slot<T>(v: &mut Vec<Option<T>>, k: usize) -> &mut Option<T> {
     if v.len() <= k {
@@ -407,12 +413,107 @@ impl Results {
                 return Err(ComputeError::Cancelled);
             }
             let computed = self.get_or_compute_keyed(project, part, keys, k, progress)?;
-            let next = Arc::new(cut_operation(project, k, &computed, &stock, progress)?);
+            let linked = self.linked_over(keys, k, &computed, &stock);
+            let next = Arc::new(cut_operation(project, k, &linked, &stock, progress)?);
             self.stock_cuts.fetch_add(1, Ordering::Relaxed);
             *slot(&mut self.lock().stocks, k + 1) = Some((keys.stocks[k + 1], Arc::clone(&next)));
             stock = next;
         }
         Ok(stock)
+    }
+
+    /// Operation `index`'s linked path: its stored path ([`Results::get_or_compute`]) with
+    /// the rapids lifted over the in-process stock before it ([`Results::stock_before`]) by
+    /// [`super::rapids::link`]; what is posted, run and cut into the stock after it. Kept under
+    /// (the path's digest, the stock-before digest), so it is fresh exactly while both are,
+    /// and the path's own digest does not depend on the earlier operations' stock.
+    ///
+    /// # Errors
+    /// As [`Results::get_or_compute`] and [`Results::stock_before`].
+    pub fn linked(
+        &self,
+        project: &Project,
+        part: &Workpiece,
+        index: usize,
+        progress: &Progress,
+    ) -> Result<Arc<Linked>, ComputeError> {
+        let keys = Self::keys(project, part);
+        self.linked_keyed(project, part, &keys, index, progress)
+    }
+
+    /// [`Results::linked`] with the keys already built.
+    ///
+    /// # Errors
+    /// As [`Results::linked`].
+    pub fn linked_keyed(
+        &self,
+        project: &Project,
+        part: &Workpiece,
+        keys: &Keys,
+        index: usize,
+        progress: &Progress,
+    ) -> Result<Arc<Linked>, ComputeError> {
+        let computed = self.get_or_compute_keyed(project, part, keys, index, progress)?;
+        if let Some(l) = self.fresh_linked(keys, index) {
+            return Ok(l);
+        }
+        let stock = self.stock_before_keyed(project, part, keys, index, progress)?;
+        Ok(self.linked_over(keys, index, &computed, &stock))
+    }
+
+    /// Operation `index`'s machining run as the project posts it ([`super::posting::run_operation`])
+    /// of its linked path ([`Results::linked`]), as tool number = its library index + 1.
+    ///
+    /// # Errors
+    /// As [`Results::linked`]; the post's error as [`ComputeError::Plan`].
+    pub fn run_operation(
+        &self,
+        project: &Project,
+        part: &Workpiece,
+        index: usize,
+        corner_tolerance_mm: f64,
+        progress: &Progress,
+    ) -> Result<super::MachiningRun, ComputeError> {
+        let linked = self.linked(project, part, index, progress)?;
+        let op = &project.operations[index];
+        let tool_number = u32::try_from(op.tool() + 1).unwrap_or(1);
+        super::posting::run_operation(
+            project,
+            index,
+            &linked.toolpath,
+            tool_number,
+            corner_tolerance_mm,
+        )
+        .map_err(|e| ComputeError::Plan {
+            operation: op.name().to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    fn fresh_linked(&self, keys: &Keys, k: usize) -> Option<Arc<Linked>> {
+        let want = (*keys.operations.get(k)?, *keys.stocks.get(k)?);
+        match self.lock().linked.get(k) {
+            Some(Some((d, l))) if *d == want => Some(Arc::clone(l)),
+            _ => None,
+        }
+    }
+
+    /// Operation `k`'s linked path over `stock` (the stock before it under `keys`), memoised.
+    fn linked_over(
+        &self,
+        keys: &Keys,
+        k: usize,
+        computed: &Computed,
+        stock: &InProcessStock,
+    ) -> Arc<Linked> {
+        if let Some(l) = self.fresh_linked(keys, k) {
+            return l;
+        }
+        let l = Arc::new(super::rapids::link(&computed.toolpath, &stock.dexels));
+        if let (Some(&d), Some(&s)) = (keys.operations.get(k), keys.stocks.get(k)) {
+            *slot(&mut self.lock().linked, k) = Some(((d, s), Arc::clone(&l)));
+        }
+        l
     }
 }
 
@@ -438,16 +539,17 @@ fn raw_stock(project: &Project, part: &Workpiece) -> Result<InProcessStock, Comp
     })
 }
 
-/// The moves of operation `index`'s posted run in part coordinates, without the lead-in from
+/// The moves of operation `index`'s posted run of `toolpath` (its linked path,
+/// [`Results::linked`], in part coordinates) in part coordinates, without the lead-in from
 /// wherever the machine stood ([`super::MachiningRun::commanded_move_plan`]), or (with a note
-/// saying why) of its tool path where it cannot be posted or planned.
+/// saying why) of the tool path itself where it cannot be posted or planned.
 ///
 /// # Errors
 /// The move plan's error, as text.
 pub fn operation_moves(
     project: &Project,
     index: usize,
-    computed: &Computed,
+    toolpath: &Toolpath,
     step: &StepOptions,
 ) -> Result<(MovePlan, Option<Diagnostic>), String> {
     let op = project
@@ -456,7 +558,7 @@ pub fn operation_moves(
         .ok_or_else(|| format!("no operation number {index}"))?;
     let tool_number = u32::try_from(op.tool() + 1).unwrap_or(1);
     let fallback = |why: String| -> Result<(MovePlan, Option<Diagnostic>), String> {
-        let plan = plan_toolpath(&computed.toolpath, step).map_err(|e| e.to_string())?;
+        let plan = plan_toolpath(toolpath, step).map_err(|e| e.to_string())?;
         Ok((
             plan,
             Some(Diagnostic::warning(
@@ -468,7 +570,7 @@ pub fn operation_moves(
     let run = match super::posting::run_operation(
         project,
         index,
-        &computed.toolpath,
+        toolpath,
         tool_number,
         RUN_CORNER_TOLERANCE_MM,
     ) {
@@ -509,11 +611,11 @@ fn to_part(plan: &mut MovePlan, rotation: glam::DMat3, by: DVec3) {
     }
 }
 
-/// `before` cut by operation `index`'s posted run.
+/// `before` cut by operation `index`'s posted run of its linked path.
 fn cut_operation(
     project: &Project,
     index: usize,
-    computed: &Computed,
+    linked: &Linked,
     before: &InProcessStock,
     progress: &Progress,
 ) -> Result<InProcessStock, ComputeError> {
@@ -531,7 +633,7 @@ fn cut_operation(
         })?
         .cutter;
     let step = StepOptions::for_resolution(before.resolution_mm(), cutter.flute_length);
-    let (plan, note) = operation_moves(project, index, computed, &step).map_err(err)?;
+    let (plan, note) = operation_moves(project, index, &linked.toolpath, &step).map_err(err)?;
     let mut dexels = before.dexels.clone();
     let quiet = Progress::new();
     let report = simulate(&mut dexels, cutter, &plan, &SimOptions::default(), &quiet)
@@ -541,6 +643,10 @@ fn cut_operation(
     }
     let mut notes = before.notes.clone();
     notes.extend(note.iter().cloned());
+    notes.extend(linked.diagnostics.iter().map(|d| Diagnostic {
+        place: Some(format!("operation '{}'", op.name())),
+        ..d.clone()
+    }));
     Ok(InProcessStock {
         dexels,
         last_cut: Some(report),
