@@ -355,6 +355,10 @@ impl MachiningRun {
         for m in &mut plan.moves {
             m.first_step -= first;
         }
+        // Each step names its move by index: the moves left shifted down by `lead`.
+        for s in &mut plan.steps {
+            s.move_index = s.move_index.saturating_sub(lead);
+        }
         Ok(plan)
     }
 
