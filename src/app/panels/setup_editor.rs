@@ -498,7 +498,7 @@ fn tilt_ui(ui: &mut egui::Ui, project: &Project, index: usize, next: &mut Setup)
             }
         }
     });
-    let polar = DVec3Like(t.tool_axis).polar_deg();
+    let polar = polar_deg(t.tool_axis);
     ui.weak(format!(
         "{:.1}° from +Z, towards {:.1}° from +X (setup frame)",
         polar.0, polar.1
@@ -506,17 +506,12 @@ fn tilt_ui(ui: &mut egui::Ui, project: &Project, index: usize, next: &mut Setup)
 }
 
 /// A tool axis as angles: from +Z and its direction in XY from +X, degrees.
-struct DVec3Like([f64; 3]);
-
-impl DVec3Like {
-    fn polar_deg(&self) -> (f64, f64) {
-        let [x, y, z] = self.0;
-        let l = (x * x + y * y + z * z).sqrt();
-        if l < 1e-12 {
-            return (0.0, 0.0);
-        }
-        ((z / l).clamp(-1.0, 1.0).acos() * DEG, y.atan2(x) * DEG)
+fn polar_deg([x, y, z]: [f64; 3]) -> (f64, f64) {
+    let l = (x * x + y * y + z * z).sqrt();
+    if l < 1e-12 {
+        return (0.0, 0.0);
     }
+    ((z / l).clamp(-1.0, 1.0).acos() * DEG, y.atan2(x) * DEG)
 }
 
 fn workholding_ui(ui: &mut egui::Ui, index: usize, next: &mut Setup) {
@@ -738,7 +733,7 @@ mod tests {
 
     #[test]
     fn polar_angles_of_the_tool_axis() {
-        let (from_z, towards) = DVec3Like([0.0, -1.0, 1.0]).polar_deg();
+        let (from_z, towards) = polar_deg([0.0, -1.0, 1.0]);
         assert!((from_z - 45.0).abs() < 1e-9);
         assert!((towards + 90.0).abs() < 1e-9);
     }
