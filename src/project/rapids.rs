@@ -127,6 +127,17 @@ pub fn lift_rapids(
     clearance: f64,
     step: f64,
 ) -> RapidLift {
+    lift_rapids_mapped(toolpath, top, clearance, step).0
+}
+
+/// [`lift_rapids`], with the index each old pose has in the changed path (empty when the path
+/// is unchanged), so pose-indexed findings can follow their poses.
+fn lift_rapids_mapped(
+    toolpath: &mut Toolpath,
+    top: &dyn Fn(f64, f64) -> Option<f64>,
+    clearance: f64,
+    step: f64,
+) -> (RapidLift, Vec<usize>) {
     let mut out = RapidLift::default();
     if toolpath.poses.len() < 2
         || !step.is_finite()
@@ -136,7 +147,7 @@ pub fn lift_rapids(
             .iter()
             .any(|p| (p.axis - DVec3::Z).length() > 1e-9)
     {
-        return out;
+        return (out, Vec::new());
     }
     let radius = toolpath.tool.cutter.radius();
     let mut poses: Vec<Pose> = Vec::with_capacity(toolpath.poses.len());
@@ -213,7 +224,7 @@ pub fn lift_rapids(
         poses.push(end);
     }
     if out.lifted == 0 && out.fed_down == 0 && out.fed_up == 0 {
-        return out;
+        return (out, Vec::new());
     }
     let mut exact = std::mem::take(&mut toolpath.exact);
     for seg in &mut exact {
@@ -223,7 +234,7 @@ pub fn lift_rapids(
     let tool = toolpath.tool.clone();
     *toolpath = Toolpath::new(tool, poses);
     toolpath.exact = exact;
-    out
+    (out, map)
 }
 
 /// The highest material of `stock`'s Z dexels at (x, y), mm (`None` outside its grid or where
@@ -260,9 +271,18 @@ pub fn lift_rapids_over(
     diagnostics: &mut Vec<crate::diagnostics::Diagnostic>,
     dexels: &crate::simulation::DexelStock,
 ) -> RapidLift {
+    lift_rapids_over_mapped(toolpath, diagnostics, dexels).0
+}
+
+/// [`lift_rapids_over`], with the old → new pose indices of [`lift_rapids_mapped`].
+fn lift_rapids_over_mapped(
+    toolpath: &mut Toolpath,
+    diagnostics: &mut Vec<crate::diagnostics::Diagnostic>,
+    dexels: &crate::simulation::DexelStock,
+) -> (RapidLift, Vec<usize>) {
     let top = |x: f64, y: f64| dexel_top(dexels, x, y);
     let step = dexels.resolution_mm.max(0.05);
-    let r = lift_rapids(toolpath, &top, STOCK_CLEARANCE_MM, step);
+    let (r, map) = lift_rapids_mapped(toolpath, &top, STOCK_CLEARANCE_MM, step);
     if r.lifted > 0 {
         diagnostics.push(crate::diagnostics::Diagnostic::info(
             None,
@@ -293,7 +313,7 @@ pub fn lift_rapids_over(
             ),
         ));
     }
-    r
+    (r, map)
 }
 
 /// An operation's path as it runs: its stored path with the rapids lifted over the stock
@@ -313,6 +333,39 @@ pub struct Linked {
     pub fed_link_worst_depth_mm: f64,
     /// Notes for the operation (how many rapids were lifted, the fed links through stock).
     pub diagnostics: Vec<crate::diagnostics::Diagnostic>,
+    /// The index in `toolpath` of each pose of the stored path, where the lift added poses
+    /// (empty when the path is the stored one): pose-indexed findings follow it
+    /// ([`Linked::pose_index`]).
+    pub pose_map: Vec<usize>,
+}
+
+impl Linked {
+    /// `computed` as it runs: its path replaced by the linked one, the lift's notes added to
+    /// its diagnostics, and its pose-indexed findings (part hits) moved onto the linked path's
+    /// poses.
+    pub fn apply_to(&self, computed: &mut super::pipeline::Computed) {
+        computed.toolpath = self.toolpath.clone();
+        computed
+            .diagnostics
+            .extend(self.diagnostics.iter().cloned());
+        for hit in &mut computed.part_hits {
+            hit.pose = self.pose_index(hit.pose);
+        }
+    }
+
+    /// The index in the linked path of the stored path's pose `stored` (the same index when
+    /// nothing was added; the last pose for an index past the stored path's end).
+    #[must_use]
+    pub fn pose_index(&self, stored: usize) -> usize {
+        if self.pose_map.is_empty() {
+            return stored;
+        }
+        self.pose_map
+            .get(stored)
+            .or(self.pose_map.last())
+            .copied()
+            .unwrap_or(stored)
+    }
 }
 
 /// The fed links ([`MoveKind::Link`] moves across) of `toolpath` whose centre runs more than
@@ -352,7 +405,7 @@ fn fed_links_through(
 pub fn link(toolpath: &Toolpath, dexels: &crate::simulation::DexelStock) -> Linked {
     let mut out = toolpath.clone();
     let mut diagnostics = Vec::new();
-    let lift = lift_rapids_over(&mut out, &mut diagnostics, dexels);
+    let (lift, pose_map) = lift_rapids_over_mapped(&mut out, &mut diagnostics, dexels);
     let top = |x: f64, y: f64| dexel_top(dexels, x, y);
     let step = dexels.resolution_mm.max(0.05);
     let (fed, fed_worst) = if out
@@ -379,6 +432,7 @@ pub fn link(toolpath: &Toolpath, dexels: &crate::simulation::DexelStock) -> Link
         fed_links_through_stock: fed,
         fed_link_worst_depth_mm: fed_worst,
         diagnostics,
+        pose_map,
     }
 }
 
@@ -429,6 +483,40 @@ mod tests {
             RapidLift::default()
         );
         assert_eq!(same, high);
+    }
+
+    /// The old → new pose map follows the lifted rapid: the stored path's poses 0 and 1 are
+    /// the linked path's 0 and 3 (two lift poses between), each with its own tip.
+    #[test]
+    fn the_pose_map_follows_the_inserted_lift() {
+        let top = |x: f64, _y: f64| ((20.0..=22.0).contains(&x)).then_some(10.0);
+        let stored = path(vec![
+            pose(MoveKind::Cut, 0.0, 0.0, 5.0),
+            pose(MoveKind::Rapid, 40.0, 0.0, 5.0),
+            pose(MoveKind::Cut, 41.0, 0.0, 5.0),
+        ]);
+        let mut linked = stored.clone();
+        let (r, map) = lift_rapids_mapped(&mut linked, &top, 1.0, 0.25);
+        assert_eq!(r.lifted, 1);
+        assert_eq!(map, vec![0, 3, 4]);
+        for (old, &new) in map.iter().enumerate() {
+            assert_eq!(stored.poses[old].tip, linked.poses[new].tip);
+        }
+        let l = Linked {
+            toolpath: linked,
+            lift: r,
+            fed_links_through_stock: 0,
+            fed_link_worst_depth_mm: 0.0,
+            diagnostics: Vec::new(),
+            pose_map: map,
+        };
+        assert_eq!(
+            (l.pose_index(1), l.pose_index(2), l.pose_index(9)),
+            (3, 4, 4)
+        );
+        let mut same = stored.clone();
+        let high = |_x: f64, _y: f64| Some(-10.0);
+        assert!(lift_rapids_mapped(&mut same, &high, 1.0, 0.25).1.is_empty());
     }
 
     /// The footprint counts: a rapid passing 2.5 mm beside a post (tool radius 3) is lifted.

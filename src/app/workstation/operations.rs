@@ -18,7 +18,7 @@ use super::super::posted::Posted;
 use super::super::state::Focus;
 use super::super::toolpaths::{ComputedOp, PathColouring, ToolpathStore};
 use super::Workstation;
-use crate::diagnostics::Severity;
+use crate::diagnostics::{Diagnostic, Severity};
 use crate::project::pipeline::{ComputeError, Computed, digests};
 use crate::project::results::{Digest, part_digest};
 use crate::project::{Edit, Operation, Results};
@@ -284,9 +284,20 @@ impl Workstation {
             format!("Calculating {}", operation.name()),
             &self.run.ctx,
             move |progress| {
-                engine
+                let mut computed = engine
                     .get_or_compute(&project, &part, index, progress)
-                    .map(Arc::unwrap_or_clone)
+                    .map(Arc::unwrap_or_clone)?;
+                // The path as it is posted and simulated: rapids linked over the stock the
+                // earlier operations leave (as `talas job` and Post job link them).
+                match engine.linked(&project, &part, index, progress) {
+                    Ok(linked) => linked.apply_to(&mut computed),
+                    Err(ComputeError::Cancelled) => return Err(ComputeError::Cancelled),
+                    Err(e) => computed.diagnostics.push(Diagnostic::warning(
+                        None,
+                        format!("rapids not linked over the in-process stock: {e}"),
+                    )),
+                }
+                Ok(computed)
             },
         );
         let key = CalcKey {
