@@ -230,6 +230,42 @@ fn save_autosave_and_recover() {
     assert_eq!(h.state().session().project.name, "Hills");
     assert_eq!(h.state().session().path.as_deref(), Some(path.as_path()));
     assert_eq!(h.state().pending_recovery(), None);
+
+    // Unsaved changes to the saved project are autosaved beside it; the session ends without
+    // saving (as a SIGKILL would). A plain restart (no file named) offers them from the
+    // recent-files list, and Recover brings them back into that project's file.
+    drop(h);
+    let mut config = WorkstationConfig::isolated(Some(path.clone()), dir.clone());
+    config.autosave_every = Duration::ZERO;
+    let mut h = harness(config);
+    settle(&mut h);
+    h.state_mut()
+        .apply(Command::Edit(talas::project::Edit::Rename(
+            "Hills v2".into(),
+        )));
+    h.step();
+    let beside = dir.join("hills.talas.autosave");
+    assert_eq!(Project::load(&beside).expect("autosaved").name, "Hills v2");
+    drop(h);
+    let mut config = WorkstationConfig::isolated(None, dir.clone());
+    config.recent.paths = vec![
+        dir.join("missing.talas"),
+        dir.join("part.stp"),
+        path.clone(),
+    ];
+    let mut h = harness(config);
+    settle(&mut h);
+    assert_eq!(h.state().pending_recovery(), Some(beside.as_path()));
+    h.get_by_label_contains(&format!("unsaved changes to {}", path.display()));
+    h.get_by_label("Recover").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().session().project.name, "Hills v2");
+    assert_eq!(h.state().session().path.as_deref(), Some(path.as_path()));
+    h.state_mut().apply(Command::SaveProject);
+    h.step();
+    assert!(!beside.exists(), "saving removes the recovery file");
+    assert_eq!(Project::load(&path).expect("saved").name, "Hills v2");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -352,6 +388,21 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
     settle(&mut h);
 
+    // A new project guides the first job: the default part is open and its tool chosen
+    // (ticked), the face, the operation and Calculate still to do.
+    h.get_by_label("First job");
+    assert!(
+        h.query_by_label_contains("✔ 1. Open a part").is_some(),
+        "the part step is ticked"
+    );
+    h.get_by_label_contains("2. Pick a face");
+    assert!(
+        h.query_by_label_contains("✔ 2.").is_none(),
+        "no face picked yet"
+    );
+    assert!(h.query_by_label_contains("✔ 3. Choose the tool").is_some());
+    h.get_by_label_contains("+ Operation below");
+
     // Machining > Add Iso-scallop finishing: the operation appears and is being edited.
     h.get_by_label("Machining").click();
     h.run_steps(3);
@@ -359,6 +410,10 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     h.run_steps(2);
     assert_eq!(h.state().session().project.operations.len(), 1);
     assert_eq!(h.state().focus(), Focus::Operation(0));
+    assert!(
+        h.query_by_label("First job").is_none(),
+        "the guide goes with the first operation"
+    );
     h.get_by_label("Calculate");
     // A coarser scallop keeps the test short (the default is 0.01 mm).
     let mut op = h.state().session().project.operations[0].clone();

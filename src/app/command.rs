@@ -90,6 +90,21 @@ pub enum Command {
     SetDeviationBand(f64),
     /// Show this pose of the active operation's path in the properties (or none).
     PickPose(Option<usize>),
+    /// Make `operation`'s path the active one and show its pose `pose` (a click in that
+    /// operation's own list of findings or collisions, whichever path was active before).
+    PickOperationPose {
+        /// The operation whose path the pose is on.
+        operation: usize,
+        /// The pose.
+        pose: usize,
+    },
+    /// Draw operation `operation`'s path in the viewport (and let clicks pick it) or hide it.
+    SetPathShown {
+        /// The operation.
+        operation: usize,
+        /// Drawn or hidden.
+        shown: bool,
+    },
     /// How tool paths are coloured.
     SetPathColouring(PathColouring),
     /// Make this path operation `.0`'s computed path (a feed schedule applied).

@@ -1,6 +1,6 @@
 //! The remaining gouges and collisions of a computed path, listed under the operation's
-//! summary ([`crate::project::finish_group::findings`]); clicking one picks its pose, which
-//! moves the playback and the camera there.
+//! summary ([`crate::project::finish_group::findings`]); clicking one makes that operation's
+//! path the active one and picks its pose, which moves the playback and the camera there.
 
 use super::command::Command;
 use crate::project::finish_group::findings;
@@ -10,7 +10,12 @@ use crate::project::pipeline::Computed;
 const MAX_ROWS: usize = 50;
 
 /// The list (nothing for a path without findings of a finishing operation).
-pub fn findings_ui(ui: &mut egui::Ui, computed: &Computed, commands: &mut Vec<Command>) {
+pub fn findings_ui(
+    ui: &mut egui::Ui,
+    operation: usize,
+    computed: &Computed,
+    commands: &mut Vec<Command>,
+) {
     let list = findings(computed);
     let Some(gouge) = &computed.toolpath.summary.gouge else {
         return;
@@ -31,7 +36,10 @@ pub fn findings_ui(ui: &mut egui::Ui, computed: &Computed, commands: &mut Vec<Co
     }
     for (k, f) in list.iter().enumerate().take(MAX_ROWS) {
         if ui.link(f.label()).on_hover_text("Show this pose").clicked() {
-            commands.push(Command::PickPose(Some(f.pose)));
+            commands.push(Command::PickOperationPose {
+                operation,
+                pose: f.pose,
+            });
         }
         if k + 1 == MAX_ROWS && list.len() > MAX_ROWS {
             ui.weak(format!("… and {} more", list.len() - MAX_ROWS));

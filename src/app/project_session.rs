@@ -227,6 +227,27 @@ pub fn pending_recovery(path: Option<&Path>, data_dir: &Path) -> Option<PathBuf>
     }
 }
 
+/// The recovery file to offer at start, with the project it belongs to: the untitled
+/// project's, else the first of the `recent` project files (`.talas`, newest first) that has a
+/// pending one (a session killed with unsaved changes to a saved project leaves its recovery
+/// file beside that project, which a plain restart would otherwise never look at).
+#[must_use]
+pub fn pending_recovery_at_start(
+    recent: &[PathBuf],
+    data_dir: &Path,
+) -> Option<(PathBuf, Option<PathBuf>)> {
+    if let Some(r) = pending_recovery(None, data_dir) {
+        return Some((r, None));
+    }
+    recent
+        .iter()
+        .filter(|p| {
+            p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("talas"))
+        })
+        .find_map(|p| pending_recovery(Some(p), data_dir).map(|r| (r, Some(p.clone()))))
+}
+
 /// The user's data folder for Talas: `$XDG_DATA_HOME/talas`, `~/.local/share/talas`, or the
 /// temporary folder.
 #[must_use]

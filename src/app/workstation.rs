@@ -177,8 +177,13 @@ impl Workstation {
             Some(file) => ws.apply(Command::Open(file)),
             None => {
                 ws.apply(Command::OpenDefaultPart);
-                ws.run.recovery =
-                    super::project_session::pending_recovery(None, &ws.saved.session.data_dir);
+                if let Some((file, project)) = super::project_session::pending_recovery_at_start(
+                    &ws.saved.recent.paths,
+                    &ws.saved.session.data_dir,
+                ) {
+                    ws.run.recovery = Some(file);
+                    ws.run.recovery_project = project;
+                }
             }
         }
         ws
@@ -200,6 +205,20 @@ impl Workstation {
     #[must_use]
     pub fn active_operation(&self) -> Option<usize> {
         self.ops.active
+    }
+
+    /// How many tool-path line sets the viewport draws now (each shown operation's path, and
+    /// the tool-axis vectors when they are on).
+    #[must_use]
+    pub fn drawn_path_count(&mut self) -> usize {
+        self.path_instances().0.len()
+    }
+
+    /// The pose of the active operation's path picked last (a click on the path, a finding,
+    /// a collision or a G-code line), if any.
+    #[must_use]
+    pub fn picked_pose(&self) -> Option<usize> {
+        self.ops.picked_pose
     }
 
     /// The loaded part.
@@ -399,6 +418,8 @@ impl Workstation {
             | Command::CalculateActive
             | Command::OpenMachineFileDialog
             | Command::PickPose(_)
+            | Command::PickOperationPose { .. }
+            | Command::SetPathShown { .. }
             | Command::SetPathColouring(_)
             | Command::ReplacePath(..)
             | Command::SetShowAllPaths(_)
@@ -634,6 +655,8 @@ impl Workstation {
                 if let Some(edit) = part_edit {
                     self.apply(Command::Edit(edit));
                 }
+                // The project's calculated paths saved beside it, where still fresh.
+                self.restore_saved_paths();
                 // Keep showing the chosen field on the new part.
                 let field = self.viewport.scalar_field;
                 self.set_scalar_field(field);
@@ -862,7 +885,14 @@ impl Workstation {
                 paths,
                 path_legend: legend,
                 path_legend_mark: None,
-                pick_path: self.active_result().map(|r| (r.toolpath(), up_to)),
+                pick_path: self
+                    .active_result()
+                    .filter(|_| {
+                        self.ops
+                            .active
+                            .is_none_or(|a| !self.ops.hidden.contains(&a))
+                    })
+                    .map(|r| (r.toolpath(), up_to)),
             };
             extras.meshes.extend(scene.meshes);
             extras.paths.extend(scene.lines);
@@ -895,7 +925,14 @@ impl Workstation {
         self.chooser_ui(ctx);
         self.unsaved_ui(ctx);
         if let Some(recovery) = &self.run.recovery
-            && let Some(answer) = recovery_ui(ctx, recovery, self.saved.session.path.as_deref())
+            && let Some(answer) = recovery_ui(
+                ctx,
+                recovery,
+                self.run
+                    .recovery_project
+                    .as_deref()
+                    .or(self.saved.session.path.as_deref()),
+            )
         {
             commands.push(answer);
         }

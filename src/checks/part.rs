@@ -80,7 +80,7 @@ impl<'a> PartCheck<'a> {
 pub type PlacementHit = (DVec3, f64, usize, ToolPart);
 
 /// Where the tool enters another face of the part.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PartHit {
     /// Index of the pose (the move into it when `move_param` < 1).
     pub pose: usize,

@@ -471,7 +471,11 @@ impl Control {
     pub fn snapshot(&self) -> Snapshot {
         let p = self.position();
         let running = self.active.as_ref();
-        let block = running.and_then(|a| a.run.current_block().and_then(|i| a.run.blocks().get(i)));
+        // The block being run, or during a feed hold the one it stopped in (the first left):
+        // the active codes and the line are the program's there, not the MDI session's.
+        let block = running
+            .and_then(|a| a.run.current_block().and_then(|i| a.run.blocks().get(i)))
+            .or_else(|| self.held.as_ref().and_then(|h| h.blocks.first()));
         let line = match (block, self.mode) {
             (Some(b), _) if b.source_line > 0 => Some(b.source_line),
             (_, Mode::Mdi) if self.mdi_count > 0 => Some(self.mdi_count),

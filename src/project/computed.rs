@@ -5,7 +5,7 @@ use crate::diagnostics::Diagnostic;
 use crate::toolpath::Toolpath;
 
 /// What running an operation produced.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Computed {
     /// The tool path (summary with lengths, time at feed, predicted scallop, gouge report).
     pub toolpath: Toolpath,

@@ -29,6 +29,7 @@ pub mod rapids;
 pub mod reach;
 pub mod results;
 pub mod run;
+pub mod saved_paths;
 pub mod setups;
 pub mod simulate;
 pub mod workholding;

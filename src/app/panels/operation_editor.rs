@@ -55,6 +55,8 @@ pub struct OperationView<'a> {
     pub playback_pose: Option<usize>,
     /// The features' sections under the computed path's summary (the stock simulation).
     pub sections: Option<Sections<'a>>,
+    /// Is the path drawn in the viewport (not hidden for this operation)?
+    pub path_shown: bool,
 }
 
 /// The operation editor.
@@ -163,7 +165,18 @@ pub fn operation_editor_ui(
     if let Some((result, fresh)) = view.result {
         ui.add_space(8.0);
         summary_ui(ui, result, fresh);
-        super::super::findings_list::findings_ui(ui, &result.computed, commands);
+        let mut shown = view.path_shown;
+        if ui
+            .checkbox(&mut shown, "Show the path in the view")
+            .on_hover_text("Hide this operation's path (it is then not drawn and clicks pass it)")
+            .changed()
+        {
+            commands.push(Command::SetPathShown {
+                operation: view.index,
+                shown,
+            });
+        }
+        super::super::findings_list::findings_ui(ui, view.index, &result.computed, commands);
         if let Some(sections) = view.sections {
             sections(ui, commands);
         }

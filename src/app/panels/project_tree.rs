@@ -67,6 +67,9 @@ pub fn project_tree_ui(
             .id_salt("operations")
             .default_open(true)
             .show(ui, |ui| {
+                if project.operations.is_empty() {
+                    first_job_ui(ui, document, project);
+                }
                 job_ui(ui, project, focus, commands);
                 add_operation_ui(
                     ui,
@@ -81,6 +84,53 @@ pub fn project_tree_ui(
             };
             leaf(ui, Focus::Machine, format!("Machine · {}", project.machine));
         });
+}
+
+/// The steps of a first job, each ticked once done (shown while the project has no operation).
+#[must_use]
+pub fn first_job_steps(document: Option<&Document>, project: &Project) -> Vec<(bool, String)> {
+    let has_faces = document.is_some_and(|d| !d.part.faces.is_empty());
+    let picked = document.is_some_and(|d| matches!(d.selection, Selection::Face(_)));
+    let face = if has_faces {
+        "Pick a face in the view (a click) or under Part: 5-axis finishing machines it, the \
+         3-axis kinds the whole part"
+    } else {
+        "A mesh part: the 3-axis operations machine the whole part (5-axis finishing needs a \
+         STEP part's faces)"
+    };
+    let tool = match project.selected_tool.and_then(|i| project.tools.get(i)) {
+        Some(t) => format!("Choose the tool under Tools: {} is chosen", t.name),
+        None => "Choose the tool under Tools (+ Tool adds one)".to_string(),
+    };
+    vec![
+        (
+            document.is_some(),
+            "Open a part: File > Open… or drop a STEP or STL file".into(),
+        ),
+        (picked || (document.is_some() && !has_faces), face.into()),
+        (project.selected_tool.is_some(), tool),
+        (false, "+ Operation below: choose a strategy".into()),
+        (
+            false,
+            "Calculate in its editor (F5), then Simulate (F6) and Post G-code (F7)".into(),
+        ),
+    ]
+}
+
+/// The first-job guide: what to do next, each step ticked once done.
+fn first_job_ui(ui: &mut egui::Ui, document: Option<&Document>, project: &Project) {
+    egui::Frame::group(ui.style()).show(ui, |ui| {
+        ui.label(egui::RichText::new("First job").strong());
+        for (k, (done, text)) in first_job_steps(document, project).into_iter().enumerate() {
+            let mark = if done { "✔" } else { " " };
+            let text = format!("{mark} {}. {text}", k + 1);
+            if done {
+                ui.weak(text);
+            } else {
+                ui.label(text);
+            }
+        }
+    });
 }
 
 /// The job: each setup (selectable: its editor) with its operations in machining order.

@@ -114,7 +114,10 @@ pub fn section_ui(
                         .on_hover_text("Show this pose")
                         .clicked()
                     {
-                        commands.push(Command::PickPose(Some(c.block)));
+                        commands.push(Command::PickOperationPose {
+                            operation: index,
+                            pose: c.block,
+                        });
                     }
                 }
             });

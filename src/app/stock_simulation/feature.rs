@@ -43,6 +43,7 @@ impl Feature for StockSimulation {
 
     fn poll(&mut self, cx: &mut FeatureContext<'_>) {
         self.poll_job(cx);
+        self.follow_active(cx);
     }
 
     fn job_status(&self) -> Option<JobStatus> {

@@ -37,6 +37,8 @@ struct SimKey {
     stock: crate::project::Stock,
     /// The last operation's path cut only up to this pose (playback), or whole.
     upto: Option<usize>,
+    /// The index of the operation asked for.
+    index: usize,
 }
 
 impl SimKey {
@@ -133,6 +135,9 @@ pub struct StockSimulation {
     visible: bool,
     /// Keyframes of the latest whole simulation, for "Stock here".
     keyframes: stock_here::KeyframeSlot,
+    /// The active operation when last polled: another operation's path becoming active (a
+    /// new calculation, a pick) hides the simulated stock, which would hide that path.
+    last_active: Option<usize>,
 }
 
 /// What simulating operation `index` runs: every operation before it that has a fresh path
@@ -153,6 +158,7 @@ fn sim_key(view: &FeatureView<'_>, index: usize) -> Option<SimKey> {
         part_id: view.document?.ids[0],
         stock: project.stock,
         upto: None,
+        index,
     })
 }
 
@@ -242,6 +248,30 @@ impl StockSimulation {
     #[must_use]
     pub fn is_visible(&self) -> bool {
         self.visible
+    }
+
+    /// Hide the simulated stock when another operation's path becomes the active one (it
+    /// would hide that path; the "Simulated stock" toggle shows it again).
+    fn follow_active(&mut self, cx: &mut FeatureContext<'_>) {
+        let active = cx.view.active_operation;
+        if active == self.last_active {
+            return;
+        }
+        self.last_active = active;
+        if let Some(s) = &self.shown
+            && self.visible
+            && active != Some(s.key.index)
+        {
+            self.visible = false;
+            cx.log(
+                Severity::Info,
+                format!(
+                    "The simulated stock of '{}' is hidden while another path is active \
+                     (View > Tool Paths > Simulated stock shows it)",
+                    s.key.name()
+                ),
+            );
+        }
     }
 
     /// Collect a finished simulation.

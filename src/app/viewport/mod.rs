@@ -219,6 +219,10 @@ pub struct ViewportExtras<'a> {
 /// Pick radius around a path pose, points.
 const POSE_PICK_RADIUS: f32 = 7.0;
 
+/// Over the part, a plain click picks a path pose only when it stands at least this much in
+/// front of the surface under the pointer (along the view ray), mm; else the face.
+const POSE_IN_FRONT_MM: f64 = 1.0;
+
 /// Draw the viewport into the rest of `ui`; navigation changes the camera, clicks on the part
 /// become selection commands, clicks on a pose of the active path pick it.
 pub fn viewport_ui(
@@ -243,6 +247,8 @@ pub fn viewport_ui(
         picking::ray_cast(doc.bvh.as_ref()?, origin.as_dvec3(), dir.as_dvec3())
     });
     state.hover_point = hit.map(|h| h.point);
+    let ray = pointer.map(|pos| state.camera.ray(navigation::ndc(rect, pos), state.aspect));
+    let alt = ui.input(|i| i.modifiers.alt);
     let pose_hit = if response.clicked() {
         pointer
             .zip(extras.pick_path)
@@ -256,6 +262,18 @@ pub fn viewport_ui(
                     POSE_PICK_RADIUS,
                     up_to,
                 )
+                .filter(|&i| {
+                    // Over the part, a click picks the face unless the pose stands clear in
+                    // front of it (a retract, a rapid): a path lying on the surface would
+                    // otherwise hide every face under it. Alt+click always picks the pose.
+                    let (Some(h), Some((origin, dir)), Some(p)) = (hit, ray, path.poses.get(i))
+                    else {
+                        return true;
+                    };
+                    let (origin, dir) = (origin.as_dvec3(), dir.as_dvec3().normalize_or_zero());
+                    alt || (p.tip - origin).dot(dir)
+                        < (h.point - origin).dot(dir) - POSE_IN_FRONT_MM
+                })
             })
     } else {
         None

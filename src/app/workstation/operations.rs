@@ -21,7 +21,7 @@ use super::Workstation;
 use crate::diagnostics::{Diagnostic, Severity};
 use crate::project::pipeline::{ComputeError, Computed, digests};
 use crate::project::results::{Digest, part_digest};
-use crate::project::{Edit, Operation, Results};
+use crate::project::{Edit, Operation, Results, saved_paths};
 use crate::render::{DataId, LineInstance, ScalarMapping};
 use crate::tools::Cutter;
 
@@ -53,6 +53,11 @@ pub(super) struct Operations {
     pub colouring: PathColouring,
     /// Draw every fresh path, not only the active one.
     pub show_all: bool,
+    /// Operations whose paths are hidden in the viewport (by index; not drawn, not pickable),
+    /// and the operation count they were hidden at (an operation added or removed shifts
+    /// the indices, and the set is cleared).
+    pub hidden: std::collections::BTreeSet<usize>,
+    pub hidden_at_count: usize,
     /// Draw tool-axis vectors at the active path's cutting poses.
     pub show_axes: bool,
     /// The comparison window is open.
@@ -193,6 +198,17 @@ impl Workstation {
                 Some(i) => self.start_calculation(i),
                 None => self.log_info("Select an operation to calculate"),
             },
+            Command::PickOperationPose { operation, pose } => {
+                if self.ops.active != Some(operation) && self.result_index(operation).is_some() {
+                    // Another operation's path becomes the active one: its own clock.
+                    self.ops.active = Some(operation);
+                    self.ops.t_s = None;
+                    self.ops.playing = false;
+                }
+                if self.ops.active == Some(operation) {
+                    self.apply(Command::PickPose(Some(pose)));
+                }
+            }
             Command::PickPose(pose) => {
                 self.ops.picked_pose = pose;
                 if let Some(p) = pose {
@@ -217,6 +233,14 @@ impl Workstation {
             Command::SetPathColouring(c) => self.ops.colouring = c,
             Command::ReplacePath(index, toolpath) => self.replace_path(index, &toolpath),
             Command::SetShowAllPaths(on) => self.ops.show_all = on,
+            Command::SetPathShown { operation, shown } => {
+                self.ops.hidden_at_count = self.saved.session.project.operations.len();
+                if shown {
+                    self.ops.hidden.remove(&operation);
+                } else {
+                    self.ops.hidden.insert(operation);
+                }
+            }
             Command::SetShowAxisVectors(on) => self.ops.show_axes = on,
             Command::CompareOperations => self.ops.compare_open = true,
             Command::Playback(p) => self.playback(p),
@@ -385,6 +409,99 @@ impl Workstation {
             .copied()
     }
 
+    /// Save the fresh calculated paths beside the project file `project`
+    /// ([`crate::project::saved_paths`]); a failure is logged (the project itself is saved).
+    pub(super) fn save_paths(&mut self, project: &std::path::Path) {
+        let count = self.saved.session.project.operations.len();
+        let fresh: Vec<(usize, Digest, &Computed)> = (0..count)
+            .filter_map(|i| {
+                let (k, fresh) = self.result_index(i)?;
+                let r = self.ops.store.get(k).filter(|_| fresh)?;
+                Some((i, r.digest, &r.computed))
+            })
+            .collect();
+        let file = saved_paths::paths_file(project);
+        let saved = fresh.len();
+        match saved_paths::save(&file, &fresh) {
+            Ok(()) if saved > 0 => {
+                self.log_info(format!(
+                    "Saved {saved} calculated paths in {}",
+                    file.display()
+                ));
+            }
+            Ok(()) => {}
+            Err(e) => {
+                let t = self.now_s();
+                self.log.notify(
+                    t,
+                    Severity::Warning,
+                    format!("The calculated paths were not saved: {e}"),
+                );
+            }
+        }
+    }
+
+    /// Take back the paths saved beside the open project's file whose inputs are unchanged
+    /// (same digest now), so reopening does not recalculate them.
+    pub(super) fn restore_saved_paths(&mut self) {
+        let Some(path) = self.saved.session.path.clone() else {
+            return;
+        };
+        let Some(part_id) = self.document.as_ref().map(|d| d.ids[0]) else {
+            return;
+        };
+        let file = saved_paths::paths_file(&path);
+        let saved = match saved_paths::load(&file) {
+            Ok(s) => s,
+            Err(e) => {
+                let t = self.now_s();
+                self.log.notify(
+                    t,
+                    Severity::Warning,
+                    format!("Calculated paths not restored: {e}"),
+                );
+                return;
+            }
+        };
+        if saved.is_empty() {
+            return;
+        }
+        let project = self.saved.session.project.clone();
+        let (mut restored, mut changed) = (0, 0);
+        for (i, operation) in project.operations.iter().enumerate() {
+            let (Some(digest), Some(tool)) =
+                (self.current_digest(i), project.tools.get(operation.tool()))
+            else {
+                continue;
+            };
+            match saved_paths::matching(&saved, i, digest) {
+                Some(s) => {
+                    self.ops.store.insert(ComputedOp::new(
+                        operation.clone(),
+                        tool.cutter.clone(),
+                        part_id,
+                        digest,
+                        s.computed.clone(),
+                        0.0,
+                    ));
+                    restored += 1;
+                }
+                None if saved.iter().any(|s| s.operation == i) => changed += 1,
+                None => {}
+            }
+        }
+        let mut text = format!(
+            "Restored {restored} calculated paths from {}",
+            file.display()
+        );
+        if changed > 0 {
+            text.push_str(&format!(
+                "; {changed} saved paths no longer match their inputs (calculate them again)"
+            ));
+        }
+        self.log_info(text);
+    }
+
     /// The stored result for operation `index` and whether it is fresh (computed from every
     /// input the engine reads for it as they are now: the engine digest); a stale one is the
     /// latest computed for an operation of the same name.
@@ -433,6 +550,7 @@ impl Workstation {
             running,
             picked_pose: self.ops.picked_pose.filter(|_| active),
             playback_pose: self.playback_pose().filter(|_| active),
+            path_shown: !self.ops.hidden.contains(&index),
         }
     }
 
@@ -570,11 +688,14 @@ impl Workstation {
         let mut out = Vec::new();
         let mut legend = None;
         let count = self.saved.session.project.operations.len();
+        if count != self.ops.hidden_at_count {
+            self.ops.hidden.clear();
+        }
         let active = self.ops.active.filter(|&a| a < count);
         let playback = self.playback_pose();
         for i in 0..count {
             let is_active = Some(i) == active;
-            if !(is_active || self.ops.show_all) {
+            if !(is_active || self.ops.show_all) || self.ops.hidden.contains(&i) {
                 continue;
             }
             let Some((k, fresh)) = self.result_index(i) else {

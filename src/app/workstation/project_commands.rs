@@ -83,11 +83,13 @@ impl Workstation {
             Command::SaveProjectAs(path) => self.save_project_as(&path),
             Command::Recover(file) => {
                 self.run.recovery = None;
+                let owner = self.run.recovery_project.take();
                 match Project::load(&file) {
                     Ok(project) => {
-                        // The recovered project keeps its file (if it had one): saving writes
+                        // The recovered project keeps its file (if it had one, or the recent
+                        // project the changes were offered for at start): saving writes
                         // there, and the recovery file goes.
-                        let path = self.saved.session.path.clone();
+                        let path = owner.or_else(|| self.saved.session.path.clone());
                         self.saved.session.replace(project, path, true);
                         self.focus = Focus::Selection;
                         self.reset_derived();
@@ -103,6 +105,7 @@ impl Workstation {
             }
             Command::DiscardRecovery(file) => {
                 self.run.recovery = None;
+                self.run.recovery_project = None;
                 let _ = std::fs::remove_file(&file);
                 self.log_info(format!(
                     "Discarded the autosaved changes in {}",
@@ -128,6 +131,7 @@ impl Workstation {
         match self.saved.session.save_as(path) {
             Ok(()) => {
                 self.log_info(format!("Saved {}", path.display()));
+                self.save_paths(path);
                 if let Some(e) = self.saved.recent.add(path) {
                     let t = self.now_s();
                     self.log.push(t, Severity::Warning, e);
@@ -199,6 +203,7 @@ impl Workstation {
                     self.log.notify(t, Severity::Warning, w);
                 }
                 self.run.recovery = pending_recovery(Some(path), &self.saved.session.data_dir);
+                self.run.recovery_project = None;
                 self.load_project_part();
             }
             Err(e) => {

@@ -77,6 +77,9 @@ pub(super) struct Runtime {
     pub chooser: Option<FileChooser>,
     /// A recovery file to offer (Recover / Discard).
     pub recovery: Option<PathBuf>,
+    /// The project file that recovery file belongs to, when it is not the open project's (a
+    /// recent project's changes offered at start): Recover makes it the project's file.
+    pub recovery_project: Option<PathBuf>,
     /// The window title last sent.
     pub title: String,
     /// A command that would discard unsaved changes, waiting for Save / Discard / Cancel.
@@ -123,6 +126,7 @@ impl Runtime {
             },
             chooser: None,
             recovery: None,
+            recovery_project: None,
             title: String::new(),
             unsaved: None,
             after_save: None,

@@ -204,7 +204,7 @@ pub(crate) fn part_check(
 }
 
 /// A span of a run left out because no allowed tilt frees the tool there.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LeftOut {
     /// First left-out pose's tip, mm.
     pub start: DVec3,
