@@ -151,10 +151,11 @@ fn calculate_stores_the_path_linked_over_the_stock_the_earlier_operations_leave(
     assert_eq!(h.state().active_operation(), Some(0));
     assert_eq!(h.state().picked_pose(), Some(3));
 
-    // Paths hidden per operation: with every path shown both are drawn; hiding the
-    // roughing's (the active one) leaves the raster's alone, and showing it brings it back.
+    // Paths hidden per operation: with every path shown both are drawn, with the picked
+    // move highlighted; hiding the roughing's (the active one, with the pick) leaves the
+    // raster's alone, and showing it brings both back.
     h.state_mut().apply(Command::SetShowAllPaths(true));
-    assert_eq!(h.state_mut().drawn_path_count(), 2);
+    assert_eq!(h.state_mut().drawn_path_count(), 3);
     h.state_mut().apply(Command::SetPathShown {
         operation: 0,
         shown: false,
@@ -165,7 +166,7 @@ fn calculate_stores_the_path_linked_over_the_stock_the_earlier_operations_leave(
         operation: 0,
         shown: true,
     });
-    assert_eq!(h.state_mut().drawn_path_count(), 2);
+    assert_eq!(h.state_mut().drawn_path_count(), 3);
 
     // Saving writes the calculated paths beside the project; reopening takes them back,
     // fresh, with nothing recalculated, and a changed operation's saved path is not taken.

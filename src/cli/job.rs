@@ -1,4 +1,5 @@
-//! `talas job PROJECT.talas [--part FILE] [--setup NAME] [--post DIR] [--simulate] [--json]`:
+//! `talas job PROJECT.talas [--part FILE] [--setup NAME] [--post DIR] [--simulate] [--sheet
+//! OUT.html] [--json]`:
 //! plan every operation of every setup (or of one) in its setup's frame, post one program per
 //! setup into DIR (`NN-SETUP.ngc`), simulate each setup's operations on its stock, and print
 //! per setup and operation the tool, the lengths and times, the first contact of the tool
@@ -49,6 +50,11 @@ pub struct JobArgs {
     /// Simulate each setup's operations on its stock (removed volume, collisions).
     #[arg(long)]
     pub simulate: bool,
+    /// Write the job's setup sheet (one self-contained HTML file: tools, and per setup a
+    /// picture of the part, stock and workholding with the work offset's axes, the stock
+    /// size, and per operation feeds, speeds, heights and times).
+    #[arg(long, value_name = "OUT.html")]
+    pub sheet: Option<PathBuf>,
     /// Print one JSON document instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -141,10 +147,23 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
         None
     };
     let mut out = Vec::new();
+    let mut pages = Vec::new();
     for &s in &chosen {
         let Some((ops, paths)) = plans[s].take() else {
             continue;
         };
+        if args.sheet.is_some() {
+            pages.push(
+                super::job_sheet::setup_page(&project, s, &part, &placements, base, &paths)
+                    .map_err(|e| {
+                        bad(
+                            &args.file,
+                            Some(format!("setup {} ('{}')", s + 1, project.setups[s].name)),
+                            e,
+                        )
+                    })?,
+            );
+        }
         let sim = simulated.as_ref().and_then(|v| v.get(s));
         out.push(run_setup(
             args,
@@ -158,11 +177,24 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
             base,
         )?);
     }
+    let mut sheet_file = Value::Null;
+    if let Some(file) = &args.sheet {
+        let sheet = crate::project::sheet::Sheet {
+            project: project.name.clone(),
+            part: part_path.display().to_string(),
+            tools: super::job_sheet::tools(&project, &chosen),
+            setups: pages,
+        };
+        crate::storage::write_atomic(file, crate::project::sheet::html(&sheet).as_bytes())
+            .map_err(|e| bad(file, None, format!("cannot write: {e}")))?;
+        sheet_file = json!(file.display().to_string());
+    }
     Ok(json!({
         "project": args.file.display().to_string(),
         "part": part_path.display().to_string(),
         "stock_carried": args.simulate,
         "setups": out,
+        "sheet": sheet_file,
     }))
 }
 
@@ -396,6 +428,9 @@ pub fn human(doc: &Value) -> String {
                 }
             }
         }
+    }
+    if let Some(f) = doc["sheet"].as_str() {
+        s.push_str(&format!("setup sheet: {f}\n"));
     }
     s
 }

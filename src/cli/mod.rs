@@ -13,6 +13,7 @@ pub mod forces_path;
 pub mod inspect;
 pub mod interpret;
 pub mod job;
+pub mod job_sheet;
 pub mod plan;
 pub mod plan_25d;
 pub mod plan_group;

@@ -31,6 +31,7 @@ pub mod results;
 pub mod run;
 pub mod saved_paths;
 pub mod setups;
+pub mod sheet;
 pub mod simulate;
 pub mod workholding;
 

@@ -7,6 +7,7 @@
 //! degrees; the document keeps rad.
 
 mod boundary;
+mod planar;
 
 use glam::DVec3;
 
@@ -336,52 +337,10 @@ fn kind_rows(ui: &mut egui::Ui, document: Option<&Document>, draft: &mut Operati
         Operation::Pencil { .. } => commit = pencil_rows(ui, draft),
         Operation::Rest { .. } => commit = rest_rows(ui, draft),
         Operation::Face(_) | Operation::Pocket(_) | Operation::Contour(_) | Operation::Holes(_) => {
-            planar_summary_rows(ui, draft);
+            commit = planar::planar_rows(ui, draft);
         }
     }
     commit
-}
-
-/// A read-only summary of a 2.5D or hole operation (edited in the project file for now): its
-/// target, feeds and heights.
-fn planar_summary_rows(ui: &mut egui::Ui, draft: &Operation) {
-    let target = match draft {
-        Operation::Face(o) => format!("{:?}", o.target),
-        Operation::Pocket(o) => format!("{:?}", o.target),
-        Operation::Contour(o) => format!("{:?}", o.target),
-        Operation::Holes(o) => format!("{} on {:?}", o.cycle.name(), o.holes),
-        _ => String::new(),
-    };
-    ui.label("Machines");
-    ui.label(target);
-    ui.end_row();
-    if let Some(c) = draft.common() {
-        ui.label("Feed");
-        ui.label(format!(
-            "{:.0} mm/min (plunge {:.0}, ramp {:.0})",
-            c.feed_mm_per_min,
-            c.plunge_feed(),
-            c.ramp_feed()
-        ));
-        ui.end_row();
-        ui.label("Heights");
-        ui.label(format!(
-            "clearance {:.1} mm above {:?}, retract {:.1} mm above {:?}, feed from {:.1} mm above {:?}",
-            c.clearance.mm,
-            c.clearance.from,
-            c.retract.mm,
-            c.retract.from,
-            c.feed_from.mm,
-            c.feed_from.from
-        ));
-        ui.end_row();
-        ui.label("Stock to leave");
-        ui.label(format!(
-            "walls {:.2} mm, floors {:.2} mm",
-            c.stock_to_leave_walls_mm, c.stock_to_leave_floors_mm
-        ));
-        ui.end_row();
-    }
 }
 
 /// The rows of a face-finishing operation.

@@ -742,9 +742,10 @@ impl Workstation {
             }
             self.ops.next_id = next_id;
         }
-        // The picked pose's move, highlighted (white, with a cross at the tip).
+        // The picked pose's move, highlighted (white, with a cross at the tip), unless that
+        // path is hidden.
         if let (Some(a), Some(p), Some((k, _))) = (
-            active,
+            active.filter(|a| !self.ops.hidden.contains(a)),
             self.ops.picked_pose,
             active.and_then(|a| self.result_index(a)),
         ) {

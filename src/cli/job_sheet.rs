@@ -1,0 +1,163 @@
+//! `talas job … --sheet OUT.html`: the job's setup sheet ([`crate::project::sheet`]) from the
+//! setups as `talas job` plans them: per setup the part, stock and workholding in its frame,
+//! and per operation its feeds, speeds, heights, time at feed and the jerk-limited cycle time
+//! of its posted run.
+
+use crate::import::Workpiece;
+use crate::project::results::RUN_CORNER_TOLERANCE_MM;
+use crate::project::setups::{self, Placement, SetupStock};
+use crate::project::sheet::{self, Body, SheetOperation, SheetSetup, SheetTool};
+use crate::project::{Operation, Project};
+use crate::toolpath::{MoveKind, Toolpath};
+
+/// Picture size on the sheet, pixels.
+const PICTURE_PX: (u32, u32) = (560, 400);
+
+/// Part, workholding colours on the pictures (sRGB).
+const PART_COLOUR: [u8; 3] = [176, 196, 210];
+const HOLDING_COLOUR: [u8; 3] = [120, 120, 132];
+
+/// The sheet page of setup `s` whose linked paths (in machining order) are `paths`.
+///
+/// # Errors
+/// Why the setup's stock or workholding cannot be built.
+pub fn setup_page(
+    project: &Project,
+    s: usize,
+    part: &Workpiece,
+    placements: &[Placement],
+    base: &std::path::Path,
+    paths: &[Toolpath],
+) -> Result<SheetSetup, String> {
+    let setup = &project.setups[s];
+    let here = placements[s];
+    let bounds = part.mesh.bbox();
+    let mesh = setups::transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
+    let stock = setups::stock_solid(project, s, placements, &bounds)?.bbox();
+    let holding = setups::workholding_meshes(project, s, placements, &bounds, base)?;
+    let mut bodies = vec![Body {
+        mesh: &mesh,
+        colour: PART_COLOUR,
+    }];
+    bodies.extend(holding.iter().map(|m| Body {
+        mesh: m,
+        colour: HOLDING_COLOUR,
+    }));
+    let picture = sheet::draw(&bodies, Some(&stock), PICTURE_PX.0, PICTURE_PX.1);
+    let size = stock.max - stock.min;
+    let stock_text = match setup.stock {
+        SetupStock::Project => "the project's stock".to_string(),
+        SetupStock::Around { margin_mm } => format!("box around the part + {margin_mm:.2} mm"),
+        SetupStock::Box { .. } => "box".to_string(),
+        SetupStock::Previous => "what the previous setup left".to_string(),
+    };
+    let axis = here.tool_axis();
+    let operations = setup
+        .operations
+        .iter()
+        .zip(paths)
+        .map(|(&op, path)| operation_row(project, op, path))
+        .collect();
+    Ok(SheetSetup {
+        number: s + 1,
+        name: setup.name.clone(),
+        machine: setup.machine_name(project).to_string(),
+        work_offset: setup.frame.work_offset_code(),
+        tool_axis: [axis.x, axis.y, axis.z],
+        stock_size_mm: [size.x, size.y, size.z],
+        stock: stock_text,
+        workholding: setup
+            .workholding
+            .iter()
+            .map(|w| w.kind_name().to_string())
+            .collect(),
+        picture,
+        operations,
+    })
+}
+
+/// Operation `op`'s row from its linked path.
+fn operation_row(project: &Project, op: usize, path: &Toolpath) -> SheetOperation {
+    let o: &Operation = &project.operations[op];
+    let cut_feed = path
+        .poses
+        .iter()
+        .filter(|p| p.kind == MoveKind::Cut)
+        .map(|p| p.feed_mm_per_min)
+        .fold(0.0_f64, f64::max);
+    let common = o.common();
+    let heights = common.map_or_else(
+        || "from the part (the strategy's clearance)".to_string(),
+        |c| {
+            format!(
+                "clearance {:.1} mm, retract {:.1} mm, feed from {:.1} mm (above {:?})",
+                c.clearance.mm, c.retract.mm, c.feed_from.mm, c.clearance.from
+            )
+        },
+    );
+    let tool_number = o.tool() + 1;
+    let cycle_time_s = crate::project::posting::run_operation(
+        project,
+        op,
+        path,
+        u32::try_from(tool_number).unwrap_or(1),
+        RUN_CORNER_TOLERANCE_MM,
+    )
+    .map_err(|e| e.to_string())
+    .and_then(|run| {
+        run.motion
+            .map(|m| m.cycle_time_s())
+            .map_err(|e| e.to_string())
+    });
+    SheetOperation {
+        number: op + 1,
+        name: o.name().to_string(),
+        strategy: o.kind().label().to_string(),
+        tool: tool_number,
+        feed_mm_per_min: common.map_or(cut_feed, |c| c.feed_mm_per_min),
+        plunge_mm_per_min: common.and_then(|c| c.plunge_feed_mm_per_min),
+        spindle_rpm: common
+            .and_then(|c| c.spindle_rpm)
+            .unwrap_or(project.post.spindle_rpm),
+        heights,
+        time_at_feed_s: path.summary.estimated_time_s,
+        cycle_time_s,
+        warnings: Vec::new(),
+    }
+}
+
+/// The tools the chosen setups use, by number.
+#[must_use]
+pub fn tools(project: &Project, setups: &[usize]) -> Vec<SheetTool> {
+    let mut used: Vec<usize> = setups
+        .iter()
+        .flat_map(|&s| project.setups[s].operations.iter())
+        .flat_map(|&op| project.operations[op].tools_used())
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    used.into_iter()
+        .filter_map(|i| {
+            let t = project.tools.get(i)?;
+            let c = &t.cutter;
+            let holder = if c.holder.is_empty() {
+                "none given".to_string()
+            } else {
+                c.holder
+                    .iter()
+                    .map(|h| format!("Ø{:.1} × {:.1}", h.diameter, h.length))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            Some(SheetTool {
+                number: i + 1,
+                name: t.name.clone(),
+                spec: crate::tools::tool_spec(c),
+                diameter_mm: c.diameter,
+                flute_mm: c.flute_length,
+                stick_out_mm: c.overall_length,
+                holder,
+            })
+        })
+        .collect()
+}
