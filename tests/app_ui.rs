@@ -43,9 +43,14 @@ fn data_dir(test: &str) -> PathBuf {
 }
 
 fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
+    harness_sized(config, 900.0)
+}
+
+/// A harness `height` px tall (the simulation's rows lie below the fold of a short window).
+fn harness_sized(config: WorkstationConfig, height: f32) -> Harness<'static, Workstation> {
     let ws = Workstation::new(&egui::Context::default(), None, config);
     Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
+        .with_size(egui::vec2(1400.0, height))
         .with_accessibility_check(false)
         .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
 }
@@ -492,7 +497,7 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
 fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     use talas::project::{Edit, Operation, OperationKind};
     let dir = data_dir("simulate");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    let mut h = harness_sized(WorkstationConfig::isolated(None, dir.clone()), 1300.0);
     settle(&mut h);
     let mut op = Operation::new(OperationKind::Raster, 0, 0);
     if let Operation::Raster { scallop_mm, .. } = &mut op {
@@ -515,7 +520,12 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     h.run_steps(2);
     settle_while(&mut h, "simulation", is_simulating);
     h.run_steps(2);
-    let sim = simulation_of(h.state(), 0).expect("simulated");
+    let Some(sim) = simulation_of(h.state(), 0) else {
+        for m in &h.state().log().entries {
+            eprintln!("log: {m:?}");
+        }
+        panic!("simulated");
+    };
     let whole_removed = sim.simulated.report.removed_volume_mm3;
     assert!(sim.simulated.report.removed_volume_mm3 > 0.0);
     // The default tool's flutes (18 mm) are shorter than the stock is deep over the valleys:

@@ -1,10 +1,13 @@
 //! `talas job … --sheet OUT.html`: the job's setup sheet ([`crate::project::sheet`]) from the
 //! setups as `talas job` plans them: per setup the part, stock and workholding in its frame,
-//! and per operation its feeds, speeds, heights, time at feed and the jerk-limited cycle time
-//! of its posted run.
+//! and per operation its feeds, speeds, heights, time at feed and its jerk-limited time in the
+//! setup's posted program.
 
+use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::Workpiece;
+use crate::project::job::{post_setup, resolve_setup};
 use crate::project::results::RUN_CORNER_TOLERANCE_MM;
+use crate::project::run::RunMotion;
 use crate::project::setups::{self, Placement, SetupStock};
 use crate::project::sheet::{self, Body, SheetOperation, SheetSetup, SheetTool};
 use crate::project::{Operation, Project};
@@ -52,11 +55,22 @@ pub fn setup_page(
         SetupStock::Previous => "what the previous setup left".to_string(),
     };
     let axis = here.tool_axis();
+    let times = setup_times(project, s, paths);
     let operations = setup
         .operations
         .iter()
         .zip(paths)
-        .map(|(&op, path)| operation_row(project, op, path))
+        .enumerate()
+        .map(|(k, (&op, path))| {
+            let time = match &times {
+                Ok(t) => t
+                    .get(k)
+                    .copied()
+                    .ok_or_else(|| "not in the program".to_string()),
+                Err(e) => Err(e.clone()),
+            };
+            operation_row(project, op, path, time)
+        })
         .collect();
     Ok(SheetSetup {
         number: s + 1,
@@ -76,8 +90,44 @@ pub fn setup_page(
     })
 }
 
-/// Operation `op`'s row from its linked path.
-fn operation_row(project: &Project, op: usize, path: &Toolpath) -> SheetOperation {
+/// The jerk-limited time of each operation of setup `s` in the setup's posted program (as
+/// `talas job --post` writes it, on the setup's machine: a tilted setup with its rotary
+/// positioning), s: from the first line the operation writes to its last.
+fn setup_times(project: &Project, s: usize, paths: &[Toolpath]) -> Result<Vec<f64>, String> {
+    let posted = post_setup(project, s, paths).map_err(|e| e.to_string())?;
+    let (machine, _) = resolve_setup(project, s).map_err(|e| e.to_string())?;
+    let options = InterpretOptions {
+        machine: Some(machine.clone()),
+        ..InterpretOptions::for_syntax(Syntax::detect(&posted.text))
+    };
+    let program =
+        interpret(&posted.text, &options).map_err(|e| format!("line {}: {}", e.line, e.message))?;
+    let lines = posted.text.lines().count();
+    let motion = RunMotion::plan(program, &machine, RUN_CORNER_TOLERANCE_MM, lines, &[])
+        .map_err(|e| e.to_string())?;
+    let mut spans: Vec<(f64, f64)> = vec![(f64::INFINITY, f64::NEG_INFINITY); paths.len()];
+    for (line, span) in motion.line_spans.iter().enumerate() {
+        let (Some(span), Some(src)) = (span, posted.source_of_line.get(line)) else {
+            continue;
+        };
+        if let Some(t) = spans.get_mut(src.operation) {
+            t.0 = t.0.min(span.start_s);
+            t.1 = t.1.max(span.end_s);
+        }
+    }
+    Ok(spans
+        .into_iter()
+        .map(|(a, b)| if b >= a { b - a } else { 0.0 })
+        .collect())
+}
+
+/// Operation `op`'s row from its linked path, with its cycle time in the setup's program.
+fn operation_row(
+    project: &Project,
+    op: usize,
+    path: &Toolpath,
+    cycle_time_s: Result<f64, String>,
+) -> SheetOperation {
     let o: &Operation = &project.operations[op];
     let cut_feed = path
         .poses
@@ -96,19 +146,6 @@ fn operation_row(project: &Project, op: usize, path: &Toolpath) -> SheetOperatio
         },
     );
     let tool_number = o.tool() + 1;
-    let cycle_time_s = crate::project::posting::run_operation(
-        project,
-        op,
-        path,
-        u32::try_from(tool_number).unwrap_or(1),
-        RUN_CORNER_TOLERANCE_MM,
-    )
-    .map_err(|e| e.to_string())
-    .and_then(|run| {
-        run.motion
-            .map(|m| m.cycle_time_s())
-            .map_err(|e| e.to_string())
-    });
     SheetOperation {
         number: op + 1,
         name: o.name().to_string(),
