@@ -6,6 +6,7 @@
 use crate::gcode::{InterpretOptions, Syntax, interpret};
 use crate::import::Workpiece;
 use crate::project::job::{post_setup, resolve_setup};
+use crate::project::op_common::HeightFrom;
 use crate::project::results::RUN_CORNER_TOLERANCE_MM;
 use crate::project::run::RunMotion;
 use crate::project::setups::{self, Placement, SetupStock};
@@ -136,12 +137,22 @@ fn operation_row(
         .map(|p| p.feed_mm_per_min)
         .fold(0.0_f64, f64::max);
     let common = o.common();
+    let above = |h: crate::project::op_common::Height| {
+        let from = match h.from {
+            HeightFrom::StockTop => "the stock's top",
+            HeightFrom::PartTop => "the part's top",
+            HeightFrom::Origin => "the setup origin",
+        };
+        format!("{:.1} mm above {from}", h.mm)
+    };
     let heights = common.map_or_else(
         || "from the part (the strategy's clearance)".to_string(),
         |c| {
             format!(
-                "clearance {:.1} mm, retract {:.1} mm, feed from {:.1} mm (above {:?})",
-                c.clearance.mm, c.retract.mm, c.feed_from.mm, c.clearance.from
+                "clearance {}, retract {}, feed from {}",
+                above(c.clearance),
+                above(c.retract),
+                above(c.feed_from)
             )
         },
     );

@@ -488,9 +488,9 @@ pub fn html(sheet: &Sheet) -> String {
             );
         }
         let [ox, oy] = p.axes_px[0];
-        let _ = write!(
+        let _ = writeln!(
             o,
-            "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"13\" fill=\"#222\">{}</text></svg>\n",
+            "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"13\" fill=\"#222\">{}</text></svg>",
             ox + 6.0,
             oy + 16.0,
             esc(&s.work_offset)
@@ -498,12 +498,12 @@ pub fn html(sheet: &Sheet) -> String {
         let total_feed: f64 = s.operations.iter().map(|op| op.time_at_feed_s).sum();
         let total_cycle: Result<f64, String> =
             s.operations.iter().map(|op| op.cycle_time_s.clone()).sum();
-        let _ = write!(
+        let _ = writeln!(
             o,
             "<table><tr><th>Machine</th><td>{}</td></tr><tr><th>Work offset</th><td>{} (origin at the marked axes)</td></tr>\
              <tr><th>Tool axis</th><td>{:.4}, {:.4}, {:.4}</td></tr>\
              <tr><th>Stock</th><td>{} · {:.2} × {:.2} × {:.2} mm</td></tr><tr><th>Workholding</th><td>{}</td></tr>\
-             <tr><th>Time at feed</th><td>{}</td></tr><tr><th>Cycle time</th><td>{}</td></tr></table></div>\n",
+             <tr><th>Time at feed</th><td>{}</td></tr><tr><th>Cycle time</th><td>{}</td></tr></table></div>",
             esc(&s.machine),
             esc(&s.work_offset),
             s.tool_axis[0],

@@ -4,16 +4,20 @@
 //! carries its unit and the range the engine's `validate` accepts.
 
 use super::{label, number};
+use crate::features::regions::RegionKind;
 use crate::project::Operation;
 use crate::project::op_common::{Common, Height, HeightFrom};
+use crate::project::op_contour::ContourOp;
+use crate::project::op_holes::{HoleSelection, HolesOp};
+use crate::project::op_regions::RegionTarget;
 
 /// The rows of a 2.5D or hole operation; true when a value was committed.
 pub(super) fn planar_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
     let target = match &*draft {
-        Operation::Face(o) => format!("{:?}", o.target),
-        Operation::Pocket(o) => format!("{:?}", o.target),
-        Operation::Contour(o) => format!("{:?}", o.target),
-        Operation::Holes(o) => format!("{} on {:?}", o.cycle.name(), o.holes),
+        Operation::Face(o) => region_text(&o.target),
+        Operation::Pocket(o) => region_text(&o.target),
+        Operation::Contour(o) => region_text(&o.target),
+        Operation::Holes(o) => format!("{} · {}", o.cycle.name(), holes_text(&o.holes)),
         _ => return false,
     };
     label(
@@ -70,96 +74,166 @@ pub(super) fn planar_rows(ui: &mut egui::Ui, draft: &mut Operation) -> bool {
             commit |= tolerance_row(ui, &mut o.tolerance_mm);
             commit |= common_rows(ui, &mut o.common);
         }
-        Operation::Contour(o) => {
-            label(ui, "Side", "Cut outside or inside the region's boundary");
-            ui.horizontal(|ui| {
-                commit |= ui
-                    .selectable_value(&mut o.outside, true, "outside")
-                    .changed();
-                commit |= ui
-                    .selectable_value(&mut o.outside, false, "inside")
-                    .changed();
-            });
-            ui.end_row();
-            label(ui, "Direction", "Climb or conventional milling");
-            ui.horizontal(|ui| {
-                commit |= ui.selectable_value(&mut o.climb, true, "climb").changed();
-                commit |= ui
-                    .selectable_value(&mut o.climb, false, "conventional")
-                    .changed();
-            });
-            ui.end_row();
-            let l = label(ui, "Step-down", "Depth of each contour pass");
-            commit |= number(ui, l, &mut o.step_down_mm, 1.0, 0.01..=100.0, 3, "mm");
-            ui.end_row();
-            let l = label(ui, "Lead radius", "Arc lead in and out (0: none)");
-            commit |= number(ui, l, &mut o.lead_radius_mm, 1.0, 0.0..=100.0, 2, "mm");
-            ui.end_row();
-            let l = label(ui, "Tabs", "Bridges left to hold the part (0: none)");
-            #[allow(clippy::cast_precision_loss)]
-            let mut tabs = o.tabs as f64;
-            if number(ui, l, &mut tabs, 1.0, 0.0..=64.0, 0, "") {
-                #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-                {
-                    o.tabs = tabs.round().clamp(0.0, 64.0) as usize;
-                }
-                commit = true;
-            }
-            ui.end_row();
-            if o.tabs > 0 {
-                let l = label(ui, "Tab width", "Length of each tab along the boundary");
-                commit |= number(ui, l, &mut o.tab_width_mm, 1.0, 0.1..=100.0, 2, "mm");
-                ui.end_row();
-                let l = label(ui, "Tab height", "Height of each tab above the floor");
-                commit |= number(ui, l, &mut o.tab_height_mm, 1.0, 0.1..=100.0, 2, "mm");
-                ui.end_row();
-            }
-            let l = label(ui, "Ramp angle", "Slope of the ramp down between depths");
-            commit |= number(ui, l, &mut o.ramp_angle_rad, deg, 0.5..=90.0, 1, "°");
-            ui.end_row();
-            commit |= tolerance_row(ui, &mut o.tolerance_mm);
-            commit |= common_rows(ui, &mut o.common);
-        }
-        Operation::Holes(o) => {
-            let l = label(
-                ui,
-                "Peck depth",
-                "Depth of each peck (peck and chip-break cycles)",
-            );
-            commit |= number(ui, l, &mut o.peck_mm, 1.0, 0.01..=100.0, 3, "mm");
-            ui.end_row();
-            let l = label(ui, "Dwell", "Pause at the bottom of each hole");
-            commit |= number(ui, l, &mut o.dwell_s, 1.0, 0.0..=60.0, 2, "s");
-            ui.end_row();
-            commit |= optional_row(
-                ui,
-                ("Pitch", "Thread pitch, or the helix's descent per turn"),
-                &mut o.pitch_mm,
-                (0.05..=20.0, 3, "mm"),
-                1.0,
-            );
-            commit |= optional_row(
-                ui,
-                (
-                    "Depth",
-                    "Depth below each hole's top instead of the recognised one",
-                ),
-                &mut o.depth_mm,
-                (0.01..=1000.0, 3, "mm"),
-                10.0,
-            );
-            let l = label(
-                ui,
-                "Finish allowance",
-                "Radial stock the helical roughing leaves",
-            );
-            commit |= number(ui, l, &mut o.finish_mm, 1.0, 0.0..=10.0, 3, "mm");
-            ui.end_row();
-            commit |= common_rows(ui, &mut o.common);
-        }
+        Operation::Contour(o) => commit |= contour_rows(ui, o),
+        Operation::Holes(o) => commit |= holes_rows(ui, o),
         _ => {}
     }
     commit
+}
+
+fn contour_rows(ui: &mut egui::Ui, o: &mut ContourOp) -> bool {
+    let mut commit = false;
+    let deg = 1f64.to_degrees();
+    label(ui, "Side", "Cut outside or inside the region's boundary");
+    ui.horizontal(|ui| {
+        commit |= ui
+            .selectable_value(&mut o.outside, true, "outside")
+            .changed();
+        commit |= ui
+            .selectable_value(&mut o.outside, false, "inside")
+            .changed();
+    });
+    ui.end_row();
+    label(ui, "Direction", "Climb or conventional milling");
+    ui.horizontal(|ui| {
+        commit |= ui.selectable_value(&mut o.climb, true, "climb").changed();
+        commit |= ui
+            .selectable_value(&mut o.climb, false, "conventional")
+            .changed();
+    });
+    ui.end_row();
+    let l = label(ui, "Step-down", "Depth of each contour pass");
+    commit |= number(ui, l, &mut o.step_down_mm, 1.0, 0.01..=100.0, 3, "mm");
+    ui.end_row();
+    let l = label(ui, "Lead radius", "Arc lead in and out (0: none)");
+    commit |= number(ui, l, &mut o.lead_radius_mm, 1.0, 0.0..=100.0, 2, "mm");
+    ui.end_row();
+    let l = label(ui, "Tabs", "Bridges left to hold the part (0: none)");
+    #[allow(clippy::cast_precision_loss)]
+    let mut tabs = o.tabs as f64;
+    if number(ui, l, &mut tabs, 1.0, 0.0..=64.0, 0, "") {
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        {
+            o.tabs = tabs.round().clamp(0.0, 64.0) as usize;
+        }
+        commit = true;
+    }
+    ui.end_row();
+    if o.tabs > 0 {
+        let l = label(ui, "Tab width", "Length of each tab along the boundary");
+        commit |= number(ui, l, &mut o.tab_width_mm, 1.0, 0.1..=100.0, 2, "mm");
+        ui.end_row();
+        let l = label(ui, "Tab height", "Height of each tab above the floor");
+        commit |= number(ui, l, &mut o.tab_height_mm, 1.0, 0.1..=100.0, 2, "mm");
+        ui.end_row();
+    }
+    let l = label(ui, "Ramp angle", "Slope of the ramp down between depths");
+    commit |= number(ui, l, &mut o.ramp_angle_rad, deg, 0.5..=90.0, 1, "°");
+    ui.end_row();
+    commit |= tolerance_row(ui, &mut o.tolerance_mm);
+    commit |= common_rows(ui, &mut o.common);
+    commit
+}
+
+fn holes_rows(ui: &mut egui::Ui, o: &mut HolesOp) -> bool {
+    let mut commit = false;
+    let l = label(
+        ui,
+        "Peck depth",
+        "Depth of each peck (peck and chip-break cycles)",
+    );
+    commit |= number(ui, l, &mut o.peck_mm, 1.0, 0.01..=100.0, 3, "mm");
+    ui.end_row();
+    let l = label(ui, "Dwell", "Pause at the bottom of each hole");
+    commit |= number(ui, l, &mut o.dwell_s, 1.0, 0.0..=60.0, 2, "s");
+    ui.end_row();
+    commit |= optional_row(
+        ui,
+        ("Pitch", "Thread pitch, or the helix's descent per turn"),
+        &mut o.pitch_mm,
+        (0.05..=20.0, 3, "mm"),
+        1.0,
+    );
+    commit |= optional_row(
+        ui,
+        (
+            "Depth",
+            "Depth below each hole's top instead of the recognised one",
+        ),
+        &mut o.depth_mm,
+        (0.01..=1000.0, 3, "mm"),
+        10.0,
+    );
+    let l = label(
+        ui,
+        "Finish allowance",
+        "Radial stock the helical roughing leaves",
+    );
+    commit |= number(ui, l, &mut o.finish_mm, 1.0, 0.0..=10.0, 3, "mm");
+    ui.end_row();
+    commit |= common_rows(ui, &mut o.common);
+    commit
+}
+
+/// What a 2.5D operation machines, in words (face numbers from 1, as the tree shows them).
+fn region_text(t: &RegionTarget) -> String {
+    match t {
+        RegionTarget::Auto { kinds } if kinds.is_empty() => {
+            "the regions found from +Z (the strategy's kinds)".into()
+        }
+        RegionTarget::Auto { kinds } => {
+            let names: Vec<String> = kinds
+                .iter()
+                .map(|k| {
+                    match k {
+                        RegionKind::Top => "top face",
+                        RegionKind::ClosedPocket => "closed pocket",
+                        RegionKind::OpenPocket => "open pocket",
+                        RegionKind::Step => "step",
+                        RegionKind::Slot => "slot",
+                        RegionKind::OuterProfile => "outer profile",
+                    }
+                    .to_string()
+                })
+                .collect();
+            format!("every {} found from +Z", names.join(", "))
+        }
+        RegionTarget::Faces { faces } => format!("the floors on faces {}", numbers(faces)),
+        RegionTarget::Drawn {
+            file,
+            top_mm,
+            depth_mm,
+        } => format!(
+            "the boundary in {} from {top_mm:.2} mm down {depth_mm:.2} mm",
+            file.display()
+        ),
+    }
+}
+
+fn holes_text(h: &HoleSelection) -> String {
+    match h {
+        HoleSelection::Auto {
+            min_diameter_mm,
+            max_diameter_mm,
+        } => match (min_diameter_mm, max_diameter_mm) {
+            (None, None) => "the holes the tool fits".into(),
+            (lo, hi) => format!(
+                "the holes the tool fits, Ø {} to {} mm",
+                lo.map_or_else(|| "0".to_string(), |v| format!("{v:.2}")),
+                hi.map_or_else(|| "any".to_string(), |v| format!("{v:.2}"))
+            ),
+        },
+        HoleSelection::Faces { faces } => format!("the holes on faces {}", numbers(faces)),
+        HoleSelection::Points { points } => format!("{} holes at given points", points.len()),
+    }
+}
+
+fn numbers(faces: &[usize]) -> String {
+    faces
+        .iter()
+        .map(|f| (f + 1).to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn step_rows(ui: &mut egui::Ui, step_down: &mut f64, step_over: &mut f64) -> bool {
