@@ -282,6 +282,7 @@ mod tests {
             ],
             diagnostics: Vec::new(),
             format: "STEP",
+            features: Vec::new(),
         }
     }
 

@@ -52,7 +52,15 @@ pub struct LoadedPart {
     /// The engine's workpiece (the mesh as read, exact faces, one shared BVH): what operations
     /// are planned on.
     pub workpiece: Arc<Workpiece>,
+    /// The machining features recognised on the B-rep (regions from +Z, holes), one line
+    /// each ([`crate::features::summaries`]); empty for a mesh, and for a part of more than
+    /// [`FEATURE_FACE_LIMIT`] faces (recognised on demand by `talas features`).
+    pub features: Vec<crate::features::FeatureSummary>,
 }
+
+/// Parts with more faces than this are not searched for features while loading (the search
+/// tessellates the part again and would add seconds to opening a large assembly).
+pub const FEATURE_FACE_LIMIT: usize = 600;
 
 impl LoadedPart {
     /// The triangles shown (mm), with per-vertex normals: [`Self::display_mesh`] or the
@@ -96,6 +104,12 @@ impl LoadedPart {
                 String::new(),
             ),
         };
+        let features = workpiece
+            .part
+            .as_deref()
+            .filter(|p| p.faces.len() <= FEATURE_FACE_LIMIT)
+            .map(crate::features::summaries)
+            .unwrap_or_default();
         Self {
             name: file_stem(&path),
             path,
@@ -105,6 +119,7 @@ impl LoadedPart {
             diagnostics: workpiece.diagnostics.clone(),
             format: workpiece.format.name(),
             workpiece: Arc::new(workpiece),
+            features,
         }
     }
 }

@@ -7,8 +7,7 @@ use std::path::PathBuf;
 
 use serde_json::{Value, json};
 
-use crate::features::holes::{HoleBottom, HoleOptions, HoleReport, HoleStep, recognize_holes};
-use crate::geometry::tessellate::{TessellationOptions, tessellate_part};
+use crate::features::holes::{HoleBottom, HoleReport, HoleStep};
 use crate::import::ImportError;
 use crate::import::step::read_step;
 
@@ -30,14 +29,10 @@ pub fn find_holes(file: &std::path::Path) -> Result<HoleReport, ImportError> {
     Ok(holes_of(&read_step(file)?))
 }
 
-/// The holes of a read part.
+/// The holes of a read part ([`crate::features::holes_of`]).
 #[must_use]
 pub fn holes_of(part: &crate::geometry::brep::Part) -> HoleReport {
-    let mesh = tessellate_part(
-        part,
-        &TessellationOptions::with_chord_tol(1e-3 * part.rough_bbox().diagonal().max(1e-3)),
-    );
-    recognize_holes(part, Some(&mesh), &HoleOptions::default())
+    crate::features::holes_of(part)
 }
 
 /// What `features` found, as JSON (lengths in mm, angles in degrees, keys say so).

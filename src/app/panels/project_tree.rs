@@ -209,6 +209,33 @@ fn part_ui(
     };
     let part = &doc.part;
     let part_selected = focus == Focus::Selection && doc.selection == Selection::Part;
+    let features_ui = |ui: &mut egui::Ui, commands: &mut Vec<Command>| {
+        if part.features.is_empty() {
+            return;
+        }
+        egui::CollapsingHeader::new(format!("Features ({})", part.features.len()))
+            .id_salt("features")
+            .default_open(part.features.len() <= 12)
+            .show(ui, |ui| {
+                for f in &part.features {
+                    let Some(&first) = f.faces.first() else {
+                        continue;
+                    };
+                    let selected = doc.selection == Selection::Face(first);
+                    let faces: Vec<String> = f.faces.iter().map(|i| (i + 1).to_string()).collect();
+                    if ui
+                        .selectable_label(selected, f.text.as_str())
+                        .on_hover_text(format!(
+                            "Faces {} (a click selects the first)",
+                            faces.join(", ")
+                        ))
+                        .clicked()
+                    {
+                        commands.push(Command::Select(Selection::Face(first)));
+                    }
+                }
+            });
+    };
     if ui
         .selectable_label(
             part_selected,
@@ -286,6 +313,7 @@ fn part_ui(
             });
         });
     ui.data_mut(|d| d.insert_temp(memory, (Some(doc.selection), drawn)));
+    features_ui(ui, commands);
 }
 
 /// Height of the face list, points.

@@ -1,0 +1,89 @@
+//! The part's machining features in the workstation's tree (issue 33, "features in the tree,
+//! each clickable"): on the 2.5D test part made with Open CASCADE (`tests/data/pocket/`), the
+//! tree lists the closed pocket, the slot, the step and the outer profile with their floor
+//! heights, depths, areas and corner radii as Open CASCADE's own description of the part
+//! (`pocket-part.json`, written by its make_part.py) gives them; a click on a feature selects
+//! its floor face.
+#![cfg(feature = "gui")]
+
+use std::path::PathBuf;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use talas::app::document::Selection;
+use talas::app::{Workstation, WorkstationConfig};
+
+fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
+    let ws = Workstation::new(&egui::Context::default(), None, config);
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 1200.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
+}
+
+fn settle(h: &mut Harness<'static, Workstation>) {
+    for _ in 0..6000 {
+        h.step();
+        if !(h.state().is_loading() || h.state().is_computing_field()) {
+            h.step();
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    panic!("the load never finished");
+}
+
+#[test]
+fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket");
+    let occ: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data.join("pocket-part.json")).unwrap())
+            .unwrap();
+    let dir = std::env::temp_dir().join(format!("talas-app-features-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(WorkstationConfig::isolated(
+        Some(data.join("pocket-part.stp")),
+        dir.clone(),
+    ));
+    settle(&mut h);
+    let features = h.state().document().expect("the part").part.features.clone();
+    let regions = occ["regions"].as_array().unwrap();
+    h.get_by_label_contains("Features (");
+    for r in regions {
+        let kind = match r["kind"].as_str().unwrap() {
+            "closed_pocket" => "Closed pocket",
+            "slot" => "Slot",
+            "step" => "Step",
+            "outer_profile" => "Outer profile",
+            other => panic!("{other}"),
+        };
+        let start = format!(
+            "{kind} · floor {:.3} mm · depth {:.3} mm · {:.0} mm²",
+            r["floor_z_mm"].as_f64().unwrap(),
+            r["depth_mm"].as_f64().unwrap(),
+            r["floor_area_mm2"].as_f64().unwrap()
+        );
+        let row = features
+            .iter()
+            .find(|f| f.text.starts_with(&start))
+            .unwrap_or_else(|| panic!("no feature '{start}…' in {features:#?}"));
+        if let Some(c) = r["min_corner_radius_mm"].as_f64() {
+            assert!(row.text.contains(&format!("corners R{c:.3} mm")), "{}", row.text);
+        }
+        h.get_by_label(&row.text);
+    }
+    // A click on the pocket selects its floor.
+    let pocket = features
+        .iter()
+        .find(|f| f.text.starts_with("Closed pocket"))
+        .unwrap()
+        .clone();
+    h.get_by_label(&pocket.text).click();
+    h.run_steps(3);
+    assert_eq!(
+        h.state().document().unwrap().selection,
+        Selection::Face(pocket.faces[0])
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
