@@ -47,7 +47,13 @@ fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {
         dir.clone(),
     ));
     settle(&mut h);
-    let features = h.state().document().expect("the part").part.features.clone();
+    let features = h
+        .state()
+        .document()
+        .expect("the part")
+        .part
+        .features
+        .clone();
     let regions = occ["regions"].as_array().unwrap();
     h.get_by_label_contains("Features (");
     for r in regions {
@@ -69,7 +75,11 @@ fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {
             .find(|f| f.text.starts_with(&start))
             .unwrap_or_else(|| panic!("no feature '{start}…' in {features:#?}"));
         if let Some(c) = r["min_corner_radius_mm"].as_f64() {
-            assert!(row.text.contains(&format!("corners R{c:.3} mm")), "{}", row.text);
+            assert!(
+                row.text.contains(&format!("corners R{c:.3} mm")),
+                "{}",
+                row.text
+            );
         }
         h.get_by_label(&row.text);
     }

@@ -405,6 +405,10 @@ pub fn raster_progress(
     let followed: Vec<Vec<Vec<ClSample>>> = passes
         .par_iter()
         .map(|p| {
+            // Cancel answers between passes here too (following is most of a large plan).
+            if progress.is_cancelled() {
+                return Vec::new();
+            }
             p.runs
                 .iter()
                 .map(|run| follower.follow(frame.at(0.0, p.w), frame.u, run))

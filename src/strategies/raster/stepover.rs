@@ -20,7 +20,16 @@ use crate::tools::Cutter;
 #[derive(Clone, Debug)]
 pub(crate) struct StepoverTable {
     steps: Vec<f64>,
+    /// The step on a level floor (no cross slope at all): the table's first entry is the
+    /// smallest over 0°–1°, which for a flat end mill is the step a 1° slope allows (0.57 mm
+    /// for Ø50 at 0.01 mm) where the floor itself leaves no cusp at any step.
+    level: f64,
 }
+
+/// The largest step-over, as a share of the cutter's diameter: passes always overlap a
+/// little, whatever the scallop allows (a flat end mill on a level floor leaves no cusp at
+/// any step up to its diameter).
+pub(crate) const MAX_STEP_OF_DIAMETER: f64 = 0.9;
 
 /// Height of the cutter's lower surface at radius `rho`; beyond the rim a steep wall (the
 /// cutter's side), which keeps the envelope finite and monotone.
@@ -92,6 +101,9 @@ pub(crate) fn planar_cusp(cutter: &Cutter, phi: f64, s: f64) -> f64 {
     best.max(env(0.5 * (lo + hi))).max(0.0) * phi.cos()
 }
 
+/// A cross slope below this is a level floor, rad (the normals of a plane's triangles).
+const LEVEL_RAD: f64 = 1e-6;
+
 impl StepoverTable {
     /// The table for `cutter` and scallop `h` (mm), slopes 0 ..= `max_slope` (rad).
     pub(crate) fn new(cutter: &Cutter, h: f64, max_slope: f64) -> Self {
@@ -111,12 +123,19 @@ impl StepoverTable {
                 lo
             })
             .collect();
-        let steps = raw.windows(2).map(|w| w[0].min(w[1])).collect();
-        Self { steps }
+        let cap = MAX_STEP_OF_DIAMETER * 2.0 * cutter.radius();
+        let steps = raw.windows(2).map(|w| w[0].min(w[1]).min(cap)).collect();
+        Self {
+            steps,
+            level: raw.first().copied().unwrap_or(0.0).min(cap),
+        }
     }
 
     /// The XY step-over for a cross slope `phi` (rad); slopes past the table use its last entry.
     pub(crate) fn step(&self, phi: f64) -> f64 {
+        if phi.abs() <= LEVEL_RAD {
+            return self.level;
+        }
         let deg = phi.abs().to_degrees();
         let i = if deg.is_finite() {
             deg.floor() as usize
@@ -146,6 +165,24 @@ mod tests {
             let got = t.step((deg + 0.5).to_radians());
             assert!((got - want).abs() < 2e-3, "{deg}°: {got} vs {want}");
         }
+    }
+
+    /// On a level floor a flat end mill leaves no cusp at any step: the step is the cap
+    /// (0.9 of Ø50 = 45 mm), not the 0.57 mm that a 1° slope would allow at 0.01 mm
+    /// (0.01 / tan 1°); on a 1° slope it is that.
+    #[test]
+    fn a_flat_end_mill_on_a_level_floor_steps_by_the_cap() {
+        let c = Cutter::new(CutterKind::Flat, 50.0).unwrap();
+        let t = StepoverTable::new(&c, 0.01, 70f64.to_radians());
+        assert!((t.step(0.0) - 45.0).abs() < 1e-9, "{}", t.step(0.0));
+        let one = t.step(0.5f64.to_radians());
+        let want = 0.01 / 1f64.to_radians().tan();
+        assert!((one - want).abs() < 0.01 * want, "{one} vs {want}");
+        // A ball's level step is its closed form, under the cap.
+        let b = Cutter::new(CutterKind::Ball, 6.0).unwrap();
+        let tb = StepoverTable::new(&b, 0.01, 70f64.to_radians());
+        let closed = 2.0 * (2.0 * 3.0 * 0.01 - 1e-4_f64).sqrt();
+        assert!((tb.step(0.0) - closed).abs() < 1e-6, "{}", tb.step(0.0));
     }
 
     #[test]
