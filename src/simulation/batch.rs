@@ -212,28 +212,36 @@ impl Batch {
 }
 
 /// Per culling tile of a family: the material's extent along the ray, `[lo, hi]` (an outer
-/// bound; `[∞, −∞]` when the tile holds nothing).
+/// bound; `[∞, −∞]` when the tile holds nothing), and the summed length of its rays' material
+/// (mm, summed in ray order), both brought up to date for every tile a batch changes: a
+/// `Cull` kept between runs on the same stock is the one [`Cull::new`] would make again, and
+/// the stock's volume follows from the tiles without visiting every ray.
+#[derive(Clone, Debug)]
 pub(super) struct Cull {
     /// Tiles along u.
     nu: usize,
     ranges: Vec<[f32; 2]>,
+    lengths: Vec<f64>,
 }
 
-fn tile_extent<'a>(rays: impl Iterator<Item = &'a Dexel>) -> [f32; 2] {
+/// The extent along the ray of the material of `rays`, and its summed length (in order).
+fn tile_extent<'a>(rays: impl Iterator<Item = &'a Dexel>) -> ([f32; 2], f64) {
     let mut e = [f32::INFINITY, f32::NEG_INFINITY];
+    let mut length = 0.0;
     for d in rays {
         if let (Some([a, _]), Some([_, b])) = (d.intervals().first(), d.intervals().last()) {
             e = [e[0].min(*a), e[1].max(*b)];
+            length += d.length();
         }
     }
-    e
+    (e, length)
 }
 
 impl Cull {
     /// The tiles of `fam` as it is now.
     pub(super) fn new(fam: &DexelFamily) -> Self {
         let (nu, nv) = (fam.nu.div_ceil(CULL), fam.nv.div_ceil(CULL));
-        let ranges = (0..nu * nv)
+        let tiles: Vec<([f32; 2], f64)> = (0..nu * nv)
             .into_par_iter()
             .map(|k| {
                 let (ci, cj) = (k % nu, k / nu);
@@ -247,7 +255,22 @@ impl Cull {
                 }))
             })
             .collect();
-        Self { nu, ranges }
+        let (ranges, lengths) = tiles.into_iter().unzip();
+        Self {
+            nu,
+            ranges,
+            lengths,
+        }
+    }
+
+    /// The summed material length of the family's rays, mm (times the cell area: its volume).
+    pub(super) fn material_length(&self) -> f64 {
+        self.lengths.iter().sum()
+    }
+
+    /// Whether this was made for a family of `fam`'s grid.
+    pub(super) fn fits(&self, fam: &DexelFamily) -> bool {
+        self.nu == fam.nu.div_ceil(CULL) && self.ranges.len() == self.nu * fam.nv.div_ceil(CULL)
     }
 }
 
@@ -289,7 +312,7 @@ struct Task<'a> {
 }
 
 /// What a task gives back: collision hits and the new extents of the tiles it changed.
-type TaskOut = (Vec<Hit>, Vec<(usize, [f32; 2])>);
+type TaskOut = (Vec<Hit>, Vec<(usize, ([f32; 2], f64))>);
 
 /// Apply a batch to one family (index `f`); returns the collision hits (deepest per move and
 /// kind within each task, by the same rule as the final merge).
@@ -365,9 +388,10 @@ pub(super) fn apply_batch(
             .collect();
         for (h, updates) in outs {
             hits.extend(h);
-            for (k, e) in updates {
-                if let Some(slot) = cull.ranges.get_mut(k) {
+            for (k, (e, length)) in updates {
+                if let (Some(slot), Some(l)) = (cull.ranges.get_mut(k), cull.lengths.get_mut(k)) {
                     *slot = e;
+                    *l = length;
                 }
             }
         }
