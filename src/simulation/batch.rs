@@ -32,12 +32,15 @@ use super::motion::{MovePlan, Step};
 use super::sweep::{Body, Prepared, PreparedRow, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
 
-/// Rays per side of a culling tile.
-const CULL: usize = 16;
+/// Rays per side of a culling tile (the tiles a family's volume is summed by).
+const CULL: usize = super::dexel::VOLUME_TILE;
 /// Rays per side of a parallel task (a multiple of `CULL`).
 const TASK: usize = 32;
 /// Culling tiles per task side.
 const CPT: usize = TASK / CULL;
+/// Work items (tasks × steps, bodies, shadow rows) up to which a batch runs on the calling
+/// thread instead of the pool.
+const SMALL_WORK: usize = 32;
 /// Steps whose bodies' sweeps are prepared at a time (and held: a few kB each).
 const SWEEP_STEPS: usize = 256;
 /// A ball end mill's step that would take less than this off a Z ray's top passes the ray
@@ -263,9 +266,14 @@ impl Cull {
         }
     }
 
-    /// The summed material length of the family's rays, mm (times the cell area: its volume).
+    /// The summed material length of the family's rays, mm, tile by tile in tile order (times
+    /// the cell area: [`DexelFamily::volume`] to the bit).
     pub(super) fn material_length(&self) -> f64 {
-        self.lengths.iter().sum()
+        let mut total = 0.0;
+        for l in &self.lengths {
+            total += l;
+        }
+        total
     }
 
     /// Whether this was made for a family of `fam`'s grid.
@@ -382,10 +390,14 @@ pub(super) fn apply_batch(
         let base = steps.first().map_or(0, |p| p.bodies.start);
         let ranges = &cull.ranges;
         let cnu = cull.nu;
-        let outs: Vec<TaskOut> = tasks
-            .par_iter_mut()
-            .map(|t| run_task(t, (batch, steps), (&sweeps, base), &grid, (ranges, cnu)))
-            .collect();
+        let run = |t: &mut Task| run_task(t, (batch, steps), (&sweeps, base), &grid, (ranges, cnu));
+        // A few steps over a few tasks (the control's live cutting) are run on this thread:
+        // handing them to the pool costs more than they do. The result is the same.
+        let outs: Vec<TaskOut> = if tasks.len().saturating_mul(steps.len()) <= SMALL_WORK {
+            tasks.iter_mut().map(run).collect()
+        } else {
+            tasks.par_iter_mut().map(run).collect()
+        };
         for (h, updates) in outs {
             hits.extend(h);
             for (k, (e, length)) in updates {
@@ -463,31 +475,33 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Sweeps {
         .enumerate()
         .flat_map(|(s, p)| p.bodies.clone().map(move |k| (s, k)))
         .collect();
-    let mut list: Vec<Sweep> = owners
-        .par_iter()
-        .map(|&(s, k)| {
-            let none = Sweep {
-                cells: [0; 4],
-                tilted: None,
-            };
-            let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) else {
-                return none;
-            };
-            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
-            let (i0, i1) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
-            let (j0, j1) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
-            if i0 >= i1 || j0 >= j1 {
-                return none;
-            }
-            Sweep {
-                cells: [i0, i1, j0, j1],
-                tilted: (!(g.z_family && p.vertical)).then(|| Tilted {
-                    prepared: b.body.prepare(&p.step, g.dir),
-                    rows: 0..0,
-                }),
-            }
-        })
-        .collect();
+    let make = |&(s, k): &(usize, usize)| {
+        let none = Sweep {
+            cells: [0; 4],
+            tilted: None,
+        };
+        let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) else {
+            return none;
+        };
+        let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
+        let (i0, i1) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
+        let (j0, j1) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
+        if i0 >= i1 || j0 >= j1 {
+            return none;
+        }
+        Sweep {
+            cells: [i0, i1, j0, j1],
+            tilted: (!(g.z_family && p.vertical)).then(|| Tilted {
+                prepared: b.body.prepare(&p.step, g.dir),
+                rows: 0..0,
+            }),
+        }
+    };
+    let mut list: Vec<Sweep> = if owners.len() <= SMALL_WORK {
+        owners.iter().map(make).collect()
+    } else {
+        owners.par_iter().map(make).collect()
+    };
     let mut total = 0;
     for sw in &mut list {
         if let Some(t) = &mut sw.tilted {
@@ -510,11 +524,16 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Sweeps {
         jobs.push((head, s, k, sw.cells[2]));
         rest = tail;
     }
-    jobs.into_par_iter().for_each(|(out, s, k, j0)| {
+    let shade = |(out, s, k, j0): (&mut [(usize, usize)], usize, usize, usize)| {
         if let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) {
             shadow_rows(p, b, g, j0, out);
         }
-    });
+    };
+    if jobs.len() <= SMALL_WORK {
+        jobs.into_iter().for_each(shade);
+    } else {
+        jobs.into_par_iter().for_each(shade);
+    }
     Sweeps { list, rows }
 }
 
