@@ -22,7 +22,7 @@ use crate::geometry::mesh::TriMesh;
 use crate::machine::Machine;
 use crate::simulation::{
     Collision, Continued, DexelStock, MovePlan, SimError, SimMove, SimOptions, Step, StepOptions,
-    plan_program, run_moves,
+    StockCache, plan_program, run_moves_cached,
 };
 use crate::tools::Cutter;
 
@@ -37,12 +37,15 @@ pub struct LiveStock {
     pub cutter: Cutter,
     /// Step bounds (from the resolution, as `talas simulate` sets them).
     pub steps: StepOptions,
-    /// Volume at the start, mm³.
+    /// Volume at the start, mm³ (summed tile by tile as the removed volume is).
     pub initial_volume_mm3: f64,
     /// The last step cut (the next piece continues it when it starts where it ended).
     last_step: Option<(Step, SimMove)>,
     /// The block being cut in its own steps.
     current: Option<WholeBlock>,
+    /// The stock's culling tiles and material per tile, kept between the pieces (a piece
+    /// costs what it touches, not a pass over the whole stock).
+    cache: StockCache,
 }
 
 /// One piece of the control's motion to cut.
@@ -83,10 +86,12 @@ impl CutOutcome {
 
 impl LiveStock {
     /// A stock cut by `cutter`, with step bounds from the stock's resolution `resolution_mm`.
+    /// (The stock is then changed only through this: its culling tiles are kept here.)
     #[must_use]
     pub fn new(stock: DexelStock, cutter: Cutter, resolution_mm: f64) -> Self {
         let steps = StepOptions::for_resolution(resolution_mm, cutter.flute_length);
-        let initial_volume_mm3 = stock.volume_mm3();
+        let cache = StockCache::new(&stock);
+        let initial_volume_mm3 = cache.volume_mm3(&stock);
         Self {
             stock,
             cutter,
@@ -94,13 +99,14 @@ impl LiveStock {
             initial_volume_mm3,
             last_step: None,
             current: None,
+            cache,
         }
     }
 
-    /// Removed volume so far, mm³.
+    /// Removed volume so far, mm³ (read off the culling tiles: no pass over the stock).
     #[must_use]
     pub fn removed_mm3(&self) -> f64 {
-        self.initial_volume_mm3 - self.stock.volume_mm3()
+        self.initial_volume_mm3 - self.cache.volume_mm3(&self.stock)
     }
 
     /// Cut `job` and say what it found.
@@ -227,7 +233,7 @@ impl LiveStock {
         if plan.moves.len() == lead {
             return Ok(Vec::new());
         }
-        let report = run_moves(
+        let report = run_moves_cached(
             &mut self.stock,
             &self.cutter,
             &plan,
@@ -238,6 +244,7 @@ impl LiveStock {
                 after_earlier_moves: lead > 0,
                 progress: 0.0..1.0,
             },
+            &mut self.cache,
         )?;
         self.last_step = plan
             .steps

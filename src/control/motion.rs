@@ -444,10 +444,16 @@ impl Run {
         if !(s1 > s0) {
             return out;
         }
-        for (k, seg) in self.path.segments().iter().enumerate() {
+        // The segments before the one holding `s0` end at or before it (and those from the
+        // first starting at `s1` on begin after): only those between are visited.
+        let first = self.seg_s0.partition_point(|&a| a <= s0).saturating_sub(1);
+        for (k, seg) in self.path.segments().iter().enumerate().skip(first) {
             let a = self.seg_s0.get(k).copied().unwrap_or(0.0);
             let b = a + seg.length;
-            if b <= s0 || a >= s1 {
+            if a >= s1 {
+                break;
+            }
+            if b <= s0 {
                 continue;
             }
             let Some(block) = self.blocks.get(seg.block) else {

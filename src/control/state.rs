@@ -148,6 +148,8 @@ pub struct Control {
     collide: Option<crate::machine::collision::CollisionModel>,
     /// The stock's cutting thread, when the stock is cut off this thread.
     worker: Option<cut::WorkerLink>,
+    /// Steps the clock has taken in [`Control::advance`] (see [`Control::clock_steps`]).
+    clock_steps: u64,
 }
 
 impl Control {
@@ -188,6 +190,7 @@ impl Control {
             mpg_pending: None,
             collide: collision_model(&cfg),
             worker: None,
+            clock_steps: 0,
             cfg,
         };
         control.session = Session::new(control.interp_options())
@@ -227,6 +230,14 @@ impl Control {
     #[must_use]
     pub fn time_s(&self) -> f64 {
         self.clock
+    }
+
+    /// Steps the simulated clock has taken so far: one per millisecond (at most) of motion
+    /// played, one per dwell or stretch of standing still however long (the work a run did,
+    /// for tests and benches: waiting costs nothing).
+    #[must_use]
+    pub fn clock_steps(&self) -> u64 {
+        self.clock_steps
     }
 
     /// Machine position now (slots X Y Z A B C, mm and rad).

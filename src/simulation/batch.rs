@@ -32,12 +32,15 @@ use super::motion::{MovePlan, Step};
 use super::sweep::{Body, Prepared, PreparedRow, SweepStep, general_interval, vertical_interval};
 use crate::geometry::Aabb;
 
-/// Rays per side of a culling tile.
-const CULL: usize = 16;
+/// Rays per side of a culling tile (the tiles a family's volume is summed by).
+const CULL: usize = super::dexel::VOLUME_TILE;
 /// Rays per side of a parallel task (a multiple of `CULL`).
 const TASK: usize = 32;
 /// Culling tiles per task side.
 const CPT: usize = TASK / CULL;
+/// Work items (tasks × steps, bodies, shadow rows) up to which a batch runs on the calling
+/// thread instead of the pool.
+const SMALL_WORK: usize = 32;
 /// Steps whose bodies' sweeps are prepared at a time (and held: a few kB each).
 const SWEEP_STEPS: usize = 256;
 /// A ball end mill's step that would take less than this off a Z ray's top passes the ray
@@ -212,28 +215,36 @@ impl Batch {
 }
 
 /// Per culling tile of a family: the material's extent along the ray, `[lo, hi]` (an outer
-/// bound; `[∞, −∞]` when the tile holds nothing).
+/// bound; `[∞, −∞]` when the tile holds nothing), and the summed length of its rays' material
+/// (mm, summed in ray order), both brought up to date for every tile a batch changes: a
+/// `Cull` kept between runs on the same stock is the one [`Cull::new`] would make again, and
+/// the stock's volume follows from the tiles without visiting every ray.
+#[derive(Clone, Debug)]
 pub(super) struct Cull {
     /// Tiles along u.
     nu: usize,
     ranges: Vec<[f32; 2]>,
+    lengths: Vec<f64>,
 }
 
-fn tile_extent<'a>(rays: impl Iterator<Item = &'a Dexel>) -> [f32; 2] {
+/// The extent along the ray of the material of `rays`, and its summed length (in order).
+fn tile_extent<'a>(rays: impl Iterator<Item = &'a Dexel>) -> ([f32; 2], f64) {
     let mut e = [f32::INFINITY, f32::NEG_INFINITY];
+    let mut length = 0.0;
     for d in rays {
         if let (Some([a, _]), Some([_, b])) = (d.intervals().first(), d.intervals().last()) {
             e = [e[0].min(*a), e[1].max(*b)];
+            length += d.length();
         }
     }
-    e
+    (e, length)
 }
 
 impl Cull {
     /// The tiles of `fam` as it is now.
     pub(super) fn new(fam: &DexelFamily) -> Self {
         let (nu, nv) = (fam.nu.div_ceil(CULL), fam.nv.div_ceil(CULL));
-        let ranges = (0..nu * nv)
+        let tiles: Vec<([f32; 2], f64)> = (0..nu * nv)
             .into_par_iter()
             .map(|k| {
                 let (ci, cj) = (k % nu, k / nu);
@@ -247,7 +258,27 @@ impl Cull {
                 }))
             })
             .collect();
-        Self { nu, ranges }
+        let (ranges, lengths) = tiles.into_iter().unzip();
+        Self {
+            nu,
+            ranges,
+            lengths,
+        }
+    }
+
+    /// The summed material length of the family's rays, mm, tile by tile in tile order (times
+    /// the cell area: [`DexelFamily::volume`] to the bit).
+    pub(super) fn material_length(&self) -> f64 {
+        let mut total = 0.0;
+        for l in &self.lengths {
+            total += l;
+        }
+        total
+    }
+
+    /// Whether this was made for a family of `fam`'s grid.
+    pub(super) fn fits(&self, fam: &DexelFamily) -> bool {
+        self.nu == fam.nu.div_ceil(CULL) && self.ranges.len() == self.nu * fam.nv.div_ceil(CULL)
     }
 }
 
@@ -289,7 +320,7 @@ struct Task<'a> {
 }
 
 /// What a task gives back: collision hits and the new extents of the tiles it changed.
-type TaskOut = (Vec<Hit>, Vec<(usize, [f32; 2])>);
+type TaskOut = (Vec<Hit>, Vec<(usize, ([f32; 2], f64))>);
 
 /// Apply a batch to one family (index `f`); returns the collision hits (deepest per move and
 /// kind within each task, by the same rule as the final merge).
@@ -359,15 +390,20 @@ pub(super) fn apply_batch(
         let base = steps.first().map_or(0, |p| p.bodies.start);
         let ranges = &cull.ranges;
         let cnu = cull.nu;
-        let outs: Vec<TaskOut> = tasks
-            .par_iter_mut()
-            .map(|t| run_task(t, (batch, steps), (&sweeps, base), &grid, (ranges, cnu)))
-            .collect();
+        let run = |t: &mut Task| run_task(t, (batch, steps), (&sweeps, base), &grid, (ranges, cnu));
+        // A few steps over a few tasks (the control's live cutting) are run on this thread:
+        // handing them to the pool costs more than they do. The result is the same.
+        let outs: Vec<TaskOut> = if tasks.len().saturating_mul(steps.len()) <= SMALL_WORK {
+            tasks.iter_mut().map(run).collect()
+        } else {
+            tasks.par_iter_mut().map(run).collect()
+        };
         for (h, updates) in outs {
             hits.extend(h);
-            for (k, e) in updates {
-                if let Some(slot) = cull.ranges.get_mut(k) {
+            for (k, (e, length)) in updates {
+                if let (Some(slot), Some(l)) = (cull.ranges.get_mut(k), cull.lengths.get_mut(k)) {
                     *slot = e;
+                    *l = length;
                 }
             }
         }
@@ -439,31 +475,33 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Sweeps {
         .enumerate()
         .flat_map(|(s, p)| p.bodies.clone().map(move |k| (s, k)))
         .collect();
-    let mut list: Vec<Sweep> = owners
-        .par_iter()
-        .map(|&(s, k)| {
-            let none = Sweep {
-                cells: [0; 4],
-                tilted: None,
-            };
-            let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) else {
-                return none;
-            };
-            let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
-            let (i0, i1) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
-            let (j0, j1) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
-            if i0 >= i1 || j0 >= j1 {
-                return none;
-            }
-            Sweep {
-                cells: [i0, i1, j0, j1],
-                tilted: (!(g.z_family && p.vertical)).then(|| Tilted {
-                    prepared: b.body.prepare(&p.step, g.dir),
-                    rows: 0..0,
-                }),
-            }
-        })
-        .collect();
+    let make = |&(s, k): &(usize, usize)| {
+        let none = Sweep {
+            cells: [0; 4],
+            tilted: None,
+        };
+        let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) else {
+            return none;
+        };
+        let (lo, hi) = (b.bbox.min.to_array(), b.bbox.max.to_array());
+        let (i0, i1) = DexelFamily::cell_range(g.o[u], g.spacing, g.nu, lo[u], hi[u]);
+        let (j0, j1) = DexelFamily::cell_range(g.o[v], g.spacing, g.nv, lo[v], hi[v]);
+        if i0 >= i1 || j0 >= j1 {
+            return none;
+        }
+        Sweep {
+            cells: [i0, i1, j0, j1],
+            tilted: (!(g.z_family && p.vertical)).then(|| Tilted {
+                prepared: b.body.prepare(&p.step, g.dir),
+                rows: 0..0,
+            }),
+        }
+    };
+    let mut list: Vec<Sweep> = if owners.len() <= SMALL_WORK {
+        owners.iter().map(make).collect()
+    } else {
+        owners.par_iter().map(make).collect()
+    };
     let mut total = 0;
     for sw in &mut list {
         if let Some(t) = &mut sw.tilted {
@@ -486,11 +524,16 @@ fn prepare_sweeps(batch: &Batch, steps: &[PStep], g: &Grid) -> Sweeps {
         jobs.push((head, s, k, sw.cells[2]));
         rest = tail;
     }
-    jobs.into_par_iter().for_each(|(out, s, k, j0)| {
+    let shade = |(out, s, k, j0): (&mut [(usize, usize)], usize, usize, usize)| {
         if let (Some(p), Some(b)) = (steps.get(s), batch.bodies.get(k)) {
             shadow_rows(p, b, g, j0, out);
         }
-    });
+    };
+    if jobs.len() <= SMALL_WORK {
+        jobs.into_iter().for_each(shade);
+    } else {
+        jobs.into_par_iter().for_each(shade);
+    }
     Sweeps { list, rows }
 }
 

@@ -191,6 +191,53 @@ impl Default for Continued {
     }
 }
 
+/// What a stock keeps between runs of moves cut into it one after the other (the virtual
+/// control's live cutting: thousands of runs of a step or two): per ray family the culling
+/// tiles, each with the extent and the summed length of its material, brought up to date by
+/// every run for the tiles it changes. A run then costs what its steps touch instead of a
+/// pass over the whole stock to make the tiles (and two more for its volume before and
+/// after), and the stock's volume is read off the tiles. The tiles are the ones a fresh run
+/// would make, so the stock and the collisions are the same bit for bit; the volume is
+/// summed tile by tile (deterministic, within rounding of [`DexelStock::volume_mm3`]).
+///
+/// Valid while only [`run_moves_cached`] changes the stock (it is made again when the grid
+/// no longer fits).
+#[derive(Clone, Debug)]
+pub(crate) struct StockCache {
+    culls: Vec<Cull>,
+}
+
+impl StockCache {
+    /// The tiles of `stock` as it is now (one pass over every ray).
+    pub(crate) fn new(stock: &DexelStock) -> Self {
+        Self {
+            culls: stock.families.iter().map(Cull::new).collect(),
+        }
+    }
+
+    fn fits(&self, stock: &DexelStock) -> bool {
+        self.culls.len() == stock.families.len()
+            && self
+                .culls
+                .iter()
+                .zip(&stock.families)
+                .all(|(c, f)| c.fits(f))
+    }
+
+    /// The stock's material volume from the tiles, mm³ (a tri-dexel stock: the mean of its
+    /// three families, as [`DexelStock::volume_mm3`]).
+    pub(crate) fn volume_mm3(&self, stock: &DexelStock) -> f64 {
+        #[allow(clippy::cast_precision_loss)]
+        let n = stock.families.len().max(1) as f64;
+        self.culls
+            .iter()
+            .zip(&stock.families)
+            .map(|(c, f)| c.material_length() * f.spacing * f.spacing)
+            .sum::<f64>()
+            / n
+    }
+}
+
 /// [`simulate_moves`] as a piece of a longer run: the stock and collisions are those of the
 /// whole run, bit for bit, when the pieces are run in order.
 pub(crate) fn run_moves(
@@ -201,6 +248,33 @@ pub(crate) fn run_moves(
     opts: &SimOptions,
     progress: &Progress,
     continued: &Continued,
+) -> Result<SimReport, SimError> {
+    let initial = stock.volume_mm3();
+    let mut cache = StockCache::new(stock);
+    let mut report = run_moves_cached(
+        stock, cutter, plan, range, opts, progress, continued, &mut cache,
+    )?;
+    let final_volume = stock.volume_mm3();
+    report.initial_volume_mm3 = initial;
+    report.final_volume_mm3 = final_volume;
+    report.removed_volume_mm3 = initial - final_volume;
+    report.memory_bytes = stock.memory_bytes();
+    Ok(report)
+}
+
+/// [`run_moves`] on a stock whose tiles `cache` keeps between runs (made again when it no
+/// longer fits the stock's grid). The report's volumes are the cache's
+/// ([`StockCache::volume_mm3`]) and its `memory_bytes` is 0 (counting it visits every ray).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_moves_cached(
+    stock: &mut DexelStock,
+    cutter: &Cutter,
+    plan: &MovePlan,
+    range: Range<usize>,
+    opts: &SimOptions,
+    progress: &Progress,
+    continued: &Continued,
+    cache: &mut StockCache,
 ) -> Result<SimReport, SimError> {
     cutter
         .validate()
@@ -223,7 +297,10 @@ pub(crate) fn run_moves(
         first(range.start)..first(range.end)
     };
     let steps = plan.steps.get(step_range.clone()).unwrap_or(&[]);
-    let initial = stock.volume_mm3();
+    if !cache.fits(stock) {
+        *cache = StockCache::new(stock);
+    }
+    let initial = cache.volume_mm3(stock);
     let cutting = Body::cutting(cutter);
     let guards = if opts.check_holder {
         collision_bodies(cutter)
@@ -233,7 +310,6 @@ pub(crate) fn run_moves(
     let mut merged: BTreeMap<(usize, CollisionKind), Hit> = BTreeMap::new();
     let batch = opts.batch_steps.max(1);
     let total = steps.len().max(1);
-    let mut culls: Vec<Cull> = stock.families.iter().map(Cull::new).collect();
     let mut prepared = Batch::default();
     let bounds = stock.bounds;
     for (b, chunk) in steps.chunks(batch).enumerate() {
@@ -247,7 +323,7 @@ pub(crate) fn run_moves(
             None => None,
         };
         prepared.fill(chunk, before, plan, &cutting, &guards, &bounds);
-        for (f, (fam, cull)) in stock.families.iter_mut().zip(&mut culls).enumerate() {
+        for (f, (fam, cull)) in stock.families.iter_mut().zip(&mut cache.culls).enumerate() {
             for hit in apply_batch(fam, f, &prepared, cull, opts.contact_tolerance_mm) {
                 let key = (hit.move_index, hit.kind);
                 match merged.get(&key) {
@@ -273,7 +349,7 @@ pub(crate) fn run_moves(
             depth_mm: h.depth,
         })
         .collect();
-    let final_volume = stock.volume_mm3();
+    let final_volume = cache.volume_mm3(stock);
     Ok(SimReport {
         initial_volume_mm3: initial,
         final_volume_mm3: final_volume,
@@ -285,6 +361,6 @@ pub(crate) fn run_moves(
             .moves
             .get(range)
             .map_or(0.0, |m| m.iter().map(|m| m.duration_s).sum()),
-        memory_bytes: stock.memory_bytes(),
+        memory_bytes: 0,
     })
 }

@@ -33,7 +33,7 @@ pub use deviation::{
 };
 pub use dexel::{Dexel, DexelFamily, RayAxis};
 pub use engine::{Collision, CollisionKind, SimOptions, SimReport, simulate, simulate_moves};
-pub(crate) use engine::{Continued, run_moves};
+pub(crate) use engine::{Continued, StockCache, run_moves, run_moves_cached};
 pub use motion::{MovePlan, SimMove, Step, StepOptions, plan_program, plan_toolpath};
 pub use stock::{
     DEFAULT_MEMORY_LIMIT_BYTES, DexelMode, DexelStock, MeshStock, StockShape, estimate_bytes,

@@ -206,6 +206,7 @@ impl Control {
         }
         let mut left = dt;
         while left > 1e-12 {
+            self.clock_steps += 1;
             if self.active.is_some() && !self.cutting_keeps_up() {
                 // The motion waits for the cutting worker.
                 return;
@@ -268,12 +269,24 @@ impl Control {
         self.poll_cutting();
     }
 
-    /// Run the clock in steps of a millisecond until the control is idle (or `max_s` has
-    /// passed); returns the time run.
+    /// Run the program (or whatever moves) as fast as possible: the clock on until the
+    /// control is idle (or `max_s` has passed); returns the time run. Motion is played in the
+    /// steps of a millisecond [`Control::advance`] takes (the same peaks, machine checks and
+    /// 20 ms pieces of cutting, so the same stock, alarms and times as a run in real time),
+    /// and a dwell passes in one step. This is the engine's "as fast as possible": about 1 ms
+    /// of CPU per second of machining on a Z-level roughing (benches/README.md); a panel
+    /// that wants it calls this each frame with the simulated seconds it grants the frame.
     pub fn advance_until_idle(&mut self, max_s: f64) -> f64 {
         let t0 = self.clock;
         while !self.is_idle() && self.clock - t0 < max_s {
-            self.advance(SUB_STEP_S);
+            let left = max_s - (self.clock - t0);
+            let dt = if self.active.is_none() && self.dwell_left > 0.0 {
+                // Nothing moves until the dwell is over: it passes in one step.
+                self.dwell_left.min(left)
+            } else {
+                SUB_STEP_S.min(left)
+            };
+            self.advance(dt);
         }
         self.clock - t0
     }
