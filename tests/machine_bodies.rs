@@ -244,9 +244,24 @@ fn the_control_stops_a_holder_running_into_the_table_with_an_alarm_at_the_contac
     assert_eq!(a.line, Some(2));
     let p = a.position.unwrap();
     assert!((p[2] + 150.0).abs() < 0.1 && p[1] == 200.0, "{p:?}");
-    // The machine braked within its limits and stays blocked until reset.
+    // The machine braked within its limits and stays blocked until reset; the alarm names
+    // both the contact and where the axes came to rest (the DRO's position), and how far
+    // apart they are (issue 35: "the DRO stops 1.7 mm past the reported riser contact").
     let z = c.snapshot().machine_position[2];
     assert!(z < -150.0 && z > -160.0, "stopped at Z = {z}");
+    let a = &c.alarms()[0];
+    assert!(
+        a.text
+            .contains(&format!("stopped at X0.000 Y200.000 Z{z:.3} mm")),
+        "{}",
+        a.text
+    );
+    let past = p[2] - z;
+    assert!(
+        a.text.contains(&format!("{past:.3} mm past the contact")),
+        "{}",
+        a.text
+    );
     assert!(c.apply(Action::Mdi("G0 Z0".into())).is_err());
     c.apply(Action::Reset).unwrap();
     c.apply(Action::Mdi("G0 Z0".into())).unwrap();

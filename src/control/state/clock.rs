@@ -350,6 +350,34 @@ impl Control {
         self.stop_all();
     }
 
+    /// After a machine collision the axes brake within their limits, so they come to rest
+    /// past the contact: the collision alarm says where they stopped and how far past the
+    /// contact that is (the DRO shows the stop, the alarm the contact; both are named).
+    fn note_stop_after_contact(&mut self) {
+        let stop = self.pos;
+        let Some(al) = self
+            .alarms
+            .iter_mut()
+            .rev()
+            .find(|a| a.code == codes::COLLISION_MACHINE)
+        else {
+            return;
+        };
+        let Some(c) = al.position else {
+            return;
+        };
+        if al.text.contains("; stopped at") {
+            return;
+        }
+        let past =
+            ((stop[0] - c[0]).powi(2) + (stop[1] - c[1]).powi(2) + (stop[2] - c[2]).powi(2)).sqrt();
+        al.text.push_str(&format!(
+            "; stopped at X{:.3} Y{:.3} Z{:.3} mm, {past:.3} mm past the contact (braking within \
+             the axis limits)",
+            stop[0], stop[1], stop[2]
+        ));
+    }
+
     /// Bring the cut and the machine up to date and take the active motion out, its end
     /// position made the control's (`None` when nothing moves).
     fn settle_active(&mut self) -> Option<Active> {
@@ -381,6 +409,9 @@ impl Control {
         let Some(a) = self.settle_active() else {
             return;
         };
+        if a.run.braking() && self.blocked {
+            self.note_stop_after_contact();
+        }
         if a.run.braking() {
             if let AfterBrake::Hold { by_override } = a.after_brake {
                 let blocks = a.run.remaining_blocks();
