@@ -245,6 +245,20 @@ impl Segment {
         }
     }
 
+    /// A straight segment's joint direction `q'` (the same at every `s`, with `q'' = q''' =
+    /// 0`: the first derivatives [`Segment::derivatives`] gives); `None` for arcs and blends.
+    #[must_use]
+    pub fn line_direction(&self) -> Option<JointVector> {
+        let Shape::Line { delta, .. } = &self.shape else {
+            return None;
+        };
+        let mut d = [0.0; SLOTS];
+        for (out, dk) in d.iter_mut().zip(delta) {
+            *out = dk / self.length;
+        }
+        Some(d)
+    }
+
     /// The corner blend this segment is, if it is one.
     #[must_use]
     pub fn blend(&self) -> Option<&super::blend::BlendCurve> {

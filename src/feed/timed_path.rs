@@ -110,31 +110,83 @@ impl TimedPath {
     /// Peaks per axis (machine order) over the samples at the period, or, when the program is
     /// so long that would exceed [`MAX_PEAK_SAMPLES`], over that many samples evenly spread
     /// (the work is bounded by the budget, not by the planned time).
+    ///
+    /// The same values as taking the maxima over [`TimedPath::samples_every`], to the bit, for
+    /// a fraction of the work: each segment's profile is built once (see [`SampleCursor`]), and
+    /// on a straight segment, whose joint direction `q'` is fixed, an axis's velocity,
+    /// acceleration and jerk are `q'ᵢ·v`, `q'ᵢ·a`, `q'ᵢ·j`, so their largest magnitudes are
+    /// `|q'ᵢ|` times the largest `|v|`, `|a|`, `|j|` of the profile over the segment's samples
+    /// (rounding is monotone, so the product of the maxima is the maximum of the products).
     #[must_use]
     pub fn peaks(&self) -> Vec<AxisPeak> {
-        let mut peaks: Vec<AxisPeak> = self
-            .axes
-            .iter()
-            .map(|(c, _)| AxisPeak {
-                axis: *c,
-                velocity: 0.0,
-                acceleration: 0.0,
-                jerk: 0.0,
-            })
-            .collect();
+        let mut max = [[0.0_f64; SLOTS]; 3];
         let period = self
             .sample_period_s
             .max(self.cycle_time_s / MAX_PEAK_SAMPLES as f64);
-        for smp in self.samples_every(period) {
-            for p in &mut peaks {
-                if let Some(k) = super::path::slot_of(p.axis) {
-                    p.velocity = p.velocity.max(smp.velocity[k].abs());
-                    p.acceleration = p.acceleration.max(smp.acceleration[k].abs());
-                    p.jerk = p.jerk.max(smp.jerk[k].abs());
+        let mut cursor = SampleCursor::new(self);
+        // The straight segment whose samples are being gathered, its direction and the
+        // largest |v|, |a|, |j| of its profile at them.
+        let mut line: Option<(usize, JointVector, [f64; 3])> = None;
+        let flush = |line: &mut Option<(usize, JointVector, [f64; 3])>,
+                     max: &mut [[f64; SLOTS]; 3]| {
+            if let Some((_, d, m)) = line.take() {
+                for (row, mk) in max.iter_mut().zip(m) {
+                    for (slot, di) in row.iter_mut().zip(d) {
+                        *slot = slot.max(di.abs() * mk);
+                    }
+                }
+            }
+        };
+        for t in self.sample_times(period) {
+            let t = t.clamp(0.0, self.cycle_time_s);
+            let k = cursor.seek(t);
+            if line.as_ref().is_some_and(|(lk, _, _)| *lk != k) {
+                flush(&mut line, &mut max);
+            }
+            let direction = match line.as_ref() {
+                Some((_, d, _)) => Some(*d),
+                None => self.segments.get(k).and_then(Segment::line_direction),
+            };
+            let prof = cursor.profile();
+            match (direction, prof) {
+                (Some(d), Some(prof)) => {
+                    let local = t - self.speeds.start_times.get(k).copied().unwrap_or(0.0);
+                    let ((_, v, a, j), _) = prof.at_time_with_kind(local);
+                    let entry = line.get_or_insert((k, d, [0.0; 3]));
+                    for (m, x) in entry.2.iter_mut().zip([v, a, j]) {
+                        *m = m.max(x.abs());
+                    }
+                }
+                _ => {
+                    let smp = self.state_in(k, prof, t);
+                    for (row, values) in
+                        max.iter_mut()
+                            .zip([&smp.velocity, &smp.acceleration, &smp.jerk])
+                    {
+                        for (slot, x) in row.iter_mut().zip(values) {
+                            *slot = slot.max(x.abs());
+                        }
+                    }
                 }
             }
         }
-        peaks
+        flush(&mut line, &mut max);
+        self.axes
+            .iter()
+            .map(|(c, _)| {
+                let at = |row: &[f64; SLOTS]| {
+                    super::path::slot_of(*c)
+                        .and_then(|k| row.get(k).copied())
+                        .unwrap_or(0.0)
+                };
+                AxisPeak {
+                    axis: *c,
+                    velocity: at(&max[0]),
+                    acceleration: at(&max[1]),
+                    jerk: at(&max[2]),
+                }
+            })
+            .collect()
     }
 
     /// The program's motion blocks the plan was made for.
@@ -233,13 +285,24 @@ impl TimedPath {
     #[must_use]
     pub fn state_at(&self, t: f64) -> Sample {
         let t = t.clamp(0.0, self.cycle_time_s);
+        let k = self.segment_at(t);
+        self.state_in(k, self.profile(k).as_ref(), t)
+    }
+
+    /// The segment running at `t`: the last whose start is at or before it.
+    fn segment_at(&self, t: f64) -> usize {
         let n = self.segments.len();
-        let k = self.speeds.start_times[..n]
+        self.speeds.start_times[..n]
             .partition_point(|&t0| t0 <= t)
-            .saturating_sub(1);
+            .saturating_sub(1)
+    }
+
+    /// [`TimedPath::state_at`] at `t` (clamped) in segment `k` ([`TimedPath::segment_at`])
+    /// whose profile is `prof` ([`TimedPath::profile`]).
+    fn state_in(&self, k: usize, prof: Option<&Profile>, t: f64) -> Sample {
         let (Some(seg), Some(prof), Some(block)) = (
             self.segments.get(k),
-            self.profile(k),
+            prof,
             self.blocks
                 .get(self.segments.get(k).map_or(0, |s| s.last_block)),
         ) else {
@@ -320,6 +383,16 @@ impl TimedPath {
 
     /// Samples every `period_s` (a non-positive or non-finite period gives only the end).
     pub fn samples_every(&self, period_s: f64) -> impl Iterator<Item = Sample> + '_ {
+        let mut cursor = SampleCursor::new(self);
+        self.sample_times(period_s).map(move |t| {
+            let t = t.clamp(0.0, self.cycle_time_s);
+            let k = cursor.seek(t);
+            self.state_in(k, cursor.profile(), t)
+        })
+    }
+
+    /// The times of [`TimedPath::samples_every`].
+    fn sample_times(&self, period_s: f64) -> impl Iterator<Item = f64> + '_ {
         let n = if period_s.is_finite() && period_s > 0.0 && self.cycle_time_s.is_finite() {
             // Saturating: a caller asking for more samples than memory or time allows must
             // bound them itself (see `sample_count`).
@@ -331,7 +404,54 @@ impl TimedPath {
             .map(move |i| i as f64 * period_s)
             .filter(move |t| *t < self.cycle_time_s)
             .chain(std::iter::once(self.cycle_time_s))
-            .map(move |t| self.state_at(t))
+    }
+}
+
+/// Walks a plan's segments along times that never decrease (the samples), building each
+/// segment's profile once instead of once per sample: the segment and profile
+/// [`TimedPath::state_at`] finds for each time, without its search.
+struct SampleCursor<'a> {
+    path: &'a TimedPath,
+    k: usize,
+    /// The profile of segment `k`, built when first asked for.
+    profile: Option<Option<Profile>>,
+}
+
+impl<'a> SampleCursor<'a> {
+    fn new(path: &'a TimedPath) -> Self {
+        Self {
+            path,
+            k: 0,
+            profile: None,
+        }
+    }
+
+    /// The segment [`TimedPath::segment_at`] gives for `t`, for `t` not below the last call's
+    /// (the start times never decrease, so the last at or before `t` is found by walking on;
+    /// an earlier `t` falls back to the search).
+    fn seek(&mut self, t: f64) -> usize {
+        let times = &self.path.speeds.start_times;
+        let n = self.path.segments.len();
+        let k = if times.get(self.k).is_some_and(|&t0| t0 <= t) || self.k == 0 {
+            let mut k = self.k;
+            while k + 1 < n && times.get(k + 1).is_some_and(|&t1| t1 <= t) {
+                k += 1;
+            }
+            k
+        } else {
+            self.path.segment_at(t)
+        };
+        if k != self.k {
+            self.k = k;
+            self.profile = None;
+        }
+        k
+    }
+
+    /// The profile of the segment of the last [`SampleCursor::seek`].
+    fn profile(&mut self) -> Option<&Profile> {
+        let (path, k) = (self.path, self.k);
+        self.profile.get_or_insert_with(|| path.profile(k)).as_ref()
     }
 }
 

@@ -182,6 +182,25 @@ impl MovePlan {
     }
 }
 
+/// The largest `|sin θ|` for θ between `a` and `b` (rad): 1 where a multiple of π/2 that is odd
+/// lies between them (or an angle is not finite), else the larger at the two ends.
+///
+/// On a table-tilting machine at tilt θ, the tool axis stands θ from the C axis, so a C turn
+/// by Δ moves it along a circle of radius `|sin θ|` by at most `Δ · |sin θ|`.
+fn max_abs_sin(a: f64, b: f64) -> f64 {
+    let (lo, hi) = (a.min(b), a.max(b));
+    if !(lo.is_finite() && hi.is_finite()) {
+        return 1.0;
+    }
+    use std::f64::consts::{FRAC_PI_2, PI};
+    // The first odd multiple of π/2 at or above `lo`.
+    let peak = FRAC_PI_2 + ((lo - FRAC_PI_2) / PI).ceil() * PI;
+    if peak <= hi {
+        return 1.0;
+    }
+    lo.sin().abs().max(hi.sin().abs()).min(1.0)
+}
+
 /// Steps needed so each turns the axis by at most the bound, for a total turn `angle`.
 fn axis_steps(angle: f64, opts: &StepOptions) -> usize {
     let max_turn = 2.0 * opts.axis_tolerance_mm / opts.reach_mm.max(1e-9);
@@ -304,12 +323,20 @@ pub fn plan_program(
                 machine_joints(&b.start, m.kinematics),
                 machine_joints(&b.end, m.kinematics),
             );
-            let turn = (j1.tilt_rad - j0.tilt_rad).abs() + (j1.rotary_rad - j0.rotary_rad).abs();
+            let (tilt, rotary) = (
+                (j1.tilt_rad - j0.tilt_rad).abs(),
+                (j1.rotary_rad - j0.rotary_rad).abs(),
+            );
             let arm = [j0.xyz, j1.xyz]
                 .iter()
                 .map(|p| p.distance(m.rot_point_mm) + m.tilt_offset_mm.length())
                 .fold(0.0, f64::max);
-            n = axis_steps(turn, opts).max(chord_steps(turn, arm, opts));
+            // The table turns by at most tilt + rotary about axes within `arm` of the tip
+            // (the chord bound); the tool axis, at the tilt's angle from C, turns by at most
+            // tilt + rotary · |sin(tilt angle)| (the axis bound): a C turn near the vertical
+            // barely moves the axis, as the tool path's great-circle angle says.
+            let axis_turn = tilt + rotary * max_abs_sin(j0.tilt_rad, j1.tilt_rad);
+            n = axis_steps(axis_turn, opts).max(chord_steps(tilt + rotary, arm, opts));
         }
         if let Some(arc) = b.kind.arc() {
             n = n.max(chord_steps(arc.sweep_rad, arc.radius_mm, opts));
