@@ -29,7 +29,7 @@ pub struct AdaptiveOptions {
     pub floor_z_mm: f64,
     /// Largest depth of one level, mm.
     pub step_down_mm: f64,
-    /// Largest radial engagement angle, rad (0, π/2]... up to π.
+    /// Largest radial engagement angle, rad, in [5°, 180°].
     pub engagement_rad: f64,
     /// Stock left on the walls, mm.
     pub wall_allowance_mm: f64,
@@ -332,6 +332,18 @@ impl Walker<'_> {
     /// ends where no direction keeps the engagement, or after a tool radius of steps that
     /// clear next to nothing (a goal's distance more before the first cut).
     fn walk(&mut self, start: DVec2, heading: DVec2, goal: Option<DVec2>) -> (Vec<DVec2>, usize) {
+        self.walk_to(start, heading, goal, false)
+    }
+
+    /// As [`Walker::walk`]; `persistent`: head for the goal whenever the engagement allows
+    /// and end there.
+    fn walk_to(
+        &mut self,
+        start: DVec2,
+        heading: DVec2,
+        goal: Option<DVec2>,
+        persistent: bool,
+    ) -> (Vec<DVec2>, usize) {
         let mut pts = vec![start];
         let (mut p, mut h) = (start, heading.normalize_or(DVec2::X));
         let mut idle = 0.0;
@@ -343,8 +355,11 @@ impl Walker<'_> {
         // A step clearing less than a 0.05 mm wide strip is idle.
         let idle_cells = self.step * 0.05 / (self.grid.h * self.grid.h);
         for _ in 0..400_000 {
+            if persistent && goal.is_some_and(|g| g.distance(p) < self.step) {
+                break;
+            }
             let toward = goal
-                .filter(|_| !engaged)
+                .filter(|_| !engaged || persistent)
                 .and_then(|g| (g - p).try_normalize())
                 .and_then(|d| self.try_turn(p, d, 0.0));
             let Some((q, dir, e)) = toward.or_else(|| self.best_turn(p, h)) else {
@@ -374,7 +389,9 @@ impl Walker<'_> {
 
     /// True when a straight feed from `a` to `b` crosses only cleared area inside the region.
     fn link_clear(&self, a: DVec2, b: DVec2) -> bool {
-        let n = (a.distance(b) / (2.0 * self.grid.h).max(0.05)).ceil().clamp(1.0, 1e5);
+        let n = (a.distance(b) / (2.0 * self.grid.h).max(0.05))
+            .ceil()
+            .clamp(1.0, 1e5);
         // A small count by the clamp above.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let n = n as usize;
@@ -396,7 +413,10 @@ struct Buckets {
 
 impl Buckets {
     fn new(lo: DVec2, hi: DVec2, size: f64) -> Self {
-        let n = ((hi - lo) / size).ceil().max(DVec2::ONE).min(DVec2::splat(2000.0));
+        let n = ((hi - lo) / size)
+            .ceil()
+            .max(DVec2::ONE)
+            .min(DVec2::splat(2000.0));
         // Bounded by the clamp above.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (nx, ny) = (n.x as usize, n.y as usize);
@@ -608,10 +628,7 @@ fn plan_area(
     for k in 0..72 {
         visited.push(centre + DVec2::from_angle(k as f64 * TAU / 72.0) * helix_r);
     }
-    let (pts, cl) = w.walk(start, DVec2::Y, None);
-    if std::env::var_os("TALAS_ADAPTIVE_DEBUG").is_some() {
-        eprintln!("first walk steps={} cleared={cl}", pts.len());
-    }
+    let (pts, _) = w.walk(start, DVec2::Y, None);
     let mut at = pts.last().copied().unwrap_or(start);
     for &q in &pts {
         visited.push(q);
@@ -624,9 +641,8 @@ fn plan_area(
         .filter(|&k| target_cells.cells.get(k).copied().unwrap_or(false))
         .collect();
     let nx = target_cells.nx;
-    let cell_centre = |k: usize| {
-        target_cells.origin + (DVec2::new((k % nx) as f64, (k / nx) as f64) + 0.5) * h
-    };
+    let cell_centre =
+        |k: usize| target_cells.origin + (DVec2::new((k % nx) as f64, (k / nx) as f64) + 0.5) * h;
     for _ in 0..5000 {
         todo.retain(|&k| w.grid.cells.get(k).copied().unwrap_or(false));
         let Some(m) = todo
@@ -641,9 +657,6 @@ fn plan_area(
         };
         let down = w.link_clear(at, c);
         let (pts, cleared) = w.walk(c, m - c, Some(m));
-        if std::env::var_os("TALAS_ADAPTIVE_DEBUG").is_some() {
-            eprintln!("restart m={m} c={c} steps={} cleared={cleared} todo={}", pts.len(), todo.len());
-        }
         if cleared < 4 {
             // No way in from here: give up the material about this cell.
             todo.retain(|&k| cell_centre(k).distance_squared(m) > 0.25);
@@ -657,6 +670,40 @@ fn plan_area(
             piece: Piece::Walk(pts),
             down,
         });
+    }
+    // Into every corner of the tool-centre region before the laps, so that they find the
+    // corners cleared.
+    for b in area.boundaries() {
+        let els = b.elements();
+        let n = els.len();
+        for (i, e) in els.iter().enumerate() {
+            let Some(next) = els.get((i + 1) % n) else {
+                continue;
+            };
+            let (t0, t1) = (e.tangent_at(1.0), next.tangent_at(0.0));
+            if t0.dot(t1) > 10f64.to_radians().cos() {
+                continue;
+            }
+            let inward = (t0.perp() + t1.perp()).normalize_or_zero();
+            let half = 0.5 * t0.perp().angle_to(t1.perp()).abs();
+            let goal = e.end() + inward * (4.0 * h / half.cos().max(0.2));
+            if !w.feasible.at(goal) {
+                continue;
+            }
+            let Some(c) = visited.nearest(goal) else {
+                continue;
+            };
+            let down = w.link_clear(at, c);
+            let (pts, _) = w.walk_to(c, goal - c, Some(goal), true);
+            at = pts.last().copied().unwrap_or(c);
+            for &q in &pts {
+                visited.push(q);
+            }
+            pieces.push(Planned {
+                piece: Piece::Walk(pts),
+                down,
+            });
+        }
     }
     // Laps along every boundary, starting where the tool circle is already clear.
     for b in area.boundaries() {
@@ -714,7 +761,11 @@ impl Out {
         if self.at().is_some_and(|a| a.distance(p) < 1e-9) {
             return;
         }
-        let f = if kind == MoveKind::Rapid { 0.0 } else { self.feed };
+        let f = if kind == MoveKind::Rapid {
+            0.0
+        } else {
+            self.feed
+        };
         self.tp.poses.push(Pose::new(kind, p, DVec3::Z, f));
     }
 
