@@ -1,4 +1,4 @@
-//! `talas plan PART --strategy face|pocket|contour …`: 2.5D strategies on regions recognised from
+//! `talas plan PART --strategy face|pocket|contour|adaptive …`: 2.5D strategies on regions recognised from
 //! +Z (`--features auto`, or the floor faces `--faces F,F` as `talas features` numbers them) or
 //! drawn (`--region FILE.dxf|FILE.svg|FILE.csv --top Z --depth D`, one closed boundary).
 //! Several regions give one tool path, region after region, each left at the clearance height.
@@ -17,7 +17,7 @@ use crate::toolpath::ToolRecord;
 use crate::tools::parse_tool_spec;
 
 /// The 2.5D strategies.
-pub const PLANAR_STRATEGIES: &[&str] = &["face", "pocket", "contour"];
+pub const PLANAR_STRATEGIES: &[&str] = &["face", "pocket", "contour", "adaptive"];
 
 /// The 2.5D options of `talas plan` (the shared ones, `--step-down`, `--step-over`,
 /// `--stock-to-leave`, `--stock-to-leave-axial`, `--pattern climb|conventional`, `--feed`,
@@ -60,6 +60,9 @@ pub struct PlanarArgs {
     /// Facing: how far the tool's edge runs past the region's box, mm.
     #[arg(long, value_name = "MM", default_value_t = 2.0)]
     pub overrun: f64,
+    /// Adaptive: the largest radial engagement angle of the tool, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 60.0)]
+    pub engagement: f64,
     /// Pocket entry ramp and contour ramp after tabs: the largest angle, degrees.
     #[arg(long, value_name = "DEG", default_value_t = 3.0)]
     pub ramp_angle: f64,
@@ -124,6 +127,7 @@ pub fn plan_planar(args: &PlanArgs) -> Result<Value, ImportError> {
     let kind = match args.strategy.as_str() {
         "face" => PlanarKind::Face,
         "contour" => PlanarKind::Contour,
+        "adaptive" => PlanarKind::Adaptive,
         _ => PlanarKind::Pocket,
     };
     let outside = match args.planar.side.as_str() {
@@ -155,6 +159,7 @@ pub fn plan_planar(args: &PlanArgs) -> Result<Value, ImportError> {
         overrun_mm: args.planar.overrun,
         ramp_angle_rad: args.planar.ramp_angle.to_radians(),
         face_stock_above_mm: args.planar.depth.unwrap_or(1.0),
+        engagement_rad: args.planar.engagement.to_radians(),
     };
     let started = std::time::Instant::now();
     let jobs = jobs(args, kind)?;

@@ -114,6 +114,7 @@ impl ContourOp {
             overrun_mm: 0.0,
             ramp_angle_rad: self.ramp_angle_rad,
             face_stock_above_mm: 0.0,
+            engagement_rad: 60f64.to_radians(),
         }
     }
 

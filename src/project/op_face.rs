@@ -87,6 +87,7 @@ impl FaceOp {
             overrun_mm: self.overrun_mm,
             ramp_angle_rad: 0.0,
             face_stock_above_mm: self.stock_above_mm,
+            engagement_rad: 60f64.to_radians(),
         }
     }
 

@@ -85,6 +85,7 @@ impl PocketOp {
             overrun_mm: 0.0,
             ramp_angle_rad: self.ramp_angle_rad,
             face_stock_above_mm: 0.0,
+            engagement_rad: 60f64.to_radians(),
         }
     }
 

@@ -10,7 +10,8 @@ use crate::features::regions::{MachinableRegion, RegionKind, find_regions};
 use crate::geometry::brep::Part;
 use crate::geometry::planar::{Region, read_profile};
 use crate::strategies::planar::{
-    ContourOptions, ContourSide, FacingOptions, PocketOptions, contour, facing, pocket,
+    AdaptiveOptions, ContourOptions, ContourSide, FacingOptions, PocketOptions, adaptive, contour,
+    facing, pocket,
 };
 use crate::toolpath::{ToolRecord, Toolpath};
 
@@ -23,6 +24,8 @@ pub enum PlanarKind {
     Pocket,
     /// Contouring: along the region's boundary from its top to its floor.
     Contour,
+    /// Adaptive clearing: the region from its top to its floor at a constant engagement.
+    Adaptive,
 }
 
 impl PlanarKind {
@@ -31,7 +34,7 @@ impl PlanarKind {
     #[must_use]
     pub fn default_kinds(self) -> Vec<RegionKind> {
         match self {
-            Self::Pocket => vec![RegionKind::ClosedPocket],
+            Self::Pocket | Self::Adaptive => vec![RegionKind::ClosedPocket],
             Self::Face | Self::Contour => vec![RegionKind::OuterProfile],
         }
     }
@@ -159,6 +162,8 @@ pub struct PlanarSettings {
     pub ramp_angle_rad: f64,
     /// Facing a recognised region: the stock above the part's top, mm.
     pub face_stock_above_mm: f64,
+    /// Adaptive clearing: the largest radial engagement angle, rad.
+    pub engagement_rad: f64,
 }
 
 /// Plans `kind` on every job in order, into one tool path (each region left at its clearance).
@@ -227,6 +232,23 @@ pub fn plan_regions(
                     clearance_mm: above(job.top),
                     feed_mm_per_min: s.feed_mm_per_min,
                     chord_tol_mm: s.tolerance_mm,
+                },
+            ),
+            PlanarKind::Adaptive => adaptive(
+                &job.region,
+                tool,
+                &AdaptiveOptions {
+                    top_z_mm: job.top,
+                    floor_z_mm: job.floor,
+                    step_down_mm: s.step_down_mm,
+                    engagement_rad: s.engagement_rad,
+                    wall_allowance_mm: s.wall_allowance_mm,
+                    floor_allowance_mm: s.floor_allowance_mm,
+                    clearance_mm: above(job.top),
+                    ramp_angle_rad: s.ramp_angle_rad,
+                    feed_mm_per_min: s.feed_mm_per_min,
+                    chord_tol_mm: s.tolerance_mm,
+                    ..AdaptiveOptions::default()
                 },
             ),
             PlanarKind::Pocket => pocket(
