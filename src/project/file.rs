@@ -80,7 +80,20 @@ impl Project {
     /// [`ProjectError::Parse`] with the line and column, [`ProjectError::Version`],
     /// [`ProjectError::Invalid`].
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProjectError> {
-        let mut project: Self = toml::from_str(text).map_err(|e| {
+        Self::from_toml_with_warnings(text, path).map(|(p, _)| p)
+    }
+
+    /// [`Project::from_toml`], and one warning for every key the format does not know
+    /// (`FILE: unknown key 'operations[0].scalop' ignored`): a misspelt setting is read as its
+    /// default, so the user is told which key and which file.
+    ///
+    /// # Errors
+    /// As [`Project::from_toml`].
+    pub fn from_toml_with_warnings(
+        text: &str,
+        path: &Path,
+    ) -> Result<(Self, Vec<String>), ProjectError> {
+        let parse_error = |e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_column(text, s.start));
             ProjectError::Parse {
                 path: path.to_path_buf(),
@@ -88,7 +101,17 @@ impl Project {
                 column,
                 message: e.message().trim().to_string(),
             }
-        })?;
+        };
+        let mut ignored = Vec::new();
+        let de = toml::Deserializer::parse(text).map_err(parse_error)?;
+        let mut project: Self = serde_ignored::deserialize(de, |key| {
+            ignored.push(key.to_string());
+        })
+        .map_err(parse_error)?;
+        let warnings = ignored
+            .into_iter()
+            .map(|k| format!("{}: unknown key '{k}' ignored", path.display()))
+            .collect();
         let invalid = |message: String| ProjectError::Invalid {
             path: path.to_path_buf(),
             message,
@@ -101,11 +124,35 @@ impl Project {
         }
         project.migrate_setups().map_err(invalid)?;
         project.check().map_err(invalid)?;
+        project.resolve_part_path(path);
         // Version 1 is the first format: nothing to migrate yet.
-        Ok(Self {
-            version: PROJECT_VERSION,
-            ..project
-        })
+        Ok((
+            Self {
+                version: PROJECT_VERSION,
+                ..project
+            },
+            warnings,
+        ))
+    }
+
+    /// A relative part path names a file beside the project file, wherever the program that
+    /// reads it was started: it is made absolute against the project file's folder (a bare
+    /// name, as `path = "part.stp"`, is the part in the project's folder).
+    fn resolve_part_path(&mut self, project_file: &Path) {
+        let Some(part) = self.part.as_mut() else {
+            return;
+        };
+        if part.path.is_absolute() || part.path.as_os_str().is_empty() {
+            return;
+        }
+        let folder = project_file.parent().unwrap_or(Path::new(""));
+        let folder = if folder.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            folder
+        };
+        let joined = folder.join(&part.path);
+        part.path = std::path::absolute(&joined).unwrap_or(joined);
     }
 
     /// Every check an edit would make, applied to the whole document (a file may have been
@@ -197,12 +244,20 @@ impl Project {
     /// # Errors
     /// [`ProjectError`] naming the file (and the line and column for syntax errors).
     pub fn load(path: &Path) -> Result<Self, ProjectError> {
+        Self::load_with_warnings(path).map(|(p, _)| p)
+    }
+
+    /// [`Project::load`] and the warnings of [`Project::from_toml_with_warnings`].
+    ///
+    /// # Errors
+    /// As [`Project::load`].
+    pub fn load_with_warnings(path: &Path) -> Result<(Self, Vec<String>), ProjectError> {
         let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
             .map_err(|e| ProjectError::Io {
                 path: path.to_path_buf(),
                 message: format!("cannot read: {e}"),
             })?;
-        Self::from_toml(&text, path)
+        Self::from_toml_with_warnings(&text, path)
     }
 
     /// Write the project to `path` atomically (temporary file, flush, rename).
