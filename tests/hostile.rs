@@ -489,6 +489,10 @@ fn a_foreign_path_posts_and_simulates_like_the_path_talas_writes() {
 
 // ---- Issue 36, "found by hostile input": one reproducer per finding, in the issue's order.
 
+/// The profile runs of the tests below take a CPU-second or more each: one at a time, so that
+/// the 10 s bound measures each, not the tests beside it.
+static HEAVY: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// The error text of a clean refusal (exit 2, one line naming `named`).
 fn refused(args: &[&str], named: &str) -> String {
     let out = assert_clean(args, named);
@@ -507,6 +511,9 @@ fn refused(args: &[&str], named: &str) -> String {
 /// has at most 3 points a curve.
 #[test]
 fn a_svg_of_degenerate_beziers_profiles_within_bounds() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let d: Vec<String> = (0..200)
         .map(|i| {
             let x = i * 10;
@@ -540,6 +547,9 @@ fn a_svg_of_degenerate_beziers_profiles_within_bounds() {
 /// radius of y = 5 sin(x/3) is the closed form's 1/(5/9) = 1.8 mm at the crests.
 #[test]
 fn a_profile_of_30000_points_is_computed_within_bounds() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let mut csv = String::new();
     for i in 0..30_000 {
         let x = f64::from(i) * 0.01;
@@ -691,6 +701,9 @@ fn lengths_of_an_operation_out_of_bounds_are_refused_naming_them() {
 /// the limit, before it is parsed.
 #[test]
 fn programs_scripts_and_profiles_beyond_their_line_limits_are_refused() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let mut text = String::with_capacity(40_000_000);
     text.push_str("G21 G90\nG1 F1000\n");
     for i in 0..5_000_000u32 {
@@ -711,6 +724,8 @@ fn programs_scripts_and_profiles_beyond_their_line_limits_are_refused() {
             "ball:d=6",
             "--stock",
             "box:0,0,-5,10,10,0",
+            "--resolution",
+            "0.5",
         ],
         "five-million.ngc",
     );
@@ -765,6 +780,8 @@ fn tool_sizes_out_of_bounds_are_refused_in_specs_and_projects() {
                 tool,
                 "--stock",
                 "box:0,0,-5,10,10,0",
+                "--resolution",
+                "0.5",
             ],
             "tool",
         );

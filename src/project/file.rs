@@ -65,6 +65,108 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// One step of a key's path in a TOML document.
+#[derive(Clone, Debug)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+fn path_text(steps: &[Step]) -> String {
+    let mut out = String::new();
+    for s in steps {
+        match s {
+            Step::Key(k) => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(k);
+            }
+            Step::Index(i) => out.push_str(&format!("[{i}]")),
+        }
+    }
+    out
+}
+
+/// The keys of `input` with no counterpart in `written` (the project as it writes itself).
+fn missing_keys(
+    input: &toml::Value,
+    written: &toml::Value,
+    at: &mut Vec<Step>,
+    out: &mut Vec<Vec<Step>>,
+) {
+    match (input, written) {
+        (toml::Value::Table(a), toml::Value::Table(b)) => {
+            for (k, v) in a {
+                at.push(Step::Key(k.clone()));
+                match b.get(k) {
+                    Some(w) => missing_keys(v, w, at, out),
+                    None => out.push(at.clone()),
+                }
+                at.pop();
+            }
+        }
+        (toml::Value::Array(a), toml::Value::Array(b)) if a.len() == b.len() => {
+            for (i, (v, w)) in a.iter().zip(b).enumerate() {
+                at.push(Step::Index(i));
+                missing_keys(v, w, at, out);
+                at.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+fn value_at<'a>(v: &'a mut toml::Value, steps: &[Step]) -> Option<&'a mut toml::Value> {
+    let Some((first, rest)) = steps.split_first() else {
+        return Some(v);
+    };
+    let next = match (v, first) {
+        (toml::Value::Table(t), Step::Key(k)) => t.get_mut(k)?,
+        (toml::Value::Array(a), Step::Index(i)) => a.get_mut(*i)?,
+        _ => return None,
+    };
+    value_at(next, rest)
+}
+
+/// Keys of the project text that the project does not read: each key the written project
+/// lacks (a default left out, or unknown) is given a date-time, which no setting of a project
+/// accepts; where the project still reads, the key was ignored.
+fn unread_keys(text: &str, project: &Project) -> Vec<String> {
+    let (Ok(input), Ok(written)) = (
+        toml::from_str::<toml::Value>(text),
+        toml::Value::try_from(project),
+    ) else {
+        return Vec::new();
+    };
+    let mut candidates = Vec::new();
+    missing_keys(&input, &written, &mut Vec::new(), &mut candidates);
+    let probe = toml::Value::Datetime(toml::value::Datetime {
+        date: Some(toml::value::Date {
+            year: 1979,
+            month: 5,
+            day: 27,
+        }),
+        time: None,
+        offset: None,
+    });
+    candidates
+        .into_iter()
+        .take(100)
+        .filter(|steps| {
+            let mut doc = input.clone();
+            let Some(slot) = value_at(&mut doc, steps) else {
+                return false;
+            };
+            *slot = probe.clone();
+            toml::to_string(&doc)
+                .ok()
+                .is_some_and(|t| toml::from_str::<Project>(&t).is_ok())
+        })
+        .map(|steps| path_text(&steps))
+        .collect()
+}
+
 impl Project {
     /// The project as TOML text.
     ///
@@ -80,7 +182,7 @@ impl Project {
     /// [`ProjectError::Parse`] with the line and column, [`ProjectError::Version`],
     /// [`ProjectError::Invalid`].
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProjectError> {
-        Self::from_toml_with_warnings(text, path).map(|(p, _)| p)
+        Self::read_toml(text, path, false).map(|(p, _)| p)
     }
 
     /// [`Project::from_toml`], and one warning for every key the format does not know
@@ -93,6 +195,10 @@ impl Project {
         text: &str,
         path: &Path,
     ) -> Result<(Self, Vec<String>), ProjectError> {
+        Self::read_toml(text, path, true)
+    }
+
+    fn read_toml(text: &str, path: &Path, warn: bool) -> Result<(Self, Vec<String>), ProjectError> {
         let parse_error = |e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_column(text, s.start));
             ProjectError::Parse {
@@ -102,16 +208,20 @@ impl Project {
                 message: e.message().trim().to_string(),
             }
         };
-        let mut ignored = Vec::new();
-        let de = toml::Deserializer::parse(text).map_err(parse_error)?;
-        let mut project: Self = serde_ignored::deserialize(de, |key| {
-            ignored.push(key.to_string());
-        })
-        .map_err(parse_error)?;
-        let warnings = ignored
+        let project: Self = toml::from_str(text).map_err(parse_error)?;
+        // Every key the project does not read, wherever it sits (inside an operation too, an
+        // internally tagged enum that a deserializer wrapper such as serde_ignored never sees
+        // into).
+        let unread = if warn {
+            unread_keys(text, &project)
+        } else {
+            Vec::new()
+        };
+        let warnings: Vec<String> = unread
             .into_iter()
             .map(|k| format!("{}: unknown key '{k}' ignored", path.display()))
             .collect();
+        let mut project = project;
         let invalid = |message: String| ProjectError::Invalid {
             path: path.to_path_buf(),
             message,
