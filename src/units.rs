@@ -66,7 +66,7 @@ impl LengthBounds {
     /// # Errors
     /// "WHAT must lie in [MIN, MAX] mm, got V".
     pub fn check(self, what: &str, v: f64) -> Result<(), String> {
-        if v.is_finite() && v >= self.min_mm && v <= self.max_mm {
+        if v.is_finite() && (self.min_mm..=self.max_mm).contains(&v) {
             Ok(())
         } else {
             Err(format!(

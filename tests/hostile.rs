@@ -532,7 +532,7 @@ fn refused(args: &[&str], named: &str) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// 1. A 4 KB SVG of 200 degenerate cubic Béziers (control points on the x axis, each walking
+/// Finding 1: A 4 KB SVG of 200 degenerate cubic Béziers (control points on the x axis, each walking
 /// 1 m out and back) flattened to 346 000 points and ran `profile` past 60 s. Collinear curves
 /// are now their turning points: the closed form gives each at most two turns, so the profile
 /// has at most 3 points a curve.
@@ -569,7 +569,7 @@ fn a_svg_of_degenerate_beziers_profiles_within_bounds() {
     assert_eq!(points, 3 * 200 + 1);
 }
 
-/// 2. `profile` was quadratic in the point count (30 000 points over 60 s); the nearest-element
+/// Finding 2: `profile` was quadratic in the point count (30 000 points over 60 s); the nearest-element
 /// queries, the flags' walks and the reach's pairs are now near-linear. The sampled concave
 /// radius of y = 5 sin(x/3) is the closed form's 1/(5/9) = 1.8 mm at the crests.
 #[test]
@@ -604,7 +604,7 @@ fn a_profile_of_30000_points_is_computed_within_bounds() {
     assert_eq!(doc["collisions"].as_array().map(Vec::len), Some(0));
 }
 
-/// 3. `profile --tolerance 1e-12` hung (each curve flattened to 100 000 points): the tolerance
+/// Finding 3: `profile --tolerance 1e-12` hung (each curve flattened to 100 000 points): the tolerance
 /// now has the bounds of every tolerance, and the error names it.
 #[test]
 fn a_profile_tolerance_far_below_any_machine_is_refused() {
@@ -663,7 +663,7 @@ fn far_cube() -> PathBuf {
     p
 }
 
-/// 4. A cube with one vertex at 10¹⁵ mm hung `plan raster` (now refused by its sample
+/// Finding 4: A cube with one vertex at 10¹⁵ mm hung `plan raster` (now refused by its sample
 /// budget) and aborted `plan --strategy pencil` on a 21 PB allocation: every mesh strategy
 /// refuses a part beyond ±10 m, naming the file.
 #[test]
@@ -690,7 +690,7 @@ fn a_mesh_with_a_vertex_far_out_is_refused_by_every_mesh_strategy() {
     }
 }
 
-/// 5. `plan raster --tolerance 1e-300` hung and `zlevel-rough --step-down 1e-300` aborted on
+/// Finding 5: `plan raster --tolerance 1e-300` hung and `zlevel-rough --step-down 1e-300` aborted on
 /// allocation: every length of an operation lies in bounds, and the error names it.
 #[test]
 fn lengths_of_an_operation_out_of_bounds_are_refused_naming_them() {
@@ -724,7 +724,7 @@ fn lengths_of_an_operation_out_of_bounds_are_refused_naming_them() {
     assert!(plan("raster", "--clearance", "1e300").contains("clearance"));
 }
 
-/// 6. `feed` on a 5-million-line program, a huge control script and a CSV profile of more
+/// Finding 6: `feed` on a 5-million-line program, a huge control script and a CSV profile of more
 /// points than any profile has aborted on allocation: each is refused, naming the file and
 /// the limit, before it is parsed.
 #[test]
@@ -786,7 +786,7 @@ fn programs_scripts_and_profiles_beyond_their_line_limits_are_refused() {
     }
 }
 
-/// 7. Tool sizes had no upper bound (a ball of 10³⁰⁰ mm removed 0 mm³, one of 10²⁰ mm exactly
+/// Finding 7: Tool sizes had no upper bound (a ball of 10³⁰⁰ mm removed 0 mm³, one of 10²⁰ mm exactly
 /// half the stock): every size lies in 0.001–1000 mm (lengths to 5000 mm), in the tool spec
 /// and in a project's tools.
 #[test]
@@ -852,7 +852,7 @@ fn project_text(part: &str, extra: &str) -> String {
     )
 }
 
-/// 8. A project's unknown keys are warned about (the key and the file), a relative part path
+/// Finding 8: A project's unknown keys are warned about (the key and the file), a relative part path
 /// resolves against the project's folder (not the working directory), and a scallop of
 /// 1e-300 or a stock of ±1e300 is refused with the field named.
 #[test]
@@ -899,7 +899,7 @@ fn projects_warn_of_unknown_keys_resolve_parts_beside_them_and_refuse_wild_numbe
     assert!(e.contains("stock"), "{e}");
 }
 
-/// 10. `talas control` exited 0 when its program could not be read (AUTO raised an alarm and
+/// Finding 10: `talas control` exited 0 when its program could not be read (AUTO raised an alarm and
 /// the run went on): it now exits 2 naming the program and the line.
 #[test]
 fn control_refuses_a_program_it_cannot_read() {

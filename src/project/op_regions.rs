@@ -420,7 +420,7 @@ pub(super) fn positive(what: &str, v: f64) -> Result<(), String> {
 }
 
 pub(super) fn non_negative(what: &str, v: f64) -> Result<(), String> {
-    if v.is_finite() && v >= 0.0 && v <= MAX_VALUE {
+    if v.is_finite() && (0.0..=MAX_VALUE).contains(&v) {
         Ok(())
     } else {
         Err(format!(
