@@ -22,6 +22,38 @@ pub const PROGRAM_LIMIT_BYTES: u64 = 512 << 20;
 /// The most bytes read from a part (STEP, STL).
 pub const PART_LIMIT_BYTES: u64 = 2 << 30;
 
+/// The most lines read from a G-code program (`feed`, `simulate`, `interpret`, `control`,
+/// `forces`): a posted program of 4 million blocks plans in about 3 GB; a 5-million-line file
+/// aborted `feed` on allocation under a 2 GiB limit, where this gives an error naming the file.
+pub const PROGRAM_LINE_LIMIT: usize = 4_000_000;
+
+/// `Ok` when `text` has at most `limit` lines (counted without allocating); else
+/// `InvalidData` naming the limit.
+///
+/// # Errors
+/// `InvalidData` "more than N lines, the most read from a file of this kind".
+pub fn check_line_count(text: &str, limit: usize) -> std::io::Result<()> {
+    let lines = text.lines().take(limit.saturating_add(1)).count();
+    if lines > limit {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("more than {limit} lines, the most read from a file of this kind"),
+        ));
+    }
+    Ok(())
+}
+
+/// [`read_text_bounded`] for a G-code program: at most [`PROGRAM_LIMIT_BYTES`] and
+/// [`PROGRAM_LINE_LIMIT`] lines.
+///
+/// # Errors
+/// As [`read_text_bounded`] and [`check_line_count`].
+pub fn read_program_text(path: &Path) -> std::io::Result<String> {
+    let text = read_text_bounded(path, PROGRAM_LIMIT_BYTES)?;
+    check_line_count(&text, PROGRAM_LINE_LIMIT)?;
+    Ok(text)
+}
+
 /// Read `path` whole, refusing more than `limit` bytes (`/dev/zero`, a runaway pipe or a file
 /// far larger than any of its kind would otherwise take all the memory).
 ///

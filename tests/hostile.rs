@@ -30,9 +30,36 @@ fn talas_bounded(args: &[&str], limit: Duration) -> (Output, Duration) {
         .spawn()
         .expect("run talas");
     let started = Instant::now();
+    // Drain both pipes while the command runs: a document larger than a pipe's buffer (the
+    // JSON of a 30 000-point profile) would otherwise block the command until the limit.
+    let drain = |pipe: Option<Box<dyn std::io::Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_end(&mut bytes);
+            }
+            bytes
+        })
+    };
+    let stdout = drain(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn std::io::Read + Send>),
+    );
+    let stderr = drain(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn std::io::Read + Send>),
+    );
     loop {
-        if child.try_wait().expect("wait").is_some() {
-            let out = child.wait_with_output().expect("output");
+        if let Some(status) = child.try_wait().expect("wait") {
+            let out = Output {
+                status,
+                stdout: stdout.join().unwrap_or_default(),
+                stderr: stderr.join().unwrap_or_default(),
+            };
             return (out, started.elapsed());
         }
         if started.elapsed() > limit {
@@ -485,4 +512,443 @@ fn a_foreign_path_posts_and_simulates_like_the_path_talas_writes() {
     };
     let (va, vb) = (removed(&foreign), removed(&native));
     assert!(va > 100.0 && va == vb, "{va} mm³ and {vb} mm³");
+}
+
+// ---- Issue 36, "found by hostile input": one reproducer per finding, in the issue's order.
+
+/// The profile runs of the tests below take a CPU-second or more each: one at a time, so that
+/// the 10 s bound measures each command, not the one beside it.
+static HEAVY: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// The error text of a clean refusal (exit 2, one line naming `named`).
+fn refused(args: &[&str], named: &str) -> String {
+    let out = assert_clean(args, named);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "talas {} was not refused",
+        args.join(" ")
+    );
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Finding 1: A 4 KB SVG of 200 degenerate cubic Béziers (control points on the x axis, each walking
+/// 1 m out and back) flattened to 346 000 points and ran `profile` past 60 s. Collinear curves
+/// are now their turning points: the closed form gives each at most two turns, so the profile
+/// has at most 3 points a curve.
+#[test]
+fn a_svg_of_degenerate_beziers_profiles_within_bounds() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let d: Vec<String> = (0..200)
+        .map(|i| {
+            let x = i * 10;
+            format!("C{},0 {},0 {},0", x + 1000, x - 1000, x + 10)
+        })
+        .collect();
+    let svg = temp("degenerate.svg");
+    std::fs::write(
+        &svg,
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0,0 {}\"/></svg>",
+            d.join(" ")
+        ),
+    )
+    .unwrap();
+    assert!(std::fs::metadata(&svg).unwrap().len() < 5_000);
+    let out = assert_clean(
+        &["profile", svg.to_str().unwrap(), "--radius", "1", "--json"],
+        "degenerate.svg",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let points = json(&out)["naive_cl"].as_array().unwrap().len();
+    assert!(points <= 3 * 200 + 1, "{points} points");
+    // Each curve's turning points: s(t) = 3(1−t)²t·s1 + 3(1−t)t²·s2 + t³·s3 from s0 = 0, here
+    // s1 = 1000, s2 = −1000, s3 = 10 (relative): two turns inside (0, 1), so 3 points a curve.
+    assert_eq!(points, 3 * 200 + 1);
+}
+
+/// Finding 2: `profile` was quadratic in the point count (30 000 points over 60 s); the nearest-element
+/// queries, the flags' walks and the reach's pairs are now near-linear. The sampled concave
+/// radius of y = 5 sin(x/3) is the closed form's 1/(5/9) = 1.8 mm at the crests.
+#[test]
+fn a_profile_of_30000_points_is_computed_within_bounds() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut csv = String::new();
+    for i in 0..30_000 {
+        let x = f64::from(i) * 0.01;
+        csv.push_str(&format!("{x:.12},{:.12}\n", 5.0 * (x / 3.0).sin()));
+    }
+    let f = temp("sine30k.csv");
+    std::fs::write(&f, csv).unwrap();
+    let out = assert_clean(
+        &["profile", f.to_str().unwrap(), "--radius", "1", "--json"],
+        "sine30k.csv",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let doc = json(&out);
+    assert_eq!(doc["naive_cl"].as_array().unwrap().len(), 30_000);
+    let r = doc["min_concave_radius_sampled"].as_f64().unwrap();
+    assert!((r - 1.8).abs() < 1e-3, "{r}");
+    // An electrode of 2 mm plunges at the crests, where the concave radius is below 2.
+    let out = assert_clean(
+        &["profile", f.to_str().unwrap(), "--radius", "2", "--json"],
+        "sine30k.csv",
+    );
+    let doc = json(&out);
+    let plunges = doc["plunges"].as_array().map_or(0, Vec::len);
+    assert!(plunges > 0, "{}", doc["plunges"]);
+    assert_eq!(doc["collisions"].as_array().map(Vec::len), Some(0));
+}
+
+/// Finding 3: `profile --tolerance 1e-12` hung (each curve flattened to 100 000 points): the tolerance
+/// now has the bounds of every tolerance, and the error names it.
+#[test]
+fn a_profile_tolerance_far_below_any_machine_is_refused() {
+    let svg = temp("curve.svg");
+    std::fs::write(
+        &svg,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0,0 C10,20 30,20 40,0\"/></svg>",
+    )
+    .unwrap();
+    let s = svg.to_str().unwrap();
+    let e = refused(
+        &["profile", s, "--radius", "1", "--tolerance", "1e-12"],
+        "tolerance",
+    );
+    assert!(e.contains("1e-12"), "{e}");
+    let out = assert_clean(&["profile", s, "--radius", "1", "--json"], "curve.svg");
+    assert_eq!(out.status.code(), Some(0));
+}
+
+/// A 10 mm cube with one vertex moved to 10¹⁵ mm.
+fn far_cube() -> PathBuf {
+    let v = |k: usize| -> (f64, f64, f64) {
+        let p = (
+            10.0 * (k & 4 != 0) as u8 as f64,
+            10.0 * (k & 2 != 0) as u8 as f64,
+            10.0 * (k & 1 != 0) as u8 as f64,
+        );
+        if k == 7 { (1e15, p.1, p.2) } else { p }
+    };
+    let faces = [
+        [0, 1, 3],
+        [0, 3, 2],
+        [4, 6, 7],
+        [4, 7, 5],
+        [0, 4, 5],
+        [0, 5, 1],
+        [2, 3, 7],
+        [2, 7, 6],
+        [0, 2, 6],
+        [0, 6, 4],
+        [1, 5, 7],
+        [1, 7, 3],
+    ];
+    let mut stl = String::from("solid far\n");
+    for f in faces {
+        stl.push_str("facet normal 0 0 0\nouter loop\n");
+        for k in f {
+            let (x, y, z) = v(k);
+            stl.push_str(&format!("vertex {x:e} {y} {z}\n"));
+        }
+        stl.push_str("endloop\nendfacet\n");
+    }
+    stl.push_str("endsolid far\n");
+    let p = temp("far-cube.stl");
+    std::fs::write(&p, stl).unwrap();
+    p
+}
+
+/// Finding 4: A cube with one vertex at 10¹⁵ mm hung `plan raster` (now refused by its sample
+/// budget) and aborted `plan --strategy pencil` on a 21 PB allocation: every mesh strategy
+/// refuses a part beyond ±10 m, naming the file.
+#[test]
+fn a_mesh_with_a_vertex_far_out_is_refused_by_every_mesh_strategy() {
+    let cube = far_cube();
+    let c = cube.to_str().unwrap();
+    let out = temp("far.json");
+    let o = out.to_str().unwrap();
+    for strategy in ["raster", "pencil", "waterline", "steep-shallow", "rest"] {
+        let mut args = vec![
+            "plan",
+            c,
+            "--tool",
+            "ball:d=6",
+            "--strategy",
+            strategy,
+            "-o",
+            o,
+        ];
+        if strategy == "rest" {
+            args.extend(["--reference-tool", "ball:d=10"]);
+        }
+        refused(&args, "far-cube.stl");
+    }
+}
+
+/// Finding 5: `plan raster --tolerance 1e-300` hung and `zlevel-rough --step-down 1e-300` aborted on
+/// allocation: every length of an operation lies in bounds, and the error names it.
+#[test]
+fn lengths_of_an_operation_out_of_bounds_are_refused_naming_them() {
+    let hills = common::data("bicubic-hills.stl");
+    let h = hills.to_str().unwrap();
+    let out = temp("bounds.json");
+    let o = out.to_str().unwrap();
+    let plan = |strategy: &str, option: &str, value: &str| {
+        refused(
+            &[
+                "plan",
+                h,
+                "--tool",
+                "ball:d=6",
+                "--strategy",
+                strategy,
+                option,
+                value,
+                "-o",
+                o,
+            ],
+            "bicubic-hills.stl",
+        )
+    };
+    assert!(plan("raster", "--tolerance", "1e-300").contains("chord tolerance"));
+    assert!(plan("raster", "--scallop", "1e300").contains("scallop height"));
+    assert!(plan("zlevel-rough", "--step-down", "1e-300").contains("step-down"));
+    assert!(plan("zlevel-rough", "--step-down", "1e300").contains("step-down"));
+    assert!(plan("zlevel-rough", "--stock-to-leave", "1e300").contains("stock to leave"));
+    assert!(plan("waterline", "--tolerance", "1e-300").contains("chord tolerance"));
+    assert!(plan("raster", "--clearance", "1e300").contains("clearance"));
+}
+
+/// Finding 6: `feed` on a 5-million-line program, a huge control script and a CSV profile of more
+/// points than any profile has aborted on allocation: each is refused, naming the file and
+/// the limit, before it is parsed.
+#[test]
+fn programs_scripts_and_profiles_beyond_their_line_limits_are_refused() {
+    let _one = HEAVY
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut text = String::with_capacity(40_000_000);
+    text.push_str("G21 G90\nG1 F1000\n");
+    for i in 0..5_000_000u32 {
+        text.push_str(if i % 2 == 0 { "X1\n" } else { "X0\n" });
+    }
+    text.push_str("M30\n");
+    let prog = temp("five-million.ngc");
+    std::fs::write(&prog, &text).unwrap();
+    drop(text);
+    let p = prog.to_str().unwrap();
+    let e = refused(&["feed", p, "--machine", "mill-3axis"], "five-million.ngc");
+    assert!(e.contains("4000000 lines"), "{e}");
+    refused(
+        &[
+            "simulate",
+            p,
+            "--tool",
+            "ball:d=6",
+            "--stock",
+            "box:0,0,-5,10,10,0",
+            "--resolution",
+            "0.5",
+        ],
+        "five-million.ngc",
+    );
+    let script = temp("long-script.txt");
+    std::fs::write(&script, "home\n".repeat(200_000)).unwrap();
+    let e = refused(
+        &[
+            "control",
+            "--machine",
+            "mill-3axis",
+            "--script",
+            script.to_str().unwrap(),
+        ],
+        "long-script.txt",
+    );
+    assert!(e.contains("100000 lines"), "{e}");
+    let mut csv = String::with_capacity(20_000_000);
+    for i in 0..1_000_001u32 {
+        csv.push_str(&format!("{i},0\n"));
+    }
+    let f = temp("million.csv");
+    std::fs::write(&f, csv).unwrap();
+    let e = refused(
+        &["profile", f.to_str().unwrap(), "--radius", "1"],
+        "million.csv",
+    );
+    assert!(e.contains("1000000"), "{e}");
+    for p in [&prog, &f] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+/// Finding 7: Tool sizes had no upper bound (a ball of 10³⁰⁰ mm removed 0 mm³, one of 10²⁰ mm exactly
+/// half the stock): every size lies in 0.001–1000 mm (lengths to 5000 mm), in the tool spec
+/// and in a project's tools.
+#[test]
+fn tool_sizes_out_of_bounds_are_refused_in_specs_and_projects() {
+    let prog = temp("square.nc");
+    std::fs::write(&prog, "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F100\nX10\nM30\n").unwrap();
+    let p = prog.to_str().unwrap();
+    for tool in [
+        "ball:d=1e300",
+        "ball:d=1e20",
+        "flat:d=1e-9",
+        "flat:d=6,flute=1e9",
+    ] {
+        let e = refused(
+            &[
+                "simulate",
+                p,
+                "--tool",
+                tool,
+                "--stock",
+                "box:0,0,-5,10,10,0",
+                "--resolution",
+                "0.5",
+            ],
+            "tool",
+        );
+        assert!(e.contains("mm"), "{e}");
+    }
+    // The largest ball accepted still cuts what a ball of that size cuts: its lowest point
+    // under the path, a slot 1 mm deep along X (10 mm × 10 mm wide stock, all of the top
+    // within the ball's reach): 10 × 10 × 1 mm³ less nothing.
+    let out = assert_clean(
+        &[
+            "simulate",
+            p,
+            "--tool",
+            "ball:d=1000",
+            "--stock",
+            "box:0,0,-5,10,10,0",
+            "--resolution",
+            "0.5",
+            "--json",
+        ],
+        "square.nc",
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let removed = json(&out)["removed_volume_mm3"].as_f64().unwrap();
+    assert!(removed > 0.0 && removed <= 100.0 + 1e-6, "{removed}");
+    // A project's tool is checked by the same rule.
+    let text = "version = 1\nname = \"t\"\nmachine = \"mill-3axis\"\n\n[[tools]]\nname = \"Huge\"\nspec = \"ball:d=1e20\"\n\n[post]\ndialect = \"linuxcnc\"\ntcp = false\n";
+    let e = talas::project::Project::from_toml(text, Path::new("huge.talas")).unwrap_err();
+    let e = e.to_string();
+    assert!(e.contains("huge.talas") && e.contains("diameter"), "{e}");
+}
+
+/// A minimal project, with `extra` lines in its first operation.
+fn project_text(part: &str, extra: &str) -> String {
+    format!(
+        "version = 1\nname = \"p\"\nmachine = \"mill-3axis\"\nselected_tool = 0\n\n[part]\npath = \"{part}\"\n\n\
+         [[tools]]\nname = \"Ball 6\"\nspec = \"ball:d=6\"\n\n[post]\ndialect = \"linuxcnc\"\ntcp = false\n\n\
+         [[operations]]\nkind = \"raster\"\nname = \"Top\"\ntool = 0\nscallop_mm = 0.4\nangle_rad = 0.0\n\
+         clearance_mm = 5.0\n{extra}"
+    )
+}
+
+/// Finding 8: A project's unknown keys are warned about (the key and the file), a relative part path
+/// resolves against the project's folder (not the working directory), and a scallop of
+/// 1e-300 or a stock of ±1e300 is refused with the field named.
+#[test]
+fn projects_warn_of_unknown_keys_resolve_parts_beside_them_and_refuse_wild_numbers() {
+    use talas::project::Project;
+    let dir = temp("project-dir");
+    let dir = dir.with_extension("d");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(common::data("plate-hole.stp"), dir.join("part.stp")).unwrap();
+    let file = dir.join("p.talas");
+    std::fs::write(&file, project_text("part.stp", "scalop_mm = 0.1\n")).unwrap();
+    // The working directory of the tests is the crate, not the project's folder.
+    assert!(!Path::new("part.stp").exists());
+    let (project, warnings) = Project::load_with_warnings(&file).expect("loads");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("p.talas") && warnings[0].contains("scalop_mm"),
+        "{warnings:?}"
+    );
+    let part = project.part.expect("a part");
+    assert_eq!(
+        std::fs::canonicalize(&part.path).unwrap(),
+        std::fs::canonicalize(dir.join("part.stp")).unwrap()
+    );
+    assert_eq!(part.status(), talas::project::PartStatus::Unchanged);
+    // `talas job` prints the warning.
+    let (out, _) = talas_bounded(
+        &["job", file.to_str().unwrap(), "--json"],
+        Duration::from_secs(10),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning") && stderr.contains("scalop_mm"),
+        "{stderr}"
+    );
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    // Wild numbers are refused, naming the field.
+    let tiny = project_text("part.stp", "").replace("scallop_mm = 0.4", "scallop_mm = 1e-300");
+    let e = Project::from_toml(&tiny, &file).unwrap_err().to_string();
+    assert!(e.contains("p.talas") && e.contains("scallop"), "{e}");
+    let wide = project_text("part.stp", "")
+        + "\n[stock]\nkind = \"box\"\nmin_mm = [-1e300, 0.0, 0.0]\nmax_mm = [1e300, 10.0, 10.0]\n";
+    let e = Project::from_toml(&wide, &file).unwrap_err().to_string();
+    assert!(e.contains("stock"), "{e}");
+}
+
+/// Finding 10: `talas control` exited 0 when its program could not be read (AUTO raised an alarm and
+/// the run went on): it now exits 2 naming the program and the line.
+#[test]
+fn control_refuses_a_program_it_cannot_read() {
+    let script = temp("auto.txt");
+    std::fs::write(&script, "home\nmode auto\ncycle-start\nwait-idle\n").unwrap();
+    let s = script.to_str().unwrap();
+    let bad = temp("unreadable.ngc");
+    std::fs::write(&bad, "G21 G90\nG1 X10 F100\nG99999\nM30\n").unwrap();
+    let e = refused(
+        &[
+            "control",
+            "--machine",
+            "mill-3axis",
+            "--script",
+            s,
+            "--program",
+            bad.to_str().unwrap(),
+        ],
+        "unreadable.ngc",
+    );
+    assert!(e.contains("line 3"), "{e}");
+    let missing = temp("missing.ngc");
+    refused(
+        &[
+            "control",
+            "--machine",
+            "mill-3axis",
+            "--script",
+            s,
+            "--program",
+            missing.to_str().unwrap(),
+        ],
+        "missing.ngc",
+    );
+    // A program it can read runs.
+    let good = temp("good.ngc");
+    std::fs::write(&good, "G21 G90\nG0 X10 Y10 Z50\nM30\n").unwrap();
+    let out = assert_clean(
+        &[
+            "control",
+            "--machine",
+            "mill-3axis",
+            "--script",
+            s,
+            "--program",
+            good.to_str().unwrap(),
+            "--json",
+        ],
+        "good.ngc",
+    );
+    assert_eq!(out.status.code(), Some(0));
 }

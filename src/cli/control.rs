@@ -238,6 +238,9 @@ fn parse_line(raw: &str, line: usize) -> Result<Option<Step>, String> {
     Ok(Some(step))
 }
 
+/// The most lines a control script may have.
+pub const MAX_SCRIPT_LINES: usize = 100_000;
+
 fn build_control(args: &ControlArgs) -> Result<Control, ImportError> {
     let machine = Machine::resolve(&args.machine)
         .map_err(|e| ImportError::new(Path::new(&args.machine), None, e.to_string()))?;
@@ -269,13 +272,18 @@ fn build_control(args: &ControlArgs) -> Result<Control, ImportError> {
     let mut control = Control::new(cfg)
         .map_err(|e| ImportError::new(Path::new(&args.machine), None, e.to_string()))?;
     if let Some(p) = &args.program {
-        let text = std::fs::read_to_string(p)
+        let text = crate::storage::read_program_text(p)
             .map_err(|e| ImportError::new(p, None, format!("cannot read file: {e}")))?;
         control
             .apply(Action::LoadProgram {
                 name: p.display().to_string(),
                 text,
             })
+            .map_err(|e| ImportError::new(p, None, e.to_string()))?;
+        // A program AUTO could not read is an error of the command (exit 2), not an alarm
+        // in an otherwise successful run.
+        control
+            .check_program()
             .map_err(|e| ImportError::new(p, None, e.to_string()))?;
     }
     Ok(control)
@@ -287,7 +295,8 @@ fn build_control(args: &ControlArgs) -> Result<Control, ImportError> {
 /// An [`ImportError`] naming the file and place for bad input (machine, stock, tool, program,
 /// a script line that is not an action).
 pub fn control(args: &ControlArgs) -> Result<Value, ImportError> {
-    let script = std::fs::read_to_string(&args.script)
+    let script = crate::storage::read_text_bounded(&args.script, crate::storage::TEXT_LIMIT_BYTES)
+        .and_then(|t| crate::storage::check_line_count(&t, MAX_SCRIPT_LINES).map(|()| t))
         .map_err(|e| ImportError::new(&args.script, None, format!("cannot read file: {e}")))?;
     let mut steps = Vec::new();
     for (i, raw) in script.lines().enumerate() {

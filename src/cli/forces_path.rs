@@ -44,6 +44,13 @@ fn read_input(args: &ForcesArgs, file: &Path) -> Result<Input, ImportError> {
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .and_then(|t| {
+            if is_json {
+                Ok(t)
+            } else {
+                crate::storage::check_line_count(&t, crate::storage::PROGRAM_LINE_LIMIT).map(|()| t)
+            }
+        })
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let (toolpath, program) = if is_json {
         let (tp, _) = Toolpath::from_json_with_warnings(&text, &file.display().to_string())

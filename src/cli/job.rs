@@ -70,12 +70,16 @@ fn bad(file: &Path, place: Option<String>, message: impl Into<String>) -> Import
 /// An [`ImportError`] naming the file (the project, the part, a program) and the setup or
 /// operation.
 pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
-    let project = Project::load(&args.file).map_err(|e| bad(&args.file, None, e.to_string()))?;
+    let (project, warnings) = Project::load_with_warnings(&args.file)
+        .map_err(|e| bad(&args.file, None, e.to_string()))?;
+    for w in warnings {
+        eprintln!("talas: warning: {w}");
+    }
     let base = args.file.parent().unwrap_or(Path::new("."));
+    // The loader made a relative part path absolute against the project's folder.
     let part_path = match (&args.part, &project.part) {
         (Some(p), _) => p.clone(),
-        (None, Some(r)) if r.path.is_absolute() => r.path.clone(),
-        (None, Some(r)) => base.join(&r.path),
+        (None, Some(r)) => r.path.clone(),
         (None, None) => {
             return Err(bad(
                 &args.file,

@@ -118,7 +118,7 @@ pub(crate) fn read_program(
     syntax: Option<&str>,
 ) -> Result<(String, crate::gcode::Syntax), crate::import::ImportError> {
     let bad = |msg: String| crate::import::ImportError::new(file, None, msg);
-    let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+    let text = crate::storage::read_program_text(file)
         .map_err(|e| bad(format!("cannot read file: {e}")))?;
     let syntax = match syntax {
         Some(name) => crate::gcode::Syntax::from_name(name).ok_or_else(|| {

@@ -197,6 +197,13 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let text = crate::storage::read_text_bounded(file, crate::storage::PROGRAM_LIMIT_BYTES)
+        .and_then(|t| {
+            if is_json {
+                Ok(t)
+            } else {
+                crate::storage::check_line_count(&t, crate::storage::PROGRAM_LINE_LIMIT).map(|()| t)
+            }
+        })
         .map_err(|e| bad(None, format!("cannot read file: {e}")))?;
     let machine = match &args.machine {
         Some(m) => Some(

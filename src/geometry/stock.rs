@@ -150,10 +150,16 @@ impl Stock {
         match *self {
             Self::None => Ok(()),
             Self::Box { min_mm, max_mm } => {
+                let far = crate::units::MAX_COORDINATE_MM;
                 for (axis, (lo, hi)) in ["X", "Y", "Z"].iter().zip(min_mm.iter().zip(max_mm)) {
                     if !(lo.is_finite() && hi.is_finite() && *lo < hi) {
                         return Err(format!(
                             "stock box {axis}: minimum {lo} mm must be below maximum {hi} mm"
+                        ));
+                    }
+                    if lo.abs() > far || hi.abs() > far {
+                        return Err(format!(
+                            "stock box {axis}: {lo}..{hi} mm must lie within ±{far} mm"
                         ));
                     }
                 }
@@ -164,17 +170,19 @@ impl Stock {
                 radius_mm,
                 height_mm,
             } => {
-                if !base_mm.iter().all(|v| v.is_finite()) {
-                    return Err("stock cylinder base must be finite".into());
+                let far = crate::units::MAX_COORDINATE_MM;
+                if !base_mm.iter().all(|v| v.is_finite() && v.abs() <= far) {
+                    return Err(format!("stock cylinder base must lie within ±{far} mm"));
                 }
-                if !(radius_mm.is_finite() && radius_mm > 0.0) {
+                if !(radius_mm.is_finite() && radius_mm > 0.0 && radius_mm <= far) {
                     return Err(format!(
-                        "stock cylinder radius {radius_mm} mm must be positive"
+                        "stock cylinder radius {radius_mm} mm must be positive, at most {far} mm"
                     ));
                 }
-                if !(height_mm.is_finite() && height_mm > 0.0) {
+                if !(height_mm.is_finite() && height_mm > 0.0 && height_mm <= 2.0 * far) {
                     return Err(format!(
-                        "stock cylinder height {height_mm} mm must be positive"
+                        "stock cylinder height {height_mm} mm must be positive, at most {} mm",
+                        2.0 * far
                     ));
                 }
                 Ok(())

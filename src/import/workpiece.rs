@@ -140,6 +140,22 @@ impl Workpiece {
     pub fn bvh(&self) -> Result<Arc<MeshBvh>, String> {
         self.bvh
             .get_or_init(|| {
+                // Every planner on the mesh sizes its grids and passes by the part's box: a
+                // part reaching beyond ±10 m (one vertex of a cube at 10¹⁵ mm) is refused
+                // here, before a pass count or an allocation follows from it (issue 36).
+                let far = crate::units::MAX_COORDINATE_MM;
+                let b = self.mesh.bbox();
+                if !self.mesh.positions.is_empty()
+                    && (b.min.abs().max_element() > far || b.max.abs().max_element() > far)
+                {
+                    return Err(format!(
+                        "{}: the part reaches beyond ±{far} mm (its box {:?} to {:?} mm); \
+                         machining plans only parts within that",
+                        self.source.display(),
+                        b.min.to_array().map(crate::units::short),
+                        b.max.to_array().map(crate::units::short),
+                    ));
+                }
                 MeshBvh::new(&self.mesh)
                     .map(Arc::new)
                     .map_err(|e| format!("{}: {e}", self.source.display()))

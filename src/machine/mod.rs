@@ -145,10 +145,11 @@ impl Machine {
     /// # Errors
     /// [`MachineError::Io`], [`MachineError::Parse`] or [`MachineError::Invalid`].
     pub fn load(path: &std::path::Path) -> Result<Self, MachineError> {
-        let text = std::fs::read_to_string(path).map_err(|e| MachineError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
+            .map_err(|e| MachineError::Io {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })?;
         let named = |m: String| format!("{}: {m}", path.display());
         Self::from_json(&text).map_err(|e| match e {
             MachineError::Parse(m) => MachineError::Parse(named(m)),

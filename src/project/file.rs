@@ -65,6 +65,108 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// One step of a key's path in a TOML document.
+#[derive(Clone, Debug)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+fn path_text(steps: &[Step]) -> String {
+    let mut out = String::new();
+    for s in steps {
+        match s {
+            Step::Key(k) => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(k);
+            }
+            Step::Index(i) => out.push_str(&format!("[{i}]")),
+        }
+    }
+    out
+}
+
+/// The keys of `input` with no counterpart in `written` (the project as it writes itself).
+fn missing_keys(
+    input: &toml::Value,
+    written: &toml::Value,
+    at: &mut Vec<Step>,
+    out: &mut Vec<Vec<Step>>,
+) {
+    match (input, written) {
+        (toml::Value::Table(a), toml::Value::Table(b)) => {
+            for (k, v) in a {
+                at.push(Step::Key(k.clone()));
+                match b.get(k) {
+                    Some(w) => missing_keys(v, w, at, out),
+                    None => out.push(at.clone()),
+                }
+                at.pop();
+            }
+        }
+        (toml::Value::Array(a), toml::Value::Array(b)) if a.len() == b.len() => {
+            for (i, (v, w)) in a.iter().zip(b).enumerate() {
+                at.push(Step::Index(i));
+                missing_keys(v, w, at, out);
+                at.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+fn value_at<'a>(v: &'a mut toml::Value, steps: &[Step]) -> Option<&'a mut toml::Value> {
+    let Some((first, rest)) = steps.split_first() else {
+        return Some(v);
+    };
+    let next = match (v, first) {
+        (toml::Value::Table(t), Step::Key(k)) => t.get_mut(k)?,
+        (toml::Value::Array(a), Step::Index(i)) => a.get_mut(*i)?,
+        _ => return None,
+    };
+    value_at(next, rest)
+}
+
+/// Keys of the project text that the project does not read: each key the written project
+/// lacks (a default left out, or unknown) is given a date-time, which no setting of a project
+/// accepts; where the project still reads, the key was ignored.
+fn unread_keys(text: &str, project: &Project) -> Vec<String> {
+    let (Ok(input), Ok(written)) = (
+        toml::from_str::<toml::Value>(text),
+        toml::Value::try_from(project),
+    ) else {
+        return Vec::new();
+    };
+    let mut candidates = Vec::new();
+    missing_keys(&input, &written, &mut Vec::new(), &mut candidates);
+    let probe = toml::Value::Datetime(toml::value::Datetime {
+        date: Some(toml::value::Date {
+            year: 1979,
+            month: 5,
+            day: 27,
+        }),
+        time: None,
+        offset: None,
+    });
+    candidates
+        .into_iter()
+        .take(100)
+        .filter(|steps| {
+            let mut doc = input.clone();
+            let Some(slot) = value_at(&mut doc, steps) else {
+                return false;
+            };
+            *slot = probe.clone();
+            toml::to_string(&doc)
+                .ok()
+                .is_some_and(|t| toml::from_str::<Project>(&t).is_ok())
+        })
+        .map(|steps| path_text(&steps))
+        .collect()
+}
+
 impl Project {
     /// The project as TOML text.
     ///
@@ -80,7 +182,24 @@ impl Project {
     /// [`ProjectError::Parse`] with the line and column, [`ProjectError::Version`],
     /// [`ProjectError::Invalid`].
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProjectError> {
-        let mut project: Self = toml::from_str(text).map_err(|e| {
+        Self::read_toml(text, path, false).map(|(p, _)| p)
+    }
+
+    /// [`Project::from_toml`], and one warning for every key the format does not know
+    /// (`FILE: unknown key 'operations[0].scalop' ignored`): a misspelt setting is read as its
+    /// default, so the user is told which key and which file.
+    ///
+    /// # Errors
+    /// As [`Project::from_toml`].
+    pub fn from_toml_with_warnings(
+        text: &str,
+        path: &Path,
+    ) -> Result<(Self, Vec<String>), ProjectError> {
+        Self::read_toml(text, path, true)
+    }
+
+    fn read_toml(text: &str, path: &Path, warn: bool) -> Result<(Self, Vec<String>), ProjectError> {
+        let parse_error = |e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_column(text, s.start));
             ProjectError::Parse {
                 path: path.to_path_buf(),
@@ -88,7 +207,21 @@ impl Project {
                 column,
                 message: e.message().trim().to_string(),
             }
-        })?;
+        };
+        let project: Self = toml::from_str(text).map_err(parse_error)?;
+        // Every key the project does not read, wherever it sits (inside an operation too, an
+        // internally tagged enum that a deserializer wrapper such as serde_ignored never sees
+        // into).
+        let unread = if warn {
+            unread_keys(text, &project)
+        } else {
+            Vec::new()
+        };
+        let warnings: Vec<String> = unread
+            .into_iter()
+            .map(|k| format!("{}: unknown key '{k}' ignored", path.display()))
+            .collect();
+        let mut project = project;
         let invalid = |message: String| ProjectError::Invalid {
             path: path.to_path_buf(),
             message,
@@ -101,11 +234,35 @@ impl Project {
         }
         project.migrate_setups().map_err(invalid)?;
         project.check().map_err(invalid)?;
+        project.resolve_part_path(path);
         // Version 1 is the first format: nothing to migrate yet.
-        Ok(Self {
-            version: PROJECT_VERSION,
-            ..project
-        })
+        Ok((
+            Self {
+                version: PROJECT_VERSION,
+                ..project
+            },
+            warnings,
+        ))
+    }
+
+    /// A relative part path names a file beside the project file, wherever the program that
+    /// reads it was started: it is made absolute against the project file's folder (a bare
+    /// name, as `path = "part.stp"`, is the part in the project's folder).
+    fn resolve_part_path(&mut self, project_file: &Path) {
+        let Some(part) = self.part.as_mut() else {
+            return;
+        };
+        if part.path.is_absolute() || part.path.as_os_str().is_empty() {
+            return;
+        }
+        let folder = project_file.parent().unwrap_or(Path::new(""));
+        let folder = if folder.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            folder
+        };
+        let joined = folder.join(&part.path);
+        part.path = std::path::absolute(&joined).unwrap_or(joined);
     }
 
     /// Every check an edit would make, applied to the whole document (a file may have been
@@ -197,12 +354,20 @@ impl Project {
     /// # Errors
     /// [`ProjectError`] naming the file (and the line and column for syntax errors).
     pub fn load(path: &Path) -> Result<Self, ProjectError> {
+        Self::load_with_warnings(path).map(|(p, _)| p)
+    }
+
+    /// [`Project::load`] and the warnings of [`Project::from_toml_with_warnings`].
+    ///
+    /// # Errors
+    /// As [`Project::load`].
+    pub fn load_with_warnings(path: &Path) -> Result<(Self, Vec<String>), ProjectError> {
         let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
             .map_err(|e| ProjectError::Io {
                 path: path.to_path_buf(),
                 message: format!("cannot read: {e}"),
             })?;
-        Self::from_toml(&text, path)
+        Self::from_toml_with_warnings(&text, path)
     }
 
     /// Write the project to `path` atomically (temporary file, flush, rename).

@@ -161,8 +161,12 @@ impl Common {
             ("retract", self.retract),
             ("feed-from", self.feed_from),
         ] {
-            if !h.mm.is_finite() {
-                return Err(format!("the {what} height must be a finite number (mm)"));
+            if !(h.mm.is_finite() && h.mm.abs() <= crate::units::MAX_COORDINATE_MM) {
+                return Err(format!(
+                    "the {what} height must lie within ±{} mm, got {}",
+                    crate::units::MAX_COORDINATE_MM,
+                    h.mm
+                ));
             }
         }
         for (what, v) in [
@@ -171,21 +175,15 @@ impl Common {
             ("ramp feed (mm/min)", self.ramp_feed_mm_per_min),
             ("spindle speed (rev/min)", self.spindle_rpm),
         ] {
-            if let Some(v) = v
-                && !(v.is_finite() && v > 0.0)
-            {
-                return Err(format!("{what} must be a positive number, got {v}"));
+            if let Some(v) = v {
+                crate::units::FEED_BOUNDS.check(what, v)?;
             }
         }
         for (what, v) in [
             ("on walls", self.stock_to_leave_walls_mm),
             ("on floors", self.stock_to_leave_floors_mm),
         ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(format!(
-                    "stock to leave {what} must be zero or more (mm), got {v}"
-                ));
-            }
+            crate::units::ALLOWANCE_BOUNDS.check(&format!("stock to leave {what} (mm)"), v)?;
         }
         Ok(())
     }

@@ -124,11 +124,11 @@ impl ContourOp {
     /// What is wrong.
     pub fn validate(&self) -> Result<(), String> {
         self.common.validate()?;
-        super::op_regions::positive("step-down (mm)", self.step_down_mm)?;
+        crate::units::STEP_BOUNDS.check("step-down (mm)", self.step_down_mm)?;
         super::op_regions::non_negative("lead radius (mm)", self.lead_radius_mm)?;
-        super::op_regions::positive("tab width (mm)", self.tab_width_mm)?;
+        crate::units::STEP_BOUNDS.check("tab width (mm)", self.tab_width_mm)?;
         super::op_regions::non_negative("tab height (mm)", self.tab_height_mm)?;
         super::op_regions::positive("ramp angle (rad)", self.ramp_angle_rad)?;
-        super::op_regions::positive("chord tolerance (mm)", self.tolerance_mm)
+        crate::units::TOLERANCE_BOUNDS.check("chord tolerance (mm)", self.tolerance_mm)
     }
 }

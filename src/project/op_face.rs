@@ -100,7 +100,7 @@ impl FaceOp {
     /// What is wrong.
     pub fn validate(&self) -> Result<(), String> {
         self.common.validate()?;
-        super::op_regions::positive("step-down (mm)", self.step_down_mm)?;
+        crate::units::STEP_BOUNDS.check("step-down (mm)", self.step_down_mm)?;
         super::op_regions::fraction("step-over", self.step_over_fraction)?;
         super::op_regions::non_negative("stock above the part (mm)", self.stock_above_mm)?;
         super::op_regions::non_negative("overrun (mm)", self.overrun_mm)

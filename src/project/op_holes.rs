@@ -446,7 +446,7 @@ impl HolesOp {
     /// What is wrong.
     pub fn validate(&self) -> Result<(), String> {
         self.common.validate()?;
-        super::op_regions::positive("peck (mm)", self.peck_mm)?;
+        crate::units::STEP_BOUNDS.check("peck (mm)", self.peck_mm)?;
         super::op_regions::non_negative("dwell (s)", self.dwell_s)?;
         super::op_regions::non_negative("finishing stock (mm)", self.finish_mm)?;
         for (what, v) in [("pitch (mm)", self.pitch_mm), ("depth (mm)", self.depth_mm)] {

@@ -95,9 +95,9 @@ impl PocketOp {
     /// What is wrong.
     pub fn validate(&self) -> Result<(), String> {
         self.common.validate()?;
-        super::op_regions::positive("step-down (mm)", self.step_down_mm)?;
+        crate::units::STEP_BOUNDS.check("step-down (mm)", self.step_down_mm)?;
         super::op_regions::fraction("step-over", self.step_over_fraction)?;
         super::op_regions::positive("ramp angle (rad)", self.ramp_angle_rad)?;
-        super::op_regions::positive("chord tolerance (mm)", self.tolerance_mm)
+        crate::units::TOLERANCE_BOUNDS.check("chord tolerance (mm)", self.tolerance_mm)
     }
 }

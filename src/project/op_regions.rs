@@ -427,19 +427,27 @@ pub fn compute_planar(
     })
 }
 
+/// The largest value [`positive`] and [`non_negative`] accept (a length of 100 m, a dwell of a
+/// day): beyond it a number is a typing error or hostile, and loops it sizes would not end.
+pub(super) const MAX_VALUE: f64 = 1e5;
+
 pub(super) fn positive(what: &str, v: f64) -> Result<(), String> {
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && v > 0.0 && v <= MAX_VALUE {
         Ok(())
     } else {
-        Err(format!("{what} must be a positive number, got {v}"))
+        Err(format!(
+            "{what} must be a positive number up to {MAX_VALUE:e}, got {v}"
+        ))
     }
 }
 
 pub(super) fn non_negative(what: &str, v: f64) -> Result<(), String> {
-    if v.is_finite() && v >= 0.0 {
+    if v.is_finite() && (0.0..=MAX_VALUE).contains(&v) {
         Ok(())
     } else {
-        Err(format!("{what} must be zero or more, got {v}"))
+        Err(format!(
+            "{what} must be zero or more, up to {MAX_VALUE:e}, got {v}"
+        ))
     }
 }
 

@@ -669,13 +669,10 @@ impl Operation {
                 Err(format!("{what} must be a positive number, got {v}"))
             }
         };
-        let clearance = |v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(format!("the clearance must be zero or more (mm), got {v}"))
-            }
+        use crate::units::{
+            ALLOWANCE_BOUNDS, CLEARANCE_BOUNDS, FEED_BOUNDS, STEP_BOUNDS, TOLERANCE_BOUNDS,
         };
+        let clearance = |v: f64| CLEARANCE_BOUNDS.check("the clearance (mm)", v);
         match self {
             Self::Finish {
                 strategy,
@@ -686,9 +683,9 @@ impl Operation {
                 ..
             } => {
                 super::finish_group::validate(*face, group, tilt_away)?;
-                positive("scallop height (mm)", options.scallop)?;
-                positive("chord tolerance (mm)", options.tolerance)?;
-                positive("feed (mm/min)", options.feed)?;
+                TOLERANCE_BOUNDS.check("scallop height (mm)", options.scallop)?;
+                TOLERANCE_BOUNDS.check("chord tolerance (mm)", options.tolerance)?;
+                FEED_BOUNDS.check("feed (mm/min)", options.feed)?;
                 positive("largest axis step (rad)", options.max_axis_step)?;
                 if let Strategy::IsoPlanar { angle } = strategy
                     && !angle.is_finite()
@@ -703,9 +700,12 @@ impl Operation {
                     return Err("lead and tilt must lie between −90° and 90°".into());
                 }
                 if let Some(c) = options.clearance
-                    && !c.is_finite()
+                    && !(c.is_finite() && c.abs() <= crate::units::MAX_COORDINATE_MM)
                 {
-                    return Err("the clearance height must be a finite number".into());
+                    return Err(format!(
+                        "the clearance height must lie within ±{} mm, got {c}",
+                        crate::units::MAX_COORDINATE_MM
+                    ));
                 }
                 Ok(())
             }
@@ -718,9 +718,9 @@ impl Operation {
                 ..
             } => {
                 clearance(*clearance_mm)?;
-                positive("scallop height (mm)", *scallop_mm)?;
-                positive("chord tolerance (mm)", *tolerance_mm)?;
-                positive("feed (mm/min)", *feed_mm_per_min)?;
+                TOLERANCE_BOUNDS.check("scallop height (mm)", *scallop_mm)?;
+                TOLERANCE_BOUNDS.check("chord tolerance (mm)", *tolerance_mm)?;
+                FEED_BOUNDS.check("feed (mm/min)", *feed_mm_per_min)?;
                 if angle_rad.is_finite() {
                     Ok(())
                 } else {
@@ -738,9 +738,9 @@ impl Operation {
                 ..
             } => {
                 clearance(*clearance_mm)?;
-                positive("step-down (mm)", *step_down_mm)?;
-                positive("tolerance (mm)", *tolerance_mm)?;
-                positive("feed (mm/min)", *feed_mm_per_min)?;
+                STEP_BOUNDS.check("step-down (mm)", *step_down_mm)?;
+                TOLERANCE_BOUNDS.check("tolerance (mm)", *tolerance_mm)?;
+                FEED_BOUNDS.check("feed (mm/min)", *feed_mm_per_min)?;
                 if !(step_over_fraction.is_finite()
                     && *step_over_fraction > 0.0
                     && *step_over_fraction <= 1.0)
@@ -751,9 +751,7 @@ impl Operation {
                     ));
                 }
                 for v in std::iter::once(stock_to_leave_mm).chain(stock_to_leave_axial_mm) {
-                    if !(v.is_finite() && *v >= 0.0) {
-                        return Err(format!("stock to leave must be zero or more (mm), got {v}"));
-                    }
+                    ALLOWANCE_BOUNDS.check("stock to leave (mm)", *v)?;
                 }
                 Ok(())
             }
@@ -766,8 +764,8 @@ impl Operation {
                 ..
             } => {
                 clearance(*clearance_mm)?;
-                positive("chord tolerance (mm)", *tolerance_mm)?;
-                positive("feed (mm/min)", *feed_mm_per_min)?;
+                TOLERANCE_BOUNDS.check("chord tolerance (mm)", *tolerance_mm)?;
+                FEED_BOUNDS.check("feed (mm/min)", *feed_mm_per_min)?;
                 let deg = angle_rad.to_degrees();
                 if deg.is_finite() && (1.0..=170.0).contains(&deg) {
                     Ok(())
@@ -785,9 +783,9 @@ impl Operation {
                 ..
             } => {
                 clearance(*clearance_mm)?;
-                positive("scallop height (mm)", *scallop_mm)?;
-                positive("chord tolerance (mm)", *tolerance_mm)?;
-                positive("feed (mm/min)", *feed_mm_per_min)
+                TOLERANCE_BOUNDS.check("scallop height (mm)", *scallop_mm)?;
+                TOLERANCE_BOUNDS.check("chord tolerance (mm)", *tolerance_mm)?;
+                FEED_BOUNDS.check("feed (mm/min)", *feed_mm_per_min)
             }
             Self::Face(o) => o.validate(),
             Self::Pocket(o) => o.validate(),
@@ -800,21 +798,11 @@ impl Operation {
         let Some(s) = self.finish_3axis_settings() else {
             return Ok(());
         };
-        if !(s.clearance_mm.is_finite() && s.clearance_mm >= 0.0) {
-            return Err(format!(
-                "the clearance must be zero or more (mm), got {}",
-                s.clearance_mm
-            ));
-        }
-        for (what, v) in [
-            ("scallop height (mm)", s.scallop_mm),
-            ("chord tolerance (mm)", s.tolerance_mm),
-            ("feed (mm/min)", s.feed_mm_per_min),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{what} must be a positive number, got {v}"));
-            }
-        }
+        use crate::units::{CLEARANCE_BOUNDS, FEED_BOUNDS, TOLERANCE_BOUNDS};
+        CLEARANCE_BOUNDS.check("the clearance (mm)", s.clearance_mm)?;
+        TOLERANCE_BOUNDS.check("scallop height (mm)", s.scallop_mm)?;
+        TOLERANCE_BOUNDS.check("chord tolerance (mm)", s.tolerance_mm)?;
+        FEED_BOUNDS.check("feed (mm/min)", s.feed_mm_per_min)?;
         let deg = s.angle_rad.to_degrees();
         let (lo, hi, what) = if matches!(self, Self::Waterline { .. }) {
             (0.0, 89.0, "the slope angle")

@@ -9,6 +9,7 @@
 pub mod dropcutter;
 pub mod effective;
 pub mod hole_tool;
+pub mod library;
 pub mod solid;
 mod spec;
 
@@ -221,9 +222,9 @@ impl Cutter {
     /// [`ToolError::Dimension`] naming the first bad size.
     pub fn validate(&self) -> Result<(), ToolError> {
         self.validate_profile()?;
-        positive("flute length", self.flute_length)?;
+        length("flute length", self.flute_length)?;
         positive("shank diameter", self.shank_diameter)?;
-        positive("overall length", self.overall_length)?;
+        length("overall length", self.overall_length)?;
         if self.flute_length < self.profile_height() {
             return Err(ToolError::Dimension(format!(
                 "flute length {} mm is shorter than the cutting end's height {} mm",
@@ -239,7 +240,7 @@ impl Cutter {
         }
         for (i, h) in self.holder.iter().enumerate() {
             positive(&format!("holder section {} diameter", i + 1), h.diameter)?;
-            positive(&format!("holder section {} length", i + 1), h.length)?;
+            length(&format!("holder section {} length", i + 1), h.length)?;
         }
         if let Some(f) = &self.flutes {
             f.validate()?;
@@ -363,12 +364,33 @@ impl Cutter {
     }
 }
 
+/// The smallest tool size accepted (diameters, radii, lengths), mm.
+pub const MIN_TOOL_SIZE_MM: f64 = 1e-3;
+/// The largest diameter (cutter, shank, holder section) or corner radius accepted, mm: beyond
+/// it a number is a typing error or hostile (a ball of 10³⁰⁰ mm removed nothing, one of 10²⁰ mm
+/// exactly half the stock).
+pub const MAX_TOOL_DIAMETER_MM: f64 = 1000.0;
+/// The largest length (flutes, overall, a holder section) accepted, mm: five of the largest
+/// diameters, the default overall length of such a cutter.
+pub const MAX_TOOL_LENGTH_MM: f64 = 5.0 * MAX_TOOL_DIAMETER_MM;
+
+/// A diameter or radius in [`MIN_TOOL_SIZE_MM`], [`MAX_TOOL_DIAMETER_MM`].
 fn positive(what: &str, v: f64) -> Result<(), ToolError> {
-    if v.is_finite() && v > 0.0 {
+    bounded(what, v, MAX_TOOL_DIAMETER_MM)
+}
+
+/// A length in [`MIN_TOOL_SIZE_MM`], [`MAX_TOOL_LENGTH_MM`].
+fn length(what: &str, v: f64) -> Result<(), ToolError> {
+    bounded(what, v, MAX_TOOL_LENGTH_MM)
+}
+
+fn bounded(what: &str, v: f64, max: f64) -> Result<(), ToolError> {
+    if v.is_finite() && (MIN_TOOL_SIZE_MM..=max).contains(&v) {
         Ok(())
     } else {
         Err(ToolError::Dimension(format!(
-            "{what} must be a positive length in mm, got {v}"
+            "{what} must be a length from {MIN_TOOL_SIZE_MM} to {max} mm, got {}",
+            crate::units::short(v)
         )))
     }
 }

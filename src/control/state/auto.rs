@@ -10,6 +10,30 @@ use crate::gcode::{MotionBlock, Session};
 use super::{AutoRun, Control, ControlError, Item, Kind, refuse};
 
 impl Control {
+    /// Interprets the loaded program from its first line without running it or raising an
+    /// alarm: the first line that cannot be read, as AUTO's alarm would name it. `talas
+    /// control` refuses such a program before its script runs (exit 2), where AUTO alone
+    /// would only raise alarm 30 at cycle start.
+    ///
+    /// # Errors
+    /// [`ControlError::Refused`] naming the line; also when no program is loaded.
+    pub fn check_program(&self) -> Result<(), ControlError> {
+        let Some((_, text)) = &self.program else {
+            return refuse("no program loaded");
+        };
+        let mut session = Session::new(self.interp_options())
+            .map_err(|e| ControlError::Refused(e.to_string()))?;
+        for (i, raw) in text.lines().enumerate() {
+            let r = session
+                .run_line(raw, i + 1)
+                .map_err(|e| ControlError::Refused(e.to_string()))?;
+            if r.program_end {
+                break;
+            }
+        }
+        Ok(())
+    }
+
     /// Refuse motion leaving the travel with an alarm naming the first block and axis.
     pub(super) fn travel_ok(&mut self, blocks: &[MotionBlock]) -> bool {
         let (v, _) = travel_violations(blocks, &self.cfg.machine, 1);

@@ -8,6 +8,7 @@
 //! bulge of the element that leaves it, `tan(sweep / 4)`, positive counter-clockwise).
 
 mod element;
+mod index;
 mod offset;
 mod polish;
 mod read;
@@ -17,6 +18,7 @@ mod write;
 
 pub(crate) use element::closest_on;
 pub use element::{Element, distance_to_profile};
+pub use index::{BoxTree, ElementIndex, box_distance};
 pub use offset::{ClPath, ClVertex, Side, offset_paths};
 pub use read::{ProfileFormat, parse_csv, parse_dxf, parse_svg, read_profile};
 pub use region::{Area, BooleanOp, Region, RegionError, signed_area};
@@ -26,6 +28,10 @@ use glam::DVec2;
 
 /// Largest coordinate magnitude accepted, mm (1 km).
 pub const MAX_COORD_MM: f64 = 1.0e6;
+
+/// The most vertices a profile may have (a 100 MB CSV of points aborted on allocation; the
+/// computation on this many takes seconds).
+pub const MAX_PROFILE_POINTS: usize = 1_000_000;
 
 /// One vertex of a profile: its position and the bulge of the element to the next vertex.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -158,6 +164,13 @@ impl Profile {
     /// [`ProfileError`] naming the vertex.
     pub fn validate(&self, file: &str) -> Result<(), ProfileError> {
         let n = self.vertices.len();
+        if n > MAX_PROFILE_POINTS {
+            return Err(ProfileError::new(
+                file,
+                "profile",
+                format!("{n} points, more than the {MAX_PROFILE_POINTS} a profile may have"),
+            ));
+        }
         let need = if self.closed { 3 } else { 2 };
         if n < need {
             return Err(ProfileError::new(

@@ -13,7 +13,8 @@ use cavalier_contours::polyline::{
 use glam::DVec2;
 
 use super::Profile;
-use super::element::{Element, closest_on};
+use super::element::Element;
+use super::index::ElementIndex;
 use super::polish::polish;
 
 /// Extent the profile is scaled to before offsetting.
@@ -153,6 +154,7 @@ pub fn offset_paths(profile: &Profile, radius_mm: f64, left: bool) -> Vec<ClPath
     let signed = if left { radius_mm } else { -radius_mm } * scale;
     let results = pl.parallel_offset_opt(signed, &opts);
     let elements = profile.elements();
+    let index = ElementIndex::new(&elements);
     let ends = end_offsets(profile, &elements, radius_mm, left);
     let eps = 1e-6 * extent.max(radius_mm).max(1e-300);
     let lengths: Vec<f64> = elements.iter().map(Element::length).collect();
@@ -160,11 +162,11 @@ pub fn offset_paths(profile: &Profile, radius_mm: f64, left: bool) -> Vec<ClPath
         .iter()
         .filter(|r| r.vertex_count() >= 2)
         .map(|r| {
-            let path = from_pline(r, origin, scale, radius_mm, &elements, ends, eps);
+            let path = from_pline(r, origin, scale, radius_mm, &index, ends, eps);
             let key = path
                 .vertices
                 .first()
-                .map_or(0.0, |v| profile_position(&elements, &lengths, v.centre));
+                .map_or(0.0, |v| profile_position(&index, &lengths, v.centre));
             (key, path)
         })
         .collect();
@@ -197,7 +199,7 @@ fn from_pline(
     origin: DVec2,
     scale: f64,
     radius_mm: f64,
-    elements: &[Element],
+    index: &ElementIndex,
     ends: [Option<DVec2>; 2],
     eps: f64,
 ) -> ClPath {
@@ -224,11 +226,11 @@ fn from_pline(
     {
         raw.pop();
     }
-    polish(&mut raw, r.is_closed(), elements, radius_mm, ends, eps);
+    polish(&mut raw, r.is_closed(), index, radius_mm, ends, eps);
     let vertices = raw
         .into_iter()
         .map(|(centre, bulge)| {
-            let contact = closest_on(elements, centre).map_or(centre, |c| c.2);
+            let contact = index.closest(centre).map_or(centre, |c| c.2);
             ClVertex {
                 centre,
                 bulge,
@@ -244,8 +246,9 @@ fn from_pline(
 }
 
 /// Arc-length position along the profile of the point closest to `p`, mm.
-pub(crate) fn profile_position(elements: &[Element], lengths: &[f64], p: DVec2) -> f64 {
-    let Some((_, i, _)) = closest_on(elements, p) else {
+pub(crate) fn profile_position(index: &ElementIndex, lengths: &[f64], p: DVec2) -> f64 {
+    let elements = index.elements();
+    let Some((_, i, _)) = index.closest(p) else {
         return 0.0;
     };
     let before: f64 = lengths.iter().take(i).sum();

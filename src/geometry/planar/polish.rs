@@ -13,6 +13,7 @@
 use glam::DVec2;
 
 use super::element::Element;
+use super::index::ElementIndex;
 
 /// The exact curve an element of the path lies on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,8 +45,14 @@ impl Carrier {
 /// passes closest to the element's two ends and its midpoint, within `eps`. Matching by points
 /// rather than by the element's direction or arc centre keeps short elements, whose direction
 /// and centre the library's vertices fix only roughly, on their curves.
-fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Carrier> {
+fn carrier(e: &Element, index: &ElementIndex, radius: f64, eps: f64) -> Option<Carrier> {
     let probes = [e.start(), e.end(), e.point_at(0.5)];
+    // The element the path element was offset from lies at the radius from its midpoint
+    // (within eps): only the profile's elements that near are candidates (all of them made
+    // the polish quadratic).
+    let all = index.elements();
+    let near = index.within(e.point_at(0.5), radius * (1.0 + 1e-9) + 2.0 * eps);
+    let profile: Vec<&Element> = near.iter().filter_map(|&i| all.get(i)).collect();
     let fit = |c: Carrier| {
         probes
             .iter()
@@ -57,6 +64,7 @@ fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Ca
             let mid = (a + b) / 2.0;
             profile
                 .iter()
+                .copied()
                 .filter_map(|pe| {
                     let Element::Line { a: pa, b: pb } = *pe else {
                         return None;
@@ -73,6 +81,7 @@ fn carrier(e: &Element, profile: &[Element], radius: f64, eps: f64) -> Option<Ca
         }
         Element::Arc { .. } => profile
             .iter()
+            .copied()
             .flat_map(|pe| {
                 let mut out: Vec<Carrier> = Vec::new();
                 if let Element::Arc {
@@ -197,7 +206,7 @@ fn crossing(a: Carrier, b: Carrier, q: DVec2) -> Option<DVec2> {
 pub(super) fn polish(
     verts: &mut [(DVec2, f64)],
     closed: bool,
-    profile: &[Element],
+    profile: &ElementIndex,
     radius: f64,
     ends: [Option<DVec2>; 2],
     eps: f64,

@@ -148,6 +148,16 @@ pub fn parse_csv(text: &str, file: &str) -> Result<Profile, ProfileError> {
         }
         seen_data = true;
         let place = format!("row {row}");
+        if vertices.len() >= super::MAX_PROFILE_POINTS {
+            return Err(ProfileError::new(
+                file,
+                place,
+                format!(
+                    "more than {} points, the most a profile may have",
+                    super::MAX_PROFILE_POINTS
+                ),
+            ));
+        }
         if fields.len() < 2 || fields.len() > 3 {
             return Err(ProfileError::new(
                 file,
@@ -451,13 +461,11 @@ fn attribute(tag: &str, name: &str) -> Option<String> {
 /// # Errors
 /// [`ProfileError`] naming the line of the `<path>` and the segment number.
 pub fn parse_svg(text: &str, file: &str, tolerance_mm: f64) -> Result<Profile, ProfileError> {
-    if !(tolerance_mm > 0.0 && tolerance_mm.is_finite()) {
-        return Err(ProfileError::new(
-            file,
-            "tolerance",
-            format!("{tolerance_mm} mm must be positive"),
-        ));
-    }
+    // A tolerance far below any machine's resolution flattens each curve into up to 100 000
+    // points (`--tolerance 1e-12` stalled `talas profile`): the bounds every tolerance has.
+    crate::units::TOLERANCE_BOUNDS
+        .check(&format!("tolerance {tolerance_mm} mm"), tolerance_mm)
+        .map_err(|m| ProfileError::new(file, "tolerance", m))?;
     let paths = path_data(text);
     let [(line, d)] = paths.as_slice() else {
         return Err(ProfileError::new(
