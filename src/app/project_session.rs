@@ -94,12 +94,14 @@ impl ProjectSession {
         format!("{}{star} — Talas", self.project.name)
     }
 
-    /// Read the project at `path` (the session is not changed; see [`ProjectSession::replace`]).
+    /// Read the project at `path` (the session is not changed; see [`ProjectSession::replace`]),
+    /// with a warning for each key the file has that this build does not know (a newer Talas's
+    /// setting or a typing error: it is ignored, and the warning names it and the file).
     ///
     /// # Errors
     /// The [`ProjectError`] naming the file and place.
-    pub fn read(path: &Path) -> Result<Project, ProjectError> {
-        Project::load(path)
+    pub fn read(path: &Path) -> Result<(Project, Vec<String>), ProjectError> {
+        Project::load_with_warnings(path)
     }
 
     /// Make `project`, read from `path`, the open project with a fresh history. `dirty` marks it

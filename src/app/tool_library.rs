@@ -1,14 +1,12 @@
 //! The user's tool library: a TOML file (`tools.toml` in the data folder) holding the tools a new
 //! project starts with. The default library (`assets/tools/default.toml`) is compiled in, so a
-//! fresh machine has it; the tool library panel writes the file (atomically) after each change.
+//! fresh machine has it; the workstation writes the file (atomically) after each change of the
+//! project's tools, merged with what another workstation sharing the file saved since
+//! (`ToolLibrary::save_merged`: a tool added there is kept, a conflicting edit refused).
 
 use std::path::{Path, PathBuf};
 
-use crate::project::ToolEntry;
-use crate::tools::CutterKind;
-
-/// The library format version written by this build.
-pub const TOOL_LIBRARY_VERSION: u32 = 1;
+pub use crate::tools::library::{TOOL_LIBRARY_VERSION, ToolLibrary};
 
 /// The default library, compiled into the binary.
 pub const DEFAULT_LIBRARY_TOML: &str = include_str!("../../assets/tools/default.toml");
@@ -16,52 +14,9 @@ pub const DEFAULT_LIBRARY_TOML: &str = include_str!("../../assets/tools/default.
 /// The name of the library file in the data folder.
 pub const LIBRARY_FILE_NAME: &str = "tools.toml";
 
-/// A tool library.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ToolLibrary {
-    /// Format version (1 when missing).
-    #[serde(default = "first_version")]
-    pub version: u32,
-    /// Index of the tool a new project selects (`None`: the first ball end mill, if any).
-    #[serde(default)]
-    pub default_tool: Option<usize>,
-    /// The tools.
-    #[serde(default)]
-    pub tools: Vec<ToolEntry>,
-}
-
-fn first_version() -> u32 {
-    1
-}
-
+/// The workstation's side of the library: the compiled-in default and the start-up load (the
+/// format, the checks and the merged save are the engine's, [`crate::tools::library`]).
 impl ToolLibrary {
-    /// Parse library TOML; `source` names the file in errors.
-    ///
-    /// # Errors
-    /// A one-line message naming `source`: TOML syntax (with line), a newer version, an invalid
-    /// tool size.
-    pub fn from_toml(text: &str, source: &Path) -> Result<Self, String> {
-        let lib: Self = toml::from_str(text).map_err(|e| {
-            let line = e.span().map_or(1, |s| {
-                text.get(..s.start).unwrap_or("").matches('\n').count() + 1
-            });
-            format!("{}:{line}: {}", source.display(), e.message().trim())
-        })?;
-        if lib.version > TOOL_LIBRARY_VERSION {
-            return Err(format!(
-                "{}: tool library version {} is newer than this Talas understands ({TOOL_LIBRARY_VERSION})",
-                source.display(),
-                lib.version
-            ));
-        }
-        for (i, t) in lib.tools.iter().enumerate() {
-            t.cutter
-                .validate()
-                .map_err(|e| format!("{}: tool {} ('{}'): {e}", source.display(), i + 1, t.name))?;
-        }
-        Ok(lib)
-    }
-
     /// The compiled-in default library.
     #[must_use]
     pub fn builtin() -> Self {
@@ -88,34 +43,6 @@ impl ToolLibrary {
             Err(e) => (Self::builtin(), Some(format!("{}: {e}", path.display()))),
         }
     }
-
-    /// Write the library to `path` atomically (creating the folder).
-    ///
-    /// # Errors
-    /// The I/O or encoding error, naming the file.
-    pub fn save(&self, path: &Path) -> Result<(), String> {
-        let text = toml::to_string_pretty(self).map_err(|e| format!("{}: {e}", path.display()))?;
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
-        let header = "# Talas tool library (lengths in mm, cone half_angle in rad)\n\n";
-        crate::storage::write_atomic(path, format!("{header}{text}").as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))
-    }
-
-    /// The tool a new project selects: `default_tool` when valid, else the first ball end mill,
-    /// else the first tool.
-    #[must_use]
-    pub fn default_selection(&self) -> Option<usize> {
-        self.default_tool
-            .filter(|&i| i < self.tools.len())
-            .or_else(|| {
-                self.tools
-                    .iter()
-                    .position(|t| t.cutter.kind == CutterKind::Ball)
-            })
-            .or(if self.tools.is_empty() { None } else { Some(0) })
-    }
 }
 
 /// The library file in `data_dir`.
@@ -127,6 +54,7 @@ pub fn library_path(data_dir: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tools::CutterKind;
 
     #[test]
     fn the_builtin_library_parses_and_selects_a_ball_end_mill() {

@@ -132,6 +132,7 @@ impl Workstation {
         let mut ws = Self {
             saved: state::Persisted {
                 session: ProjectSession::new(project, config.data_dir, config.autosave_every),
+                library_base: library.clone(),
                 library,
                 recent: config.recent,
             },

@@ -186,7 +186,11 @@ impl Workstation {
 
     fn open_project(&mut self, path: &Path) {
         match ProjectSession::read(path) {
-            Ok(project) => {
+            Ok((project, warnings)) => {
+                for w in warnings {
+                    let t = self.now_s();
+                    self.log.push(t, Severity::Warning, w);
+                }
                 self.run.restore_view = Some(project.view);
                 self.saved
                     .session
@@ -261,10 +265,30 @@ impl Workstation {
             self.saved.library.tools.clone_from(&project.tools);
             self.saved.library.default_tool = project.selected_tool;
             let path = library_path(&self.saved.session.data_dir);
-            if let Err(e) = self.saved.library.save(&path) {
-                let t = self.now_s();
-                self.log
-                    .push(t, Severity::Warning, format!("Tool library not saved: {e}"));
+            match self
+                .saved
+                .library
+                .save_merged(&self.saved.library_base, &path)
+            {
+                Ok(merged) => {
+                    let added = merged
+                        .tools
+                        .len()
+                        .saturating_sub(self.saved.library.tools.len());
+                    if added > 0 {
+                        self.log_info(format!(
+                            "Tool library: {added} tools another workstation saved in {} are kept",
+                            path.display()
+                        ));
+                    }
+                    self.saved.library_base = merged.clone();
+                    self.saved.library = merged;
+                }
+                Err(e) => {
+                    let t = self.now_s();
+                    self.log
+                        .notify(t, Severity::Warning, format!("Tool library not saved: {e}"));
+                }
             }
         }
         self.load_project_part();

@@ -51,6 +51,9 @@ pub(super) struct Persisted {
     pub session: ProjectSession,
     /// The tool library (what a new project starts with).
     pub library: ToolLibrary,
+    /// The library as this workstation last read or wrote the file: the base of the merged
+    /// save (another workstation's tools added since are kept).
+    pub library_base: ToolLibrary,
     /// The recently opened files.
     pub recent: RecentFiles,
 }
