@@ -112,7 +112,7 @@ impl TimedPath {
     /// (the work is bounded by the budget, not by the planned time).
     ///
     /// The same values as taking the maxima over [`TimedPath::samples_every`], to the bit, for
-    /// a fraction of the work: each segment's profile is built once (see [`SampleCursor`]), and
+    /// a fraction of the work: each segment's profile is built once (see `SampleCursor`), and
     /// on a straight segment, whose joint direction `q'` is fixed, an axis's velocity,
     /// acceleration and jerk are `q'ᵢ·v`, `q'ᵢ·a`, `q'ᵢ·j`, so their largest magnitudes are
     /// `|q'ᵢ|` times the largest `|v|`, `|a|`, `|j|` of the profile over the segment's samples

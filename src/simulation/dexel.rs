@@ -248,7 +248,7 @@ impl DexelFamily {
         self.ray_origin(i, j) + self.axis.direction() * s
     }
 
-    /// Material volume, mm³, summed tile by tile ([`VOLUME_TILE`] rays a side, in tile order,
+    /// Material volume, mm³, summed tile by tile (`VOLUME_TILE` rays a side, in tile order,
     /// each tile in ray order: deterministic, and the sum the live cutting keeps up to date
     /// tile by tile without visiting every ray).
     #[must_use]

@@ -176,7 +176,7 @@ impl<'a> ElementIndex<'a> {
     }
 
     /// Distance from `p` to the nearest element, its index and the closest point (the lowest
-    /// index among equals): what [`super::closest_on`] returns.
+    /// index among equals): what `closest_on` returns.
     #[must_use]
     pub fn closest(&self, p: DVec2) -> Option<(f64, usize, DVec2)> {
         let mut best: Option<(f64, usize, DVec2)> = None;
