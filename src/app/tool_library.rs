@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-pub use crate::tools::library::{TOOL_LIBRARY_VERSION, ToolLibrary};
+pub use crate::project::tool_library::{TOOL_LIBRARY_VERSION, ToolLibrary};
 
 /// The default library, compiled into the binary.
 pub const DEFAULT_LIBRARY_TOML: &str = include_str!("../../assets/tools/default.toml");
@@ -15,7 +15,7 @@ pub const DEFAULT_LIBRARY_TOML: &str = include_str!("../../assets/tools/default.
 pub const LIBRARY_FILE_NAME: &str = "tools.toml";
 
 /// The workstation's side of the library: the compiled-in default and the start-up load (the
-/// format, the checks and the merged save are the engine's, [`crate::tools::library`]).
+/// format, the checks and the merged save are the engine's, [`crate::project::tool_library`]).
 impl ToolLibrary {
     /// The compiled-in default library.
     #[must_use]

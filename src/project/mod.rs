@@ -33,6 +33,7 @@ pub mod saved_paths;
 pub mod setups;
 pub mod sheet;
 pub mod simulate;
+pub mod tool_library;
 pub mod workholding;
 
 pub use crate::geometry::stock::{DEFAULT_MARGIN_MM, Stock};

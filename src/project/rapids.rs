@@ -343,7 +343,7 @@ impl Linked {
     /// `computed` as it runs: its path replaced by the linked one, the lift's notes added to
     /// its diagnostics, and its pose-indexed findings (part hits) moved onto the linked path's
     /// poses.
-    pub fn apply_to(&self, computed: &mut super::pipeline::Computed) {
+    pub fn apply_to(&self, computed: &mut super::computed::Computed) {
         computed.toolpath = self.toolpath.clone();
         computed
             .diagnostics

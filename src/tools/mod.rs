@@ -9,7 +9,6 @@
 pub mod dropcutter;
 pub mod effective;
 pub mod hole_tool;
-pub mod library;
 pub mod solid;
 mod spec;
 
