@@ -194,7 +194,7 @@ const BOX_EDGES: [(usize, usize); 12] = [
 ];
 
 /// Fill one projected triangle (pixel x, y and depth per corner) where it is nearer than the
-/// depth buffer; returns the pixels written.
+/// depth buffer.
 fn fill_triangle(
     p: [[f64; 3]; 3],
     colour: [u8; 3],
@@ -202,11 +202,11 @@ fn fill_triangle(
     h: usize,
     rgb: &mut [[u8; 3]],
     depth: &mut [f64],
-) -> usize {
+) {
     let area =
         (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
     if !area.is_finite() || area.abs() < 1e-12 {
-        return 0;
+        return;
     }
     let x0 = p
         .iter()
@@ -233,9 +233,8 @@ fn fill_triangle(
         .ceil()
         .min(h as f64 - 1.0);
     if x0 > x1 || y0 > y1 {
-        return 0;
+        return;
     }
-    let mut written = 0;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     for y in y0 as usize..=y1 as usize {
         for x in x0 as usize..=x1 as usize {
@@ -254,11 +253,9 @@ fn fill_triangle(
             if z < depth[k] {
                 depth[k] = z;
                 rgb[k] = colour;
-                written += 1;
             }
         }
     }
-    written
 }
 
 /// A line `thick` pixels wide drawn over everything.
