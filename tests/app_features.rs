@@ -6,32 +6,15 @@
 //! its floor face.
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::path::PathBuf;
 
+use common::app;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::document::Selection;
 use talas::app::{Workstation, WorkstationConfig};
-
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 1200.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-fn settle(h: &mut Harness<'static, Workstation>) {
-    for _ in 0..6000 {
-        h.step();
-        if !(h.state().is_loading() || h.state().is_computing_field()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    panic!("the load never finished");
-}
 
 #[test]
 fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {
@@ -42,11 +25,11 @@ fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {
     let dir = std::env::temp_dir().join(format!("talas-app-features-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut h = harness(WorkstationConfig::isolated(
-        Some(data.join("pocket-part.stp")),
-        dir.clone(),
-    ));
-    settle(&mut h);
+    let mut h = app::harness(
+        WorkstationConfig::isolated(Some(data.join("pocket-part.stp")), dir.clone()),
+        1200.0,
+    );
+    app::settle_load(&mut h);
     let features = h
         .state()
         .document()

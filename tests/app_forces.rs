@@ -9,8 +9,11 @@
 //! `cargo test --test app_forces`
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::time::Duration;
 
+use common::app;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::{Command, FeatureCommand};
@@ -19,35 +22,10 @@ use talas::app::{Workstation, WorkstationConfig};
 use talas::project::{Edit, Operation, OperationKind, Stock, ToolEntry};
 use talas::tools::parse_tool_spec;
 
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-/// Step frames while `busy` says a background job runs (at most 60 s), then one more.
 /// The workstation's cutting-forces window (a registered feature).
 fn forces(ws: &mut Workstation) -> &mut ForcesWindow {
     ws.feature::<ForcesWindow>()
         .expect("the forces feature is registered")
-}
-
-fn settle_while(
-    h: &mut Harness<'static, Workstation>,
-    what: &str,
-    busy: fn(&mut Workstation) -> bool,
-) {
-    for _ in 0..12000 {
-        h.step();
-        if !busy(h.state_mut()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!("the {what} never finished");
 }
 
 fn click(h: &mut Harness<'static, Workstation>, p: egui::Pos2) {
@@ -71,8 +49,8 @@ fn roughed(tag: &str) -> (Harness<'static, Workstation>, std::path::PathBuf) {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let part = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/force/box30.stl");
-    let mut h = harness(WorkstationConfig::isolated(Some(part), dir.clone()));
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(Some(part), dir.clone()), 900.0);
+    app::settle_while_mut(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     let mut cutter = parse_tool_spec("flat:d=10,flute=30,flutes=3,helix=30,rake=10").unwrap();
     cutter.limits.max_force_n = Some(60.0);
     let tool = ToolEntry {
@@ -104,7 +82,7 @@ fn roughed(tag: &str) -> (Harness<'static, Workstation>, std::path::PathBuf) {
     ])));
     h.step();
     h.state_mut().apply(Command::Calculate(0));
-    settle_while(&mut h, "calculation", |w| w.is_calculating());
+    app::settle_while_mut(&mut h, "calculation", |w| w.is_calculating());
     // TALAS_SAVE_FORCES_PROJECT=FILE keeps the project (the screenshot opens it).
     if let Ok(file) = std::env::var("TALAS_SAVE_FORCES_PROJECT") {
         h.state_mut()
@@ -131,7 +109,7 @@ fn forces_are_computed_plotted_and_a_click_picks_the_pose() {
     let started = std::time::Instant::now();
     h.get_by_label("Compute forces").click();
     h.run_steps(2);
-    settle_while(&mut h, "force job", |w| forces(w).is_running());
+    app::settle_while_mut(&mut h, "force job", |w| forces(w).is_running());
     let (samples, limit, planned, peak, poses) = {
         let ws = h.state_mut();
         let r = forces(ws).result().expect("a result");
@@ -297,7 +275,7 @@ fn feeds_are_scheduled_and_applied(h: &mut Harness<'static, Workstation>) {
     assert_eq!(forces(h.state_mut()).schedule.target_n, Some(60.0));
     h.get_by_label("Schedule feeds").click();
     h.run_steps(2);
-    settle_while(h, "schedule", |w| forces(w).schedule.is_running());
+    app::settle_while_mut(h, "schedule", |w| forces(w).schedule.is_running());
     let (key, s) = {
         let p = &forces(h.state_mut()).schedule;
         p.result
@@ -328,8 +306,8 @@ fn tool_limits_are_edited_checked_and_saved() {
     let dir = std::env::temp_dir().join(format!("talas-app-forces-limits-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_while_mut(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     assert!(!h.state().session().project.tools.is_empty());
     h.state_mut()
         .apply(Command::Inspect(talas::app::state::Focus::Tool(0)));
@@ -374,7 +352,7 @@ fn the_coefficient_editor_validates_and_saves() {
     let dir = std::env::temp_dir().join(format!("talas-app-forces-lib-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
     h.state_mut().apply(Command::Feature(FeatureCommand {
         feature: ForcesWindow::ID,
         action: "open",

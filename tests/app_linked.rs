@@ -12,35 +12,18 @@
 //! same (issue 36, "work that is lost or hidden").
 #![cfg(feature = "gui")]
 
+mod common;
+
 use std::path::PathBuf;
 use std::time::Duration;
 
+use common::app;
 use egui_kittest::Harness;
 use talas::app::command::Command;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::diagnostics::Progress;
 use talas::project::{Operation, OperationKind, PartRef, Project, Results, ToolEntry};
 use talas::tools::parse_tool_spec;
-
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Workstation) -> bool) {
-    for _ in 0..36000 {
-        h.step();
-        if !busy(h.state()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!("the {what} never finished");
-}
 
 fn project(part: PathBuf) -> Project {
     let entry = |name: &str, s: &str| ToolEntry {
@@ -92,15 +75,15 @@ fn calculate_stores_the_path_linked_over_the_stock_the_earlier_operations_leave(
     let file = dir.join("linked.talas");
     project(part).save(&file).unwrap();
 
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     h.state_mut().apply(Command::OpenProject(file));
-    settle_while(&mut h, "project", |w| {
+    app::settle_while(&mut h, "project", |w| {
         w.is_loading() || w.is_computing_field()
     });
     for k in 0..2 {
         h.state_mut().apply(Command::Calculate(k));
-        settle_while(&mut h, "calculation", Workstation::is_calculating);
+        app::settle_while(&mut h, "calculation", Workstation::is_calculating);
     }
     let (result, fresh) = h.state().operation_result(1).expect("a raster result");
     assert!(fresh);
@@ -176,11 +159,11 @@ fn calculate_stores_the_path_linked_over_the_stock_the_earlier_operations_leave(
     let paths = talas::project::saved_paths::paths_file(&saved);
     assert!(paths.is_file(), "{} written", paths.display());
     drop(h);
-    let mut h = harness(WorkstationConfig::isolated(
-        Some(saved.clone()),
-        dir.clone(),
-    ));
-    settle_while(&mut h, "reopen", |w| {
+    let mut h = app::harness(
+        WorkstationConfig::isolated(Some(saved.clone()), dir.clone()),
+        900.0,
+    );
+    app::settle_while(&mut h, "reopen", |w| {
         w.is_loading() || w.is_computing_field()
     });
     assert!(!h.state().is_calculating());

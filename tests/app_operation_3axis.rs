@@ -7,6 +7,7 @@ mod common;
 
 use std::time::Duration;
 
+use common::app;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
@@ -17,38 +18,11 @@ use talas::strategies::boundary::{BoundaryRule, Region};
 use talas::strategies::waterline::Cut;
 use talas::toolpath::MoveKind;
 
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    harness_sized(config, 900.0)
-}
-
-/// A harness `height` px tall: the editor's lower rows and the findings list lie below the
-/// fold of a short window, and a click goes where a widget is drawn.
-fn harness_sized(config: WorkstationConfig, height: f32) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, height))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-/// Step frames while `busy` says a background job runs (at most 60 s), then one more.
-fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Workstation) -> bool) {
-    for _ in 0..12000 {
-        h.step();
-        if !busy(h.state()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!("the {what} never finished");
-}
-
 #[test]
 fn a_waterline_operation_is_added_edited_and_calculated() {
     let dir = common::temp_dir("app-op3");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
 
     h.get_by_label("Machining").click();
     h.run_steps(3);
@@ -81,7 +55,7 @@ fn a_waterline_operation_is_added_edited_and_calculated() {
     }));
     h.step();
     h.state_mut().apply(Command::Calculate(0));
-    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    app::settle_while(&mut h, "calculation", Workstation::is_calculating);
     let (result, fresh) = h.state().operation_result(0).expect("a result");
     assert!(fresh);
     let tp = result.toolpath();
@@ -111,8 +85,8 @@ fn a_waterline_operation_is_added_edited_and_calculated() {
 #[test]
 fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
     let dir = common::temp_dir("app-tilt");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("Add Iso-scallop finishing").click();
@@ -142,8 +116,8 @@ fn the_finish_editor_edits_the_tilt_away_and_shows_the_group() {
 #[test]
 fn the_rest_and_pencil_editors_edit_their_fields() {
     let dir = common::temp_dir("app-rest");
-    let mut h = harness_sized(WorkstationConfig::isolated(None, dir.clone()), 2000.0);
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 2000.0);
+    app::settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     h.get_by_label("Machining").click();
     h.run_steps(3);
     h.get_by_label("Add Rest finishing").click();
@@ -198,7 +172,7 @@ fn the_rest_and_pencil_editors_edit_their_fields() {
     // with no path and says why in the log (the pencil path itself is checked on
     // pocket-fillets through the pipeline in tests/operation_3axis.rs).
     h.state_mut().apply(Command::Calculate(1));
-    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    app::settle_while(&mut h, "calculation", Workstation::is_calculating);
     assert!(h.state().operation_result(1).is_none());
     assert!(
         h.state()
@@ -227,8 +201,8 @@ fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose()
     let part =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pocket-fillets.stp");
     // A tall window: the list lies below the summary.
-    let mut h = harness_sized(WorkstationConfig::isolated(Some(part), dir.clone()), 3000.0);
-    settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
+    let mut h = app::harness(WorkstationConfig::isolated(Some(part), dir.clone()), 3000.0);
+    app::settle_while(&mut h, "load", |w| w.is_loading() || w.is_computing_field());
     let cutter = talas::tools::parse_tool_spec("ball:d=6,flute=12,length=30,holder=12x30")
         .expect("tool spec");
     let tool = ToolEntry {
@@ -255,7 +229,7 @@ fn the_findings_of_a_finishing_operation_are_listed_and_a_click_shows_the_pose()
     ])));
     h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
     h.state_mut().apply(Command::Calculate(0));
-    settle_while(&mut h, "calculation", Workstation::is_calculating);
+    app::settle_while(&mut h, "calculation", Workstation::is_calculating);
     let list = findings(&h.state().operation_result(0).expect("a result").0.computed);
     assert!(
         list.iter()

@@ -5,43 +5,15 @@
 //! range is refused.
 #![cfg(feature = "gui")]
 
+mod common;
+
+use common::app;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::project::op_common::HeightFrom;
 use talas::project::{Operation, OperationKind};
-
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 1400.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-fn settle(h: &mut Harness<'static, Workstation>) {
-    for _ in 0..6000 {
-        h.step();
-        if !(h.state().is_loading() || h.state().is_computing_field()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    panic!("the load never finished");
-}
-
-/// Type `text` into the number field labelled `label` and confirm it with Enter.
-fn type_number(h: &mut Harness<'static, Workstation>, label: &str, text: &str) {
-    h.get_by_label(label).focus();
-    h.step();
-    h.get_by_label(label).set_text_value_accesskit(text);
-    h.step();
-    h.key_press_modifiers(egui::Modifiers::NONE, egui::Key::Enter);
-    h.step();
-    h.step();
-}
 
 fn pocket(h: &Harness<'static, Workstation>) -> talas::project::op_pocket::PocketOp {
     match &h.state().session().project.operations[0] {
@@ -55,8 +27,8 @@ fn a_pocket_is_edited_in_its_editor_with_units() {
     let dir = std::env::temp_dir().join(format!("talas-app-planar-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 1400.0);
+    app::settle_load(&mut h);
     h.state_mut()
         .apply(Command::AddOperation(OperationKind::Pocket));
     h.run_steps(3);
@@ -78,19 +50,19 @@ fn a_pocket_is_edited_in_its_editor_with_units() {
     assert!(h.query_all_by_label_contains("% of Ø").next().is_some());
     let before = pocket(&h);
 
-    type_number(&mut h, "Step-down", "1.25");
+    app::type_number(&mut h, "Step-down", "1.25");
     assert_eq!(pocket(&h).step_down_mm, 1.25);
-    type_number(&mut h, "Step-over", "40");
+    app::type_number(&mut h, "Step-over", "40");
     assert!(
         (pocket(&h).step_over_fraction - 0.4).abs() < 1e-12,
         "40 % of Ø"
     );
-    type_number(&mut h, "Feed", "750");
+    app::type_number(&mut h, "Feed", "750");
     assert_eq!(pocket(&h).common.feed_mm_per_min, 750.0);
-    type_number(&mut h, "Stock to leave, walls", "0.3");
+    app::type_number(&mut h, "Stock to leave, walls", "0.3");
     assert_eq!(pocket(&h).common.stock_to_leave_walls_mm, 0.3);
     // Out of range: refused, the value stays.
-    type_number(&mut h, "Step-down", "-2");
+    app::type_number(&mut h, "Step-down", "-2");
     assert_eq!(pocket(&h).step_down_mm, 1.25);
     // Each height names what it is measured from: the clearance and the feed-from height
     // the stock's top, the retract (the cycles' R plane) the part's top, as the defaults are.

@@ -11,6 +11,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use common::app;
 use common::app::{
     is_posting, is_simulating, planned_feed, program_text, simulation, simulation_of,
 };
@@ -42,32 +43,6 @@ fn data_dir(test: &str) -> PathBuf {
     d
 }
 
-fn harness(config: WorkstationConfig) -> Harness<'static, Workstation> {
-    harness_sized(config, 900.0)
-}
-
-/// A harness `height` px tall (the simulation's rows lie below the fold of a short window).
-fn harness_sized(config: WorkstationConfig, height: f32) -> Harness<'static, Workstation> {
-    let ws = Workstation::new(&egui::Context::default(), None, config);
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, height))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, ws: &mut Workstation| ws.frame_ui(ui), ws)
-}
-
-/// Step frames until no job runs (the loads run on worker threads).
-fn settle(h: &mut Harness<'static, Workstation>) {
-    for _ in 0..2000 {
-        h.step();
-        if !h.state().is_loading() && !h.state().is_computing_field() {
-            h.step();
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!("the workstation never finished loading");
-}
-
 /// A file dropped on the window, as the windowing backend would hand it over.
 #[derive(Debug)]
 struct DroppedPath(PathBuf);
@@ -91,8 +66,8 @@ fn press(h: &mut Harness<'static, Workstation>, modifiers: egui::Modifiers, key:
 #[test]
 fn open_select_edit_undo_redo_and_a_malformed_file() {
     let dir = data_dir("main");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_load(&mut h);
 
     // The default part is open and the default ball end mill is the selected tool.
     let doc = h.state().document().expect("default part loaded");
@@ -173,7 +148,7 @@ fn open_select_edit_undo_redo_and_a_malformed_file() {
     h.get_by_label("Discard").click();
     h.run_steps(2);
     assert!(h.state().waiting_for_unsaved_answer().is_none());
-    settle(&mut h);
+    app::settle_load(&mut h);
     let doc = h.state().document().expect("the old part stays");
     assert_eq!(doc.part.name, "bicubic-hills");
     assert_eq!(doc.part.mesh().triangles.len(), triangles);
@@ -199,8 +174,8 @@ fn save_autosave_and_recover() {
     let dir = data_dir("recover");
     let mut config = WorkstationConfig::isolated(None, dir.clone());
     config.autosave_every = Duration::ZERO;
-    let mut h = harness(config);
-    settle(&mut h);
+    let mut h = app::harness(config, 900.0);
+    app::settle_load(&mut h);
     h.state_mut()
         .apply(Command::Edit(talas::project::Edit::Rename("Hills".into())));
     h.step();
@@ -210,8 +185,8 @@ fn save_autosave_and_recover() {
     drop(h);
 
     // A new session finds the recovery file and offers it.
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_load(&mut h);
     assert_eq!(h.state().pending_recovery(), Some(recovery.as_path()));
     h.get_by_label("Recover unsaved changes?");
     h.get_by_label("Recover").click();
@@ -230,8 +205,11 @@ fn save_autosave_and_recover() {
 
     // Opening the saved project by dropping it: clean, same name.
     drop(h);
-    let mut h = harness(WorkstationConfig::isolated(Some(path.clone()), dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(
+        WorkstationConfig::isolated(Some(path.clone()), dir.clone()),
+        900.0,
+    );
+    app::settle_load(&mut h);
     assert_eq!(h.state().session().project.name, "Hills");
     assert_eq!(h.state().session().path.as_deref(), Some(path.as_path()));
     assert_eq!(h.state().pending_recovery(), None);
@@ -242,8 +220,8 @@ fn save_autosave_and_recover() {
     drop(h);
     let mut config = WorkstationConfig::isolated(Some(path.clone()), dir.clone());
     config.autosave_every = Duration::ZERO;
-    let mut h = harness(config);
-    settle(&mut h);
+    let mut h = app::harness(config, 900.0);
+    app::settle_load(&mut h);
     h.state_mut()
         .apply(Command::Edit(talas::project::Edit::Rename(
             "Hills v2".into(),
@@ -258,8 +236,8 @@ fn save_autosave_and_recover() {
         dir.join("part.stp"),
         path.clone(),
     ];
-    let mut h = harness(config);
-    settle(&mut h);
+    let mut h = app::harness(config, 900.0);
+    app::settle_load(&mut h);
     assert_eq!(h.state().pending_recovery(), Some(beside.as_path()));
     h.get_by_label_contains(&format!("unsaved changes to {}", path.display()));
     h.get_by_label("Recover").click();
@@ -368,30 +346,12 @@ fn the_curvature_field_of_the_filleted_pocket_has_the_fillet_radius() {
     assert!(seen.iter().all(|&c| c > 20), "{seen:?}");
 }
 
-/// Step frames until the calculation ends.
-/// Step frames while `busy` says a background job runs (at most 30 s), then one more.
-fn settle_while(h: &mut Harness<'static, Workstation>, what: &str, busy: fn(&Workstation) -> bool) {
-    for _ in 0..6000 {
-        h.step();
-        if !busy(h.state()) {
-            h.step();
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!("the {what} never finished");
-}
-
-fn settle_calculation(h: &mut Harness<'static, Workstation>) {
-    settle_while(h, "calculation", Workstation::is_calculating);
-}
-
 #[test]
 fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     use talas::project::{Edit, Operation};
     let dir = data_dir("operation");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_load(&mut h);
 
     // A new project guides the first job: the default part is open and its tool chosen
     // (ticked), the face, the operation and Calculate still to do.
@@ -435,7 +395,7 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
     // F5 calculates in the background; the summary appears with units.
     press(&mut h, egui::Modifiers::NONE, egui::Key::F5);
     assert!(h.state().is_calculating() || h.state().operation_result(0).is_some());
-    settle_calculation(&mut h);
+    app::settle_calculation(&mut h);
     let (result, fresh) = h.state().operation_result(0).expect("a result");
     assert!(fresh);
     let poses = result.toolpath().poses.len();
@@ -497,8 +457,8 @@ fn an_operation_is_added_calculated_played_back_and_goes_stale_when_edited() {
 fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     use talas::project::{Edit, Operation, OperationKind};
     let dir = data_dir("simulate");
-    let mut h = harness_sized(WorkstationConfig::isolated(None, dir.clone()), 1300.0);
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 1300.0);
+    app::settle_load(&mut h);
     let mut op = Operation::new(OperationKind::Raster, 0, 0);
     if let Operation::Raster { scallop_mm, .. } = &mut op {
         *scallop_mm = 0.1;
@@ -509,7 +469,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     }));
     h.state_mut().apply(Command::Inspect(Focus::Operation(0)));
     h.state_mut().apply(Command::Calculate(0));
-    settle_calculation(&mut h);
+    app::settle_calculation(&mut h);
     assert!(
         h.state()
             .operation_result(0)
@@ -518,7 +478,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     // Simulate from the operation editor's button.
     h.get_by_label("Simulate").click();
     h.run_steps(2);
-    settle_while(&mut h, "simulation", is_simulating);
+    app::settle_while(&mut h, "simulation", is_simulating);
     h.run_steps(2);
     let Some(sim) = simulation_of(h.state(), 0) else {
         for m in &h.state().log().entries {
@@ -542,7 +502,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         talas::app::command::PlaybackCommand::Seek(60.0),
     ));
     h.state_mut().apply(Command::SimulateToPlayback);
-    settle_while(&mut h, "simulation", is_simulating);
+    app::settle_while(&mut h, "simulation", is_simulating);
     let partial = simulation(h.state())
         .shown()
         .expect("partial stock")
@@ -556,7 +516,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
 
     // F7 posts the path and plans its motion; the G-code pane shows it, Export writes it.
     press(&mut h, egui::Modifiers::NONE, egui::Key::F7);
-    settle_while(&mut h, "is_posting", is_posting);
+    app::settle_while(&mut h, "is_posting", is_posting);
     h.run_steps(2);
     let text = program_text(h.state(), 0).expect("posted").to_string();
     assert!(
@@ -611,7 +571,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
     h.run_steps(2);
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    settle_while(&mut h, "reduction", reducing);
+    app::settle_while(&mut h, "reduction", reducing);
     assert!(reduction(h.state()).is_visible());
     assert!(!simulation(h.state()).is_visible());
     // A stock change makes the simulation stale (not shown for the operation any more).
@@ -634,7 +594,7 @@ fn a_raster_path_is_simulated_and_the_stock_shows_its_deviation() {
         operation: rough,
     }));
     h.state_mut().apply(Command::Calculate(1));
-    settle_calculation(&mut h);
+    app::settle_calculation(&mut h);
     assert!(h.state().operation_result(1).expect("roughed").1);
     h.state_mut()
         .apply(Command::Edit(Edit::SetStock(talas::project::Stock::Box {
@@ -666,8 +626,8 @@ fn reducing(ws: &Workstation) -> bool {
 fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     use talas::geometry::zmap::zmap_from_surface;
     let dir = data_dir("reduction");
-    let mut h = harness(WorkstationConfig::isolated(None, dir.clone()));
-    settle(&mut h);
+    let mut h = app::harness(WorkstationConfig::isolated(None, dir.clone()), 900.0);
+    app::settle_load(&mut h);
     h.get_by_label("Machining").click();
     h.run_steps(2);
     h.get_by_label("Data reduction (Z-map SVD)…").click();
@@ -676,7 +636,7 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.get_by_label_contains("161 × 121 nodes");
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    settle_while(&mut h, "reduction", reducing);
+    app::settle_while(&mut h, "reduction", reducing);
     h.run_steps(2);
     let Some(talas::app::reduction::ReductionResult::Regular(r)) =
         reduction(h.state()).result().cloned()
@@ -760,7 +720,7 @@ fn the_data_reduction_view_reduces_the_part_within_its_tolerance() {
     h.run_steps(2);
     h.get_by_label("Reduce").click();
     h.run_steps(2);
-    settle_while(&mut h, "reduction", reducing);
+    app::settle_while(&mut h, "reduction", reducing);
     h.run_steps(2);
     let Some(talas::app::reduction::ReductionResult::Xy(xy)) =
         reduction(h.state()).result().cloned()

@@ -34,6 +34,9 @@ pub enum Command {
     SetEdges(bool),
     /// Show or hide the ground grid.
     SetGrid(bool),
+    /// Orbit in the active setup's frame (the part as it lies on that setup's table) or in the
+    /// part's own.
+    SetOrientToSetup(bool),
     /// Change the selection.
     Select(Selection),
     /// Empty the log.

@@ -12,6 +12,8 @@ pub enum Edit {
     SetPart(Option<PartRef>),
     /// Replace the stock.
     SetStock(Stock),
+    /// Set the stock's work material (`None`: none; feeds typed).
+    SetMaterial(Option<super::cutting::WorkMaterial>),
     /// Replace setup `index` (its frame, stock, workholding, tilt, machine and name; its
     /// operations must stay a valid share of the job's).
     SetSetup {
@@ -124,6 +126,7 @@ impl Edit {
             Self::Rename(_) => "Rename project",
             Self::SetPart(_) => "Change part",
             Self::SetStock(_) => "Change stock",
+            Self::SetMaterial(_) => "Change material",
             Self::AddTool { .. } => "Add tool",
             Self::SetTool { .. } => "Edit tool",
             Self::RemoveTool { .. } => "Delete tool",
@@ -420,6 +423,12 @@ impl Project {
             Edit::SetStock(stock) => {
                 stock.validate().map_err(EditError::Invalid)?;
                 Edit::SetStock(std::mem::replace(&mut self.stock, stock))
+            }
+            Edit::SetMaterial(material) => {
+                if let Some(m) = &material {
+                    m.material().map_err(EditError::Invalid)?;
+                }
+                Edit::SetMaterial(std::mem::replace(&mut self.material, material))
             }
             Edit::AddTool { index, tool } => {
                 if index > self.tools.len() {

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use super::Project;
 use super::setups::{self, Placement, SetupStock, transform_mesh};
-use super::simulate::{SimulationSettings, measured, stock_resolution_mm};
+use super::simulate::{Simulated, SimulationSettings, measured, stock_resolution_mm};
 use crate::checks::collide::{Hit, Obstacle, assembly, first_hit};
 use crate::diagnostics::Progress;
 use crate::geometry::Aabb;
@@ -67,6 +67,9 @@ pub struct SetupSimulation {
     pub workholding: Vec<Option<WorkholdingHit>>,
     /// The stock at the end (setup frame).
     pub stock: DexelStock,
+    /// The cut stock's top and its signed deviation from the part (setup frame), as the
+    /// single-operation simulation measures it; `None` for a setup without paths.
+    pub measured: Option<Simulated>,
 }
 
 /// The workholding obstacles of setup `index` in its frame.
@@ -224,13 +227,13 @@ pub fn simulate_job(
                     .map_err(|e| named(e.to_string()))?,
             );
         }
-        let (stock_collisions, max_gouge_mm) = if reports.is_empty() {
-            (0, 0.0)
+        let (stock_collisions, max_gouge_mm, measured) = if reports.is_empty() {
+            (0, 0.0, None)
         } else {
             let mesh = transform_mesh(&part.mesh, here.rotation, -(here.rotation * here.origin));
             let m =
                 measured(&dexels, &mesh, reports, progress).map_err(|e| named(e.to_string()))?;
-            (m.report.collisions.len(), m.max_gouge_mm)
+            (m.report.collisions.len(), m.max_gouge_mm, Some(m))
         };
         let end = dexels.volume_mm3();
         out.push(SetupSimulation {
@@ -246,7 +249,48 @@ pub fn simulate_job(
             max_gouge_mm,
             workholding,
             stock: dexels,
+            measured,
         });
     }
     Ok(out)
+}
+
+/// The whole job simulated as `talas job --simulate` runs it: every setup's operations planned
+/// in its frame ([`super::job::plan_in_setup`]) and linked over the stock the paths before them
+/// leave ([`super::job::link_setup`]), then [`simulate_job`]. Progress runs over the planning
+/// (the first half) and is checked between operations.
+///
+/// # Errors
+/// The first operation that cannot be planned, named with its setup; a setup that cannot be
+/// linked or simulated; "cancelled".
+pub fn simulate_whole_job(
+    project: &Project,
+    part: &Workpiece,
+    base: &Path,
+    settings: &SimulationSettings,
+    progress: &Progress,
+) -> Result<Vec<SetupSimulation>, String> {
+    let total = project.operations.len().max(1) as f64;
+    let mut done = 0usize;
+    let mut paths = Vec::with_capacity(project.setups.len());
+    for (s, setup) in project.setups.iter().enumerate() {
+        let named = |e: String| format!("setup {} ('{}'): {e}", s + 1, setup.name);
+        let mut planned = Vec::with_capacity(setup.operations.len());
+        for &op in &setup.operations {
+            progress.check().map_err(|_| "cancelled".to_string())?;
+            let c = super::job::plan_in_setup(project, op, part, &Progress::new())
+                .map_err(|e| named(format!("operation {}: {e}", op + 1)))?;
+            planned.push(c.toolpath);
+            done += 1;
+            progress.set(0.5 * done as f64 / total);
+        }
+        if !planned.is_empty() {
+            let (linked, _) =
+                super::job::link_setup(project, s, part, &planned, false, &Progress::new())
+                    .map_err(named)?;
+            planned = linked.into_iter().map(|l| l.toolpath).collect();
+        }
+        paths.push(planned);
+    }
+    simulate_job(project, part, base, &paths, settings, progress)
 }

@@ -6,6 +6,7 @@
 //! loaded mesh; the workstation loads the part the document references.
 
 mod computed;
+pub mod cutting;
 mod edit;
 pub mod file;
 pub mod finish_group;
@@ -213,6 +214,10 @@ pub struct Project {
     /// Stock (raw material).
     #[serde(default)]
     pub stock: Stock,
+    /// The stock's material, for feeds and speeds from the cutting-data library (`None`: the
+    /// operations' feeds are all typed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<cutting::WorkMaterial>,
     /// The tool library.
     #[serde(default)]
     pub tools: Vec<ToolEntry>,
@@ -270,6 +275,7 @@ impl Default for Project {
             name: "Untitled".into(),
             part: None,
             stock: Stock::None,
+            material: None,
             setups: vec![Setup::named(FIRST_SETUP_NAME)],
             legacy_setup: None,
             post: PostConfig::default(),

@@ -428,6 +428,17 @@ impl Operation {
         }
     }
 
+    /// [`Operation::common`], to change.
+    pub fn common_mut(&mut self) -> Option<&mut super::op_common::Common> {
+        match self {
+            Self::Face(o) => Some(&mut o.common),
+            Self::Pocket(o) => Some(&mut o.common),
+            Self::Contour(o) => Some(&mut o.common),
+            Self::Holes(o) => Some(&mut o.common),
+            _ => None,
+        }
+    }
+
     /// Is it a 2.5D or hole kind (planned on the B-rep turned into the setup's frame)?
     #[must_use]
     pub fn is_planar(&self) -> bool {

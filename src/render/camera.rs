@@ -4,7 +4,7 @@
 
 use glam::camera::rh::proj::directx::{orthographic, perspective};
 use glam::camera::rh::view::look_to_mat4;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// Perspective or orthographic projection.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,6 +147,10 @@ pub struct Camera {
     pub projection: Projection,
     /// What the scene occupies, for the near and far planes.
     pub scene: BoundingSphere,
+    /// The frame the camera orbits in (world from frame, a rotation): yaw turns about its Z,
+    /// and the standard views look along its axes. The identity orbits the world's Z; a setup's
+    /// rotation shows the part as it lies on that setup's table, "Top" looking down its spindle.
+    pub frame: Mat3,
 }
 
 impl Default for Camera {
@@ -162,6 +166,7 @@ impl Default for Camera {
                 centre: Vec3::ZERO,
                 radius: 50.0,
             },
+            frame: Mat3::IDENTITY,
         };
         camera.set_view(StandardView::Iso);
         camera
@@ -169,22 +174,40 @@ impl Default for Camera {
 }
 
 impl Camera {
-    /// Unit vector from the target toward the eye.
+    /// Unit vector from the target toward the eye, in the camera's [`Camera::frame`].
     #[must_use]
-    pub fn backward(&self) -> Vec3 {
+    pub fn local_backward(&self) -> Vec3 {
         let (sy, cy) = self.yaw_rad.sin_cos();
         let (sp, cp) = self.pitch_rad.sin_cos();
         Vec3::new(cp * cy, cp * sy, sp)
     }
 
-    /// Unit vector pointing right on screen.
+    /// Unit vector pointing right on screen, in the camera's [`Camera::frame`].
     #[must_use]
-    pub fn right(&self) -> Vec3 {
+    pub fn local_right(&self) -> Vec3 {
         let (sy, cy) = self.yaw_rad.sin_cos();
         Vec3::new(-sy, cy, 0.0)
     }
 
-    /// Unit vector pointing up on screen.
+    /// Unit vector pointing up on screen, in the camera's [`Camera::frame`].
+    #[must_use]
+    pub fn local_up(&self) -> Vec3 {
+        self.local_backward().cross(self.local_right())
+    }
+
+    /// Unit vector from the target toward the eye (world).
+    #[must_use]
+    pub fn backward(&self) -> Vec3 {
+        (self.frame * self.local_backward()).normalize_or(Vec3::Z)
+    }
+
+    /// Unit vector pointing right on screen (world).
+    #[must_use]
+    pub fn right(&self) -> Vec3 {
+        (self.frame * self.local_right()).normalize_or(Vec3::X)
+    }
+
+    /// Unit vector pointing up on screen (world).
     #[must_use]
     pub fn up(&self) -> Vec3 {
         self.backward().cross(self.right())
@@ -239,7 +262,8 @@ impl Camera {
         self.clip_from_view(aspect) * self.view_from_world()
     }
 
-    /// Orbit by a screen drag of (`dx`, `dy`) rad: yaw about world Z, pitch clamped at the poles.
+    /// Orbit by a screen drag of (`dx`, `dy`) rad: yaw about the frame's Z, pitch clamped at the
+    /// poles.
     pub fn orbit(&mut self, dx_rad: f32, dy_rad: f32) {
         use std::f32::consts::{FRAC_PI_2, TAU};
         self.yaw_rad = (self.yaw_rad - dx_rad).rem_euclid(TAU);
@@ -348,6 +372,29 @@ mod tests {
             StandardView::IsoFrom([false; 3]).name(),
             "Isometric (−X −Y −Z)"
         );
+    }
+
+    #[test]
+    fn a_frame_turns_the_standard_views_with_it() {
+        // A setup lying on its front face: its Z is the part's −Y, its X the part's X.
+        let frame = Mat3::from_cols(Vec3::X, Vec3::Z, -Vec3::Y);
+        let mut c = Camera {
+            frame,
+            ..Camera::default()
+        };
+        c.set_view(StandardView::Top);
+        assert!(near(c.backward(), -Vec3::Y), "{:?}", c.backward());
+        assert!(
+            near(c.right(), Vec3::X) && near(c.up(), Vec3::Z),
+            "{:?}",
+            c.up()
+        );
+        assert!(near(c.local_backward(), Vec3::Z));
+        // The view matrix agrees: the target's frame-Z neighbour projects straight at the eye.
+        let m = c.clip_from_world(1.0);
+        let a = m.project_point3(c.target);
+        let b = m.project_point3(c.target - Vec3::Y * 5.0);
+        assert!((a.x - b.x).abs() < 1e-5 && (a.y - b.y).abs() < 1e-5);
     }
 
     #[test]

@@ -125,6 +125,18 @@ fn parse_flutes(
     Ok(Some(flutes))
 }
 
+/// `angle_rad` in degrees as a spec writes it: the shortest decimal (to 1e-9°) that reads
+/// back to the same angle, so 59° stays `59`, not `59.00000000000001`.
+fn degrees(angle_rad: f64) -> f64 {
+    let exact = angle_rad.to_degrees();
+    let rounded = (exact * 1e9).round() / 1e9;
+    if rounded.to_radians() == angle_rad {
+        rounded
+    } else {
+        exact
+    }
+}
+
 /// The spec string of `cutter` (`bull:d=10,r=2,flute=20,shank=10,length=70,holder=40x60`):
 /// every size written, so [`parse_tool_spec`] gives the same cutter back.
 #[must_use]
@@ -136,11 +148,7 @@ pub fn tool_spec(cutter: &Cutter) -> String {
             format!("bull:d={},r={corner_radius}", cutter.diameter)
         }
         CutterKind::Cone { half_angle } => {
-            format!(
-                "cone:d={},angle={}",
-                cutter.diameter,
-                half_angle.to_degrees()
-            )
+            format!("cone:d={},angle={}", cutter.diameter, degrees(half_angle))
         }
     };
     s.push_str(&format!(
@@ -230,6 +238,34 @@ mod tests {
             assert_eq!(back.flutes, None, "{written}");
             assert!(!written.contains("flutes"), "{written}");
         }
+    }
+
+    #[test]
+    fn angles_are_written_as_typed() {
+        // 59.to_radians().to_degrees() is 59.00000000000001: the spec must say 59.
+        for (spec, angle) in [
+            ("cone:d=10,angle=59", "angle=59,"),
+            ("cone:d=3,angle=45", "angle=45,"),
+        ] {
+            let written = tool_spec(&parse_tool_spec(spec).expect(spec));
+            assert!(written.contains(angle), "{written}");
+        }
+        // An angle with no short decimal keeps its exact digits (it reads back the same).
+        let odd = Cutter {
+            kind: CutterKind::Cone {
+                half_angle: 0.123_456_789_012_345_6,
+            },
+            ..parse_tool_spec("cone:d=10,angle=30").expect("cone")
+        };
+        let written = tool_spec(&odd);
+        let back = parse_tool_spec(&written).expect("written");
+        let CutterKind::Cone { half_angle } = back.kind else {
+            panic!("{written}")
+        };
+        assert!(
+            (half_angle - 0.123_456_789_012_345_6).abs() < 1e-15,
+            "{written}"
+        );
     }
 
     #[test]

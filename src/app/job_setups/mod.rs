@@ -1,22 +1,29 @@
 //! The job's setups in the workstation, a feature: the workholding of the setup in focus drawn
 //! around the part (in part coordinates, where it holds the part), the setup's stock box
-//! outlined, and "Post job…" (Machining menu): every operation of every setup planned in its
+//! outlined, the view turned so the part lies as on that setup's table (the camera orbits in the
+//! setup's frame, its work offset marked by the setup's axes), and "Post job…" (Machining menu): every operation of every setup planned in its
 //! setup's frame and one program per setup written next to the chosen file
 //! (`STEM-NN-SETUP.EXT`), on a worker thread with progress and Cancel
-//! ([`crate::project::job::post_job`], as `talas job --post` does).
+//! ([`crate::project::job::post_job`], as `talas job --post` does), and "Simulate job": the
+//! setups cut one after the other, the stock after the setup in focus drawn in its place
+//! ([`simulation`]).
+
+pub mod simulation;
 
 use std::any::Any;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{DMat4, DVec3, Mat4};
+use glam::{DMat4, DVec3, Mat3, Mat4};
 
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
 use crate::app::feature::{
-    Feature, FeatureContext, FeatureSave, FeatureView, SceneParts, chosen_file,
+    Feature, FeatureContext, FeatureSave, FeatureView, InsteadOfPart, RenderIds, SceneParts,
+    chosen_file,
 };
 use crate::app::job::{Job, JobSlot, JobStatus};
+use crate::app::viewport::ViewportState;
 use crate::diagnostics::Severity;
 use crate::import::Workpiece;
 use crate::project::Project;
@@ -50,6 +57,8 @@ struct Drawn {
     key: String,
     meshes: Vec<MeshInstance>,
     lines: Vec<LineInstance>,
+    /// World (part) from the setup's frame, when the setup could be placed.
+    world_from_setup: Option<Mat4>,
     error: Option<String>,
 }
 
@@ -58,6 +67,10 @@ struct Drawn {
 pub struct JobSetups {
     drawn: Option<Drawn>,
     job: JobSlot<Written, ()>,
+    /// The whole job's simulation.
+    pub simulation: simulation::JobSimulation,
+    /// The stock after the setup in view, when the job was simulated on this project.
+    stock_shown: Option<InsteadOfPart>,
 }
 
 impl JobSetups {
@@ -108,10 +121,11 @@ impl JobSetups {
             .and_then(Path::parent)
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
         let drawn = match scene_of(project, s, &doc.part.workpiece, &base, cx) {
-            Ok((meshes, lines)) => Drawn {
+            Ok((meshes, lines, world)) => Drawn {
                 key,
                 meshes,
                 lines,
+                world_from_setup: Some(world),
                 error: None,
             },
             Err(e) => {
@@ -122,6 +136,7 @@ impl JobSetups {
                     key,
                     meshes: Vec::new(),
                     lines: Vec::new(),
+                    world_from_setup: None,
                     error: Some(e),
                 }
             }
@@ -208,14 +223,15 @@ fn world_from_setup(place: &Placement) -> Mat4 {
     m.as_mat4()
 }
 
-/// The setup's workholding meshes and its stock box's edges, in part coordinates.
+/// The setup's workholding meshes, its stock box's edges and world-from-setup, in part
+/// coordinates.
 fn scene_of(
     project: &Project,
     s: usize,
     part: &Workpiece,
     base: &Path,
     cx: &mut FeatureContext<'_>,
-) -> Result<(Vec<MeshInstance>, Vec<LineInstance>), String> {
+) -> Result<(Vec<MeshInstance>, Vec<LineInstance>, Mat4), String> {
     let placements = setups::placements(project, Some(part))?;
     let bounds = part.mesh.bbox();
     let place = placements
@@ -244,7 +260,7 @@ fn scene_of(
             draw_segments: None,
         }]
     };
-    Ok((meshes, lines))
+    Ok((meshes, lines, world))
 }
 
 /// The 12 edges of a box as line segments.
@@ -280,6 +296,10 @@ impl Feature for JobSetups {
             feature: Self::ID,
             action: "post",
         };
+        let simulate = FeatureCommand {
+            feature: Self::ID,
+            action: "simulate",
+        };
         vec![
             Action::new(
                 Command::Feature(post),
@@ -287,6 +307,15 @@ impl Feature for JobSetups {
                 Some((Menu::Machining, 1)),
             )
             .hint("Plan every operation in its setup and write one program per setup"),
+            Action::new(
+                Command::Feature(simulate),
+                "Simulate job",
+                Some((Menu::Machining, 1)),
+            )
+            .hint(
+                "Cut every setup in order, each from the stock the one before it left; pick a \
+                 setup to see the stock after it",
+            ),
         ]
     }
 
@@ -296,6 +325,13 @@ impl Feature for JobSetups {
             return None;
         }
         match command {
+            Command::Feature(FeatureCommand {
+                feature: Self::ID,
+                action: "simulate",
+            }) => {
+                self.simulation.start(cx);
+                None
+            }
             Command::Feature(FeatureCommand {
                 feature: Self::ID,
                 action: "post",
@@ -324,29 +360,70 @@ impl Feature for JobSetups {
     fn poll(&mut self, cx: &mut FeatureContext<'_>) {
         self.refresh(cx);
         self.poll_job(cx);
+        self.simulation.poll(cx);
+        let view = cx.view;
+        let in_view = view
+            .active_setup
+            .min(view.project.setups.len().saturating_sub(1));
+        self.stock_shown = self
+            .drawn
+            .as_ref()
+            .and_then(|d| d.world_from_setup)
+            .and_then(|world| self.simulation.stock_after(&view, in_view, world));
     }
 
     fn job_status(&self) -> Option<JobStatus> {
-        self.job.status()
+        self.job.status().or_else(|| self.simulation.status())
     }
 
     fn cancel(&mut self) -> Option<String> {
-        self.job.cancel()
+        self.job.cancel().or_else(|| self.simulation.cancel())
     }
 
     fn reset(&mut self) {
         *self = Self::default();
     }
 
-    fn ui(&mut self, _ctx: &egui::Context, _view: &FeatureView<'_>, _commands: &mut Vec<Command>) {}
+    fn ui(&mut self, ctx: &egui::Context, view: &FeatureView<'_>, _commands: &mut Vec<Command>) {
+        self.simulation.window_ui(ctx, view);
+    }
+
+    /// The work offset marked with the setup's axes, and the camera orbiting in its frame
+    /// (when the view follows the setup): a part turned over for setup 2 is seen turned over.
+    fn steer_view(&mut self, viewport: &mut ViewportState, _ids: &RenderIds) -> Vec<MeshInstance> {
+        if viewport.machine_shown {
+            return Vec::new();
+        }
+        if let Some(world) = self.drawn.as_ref().and_then(|d| d.world_from_setup) {
+            viewport.work_offset = Some(world);
+            let frame = if viewport.orient_to_setup {
+                Mat3::from_mat4(world)
+            } else {
+                Mat3::IDENTITY
+            };
+            if viewport.camera.frame != frame {
+                viewport.camera.frame = frame;
+            }
+        } else {
+            viewport.camera.frame = Mat3::IDENTITY;
+        }
+        Vec::new()
+    }
 
     fn scene(&self) -> SceneParts {
         let Some(d) = &self.drawn else {
             return SceneParts::default();
         };
+        let stock = self.stock_shown.as_ref().map(|s| InsteadOfPart {
+            mesh: s.mesh.clone(),
+            legend: s.legend.clone(),
+            mapping: s.mapping,
+        });
         SceneParts {
             meshes: d.meshes.clone(),
             lines: d.lines.clone(),
+            hide_paths: stock.is_some(),
+            instead_of_part: stock,
             ..SceneParts::default()
         }
     }

@@ -248,6 +248,8 @@ pub fn panel_machine(
         return Vec::new();
     }
     let preset = panel.take_machine_view();
+    viewport.machine_shown = true;
+    viewport.camera.frame = glam::Mat3::IDENTITY;
     let mut view = std::mem::take(&mut panel.machine_view);
     let stock = panel
         .control_mut()

@@ -19,6 +19,8 @@ pub struct ViewFlags {
     pub edges: bool,
     /// Grid shown.
     pub grid: bool,
+    /// The view orbits in the active setup's frame (the part as it lies on that setup's table).
+    pub orient_to_setup: bool,
     /// Scalar field the part is coloured by.
     pub scalar_field: Option<ScalarField>,
     /// Can the part be coloured by curvature (it has exact surfaces)?
@@ -130,6 +132,17 @@ fn view_toggles_ui(
     let mut grid = view.grid;
     if ui.checkbox(&mut grid, "Grid").changed() {
         commands.push(Command::SetGrid(grid));
+    }
+    let mut orient = view.orient_to_setup;
+    if ui
+        .checkbox(&mut orient, "Part as it lies in the setup")
+        .on_hover_text(
+            "The view turns with the active setup: Top looks down its spindle, and the view \
+             cube names its sides. Off, the part keeps its own CAD orientation.",
+        )
+        .changed()
+    {
+        commands.push(Command::SetOrientToSetup(orient));
     }
     ui.separator();
     ui.add_enabled_ui(view.fields_available, |ui| {

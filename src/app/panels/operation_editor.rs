@@ -7,6 +7,7 @@
 //! degrees; the document keeps rad.
 
 mod boundary;
+mod cutting_data;
 mod planar;
 
 use glam::DVec3;
@@ -123,6 +124,8 @@ pub fn operation_editor_ui(
         }));
     }
     form.draft = Some(draft);
+    ui.add_space(4.0);
+    cutting_data::cutting_data_ui(ui, view.project, view.index, current, commands);
 
     ui.add_space(8.0);
     ui.horizontal(|ui| {

@@ -221,6 +221,64 @@ fn stock_ui(ui: &mut egui::Ui, view: &PropertiesView<'_>, commands: &mut Vec<Com
     if view.project.stock != Stock::None && ui.button("No stock").clicked() {
         commands.push(Command::Edit(Edit::SetStock(Stock::None)));
     }
+    ui.add_space(8.0);
+    material_ui(ui, view.project, commands);
+}
+
+/// The stock's work material and the tools' material: the operations' feeds and speeds come
+/// from the cutting-data library for them (each operation's editor shows how).
+fn material_ui(ui: &mut egui::Ui, project: &Project, commands: &mut Vec<Command>) {
+    use crate::force::cutting_data::{MATERIALS, ToolMaterial};
+    use crate::project::cutting::WorkMaterial;
+    let current = project.material.clone();
+    let mut next = current.clone();
+    egui::Grid::new("work material")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("Material");
+            let shown = current.as_ref().map_or_else(
+                || "None (feeds typed)".to_string(),
+                |m| {
+                    m.material().map_or_else(
+                        |_| format!("{} (not in the library)", m.key),
+                        |l| l.name.to_string(),
+                    )
+                },
+            );
+            egui::ComboBox::from_id_salt("work material")
+                .selected_text(shown)
+                .show_ui(ui, |ui| {
+                    if ui
+                        .selectable_label(next.is_none(), "None (feeds typed)")
+                        .clicked()
+                    {
+                        next = None;
+                    }
+                    for m in &MATERIALS {
+                        let on = next.as_ref().is_some_and(|w| w.key == m.key);
+                        if ui.selectable_label(on, m.name).clicked() {
+                            next = Some(WorkMaterial {
+                                key: m.key.to_string(),
+                                tool_material: next
+                                    .as_ref()
+                                    .map_or(ToolMaterial::Carbide, |w| w.tool_material),
+                            });
+                        }
+                    }
+                });
+            ui.end_row();
+            if let Some(w) = next.as_mut() {
+                ui.label("Tool material");
+                ui.horizontal(|ui| {
+                    ui.radio_value(&mut w.tool_material, ToolMaterial::Carbide, "Carbide");
+                    ui.radio_value(&mut w.tool_material, ToolMaterial::Hss, "HSS");
+                });
+                ui.end_row();
+            }
+        });
+    if next != current {
+        commands.push(Command::Edit(Edit::SetMaterial(next)));
+    }
 }
 
 fn machine_ui(

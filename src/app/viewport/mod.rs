@@ -49,8 +49,15 @@ pub struct ViewportState {
     pub scalar_field: Option<ScalarField>,
     /// The tool drawn at its pose (playback, simulation), if any.
     pub tool_pose: Option<ToolPose>,
-    /// The work offset (program origin, mm) marked by coloured axes, if any.
-    pub work_offset: Option<DVec3>,
+    /// The work offset marked by coloured axes, if any: world from the program's frame (its
+    /// origin, mm, and its X, Y, Z: the active setup's).
+    pub work_offset: Option<Mat4>,
+    /// The camera orbits in the active setup's frame, so the part is seen as it lies on that
+    /// setup's table ("Top" looks down its spindle); off, it orbits the part's own Z.
+    pub orient_to_setup: bool,
+    /// The operator panel's machine is drawn this frame (machine coordinates: the setup's frame
+    /// and work offset do not apply). Cleared before the features steer the view.
+    pub machine_shown: bool,
     tool_mesh: Option<tool_model::ToolMesh>,
     marker_lines: Option<tool_model::MarkerLines>,
     /// The part's mesh with the shown field: ((document id, field), render id, mesh, mapping).
@@ -81,6 +88,8 @@ impl Default for ViewportState {
             scalar_field: None,
             tool_pose: None,
             work_offset: None,
+            orient_to_setup: true,
+            machine_shown: false,
             tool_mesh: None,
             marker_lines: None,
             field_mesh: None,

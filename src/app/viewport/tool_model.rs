@@ -157,7 +157,7 @@ impl ViewportState {
                 scalar_map: None,
             }
         });
-        let marker = self.work_offset.map(|origin| {
+        let marker = self.work_offset.map(|world_from_frame| {
             let size = if part_size.is_finite() && part_size > 0.0 {
                 MARKER_FRACTION * part_size
             } else {
@@ -182,7 +182,7 @@ impl ViewportState {
             LineInstance {
                 id,
                 data,
-                world_from_lines: Mat4::from_translation(origin.as_vec3()),
+                world_from_lines: world_from_frame,
                 draw_segments: None,
             }
         });
@@ -293,7 +293,7 @@ mod tests {
                 axis: DVec3::Z,
                 cutter: cutter(CutterKind::Ball, 6.0),
             }),
-            work_offset: Some(DVec3::new(1.0, 2.0, 3.0)),
+            work_offset: Some(Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0))),
             ..ViewportState::default()
         };
         let (t1, m1) = state.tool_and_marker(100.0);

@@ -77,15 +77,16 @@ pub struct ProjectedFace {
     pub facing: f32,
 }
 
-/// Cube coordinates (x right, y down) of the world vector `w` for `camera`.
+/// Cube coordinates (x right, y down) of the vector `w` of the camera's frame (the cube's axes
+/// are the frame's: a setup's, when the view follows the setup).
 fn project(camera: &Camera, w: Vec3) -> Vec2 {
-    Vec2::new(w.dot(camera.right()), -w.dot(camera.up()))
+    Vec2::new(w.dot(camera.local_right()), -w.dot(camera.local_up()))
 }
 
 /// The faces turned toward the eye, from back to front (the order to paint them in).
 #[must_use]
 pub fn projected_faces(camera: &Camera) -> Vec<ProjectedFace> {
-    let back = camera.backward();
+    let back = camera.local_backward();
     let mut faces: Vec<ProjectedFace> = FACES
         .iter()
         .enumerate()

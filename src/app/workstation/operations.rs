@@ -169,7 +169,12 @@ impl Workstation {
                 };
                 let project = &self.saved.session.project;
                 let index = project.operations.len();
-                let operation = Operation::new(kind, tool, face);
+                // Its feeds and speeds from the cutting-data library when the stock has a
+                // material (the editor shows where they came from).
+                let operation = crate::project::cutting::with_library_speeds(
+                    project,
+                    Operation::new(kind, tool, face),
+                );
                 // Into the setup in focus (or the focused operation's), else the last one.
                 let last = project.setups.len().saturating_sub(1);
                 let setup = match self.focus {
