@@ -11,10 +11,9 @@ mod common;
 use std::path::PathBuf;
 
 use common::app;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use talas::app::WorkstationConfig;
 use talas::app::document::Selection;
-use talas::app::{Workstation, WorkstationConfig};
 
 #[test]
 fn the_tree_lists_the_parts_features_and_a_click_selects_the_floor() {

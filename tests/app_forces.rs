@@ -11,8 +11,6 @@
 
 mod common;
 
-use std::time::Duration;
-
 use common::app;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;

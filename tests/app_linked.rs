@@ -15,10 +15,8 @@
 mod common;
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use common::app;
-use egui_kittest::Harness;
 use talas::app::command::Command;
 use talas::app::{Workstation, WorkstationConfig};
 use talas::diagnostics::Progress;

@@ -7,10 +7,8 @@
 mod common;
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use common::app;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use talas::app::command::Command;
 use talas::app::job_setups::JobSetups;
