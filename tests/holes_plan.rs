@@ -314,7 +314,10 @@ fn helical_boring_and_thread_milling_follow_their_helices() {
     }];
     let plan = plan_holes(
         &m10,
-        &HoleStrategy::ThreadMill { pitch_mm: 1.5 },
+        &HoleStrategy::ThreadMill {
+            pitch_mm: 1.5,
+            teeth: 1,
+        },
         flat(6.0),
         None,
         &opts,
@@ -332,6 +335,54 @@ fn helical_boring_and_thread_milling_follow_their_helices() {
         rise += a.helix_mm;
     }
     assert!((rise - 6.5).abs() < 1e-9);
+    // A three-tooth mill at 1.5 mm covers 4.5 mm per turn: the 6.5 mm thread takes two turns,
+    // each rising one pitch, starting at the bottom and 4.5 mm above it (whole pitches, so both
+    // lie on the one thread), with the teeth together reaching from the bottom past the top.
+    let plan = plan_holes(
+        &m10,
+        &HoleStrategy::ThreadMill {
+            pitch_mm: 1.5,
+            teeth: 3,
+        },
+        flat(6.0),
+        None,
+        &opts,
+    )
+    .unwrap();
+    let tp = plan.toolpath.unwrap();
+    let bottom = 5.0 - 6.5;
+    let mut starts = Vec::new();
+    for s in &tp.exact {
+        let ExactMove::Arc(a) = s.exact else { panic!() };
+        assert!(a.sweep_rad > 0.0, "climb: counter-clockwise");
+        assert!((a.sweep_rad - std::f64::consts::TAU).abs() < 1e-9, "{a:?}");
+        assert!((a.helix_mm - 1.5).abs() < 1e-9, "{a:?}");
+        for p in &tp.poses[s.from..=s.to] {
+            assert!((radius(p.tip) - 2.0).abs() < 1e-9);
+        }
+        starts.push(tp.poses[s.from].tip.z - bottom);
+    }
+    assert_eq!(starts.len(), 2, "{starts:?}");
+    assert!(
+        starts[0].abs() < 1e-9 && (starts[1] - 4.5).abs() < 1e-9,
+        "{starts:?}"
+    );
+    assert!(starts[1] + 4.5 >= 6.5);
+    // Off the thread's radius the tool only moves along the axis (in and out at the axis).
+    for w in tp.poses.windows(2) {
+        let (r0, r1) = (radius(w[0].tip), radius(w[1].tip));
+        if w[0].tip.z > 5.0 + 1e-9 || w[1].tip.z > 5.0 + 1e-9 {
+            continue;
+        }
+        assert!(
+            (r0 < 1e-9 && r1 < 1e-9)
+                || (w[0].tip.z - w[1].tip.z).abs() < 1e-9
+                || ((r0 - 2.0).abs() < 1e-9 && (r1 - 2.0).abs() < 1e-9),
+            "{:?} -> {:?}",
+            w[0].tip,
+            w[1].tip
+        );
+    }
     // A tool as wide as the hole cannot bore it.
     assert!(
         plan_holes(

@@ -330,6 +330,8 @@ pub fn hole_job(
         },
         HoleCycle::ThreadMill => HoleStrategy::ThreadMill {
             pitch_mm: pitch.ok_or("a thread mill needs the pitch")?,
+            // The project's tool records carry no tooth count yet: a single-form mill.
+            teeth: 1,
         },
     };
     let targets = chosen

@@ -51,10 +51,15 @@ pub enum HoleStrategy {
         finish_mm: f64,
     },
     /// Internal thread milling, climb (counter-clockwise seen from the spindle for a right-hand
-    /// thread going up from the bottom), one turn per pitch.
+    /// thread going up from the bottom), one turn per pitch. A single-tooth mill (`teeth` 1)
+    /// climbs one continuous helix from the bottom to the top; a mill with N teeth at the pitch
+    /// covers N·pitch per turn, so it cuts one turn per N·pitch of depth, from the bottom up:
+    /// in from the axis, one helix turn rising a pitch, back to the axis, up N·pitch.
     ThreadMill {
         /// Pitch, mm.
         pitch_mm: f64,
+        /// Teeth along the axis at the pitch (1 for a single-form mill; 0 reads as 1).
+        teeth: u32,
     },
 }
 
@@ -253,7 +258,7 @@ pub fn plan_holes(
                 )?;
                 arrive_h = leave_h;
             }
-            HoleStrategy::ThreadMill { pitch_mm } => {
+            HoleStrategy::ThreadMill { pitch_mm, teeth } => {
                 let path_r = 0.5 * t.diameter_mm - tool_r;
                 if path_r <= 0.0 {
                     return Err(format!(
@@ -264,7 +269,7 @@ pub fn plan_holes(
                 }
                 let leave_h = if stay { r_h } else { clear_h };
                 thread_mill(
-                    &mut tp, t, dir, arrive_h, r_h, leave_h, path_r, *pitch_mm, opts,
+                    &mut tp, t, dir, arrive_h, r_h, leave_h, path_r, *pitch_mm, *teeth, opts,
                 )?;
                 arrive_h = leave_h;
             }
@@ -487,6 +492,7 @@ fn thread_mill(
     leave_h: f64,
     path_r: f64,
     pitch: f64,
+    teeth: u32,
     opts: &HolePlanOptions,
 ) -> Result<(), String> {
     if !(pitch > 0.0 && pitch.is_finite()) {
@@ -498,9 +504,23 @@ fn thread_mill(
     approach(tp, t.top, dir, arrive_h, r_h);
     let bottom = t.top - dir * t.depth_mm;
     tp.push_pose(Pose::new(MoveKind::Plunge, bottom, dir, f));
-    // Out to the thread's radius, then climb up one turn per pitch to the top.
-    tp.push_pose(Pose::new(MoveKind::Cut, bottom + x * path_r, dir, f));
-    helix_turns(tp, bottom, dir, t.depth_mm, pitch, f, opts.chord_tol_mm)?;
+    if teeth <= 1 {
+        // Out to the thread's radius, then climb up one turn per pitch to the top.
+        tp.push_pose(Pose::new(MoveKind::Cut, bottom + x * path_r, dir, f));
+        helix_turns(tp, bottom, dir, t.depth_mm, pitch, f, opts.chord_tol_mm)?;
+    } else {
+        // One turn per N·pitch: the lowest tooth starts each turn a whole number of pitches
+        // above the bottom, so every turn lies on the one thread.
+        let span = f64::from(teeth) * pitch;
+        let passes = (t.depth_mm / span - 1e-9).ceil().max(1.0) as usize;
+        for k in 0..passes {
+            let c = bottom + dir * (k as f64 * span);
+            tp.push_pose(Pose::new(MoveKind::Cut, c, dir, f));
+            tp.push_pose(Pose::new(MoveKind::Cut, c + x * path_r, dir, f));
+            helix_turns(tp, c, dir, pitch, pitch, f, opts.chord_tol_mm)?;
+            tp.push_pose(Pose::new(MoveKind::Cut, c + dir * pitch, dir, f));
+        }
+    }
     tp.push_pose(Pose::new(MoveKind::Cut, t.top, dir, f));
     tp.push_pose(Pose::new(
         MoveKind::Rapid,
