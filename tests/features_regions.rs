@@ -146,3 +146,37 @@ fn real_parts_give_plausible_regions_and_never_panic() {
         }
     }
 }
+
+/// The job part (`tests/data/job/make_part.py`): a 30 × 16 × 5 mm pocket at (0, 0) and two
+/// flat-bottomed Ø6 holes 8 mm deep at x = ±22 on the top (z = 25). The holes' floors are
+/// discs walled by one full cylinder that hole recognition finds: they are holes, left out of
+/// the regions (with a note), so `--features auto` pockets only the pocket.
+#[test]
+fn flat_bottomed_drilled_holes_are_holes_not_closed_pockets() {
+    let part = read_step(&data("job/job-part.stp")).expect("the job part reads");
+    let report = find_regions(&part);
+    let pockets: Vec<_> = report
+        .regions
+        .iter()
+        .filter(|r| r.kind == RegionKind::ClosedPocket && (r.floor_z_mm - 20.0).abs() < 1e-6)
+        .collect();
+    assert_eq!(pockets.len(), 1, "{:#?}", report.regions);
+    assert!((pockets[0].area_mm2 - 30.0 * 16.0).abs() < 1e-6);
+    assert!(
+        !report
+            .regions
+            .iter()
+            .any(|r| (r.floor_z_mm - 17.0).abs() < 1e-6),
+        "a hole floor listed as a region: {:#?}",
+        report.regions
+    );
+    let notes: Vec<_> = report
+        .skipped
+        .iter()
+        .filter(|s| s.contains("flat-bottomed hole Ø6.0000 mm"))
+        .collect();
+    assert_eq!(notes.len(), 2, "{:?}", report.skipped);
+    for x in ["(-22.0000, 0.0000)", "(22.0000, 0.0000)"] {
+        assert!(notes.iter().any(|n| n.contains(x)), "{x}: {notes:?}");
+    }
+}

@@ -15,6 +15,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::holes::{Hole, HoleBottom, HoleOptions, recognize_holes};
 use crate::geometry::brep::{Loop, Part, face_adjacency};
 use crate::geometry::curve::CurveGeom;
 use crate::geometry::planar::{BooleanOp, Element, Profile, Region, Vertex, signed_area};
@@ -202,6 +203,9 @@ pub fn find_regions_with_mesh(part: &Part, mesh: &PartMesh) -> RegionReport {
         }
         groups.push(members);
     }
+    // Flat-bottomed holes (a disc floor walled by one full cylinder) are hole making's, not
+    // pockets: their floors are left out with a note.
+    let holes = recognize_holes(part, Some(mesh), &HoleOptions::default()).holes;
     for members in &groups {
         let Some(&first) = members.first() else {
             continue;
@@ -210,7 +214,18 @@ pub fn find_regions_with_mesh(part: &Part, mesh: &PartMesh) -> RegionReport {
             continue;
         };
         match floor_region(part, mesh, members, z, &z_range, &across) {
-            Ok(r) => report.regions.push(r),
+            Ok(r) => match drilled_hole(&r, &holes) {
+                Some(h) => report.skipped.push(format!(
+                    "face {}: the floor of a flat-bottomed hole Ø{:.4} mm at ({:.4}, {:.4}) mm, \
+                     {:.4} mm deep (hole making, not a pocket)",
+                    first + 1,
+                    h.diameter_mm,
+                    h.top.x,
+                    h.top.y,
+                    h.depth_mm
+                )),
+                None => report.regions.push(r),
+            },
             Err(e) => report.skipped.push(format!("face {}: {e}", first + 1)),
         }
     }
@@ -562,6 +577,22 @@ fn floor_region(
         open_sides: open_runs,
         bbox_mm: [lo.x, lo.y, hi.x, hi.y],
         region,
+    })
+}
+
+/// The recognised hole whose flat floor `r` is: a closed region without islands, its floor
+/// faces among the hole's faces, the hole's axis vertical (entered from +Z), and the region a
+/// full disc of the hole's diameter (area within 1e-6 relative, or 1e-6 mm²).
+fn drilled_hole<'a>(r: &MachinableRegion, holes: &'a [Hole]) -> Option<&'a Hole> {
+    if r.kind != RegionKind::ClosedPocket || r.islands > 0 || r.region.areas.len() != 1 {
+        return None;
+    }
+    holes.iter().find(|h| {
+        let disc = std::f64::consts::PI * 0.25 * h.diameter_mm * h.diameter_mm;
+        h.direction.z > 1.0 - 1e-9
+            && matches!(h.bottom, HoleBottom::Flat)
+            && r.faces.iter().all(|f| h.faces.contains(f))
+            && (r.area_mm2 - disc).abs() <= (1e-6 * disc).max(1e-6)
     })
 }
 
