@@ -160,6 +160,25 @@ fn interpret_from(
     Ok(prog)
 }
 
+/// The G-code program read on `--machine` with `--tool-table` (as the control reads it) from
+/// `start`, its lead-in left out ([`interpret_from`]).
+fn read_gcode(
+    args: &SimulateArgs,
+    text: &str,
+    start: DVec3,
+) -> Result<crate::gcode::Program, ImportError> {
+    let syntax = Syntax::detect(text);
+    let (base, _) =
+        super::interpret::program_options(args.machine.as_deref(), syntax, &args.table)?;
+    interpret_from(text, start, &base).map_err(|e| {
+        ImportError::new(
+            &args.file,
+            Some(format!("line {}, column {}", e.line, e.column)),
+            e.message,
+        )
+    })
+}
+
 /// One `--stock` text ([`StockSpec::parse`], the syntax every subcommand shares) as the
 /// simulation's shape; the bare `box`/`cylinder` need the part's bounds `part`.
 pub(crate) fn parse_stock(spec: &str, part: Option<&Aabb>) -> Result<StockShape, ImportError> {
@@ -237,16 +256,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         }
         (Some(tp), None)
     } else {
-        let syntax = Syntax::detect(&text);
-        let (base, _) =
-            super::interpret::program_options(args.machine.as_deref(), syntax, &args.table)?;
-        let prog = interpret_from(&text, start, &base).map_err(|e| {
-            bad(
-                Some(format!("line {}, column {}", e.line, e.column)),
-                e.message,
-            )
-        })?;
-        (None, Some(prog))
+        (None, Some(read_gcode(args, &text, start)?))
     };
     let cutter = match (&args.tool, &toolpath) {
         (Some(spec), _) => parse_tool_spec(spec)
