@@ -382,3 +382,46 @@ fn machine_camera_presets_in_the_view_menu_frame_the_whole_machine() {
         );
     }
 }
+
+#[test]
+fn a_g83_shows_its_peck_on_the_panel_while_it_runs() {
+    // R5 to Z-15 by Q3: 20 mm in ceil(20 / 3) = 7 pecks; the second feeds to 6 mm below R.
+    let src = PanelSource {
+        posted: Some((
+            "peck",
+            "G21 G90 G17\nG0 X50 Y60 Z10\nS1000 M3\nG99 G83 X50 Y60 Z-15 R5 Q3 F200\nG80\nM30\n",
+        )),
+        ..source()
+    };
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 950.0))
+        .with_step_dt(1.0 / 60.0)
+        .with_accessibility_check(false)
+        .build_ui_state(
+            move |ui, p: &mut OperatorPanel| p.ui(ui, &src),
+            OperatorPanel::new(),
+        );
+    h.run_steps(2);
+    home(&mut h);
+    h.get_by_label("AUTO").click();
+    h.run_steps(2);
+    h.get_by_label("Load posted program").click();
+    h.run_steps(2);
+    h.get_by_label("Cycle start").click();
+    let mut seen = false;
+    for _ in 0..60 * 60 {
+        h.step();
+        if h.query_by_label_contains(
+            "G83 hole 1/1, peck 2/7 feeding to 6.000 mm of 20.000 mm below R",
+        )
+        .is_some()
+        {
+            seen = true;
+            break;
+        }
+    }
+    assert!(seen, "the second peck never showed on the panel");
+    let snap = h.state().control().unwrap().snapshot();
+    let phase = snap.cycle.expect("a cycle runs");
+    assert_eq!((phase.peck, phase.pecks), (2, 7));
+}

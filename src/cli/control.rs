@@ -1,6 +1,8 @@
 //! `talas control --machine NAME_OR_FILE [--stock SHAPE] [--resolution MM] [--tool SPEC]
-//! [--program FILE.ngc] --script SCRIPT.txt [--json]`: the virtual control run headless from a
-//! script, one operator action per line.
+//! [--program FILE.ngc] [--tool-table FILE.tbl] --script SCRIPT.txt [--json]`: the virtual
+//! control run headless from a script, one operator action per line. The program runs as
+//! `talas interpret --machine` reads it (one interpretation: canned cycles, cutter
+//! compensation with the tool table's radii, subroutines, loops).
 //!
 //! Script actions (`#` starts a comment): `home`, `mode ref|jog|mpg|mdi|auto`,
 //! `jog AXIS ±DIST`, `jog-continuous AXIS +|- SECONDS`, `increment MM`, `mpg AXIS STEPS`,
@@ -43,6 +45,9 @@ pub struct ControlArgs {
     /// A G-code program loaded for AUTO.
     #[arg(long, value_name = "FILE.ngc")]
     pub program: Option<PathBuf>,
+    /// The tool table (G43 lengths, G41/G42 radii) for MDI and AUTO.
+    #[command(flatten)]
+    pub table: super::interpret::ToolTableArgs,
     /// The operator actions, one per line.
     #[arg(long, value_name = "SCRIPT.txt")]
     pub script: PathBuf,
@@ -245,6 +250,7 @@ fn build_control(args: &ControlArgs) -> Result<Control, ImportError> {
     let machine = Machine::resolve(&args.machine)
         .map_err(|e| ImportError::new(Path::new(&args.machine), None, e.to_string()))?;
     let mut cfg = ControlConfig::new(machine);
+    cfg.tool_table = args.table.read()?;
     if !args.stock.is_empty() {
         let spec = args.tool.as_deref().ok_or_else(|| {
             ImportError::new(
@@ -331,10 +337,13 @@ pub fn control(args: &ControlArgs) -> Result<Value, ImportError> {
             c.advance_until_idle(MAX_WAIT_S);
         }
         let alarm = c.alarms().get(before).map(alarm_json);
+        let now = c.snapshot();
         actions.push(json!({
             "line": step.line,
             "action": step.text,
             "t_s": c.time_s(),
+            "program_line": now.line,
+            "cycle": now.cycle,
             "alarm": alarm,
             "refused": refused,
         }));

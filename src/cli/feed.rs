@@ -1,6 +1,8 @@
 //! `talas feed PROGRAM.ngc --machine NAME_OR_FILE [--limit AXIS=V,A,J ...]
-//! [--corners blend|exact|junction] [--deviation MM] [--start X,Y,Z] --json [--samples OUT.csv]`:
-//! jerk-limited motion plan of a G-code program.
+//! [--corners blend|exact|junction] [--deviation MM] [--start X,Y,Z] [--tool-table FILE.tbl]
+//! --json [--samples OUT.csv]`: jerk-limited motion plan of a G-code program, read as the
+//! virtual control reads it on the machine (`talas control --machine`): from the machine's
+//! home unless `--start` is given, `G28` to the home, tilted work planes with its kinematics.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -12,9 +14,8 @@ use crate::feed::{
     AxisLimit, CornerPolicy, PlanInput, PlanOptions, machine_limits, naive_time_s, plan,
     travel_violations,
 };
-use crate::gcode::{InterpretOptions, interpret};
+use crate::gcode::interpret;
 use crate::import::ImportError;
-use crate::machine::Machine;
 
 /// Options of `talas feed`.
 #[derive(Debug, clap::Args)]
@@ -35,13 +36,17 @@ pub struct FeedArgs {
     /// Path-deviation tolerance at corners (mm) for `blend` and `junction`.
     #[arg(long, value_name = "MM", default_value_t = DEFAULT_DEVIATION_MM)]
     pub deviation: f64,
-    /// Start position `X,Y,Z` (mm) before the first block (default the origin).
+    /// Start position `X,Y,Z` (mm) before the first block (default the machine's home, where
+    /// the homed control starts a program).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub start: Option<String>,
     /// Program syntax: `rs274` (LinuxCNC, Fanuc, GRBL), `siemens` or `heidenhain` (ISO);
     /// default: detected from the text.
     #[arg(long, value_name = "NAME")]
     pub syntax: Option<String>,
+    /// The tool table (G43 lengths, G41/G42 radii).
+    #[command(flatten)]
+    pub table: super::interpret::ToolTableArgs,
     /// Write time samples (`t,X,Y,Z,...`, 1 ms) to this CSV file.
     #[arg(long, value_name = "OUT.csv")]
     pub samples: Option<PathBuf>,
@@ -105,8 +110,12 @@ fn parse_limit(text: &str) -> Option<(char, AxisLimit)> {
 /// An [`ImportError`] naming the file (and line) for bad input.
 pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
-    let machine =
-        Machine::resolve(&args.machine).map_err(|e| bad(None, format!("--machine: {e}")))?;
+    let (text, syntax) = super::read_program(&args.file, args.syntax.as_deref())?;
+    let (mut options, machine) =
+        super::interpret::program_options(Some(&args.machine), syntax, &args.table)?;
+    let Some(machine) = machine else {
+        return Err(bad(None, "--machine: no machine".into()));
+    };
     let mut axes = machine_limits(&machine);
     for l in &args.limits {
         let (name, lim) = parse_limit(l)
@@ -116,8 +125,6 @@ pub fn feed(args: &FeedArgs) -> Result<Value, ImportError> {
             None => return Err(bad(None, format!("--limit: machine has no axis {name}"))),
         }
     }
-    let (text, syntax) = super::read_program(&args.file, args.syntax.as_deref())?;
-    let mut options = InterpretOptions::for_syntax(syntax);
     if let Some(start) = &args.start {
         options.start = parse_start(start)
             .ok_or_else(|| bad(None, format!("--start must be X,Y,Z, got '{start}'")))?;

@@ -18,6 +18,11 @@
 //!   "errors": [ { "line", "column", "message" } ] }
 //! ```
 //!
+//! With `--machine` the program is read as the virtual control reads it on that machine
+//! (`talas control --machine`): from the machine's home, `G28` to the home, tilted work planes
+//! with its kinematics; the document adds `"machine"` and `"travel_violations"` (`{line,
+//! axis, value, limit}`, mm or degrees, at most 100) of the joint limits.
+//!
 //! Positions are machine coordinates (program coordinates plus the work, G92/G52 and G43
 //! tool length offsets) in mm, angles in degrees. `line` is the 1-based line of the block
 //! in the file. A program that does not read ends with the error on standard error (file,
@@ -33,6 +38,7 @@ use crate::gcode::{
     interpret_partial,
 };
 use crate::import::ImportError;
+use crate::machine::Machine;
 
 /// Options of `talas interpret`.
 #[derive(Debug, clap::Args)]
@@ -43,25 +49,93 @@ pub struct InterpretArgs {
     /// default: detected from the text (see `Syntax::detect`).
     #[arg(long, value_name = "NAME")]
     pub syntax: Option<String>,
+    /// The tool table.
+    #[command(flatten)]
+    pub table: ToolTableArgs,
+    /// Machine name (`talas machines`) or machine JSON file: read the program from its home
+    /// with its kinematics and check its travel (as `talas control --machine` runs it).
+    #[arg(long, value_name = "NAME_OR_FILE")]
+    pub machine: Option<String>,
+    /// Print one JSON document instead of the human summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--tool-table FILE.tbl [--tool-table-units mm|inch]`, shared by `interpret`, `feed`,
+/// `simulate` and `control`.
+#[derive(Debug, Default, clap::Args)]
+pub struct ToolTableArgs {
     /// A LinuxCNC tool table (`T1 P1 D6 Z25 ;comment`): lengths for G43, radii for G41/G42.
     #[arg(long, value_name = "FILE.tbl")]
     pub tool_table: Option<PathBuf>,
     /// The length unit of the tool table's values (LinuxCNC: the machine's unit).
     #[arg(long, value_enum, default_value_t = TableUnit::Mm)]
     pub tool_table_units: TableUnit,
-    /// Print one JSON document instead of the human summary.
-    #[arg(long)]
-    pub json: bool,
+}
+
+impl ToolTableArgs {
+    /// The table, when one is named.
+    ///
+    /// # Errors
+    /// An [`ImportError`] naming the table file (and line) when it does not read.
+    pub fn read(&self) -> Result<Option<ToolTable>, ImportError> {
+        let Some(path) = &self.tool_table else {
+            return Ok(None);
+        };
+        let text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
+            .map_err(|e| ImportError::new(path, None, format!("cannot read file: {e}")))?;
+        let unit = match self.tool_table_units {
+            TableUnit::Mm => LengthUnit::Mm,
+            TableUnit::Inch => LengthUnit::Inch,
+        };
+        ToolTable::parse(&text, unit).map(Some).map_err(|e| {
+            ImportError::new(
+                path,
+                Some(format!("line {}, column {}", e.line, e.column)),
+                e.message,
+            )
+        })
+    }
+}
+
+/// The options a program is read with: on `--machine` as the virtual control reads it there
+/// ([`crate::control::machine_interpret_options`]), else the interpreter's defaults; the tool
+/// table added.
+///
+/// # Errors
+/// An [`ImportError`] for a machine or tool table that does not read.
+pub(crate) fn program_options(
+    machine: Option<&str>,
+    syntax: Syntax,
+    table: &ToolTableArgs,
+) -> Result<(InterpretOptions, Option<Machine>), ImportError> {
+    let machine = machine
+        .map(|m| {
+            Machine::resolve(m).map_err(|e| {
+                ImportError::new(std::path::Path::new(m), None, format!("--machine: {e}"))
+            })
+        })
+        .transpose()?;
+    let mut options = machine.as_ref().map_or_else(
+        || InterpretOptions::for_syntax(syntax),
+        |m| crate::control::machine_interpret_options(m, syntax),
+    );
+    options.tool_table = table.read()?;
+    Ok((options, machine))
 }
 
 /// Tool table units on the command line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum TableUnit {
     /// Millimetres (default).
+    #[default]
     Mm,
     /// Inches (LinuxCNC's `rs274` without an INI file reads tables in inches).
     Inch,
 }
+
+/// At most this many travel violations are listed (all are counted).
+const MAX_TRAVEL_REPORTS: usize = 100;
 
 /// What `talas interpret` read: the JSON document, and the error that stopped it.
 pub struct Interpreted {
@@ -172,29 +246,20 @@ fn document(args: &InterpretArgs, syntax: Syntax, p: &Program, errors: Vec<Value
 pub fn interpret(args: &InterpretArgs) -> Result<Interpreted, ImportError> {
     let bad = |place: Option<String>, msg: String| ImportError::new(&args.file, place, msg);
     let (text, syntax) = super::read_program(&args.file, args.syntax.as_deref())?;
-    let mut options = InterpretOptions::for_syntax(syntax);
-    if let Some(path) = &args.tool_table {
-        let table_text = crate::storage::read_text_bounded(path, crate::storage::TEXT_LIMIT_BYTES)
-            .map_err(|e| ImportError::new(path, None, format!("cannot read file: {e}")))?;
-        let unit = match args.tool_table_units {
-            TableUnit::Mm => LengthUnit::Mm,
-            TableUnit::Inch => LengthUnit::Inch,
-        };
-        let table = ToolTable::parse(&table_text, unit).map_err(|e| {
-            ImportError::new(
-                path,
-                Some(format!("line {}, column {}", e.line, e.column)),
-                e.message,
-            )
-        })?;
-        options.tool_table = Some(table);
-    }
+    let (options, machine) = program_options(args.machine.as_deref(), syntax, &args.table)?;
     let (program, error) = interpret_partial(&text, &options);
     let errors = error
         .iter()
         .map(|e| json!({ "line": e.line, "column": e.column, "message": e.message }))
         .collect();
-    let doc = document(args, syntax, &program, errors);
+    let mut doc = document(args, syntax, &program, errors);
+    if let Some(m) = &machine {
+        let (travel, count) =
+            crate::feed::travel_violations(&program.blocks, m, MAX_TRAVEL_REPORTS);
+        doc["machine"] = json!(m.name);
+        doc["travel_violations"] = json!(travel);
+        doc["travel_violation_count"] = json!(count);
+    }
     let error = error.map(|e| {
         bad(
             Some(format!("line {}, column {}", e.line, e.column)),
@@ -241,6 +306,16 @@ pub fn human(doc: &Value) -> String {
             s,
             "extent X {:.4}..{:.4} Y {:.4}..{:.4} Z {:.4}..{:.4} mm",
             lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+        );
+    }
+    for v in doc["travel_violations"].as_array().into_iter().flatten() {
+        let _ = writeln!(
+            s,
+            "travel: line {}: axis {} reaches {:.4}, beyond its limit {:.4} (mm or °)",
+            v["line"],
+            v["axis"].as_str().unwrap_or("?"),
+            v["value"].as_f64().unwrap_or(0.0),
+            v["limit"].as_f64().unwrap_or(0.0)
         );
     }
     for w in doc["warnings"].as_array().into_iter().flatten() {

@@ -42,9 +42,14 @@ pub struct SimulateArgs {
     /// The design part (STL or STEP) for the deviation statistics.
     #[arg(long, value_name = "FILE")]
     pub part: Option<PathBuf>,
-    /// Machine for rotary programs (`talas machines`) or a machine JSON file.
+    /// Machine (`talas machines`) or a machine JSON file: the program is read as the virtual
+    /// control reads it there (`talas control --machine`): from its home, `G28` to the home,
+    /// tilted work planes and rotary moves with its kinematics, its travel checked.
     #[arg(long, value_name = "NAME_OR_FILE")]
     pub machine: Option<String>,
+    /// The tool table (G43 lengths, G41/G42 radii).
+    #[command(flatten)]
+    pub table: super::interpret::ToolTableArgs,
     /// Dexel spacing, mm.
     #[arg(long, value_name = "MM")]
     pub resolution: f64,
@@ -124,10 +129,14 @@ fn start_position(
 fn interpret_from(
     text: &str,
     start: DVec3,
+    base: &InterpretOptions,
 ) -> Result<crate::gcode::Program, crate::gcode::GcodeError> {
     let options = |p: DVec3| InterpretOptions {
-        start: crate::gcode::Joints::xyz(p.x, p.y, p.z),
-        ..InterpretOptions::for_syntax(Syntax::detect(text))
+        start: crate::gcode::Joints {
+            xyz: p,
+            ..base.start
+        },
+        ..base.clone()
     };
     let mut prog = interpret(text, &options(start))?;
     let other = start + DVec3::new(1234.5, -2345.25, 3456.125);
@@ -149,6 +158,25 @@ fn interpret_from(
         }
     }
     Ok(prog)
+}
+
+/// The G-code program read on `--machine` with `--tool-table` (as the control reads it) from
+/// `start`, its lead-in left out ([`interpret_from`]).
+fn read_gcode(
+    args: &SimulateArgs,
+    text: &str,
+    start: DVec3,
+) -> Result<crate::gcode::Program, ImportError> {
+    let syntax = Syntax::detect(text);
+    let (base, _) =
+        super::interpret::program_options(args.machine.as_deref(), syntax, &args.table)?;
+    interpret_from(text, start, &base).map_err(|e| {
+        ImportError::new(
+            &args.file,
+            Some(format!("line {}, column {}", e.line, e.column)),
+            e.message,
+        )
+    })
 }
 
 /// One `--stock` text ([`StockSpec::parse`], the syntax every subcommand shares) as the
@@ -228,13 +256,7 @@ pub fn simulate_cmd(args: &SimulateArgs) -> Result<Value, ImportError> {
         }
         (Some(tp), None)
     } else {
-        let prog = interpret_from(&text, start).map_err(|e| {
-            bad(
-                Some(format!("line {}, column {}", e.line, e.column)),
-                e.message,
-            )
-        })?;
-        (None, Some(prog))
+        (None, Some(read_gcode(args, &text, start)?))
     };
     let cutter = match (&args.tool, &toolpath) {
         (Some(spec), _) => parse_tool_spec(spec)

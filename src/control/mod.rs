@@ -55,7 +55,7 @@ pub mod tool_axis;
 
 pub use cutting::LiveStock;
 pub use motion::{CutPiece, Kinematics, Run, sub_block};
-pub use state::{Control, ControlError};
+pub use state::{Control, ControlError, machine_interpret_options};
 
 use glam::DVec3;
 
@@ -296,6 +296,8 @@ pub struct Snapshot {
     pub increment: f64,
     /// Removed stock volume, mm³ (0 without a stock).
     pub removed_volume_mm3: f64,
+    /// The canned-cycle move being run (hole, peck k of n, its depth), while a cycle runs.
+    pub cycle: Option<crate::gcode::CyclePhase>,
 }
 
 /// How the control is set up.
@@ -320,6 +322,9 @@ pub struct ControlConfig {
     pub machine_collisions: bool,
     /// Fixtures and other solids on the table (table coordinates).
     pub fixtures: Vec<crate::machine::collision::TableExtra>,
+    /// The tool table (LinuxCNC `.tbl`): lengths for `G43`, radii for `G41`/`G42` in MDI
+    /// and AUTO.
+    pub tool_table: Option<crate::gcode::ToolTable>,
 }
 
 impl ControlConfig {
@@ -376,6 +381,7 @@ impl ControlConfig {
             home_feed_mm_per_min: 2000.0,
             machine_collisions: true,
             fixtures: Vec::new(),
+            tool_table: None,
         }
     }
 }

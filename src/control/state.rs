@@ -77,13 +77,25 @@ struct Held {
     by_override: bool,
 }
 
-/// One interpreted program line.
+/// One executed program block's motion (or one of its dwells).
 struct Item {
     blocks: Vec<MotionBlock>,
     dwell_s: f64,
     stop: bool,
     optional_stop: bool,
     end: bool,
+}
+
+impl Item {
+    fn motion(blocks: Vec<MotionBlock>) -> Self {
+        Self {
+            blocks,
+            dwell_s: 0.0,
+            stop: false,
+            optional_stop: false,
+            end: false,
+        }
+    }
 }
 
 struct AutoRun {
@@ -109,6 +121,30 @@ fn collision_model(cfg: &ControlConfig) -> Option<crate::machine::collision::Col
         crate::checks::collide::assembly(&s.cutter)
     });
     crate::machine::collision::CollisionModel::new(&cfg.machine, &tool, &extras)
+}
+
+/// How a program is read on a machine (the control's AUTO and MDI, `talas interpret`, `feed`
+/// and `simulate` with `--machine`): the machine's kinematics for tilted work planes, `G28`
+/// to its home switches, and the start at its home (where a homed control stands).
+#[must_use]
+pub fn machine_interpret_options(
+    machine: &crate::machine::Machine,
+    syntax: crate::gcode::Syntax,
+) -> InterpretOptions {
+    let cfg = ControlConfig::new(machine.clone());
+    let home = cfg.home_position;
+    let has = |c: char| machine.axis(c).is_some();
+    InterpretOptions {
+        start: Joints {
+            xyz: DVec3::new(home[0], home[1], home[2]),
+            a: has('A').then_some(home[3]),
+            b: has('B').then_some(home[4]),
+            c: has('C').then_some(home[5]),
+        },
+        g28_position: DVec3::new(home[0], home[1], home[2]),
+        machine: Some(machine.clone()),
+        ..InterpretOptions::for_syntax(syntax)
+    }
 }
 
 /// Longest clock step inside [`Control::advance`] (s): peaks are recorded at this period.
@@ -150,6 +186,8 @@ pub struct Control {
     worker: Option<cut::WorkerLink>,
     /// Steps the clock has taken in [`Control::advance`] (see [`Control::clock_steps`]).
     clock_steps: u64,
+    /// The program and MDI blocks run to their end, when logged ([`Control::log_played`]).
+    played: Option<Vec<MotionBlock>>,
 }
 
 impl Control {
@@ -191,6 +229,7 @@ impl Control {
             collide: collision_model(&cfg),
             worker: None,
             clock_steps: 0,
+            played: None,
             cfg,
         };
         control.session = Session::new(control.interp_options())
@@ -198,13 +237,22 @@ impl Control {
         Ok(control)
     }
 
+    /// The interpreter's settings on this control: its work offsets, tool table, machine
+    /// (tilted work planes) and home (`G28`), the syntax of the loaded program (detected from
+    /// its text) — the same as `talas interpret --machine` reads a program with.
     fn interp_options(&self) -> InterpretOptions {
-        InterpretOptions {
-            start: self.joints(&self.pos),
-            work_offsets: self.cfg.work_offsets,
-            block_delete: self.block_delete,
-            ..InterpretOptions::default()
-        }
+        let syntax = self
+            .program
+            .as_ref()
+            .map_or(crate::gcode::Syntax::Rs274, |(_, t)| {
+                crate::gcode::Syntax::detect(t)
+            });
+        let mut o = machine_interpret_options(&self.cfg.machine, syntax);
+        o.start = self.joints(&self.pos);
+        o.work_offsets = self.cfg.work_offsets;
+        o.block_delete = self.block_delete;
+        o.tool_table.clone_from(&self.cfg.tool_table);
+        o
     }
 
     /// The machine.
@@ -532,6 +580,7 @@ impl Control {
             alarms: self.alarms.clone(),
             increment: self.increment,
             removed_volume_mm3: self.removed_mm3(),
+            cycle: block.and_then(|b| b.cycle),
         };
         for a in &self.cfg.machine.axes {
             let Some(k) = slot_of(a.name) else {

@@ -117,6 +117,80 @@ pub struct MotionBlock {
     /// of being joint positions.
     #[serde(default)]
     pub tcp: bool,
+    /// The canned-cycle move this block is, when a drilling, peck, tap or bore cycle made it
+    /// (what the control's panel shows while it runs). Not part of the block's file form.
+    #[serde(skip)]
+    pub cycle: Option<CyclePhase>,
+}
+
+/// What one move of a canned cycle does: the control shows it while the move runs
+/// ("G83 hole 2 of 4, peck 3 of 5, to 7.500 mm below R").
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct CyclePhase {
+    /// The cycle as programmed: `G83`, `CYCLE83`, `CYCL DEF 203`.
+    pub cycle: &'static str,
+    /// The hole (repeat) of the cycle block, 1-based.
+    pub hole: u32,
+    /// Holes of the cycle block (its `L`/`K` repeats).
+    pub holes: u32,
+    /// The peck (infeed) this move belongs to, 1-based; 0 while positioning to the hole.
+    pub peck: u32,
+    /// Pecks to the bottom (1 for a cycle without pecks).
+    pub pecks: u32,
+    /// What the move does.
+    pub step: CycleStep,
+    /// Depth this peck reaches, below the R plane, mm (0 while positioning).
+    pub depth_mm: f64,
+    /// Depth of the hole's bottom below the R plane, mm.
+    pub bottom_mm: f64,
+}
+
+/// The kind of move inside a canned cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CycleStep {
+    /// Rapid to the hole, or down to the R plane.
+    Position,
+    /// Feeding into the material.
+    Feed,
+    /// Back out (to R, to the clearance plane, or the chip-break lift).
+    Retract,
+    /// Rapid back down to just above the last peck's depth.
+    Reenter,
+}
+
+impl CycleStep {
+    /// The step as the panel words it.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Position => "positioning",
+            Self::Feed => "feeding",
+            Self::Retract => "retracting",
+            Self::Reenter => "re-entering",
+        }
+    }
+}
+
+impl CyclePhase {
+    /// One line for a panel: `G83 hole 1/4, peck 3/5 feeding to 7.500 mm of 15.000 mm below R`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let peck = if self.peck == 0 {
+            String::new()
+        } else {
+            format!(", peck {}/{}", self.peck, self.pecks)
+        };
+        format!(
+            "{} hole {}/{}{peck} {} to {:.3} mm of {:.3} mm below R",
+            self.cycle,
+            self.hole,
+            self.holes,
+            self.step.label(),
+            self.depth_mm,
+            self.bottom_mm
+        )
+    }
 }
 
 impl MotionBlock {

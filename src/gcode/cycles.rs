@@ -31,7 +31,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::block::Joints;
+use super::block::{CyclePhase, CycleStep, Joints};
 use super::motion::{dwell, emit_line, total_offset};
 use super::state::{Block, Cycle, Motion, State, u32_word};
 use super::{GcodeError, InterpretOptions, Program};
@@ -244,7 +244,22 @@ pub(super) fn run(
         offset,
         rotary: s.pos,
     };
+    let peck_clearance = if s.inch {
+        PECK_CLEARANCE_INCH
+    } else {
+        PECK_CLEARANCE_MM
+    };
+    let mut phase = Phase {
+        cycle: name,
+        hole: 1,
+        holes: w.repeats,
+        pecks: pecks(cycle, r, bottom, w.q),
+        r,
+        bottom,
+        scale,
+    };
     let mut current = current_w;
+    phase.set(s, CycleStep::Position, 0, r);
     if old < r {
         let start = DVec2::new(prog(iu, here), prog(iv, here));
         cur.go(s, out, true, start, r)?;
@@ -252,12 +267,9 @@ pub(super) fn run(
         current = old;
     }
     let clear = if s.retract_r_plane { r } else { old };
-    let peck_clearance = if s.inch {
-        PECK_CLEARANCE_INCH
-    } else {
-        PECK_CLEARANCE_MM
-    };
     for repeat in 0..w.repeats {
+        phase.hole = repeat + 1;
+        phase.set(s, CycleStep::Position, 0, r);
         uv += step;
         if repeat == 0 && current > r {
             cur.go(s, out, true, uv, current)?;
@@ -268,24 +280,57 @@ pub(super) fn run(
                 cur.go(s, out, true, uv, r)?;
             }
         }
-        body(
-            &cur,
-            s,
-            out,
-            cycle,
-            &w,
-            uv,
-            r,
-            clear,
-            bottom,
-            peck_clearance,
-        )?;
+        body(&cur, s, out, cycle, &w, &phase, uv, clear, peck_clearance)?;
     }
+    s.cycle_phase = None;
     s.cycle.r = w.r;
     s.cycle.depth = w.depth;
     s.cycle.p = w.p;
     s.cycle.q = w.q;
     Ok(())
+}
+
+/// The number of infeeds of a cycle from `r` to `bottom` by `q` (program units).
+fn pecks(cycle: Cycle, r: f64, bottom: f64, q: f64) -> u32 {
+    if !cycle.pecks() || !(q > 0.0) {
+        return 1;
+    }
+    let mut n = 1;
+    let mut depth = r - q;
+    while depth > bottom && n < u32::MAX {
+        n += 1;
+        depth -= q;
+    }
+    n
+}
+
+/// The phase of the cycle being emitted, set on the state before each of its moves.
+struct Phase {
+    cycle: &'static str,
+    hole: u32,
+    holes: u32,
+    pecks: u32,
+    /// R plane and bottom along the cycle axis, program units.
+    r: f64,
+    bottom: f64,
+    /// mm per program unit.
+    scale: f64,
+}
+
+impl Phase {
+    /// Set the phase for the next moves: `peck` (0 while positioning) reaching `to`.
+    fn set(&self, s: &mut State, step: CycleStep, peck: u32, to: f64) {
+        s.cycle_phase = Some(CyclePhase {
+            cycle: self.cycle,
+            hole: self.hole,
+            holes: self.holes,
+            peck,
+            pecks: self.pecks,
+            step,
+            depth_mm: (self.r - to) * self.scale,
+            bottom_mm: (self.r - self.bottom) * self.scale,
+        });
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -295,20 +340,28 @@ fn body(
     out: &mut Program,
     cycle: Cycle,
     w: &Words,
+    phase: &Phase,
     uv: DVec2,
-    r: f64,
     clear: f64,
-    bottom: f64,
     peck_clearance: f64,
 ) -> Result<(), GcodeError> {
     let line = cur.b.line;
+    let (r, bottom) = (phase.r, phase.bottom);
+    let last = phase.pecks;
+    // Down to the bottom (the last infeed), and the way out after it.
+    let down = |s: &mut State, out: &mut Program| {
+        phase.set(s, CycleStep::Feed, last, bottom);
+        cur.go(s, out, false, uv, bottom)?;
+        phase.set(s, CycleStep::Retract, last, bottom);
+        Ok::<(), GcodeError>(())
+    };
     match cycle {
         Cycle::G81 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             cur.go(s, out, true, uv, clear)
         }
         Cycle::G82 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             if w.p > 0.0 {
                 dwell(s, out, line, w.p);
             }
@@ -316,19 +369,24 @@ fn body(
         }
         Cycle::G83 | Cycle::G73 => {
             let mut depth = r - w.q;
+            let mut k = 1;
             while depth > bottom {
+                phase.set(s, CycleStep::Feed, k, depth);
                 cur.go(s, out, false, uv, depth)?;
+                phase.set(s, CycleStep::Retract, k, depth);
                 if cycle == Cycle::G83 {
                     cur.go(s, out, true, uv, r)?;
+                    phase.set(s, CycleStep::Reenter, k, depth);
                 }
                 cur.go(s, out, true, uv, depth + peck_clearance)?;
                 depth -= w.q;
+                k += 1;
             }
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             cur.go(s, out, true, uv, clear)
         }
         Cycle::G84 | Cycle::G74 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             let turning = s.spindle_dir;
             s.spindle_dir = -turning;
             if w.p > 0.0 {
@@ -339,12 +397,12 @@ fn body(
             back
         }
         Cycle::G85 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             cur.go(s, out, false, uv, r)?;
             cur.go(s, out, true, uv, clear)
         }
         Cycle::G86 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             if w.p > 0.0 {
                 dwell(s, out, line, w.p);
             }
@@ -355,7 +413,7 @@ fn body(
             back
         }
         Cycle::G89 => {
-            cur.go(s, out, false, uv, bottom)?;
+            down(s, out)?;
             if w.p > 0.0 {
                 dwell(s, out, line, w.p);
             }

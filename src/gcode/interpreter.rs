@@ -141,6 +141,8 @@ pub(super) fn run_block(
     }
     let mut block = sort_words(&evaluated.words, line, opts.syntax)?;
     block.keywords.clone_from(&parsed.keywords);
+    // A cycle that stopped on an error leaves no phase on the blocks after it.
+    s.cycle_phase = None;
     let ends = execute(&block, s, opts, out)?;
     Ok(Ran {
         ends,

@@ -82,10 +82,11 @@ mod workplane;
 mod workplane_frame;
 
 pub use arc::{CentreSpec, Plane, arc_geometry};
-pub use block::{Arc, Joints, MotionBlock, MotionKind};
+pub use block::{Arc, CyclePhase, CycleStep, Joints, MotionBlock, MotionKind};
 pub use lexer::{LexedLine, Word, lex_line};
 pub use program::interpret;
 pub use program::interpret_partial;
+pub use program::{TraceStep, Traced, interpret_traced};
 pub use session::{LineResult, Modal, Session};
 pub use syntax::Syntax;
 pub use tooltable::{LengthUnit, ToolEntry, ToolTable};

@@ -157,6 +157,7 @@ pub(super) fn push_block(
         spindle_rpm: snap.spindle_rpm,
         coolant: snap.coolant,
         tcp: snap.tcp,
+        cycle: snap.cycle,
     });
     s.emitted = end;
 }

@@ -112,7 +112,99 @@ pub fn interpret_partial(text: &str, opts: &InterpretOptions) -> (Program, Optio
     (program, e)
 }
 
+/// One executed block of a program, in execution order (a subroutine's lines once per call, a
+/// loop's once per pass): where its motion and dwells end in the program, what it stops on,
+/// and the modal state it leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceStep {
+    /// 1-based line of the block.
+    pub line: usize,
+    /// [`Program::blocks`] up to this index have been emitted after this block (a
+    /// compensated move comes out with the block after it).
+    pub blocks_end: usize,
+    /// [`Program::dwells`] up to this index have been emitted after this block.
+    pub dwells_end: usize,
+    /// The block holds `M0`.
+    pub program_stop: bool,
+    /// The block holds `M1`.
+    pub optional_stop: bool,
+    /// The block ends the program (`M2`, `M30`; also the last step, where the text ends).
+    pub program_end: bool,
+    /// The modal state after the block.
+    pub modal: super::Modal,
+}
+
+/// A program interpreted whole ([`interpret`]'s motion) with its execution steps: what a
+/// control's program run plays (`control`'s AUTO), so that it runs exactly the interpreter's
+/// motion, canned cycles, compensation, subroutines and loops included.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Traced {
+    /// The motion, dwells and warnings, as [`interpret`] gives them.
+    pub program: Program,
+    /// The executed blocks in order.
+    pub steps: Vec<TraceStep>,
+}
+
+/// Interpret a whole program and record its execution steps ([`Traced`]). With `restart`
+/// `(line, position)`, the machine is placed at `position` before the first block executed
+/// on or after `line` (a control's run from a line: the blocks before it set the modal state,
+/// their motion is the caller's to drop).
+///
+/// # Errors
+/// The first [`GcodeError`] met; the steps and motion before it are not returned.
+pub fn interpret_traced(
+    text: &str,
+    opts: &InterpretOptions,
+    restart: Option<(usize, super::Joints)>,
+) -> Result<Traced, GcodeError> {
+    let mut traced = Traced::default();
+    let mut trace = Trace {
+        steps: Vec::new(),
+        restart,
+    };
+    run_traced(text, opts, &mut traced.program, Some(&mut trace))?;
+    let last_line = trace.steps.last().map_or(0, |s| s.line);
+    let (blocks, dwells) = (traced.program.blocks.len(), traced.program.dwells.len());
+    let tail = trace
+        .steps
+        .last()
+        .is_none_or(|s| s.blocks_end < blocks || s.dwells_end < dwells || !s.program_end);
+    if tail {
+        // The end of the text (or a closing `%`) ends the program; a move compensation held
+        // comes out there.
+        let modal = trace.steps.last().map(|s| s.modal.clone());
+        if let Some(modal) = modal {
+            trace.steps.push(TraceStep {
+                line: last_line,
+                blocks_end: blocks,
+                dwells_end: dwells,
+                program_stop: false,
+                optional_stop: false,
+                program_end: true,
+                modal,
+            });
+        }
+    }
+    traced.steps = trace.steps;
+    Ok(traced)
+}
+
+/// What [`interpret_traced`] records while the program runs.
+struct Trace {
+    steps: Vec<TraceStep>,
+    restart: Option<(usize, super::Joints)>,
+}
+
 fn run_into(text: &str, opts: &InterpretOptions, out: &mut Program) -> Result<(), GcodeError> {
+    run_traced(text, opts, out, None)
+}
+
+fn run_traced(
+    text: &str,
+    opts: &InterpretOptions,
+    out: &mut Program,
+    mut trace: Option<&mut Trace>,
+) -> Result<(), GcodeError> {
     if !opts.start.is_finite() {
         return Err(GcodeError {
             line: 0,
@@ -182,7 +274,26 @@ fn run_into(text: &str, opts: &InterpretOptions, out: &mut Program) -> Result<()
                     message: "an O-word must be alone on its line".into(),
                 });
             }
-            if run_block(block, line.number, &mut state, opts, program)?.ends {
+            if let Some(t) = trace.as_deref_mut()
+                && let Some((from, at)) = t.restart
+                && line.number >= from
+            {
+                state.place(at);
+                t.restart = None;
+            }
+            let ran = run_block(block, line.number, &mut state, opts, program)?;
+            if let Some(t) = trace.as_deref_mut() {
+                t.steps.push(TraceStep {
+                    line: line.number,
+                    blocks_end: program.blocks.len(),
+                    dwells_end: program.dwells.len(),
+                    program_stop: ran.m.contains(&0),
+                    optional_stop: ran.m.contains(&10),
+                    program_end: ran.ends,
+                    modal: super::session::modal_of(&state),
+                });
+            }
+            if ran.ends {
                 ended_at = Some(line.number);
                 break;
             }

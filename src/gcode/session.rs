@@ -162,33 +162,7 @@ impl Session {
     /// The modal state.
     #[must_use]
     pub fn modal(&self) -> Modal {
-        let s = &self.state;
-        Modal {
-            motion: match s.motion {
-                Some(Motion::Rapid) => "G0",
-                Some(Motion::Linear) => "G1",
-                Some(Motion::Cw) => "G2",
-                Some(Motion::Ccw) => "G3",
-                Some(Motion::Cycle(c)) => c.name(),
-                None => "G80",
-            },
-            plane: match s.plane {
-                Plane::Xy => "G17",
-                Plane::Zx => "G18",
-                Plane::Yz => "G19",
-            },
-            units: if s.inch { "G20" } else { "G21" },
-            distance: if s.absolute { "G90" } else { "G91" },
-            feed_mode: if s.inverse_time { "G93" } else { "G94" },
-            work_offset: s.work_offset,
-            feed: s.feed,
-            spindle_rpm: s.spindle_speed,
-            spindle_direction: s.spindle_dir,
-            coolant: s.coolant,
-            tool: s.tool,
-            tool_length_h: s.tool_length_h,
-            tcp: s.tcp,
-        }
+        modal_of(&self.state)
     }
 
     /// Execute one line (numbered `line` in messages and blocks). On an error the modal state
@@ -243,5 +217,35 @@ impl Session {
             out.program_end |= ran.ends;
         }
         Ok(out)
+    }
+}
+
+/// The modal state of an interpreter state.
+pub(super) fn modal_of(s: &State) -> Modal {
+    Modal {
+        motion: match s.motion {
+            Some(Motion::Rapid) => "G0",
+            Some(Motion::Linear) => "G1",
+            Some(Motion::Cw) => "G2",
+            Some(Motion::Ccw) => "G3",
+            Some(Motion::Cycle(c)) => c.name(),
+            None => "G80",
+        },
+        plane: match s.plane {
+            Plane::Xy => "G17",
+            Plane::Zx => "G18",
+            Plane::Yz => "G19",
+        },
+        units: if s.inch { "G20" } else { "G21" },
+        distance: if s.absolute { "G90" } else { "G91" },
+        feed_mode: if s.inverse_time { "G93" } else { "G94" },
+        work_offset: s.work_offset,
+        feed: s.feed,
+        spindle_rpm: s.spindle_speed,
+        spindle_direction: s.spindle_dir,
+        coolant: s.coolant,
+        tool: s.tool,
+        tool_length_h: s.tool_length_h,
+        tcp: s.tcp,
     }
 }

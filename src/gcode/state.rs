@@ -62,6 +62,8 @@ pub(super) struct State {
     pub(super) work_plane: Option<super::workplane_frame::WorkPlane>,
     /// The line being executed (`#<_line>`).
     pub(super) line: usize,
+    /// The canned-cycle move being emitted (copied into its blocks).
+    pub(super) cycle_phase: Option<super::block::CyclePhase>,
 }
 
 /// Words of one block, sorted by kind.
@@ -134,6 +136,7 @@ impl State {
             heidenhain_modal: false,
             work_plane: None,
             line: 0,
+            cycle_phase: None,
         }
     }
 
@@ -367,6 +370,7 @@ pub(super) struct Snapshot {
     pub(super) coolant: bool,
     pub(super) tcp: bool,
     pub(super) inverse_time: bool,
+    pub(super) cycle: Option<super::block::CyclePhase>,
 }
 
 impl Snapshot {
@@ -379,6 +383,7 @@ impl Snapshot {
             coolant: s.coolant,
             tcp: s.tcp,
             inverse_time: s.inverse_time && !rapid,
+            cycle: s.cycle_phase,
         }
     }
 }

@@ -267,6 +267,7 @@ fn blocks(segs: &[Segment], rapid_feed: f64) -> Vec<MotionBlock> {
             spindle_rpm: s.rpm,
             coolant: false,
             tcp: false,
+            cycle: None,
         })
         .collect()
 }

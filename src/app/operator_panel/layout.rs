@@ -120,6 +120,10 @@ impl OperatorPanel {
             "Increment {} mm / °   Removed {:.1} mm³",
             snap.increment, snap.removed_volume_mm3
         ));
+        if let Some(c) = &snap.cycle {
+            // The canned cycle's move under way: which hole, which peck, how deep.
+            ui.label(RichText::new(format!("Cycle: {}", c.describe())).strong());
+        }
         ui.separator();
         ui.label(RichText::new("Active codes").strong());
         ui.label(RichText::new(snap.active_codes.join(" ")).monospace());

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, VecDeque};
 
 use crate::control::{Mode, codes};
 use crate::feed::travel_violations;
-use crate::gcode::{MotionBlock, Session};
+use crate::gcode::{MotionBlock, interpret_traced};
 
 use super::{AutoRun, Control, ControlError, Item, Kind, refuse};
 
@@ -21,17 +21,9 @@ impl Control {
         let Some((_, text)) = &self.program else {
             return refuse("no program loaded");
         };
-        let mut session = Session::new(self.interp_options())
-            .map_err(|e| ControlError::Refused(e.to_string()))?;
-        for (i, raw) in text.lines().enumerate() {
-            let r = session
-                .run_line(raw, i + 1)
-                .map_err(|e| ControlError::Refused(e.to_string()))?;
-            if r.program_end {
-                break;
-            }
-        }
-        Ok(())
+        interpret_traced(text, &self.interp_options(), None)
+            .map(|_| ())
+            .map_err(|e| ControlError::Refused(e.to_string()))
     }
 
     /// Refuse motion leaving the travel with an alarm naming the first block and axis.
@@ -100,9 +92,12 @@ impl Control {
         Ok(())
     }
 
-    /// The whole program interpreted from the present position, checked against the travel.
+    /// The whole program interpreted from the present position, checked against the travel:
+    /// [`crate::gcode::interpret_traced`], the interpreter's own run of the whole program
+    /// (canned cycles expanded, cutter compensation from the tool table, subroutines, loops
+    /// and parameters), cut into the stretches AUTO plays between its stops and dwells.
     ///
-    /// Run from line: the lines before `from_line` are interpreted for their modal state only
+    /// Run from line: the blocks before `from_line` are interpreted for their modal state only
     /// (units, plane, distance mode, offsets, feed, spindle, tool, TCP), without motion; the
     /// first block from `from_line` on starts at the present position.
     pub(super) fn interpret_program(
@@ -111,49 +106,76 @@ impl Control {
         text: &str,
         from_line: usize,
     ) -> Option<AutoRun> {
-        let Ok(mut session) = Session::new(self.interp_options()) else {
-            return None;
+        let here = self.joints(&self.pos);
+        let restart = (from_line > 1).then_some((from_line, here));
+        let traced = match interpret_traced(text, &self.interp_options(), restart) {
+            Ok(t) => t,
+            Err(e) => {
+                self.alarm(codes::GCODE, format!("{name}: {e}")).line = Some(e.line);
+                return None;
+            }
         };
+        let first = traced
+            .steps
+            .iter()
+            .position(|s| s.line >= from_line)
+            .unwrap_or(traced.steps.len());
+        if from_line > 1 {
+            let ended = traced
+                .steps
+                .get(..first)
+                .unwrap_or(&[])
+                .iter()
+                .find(|s| s.program_end);
+            if let Some(end) =
+                ended.or_else(|| traced.steps.last().filter(|_| first == traced.steps.len()))
+            {
+                let text = format!(
+                    "{name}: the program ends at line {} before line {from_line}",
+                    end.line
+                );
+                self.alarm(codes::GCODE, text).line = Some(from_line);
+                return None;
+            }
+        }
         let mut run = AutoRun {
             items: VecDeque::new(),
             modal: BTreeMap::new(),
             stop_after_run: false,
         };
-        let mut all = Vec::new();
-        for (i, raw) in text.lines().enumerate() {
-            let r = match session.run_line(raw, i + 1) {
-                Ok(r) => r,
-                Err(e) => {
-                    self.alarm(codes::GCODE, format!("{name}: {e}")).line = Some(e.line);
-                    return None;
+        let program = traced.program;
+        let (mut b0, mut d0) = first
+            .checked_sub(1)
+            .and_then(|k| traced.steps.get(k))
+            .map_or((0, 0), |s| (s.blocks_end, s.dwells_end));
+        let blocks = &program.blocks;
+        let mut all: Vec<MotionBlock> = Vec::new();
+        for step in traced.steps.iter().skip(first) {
+            run.modal.insert(step.line, step.modal.clone());
+            // The step's motion, split at its dwells (a G82 dwells at the hole's bottom).
+            for d in program.dwells.get(d0..step.dwells_end).unwrap_or(&[]) {
+                let upto = d.before_block.max(b0).min(step.blocks_end.max(b0));
+                let part = blocks.get(b0..upto).unwrap_or(&[]).to_vec();
+                if !part.is_empty() {
+                    all.extend(part.iter().cloned());
+                    run.items.push_back(Item::motion(part));
                 }
-            };
-            if i + 2 == from_line {
-                session.set_position(self.joints(&self.pos));
+                run.items.push_back(Item {
+                    dwell_s: d.seconds,
+                    ..Item::motion(Vec::new())
+                });
+                b0 = upto;
             }
-            if r.program_end && i + 1 < from_line {
-                let text = format!(
-                    "{name}: the program ends at line {} before line {from_line}",
-                    i + 1
-                );
-                self.alarm(codes::GCODE, text).line = Some(from_line);
-                return None;
-            }
-            if i + 1 < from_line {
-                continue;
-            }
-            run.modal.insert(i + 1, session.modal());
-            all.extend(r.program.blocks.iter().cloned());
+            let part = blocks.get(b0..step.blocks_end).unwrap_or(&[]).to_vec();
+            all.extend(part.iter().cloned());
             run.items.push_back(Item {
-                blocks: r.program.blocks,
-                dwell_s: r.program.dwells.iter().map(|d| d.seconds).sum(),
-                stop: r.program_stop,
-                optional_stop: r.optional_stop,
-                end: r.program_end,
+                stop: step.program_stop,
+                optional_stop: step.optional_stop,
+                end: step.program_end,
+                ..Item::motion(part)
             });
-            if r.program_end {
-                break;
-            }
+            b0 = b0.max(step.blocks_end);
+            d0 = d0.max(step.dwells_end);
         }
         self.travel_ok(&all).then_some(run)
     }

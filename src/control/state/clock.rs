@@ -401,6 +401,7 @@ impl Control {
             self.active = Some(a);
             return;
         }
+        self.log_played_prefix(&a, blocks.len());
         self.start_run(blocks, a.kind, a.limit_alarm);
     }
 
@@ -416,6 +417,7 @@ impl Control {
             if let AfterBrake::Hold { by_override } = a.after_brake {
                 let blocks = a.run.remaining_blocks();
                 if !blocks.is_empty() {
+                    self.log_played_prefix(&a, blocks.len());
                     self.held = Some(Held {
                         blocks,
                         kind: a.kind,
@@ -426,6 +428,7 @@ impl Control {
             } else if a.after_brake == AfterBrake::Resume {
                 let blocks = a.run.remaining_blocks();
                 if !blocks.is_empty() && !self.blocked {
+                    self.log_played_prefix(&a, blocks.len());
                     self.start_run(blocks, a.kind, a.limit_alarm);
                     return;
                 }
@@ -438,6 +441,11 @@ impl Control {
         }
         if let Some((axis, limit)) = a.limit_alarm {
             self.soft_limit_alarm(axis, limit);
+        }
+        if let Some(log) = self.played.as_mut()
+            && matches!(a.kind, Kind::Auto | Kind::Mdi)
+        {
+            log.extend(a.run.blocks().iter().cloned());
         }
         match a.kind {
             Kind::Home(axis) => {
@@ -462,5 +470,29 @@ impl Control {
             }
             Kind::Jog { .. } | Kind::Mdi => {}
         }
+    }
+
+    /// Log the blocks of `a` run to their end when `left` blocks (the first maybe begun)
+    /// remain.
+    fn log_played_prefix(&mut self, a: &Active, left: usize) {
+        if let Some(log) = self.played.as_mut()
+            && matches!(a.kind, Kind::Auto | Kind::Mdi)
+        {
+            let done = a.run.blocks().len().saturating_sub(left);
+            log.extend(a.run.blocks().iter().take(done).cloned());
+        }
+    }
+
+    /// Keep a log of the program and MDI blocks the machine runs to their end, in order
+    /// (`on`; off by default: a long program's log is large), or drop it.
+    pub fn log_played(&mut self, on: bool) {
+        self.played = on.then(Vec::new);
+    }
+
+    /// The program and MDI blocks run to their end since [`Control::log_played`] was switched
+    /// on (a block resumed after a hold appears once, from where it resumed).
+    #[must_use]
+    pub fn played(&self) -> &[MotionBlock] {
+        self.played.as_deref().unwrap_or(&[])
     }
 }

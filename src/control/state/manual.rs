@@ -55,6 +55,7 @@ impl Control {
             spindle_rpm: 0.0,
             coolant: false,
             tcp: false,
+            cycle: None,
         }
     }
 
