@@ -460,7 +460,7 @@ fn the_tool_is_drawn_at_its_tip_along_its_axis_and_the_work_offset_is_marked() {
         1.0,
     );
     let offset = DVec3::new(-30.0, 0.0, 0.0);
-    state.work_offset = Some(offset);
+    state.work_offset = Some(glam::Mat4::from_translation(offset.as_vec3()));
     let empty = r.render(w, h, &state.scene(None)).expect("render");
     state.tool_pose = Some(ToolPose {
         tip,
