@@ -28,8 +28,8 @@ fn source() -> PanelSource<'static> {
     }
 }
 
-fn harness() -> Harness<'static, OperatorPanel> {
-    let src = source();
+/// The panel on `src`, two frames drawn, at the real-time clock.
+fn panel_on(src: PanelSource<'static>) -> Harness<'static, OperatorPanel> {
     let mut h = Harness::builder()
         .with_size(egui::vec2(1400.0, 950.0))
         .with_step_dt(1.0 / 60.0)
@@ -39,6 +39,11 @@ fn harness() -> Harness<'static, OperatorPanel> {
             OperatorPanel::new(),
         );
     h.run_steps(2);
+    h
+}
+
+fn harness() -> Harness<'static, OperatorPanel> {
+    let mut h = panel_on(source());
     h.get_by_label("×100").click();
     h.run_steps(2);
     h
@@ -393,15 +398,7 @@ fn a_g83_shows_its_peck_on_the_panel_while_it_runs() {
         )),
         ..source()
     };
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 950.0))
-        .with_step_dt(1.0 / 60.0)
-        .with_accessibility_check(false)
-        .build_ui_state(
-            move |ui, p: &mut OperatorPanel| p.ui(ui, &src),
-            OperatorPanel::new(),
-        );
-    h.run_steps(2);
+    let mut h = panel_on(src);
     home(&mut h);
     h.get_by_label("AUTO").click();
     h.run_steps(2);
