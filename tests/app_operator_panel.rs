@@ -25,6 +25,7 @@ fn source() -> PanelSource<'static> {
         cutter: None,
         work_offset: (1, ORIGIN),
         posted: Some(("pocket", "G90 G0 X50 Y60 Z10\nG1 Z5 F500\nM30\n")),
+        setup: None,
     }
 }
 
@@ -289,6 +290,7 @@ fn a_slot_cut_through_mdi_removes_its_closed_form_volume() {
         cutter: Some(parse_tool_spec("flat:d=6").unwrap()),
         work_offset: (1, [0.0; 3]),
         posted: None,
+        setup: None,
     };
     let mut h = Harness::builder()
         .with_size(egui::vec2(1400.0, 950.0))
@@ -421,4 +423,151 @@ fn a_g83_shows_its_peck_on_the_panel_while_it_runs() {
     let snap = h.state().control().unwrap().snapshot();
     let phase = snap.cycle.expect("a cycle runs");
     assert_eq!((phase.peck, phase.pecks), (2, 7));
+}
+
+#[test]
+fn auto_stops_at_the_setups_vise_jaw_on_the_line_planning_names() {
+    use talas::app::operator_panel::SetupSource;
+    use talas::diagnostics::Progress;
+    use talas::project::job::{plan_in_setup, post_setup};
+    use talas::project::setups::{placements, stock_solid};
+    use talas::project::{
+        Operation, OperationKind, Project, Setup, SetupStock, ToolEntry, Workholding,
+    };
+    // The plate (30 × 30 × 5 mm, Open CASCADE) in a vise whose jaws grip 6.5 mm of the 7 mm
+    // stock, their tops 1.5 mm above the part: the raster's passes over the X edges run into
+    // them. Planning's check names the pose, the posted program its line; the panel built from
+    // the setup puts the same jaws on the machine table.
+    let part: &'static _ = Box::leak(Box::new(
+        talas::import::open(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plate-hole.stp"),
+            &talas::import::OpenOptions::default(),
+            &Progress::new(),
+        )
+        .unwrap(),
+    ));
+    let mut raster = Operation::new(OperationKind::Raster, 0, 0);
+    if let Operation::Raster {
+        scallop_mm,
+        clearance_mm,
+        ..
+    } = &mut raster
+    {
+        *scallop_mm = 0.4;
+        *clearance_mm = 5.0;
+    }
+    let mut vise = Setup::named("Vise");
+    vise.frame.origin_mm = [0.0, 0.0, 5.0];
+    vise.stock = SetupStock::Around { margin_mm: 2.0 };
+    vise.workholding = vec![Workholding::Vise {
+        jaw_width_mm: 80.0,
+        jaw_height_mm: 25.0,
+        jaw_thickness_mm: 15.0,
+        grip_mm: 6.5,
+        opening_mm: None,
+        along_y: false,
+    }];
+    vise.operations = vec![0];
+    let project: &'static Project = Box::leak(Box::new(Project {
+        name: "Plate in a vise".into(),
+        machine: "mill-3axis".into(),
+        tools: vec![ToolEntry {
+            name: "Ball 6".into(),
+            cutter: parse_tool_spec("ball:d=6").unwrap(),
+        }],
+        selected_tool: Some(0),
+        operations: vec![raster],
+        setups: vec![vise],
+        ..Project::default()
+    }));
+    let tp = plan_in_setup(project, 0, part, &Progress::new())
+        .unwrap()
+        .toolpath;
+    // Linked over the stock box as `talas job --post` posts it (rapids lifted over the stock).
+    let tp = talas::project::job::link_setup(project, 0, part, &[tp], false, &Progress::new())
+        .unwrap()
+        .0
+        .remove(0)
+        .toolpath;
+    let pls = placements(project, Some(part)).unwrap();
+    let meshes = talas::project::setups::workholding_meshes(
+        project,
+        0,
+        &pls,
+        &part.mesh.bbox(),
+        std::path::Path::new("."),
+    )
+    .unwrap();
+    let obstacles: Vec<_> = meshes
+        .iter()
+        .map(|m| talas::checks::collide::Obstacle::new("vise", m).unwrap())
+        .collect();
+    let moves: Vec<_> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+    let tool = talas::checks::collide::assembly(&project.tools[0].cutter);
+    let hit = talas::checks::collide::first_hit(&tool, &obstacles, &moves, 0.25)
+        .expect("planning sees the jaw");
+    let posted = post_setup(project, 0, std::slice::from_ref(&tp)).unwrap();
+    let line = posted
+        .source_of_line
+        .iter()
+        .rposition(|s| s.pose == Some(hit.index))
+        .unwrap()
+        + 1;
+    let text: &'static str = Box::leak(posted.text.into_boxed_str());
+    // Program zero 60 mm below the part's own origin on the machine: the post's 100 mm safe
+    // height stays within Z's 100 mm travel.
+    let origin = DVec3::new(0.0, 0.0, -60.0);
+    let b = stock_solid(project, 0, &pls, &part.mesh.bbox())
+        .unwrap()
+        .bbox();
+    let src = PanelSource {
+        machine: "mill-3axis".into(),
+        stock: Some(StockShape::Box {
+            min: b.min + origin,
+            max: b.max + origin,
+        }),
+        cutter: Some(project.tools[0].cutter.clone()),
+        work_offset: (1, origin.to_array()),
+        posted: Some(("Vise", text)),
+        setup: Some(SetupSource {
+            project,
+            index: 0,
+            part,
+            base: std::path::Path::new("."),
+        }),
+    };
+    let mut h = panel_on(src);
+    assert!(
+        h.state()
+            .control()
+            .unwrap()
+            .fixtures()
+            .iter()
+            .any(|f| f.name == "vise"),
+        "the vise is on the table"
+    );
+    h.get_by_label("×100").click();
+    h.run_steps(2);
+    home(&mut h);
+    h.get_by_label("AUTO").click();
+    h.run_steps(2);
+    h.get_by_label("Load posted program").click();
+    h.run_steps(2);
+    h.get_by_label("Cycle start").click();
+    h.run_steps(1);
+    settle(&mut h);
+    let snap = h.state().control().unwrap().snapshot();
+    let alarm = snap
+        .alarms
+        .iter()
+        .find(|a| a.code == codes::COLLISION_MACHINE)
+        .unwrap_or_else(|| panic!("no collision alarm: {:?}", snap.alarms));
+    assert_eq!(alarm.line, Some(line), "{}", alarm.text);
+    assert!(alarm.bodies.iter().any(|b| b == "vise"), "{:?}", alarm.bodies);
+    // The panel shows it.
+    assert!(
+        h.query_by_label_contains(&format!("line {line}: collision")).is_some(),
+        "{}",
+        alarm.text
+    );
 }

@@ -656,3 +656,111 @@ fn an_operation_of_the_second_setup_posts_in_its_own_frame() {
     // the 3-axis machine: its tool axis points up from below.
     assert!(post_operation(&project, 0, &tp, 1).is_err());
 }
+
+/// Setup 1's raster planned and linked over its stock box (its rapids lifted over the
+/// stock, as `talas job --post` posts it).
+fn linked(project: &Project, part: &Workpiece) -> Toolpath {
+    let tp = plan_in_setup(project, 0, part, &Progress::new())
+        .unwrap()
+        .toolpath;
+    let (mut l, _) =
+        talas::project::job::link_setup(project, 0, part, &[tp], false, &Progress::new()).unwrap();
+    l.remove(0).toolpath
+}
+
+/// Where setup 1's program zero sits on the machine (G54): the post's safe height is 100 mm
+/// in program coordinates and Z travels to 100 mm, so the part sits 60 mm lower than in its
+/// own coordinates.
+fn work_offset() -> DVec3 {
+    DVec3::new(0.0, 0.0, -60.0)
+}
+
+/// The virtual control of setup 1 as the operator panel builds it: mill-3axis homed, the
+/// setup's work offset, its stock box cut by the tool and its vise on the table (machine =
+/// program + offset), the posted program loaded in AUTO.
+fn control_for_setup(project: &Project, part: &Workpiece, program: &str) -> talas::control::Control {
+    use talas::control::{Action, Control, ControlConfig, LiveStock, Mode};
+    use talas::simulation::{DexelMode, DexelStock, StockShape};
+    let pls = placements(project, Some(part)).unwrap();
+    let origin = work_offset();
+    let mut cfg = ControlConfig::new(Machine::resolve("mill-3axis").unwrap());
+    cfg.work_offsets[0] = origin;
+    cfg.fixtures = talas::project::job_sim::control_fixtures(
+        project,
+        0,
+        &pls,
+        &part.mesh.bbox(),
+        Path::new("."),
+        origin,
+    )
+    .unwrap();
+    let b = stock_solid(project, 0, &pls, &part.mesh.bbox())
+        .unwrap()
+        .bbox();
+    let shape = StockShape::Box {
+        min: b.min + origin,
+        max: b.max + origin,
+    };
+    let stock = DexelStock::new(vec![shape], 0.5, DexelMode::Z, 1 << 28).unwrap();
+    cfg.stock = Some(LiveStock::new(
+        stock,
+        project.tools[0].cutter.clone(),
+        0.5,
+    ));
+    let mut c = Control::new(cfg).unwrap();
+    c.apply(Action::Home).unwrap();
+    c.advance_until_idle(1e4);
+    c.apply(Action::SetMode(Mode::Auto)).unwrap();
+    c.apply(Action::LoadProgram {
+        name: "setup 1".into(),
+        text: program.into(),
+    })
+    .unwrap();
+    c
+}
+
+#[test]
+fn the_virtual_control_stops_at_the_vise_jaw_on_the_line_planning_names() {
+    use talas::control::{Action, codes};
+    let part = part();
+    let mut project = job();
+    if let Workholding::Vise { grip_mm, .. } = &mut project.setups[0].workholding[0] {
+        *grip_mm = 6.5;
+    }
+    let tp = linked(&project, &part);
+    let on_path: Vec<(DVec3, DVec3)> = tp.poses.iter().map(|p| (p.tip, p.axis)).collect();
+    let hit = jaw_hit(&project, &part, &on_path).expect("the jaw is in the way");
+    let posted = post_setup(&project, 0, std::slice::from_ref(&tp)).unwrap();
+    let line_of_pose = posted
+        .source_of_line
+        .iter()
+        .rposition(|s| s.operation == 0 && s.pose == Some(hit.index))
+        .expect("the pose's line")
+        + 1;
+    let mut c = control_for_setup(&project, &part, &posted.text);
+    c.apply(Action::CycleStart).unwrap();
+    c.advance_until_idle(1e5);
+    let alarm = c
+        .alarms()
+        .iter()
+        .find(|a| a.code == codes::COLLISION_MACHINE)
+        .unwrap_or_else(|| panic!("no collision alarm: {:?}", c.alarms()));
+    assert_eq!(alarm.line, Some(line_of_pose), "{}", alarm.text);
+    assert!(alarm.bodies.iter().any(|b| b == "vise"), "{:?}", alarm.bodies);
+    // Where the control saw the contact (machine coordinates) is planning's tip moved by the
+    // work offset, within the planning check's 0.25 mm step.
+    let at = DVec3::from(alarm.position.unwrap());
+    let want = hit.tip + work_offset();
+    assert!(at.distance(want) < 0.3, "control {at}, planning {want}");
+    // The vise gripping 1.5 mm: the same control runs the program to its end, no alarm.
+    let clear = job();
+    let tp = linked(&clear, &part);
+    let posted = post_setup(&clear, 0, std::slice::from_ref(&tp)).unwrap();
+    let mut c = control_for_setup(&clear, &part, &posted.text);
+    c.apply(Action::CycleStart).unwrap();
+    c.advance_until_idle(1e5);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    c.flush_cutting();
+    let removed = c.snapshot().removed_volume_mm3;
+    assert!(removed > 100.0, "{removed} mm³");
+}

@@ -80,6 +80,11 @@ fn the_setup_sheet_shows_every_setup_with_its_picture_tools_and_times() {
                 jaw_height_mm = 20.0\njaw_thickness_mm = 15.0\ngrip_mm = 5.0\n";
     assert_eq!(text.matches("margin_mm = 2.0\n").count(), 1);
     let project = dir.join("job-part-vise.talas");
+    // The work material: aluminium 6061 with carbide tools (the project's feeds stay typed).
+    let text = text.replace(
+        "selected_tool = 0\n",
+        "selected_tool = 0\nmaterial = { key = \"6061\", tool_material = \"carbide\" }\n",
+    );
     std::fs::write(&project, text.replace("margin_mm = 2.0\n", vise)).unwrap();
     let out = dir.join("sheet.html");
     let doc = run_sheet(&project, &out);
@@ -91,6 +96,29 @@ fn the_setup_sheet_shows_every_setup_with_its_picture_tools_and_times() {
     }
     let setups = doc["setups"].as_array().unwrap();
     assert_eq!(setups.len(), 3);
+    // The material, in the JSON and on the sheet; each operation says where its speeds are
+    // from: the facing's typed 800 mm/min is not the library's, the drilling cycle has none.
+    assert_eq!(doc["material"]["name"], "aluminium 6061-T6");
+    assert_eq!(doc["material"]["tool_material"], "carbide");
+    assert!(html.contains("Material: aluminium 6061-T6 (carbide tools)"));
+    let ops: Vec<&serde_json::Value> = setups
+        .iter()
+        .flat_map(|s| s["operations"].as_array().unwrap())
+        .collect();
+    for op in &ops {
+        let from = &op["speeds_from"];
+        let kind = from["kind"].as_str().unwrap();
+        assert!(["typed", "typed_only"].contains(&kind), "{op}");
+        assert!(
+            html.contains(&format!("Speeds {}", from["text"].as_str().unwrap())),
+            "{from}"
+        );
+    }
+    let facing = ops.iter().find(|o| o["kind"] == "Facing").unwrap();
+    assert_eq!(facing["feed_mm_per_min"], 800.0);
+    assert_eq!(facing["speeds_from"]["kind"], "typed");
+    let drill = ops.iter().find(|o| o["kind"] == "Hole making").unwrap();
+    assert_eq!(drill["speeds_from"]["kind"], "typed_only", "{drill}");
     assert_eq!(html.matches("<section>").count(), 3);
     for (k, s) in setups.iter().enumerate() {
         let name = s["name"].as_str().unwrap();

@@ -186,6 +186,7 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
         let sheet = crate::project::sheet::Sheet {
             project: project.name.clone(),
             part: part_path.display().to_string(),
+            material: material_text(&project),
             tools: super::job_sheet::tools(&project, &chosen),
             setups: pages,
         };
@@ -197,9 +198,22 @@ pub fn job(args: &JobArgs) -> Result<Value, ImportError> {
         "project": args.file.display().to_string(),
         "part": part_path.display().to_string(),
         "stock_carried": args.simulate,
+        "material": project.material.as_ref().map(|m| json!({
+            "key": m.key,
+            "name": m.material().ok().map(|x| x.name),
+            "tool_material": m.tool_material.name(),
+        })),
         "setups": out,
         "sheet": sheet_file,
     }))
+}
+
+/// The work material and the tools' material, as the setup sheet names them.
+fn material_text(project: &Project) -> Option<String> {
+    project.material.as_ref().map(|m| {
+        let name = m.material().map_or_else(|e| e, |x| x.name.to_string());
+        format!("{name} ({} tools)", m.tool_material.name())
+    })
 }
 
 /// Plan setup `s`'s operations in its frame: their JSON records and tool paths.
@@ -219,6 +233,7 @@ fn plan_setup(
         let o = &project.operations[op];
         let tool = project.tools.get(o.tool());
         let sm = &c.toolpath.summary;
+        let speeds = crate::project::cutting::SpeedsOrigin::of(project, o);
         ops.push(json!({
             "index": op + 1,
             "name": o.name(),
@@ -227,6 +242,12 @@ fn plan_setup(
                 "number": o.tool() + 1,
                 "name": tool.map(|t| t.name.clone()),
                 "spec": tool.map(|t| crate::tools::tool_spec(&t.cutter)),
+            },
+            "feed_mm_per_min": crate::project::cutting::cutting_feed(o),
+            "spindle_rpm": o.common().and_then(|c| c.spindle_rpm),
+            "speeds_from": {
+                "kind": speeds.key(),
+                "text": speeds.describe(),
             },
             "poses": sm.pose_count,
             "cut_length_mm": sm.cut_length_mm,

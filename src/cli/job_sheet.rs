@@ -168,6 +168,7 @@ fn operation_row(
             .and_then(|c| c.spindle_rpm)
             .unwrap_or(project.post.spindle_rpm),
         heights,
+        speeds_from: crate::project::cutting::SpeedsOrigin::of(project, o).describe(),
         time_at_feed_s: path.summary.estimated_time_s,
         cycle_time_s,
         warnings: Vec::new(),

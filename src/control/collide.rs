@@ -43,17 +43,17 @@ pub fn machine_joints(machine: &Machine, p: &JointVector) -> MachineJoints {
 pub fn stock_extra(min: glam::DVec3, max: glam::DVec3) -> Option<TableExtra> {
     ((max - min).min_element() > 0.0).then(|| TableExtra {
         name: "stock".into(),
-        shape: Shape::Box { min, max },
+        shape: Shape::Box { min, max }.into(),
         cut_by_tool: true,
     })
 }
 
-/// How many samples a move from `a` to `b` needs.
-fn samples(a: &JointVector, b: &JointVector) -> usize {
+/// How many samples a move from `a` to `b` needs, at most `linear_mm` of a linear axis apart.
+fn samples(a: &JointVector, b: &JointVector, linear_mm: f64) -> usize {
     let mut n: f64 = 1.0;
     for k in 0..SLOTS {
         let step = if k < 3 {
-            SAMPLE_MM
+            linear_mm
         } else {
             SAMPLE_DEG.to_radians()
         };
@@ -65,7 +65,7 @@ fn samples(a: &JointVector, b: &JointVector) -> usize {
 /// Whether the axes have moved far enough from `last` for the next collision test.
 #[must_use]
 pub fn due(last: &JointVector, now: &JointVector) -> bool {
-    samples(last, now) > 1
+    samples(last, now, SAMPLE_MM) > 1
 }
 
 fn moved(a: &JointVector, b: &JointVector) -> f64 {
@@ -94,7 +94,12 @@ pub fn first_contact_along(
     if !first.is_empty() {
         return Some((u0, first));
     }
-    let n = samples(&at(u0), &at(u1));
+    let linear = if model.has_mesh() {
+        crate::machine::collision::MESH_SAMPLE_MM
+    } else {
+        SAMPLE_MM
+    };
+    let n = samples(&at(u0), &at(u1), linear);
     let mut lo = u0;
     for i in 1..=n {
         let hi = u0 + (u1 - u0) * i as f64 / n as f64;
@@ -211,7 +216,8 @@ pub fn riser_under(
         shape: Shape::Box {
             min: glam::DVec3::new(stock_min.x, stock_min.y, top),
             max: glam::DVec3::new(stock_max.x, stock_max.y, stock_min.z),
-        },
+        }
+        .into(),
         cut_by_tool: false,
     })
 }

@@ -10,9 +10,9 @@
 use glam::DVec3;
 use parry3d_f64::math::{Pose, Rot3};
 use parry3d_f64::query::intersection_test;
-use parry3d_f64::shape::{Cuboid, Cylinder, Shape as ParryShape};
+use parry3d_f64::shape::{Cuboid, Cylinder, Shape as ParryShape, TriMesh as ParryTriMesh};
 
-use super::bodies::{Link, LinkPlacements, Placement, Shape, Side};
+use super::bodies::{BodyMesh, Link, LinkPlacements, Placement, Shape, Side};
 use super::{Machine, MachineJoints};
 
 /// One cylinder of the tool assembly, coaxial with the tool, heights from the tip (mm).
@@ -31,12 +31,57 @@ pub struct ToolCylinder {
 /// A solid on the table (in table coordinates, which move with the rotary table).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableExtra {
-    /// Name in alarms (`stock`, `fixture`).
+    /// Name in alarms (`stock`, `fixture`, `vise`).
     pub name: String,
     /// Shape in table coordinates.
-    pub shape: Shape,
+    pub shape: TableShape,
     /// The tool cuts it: tool against it is not checked here.
     pub cut_by_tool: bool,
+}
+
+/// The shape of a table extra: a primitive, or a closed triangle mesh (a setup's workholding:
+/// a vise's jaws, a plate, a body from a file), tested as parry's triangle mesh (surface
+/// contact: a body wholly inside the mesh is not seen, it passed the surface earlier).
+#[derive(Clone, Debug, PartialEq)]
+pub enum TableShape {
+    /// A box or a cylinder.
+    Solid(Shape),
+    /// A closed triangle mesh, table coordinates.
+    Mesh(std::sync::Arc<BodyMesh>),
+}
+
+impl From<Shape> for TableShape {
+    fn from(s: Shape) -> Self {
+        Self::Solid(s)
+    }
+}
+
+impl TableShape {
+    /// A closed triangle mesh of the shape (cylinders with `segments` sides).
+    #[must_use]
+    pub fn mesh(&self, segments: usize) -> BodyMesh {
+        match self {
+            Self::Solid(s) => s.mesh(segments),
+            Self::Mesh(m) => BodyMesh::clone(m),
+        }
+    }
+}
+
+impl TableExtra {
+    /// A mesh named `name` (never cut by the tool: workholding); `None` for a mesh parry
+    /// cannot take (no triangles, an index out of range, a coordinate not finite).
+    #[must_use]
+    pub fn mesh(name: &str, mesh: BodyMesh) -> Option<Self> {
+        let n = mesh.vertices.len();
+        let ok = !mesh.triangles.is_empty()
+            && mesh.vertices.iter().all(|v| v.is_finite())
+            && mesh.triangles.iter().flatten().all(|&i| (i as usize) < n);
+        ok.then(|| Self {
+            name: name.to_string(),
+            shape: TableShape::Mesh(std::sync::Arc::new(mesh)),
+            cut_by_tool: false,
+        })
+    }
 }
 
 /// Where an entry hangs.
@@ -65,7 +110,12 @@ pub struct CollisionModel {
     entries: Vec<Entry>,
     pairs: Vec<(usize, usize)>,
     gauge_mm: f64,
+    has_mesh: bool,
 }
+
+/// Largest linear step between two tests along a motion when the table carries a mesh (the
+/// step planning and the job's simulation test workholding at), mm.
+pub const MESH_SAMPLE_MM: f64 = 0.25;
 
 impl std::fmt::Debug for CollisionModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -73,7 +123,18 @@ impl std::fmt::Debug for CollisionModel {
             .field("entries", &self.entries.len())
             .field("pairs", &self.pairs.len())
             .field("gauge_mm", &self.gauge_mm)
+            .field("has_mesh", &self.has_mesh)
             .finish()
+    }
+}
+
+fn table_shape(shape: &TableShape) -> Option<(Placement, Box<dyn ParryShape>)> {
+    match shape {
+        TableShape::Solid(s) => Some(primitive(s)),
+        TableShape::Mesh(m) => {
+            let mesh = ParryTriMesh::new(m.vertices.clone(), m.triangles.clone()).ok()?;
+            Some((Placement::IDENTITY, Box::new(mesh)))
+        }
     }
 }
 
@@ -124,8 +185,12 @@ impl CollisionModel {
                 shape,
             });
         }
+        let mut has_mesh = false;
         for e in extras {
-            let (local, shape) = primitive(&e.shape);
+            let Some((local, shape)) = table_shape(&e.shape) else {
+                continue;
+            };
+            has_mesh |= matches!(e.shape, TableShape::Mesh(_));
             sides.push((Side::Table, e.cut_by_tool));
             entries.push(Entry {
                 name: e.name.clone(),
@@ -169,6 +234,7 @@ impl CollisionModel {
             entries,
             pairs,
             gauge_mm,
+            has_mesh,
         })
     }
 
@@ -176,6 +242,13 @@ impl CollisionModel {
     #[must_use]
     pub fn gauge_mm(&self) -> f64 {
         self.gauge_mm
+    }
+
+    /// Whether a table extra is a mesh (workholding): motion is then tested at steps of
+    /// [`MESH_SAMPLE_MM`], since a jaw's edge can be grazed over less than the primitives' step.
+    #[must_use]
+    pub fn has_mesh(&self) -> bool {
+        self.has_mesh
     }
 
     /// Number of body pairs tested per pose.

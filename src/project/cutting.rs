@@ -258,6 +258,12 @@ pub fn suggest_for(project: &Project, op: &Operation) -> Result<OperationSpeeds,
 }
 
 /// The cutting feed field of `op`, mm/min (`None` for none).
+/// The cutting feed `op` programs, mm/min (`None` for a kind without one).
+#[must_use]
+pub fn cutting_feed(op: &Operation) -> Option<f64> {
+    feed_mut(&mut op.clone()).copied()
+}
+
 fn feed_mut(op: &mut Operation) -> Option<&mut f64> {
     match op {
         Operation::Finish { options, .. } => Some(&mut options.feed),
@@ -307,6 +313,74 @@ pub fn apply(mut op: Operation, s: &OperationSpeeds) -> Operation {
 #[must_use]
 pub fn follows(op: &Operation, s: &OperationSpeeds) -> bool {
     apply(op.clone(), s) == *op
+}
+
+/// Where an operation's feeds and speeds come from, as the setup sheet and `talas job --json`
+/// say it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpeedsOrigin {
+    /// The cutting-data library's numbers for the project's material, unchanged.
+    Library {
+        /// The material's full name.
+        material: &'static str,
+        /// The tools' material (`carbide`, `hss`).
+        tool_material: &'static str,
+    },
+    /// Typed: at least one number differs from the library's.
+    Typed {
+        /// What the library gives instead (spindle rpm, cutting feed mm/min).
+        library_rpm_feed: (f64, f64),
+    },
+    /// Typed, and the library gives nothing for it (why: no material set, a drilling cycle).
+    TypedOnly {
+        /// Why the library has no numbers.
+        why: String,
+    },
+}
+
+impl SpeedsOrigin {
+    /// Of operation `op` of `project`.
+    #[must_use]
+    pub fn of(project: &Project, op: &Operation) -> Self {
+        match suggest_for(project, op) {
+            Ok(s) if follows(op, &s) => Self::Library {
+                material: s.speeds.material,
+                tool_material: project
+                    .material
+                    .as_ref()
+                    .map_or("carbide", |m| m.tool_material.name()),
+            },
+            Ok(s) => Self::Typed {
+                library_rpm_feed: (s.speeds.spindle_rpm, s.speeds.feed_mm_min),
+            },
+            Err(why) => Self::TypedOnly { why },
+        }
+    }
+
+    /// A short key: `library`, `typed` or `typed_only`.
+    #[must_use]
+    pub fn key(&self) -> &'static str {
+        match self {
+            Self::Library { .. } => "library",
+            Self::Typed { .. } => "typed",
+            Self::TypedOnly { .. } => "typed_only",
+        }
+    }
+
+    /// One line for a reader, with units.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Library {
+                material,
+                tool_material,
+            } => format!("from the cutting data for {material} ({tool_material} tools)"),
+            Self::Typed {
+                library_rpm_feed: (rpm, feed),
+            } => format!("typed (the cutting data give {rpm:.0} rpm, {feed:.0} mm/min)"),
+            Self::TypedOnly { why } => format!("typed ({why})"),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -377,6 +451,24 @@ mod tests {
             o.common.feed_mm_per_min += 10.0;
         }
         assert!(!follows(&typed, &s));
+        // Where the numbers come from, as the setup sheet and `talas job --json` say it.
+        assert_eq!(
+            SpeedsOrigin::of(&p, &op),
+            SpeedsOrigin::Library {
+                material: "aluminium 6061-T6",
+                tool_material: "carbide"
+            }
+        );
+        let SpeedsOrigin::Typed {
+            library_rpm_feed: (rpm, feed),
+        } = SpeedsOrigin::of(&p, &typed)
+        else {
+            panic!("typed")
+        };
+        assert!((rpm - n).abs() < 1e-3 * n && (feed - fz * 3.0 * n).abs() < 1e-3 * feed);
+        let mut none = p.clone();
+        none.material = None;
+        assert_eq!(SpeedsOrigin::of(&none, &op).key(), "typed_only");
     }
 
     #[test]

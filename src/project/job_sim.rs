@@ -92,6 +92,38 @@ pub fn obstacles(
         .collect()
 }
 
+/// The workholding of setup `index` as the virtual control's table extras: each item's mesh
+/// moved from the setup frame (the program's frame) into table coordinates by the work
+/// offset's origin `offset_mm` (table = program + offset, the rotaries at zero), so the
+/// control's AUTO run tests the same jaws planning and the simulation test
+/// ([`crate::machine::collision::TableShape::Mesh`]).
+///
+/// # Errors
+/// As [`setups::workholding_meshes`], or an item whose mesh is empty, named.
+pub fn control_fixtures(
+    project: &Project,
+    index: usize,
+    placements: &[Placement],
+    part_bounds: &Aabb,
+    base: &Path,
+    offset_mm: glam::DVec3,
+) -> Result<Vec<crate::machine::collision::TableExtra>, String> {
+    let meshes = setups::workholding_meshes(project, index, placements, part_bounds, base)?;
+    project.setups[index]
+        .workholding
+        .iter()
+        .zip(meshes)
+        .map(|(w, m)| {
+            let mesh = crate::machine::BodyMesh {
+                vertices: m.positions.iter().map(|&p| p + offset_mm).collect(),
+                triangles: m.triangles,
+            };
+            crate::machine::collision::TableExtra::mesh(w.kind_name(), mesh)
+                .ok_or_else(|| format!("{}: an empty or broken mesh", w.kind_name()))
+        })
+        .collect()
+}
+
 /// The first contact of each tool path (setup frame) with the obstacles, as planning sees
 /// it: along the poses; the block is the pose index.
 #[must_use]

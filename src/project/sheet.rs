@@ -355,6 +355,8 @@ pub struct SheetOperation {
     pub spindle_rpm: f64,
     /// Clearance and retract heights, as the operation gives them.
     pub heights: String,
+    /// Where its feeds and speeds come from (the cutting data for the material, or typed).
+    pub speeds_from: String,
     /// Time at the programmed feeds, s.
     pub time_at_feed_s: f64,
     /// Jerk-limited cycle time of its posted run, s (or why there is none).
@@ -393,6 +395,8 @@ pub struct Sheet {
     pub project: String,
     /// The part file.
     pub part: String,
+    /// The work material and the tools' material, described (`None`: not set).
+    pub material: Option<String>,
     /// The tools used.
     pub tools: Vec<SheetTool>,
     /// The setups.
@@ -438,9 +442,10 @@ pub fn html(sheet: &Sheet) -> String {
          th{{background:#eee}}td.n{{text-align:right;font-variant-numeric:tabular-nums}}\
          .row{{display:flex;gap:18px;align-items:flex-start}}.warn{{color:#a05000}}\
          section{{page-break-inside:avoid}}\
-         </style></head><body>\n<h1>Setup sheet: {p}</h1>\n<p>Part: {part} · {n} setups · {t} tools</p>\n",
+         </style></head><body>\n<h1>Setup sheet: {p}</h1>\n<p>Part: {part} · Material: {m} · {n} setups · {t} tools</p>\n",
         p = esc(&sheet.project),
         part = esc(&sheet.part),
+        m = esc(sheet.material.as_deref().unwrap_or("not set")),
         n = sheet.setups.len(),
         t = sheet.tools.len()
     );
@@ -520,10 +525,12 @@ pub fn html(sheet: &Sheet) -> String {
         );
         o.push_str("<table><tr><th>#</th><th>Operation</th><th>Strategy</th><th>Tool</th><th>Feed mm/min</th><th>Plunge mm/min</th><th>Spindle rpm</th><th>Heights</th><th>Time at feed</th><th>Cycle time</th><th>Notes</th></tr>\n");
         for op in &s.operations {
-            let notes: Vec<String> = op
-                .warnings
-                .iter()
-                .map(|w| format!("<div class=\"warn\">{}</div>", esc(w)))
+            let notes: Vec<String> = std::iter::once(format!("<div>Speeds {}</div>", esc(&op.speeds_from)))
+                .chain(
+                    op.warnings
+                        .iter()
+                        .map(|w| format!("<div class=\"warn\">{}</div>", esc(w))),
+                )
                 .collect();
             let _ = writeln!(
                 o,

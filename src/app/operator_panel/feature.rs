@@ -5,7 +5,7 @@
 use std::any::Any;
 
 use super::camera::MACHINE_VIEWS;
-use super::{OperatorPanel, PanelSource};
+use super::{OperatorPanel, PanelSource, SetupSource};
 use crate::app::actions::{Action, Menu};
 use crate::app::command::{Command, FeatureCommand};
 use crate::app::feature::{Feature, FeatureContext, FeatureView, RenderIds, is_action};
@@ -25,17 +25,33 @@ fn source<'a>(view: &FeatureView<'a>) -> PanelSource<'a> {
         .active_operation
         .and_then(|i| project.operations.get(i));
     let tool = operation.map_or(0, Operation::tool);
+    // The active operation's setup (else the first): its work offset and its workholding.
+    let index = view
+        .active_operation
+        .and_then(|op| crate::project::setups::setup_of(project, op))
+        .unwrap_or(0)
+        .min(project.setups.len().saturating_sub(1));
+    let frame = project
+        .setups
+        .get(index)
+        .map_or_else(|| project.first_setup().frame, |s| s.frame);
     PanelSource {
         machine: project.machine.clone(),
         stock: view
             .document
             .map(|d| crate::simulation::StockShape::of(&project.stock, &d.bounds)),
         cutter: project.tools.get(tool).map(|t| t.cutter.clone()),
-        work_offset: (
-            project.first_setup().frame.work_offset,
-            project.first_setup().frame.origin_mm,
-        ),
+        work_offset: (frame.work_offset, frame.origin_mm),
         posted: view.posted,
+        setup: view.document.map(|d| SetupSource {
+            project,
+            index,
+            part: &d.part.workpiece,
+            base: view
+                .project_path
+                .and_then(std::path::Path::parent)
+                .unwrap_or(std::path::Path::new(".")),
+        }),
     }
 }
 

@@ -60,6 +60,23 @@ pub struct PanelSource<'a> {
     pub work_offset: (u8, [f64; 3]),
     /// The active operation's posted program: name and text.
     pub posted: Option<(&'a str, &'a str)>,
+    /// The setup whose workholding sits on the table (the active operation's).
+    pub setup: Option<SetupSource<'a>>,
+}
+
+/// What places a setup's workholding on the control's table: the project, the setup, the part
+/// (its faces orient the setup, its box sizes the stock) and the folder body files are read
+/// from.
+#[derive(Clone, Copy)]
+pub struct SetupSource<'a> {
+    /// The project.
+    pub project: &'a crate::project::Project,
+    /// Index of the setup.
+    pub index: usize,
+    /// The part.
+    pub part: &'a crate::import::Workpiece,
+    /// The project's folder.
+    pub base: &'a std::path::Path,
 }
 
 /// The panel's mode selector: the control's modes, JOG split into continuous and incremental.
@@ -426,6 +443,22 @@ fn build_control(source: &PanelSource<'_>) -> Result<Control, String> {
             b.max,
         ));
         cfg.stock = Some(LiveStock::new(stock, cutter.clone(), STOCK_RESOLUTION_MM));
+    }
+    // The setup's vise, plate or bodies on the table: the same meshes planning and the job's
+    // simulation test, so AUTO stops at the jaw on the line planning names.
+    if let Some(s) = &source.setup {
+        let placements = crate::project::setups::placements(s.project, Some(s.part))?;
+        cfg.fixtures.extend(
+            crate::project::job_sim::control_fixtures(
+                s.project,
+                s.index,
+                &placements,
+                &s.part.mesh.bbox(),
+                s.base,
+                DVec3::from(origin),
+            )
+            .map_err(|e| format!("workholding of setup {}: {e}", s.index + 1))?,
+        );
     }
     let mut control = Control::new(cfg).map_err(|e| e.to_string())?;
     // The stock is cut on a worker thread, so frames stay short while AUTO cuts. The frame
