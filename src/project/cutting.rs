@@ -344,7 +344,8 @@ impl SpeedsOrigin {
     pub fn of(project: &Project, op: &Operation) -> Self {
         match suggest_for(project, op) {
             Ok(s) if follows(op, &s) => Self::Library {
-                material: s.speeds.material,
+                material: cutting_data::material(s.speeds.material)
+                    .map_or(s.speeds.material, |m| m.name),
                 tool_material: project
                     .material
                     .as_ref()
