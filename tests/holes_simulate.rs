@@ -82,7 +82,8 @@ fn thread_mill(d: f64, pitch: f64, teeth: u32, neck: f64) -> ToolRecord {
 /// A thread: centre (x, y), major diameter, pitch, depth below the top, teeth, the mill's
 /// diameter and its neck's, mm. The M10's tap drill is the Ø8.5 pecked hole (15 mm deep), the
 /// M6's the Ø5 drilled one (10 mm).
-const THREADS: [(f64, f64, f64, f64, f64, u32, f64, f64); 2] = [
+type Thread = (f64, f64, f64, f64, f64, u32, f64, f64);
+const THREADS: [Thread; 2] = [
     (25.0, 15.0, 10.0, 1.5, 12.0, 3, 6.5, 4.6),
     (70.0, 15.0, 6.0, 1.0, 8.0, 1, 4.0, 2.6),
 ];

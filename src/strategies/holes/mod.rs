@@ -222,37 +222,8 @@ pub fn plan_holes(
         let initial_mm = (arrive_h - top_h).max(opts.r_plane_mm);
         match strategy {
             HoleStrategy::Cycle(kind) => {
-                let feed = match kind {
-                    CycleKind::Tap { pitch_mm } => pitch_mm * opts.spindle_rpm,
-                    _ => opts.feed_mm_per_min,
-                };
-                let cycle = CycleMove {
-                    cycle: *kind,
-                    surface: t.top,
-                    axis: dir,
-                    depth_mm: t.depth_mm,
-                    clearance_mm: opts.r_plane_mm,
-                    retract_mm: initial_mm,
-                    retract: if stay {
-                        CycleRetract::RPlane
-                    } else {
-                        CycleRetract::Initial
-                    },
-                    feed_mm_per_min: feed,
-                };
-                if !stay {
-                    // Leave at the clearance height: the cycle's initial plane is where it
-                    // started, so go up from there when it is lower.
-                    tp.push_cycle(cycle).map_err(|e| e.message)?;
-                    if initial_mm + top_h < clear_h - 1e-9 {
-                        let p = t.top + dir * (clear_h - top_h);
-                        tp.push_pose(Pose::new(MoveKind::Rapid, p, dir, 0.0));
-                    }
-                    arrive_h = clear_h;
-                } else {
-                    tp.push_cycle(cycle).map_err(|e| e.message)?;
-                    arrive_h = r_h;
-                }
+                arrive_h = if stay { r_h } else { clear_h };
+                cycle_at(&mut tp, t, dir, *kind, stay, initial_mm, clear_h, opts)?;
             }
             HoleStrategy::HelicalBore {
                 pitch_mm,
@@ -281,38 +252,77 @@ pub fn plan_holes(
                 )?;
                 arrive_h = leave_h;
             }
-            HoleStrategy::ThreadMill { pitch_mm, teeth } => {
-                let path_r = 0.5 * t.diameter_mm - tool_r;
-                if path_r <= 0.0 {
-                    return Err(format!(
-                        "hole {i}: a {} mm thread mill does not fit a {} mm thread",
-                        2.0 * tool_r,
-                        t.diameter_mm
-                    ));
-                }
+            HoleStrategy::ThreadMill { pitch_mm, teeth }
+            | HoleStrategy::ExternalThreadMill { pitch_mm, teeth } => {
+                // An external thread mill never stays (`stay` is false).
                 let leave_h = if stay { r_h } else { clear_h };
-                thread_mill(
-                    &mut tp, t, dir, arrive_h, r_h, leave_h, path_r, *pitch_mm, *teeth, opts,
+                let mill = if external {
+                    external_thread_mill
+                } else {
+                    thread_mill
+                };
+                mill(
+                    &mut tp,
+                    i,
+                    t,
+                    dir,
+                    [arrive_h, r_h, leave_h],
+                    tool_r,
+                    *pitch_mm,
+                    *teeth,
+                    opts,
                 )?;
                 arrive_h = leave_h;
-            }
-            HoleStrategy::ExternalThreadMill { pitch_mm, teeth } => {
-                if !(t.diameter_mm > 0.0 && t.diameter_mm.is_finite()) {
-                    return Err(format!(
-                        "hole {i}: an external thread's minor diameter {} mm must be positive",
-                        t.diameter_mm
-                    ));
-                }
-                let path_r = 0.5 * t.diameter_mm + tool_r;
-                external_thread_mill(
-                    &mut tp, t, dir, arrive_h, r_h, clear_h, path_r, *pitch_mm, *teeth, opts,
-                )?;
-                arrive_h = clear_h;
             }
         }
     }
     plan.toolpath = Some(tp);
     Ok(plan)
+}
+
+/// One canned cycle at `t`, started `initial_mm` above its top, ending at the R plane when
+/// `stay`, else at the clearance height `clear_h`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the hole, its cycle, its heights and the options"
+)]
+fn cycle_at(
+    tp: &mut Toolpath,
+    t: &HoleTarget,
+    dir: DVec3,
+    kind: CycleKind,
+    stay: bool,
+    initial_mm: f64,
+    clear_h: f64,
+    opts: &HolePlanOptions,
+) -> Result<(), String> {
+    let top_h = t.top.dot(dir);
+    let feed = match kind {
+        CycleKind::Tap { pitch_mm } => pitch_mm * opts.spindle_rpm,
+        _ => opts.feed_mm_per_min,
+    };
+    let cycle = CycleMove {
+        cycle: kind,
+        surface: t.top,
+        axis: dir,
+        depth_mm: t.depth_mm,
+        clearance_mm: opts.r_plane_mm,
+        retract_mm: initial_mm,
+        retract: if stay {
+            CycleRetract::RPlane
+        } else {
+            CycleRetract::Initial
+        },
+        feed_mm_per_min: feed,
+    };
+    tp.push_cycle(cycle).map_err(|e| e.message)?;
+    // Leaving at the clearance height: the cycle's initial plane is where it started, so go up
+    // from there when it is lower.
+    if !stay && initial_mm + top_h < clear_h - 1e-9 {
+        let p = t.top + dir * (clear_h - top_h);
+        tp.push_pose(Pose::new(MoveKind::Rapid, p, dir, 0.0));
+    }
+    Ok(())
 }
 
 /// Whether the part stands within the margin of height `h` anywhere the tool passes moving
@@ -521,16 +531,23 @@ fn helical_bore(
 )]
 fn thread_mill(
     tp: &mut Toolpath,
+    i: usize,
     t: &HoleTarget,
     dir: DVec3,
-    arrive_h: f64,
-    r_h: f64,
-    leave_h: f64,
-    path_r: f64,
+    [arrive_h, r_h, leave_h]: [f64; 3],
+    tool_r: f64,
     pitch: f64,
     teeth: u32,
     opts: &HolePlanOptions,
 ) -> Result<(), String> {
+    let path_r = 0.5 * t.diameter_mm - tool_r;
+    if path_r <= 0.0 {
+        return Err(format!(
+            "hole {i}: a {} mm thread mill does not fit a {} mm thread",
+            2.0 * tool_r,
+            t.diameter_mm
+        ));
+    }
     if !(pitch > 0.0 && pitch.is_finite()) {
         return Err(format!("thread pitch {pitch} mm must be positive"));
     }
@@ -573,16 +590,22 @@ fn thread_mill(
 )]
 fn external_thread_mill(
     tp: &mut Toolpath,
+    i: usize,
     t: &HoleTarget,
     dir: DVec3,
-    arrive_h: f64,
-    r_h: f64,
-    leave_h: f64,
-    path_r: f64,
+    [arrive_h, r_h, leave_h]: [f64; 3],
+    tool_r: f64,
     pitch: f64,
     teeth: u32,
     opts: &HolePlanOptions,
 ) -> Result<(), String> {
+    if !(t.diameter_mm > 0.0 && t.diameter_mm.is_finite()) {
+        return Err(format!(
+            "hole {i}: an external thread's minor diameter {} mm must be positive",
+            t.diameter_mm
+        ));
+    }
+    let path_r = 0.5 * t.diameter_mm + tool_r;
     if !(pitch > 0.0 && pitch.is_finite()) {
         return Err(format!("thread pitch {pitch} mm must be positive"));
     }
