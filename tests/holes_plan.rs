@@ -489,3 +489,121 @@ fn the_command_line_lists_the_holes_and_plans_a_peck_drilling() {
         assert!(err.contains(says) && err.lines().count() == 1, "{err}");
     }
 }
+
+/// The thread-mill arcs of a tool path: (start height above `bottom`, rise, sweep).
+fn thread_arcs(tp: &talas::toolpath::Toolpath, bottom: f64) -> Vec<(f64, f64, f64)> {
+    tp.exact
+        .iter()
+        .map(|s| {
+            let ExactMove::Arc(a) = s.exact else {
+                panic!("{:?}", s.exact)
+            };
+            (tp.poses[s.from].tip.z - bottom, a.helix_mm, a.sweep_rad)
+        })
+        .collect()
+}
+
+/// `talas plan --strategy thread-mill --tool threadmill:d=6.5,pitch=1.5,teeth=3` threads the
+/// M10 tap drill (Ø8.5, 15 mm deep, top at z = 30) in ⌈15 / 4.5⌉ = 4 turns started 4.5 mm
+/// apart, against 10 for the single-tooth mill; a tooth count that is not a whole number from 1,
+/// or an unknown key, is one clear error naming `--tool` (exit 2).
+#[test]
+fn the_command_line_thread_mill_takes_its_teeth() {
+    let part = data("holes/holes-part.stp");
+    let part = part.to_str().unwrap();
+    let out = common::temp_path("holes-cli", "thread.json");
+    let o = out.to_str().unwrap();
+    for (spec, teeth, turns) in [
+        ("threadmill:d=6.5,pitch=1.5", 1, 10),
+        ("threadmill:d=6.5,pitch=1.5,teeth=3", 3, 4),
+    ] {
+        let doc = common::talas_json(&[
+            "plan",
+            part,
+            "--strategy",
+            "thread-mill",
+            "--tool",
+            spec,
+            "-o",
+            o,
+            "--json",
+        ]);
+        assert_eq!(doc["thread_mill_teeth"], teeth, "{doc}");
+        let holes = doc["holes"].as_array().unwrap();
+        assert_eq!(holes.len(), 1, "{doc}");
+        assert_eq!(holes[0]["diameter_mm"], 10.0, "{doc}");
+        let tp = talas::toolpath::Toolpath::load(&out).unwrap();
+        let arcs = thread_arcs(&tp, 30.0 - 15.0);
+        assert_eq!(arcs.len(), turns, "{spec}: {arcs:?}");
+        for (k, &(start, rise, sweep)) in arcs.iter().enumerate() {
+            assert!(
+                (rise - 1.5).abs() < 1e-9 && (sweep - std::f64::consts::TAU).abs() < 1e-9,
+                "{arcs:?}"
+            );
+            let span = if teeth == 1 { 1.5 } else { 4.5 };
+            assert!((start - span * k as f64).abs() < 1e-9, "{spec}: {arcs:?}");
+        }
+    }
+    for (spec, says) in [
+        ("threadmill:d=6.5,pitch=1.5,teeth=0", "teeth=0"),
+        ("threadmill:d=6.5,pitch=1.5,teeth=2.5", "teeth=2.5"),
+        ("threadmill:d=6.5,pitch=1.5,teth=3", "unknown key 'teth'"),
+    ] {
+        let r = common::talas(&[
+            "plan",
+            part,
+            "--strategy",
+            "thread-mill",
+            "--tool",
+            spec,
+            "-o",
+            o,
+        ]);
+        assert_eq!(r.status.code(), Some(2), "{spec}");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(
+            err.contains(says) && err.contains("--tool") && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+}
+
+/// A project's thread-mill operation (`talas job`) takes `"teeth"`: absent it is a
+/// single-tooth mill (10 turns on the M10 tap drill), with 3 it cuts 4 turns 4.5 mm apart;
+/// the key round-trips and is left out when absent; 0 teeth is refused.
+#[test]
+fn a_project_thread_mill_operation_takes_its_teeth() {
+    use talas::project::op_holes::{HoleCycle, HolesOp};
+    let part = talas::import::open(
+        &data("holes/holes-part.stp"),
+        &talas::import::OpenOptions::default(),
+        &talas::diagnostics::Progress::new(),
+    )
+    .unwrap();
+    let tool = ToolRecord {
+        spec: "flat:d=6.5".into(),
+        cutter: talas::tools::Cutter::new(talas::tools::CutterKind::Flat, 6.5).unwrap(),
+    };
+    let mut op = HolesOp::new("thread".into(), 0);
+    op.cycle = HoleCycle::ThreadMill;
+    op.pitch_mm = Some(1.5);
+    assert!(!serde_json::to_string(&op).unwrap().contains("teeth"));
+    let single = op.compute(&part, &tool, None).unwrap();
+    assert_eq!(thread_arcs(&single.toolpath, 15.0).len(), 10);
+    op.teeth = Some(3);
+    let text = serde_json::to_string(&op).unwrap();
+    assert!(text.contains("\"teeth\":3"), "{text}");
+    let back: HolesOp = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, op);
+    let three = back.compute(&part, &tool, None).unwrap();
+    let arcs = thread_arcs(&three.toolpath, 15.0);
+    assert_eq!(arcs.len(), 4, "{arcs:?}");
+    for (k, &(start, rise, _)) in arcs.iter().enumerate() {
+        assert!(
+            (start - 4.5 * k as f64).abs() < 1e-9 && (rise - 1.5).abs() < 1e-9,
+            "{arcs:?}"
+        );
+    }
+    op.teeth = Some(0);
+    assert!(op.validate().unwrap_err().contains("teeth"));
+}

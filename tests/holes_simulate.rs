@@ -1,10 +1,24 @@
 //! The hole job cut in the stock simulation: on a tri-dexel stock of the Open CASCADE hole part
 //! without its holes, a spot drill makes the countersink, drills and a peck make the bores,
-//! helical boring with a flat end mill makes the counterbore and the flat-bottomed hole. Each
-//! hole is then measured on the stock alone (not from the planner): its diameter from the gap
-//! in the X and Y rays that cross it at mid-depth, its bottom from the Z rays near its axis, and
-//! compared to the script's own record (`holes-part.json`) within 0.01 mm. Away from the holes
-//! no ray has lost material (no gouge), and no rapid ran through material.
+//! helical boring with a flat end mill makes the counterbore and the flat-bottomed hole, and
+//! thread mills cut an M10 × 1.5 (three teeth) and an M6 × 1 (one tooth) in two of the drilled
+//! holes. Each hole is then measured on the stock alone (not from the planner): its diameter
+//! from the gap in the X and Y rays that cross it at mid-depth, its bottom from the Z rays near
+//! its axis, and compared to the script's own record (`holes-part.json`) within 0.01 mm; a
+//! thread's major diameter on every X and Y ray level from a pitch above its bottom to the top,
+//! its depth from the Z rays between the tap drill and the major diameter. Away from the holes
+//! no ray has lost material (no gouge), no rapid ran through material, and no thread mill's
+//! neck touched it.
+//!
+//! A thread mill is simulated as its teeth's envelope: a flat cylinder of the cutting diameter
+//! as long as its teeth (teeth × pitch) under a narrower neck (the shank), since a `Cutter` has
+//! no thread form; so the stock shows the crests' reach (the major diameter), how deep the
+//! teeth went, and, with several teeth, that each turn's band of teeth meets the next (an uncut
+//! ring between bands would show as a smaller radius on the rays at its height), not the 60°
+//! flanks. The rays lie 0.2 mm apart, but each ray stores its material's ends as exact
+//! distances along it, so an X ray crossing the hole at height z and offset δ from the axis
+//! gives the radius √(e² + δ²) at both of its ends e to the simulation's own accuracy (the
+//! helices' 0.001 mm chords), not to the spacing.
 
 mod common;
 
@@ -43,6 +57,55 @@ fn drill(d: f64, angle_deg: f64) -> ToolRecord {
         spec: t.spec(),
         cutter: long(t.cutter().unwrap()),
     }
+}
+
+/// A thread mill of `teeth` teeth at `pitch` and cutting diameter `d`, as the simulation sees
+/// it: its teeth (teeth × pitch long) under a neck of diameter `neck`.
+fn thread_mill(d: f64, pitch: f64, teeth: u32, neck: f64) -> ToolRecord {
+    let t = HoleTool {
+        kind: HoleToolKind::ThreadMill {
+            pitch_mm: pitch,
+            teeth,
+        },
+        diameter_mm: d,
+    };
+    let mut c = t.cutter().unwrap();
+    c.flute_length = f64::from(teeth) * pitch;
+    c.shank_diameter = neck;
+    c.overall_length = 40.0;
+    ToolRecord {
+        spec: t.spec(),
+        cutter: c,
+    }
+}
+
+/// A thread: centre (x, y), major diameter, pitch, depth below the top, teeth, the mill's
+/// diameter and its neck's, mm. The M10's tap drill is the Ø8.5 pecked hole (15 mm deep), the
+/// M6's the Ø5 drilled one (10 mm).
+type Thread = (f64, f64, f64, f64, f64, u32, f64, f64);
+const THREADS: [Thread; 2] = [
+    (25.0, 15.0, 10.0, 1.5, 12.0, 3, 6.5, 4.6),
+    (70.0, 15.0, 6.0, 1.0, 8.0, 1, 4.0, 2.6),
+];
+
+/// The ends of the gap around `c` (along the family's ray axis, in world coordinates) in ray
+/// (i, j).
+fn gap_ends(f: &DexelFamily, i: usize, j: usize, c: f64) -> (f64, f64) {
+    let (_, _, wa) = f.axis.axes();
+    let o = f.origin.to_array();
+    let ivs = f.dexels[j * f.nu + i].intervals();
+    let s = c - o[wa];
+    let before = ivs
+        .iter()
+        .map(|iv| f64::from(iv[1]))
+        .filter(|&e| e < s)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let after = ivs
+        .iter()
+        .map(|iv| f64::from(iv[0]))
+        .filter(|&b| b > s)
+        .fold(f64::INFINITY, f64::min);
+    (o[wa] + before, o[wa] + after)
 }
 
 /// The gap around `c` (along the family's ray axis) in the ray nearest to `(u, v)` (grid
@@ -214,6 +277,27 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
             target(flat_hole, flat_hole.depth_mm),
         ],
     ));
+    // Thread milling, after the tap drills.
+    let hole_at = |x: f64, y: f64| {
+        rep.holes
+            .iter()
+            .find(|h| (h.top.x - x).hypot(h.top.y - y) < 1e-6)
+            .unwrap()
+    };
+    for &(tx, ty, major, pitch, depth, teeth, d, neck) in &THREADS {
+        let h = hole_at(tx, ty);
+        ops.push((
+            thread_mill(d, pitch, teeth, neck),
+            HoleStrategy::ThreadMill {
+                pitch_mm: pitch,
+                teeth,
+            },
+            vec![HoleTarget {
+                diameter_mm: major,
+                ..target(h, depth)
+            }],
+        ));
+    }
     for (tool, strategy, targets) in &ops {
         let plan = plan_holes(targets, strategy, tool.clone(), Some(&pm.mesh), &opts).unwrap();
         let tp = plan.toolpath.unwrap();
@@ -226,11 +310,12 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
         };
         let report =
             simulate(&mut stock, &tool.cutter, &mp, &sim, &Progress::new()).expect("simulate");
+        // No rapid through material, and no shank (a thread mill's neck) touching it.
         assert!(
             !report
                 .collisions
                 .iter()
-                .any(|c| c.kind == CollisionKind::Rapid),
+                .any(|c| c.kind == CollisionKind::Rapid || c.kind == CollisionKind::Shank),
             "{}: {:?}",
             tool.spec,
             report.collisions
@@ -245,6 +330,11 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
         let f = |k: &str| w[k].as_f64().unwrap();
         let (cx, cy, top, d, depth) = (f("x"), f("y"), f("top"), f("diameter"), f("depth"));
         let what = format!("hole at ({cx}, {cy})");
+        // A threaded hole measures its major diameter at mid-depth (inside the thread).
+        let bore_d = THREADS
+            .iter()
+            .find(|t| t.0 == cx && t.1 == cy)
+            .map_or(d, |t| t.2);
         // Diameter of the main bore at the middle of its depth, from both ray families.
         let steps = w["steps"].as_array().unwrap();
         let upper = steps
@@ -259,10 +349,10 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
                 chord(fam, zm, cx, cy)
             };
             let measured = diameter(fam, c, ray, cx, cy);
-            worst = worst.max((measured - d).abs());
+            worst = worst.max((measured - bore_d).abs());
             assert!(
-                (measured - d).abs() <= tol,
-                "{what}: Ø{measured} mm vs {d} mm"
+                (measured - bore_d).abs() <= tol,
+                "{what}: Ø{measured} mm vs {bore_d} mm"
             );
         }
         // Steps: a counterbore's diameter in its middle and its floor's height.
@@ -324,6 +414,102 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
         }
     }
     eprintln!("worst deviation of a measured hole size from the script's: {worst:.5} mm");
+    // The threads: the major diameter on both ends of every X and Y ray through the axis from a
+    // pitch above the bottom (the first turn has risen a pitch there) to the top; the tap
+    // drill's diameter on the rays between the thread's bottom and the tap drill's; the depth
+    // from the Z rays between the tap drill and the major diameter: the deepest at the bottom
+    // (where the teeth went out), none deeper, none higher than a pitch above it.
+    let mut worst_thread: f64 = 0.0;
+    for &(cx, cy, major, pitch, depth, teeth, ..) in &THREADS {
+        let w = made
+            .iter()
+            .find(|w| w["x"].as_f64() == Some(cx) && w["y"].as_f64() == Some(cy))
+            .unwrap();
+        let (top, drill_d, drill_depth) = (
+            w["top"].as_f64().unwrap(),
+            w["diameter"].as_f64().unwrap(),
+            w["depth"].as_f64().unwrap(),
+        );
+        let what = format!("M{major}×{pitch} ({teeth} teeth) at ({cx}, {cy})");
+        let bottom = top - depth;
+        let mut levels = 0;
+        for fam in [x, y] {
+            let along_x = fam.axis == talas::simulation::RayAxis::X;
+            // The row of rays through the axis: X rays at y ≈ cy, Y rays at x ≈ cx.
+            let (across, centre) = if along_x { (cy, cx) } else { (cx, cy) };
+            let o = fam.origin;
+            let (k_across, n_levels) = if along_x {
+                (
+                    ((across - o.y) / fam.spacing - 0.5).round() as usize,
+                    fam.nv,
+                )
+            } else {
+                (
+                    ((across - o.x) / fam.spacing - 0.5).round() as usize,
+                    fam.nu,
+                )
+            };
+            for l in 0..n_levels {
+                let (i, j) = if along_x {
+                    (k_across, l)
+                } else {
+                    (l, k_across)
+                };
+                let ray = fam.ray_origin(i, j);
+                let (zr, delta) = if along_x {
+                    (ray.z, ray.y - cy)
+                } else {
+                    (ray.z, ray.x - cx)
+                };
+                let want = if zr > bottom + pitch && zr < top {
+                    0.5 * major
+                } else if zr < bottom - 1e-6 && zr > top - drill_depth {
+                    0.5 * drill_d
+                } else {
+                    continue;
+                };
+                let (lo, hi) = gap_ends(fam, i, j, centre);
+                for e in [lo - centre, hi - centre] {
+                    let r = e.hypot(delta);
+                    worst_thread = worst_thread.max((r - want).abs());
+                    assert!(
+                        (r - want).abs() <= tol,
+                        "{what}: radius {r} mm at z {zr} (want {want} mm)"
+                    );
+                }
+                levels += 1;
+            }
+        }
+        assert!(
+            levels as f64 > 2.0 * (depth - pitch) / RES - 4.0,
+            "{what}: {levels}"
+        );
+        let (mut lowest, mut highest, mut rays) = (f64::INFINITY, f64::NEG_INFINITY, 0);
+        for j in 0..z.nv {
+            for i in 0..z.nu {
+                let p = z.ray_origin(i, j);
+                let rho = (p.x - cx).hypot(p.y - cy);
+                if rho < 0.5 * drill_d + 0.1 || rho > 0.5 * major - 0.1 {
+                    continue;
+                }
+                let (zf, _, _) = floor_at(z, p.x, p.y, top);
+                lowest = lowest.min(zf);
+                highest = highest.max(zf);
+                rays += 1;
+            }
+        }
+        worst_thread = worst_thread.max((lowest - bottom).abs());
+        assert!(rays > 50, "{what}: {rays}");
+        assert!(
+            (lowest - bottom).abs() <= tol,
+            "{what}: deepest {lowest} mm, bottom {bottom} mm"
+        );
+        assert!(
+            highest <= bottom + pitch + tol,
+            "{what}: a ring ray's floor at {highest} mm, more than a pitch above {bottom} mm"
+        );
+    }
+    eprintln!("worst deviation of a thread's measured radius or depth: {worst_thread:.5} mm");
     // No gouge: every Z ray 0.3 mm or more outside every hole's widest radius still holds the
     // initial [0, top] of the stock.
     let widest: Vec<(f64, f64, f64)> = made
@@ -336,7 +522,12 @@ fn the_drilled_part_simulated_has_every_hole_within_0_01_mm() {
                 .map(|s| s["diameter"].as_f64().unwrap())
                 .fold(w["diameter"].as_f64().unwrap(), f64::max)
                 / 2.0;
-            (w["x"].as_f64().unwrap(), w["y"].as_f64().unwrap(), r)
+            let (hx, hy) = (w["x"].as_f64().unwrap(), w["y"].as_f64().unwrap());
+            let thread = THREADS
+                .iter()
+                .find(|t| t.0 == hx && t.1 == hy)
+                .map_or(0.0, |t| 0.5 * t.2);
+            (hx, hy, r.max(thread))
         })
         .collect();
     let mut checked = 0;

@@ -4,7 +4,8 @@
 //! hole making on the holes recognised in the part ([`crate::features::holes`]).
 //!
 //! Tools: any tool SPEC, or `drill:d=D[,point=DEG]`, `spot:d=D[,point=DEG]`, `reamer:d=D`,
-//! `tap:d=D,pitch=P`, `boring:d=D`, `threadmill:d=D,pitch=P`. `--holes auto` takes the holes
+//! `tap:d=D,pitch=P`, `boring:d=D`, `threadmill:d=D,pitch=P[,teeth=N]` (N teeth along the axis
+//! at the pitch, default 1: one turn per N pitches). `--holes auto` takes the holes
 //! the tool fits: the holes of the tool's diameter (within 0.01 mm) for drill, dwell, peck,
 //! chip-break, bore and ream; the holes whose tap drill matches the tap (or thread mill) for tap
 //! and thread-mill; every hole for spot (as deep as makes the spot as wide as the countersink, or
@@ -23,7 +24,7 @@ use crate::import::step::read_step;
 use crate::machine::Machine;
 use crate::post::{Dialect, PostOptions, post};
 use crate::project::op_holes::{HoleCycle, HoleSelection, HoleSettings, hole_job};
-use crate::strategies::holes::{HolePlanOptions, plan_holes};
+use crate::strategies::holes::{HolePlanOptions, HoleStrategy, plan_holes};
 use crate::toolpath::ToolRecord;
 use crate::tools::hole_tool::{HoleTool, HoleToolKind};
 use crate::tools::parse_tool_spec;
@@ -82,6 +83,9 @@ pub struct HoleArgs {
     pub gcode: Option<PathBuf>,
 }
 
+/// The most teeth `threadmill:…,teeth=N` takes.
+const MAX_TEETH: f64 = 100.0;
+
 fn bad(place: &str, msg: String) -> ImportError {
     ImportError::new(Path::new(place), None, msg)
 }
@@ -105,6 +109,21 @@ fn parse_hole_tool(spec: &str) -> Result<(Option<HoleTool>, ToolRecord), ImportE
     let get = |k: &str| fields.iter().find(|(n, _)| n == k).map(|(_, v)| *v);
     let d = get("d");
     let need_pitch = || get("pitch").ok_or_else(|| err(format!("a {kind} needs pitch=MM")));
+    let allowed: &[&str] = match kind.trim() {
+        "drill" | "spot" => &["d", "point"],
+        "reamer" | "boring" => &["d"],
+        "tap" => &["d", "pitch"],
+        "threadmill" => &["d", "pitch", "teeth"],
+        _ => &[],
+    };
+    if !allowed.is_empty()
+        && let Some((k, _)) = fields.iter().find(|(k, _)| !allowed.contains(&k.as_str()))
+    {
+        return Err(err(format!(
+            "unknown key '{k}' for a {kind} (keys: {})",
+            allowed.join(", ")
+        )));
+    }
     let hole_kind = match kind.trim() {
         "drill" => HoleToolKind::TwistDrill {
             point_angle_rad: get("point").unwrap_or(118.0).to_radians(),
@@ -120,7 +139,15 @@ fn parse_hole_tool(spec: &str) -> Result<(Option<HoleTool>, ToolRecord), ImportE
         },
         "threadmill" => HoleToolKind::ThreadMill {
             pitch_mm: need_pitch()?,
-            teeth: 1,
+            teeth: match get("teeth") {
+                None => 1,
+                Some(n) if n.fract() == 0.0 && (1.0..=MAX_TEETH).contains(&n) => n as u32,
+                Some(n) => {
+                    return Err(err(format!(
+                        "teeth={n}: a thread mill's teeth are a whole number from 1 to {MAX_TEETH}"
+                    )));
+                }
+            },
         },
         _ => {
             let cutter = parse_tool_spec(spec).map_err(|e| err(e.to_string()))?;
@@ -167,6 +194,10 @@ pub fn plan_holes_cli(
         }
         _ => None,
     };
+    let teeth = match hole_tool.map(|t| t.kind) {
+        Some(HoleToolKind::ThreadMill { teeth, .. }) => Some(teeth),
+        _ => None,
+    };
     let part = read_step(file)?;
     let mesh = tessellate_part(
         &part,
@@ -186,6 +217,7 @@ pub fn plan_holes_cli(
         pitch_mm: args.pitch,
         depth_mm: args.depth,
         finish_mm: args.finish,
+        teeth,
     };
     let job = hole_job(
         &rep, cycle, &record, tool_pitch, &selection, &settings, None,
@@ -260,6 +292,10 @@ pub fn plan_holes_cli(
         "poses": tp.poses.len(),
         "exact_moves": tp.exact.len(),
         "passes": plan.order.len(),
+        "thread_mill_teeth": match strategy {
+            HoleStrategy::ThreadMill { teeth, .. } => Some(teeth),
+            _ => None,
+        },
         "summary": {
             "pose_count": tp.poses.len(),
             "cut_length_mm": tp.summary.cut_length_mm,

@@ -167,6 +167,8 @@ pub struct HoleSettings {
     pub depth_mm: Option<f64>,
     /// Radial stock the helical-bore roughing helix leaves for the finishing one, mm.
     pub finish_mm: f64,
+    /// Teeth of the thread mill along its axis at the pitch (`None`: 1, a single-form mill).
+    pub teeth: Option<u32>,
 }
 
 /// The holes to make, the cycle, and what was left out.
@@ -330,8 +332,7 @@ pub fn hole_job(
         },
         HoleCycle::ThreadMill => HoleStrategy::ThreadMill {
             pitch_mm: pitch.ok_or("a thread mill needs the pitch")?,
-            // The project's tool records carry no tooth count yet: a single-form mill.
-            teeth: 1,
+            teeth: s.teeth.unwrap_or(1).max(1),
         },
     };
     let targets = chosen
@@ -412,6 +413,9 @@ pub struct HolesOp {
     /// Radial stock the helical-bore roughing helix leaves, mm.
     #[serde(default = "default_finish")]
     pub finish_mm: f64,
+    /// Teeth of the thread mill along its axis at the pitch (thread-mill; absent: 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub teeth: Option<u32>,
 }
 
 fn default_peck() -> f64 {
@@ -439,6 +443,7 @@ impl HolesOp {
             pitch_mm: None,
             depth_mm: None,
             finish_mm: default_finish(),
+            teeth: None,
         }
     }
 
@@ -455,6 +460,9 @@ impl HolesOp {
             if let Some(v) = v {
                 super::op_regions::positive(what, v)?;
             }
+        }
+        if self.teeth == Some(0) {
+            return Err("teeth: a thread mill has at least one".into());
         }
         Ok(())
     }
@@ -488,6 +496,7 @@ impl HolesOp {
             pitch_mm: self.pitch_mm,
             depth_mm: self.depth_mm,
             finish_mm: self.finish_mm,
+            teeth: self.teeth,
         };
         let job = hole_job(
             &rep,

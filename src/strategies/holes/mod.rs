@@ -1,7 +1,8 @@
 //! Hole operations: the order of the holes (nearest neighbour, improved by 2-opt and Or-opt
 //! moves until neither shortens the tour) and their tool paths as exact moves: canned cycles
 //! (spot, drill, dwell, peck, chip-break, tap, bore) and helices (helical boring to a diameter
-//! with a finishing pass, internal thread milling in climb, one helix turn per pitch).
+//! with a finishing pass, internal and external thread milling in climb, one helix turn per
+//! pitch).
 //!
 //! Between two holes the tool stays at the R plane when nothing of the part (its mesh, widened
 //! by the tool radius and a margin) stands within [`RETRACT_MARGIN_MM`] of that height along the
@@ -32,7 +33,8 @@ pub struct HoleTarget {
     /// Depth of the tool tip below the top, mm.
     pub depth_mm: f64,
     /// Hole diameter, mm (helical boring: the diameter to reach; thread milling: the thread's
-    /// major diameter).
+    /// major diameter; external thread milling: the boss's thread's minor diameter, where the
+    /// teeth reach).
     pub diameter_mm: f64,
 }
 
@@ -61,7 +63,26 @@ pub enum HoleStrategy {
         /// Teeth along the axis at the pitch (1 for a single-form mill; 0 reads as 1).
         teeth: u32,
     },
+    /// External thread milling of a boss, climb: clockwise seen from the spindle, so a
+    /// right-hand thread is cut going down. The target's top is the boss's top and its diameter
+    /// the diameter the teeth reach (the thread's minor diameter). Each turn starts outside the
+    /// boss ([`EXTERNAL_ENTRY_MM`] plus a pitch beyond the teeth's reach), goes in radially, cuts
+    /// one turn falling a pitch and goes back out: a single-tooth mill one helix from the top to
+    /// the depth, a mill with N teeth one turn per N·pitch from the top down, the last ending at
+    /// the depth. Between bosses it always leaves at the clearance height (the R-plane test looks
+    /// along the line between the tops, and this tool travels outside them).
+    ExternalThreadMill {
+        /// Pitch, mm.
+        pitch_mm: f64,
+        /// Teeth along the axis at the pitch (1 for a single-form mill; 0 reads as 1).
+        teeth: u32,
+    },
 }
+
+/// How far beyond a pitch outside the teeth's reach an external thread mill enters and leaves
+/// each turn, mm (a 60° thread is at most 0.87 pitch deep, so the tool starts clear of the
+/// boss's major diameter).
+pub const EXTERNAL_ENTRY_MM: f64 = 0.5;
 
 /// Heights, feeds and tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,18 +198,20 @@ pub fn plan_holes(
         let r_h = top_h + opts.r_plane_mm;
         let next = order.get(k + 1).map(|&j| &targets[j]);
         // Stay at this hole's R plane for the move to the next one?
-        let stay = next.is_some_and(|n| {
-            let next_r = n.top.dot(dir) + opts.r_plane_mm;
-            next_r <= r_h + 1e-9
-                && !in_the_way(
-                    part,
-                    dir,
-                    t.top + dir * (r_h - top_h),
-                    n.top + dir * (r_h - n.top.dot(dir)),
-                    r_h,
-                    tool_r,
-                )
-        });
+        let external = matches!(strategy, HoleStrategy::ExternalThreadMill { .. });
+        let stay = !external
+            && next.is_some_and(|n| {
+                let next_r = n.top.dot(dir) + opts.r_plane_mm;
+                next_r <= r_h + 1e-9
+                    && !in_the_way(
+                        part,
+                        dir,
+                        t.top + dir * (r_h - top_h),
+                        n.top + dir * (r_h - n.top.dot(dir)),
+                        r_h,
+                        tool_r,
+                    )
+            });
         if next.is_some() {
             if stay {
                 plan.r_plane_moves += 1;
@@ -199,37 +222,8 @@ pub fn plan_holes(
         let initial_mm = (arrive_h - top_h).max(opts.r_plane_mm);
         match strategy {
             HoleStrategy::Cycle(kind) => {
-                let feed = match kind {
-                    CycleKind::Tap { pitch_mm } => pitch_mm * opts.spindle_rpm,
-                    _ => opts.feed_mm_per_min,
-                };
-                let cycle = CycleMove {
-                    cycle: *kind,
-                    surface: t.top,
-                    axis: dir,
-                    depth_mm: t.depth_mm,
-                    clearance_mm: opts.r_plane_mm,
-                    retract_mm: initial_mm,
-                    retract: if stay {
-                        CycleRetract::RPlane
-                    } else {
-                        CycleRetract::Initial
-                    },
-                    feed_mm_per_min: feed,
-                };
-                if !stay {
-                    // Leave at the clearance height: the cycle's initial plane is where it
-                    // started, so go up from there when it is lower.
-                    tp.push_cycle(cycle).map_err(|e| e.message)?;
-                    if initial_mm + top_h < clear_h - 1e-9 {
-                        let p = t.top + dir * (clear_h - top_h);
-                        tp.push_pose(Pose::new(MoveKind::Rapid, p, dir, 0.0));
-                    }
-                    arrive_h = clear_h;
-                } else {
-                    tp.push_cycle(cycle).map_err(|e| e.message)?;
-                    arrive_h = r_h;
-                }
+                arrive_h = if stay { r_h } else { clear_h };
+                cycle_at(&mut tp, t, dir, *kind, stay, initial_mm, clear_h, opts)?;
             }
             HoleStrategy::HelicalBore {
                 pitch_mm,
@@ -258,18 +252,25 @@ pub fn plan_holes(
                 )?;
                 arrive_h = leave_h;
             }
-            HoleStrategy::ThreadMill { pitch_mm, teeth } => {
-                let path_r = 0.5 * t.diameter_mm - tool_r;
-                if path_r <= 0.0 {
-                    return Err(format!(
-                        "hole {i}: a {} mm thread mill does not fit a {} mm thread",
-                        2.0 * tool_r,
-                        t.diameter_mm
-                    ));
-                }
+            HoleStrategy::ThreadMill { pitch_mm, teeth }
+            | HoleStrategy::ExternalThreadMill { pitch_mm, teeth } => {
+                // An external thread mill never stays (`stay` is false).
                 let leave_h = if stay { r_h } else { clear_h };
-                thread_mill(
-                    &mut tp, t, dir, arrive_h, r_h, leave_h, path_r, *pitch_mm, *teeth, opts,
+                let mill = if external {
+                    external_thread_mill
+                } else {
+                    thread_mill
+                };
+                mill(
+                    &mut tp,
+                    i,
+                    t,
+                    dir,
+                    [arrive_h, r_h, leave_h],
+                    tool_r,
+                    *pitch_mm,
+                    *teeth,
+                    opts,
                 )?;
                 arrive_h = leave_h;
             }
@@ -277,6 +278,51 @@ pub fn plan_holes(
     }
     plan.toolpath = Some(tp);
     Ok(plan)
+}
+
+/// One canned cycle at `t`, started `initial_mm` above its top, ending at the R plane when
+/// `stay`, else at the clearance height `clear_h`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the hole, its cycle, its heights and the options"
+)]
+fn cycle_at(
+    tp: &mut Toolpath,
+    t: &HoleTarget,
+    dir: DVec3,
+    kind: CycleKind,
+    stay: bool,
+    initial_mm: f64,
+    clear_h: f64,
+    opts: &HolePlanOptions,
+) -> Result<(), String> {
+    let top_h = t.top.dot(dir);
+    let feed = match kind {
+        CycleKind::Tap { pitch_mm } => pitch_mm * opts.spindle_rpm,
+        _ => opts.feed_mm_per_min,
+    };
+    let cycle = CycleMove {
+        cycle: kind,
+        surface: t.top,
+        axis: dir,
+        depth_mm: t.depth_mm,
+        clearance_mm: opts.r_plane_mm,
+        retract_mm: initial_mm,
+        retract: if stay {
+            CycleRetract::RPlane
+        } else {
+            CycleRetract::Initial
+        },
+        feed_mm_per_min: feed,
+    };
+    tp.push_cycle(cycle).map_err(|e| e.message)?;
+    // Leaving at the clearance height: the cycle's initial plane is where it started, so go up
+    // from there when it is lower.
+    if !stay && initial_mm + top_h < clear_h - 1e-9 {
+        let p = t.top + dir * (clear_h - top_h);
+        tp.push_pose(Pose::new(MoveKind::Rapid, p, dir, 0.0));
+    }
+    Ok(())
 }
 
 /// Whether the part stands within the margin of height `h` anywhere the tool passes moving
@@ -485,16 +531,23 @@ fn helical_bore(
 )]
 fn thread_mill(
     tp: &mut Toolpath,
+    i: usize,
     t: &HoleTarget,
     dir: DVec3,
-    arrive_h: f64,
-    r_h: f64,
-    leave_h: f64,
-    path_r: f64,
+    [arrive_h, r_h, leave_h]: [f64; 3],
+    tool_r: f64,
     pitch: f64,
     teeth: u32,
     opts: &HolePlanOptions,
 ) -> Result<(), String> {
+    let path_r = 0.5 * t.diameter_mm - tool_r;
+    if path_r <= 0.0 {
+        return Err(format!(
+            "hole {i}: a {} mm thread mill does not fit a {} mm thread",
+            2.0 * tool_r,
+            t.diameter_mm
+        ));
+    }
     if !(pitch > 0.0 && pitch.is_finite()) {
         return Err(format!("thread pitch {pitch} mm must be positive"));
     }
@@ -525,6 +578,86 @@ fn thread_mill(
     tp.push_pose(Pose::new(
         MoveKind::Rapid,
         t.top + dir * (leave_h - top_h),
+        dir,
+        0.0,
+    ));
+    Ok(())
+}
+
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the boss, its heights, the helix and the options"
+)]
+fn external_thread_mill(
+    tp: &mut Toolpath,
+    i: usize,
+    t: &HoleTarget,
+    dir: DVec3,
+    [arrive_h, r_h, leave_h]: [f64; 3],
+    tool_r: f64,
+    pitch: f64,
+    teeth: u32,
+    opts: &HolePlanOptions,
+) -> Result<(), String> {
+    if !(t.diameter_mm > 0.0 && t.diameter_mm.is_finite()) {
+        return Err(format!(
+            "hole {i}: an external thread's minor diameter {} mm must be positive",
+            t.diameter_mm
+        ));
+    }
+    let path_r = 0.5 * t.diameter_mm + tool_r;
+    if !(pitch > 0.0 && pitch.is_finite()) {
+        return Err(format!("thread pitch {pitch} mm must be positive"));
+    }
+    let top_h = t.top.dot(dir);
+    let x = dir.any_orthonormal_vector();
+    let f = opts.feed_mm_per_min;
+    let out_r = path_r + pitch + EXTERNAL_ENTRY_MM;
+    let bottom = t.top - dir * t.depth_mm;
+    // (start height above the bottom, fall) of each turn, from the top down.
+    let turns: Vec<(f64, f64)> = if teeth <= 1 {
+        vec![(t.depth_mm, t.depth_mm)]
+    } else {
+        let span = f64::from(teeth) * pitch;
+        let passes = (t.depth_mm / span - 1e-9).ceil().max(1.0) as usize;
+        (0..passes)
+            .rev()
+            .map(|k| (k as f64 * span + pitch, pitch))
+            .collect()
+    };
+    approach(tp, t.top + x * out_r, dir, arrive_h, r_h);
+    for (k, (start, fall)) in turns.into_iter().enumerate() {
+        let c = bottom + dir * start;
+        let kind = if k == 0 {
+            MoveKind::Plunge
+        } else {
+            MoveKind::Cut
+        };
+        tp.push_pose(Pose::new(kind, c + x * out_r, dir, f));
+        tp.push_pose(Pose::new(MoveKind::Cut, c + x * path_r, dir, f));
+        // Clockwise about `dir`, a whole turn (or the rest) per helix.
+        let mut left = fall;
+        while left > 1e-9 {
+            let piece = left.min(pitch);
+            tp.push_helix(
+                c - dir * (fall - left),
+                dir,
+                -std::f64::consts::TAU * piece / pitch,
+                -piece,
+                MoveKind::Cut,
+                f,
+                opts.chord_tol_mm,
+            )
+            .map_err(|e| e.message)?;
+            left -= piece;
+        }
+        let end = c - dir * fall;
+        tp.push_pose(Pose::new(MoveKind::Cut, end + x * out_r, dir, f));
+    }
+    tp.push_pose(Pose::new(MoveKind::Cut, t.top + x * out_r, dir, f));
+    tp.push_pose(Pose::new(
+        MoveKind::Rapid,
+        t.top + x * out_r + dir * (leave_h - top_h),
         dir,
         0.0,
     ));
