@@ -563,10 +563,15 @@ fn auto_stops_at_the_setups_vise_jaw_on_the_line_planning_names() {
         .find(|a| a.code == codes::COLLISION_MACHINE)
         .unwrap_or_else(|| panic!("no collision alarm: {:?}", snap.alarms));
     assert_eq!(alarm.line, Some(line), "{}", alarm.text);
-    assert!(alarm.bodies.iter().any(|b| b == "vise"), "{:?}", alarm.bodies);
+    assert!(
+        alarm.bodies.iter().any(|b| b == "vise"),
+        "{:?}",
+        alarm.bodies
+    );
     // The panel shows it.
     assert!(
-        h.query_by_label_contains(&format!("line {line}: collision")).is_some(),
+        h.query_by_label_contains(&format!("line {line}: collision"))
+            .is_some(),
         "{}",
         alarm.text
     );

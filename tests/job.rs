@@ -678,7 +678,11 @@ fn work_offset() -> DVec3 {
 /// The virtual control of setup 1 as the operator panel builds it: mill-3axis homed, the
 /// setup's work offset, its stock box cut by the tool and its vise on the table (machine =
 /// program + offset), the posted program loaded in AUTO.
-fn control_for_setup(project: &Project, part: &Workpiece, program: &str) -> talas::control::Control {
+fn control_for_setup(
+    project: &Project,
+    part: &Workpiece,
+    program: &str,
+) -> talas::control::Control {
     use talas::control::{Action, Control, ControlConfig, LiveStock, Mode};
     use talas::simulation::{DexelMode, DexelStock, StockShape};
     let pls = placements(project, Some(part)).unwrap();
@@ -702,11 +706,7 @@ fn control_for_setup(project: &Project, part: &Workpiece, program: &str) -> tala
         max: b.max + origin,
     };
     let stock = DexelStock::new(vec![shape], 0.5, DexelMode::Z, 1 << 28).unwrap();
-    cfg.stock = Some(LiveStock::new(
-        stock,
-        project.tools[0].cutter.clone(),
-        0.5,
-    ));
+    cfg.stock = Some(LiveStock::new(stock, project.tools[0].cutter.clone(), 0.5));
     let mut c = Control::new(cfg).unwrap();
     c.apply(Action::Home).unwrap();
     c.advance_until_idle(1e4);
@@ -746,7 +746,11 @@ fn the_virtual_control_stops_at_the_vise_jaw_on_the_line_planning_names() {
         .find(|a| a.code == codes::COLLISION_MACHINE)
         .unwrap_or_else(|| panic!("no collision alarm: {:?}", c.alarms()));
     assert_eq!(alarm.line, Some(line_of_pose), "{}", alarm.text);
-    assert!(alarm.bodies.iter().any(|b| b == "vise"), "{:?}", alarm.bodies);
+    assert!(
+        alarm.bodies.iter().any(|b| b == "vise"),
+        "{:?}",
+        alarm.bodies
+    );
     // Where the control saw the contact (machine coordinates) is planning's tip moved by the
     // work offset, within the planning check's 0.25 mm step.
     let at = DVec3::from(alarm.position.unwrap());

@@ -10,6 +10,21 @@ use crate::render::{ColourMap, ScalarMapping};
 
 use super::document_loader::LoadedPart;
 
+/// Smallest tolerance band, mm (1 µm).
+pub const MIN_BAND_MM: f64 = 1e-3;
+
+/// The deviation mapping for a tolerance band of ±`band_mm` (mapped over ±2 × band, see
+/// [`ColourMap::Band`]).
+#[must_use]
+pub fn band_mapping(band_mm: f64) -> ScalarMapping {
+    let b = band_mm.max(MIN_BAND_MM) as f32;
+    ScalarMapping {
+        map: ColourMap::Band,
+        min: -2.0 * b,
+        max: 2.0 * b,
+    }
+}
+
 /// A scalar field the viewport can show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ScalarField {

@@ -525,13 +525,14 @@ pub fn html(sheet: &Sheet) -> String {
         );
         o.push_str("<table><tr><th>#</th><th>Operation</th><th>Strategy</th><th>Tool</th><th>Feed mm/min</th><th>Plunge mm/min</th><th>Spindle rpm</th><th>Heights</th><th>Time at feed</th><th>Cycle time</th><th>Notes</th></tr>\n");
         for op in &s.operations {
-            let notes: Vec<String> = std::iter::once(format!("<div>Speeds {}</div>", esc(&op.speeds_from)))
-                .chain(
-                    op.warnings
-                        .iter()
-                        .map(|w| format!("<div class=\"warn\">{}</div>", esc(w))),
-                )
-                .collect();
+            let notes: Vec<String> =
+                std::iter::once(format!("<div>Speeds {}</div>", esc(&op.speeds_from)))
+                    .chain(
+                        op.warnings
+                            .iter()
+                            .map(|w| format!("<div class=\"warn\">{}</div>", esc(w))),
+                    )
+                    .collect();
             let _ = writeln!(
                 o,
                 "<tr><td class=\"n\">{}</td><td>{}</td><td>{}</td><td>T{}</td><td class=\"n\">{:.0}</td><td class=\"n\">{}</td><td class=\"n\">{:.0}</td><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td>{}</td></tr>",

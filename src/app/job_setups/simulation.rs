@@ -14,7 +14,7 @@ use glam::Mat4;
 
 use crate::app::feature::{FeatureContext, FeatureView, InsteadOfPart};
 use crate::app::job::{Job, JobSlot, JobStatus};
-use crate::app::stock_simulation::band_mapping;
+use crate::app::scalar_field::band_mapping;
 use crate::diagnostics::Severity;
 use crate::project::Project;
 use crate::project::job_sim::{SetupSimulation, simulate_whole_job};

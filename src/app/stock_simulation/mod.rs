@@ -19,9 +19,7 @@ use super::job::{Job, JobSlot};
 use crate::diagnostics::Severity;
 use crate::project::Operation;
 use crate::project::simulate::{Simulated, SimulationSettings};
-use crate::render::{
-    ColourMap, DataId, LineData, LineInstance, MeshData, MeshInstance, ScalarMapping,
-};
+use crate::render::{DataId, LineData, LineInstance, MeshData, MeshInstance, ScalarMapping};
 use crate::simulation::SimError;
 use crate::tools::Cutter;
 
@@ -86,20 +84,7 @@ impl ShownSimulation {
     }
 }
 
-/// Smallest tolerance band, mm (1 µm).
-pub const MIN_BAND_MM: f64 = 1e-3;
-
-/// The deviation mapping for a tolerance band of ±`band_mm` (mapped over ±2 × band, see
-/// [`ColourMap::Band`]).
-#[must_use]
-pub fn band_mapping(band_mm: f64) -> ScalarMapping {
-    let b = band_mm.max(MIN_BAND_MM) as f32;
-    ScalarMapping {
-        map: ColourMap::Band,
-        min: -2.0 * b,
-        max: 2.0 * b,
-    }
-}
+pub use crate::app::scalar_field::{MIN_BAND_MM, band_mapping};
 
 /// The default tolerance band of `operation`'s stock: its scallop height (finishing, raster, waterline, steep-and-shallow) or
 /// its stock to leave (roughing), at least [`MIN_BAND_MM`].
