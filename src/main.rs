@@ -11,6 +11,10 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
     let args = Args::parse();
+    // The setup sheet's pictures come from the workstation's offscreen renderer when there is
+    // one (else the engine draws them in software).
+    #[cfg(feature = "gui")]
+    talas::project::sheet::set_drawer(talas::app::offscreen_render::sheet_picture);
     let code = match args.command {
         #[cfg(feature = "gui")]
         Some(cli::Command::Render(render)) => talas::app::offscreen_render::run(&render),

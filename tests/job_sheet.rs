@@ -170,6 +170,22 @@ fn the_setup_sheet_shows_every_setup_with_its_picture_tools_and_times() {
     // and some of it darker than the background (shaded faces).
     let pics = pictures(&html);
     assert_eq!(pics.len(), 3);
+    // Each says what drew it: the workstation's offscreen renderer in a build with the GUI
+    // (when a graphics adapter answers), else the engine's software drawing, saying why.
+    assert_eq!(html.matches("<tr><th>Picture</th><td>drawn by ").count(), 3);
+    let offscreen = html.matches("drawn by the offscreen renderer (").count();
+    let software = html.matches("drawn by software").count();
+    assert_eq!(
+        offscreen + software,
+        3,
+        "{offscreen} offscreen, {software} software"
+    );
+    if cfg!(feature = "gui") && software > 0 {
+        assert!(
+            html.contains("drawn by software (the offscreen renderer could not draw: "),
+            "a GUI build says why the offscreen renderer did not draw"
+        );
+    }
     for png in &pics {
         let decoder = png::Decoder::new(std::io::Cursor::new(png.as_slice()));
         let mut reader = decoder.read_info().expect("a PNG");

@@ -273,3 +273,115 @@ pub fn run(args: &RenderArgs) -> i32 {
     );
     0
 }
+
+/// A setup-sheet picture drawn by the offscreen renderer: the bodies (setup frame) shaded, the
+/// stock box's edges and the work offset's axes, seen from the sheet's direction (eye at +X,
+/// −Y, +Z), orthographic, on the sheet's light background; registered with
+/// [`crate::project::sheet::set_drawer`] by the binary.
+///
+/// # Errors
+/// No adapter, or the device failed.
+pub fn sheet_picture(
+    bodies: &[crate::project::sheet::Body<'_>],
+    stock: Option<&crate::geometry::Aabb>,
+    width: u32,
+    height: u32,
+) -> Result<crate::project::sheet::Picture, String> {
+    use crate::project::sheet::{self, AXIS_COLOURS, BACKGROUND, BOX_EDGES, STOCK_EDGE};
+    let (w, h) = (width.clamp(16, 4096), height.clamp(16, 4096));
+    let rgba = |c: [u8; 3]| [c[0], c[1], c[2], 255];
+    let meshes: Vec<MeshInstance> = bodies
+        .iter()
+        .zip(10_u64..)
+        .map(|(b, id)| MeshInstance {
+            id,
+            data: Arc::new(crate::render::MeshData::flat(
+                &b.mesh.positions,
+                &b.mesh.triangles,
+            )),
+            world_from_mesh: Mat4::IDENTITY,
+            colour: rgba(b.colour),
+            scalar_map: None,
+        })
+        .collect();
+    let mut lines = LineData::default();
+    let mut segment = |a: glam::DVec3, b: glam::DVec3, c: [u8; 3]| {
+        let Ok(i) = u32::try_from(lines.positions.len()) else {
+            return;
+        };
+        lines.positions.push(a.as_vec3().to_array());
+        lines.positions.push(b.as_vec3().to_array());
+        lines.colours.extend([rgba(c), rgba(c)]);
+        lines.indices.extend([i, i + 1]);
+    };
+    if let Some(s) = stock {
+        let c = sheet::corners(s);
+        for (i, j) in BOX_EDGES {
+            segment(c[i], c[j], STOCK_EDGE);
+        }
+    }
+    let axis_len = sheet::axis_length(bodies, stock);
+    let axes = [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z];
+    for (k, a) in axes.into_iter().enumerate() {
+        segment(glam::DVec3::ZERO, a * axis_len, AXIS_COLOURS[k]);
+    }
+    let mut scene = Scene {
+        camera: Camera::default(),
+        meshes,
+        lines: vec![LineInstance {
+            id: 9,
+            data: Arc::new(lines),
+            world_from_lines: Mat4::IDENTITY,
+            draw_segments: None,
+        }],
+        options: DisplayOptions {
+            background_top: rgba(BACKGROUND),
+            background_bottom: rgba(BACKGROUND),
+            grid: false,
+            triad: false,
+            ..DisplayOptions::default()
+        },
+    };
+    let (lo, hi) = scene
+        .bounds()
+        .unwrap_or((Vec3::splat(-50.0), Vec3::splat(50.0)));
+    let sphere = BoundingSphere::from_box(lo, hi);
+    let aspect = w as f32 / h as f32;
+    scene.camera.set_view(StandardView::Iso);
+    scene.camera.projection = Projection::Orthographic;
+    scene.camera.scene = sphere;
+    scene.camera.fit(sphere, aspect);
+    let mut renderer = crate::render::OffscreenRenderer::new().map_err(|e| e.to_string())?;
+    let image = renderer.render(w, h, &scene).map_err(|e| e.to_string())?;
+    // Where the origin and the axis tips fall (for the sheet's labels).
+    let clip = scene.camera.clip_from_world(aspect);
+    let to_px = |p: glam::DVec3| {
+        let c = clip * p.as_vec3().extend(1.0);
+        let (x, y) = (c.x / c.w, c.y / c.w);
+        [
+            f64::from((x + 1.0) * 0.5 * w as f32),
+            f64::from((1.0 - y) * 0.5 * h as f32),
+        ]
+    };
+    let mut axes_px = [to_px(glam::DVec3::ZERO); 4];
+    for (k, a) in axes.into_iter().enumerate() {
+        axes_px[k + 1] = to_px(a * axis_len);
+    }
+    let rgb: Vec<[u8; 3]> = image
+        .pixels
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let covered_px = rgb.iter().filter(|p| **p != BACKGROUND).count();
+    Ok(sheet::Picture {
+        width: w,
+        height: h,
+        png: sheet::encode_png(&rgb, w as usize, h as usize),
+        axes_px,
+        covered_px,
+        renderer: format!(
+            "the offscreen renderer ({})",
+            renderer.gpu.adapter_description
+        ),
+    })
+}

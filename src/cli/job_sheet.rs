@@ -47,7 +47,7 @@ pub fn setup_page(
         mesh: m,
         colour: HOLDING_COLOUR,
     }));
-    let picture = sheet::draw(&bodies, Some(&stock), PICTURE_PX.0, PICTURE_PX.1);
+    let picture = sheet::picture(&bodies, Some(&stock), PICTURE_PX.0, PICTURE_PX.1);
     let size = stock.max - stock.min;
     let stock_text = match setup.stock {
         SetupStock::Project => "the project's stock".to_string(),

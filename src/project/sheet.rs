@@ -4,9 +4,11 @@
 //! with the work offset's axes marked, the setup's machine, work offset, tool axis, stock size
 //! and workholding, and per operation its strategy, tool, feeds and speeds, heights and times.
 //!
-//! The pictures are drawn here, in software (a depth-buffered flat-shaded isometric view, as a
-//! printed sheet wants: no GPU, so the sheet is the same on a CI machine and byte-identical for
-//! the same job), not by the workstation's wgpu renderer, which an engine build does not have.
+//! The pictures are drawn by the workstation's offscreen renderer (wgpu) where the binary has
+//! it (the `gui` feature registers it with [`set_drawer`]) and a graphics adapter answers;
+//! otherwise, and in an engine build, here in software (a depth-buffered flat-shaded isometric
+//! view from the same direction with the same colours). Each picture says which drew it. Either
+//! way the same job on the same machine gives the same bytes.
 
 use std::fmt::Write as _;
 
@@ -36,20 +38,68 @@ pub struct Picture {
     pub axes_px: [[f64; 2]; 4],
     /// Pixels covered by a body (for a check that something was drawn).
     pub covered_px: usize,
+    /// What drew it (`the offscreen renderer (ADAPTER)`, `software`, with why).
+    pub renderer: String,
+}
+
+/// A picture drawer for the sheet: bodies (setup frame), the stock box, width, height.
+pub type Drawer = fn(&[Body<'_>], Option<&Aabb>, u32, u32) -> Result<Picture, String>;
+
+static DRAWER: std::sync::OnceLock<Drawer> = std::sync::OnceLock::new();
+
+/// Register the drawer [`picture`] tries first (the binary's offscreen renderer); `false`
+/// when one was registered already.
+pub fn set_drawer(drawer: Drawer) -> bool {
+    DRAWER.set(drawer).is_ok()
+}
+
+/// The picture of `bodies` and the `stock` box with the work offset's axes: by the registered
+/// drawer when there is one and it draws, else in software ([`draw`]), saying why.
+#[must_use]
+pub fn picture(bodies: &[Body<'_>], stock: Option<&Aabb>, width: u32, height: u32) -> Picture {
+    let Some(drawer) = DRAWER.get() else {
+        return draw(bodies, stock, width, height);
+    };
+    match drawer(bodies, stock, width, height) {
+        Ok(p) => p,
+        Err(e) => {
+            let mut p = draw(bodies, stock, width, height);
+            p.renderer = format!("software (the offscreen renderer could not draw: {e})");
+            p
+        }
+    }
+}
+
+/// Length of the drawn work-offset axes for `bodies` and `stock`: 0.3 × the largest extent,
+/// within 5–200 mm.
+#[must_use]
+pub fn axis_length(bodies: &[Body<'_>], stock: Option<&Aabb>) -> f64 {
+    let mut extent = 0.0_f64;
+    for b in bodies {
+        let bb = b.mesh.bbox();
+        extent = extent.max((bb.max - bb.min).max_element());
+    }
+    if let Some(s) = stock {
+        extent = extent.max((s.max - s.min).max_element());
+    }
+    (0.3 * extent).clamp(5.0, 200.0)
 }
 
 /// The view direction of the pictures: from the front, right and above (eye at +X, −Y, +Z).
-fn view_basis() -> (DVec3, DVec3, DVec3) {
+#[must_use]
+pub fn view_basis() -> (DVec3, DVec3, DVec3) {
     let forward = DVec3::new(-1.0, 1.0, -1.0).normalize();
     let right = forward.cross(DVec3::Z).normalize();
     let up = right.cross(forward);
     (right, up, forward)
 }
 
-/// Background, stock-outline and axis colours (sRGB).
-const BACKGROUND: [u8; 3] = [250, 250, 247];
-const STOCK_EDGE: [u8; 3] = [170, 120, 40];
-const AXIS_COLOURS: [[u8; 3]; 3] = [[210, 40, 40], [30, 150, 40], [40, 70, 210]];
+/// Background colour of the pictures (sRGB).
+pub const BACKGROUND: [u8; 3] = [250, 250, 247];
+/// Colour of the stock box's edges (sRGB).
+pub const STOCK_EDGE: [u8; 3] = [170, 120, 40];
+/// Colours of the X, Y and Z axes (sRGB).
+pub const AXIS_COLOURS: [[u8; 3]; 3] = [[210, 40, 40], [30, 150, 40], [40, 70, 210]];
 
 /// Draw `bodies`, the `stock` box's edges and the work offset's axes (at the origin of the
 /// setup frame) in a `width` × `height` picture, the view fitted to all of them.
@@ -72,21 +122,17 @@ pub fn draw(bodies: &[Body<'_>], stock: Option<&Aabb>, width: u32, height: u32) 
             }
         }
     };
-    let mut extent = 0.0_f64;
     for b in bodies {
         for &p in &b.mesh.positions {
             grow(p);
         }
-        let bb = b.mesh.bbox();
-        extent = extent.max((bb.max - bb.min).max_element());
     }
     if let Some(s) = stock {
         for c in corners(s) {
             grow(c);
         }
-        extent = extent.max((s.max - s.min).max_element());
     }
-    let axis_len = (0.3 * extent).clamp(5.0, 200.0);
+    let axis_len = axis_length(bodies, stock);
     grow(DVec3::ZERO);
     for a in [DVec3::X, DVec3::Y, DVec3::Z] {
         grow(a * axis_len);
@@ -163,11 +209,13 @@ pub fn draw(bodies: &[Body<'_>], stock: Option<&Aabb>, width: u32, height: u32) 
         png: encode_png(&rgb, w, h),
         axes_px,
         covered_px: depth.iter().filter(|d| d.is_finite()).count(),
+        renderer: "software".into(),
     }
 }
 
 /// The 8 corners of a box, bit k of the index choosing max on axis k.
-fn corners(b: &Aabb) -> [DVec3; 8] {
+#[must_use]
+pub fn corners(b: &Aabb) -> [DVec3; 8] {
     std::array::from_fn(|i| {
         DVec3::new(
             if i & 1 == 0 { b.min.x } else { b.max.x },
@@ -178,7 +226,7 @@ fn corners(b: &Aabb) -> [DVec3; 8] {
 }
 
 /// The 12 edges of a box as corner pairs (see [`corners`]).
-const BOX_EDGES: [(usize, usize); 12] = [
+pub const BOX_EDGES: [(usize, usize); 12] = [
     (0, 1),
     (2, 3),
     (4, 5),
@@ -284,7 +332,9 @@ fn line(
     }
 }
 
-fn encode_png(rgb: &[[u8; 3]], w: usize, h: usize) -> Vec<u8> {
+/// An 8-bit RGB PNG of `rgb` (row-major, `w` × `h`).
+#[must_use]
+pub fn encode_png(rgb: &[[u8; 3]], w: usize, h: usize) -> Vec<u8> {
     let mut bytes = Vec::new();
     let mut encoder = png::Encoder::new(&mut bytes, w as u32, h as u32);
     encoder.set_color(png::ColorType::Rgb);
@@ -505,7 +555,8 @@ pub fn html(sheet: &Sheet) -> String {
             "<table><tr><th>Machine</th><td>{}</td></tr><tr><th>Work offset</th><td>{} (origin at the marked axes)</td></tr>\
              <tr><th>Tool axis</th><td>{:.4}, {:.4}, {:.4}</td></tr>\
              <tr><th>Stock</th><td>{} · {:.2} × {:.2} × {:.2} mm</td></tr><tr><th>Workholding</th><td>{}</td></tr>\
-             <tr><th>Time at feed</th><td>{}</td></tr><tr><th>Cycle time</th><td>{}</td></tr></table></div>",
+             <tr><th>Time at feed</th><td>{}</td></tr><tr><th>Cycle time</th><td>{}</td></tr>\
+             <tr><th>Picture</th><td>drawn by {}</td></tr></table></div>",
             esc(&s.machine),
             esc(&s.work_offset),
             s.tool_axis[0],
@@ -521,7 +572,8 @@ pub fn html(sheet: &Sheet) -> String {
                 esc(&s.workholding.join("; "))
             },
             duration(total_feed),
-            total_cycle.map_or_else(|e| format!("— ({})", esc(&e)), duration)
+            total_cycle.map_or_else(|e| format!("— ({})", esc(&e)), duration),
+            esc(&p.renderer)
         );
         o.push_str("<table><tr><th>#</th><th>Operation</th><th>Strategy</th><th>Tool</th><th>Feed mm/min</th><th>Plunge mm/min</th><th>Spindle rpm</th><th>Heights</th><th>Time at feed</th><th>Cycle time</th><th>Notes</th></tr>\n");
         for op in &s.operations {

@@ -79,6 +79,15 @@ pub struct SetupSource<'a> {
     pub base: &'a std::path::Path,
 }
 
+impl std::fmt::Debug for SetupSource<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SetupSource")
+            .field("index", &self.index)
+            .field("base", &self.base)
+            .finish_non_exhaustive()
+    }
+}
+
 /// The panel's mode selector: the control's modes, JOG split into continuous and incremental.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PanelMode {
