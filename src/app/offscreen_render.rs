@@ -351,6 +351,28 @@ pub fn sheet_picture(
     scene.camera.projection = Projection::Orthographic;
     scene.camera.scene = sphere;
     scene.camera.fit(sphere, aspect);
+    // Fit the orthographic view to what is drawn (the sphere leaves wide margins), as the
+    // software drawing does: 6 % margins around the projected extent.
+    let (right, up) = (scene.camera.right(), scene.camera.up());
+    let mut lo2 = [f32::INFINITY; 2];
+    let mut hi2 = [f32::NEG_INFINITY; 2];
+    let points = bodies
+        .iter()
+        .flat_map(|b| b.mesh.positions.iter().map(|p| p.as_vec3()))
+        .chain(scene.lines[0].data.positions.iter().map(|&p| Vec3::from(p)));
+    for p in points {
+        for (k, v) in [p.dot(right), p.dot(up)].into_iter().enumerate() {
+            lo2[k] = lo2[k].min(v);
+            hi2[k] = hi2[k].max(v);
+        }
+    }
+    if lo2[0] < hi2[0] && lo2[1] < hi2[1] {
+        let t = scene.camera.target;
+        let mid = [0.5 * (lo2[0] + hi2[0]), 0.5 * (lo2[1] + hi2[1])];
+        scene.camera.target = t + right * (mid[0] - t.dot(right)) + up * (mid[1] - t.dot(up));
+        let half_h = (0.5 * (hi2[1] - lo2[1])).max(0.5 * (hi2[0] - lo2[0]) / aspect) / 0.88;
+        scene.camera.distance = half_h / (scene.camera.fov_y_rad * 0.5).tan();
+    }
     let mut renderer = crate::render::OffscreenRenderer::new().map_err(|e| e.to_string())?;
     let image = renderer.render(w, h, &scene).map_err(|e| e.to_string())?;
     // Where the origin and the axis tips fall (for the sheet's labels).
