@@ -109,6 +109,7 @@ fn the_g82_dwell_stands_still_at_the_bottom_of_each_hole() {
     c.apply(Action::CycleStart).unwrap();
     let mut dwell_s = 0.0;
     let mut dwell_z = Vec::new();
+    let (mut dwelling, mut dwells_shown) = (false, 0);
     let dt = 0.01;
     for _ in 0..1_000_000 {
         if c.is_idle() {
@@ -118,9 +119,29 @@ fn the_g82_dwell_stands_still_at_the_bottom_of_each_hole() {
         if c.run_state() == RunState::Dwell {
             dwell_s += dt;
             dwell_z.push(c.position()[2]);
+            // The panel shows the dwell as the cycle's phase while the machine stands still.
+            let phase = c.snapshot().cycle.expect("the dwell's cycle phase");
+            assert_eq!((phase.cycle, phase.step), ("G82", CycleStep::Dwell));
+            assert!((phase.dwell_s - 0.5).abs() < 1e-12, "{phase:?}");
+            assert!(
+                (phase.depth_mm - phase.bottom_mm).abs() < 1e-12,
+                "{phase:?}"
+            );
+            let text = phase.describe();
+            assert!(text.contains("dwell 0.5 s at "), "{text}");
+            if !dwelling {
+                dwells_shown += 1;
+            }
+            dwelling = true;
+            continue;
+        } else if let Some(phase) = c.snapshot().cycle {
+            assert_ne!(phase.step, CycleStep::Dwell, "{phase:?} while moving");
         }
+        dwelling = false;
     }
     assert!(c.is_idle());
+    // The dwell was shown at every hole (and only in the dwell).
+    assert_eq!(dwells_shown, 6);
     // The bottom: where the block before the first dwell ends (Z-2 plus T4's length).
     let bottom = want.blocks[want.dwells[0].before_block - 1].end.xyz.z;
     assert!((dwell_s - 3.0).abs() < 6.0 * dt + 1e-9, "dwelt {dwell_s} s");

@@ -138,7 +138,10 @@ pub fn profile(args: &ProfileArgs) -> Result<serde_json::Value, ProfileError> {
             radius_mm: args.radius,
             ..GcodeOptions::default()
         };
-        let text = write_gcode(&result.paths, &dialect, &g);
+        let text = write_gcode(&result.paths, &dialect, &g).map_err(|e| ProfileError {
+            file: out.display().to_string(),
+            ..e
+        })?;
         crate::storage::write_atomic(out, text.as_bytes())
             .map_err(|e| ProfileError::new(&out.display().to_string(), "file", e.to_string()))?;
     }

@@ -11,7 +11,7 @@ use super::motion::Run;
 use super::{Action, Alarm, ControlConfig, Mode, Peak, RunState, Snapshot, Spindle, codes};
 use crate::feed::path::{JointVector, SLOTS, joint_vector, slot_of};
 use crate::feed::{AxisLimit, machine_limits};
-use crate::gcode::{InterpretOptions, Joints, Modal, MotionBlock, Session};
+use crate::gcode::{CyclePhase, InterpretOptions, Joints, Modal, MotionBlock, Session};
 
 mod auto;
 mod clock;
@@ -81,6 +81,8 @@ struct Held {
 struct Item {
     blocks: Vec<MotionBlock>,
     dwell_s: f64,
+    /// A canned cycle's dwell at the bottom: its phase, shown while it stands still.
+    dwell_cycle: Option<CyclePhase>,
     stop: bool,
     optional_stop: bool,
     end: bool,
@@ -91,6 +93,7 @@ impl Item {
         Self {
             blocks,
             dwell_s: 0.0,
+            dwell_cycle: None,
             stop: false,
             optional_stop: false,
             end: false,
@@ -166,6 +169,8 @@ pub struct Control {
     auto: Option<AutoRun>,
     stopped: bool,
     dwell_left: f64,
+    /// The canned cycle's phase of the dwell under way (`None` for a `G4`).
+    dwell_phase: Option<CyclePhase>,
     program: Option<(String, String)>,
     session: Session,
     mdi_count: usize,
@@ -211,6 +216,7 @@ impl Control {
             auto: None,
             stopped: false,
             dwell_left: 0.0,
+            dwell_phase: None,
             program: None,
             session: Session::new(InterpretOptions::default())
                 .map_err(|e| ControlError::Refused(e.to_string()))?,
@@ -580,7 +586,14 @@ impl Control {
             alarms: self.alarms.clone(),
             increment: self.increment,
             removed_volume_mm3: self.removed_mm3(),
-            cycle: block.and_then(|b| b.cycle),
+            // A move's phase, or while the machine stands still in a cycle's dwell, the dwell.
+            cycle: block
+                .and_then(|b| b.cycle)
+                .or(if running.is_none() && self.dwell_left > 0.0 {
+                    self.dwell_phase
+                } else {
+                    None
+                }),
         };
         for a in &self.cfg.machine.axes {
             let Some(k) = slot_of(a.name) else {

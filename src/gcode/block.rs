@@ -143,6 +143,8 @@ pub struct CyclePhase {
     pub depth_mm: f64,
     /// Depth of the hole's bottom below the R plane, mm.
     pub bottom_mm: f64,
+    /// The dwell's time, s, while the step is [`CycleStep::Dwell`] (0 otherwise).
+    pub dwell_s: f64,
 }
 
 /// The kind of move inside a canned cycle.
@@ -157,6 +159,9 @@ pub enum CycleStep {
     Retract,
     /// Rapid back down to just above the last peck's depth.
     Reenter,
+    /// Standing still at the bottom (`P` of G82, G84, G86, G89): carried by the dwell
+    /// ([`crate::gcode::Dwell::cycle`]), not by a move.
+    Dwell,
 }
 
 impl CycleStep {
@@ -168,14 +173,22 @@ impl CycleStep {
             Self::Feed => "feeding",
             Self::Retract => "retracting",
             Self::Reenter => "re-entering",
+            Self::Dwell => "dwell",
         }
     }
 }
 
 impl CyclePhase {
-    /// One line for a panel: `G83 hole 1/4, peck 3/5 feeding to 7.500 mm of 15.000 mm below R`.
+    /// One line for a panel: `G83 hole 1/4, peck 3/5 feeding to 7.500 mm of 15.000 mm below R`,
+    /// or while it dwells `G82 hole 2/6 dwell 0.5 s at 5.000 mm below R`.
     #[must_use]
     pub fn describe(&self) -> String {
+        if self.step == CycleStep::Dwell {
+            return format!(
+                "{} hole {}/{} dwell {} s at {:.3} mm below R",
+                self.cycle, self.hole, self.holes, self.dwell_s, self.depth_mm
+            );
+        }
         let peck = if self.peck == 0 {
             String::new()
         } else {

@@ -94,6 +94,7 @@ fn dequeue(s: &mut State, out: &mut Program) -> Result<(), GcodeError> {
                 line,
                 before_block: out.blocks.len(),
                 seconds,
+                cycle: None,
             }),
             Queued::Move {
                 held,

@@ -329,7 +329,18 @@ impl Phase {
             step,
             depth_mm: (self.r - to) * self.scale,
             bottom_mm: (self.r - self.bottom) * self.scale,
+            dwell_s: 0.0,
         });
+    }
+
+    /// Dwell `seconds` at the bottom, shown as the cycle's dwell phase; then the way out.
+    fn dwell_at_bottom(&self, s: &mut State, out: &mut Program, line: usize, seconds: f64) {
+        self.set(s, CycleStep::Dwell, self.pecks, self.bottom);
+        if let Some(p) = s.cycle_phase.as_mut() {
+            p.dwell_s = seconds;
+        }
+        dwell(s, out, line, seconds);
+        self.set(s, CycleStep::Retract, self.pecks, self.bottom);
     }
 }
 
@@ -363,7 +374,7 @@ fn body(
         Cycle::G82 => {
             down(s, out)?;
             if w.p > 0.0 {
-                dwell(s, out, line, w.p);
+                phase.dwell_at_bottom(s, out, line, w.p);
             }
             cur.go(s, out, true, uv, clear)
         }
@@ -390,7 +401,7 @@ fn body(
             let turning = s.spindle_dir;
             s.spindle_dir = -turning;
             if w.p > 0.0 {
-                dwell(s, out, line, w.p);
+                phase.dwell_at_bottom(s, out, line, w.p);
             }
             let back = cur.go(s, out, false, uv, clear);
             s.spindle_dir = turning;
@@ -404,7 +415,7 @@ fn body(
         Cycle::G86 => {
             down(s, out)?;
             if w.p > 0.0 {
-                dwell(s, out, line, w.p);
+                phase.dwell_at_bottom(s, out, line, w.p);
             }
             let turning = s.spindle_dir;
             s.spindle_dir = 0.0;
@@ -415,7 +426,7 @@ fn body(
         Cycle::G89 => {
             down(s, out)?;
             if w.p > 0.0 {
-                dwell(s, out, line, w.p);
+                phase.dwell_at_bottom(s, out, line, w.p);
             }
             cur.go(s, out, false, uv, clear)
         }

@@ -199,6 +199,9 @@ pub struct Dwell {
     pub before_block: usize,
     /// Time standing still, s.
     pub seconds: f64,
+    /// The canned cycle's dwell at a hole's bottom (G82, G84, G86, G89 with `P`), what the
+    /// control's panel shows while it stands still; `None` for a `G4`.
+    pub cycle: Option<CyclePhase>,
 }
 
 impl Program {

@@ -185,6 +185,9 @@ pub(super) fn dwell(s: &mut State, out: &mut Program, line: usize, seconds: f64)
             line,
             before_block: out.blocks.len(),
             seconds,
+            cycle: s
+                .cycle_phase
+                .filter(|c| c.step == super::block::CycleStep::Dwell),
         });
     }
 }

@@ -15,6 +15,7 @@
 use glam::{DMat3, DVec3};
 
 use super::dialect::{ArcCentre, CycleStyle};
+use super::writer::plane_code;
 use super::{
     Dialect, MachineJoints, PostError, PostOptions, Writer, rounded_frame, straight_between,
 };
@@ -81,14 +82,6 @@ fn plane_of(normal: DVec3) -> Option<(Plane, f64)> {
         let d = normal.dot(p.normal());
         (d.abs() > 1.0 - 1e-9).then_some((p, d.signum()))
     })
-}
-
-fn plane_code(p: Plane) -> &'static str {
-    match p {
-        Plane::Xy => "G17",
-        Plane::Zx => "G18",
-        Plane::Yz => "G19",
-    }
 }
 
 /// The pose tag of the piece ending at parameter `t` of a segment.

@@ -76,6 +76,14 @@ pub struct PostOptions {
     /// program coordinates. A dialect with its own plane ([`Dialect::work_plane`]) writes it
     /// and the moves in its coordinates; every pose's axis must then be the plane's Z.
     pub work_plane: Option<glam::DMat3>,
+    /// Comment lines written after the dialect's header comments (what the program is).
+    pub comments: Vec<String>,
+    /// The plane the program's setup selects: the `G17` of the dialect's setup blocks becomes
+    /// this plane's code (or the code is a block of its own after the setup when no setup
+    /// block names `G17`), and an arc in the plane last named by the setup or tool change
+    /// blocks is written without a plane word. `None`: the setup as the dialect writes it,
+    /// and the first arc or cycle names its plane.
+    pub setup_plane: Option<crate::gcode::Plane>,
 }
 
 impl Default for PostOptions {
@@ -91,6 +99,8 @@ impl Default for PostOptions {
             line_numbers: None,
             work_offset: "G54".into(),
             work_plane: None,
+            comments: Vec::new(),
+            setup_plane: None,
         }
     }
 }

@@ -211,6 +211,45 @@ impl<'a> Writer<'a> {
     fn blocks(&mut self, templates: &[String]) {
         for t in templates {
             self.block(t);
+            self.note_plane(t);
+        }
+    }
+
+    /// With a setup plane ([`PostOptions::setup_plane`]), the last plane word a template
+    /// names is the plane in force.
+    fn note_plane(&mut self, template: &str) {
+        if self.options.setup_plane.is_none() {
+            return;
+        }
+        let body = self.fill(template);
+        if let Some(code) = body
+            .split_whitespace()
+            .rfind(|w| matches!(*w, "G17" | "G18" | "G19"))
+        {
+            self.last_plane = Some(code.to_string());
+        }
+    }
+
+    /// The dialect's setup blocks, their `G17` replaced by the setup plane's code (written
+    /// after them when none names `G17`).
+    fn setup_blocks(&mut self) {
+        let d = self.d;
+        let Some(plane) = self.options.setup_plane else {
+            self.blocks(&d.setup);
+            return;
+        };
+        let code = plane_code(plane);
+        let mut named = false;
+        for t in &d.setup {
+            if t.contains("G17") {
+                named = true;
+                self.blocks(&[t.replace("G17", code)]);
+            } else {
+                self.blocks(std::slice::from_ref(t));
+            }
+        }
+        if !named {
+            self.blocks(&[code.to_string()]);
         }
     }
 
@@ -321,7 +360,11 @@ impl<'a> Writer<'a> {
         for c in &d.header_comments {
             self.comment(c);
         }
-        self.blocks(&d.setup);
+        let options = self.options;
+        for c in &options.comments {
+            self.comment(c);
+        }
+        self.setup_blocks();
         self.tool_blocks();
         self.z_retract(self.options.clearance_z_mm, false);
     }
@@ -601,11 +644,7 @@ impl Writer<'_> {
         };
         let d = self.d;
         let dl = d.decimals_linear;
-        let code = match plane {
-            crate::gcode::Plane::Xy => "G17",
-            crate::gcode::Plane::Zx => "G18",
-            crate::gcode::Plane::Yz => "G19",
-        };
+        let code = plane_code(plane);
         let mut words: Vec<String> = Vec::new();
         words.extend(self.plane_word(code));
         let (mode, feed_word) = self.per_minute_words(feed);
@@ -666,6 +705,15 @@ impl Writer<'_> {
         }
         self.tagged_block(&words.join(" "), Some(pose));
         true
+    }
+}
+
+/// The plane's code.
+pub(super) fn plane_code(plane: crate::gcode::Plane) -> &'static str {
+    match plane {
+        crate::gcode::Plane::Xy => "G17",
+        crate::gcode::Plane::Zx => "G18",
+        crate::gcode::Plane::Yz => "G19",
     }
 }
 

@@ -1,5 +1,6 @@
-//! Output of the electrode-centre path: G-code with G1 and G2/G3 (arcs kept) in the text of a
-//! post dialect, in the plane G17, G18 or G19, and a tool path of poses for the simulation.
+//! Output of the electrode-centre path: G-code with G1 and G2/G3 (arcs kept) through the one
+//! post ([`crate::post`]) in any of its dialects, in the plane G17, G18 or G19, and a tool path
+//! of poses for the simulation.
 //!
 //! Plane mapping (profile x, y → machine axes): G17 x→X, y→Y with the depth on Z; G18 x→X,
 //! y→Z (the profile's y is the vertical axis, as for a sinker electrode) with Y fixed; G19
@@ -12,7 +13,8 @@ use crate::gcode::Plane;
 use crate::geometry::planar::ClPath;
 use crate::geometry::planar::{Element, closest_on};
 use crate::geometry::planar::{Profile, ProfileError};
-use crate::post::Dialect;
+use crate::machine::Machine;
+use crate::post::{Dialect, PostOptions};
 use crate::toolpath::{ContactKind, MoveKind, Pose, ToolRecord, Toolpath};
 
 /// The machine plane of the profile.
@@ -86,6 +88,9 @@ pub struct GcodeOptions {
     pub tool_number: u32,
     /// Electrode radius, mm (for the comment and the tool record).
     pub radius_mm: f64,
+    /// Chord tolerance of an arc the dialect cannot write as G2/G3 (its plane, radius or a
+    /// sweep too long for R), mm.
+    pub tolerance_mm: f64,
 }
 
 impl Default for GcodeOptions {
@@ -98,223 +103,125 @@ impl Default for GcodeOptions {
             program_name: "PROFILE".into(),
             tool_number: 1,
             radius_mm: 1.0,
+            tolerance_mm: 1e-3,
         }
     }
 }
 
-struct Blocks<'a> {
-    d: &'a Dialect,
-    lines: Vec<String>,
-    number: u64,
-    last: [Option<String>; 3],
-    last_motion: Option<String>,
-    last_feed: Option<String>,
-}
-
-impl Blocks<'_> {
-    fn fill(&self, t: &str, o: &GcodeOptions) -> String {
-        t.replace("{program}", &o.program_name)
-            .replace("{machine}", "any")
-            .replace("{dialect}", &self.d.name)
-            .replace("{tool_spec}", &format!("ball:d={}", 2.0 * o.radius_mm))
-            .replace("{tool}", &o.tool_number.to_string())
-            .replace("{rpm}", "0")
-            .replace("{work_offset}", "G54")
-    }
-
-    fn block(&mut self, body: &str) {
-        if let Some(raw) = body.strip_prefix('!') {
-            self.lines.push(raw.to_string());
-            return;
-        }
-        if self.d.line_numbers {
-            let n = self.number;
-            self.number += u64::from(self.d.line_number_step);
-            self.lines.push(format!("N{n} {body}{}", self.d.block_end));
-        } else {
-            self.lines.push(format!("{body}{}", self.d.block_end));
-        }
-    }
-
-    fn comment(&mut self, text: &str) {
-        let clean: String = text
-            .chars()
-            .map(|c| {
-                if matches!(c, '(' | ')' | '\n' | '\r' | ';') {
-                    ' '
-                } else {
-                    c
-                }
-            })
-            .collect();
-        let line = format!("{}{}{}", self.d.comment_open, clean, self.d.comment_close);
-        self.lines.push(line);
-    }
-
-    fn num(&self, v: f64) -> String {
-        self.d.number(v, self.d.decimals_linear)
-    }
-
-    /// A motion block: the code when it changes, the axis words that change, `extra` words
-    /// and the feed when it changes.
-    fn motion(&mut self, code: &str, p: DVec3, extra: &[String], feed: Option<f64>) {
-        let mut words = Vec::new();
-        if self.last_motion.as_deref() != Some(code) {
-            words.push(code.to_string());
-            self.last_motion = Some(code.to_string());
-        }
-        let mut moved = false;
-        for (i, l) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-            let v = self.num(p.to_array().get(i).copied().unwrap_or(0.0));
-            if let Some(slot) = self.last.get_mut(i)
-                && slot.as_deref() != Some(v.as_str())
-            {
-                words.push(format!("{l}{v}"));
-                *slot = Some(v);
-                moved = true;
-            }
-        }
-        if !moved && extra.is_empty() {
-            if words.len() == 1 {
-                // Only a modal code and no motion: leave it for the next block.
-                self.last_motion = None;
-            }
-            return;
-        }
-        words.extend(extra.iter().cloned());
-        if let Some(f) = feed {
-            let f = self.d.number(f, self.d.decimals_feed);
-            if self.last_feed.as_deref() != Some(f.as_str()) {
-                words.push(format!("F{f}"));
-                self.last_feed = Some(f);
-            }
-        }
-        self.block(&words.join(" "));
-    }
-}
-
-/// The G-code of the centre path in `dialect`'s text (deterministic: the same input gives the
-/// same bytes).
-#[must_use]
-pub fn write_gcode(paths: &[ClPath], dialect: &Dialect, o: &GcodeOptions) -> String {
-    let mut b = Blocks {
-        d: dialect,
-        lines: Vec::new(),
-        number: u64::from(dialect.line_number_start),
-        last: Default::default(),
-        last_motion: None,
-        last_feed: None,
+/// The G-code of the centre path through the one post ([`crate::post`]) in `dialect`
+/// (deterministic: the same input gives the same bytes): the post's header, setup (its `G17`
+/// replaced by the profile's plane), tool change, number format and line numbers; the arcs
+/// as G2/G3 where the dialect writes arcs in that plane, else as lines within
+/// [`GcodeOptions::tolerance_mm`].
+///
+/// # Errors
+/// [`ProfileError`] for a radius, feed or tolerance that is not positive, a program name the
+/// post refuses, or a path the post cannot write.
+pub fn write_gcode(
+    paths: &[ClPath],
+    dialect: &Dialect,
+    o: &GcodeOptions,
+) -> Result<String, ProfileError> {
+    let toolpath = centre_toolpath(paths, o)?;
+    let mut machine = Machine::builtin("mill-3axis")
+        .map_err(|e| ProfileError::new("<memory>", "machine", e.to_string()))?;
+    // The program is for no machine in particular (its header says so).
+    machine.name = "any".into();
+    let number = |v: f64| dialect.number(v, dialect.decimals_linear);
+    let options = PostOptions {
+        tcp: false,
+        tolerance_mm: o.tolerance_mm,
+        program_name: o.program_name.clone(),
+        tool_number: o.tool_number,
+        spindle_rpm: 0.0,
+        coolant: false,
+        clearance_z_mm: o.clearance_z_mm,
+        comments: vec![format!(
+            "BALL ELECTRODE R{} MM, CENTRE PATH, {} PIECE(S), PLANE {}",
+            number(o.radius_mm),
+            paths.len(),
+            o.plane.code()
+        )],
+        setup_plane: Some(o.plane.plane()),
+        ..PostOptions::default()
     };
-    for t in &dialect.header {
-        let s = b.fill(t, o);
-        b.block(&s);
-    }
-    for t in &dialect.header_comments {
-        let s = b.fill(t, o);
-        b.comment(&s);
-    }
-    b.comment(&format!(
-        "BALL ELECTRODE R{} MM, CENTRE PATH, {} PIECE(S), PLANE {}",
-        b.num(o.radius_mm),
-        paths.len(),
-        o.plane.code()
-    ));
-    let mut plane_written = false;
-    for t in &dialect.setup {
-        let mut s = b.fill(t, o);
-        if s.contains("G17") {
-            s = s.replace("G17", o.plane.code());
-            plane_written = true;
-        }
-        b.block(&s);
-    }
-    if !plane_written {
-        b.block(o.plane.code());
-    }
-    for t in &dialect.tool_change {
-        let s = b.fill(t, o);
-        b.block(&s);
-    }
-    let arc_codes = if dialect.linear.len() > 2 {
-        ("G02", "G03")
-    } else {
-        ("G2", "G3")
-    };
-    for path in paths {
-        piece(&mut b, path, o, arc_codes);
-    }
-    for t in dialect.footer.iter().chain(&dialect.trailer) {
-        let s = b.fill(t, o);
-        b.block(&s);
-    }
-    let mut s = b.lines.join("\n");
-    s.push('\n');
-    s
+    crate::post::post(&toolpath, &machine, dialect, &options)
+        .map_err(|e| ProfileError::new("<memory>", "G-code", e.to_string()))
 }
 
-fn piece(b: &mut Blocks<'_>, path: &ClPath, o: &GcodeOptions, arc_codes: (&str, &str)) {
-    let Some(first) = path.vertices.first() else {
-        return;
+/// The centre path as the tool path the post writes: the programmed point is the electrode's
+/// centre (in the plane's machine axes, the normal axis at [`GcodeOptions::fixed_mm`]); each
+/// piece is entered by a rapid to the clearance height in Z above its start and a feed down,
+/// and left by a rapid back up; arcs are exact moves ([`Toolpath::push_arc`], sampled within
+/// [`GcodeOptions::tolerance_mm`]).
+///
+/// # Errors
+/// [`ProfileError`] for a radius, feed or tolerance that is not positive.
+pub fn centre_toolpath(paths: &[ClPath], o: &GcodeOptions) -> Result<Toolpath, ProfileError> {
+    let bad = |place: &str, m: String| ProfileError::new("<memory>", place, m);
+    if !(o.feed_mm_per_min > 0.0 && o.feed_mm_per_min.is_finite()) {
+        return Err(bad(
+            "feed",
+            format!("{} mm/min must be positive", o.feed_mm_per_min),
+        ));
+    }
+    if !(o.tolerance_mm > 0.0 && o.tolerance_mm.is_finite()) {
+        return Err(bad(
+            "tolerance",
+            format!("{} mm must be positive", o.tolerance_mm),
+        ));
+    }
+    let cutter = crate::tools::Cutter::new(crate::tools::CutterKind::Ball, 2.0 * o.radius_mm)
+        .map_err(|e| bad("radius", e.to_string()))?;
+    let tool = ToolRecord {
+        spec: format!("ball:d={}", 2.0 * o.radius_mm),
+        cutter,
     };
-    let rapid = b.d.rapid.clone();
-    let linear = b.d.linear.clone();
-    let start = o.plane.to_machine(first.centre, o.fixed_mm);
-    let cur = b.last.clone();
+    let mut tp = Toolpath::new(tool, Vec::new());
+    let f = o.feed_mm_per_min;
+    let to_machine = |p: DVec2| o.plane.to_machine(p, o.fixed_mm);
     let clear = |p: DVec3| DVec3::new(p.x, p.y, o.clearance_z_mm);
-    // Up to the clearance where we are, across at the clearance, down at the feed.
-    if cur.iter().any(Option::is_some) {
-        let here = DVec3::from_array(std::array::from_fn(|i| {
-            cur.get(i)
-                .and_then(|s| s.as_deref())
-                .and_then(|s| s.parse().ok())
-                .unwrap_or(0.0)
-        }));
-        b.motion(&rapid, clear(here), &[], None);
-    } else {
-        b.motion(&rapid, DVec3::new(0.0, 0.0, o.clearance_z_mm), &[], None);
-    }
-    b.motion(&rapid, clear(start), &[], None);
-    b.motion(&linear, start, &[], Some(o.feed_mm_per_min));
-    for e in path.elements() {
-        let end = o.plane.to_machine(e.end(), o.fixed_mm);
-        match e {
-            Element::Line { .. } => b.motion(&linear, end, &[], Some(o.feed_mm_per_min)),
-            Element::Arc {
-                a,
-                centre,
-                sweep_rad,
-                ..
-            } => {
-                let ccw = (sweep_rad > 0.0) == o.plane.keeps_sense();
-                let code = if ccw { arc_codes.1 } else { arc_codes.0 };
-                let off = o.plane.to_machine(centre - a, 0.0);
-                let (iu, iv, _) = o.plane.plane().axes();
-                let letters = ['I', 'J', 'K'];
-                let arr = off.to_array();
-                let mut words = Vec::new();
-                let mut idx = [iu, iv];
-                idx.sort_unstable();
-                for i in idx {
-                    let (Some(l), Some(v)) = (letters.get(i), arr.get(i)) else {
-                        continue;
-                    };
-                    words.push(format!("{l}{}", b.num(*v)));
+    // The arcs' normal: profile x × profile y in the machine (−Y in G18).
+    let normal = o
+        .plane
+        .to_machine(DVec2::X, 0.0)
+        .cross(o.plane.to_machine(DVec2::Y, 0.0));
+    for path in paths {
+        let Some(first) = path.vertices.first() else {
+            continue;
+        };
+        let start = to_machine(first.centre);
+        tp.poses
+            .push(Pose::new(MoveKind::Rapid, clear(start), DVec3::Z, 0.0));
+        tp.poses
+            .push(Pose::new(MoveKind::Plunge, start, DVec3::Z, f));
+        for e in path.elements() {
+            match e {
+                Element::Line { b, .. } => {
+                    tp.poses
+                        .push(Pose::new(MoveKind::Cut, to_machine(b), DVec3::Z, f));
                 }
-                // An arc block always carries its end point, so the axis words are reset.
-                b.last = Default::default();
-                b.last_motion = None;
-                b.motion(code, end, &words, Some(o.feed_mm_per_min));
+                Element::Arc {
+                    centre, sweep_rad, ..
+                } => tp
+                    .push_arc(
+                        to_machine(centre),
+                        normal,
+                        sweep_rad,
+                        MoveKind::Cut,
+                        f,
+                        o.tolerance_mm,
+                    )
+                    .map_err(|e| bad("arc", e.message))?,
             }
         }
+        if let Some(last) = tp.poses.last().copied() {
+            tp.poses
+                .push(Pose::new(MoveKind::Rapid, clear(last.tip), DVec3::Z, 0.0));
+        }
     }
-    let end = b.last.clone();
-    let here = DVec3::from_array(std::array::from_fn(|i| {
-        end.get(i)
-            .and_then(|s| s.as_deref())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(0.0)
-    }));
-    b.motion(&rapid, clear(here), &[], None);
+    tp.resummarise();
+    Ok(tp)
 }
 
 /// The centre path as a tool path: the tip is the electrode's lowest point along machine Z,

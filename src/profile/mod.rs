@@ -19,7 +19,8 @@
 //! narrowest bottleneck).
 //!
 //! Output: the CL table, G-code with G1 and G2/G3 through a post dialect in G17, G18 or G19
-//! ([`write_gcode`]), and a [`crate::toolpath::Toolpath`] for the simulation ([`to_toolpath`]).
+//! ([`write_gcode`], through the one post from the tool path of [`centre_toolpath`]), and a
+//! [`crate::toolpath::Toolpath`] of the lowest points for the simulation ([`to_toolpath`]).
 
 mod analysis;
 mod gcode;
@@ -29,7 +30,7 @@ mod reach_tolerance;
 pub use analysis::{
     Flag, FlagKind, NaivePoint, ProfileOptions, ProfileResult, compute, compute_opt,
 };
-pub use gcode::{GcodeOptions, ProfilePlane, to_toolpath, write_gcode};
+pub use gcode::{GcodeOptions, ProfilePlane, centre_toolpath, to_toolpath, write_gcode};
 pub use reach::max_gouge_free_radius;
 pub use reach_tolerance::max_radius_within_tolerance;
 

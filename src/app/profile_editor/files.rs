@@ -158,7 +158,7 @@ impl ProfileEditor {
             program_name,
             ..GcodeOptions::default()
         };
-        let text = write_gcode(&result.paths, &dialect, &opts);
+        let text = write_gcode(&result.paths, &dialect, &opts).map_err(|e| e.to_string())?;
         crate::storage::write_atomic(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(format!(

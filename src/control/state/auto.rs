@@ -162,6 +162,7 @@ impl Control {
                 }
                 run.items.push_back(Item {
                     dwell_s: d.seconds,
+                    dwell_cycle: d.cycle,
                     ..Item::motion(Vec::new())
                 });
                 b0 = upto;
@@ -190,6 +191,7 @@ impl Control {
         let mut chunk: Vec<MotionBlock> = Vec::new();
         let mut stop_after = false;
         let mut dwell = 0.0;
+        let mut dwell_phase = None;
         while let Some(item) = auto.items.front() {
             if item.dwell_s > 0.0 && !chunk.is_empty() {
                 break;
@@ -199,6 +201,7 @@ impl Control {
             };
             if item.dwell_s > 0.0 {
                 dwell = item.dwell_s;
+                dwell_phase = item.dwell_cycle;
                 break;
             }
             let moved = !item.blocks.is_empty();
@@ -216,6 +219,7 @@ impl Control {
         let finished = auto.items.is_empty() && !stop_after && dwell <= 0.0;
         if dwell > 0.0 {
             self.dwell_left = dwell;
+            self.dwell_phase = dwell_phase;
             return;
         }
         if chunk.is_empty() {

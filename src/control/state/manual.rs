@@ -221,6 +221,7 @@ impl Control {
         }
         let dwell: f64 = result.program.dwells.iter().map(|d| d.seconds).sum();
         self.dwell_left += dwell;
+        self.dwell_phase = None;
         if !result.program.blocks.is_empty() {
             self.start_run(result.program.blocks, Kind::Mdi, None);
         }
