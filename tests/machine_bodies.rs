@@ -365,10 +365,10 @@ fn the_stock_rests_on_a_riser_from_the_table_top_and_the_tool_meets_it() {
     let riser = riser_under(&mill, lo, hi).unwrap();
     assert_eq!(
         riser.shape,
-        Shape::Box {
+        talas::machine::collision::TableShape::Solid(Shape::Box {
             min: DVec3::new(-30.0, -30.0, -100.0),
             max: DVec3::new(30.0, 30.0, -10.0),
-        }
+        })
     );
     // The trunnion's rotary table top is z = 0: a stock standing on it needs no riser.
     let trt = Machine::builtin("trt-ac").unwrap();

@@ -206,12 +206,16 @@ fn talas_post_reports_the_cycle_time_talas_feed_plans() {
     assert_eq!(times.len(), tp.poses.len());
     assert_eq!(doc["poses"].as_u64(), Some(tp.poses.len() as u64));
     assert!(times.windows(2).all(|w| w[0] <= w[1]));
-    // The same program planned by `talas feed` with the same corner tolerance.
+    // The same program planned by `talas feed` with the same corner tolerance, from the same
+    // start: the run reads the program from machine zero, `feed --machine` from the machine's
+    // home unless told.
     let feed = talas_json(&[
         "feed",
         output.to_str().unwrap(),
         "--machine",
         "mill-3axis",
+        "--start",
+        "0,0,0",
         "--corners",
         "blend",
         "--deviation",
